@@ -1,0 +1,267 @@
+// The work behind each `osteon` command, and its JSON (nlohmann/json lives in this file only).
+#include "commands.h"
+
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/mesh_io.h"
+#include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/nrrd_io.h"
+#include "osteon/geometry/units.h"
+#include "osteon/geometry/voxelizer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+namespace osteon::cli {
+
+namespace geo = osteon::geometry;
+using nlohmann::json;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double scaleToMm(const MeshUnits& units) {
+  if (units.scale) {
+    if (!std::isfinite(*units.scale) || *units.scale <= 0.0) {
+      std::ostringstream s;
+      s << "--scale " << *units.scale << ": must be a positive finite number";
+      throw InputError(s.str());
+    }
+    return *units.scale;
+  }
+  return geo::millimetresPer(geo::parseLengthUnit(units.units));
+}
+
+json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+json ivec3(const glm::ivec3& v) { return json::array({v.x, v.y, v.z}); }
+
+void printJson(const json& j) { std::cout << j.dump(2) << "\n"; }
+
+struct LoadedMesh {
+  geo::TriangleMesh mesh;
+  geo::MeshFileInfo info;
+  double scale = 1.0;
+  double loadMs = 0.0;
+};
+
+LoadedMesh load(const std::string& argument, const MeshUnits& units) {
+  LoadedMesh loaded;
+  loaded.scale = scaleToMm(units);
+  const Clock::time_point start = Clock::now();
+  loaded.mesh = geo::loadMeshArgument(argument, loaded.scale, &loaded.info);
+  loaded.loadMs = msSince(start);
+  return loaded;
+}
+
+json meshJson(const std::string& argument, const LoadedMesh& loaded) {
+  const bool builtIn = argument == geo::kDefaultModelArgument;
+  json j = {{"path", argument},
+            {"built_in", builtIn},
+            {"scale_to_mm", loaded.scale},
+            {"vertices", loaded.mesh.vertexCount()},
+            {"triangles", loaded.mesh.triangleCount()}};
+  if (!builtIn) {
+    j["format"] = geo::meshFormatName(loaded.info.format);
+    j["binary"] = loaded.info.binary;
+    j["polygons_triangulated"] = loaded.info.polygonsTriangulated;
+    j["degenerate_faces_dropped"] = loaded.info.degenerateDropped;
+  }
+  return j;
+}
+
+}  // namespace
+
+int runInfo(const InfoOptions& options) {
+  const LoadedMesh loaded = load(options.mesh, options.units);
+  const geo::Aabb box = geo::bounds(loaded.mesh);
+  const geo::MeshTopology topo = geo::analyzeTopology(loaded.mesh);
+  const double volume = geo::signedVolumeMm3(loaded.mesh);
+  const double area = geo::surfaceAreaMm2(loaded.mesh);
+  if (options.json) {
+    json j = meshJson(options.mesh, loaded);
+    j["bounds_min_mm"] = vec3(box.minMm);
+    j["bounds_max_mm"] = vec3(box.maxMm);
+    j["extent_mm"] = vec3(box.extentMm());
+    j["volume_mm3"] = volume;
+    j["area_mm2"] = area;
+    j["edges"] = topo.edges;
+    j["border_edges"] = topo.borderEdges;
+    j["non_manifold_edges"] = topo.nonManifoldEdges;
+    j["misoriented_edges"] = topo.misorientedEdges;
+    j["degenerate_triangles"] = topo.degenerateTriangles;
+    j["components"] = topo.components;
+    j["euler_characteristic"] = topo.eulerCharacteristic;
+    j["closed"] = topo.closed();
+    j["consistently_oriented"] = topo.consistentlyOriented();
+    j["load_ms"] = loaded.loadMs;
+    printJson(j);
+    return kExitOk;
+  }
+  const glm::dvec3 e = box.extentMm();
+  std::printf("%s: %zu vertices, %zu triangles", options.mesh.c_str(), loaded.mesh.vertexCount(),
+              loaded.mesh.triangleCount());
+  if (options.mesh != geo::kDefaultModelArgument) {
+    std::printf(" (%s %s)", loaded.info.binary ? "binary" : "text",
+                geo::meshFormatName(loaded.info.format));
+  }
+  std::printf("\n  extent     %.3f x %.3f x %.3f mm\n", e.x, e.y, e.z);
+  std::printf("  bounds     [%.3f, %.3f, %.3f] .. [%.3f, %.3f, %.3f] mm\n", box.minMm.x,
+              box.minMm.y, box.minMm.z, box.maxMm.x, box.maxMm.y, box.maxMm.z);
+  std::printf("  volume     %.3f mm^3   area %.3f mm^2\n", volume, area);
+  std::printf("  topology   %s, %s; %zu border, %zu non-manifold, %zu misoriented edges; "
+              "%zu component(s); Euler characteristic %lld\n",
+              topo.closed() ? "closed" : "open",
+              topo.consistentlyOriented() ? "consistently oriented" : "inconsistently oriented",
+              topo.borderEdges, topo.nonManifoldEdges, topo.misorientedEdges, topo.components,
+              topo.eulerCharacteristic);
+  return kExitOk;
+}
+
+int runVoxelize(const VoxelizeCommandOptions& options) {
+  const LoadedMesh loaded = load(options.mesh, options.units);
+  geo::VoxelizeOptions vo;
+  vo.voxelSizeMm = options.voxelSizeMm;
+  vo.raysPerAxis = options.raysPerAxis;
+  vo.robust = options.robust;
+  vo.density.corticalThicknessMm = options.corticalMm;
+  const auto toDensity = [](int value, const char* flag) {
+    if (value <= 0 || value > std::numeric_limits<geo::Density>::max()) {
+      throw InputError(std::string(flag) + " " + std::to_string(value) +
+                       ": must be an integer in 1..32767");
+    }
+    return geo::Density(value);
+  };
+  vo.density.corticalDensity = toDensity(options.corticalDensity, "--cortical-density");
+  vo.density.cancellousDensity = toDensity(options.cancellousDensity, "--cancellous-density");
+
+  geo::VoxelizeStats stats;
+  const geo::VoxelGrid grid = geo::voxelize(loaded.mesh, vo, &stats);
+  double writeMs = 0.0;
+  if (!options.out.empty()) {
+    const Clock::time_point start = Clock::now();
+    geo::writeNrrd(grid, options.out);
+    writeMs = msSince(start);
+  }
+
+  const double meshVolume = geo::signedVolumeMm3(loaded.mesh);
+  const double volume = grid.filledVolumeMm3();
+  const double errorPercent =
+      meshVolume != 0.0 ? 100.0 * (volume - std::abs(meshVolume)) / std::abs(meshVolume) : 0.0;
+  const std::uint64_t inside = grid.countVoxels(geo::kFillHalf);
+  const std::uint64_t touched = grid.countVoxels(1);
+
+  if (options.json) {
+    json j;
+    j["mesh"] = meshJson(options.mesh, loaded);
+    j["dims"] = ivec3(grid.dims());
+    j["voxel_size_mm"] = grid.voxelSizeMm();
+    j["origin_mm"] = vec3(grid.originMm());
+    j["voxels_inside"] = inside;
+    j["voxels_nonempty"] = touched;
+    j["bricks_allocated"] = grid.allocatedBrickCount();
+    j["bricks_total"] = grid.brickCount();
+    j["memory_bytes"] = grid.memoryBytes();
+    j["volume_mm3"] = volume;
+    j["mesh_volume_mm3"] = meshVolume;
+    j["volume_error_percent"] = errorPercent;
+    j["robust"] = options.robust;
+    j["disagreeing_voxels"] = stats.disagreeingVoxels;
+    j["abstained_columns"] = stats.abstainedColumns;
+    j["rays"] = {{"per_column", options.raysPerAxis * options.raysPerAxis},
+                 {"cast", stats.raysCast},
+                 {"retried", stats.raysRetried},
+                 {"unresolved", stats.raysUnresolved},
+                 {"winding", stats.raysWinding},
+                 {"oriented_mesh", stats.orientedMesh}};
+    j["density"] = {{"cortical_mm", vo.density.corticalThicknessMm},
+                    {"cortical_density", vo.density.corticalDensity},
+                    {"cancellous_density", vo.density.cancellousDensity},
+                    {"cortical_voxels", stats.density.corticalVoxels},
+                    {"cancellous_voxels", stats.density.cancellousVoxels}};
+    j["time_ms"] = stats.totalMs;
+    j["timings_ms"] = {{"load", loaded.loadMs},   {"bvh", stats.bvhMs},
+                       {"rays", stats.raysMs},    {"combine", stats.combineMs},
+                       {"density", stats.densityMs}, {"write", writeMs}};
+    if (!options.out.empty()) {
+      j["out"] = options.out;
+      j["out_density"] = geo::densityPathFor(options.out);
+    }
+    printJson(j);
+    return kExitOk;
+  }
+  const glm::ivec3 d = grid.dims();
+  std::printf("osteon voxelize %s at %.4g mm%s\n", options.mesh.c_str(), grid.voxelSizeMm(),
+              options.robust ? " (robust: 3 axes, majority vote)" : "");
+  std::printf("  mesh          %zu triangles, volume %.1f mm^3\n", loaded.mesh.triangleCount(),
+              meshVolume);
+  std::printf("  grid          %d x %d x %d voxels, %zu of %zu bricks allocated, %.2f MB\n", d.x,
+              d.y, d.z, grid.allocatedBrickCount(), grid.brickCount(),
+              double(grid.memoryBytes()) / 1e6);
+  std::printf("  inside        %llu voxels (fill >= 1/2), %llu non-empty\n",
+              static_cast<unsigned long long>(inside), static_cast<unsigned long long>(touched));
+  std::printf("  volume        %.1f mm^3 (%+.3f %% vs mesh)\n", volume, errorPercent);
+  std::printf("  density       %llu cortical (d=%d, within %.3g mm), %llu cancellous (d=%d)\n",
+              static_cast<unsigned long long>(stats.density.corticalVoxels),
+              vo.density.corticalDensity, vo.density.corticalThicknessMm,
+              static_cast<unsigned long long>(stats.density.cancellousVoxels),
+              vo.density.cancellousDensity);
+  std::printf("  rays          %llu cast, %llu retried, %llu unresolved\n",
+              static_cast<unsigned long long>(stats.raysCast),
+              static_cast<unsigned long long>(stats.raysRetried),
+              static_cast<unsigned long long>(stats.raysUnresolved));
+  if (options.robust) {
+    std::printf("  robust vote   %llu disagreeing voxels, %llu abstained columns\n",
+                static_cast<unsigned long long>(stats.disagreeingVoxels),
+                static_cast<unsigned long long>(stats.abstainedColumns));
+  }
+  std::printf("  time          %.1f ms (bvh %.1f, rays %.1f, density %.1f); load %.1f ms\n",
+              stats.totalMs, stats.bvhMs, stats.raysMs, stats.densityMs, loaded.loadMs);
+  if (!options.out.empty()) {
+    std::printf("  wrote         %s and %s\n", options.out.c_str(),
+                geo::densityPathFor(options.out).c_str());
+  }
+  return kExitOk;
+}
+
+int runModel(const ModelOptions& options) {
+  const Clock::time_point start = Clock::now();
+  const geo::HumerusModel model = geo::buildHumerusModel();
+  const double buildMs = msSince(start);
+  if (!options.out.empty()) geo::writeMesh(model.mesh, options.out);
+  const geo::MeshTopology topo = geo::analyzeTopology(model.mesh);
+  if (options.json) {
+    json j = {{"vertices", model.mesh.vertexCount()},
+              {"triangles", model.mesh.triangleCount()},
+              {"volume_mm3", geo::signedVolumeMm3(model.mesh)},
+              {"head_centre_mm", vec3(model.headCentreMm)},
+              {"head_radius_mm", model.headRadiusMm},
+              {"head_axis", vec3(model.headAxis)},
+              {"shaft_axis", vec3(model.shaftAxis)},
+              {"closed", topo.closed()},
+              {"euler_characteristic", topo.eulerCharacteristic},
+              {"build_ms", buildMs}};
+    if (!options.out.empty()) j["out"] = options.out;
+    printJson(j);
+    return kExitOk;
+  }
+  std::printf("built-in right proximal humerus: %zu vertices, %zu triangles, %.1f mm^3, %s\n",
+              model.mesh.vertexCount(), model.mesh.triangleCount(),
+              geo::signedVolumeMm3(model.mesh), topo.closed() ? "closed" : "OPEN");
+  std::printf("  head centre (%.3f, %.3f, %.3f) mm, radius %.3f mm, axis (%.4f, %.4f, %.4f)\n",
+              model.headCentreMm.x, model.headCentreMm.y, model.headCentreMm.z,
+              model.headRadiusMm, model.headAxis.x, model.headAxis.y, model.headAxis.z);
+  if (!options.out.empty()) std::printf("  wrote %s\n", options.out.c_str());
+  return kExitOk;
+}
+
+}  // namespace osteon::cli

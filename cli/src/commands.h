@@ -1,0 +1,49 @@
+// The commands behind `osteon`, free of CLI11 so that parsing and work compile apart.
+// Each returns the process exit code: 0 success, 1 a check failed, 2 bad input or usage.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace osteon::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitCheckFailed = 1;
+inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitInternal = 3;  // a bug: an error that is not the input's fault
+
+// How a mesh argument's coordinates become millimetres: --units or --scale, never both.
+struct MeshUnits {
+  std::string units = "mm";
+  std::optional<double> scale;
+};
+
+struct InfoOptions {
+  std::string mesh;
+  MeshUnits units;
+  bool json = false;
+};
+
+struct VoxelizeCommandOptions {
+  std::string mesh;
+  MeshUnits units;
+  double voxelSizeMm = 0.0;
+  bool robust = false;
+  int raysPerAxis = 4;
+  double corticalMm = 2.0;
+  int corticalDensity = 40;
+  int cancellousDensity = 15;
+  std::string out;  // GRID.nrrd, empty for none
+  bool json = false;
+};
+
+struct ModelOptions {
+  std::string out;  // mesh file to write, empty for none
+  bool json = false;
+};
+
+int runInfo(const InfoOptions& options);
+int runVoxelize(const VoxelizeCommandOptions& options);
+int runModel(const ModelOptions& options);
+
+}  // namespace osteon::cli

@@ -1,0 +1,124 @@
+// `osteon`: the command-line front end. This file only parses (CLI11 is slow to compile, so
+// it lives here alone); commands.cpp does the work. Errors are one line on stderr.
+#include "commands.h"
+#include "osteon/geometry/error.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <new>
+
+namespace {
+
+using osteon::cli::kExitBadInput;
+using osteon::cli::kExitInternal;
+using osteon::cli::kExitOk;
+
+void addUnits(CLI::App& cmd, osteon::cli::MeshUnits& units) {
+  CLI::Option* u = cmd.add_option("--units", units.units,
+                                  "Unit of the mesh file's coordinates: mm, cm, m or in")
+                       ->default_str("mm");
+  CLI::Option* s = cmd.add_option("--scale", units.scale,
+                                  "Multiply coordinates by S to get millimetres");
+  u->excludes(s);
+}
+
+void addMesh(CLI::App& cmd, std::string& mesh) {
+  cmd.add_option("MESH", mesh, "Mesh file (.stl .obj .ply .off) or 'default' for the built-in humerus")
+      ->required();
+}
+
+// CLI11 reports problems in paragraphs; we promise one line.
+std::string oneLine(std::string text) {
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"osteon: crack-free multi-resolution bone drilling, from mesh to voxels to proof"};
+  app.set_version_flag("--version", std::string("osteon ") + OSTEON_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough(false);
+
+  osteon::cli::InfoOptions info;
+  CLI::App* infoCmd = app.add_subcommand("info", "Print a mesh's size, bounds, volume and topology");
+  addMesh(*infoCmd, info.mesh);
+  addUnits(*infoCmd, info.units);
+  infoCmd->add_flag("--json", info.json, "Print one JSON object on stdout");
+
+  osteon::cli::VoxelizeCommandOptions vox;
+  CLI::App* voxCmd = app.add_subcommand("voxelize", "Voxelize a mesh by Embree ray projection (seed 3.2)");
+  addMesh(*voxCmd, vox.mesh);
+  addUnits(*voxCmd, vox.units);
+  voxCmd->add_option("--voxel-size", vox.voxelSizeMm, "Voxel edge length in mm")->required();
+  voxCmd->add_flag("--robust", vox.robust,
+                   "Cast along all three axes and take a majority vote (meshes with holes)");
+  voxCmd->add_option("--rays", vox.raysPerAxis, "Rays per column along each side (R x R rays)")
+      ->default_val(4);
+  voxCmd->add_option("--cortical-mm", vox.corticalMm, "Cortical shell thickness in mm")
+      ->default_val(2.0);
+  voxCmd->add_option("--cortical-density", vox.corticalDensity, "Density d of cortical voxels")
+      ->default_val(40);
+  voxCmd->add_option("--cancellous-density", vox.cancellousDensity,
+                     "Density d of cancellous voxels")
+      ->default_val(15);
+  voxCmd->add_option("--out", vox.out, "Write the grid as NRRD (fill; density beside it)");
+  voxCmd->add_flag("--json", vox.json, "Print one JSON object on stdout");
+
+  osteon::cli::ModelOptions model;
+  CLI::App* modelCmd = app.add_subcommand(
+      "model", "Build the built-in proximal humerus (what 'default' means) and optionally write it");
+  modelCmd->add_option("--out", model.out, "Mesh file to write (.stl .obj .ply .off)");
+  modelCmd->add_flag("--json", model.json, "Print one JSON object on stdout");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitOk;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return kExitOk;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << "osteon " << OSTEON_VERSION << "\n";
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    // Name an unknown command rather than CLI11's "a subcommand is required".
+    const auto known = [&](const std::string& name) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd}) {
+        if (sub->get_name() == name) return true;
+      }
+      return false;
+    };
+    if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
+      std::cerr << "osteon: error: " << argv[1]
+                << ": unknown command (expected info, voxelize or model; see osteon --help)\n";
+      return kExitBadInput;
+    }
+    std::cerr << "osteon: error: " << oneLine(e.what()) << " (see osteon --help)\n";
+    return kExitBadInput;
+  }
+
+  try {
+    if (*infoCmd) return osteon::cli::runInfo(info);
+    if (*voxCmd) return osteon::cli::runVoxelize(vox);
+    if (*modelCmd) return osteon::cli::runModel(model);
+  } catch (const osteon::InputError& e) {
+    std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "osteon: error: out of memory (try a larger voxel size)\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "osteon: internal error: " << oneLine(e.what()) << "\n";
+    return kExitInternal;
+  }
+  return kExitBadInput;
+}

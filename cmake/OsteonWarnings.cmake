@@ -1,0 +1,28 @@
+# Warnings as errors on osteon's own targets only; third-party headers come in as SYSTEM
+# include directories through their imported targets, so their warnings do not stop us.
+function(osteon_target_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
+                                           -Wnon-virtual-dtor -Wcast-align)
+  if(OSTEON_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# One library per module: osteon_<name> with alias osteon::<name>, public headers in
+# <module>/include/osteon/<module>/, private sources in <module>/src/.
+function(osteon_add_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  if(ARG_SOURCES)
+    add_library(osteon_${name} STATIC ${ARG_SOURCES})
+    target_include_directories(osteon_${name} PUBLIC
+      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+    target_link_libraries(osteon_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    osteon_target_warnings(osteon_${name})
+  else()
+    add_library(osteon_${name} INTERFACE)
+    target_include_directories(osteon_${name} INTERFACE
+      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+    target_link_libraries(osteon_${name} INTERFACE ${ARG_PUBLIC_DEPS})
+  endif()
+  add_library(osteon::${name} ALIAS osteon_${name})
+endfunction()

@@ -1,0 +1,48 @@
+// Mesh to voxels by Embree ray projection (seed 3.2): the mesh's bounding box padded by one
+// voxel; for every grid column, a bundle of rays (4 x 4 by default) is cast through the mesh,
+// every hit is collected, and the inside intervals of each ray (by parity) are overlapped
+// exactly with the column's voxels, giving each voxel a fill fraction 0..255.
+#pragma once
+
+#include "osteon/geometry/density.h"
+#include "osteon/geometry/mesh.h"
+#include "osteon/geometry/voxel_grid.h"
+
+#include <cstdint>
+
+namespace osteon::geometry {
+
+struct VoxelizeOptions {
+  double voxelSizeMm = 1.0;
+  int raysPerAxis = 4;   // rays per column = raysPerAxis^2, stratified over the column
+  bool robust = false;   // all three axes, majority (median) vote, for damaged meshes
+  int paddingVoxels = 1;  // empty voxels around the mesh's bounding box on every side
+  DensityRule density;
+};
+
+struct VoxelizeStats {
+  std::uint64_t raysCast = 0;         // first casts (retries not included)
+  std::uint64_t raysRetried = 0;      // rays re-cast, slightly moved, after an odd hit list
+  std::uint64_t raysUnresolved = 0;   // rays still inconsistent after the retries
+  std::uint64_t raysWinding = 0;      // rays through overlapping shells, classified by winding
+  std::uint64_t disagreeingVoxels = 0;  // robust: voxels whose axis votes differ by > 1/2
+  std::uint64_t abstainedColumns = 0;   // robust: columns with no consistent ray on an axis
+  bool orientedMesh = false;          // facing of hits was used to check rays
+  DensityStats density;
+  double raysMs = 0.0;     // ray casting and fill, all axes
+  double combineMs = 0.0;  // robust vote
+  double densityMs = 0.0;
+  double bvhMs = 0.0;
+  double totalMs = 0.0;
+};
+
+// The grid that voxelize() would make for this mesh and voxel size: dims and origin, the
+// mesh's bounding box centred in it with paddingVoxels on each side. Throws InputError when
+// the voxel size is not positive and finite or the grid would exceed VoxelGrid::kMaxVoxels.
+VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingVoxels = 1);
+
+// Throws InputError for bad options (voxel size, rays per axis outside 1..16, density rule).
+VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
+                   VoxelizeStats* stats = nullptr);
+
+}  // namespace osteon::geometry

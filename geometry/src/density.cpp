@@ -1,0 +1,86 @@
+#include "osteon/geometry/density.h"
+
+#include "osteon/geometry/error.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+#include <sstream>
+
+namespace osteon::geometry {
+
+// Brick edge in voxels.
+constexpr int kB = VoxelGrid::kBrickSize;
+
+void validateDensityRule(const DensityRule& rule) {
+  if (!std::isfinite(rule.corticalThicknessMm) || rule.corticalThicknessMm < 0.0) {
+    std::ostringstream s;
+    s << "--cortical-mm " << rule.corticalThicknessMm << ": must be a finite thickness >= 0";
+    throw InputError(s.str());
+  }
+  if (rule.corticalDensity <= 0 || rule.cancellousDensity <= 0) {
+    throw InputError("densities must be positive integers (cortical " +
+                     std::to_string(rule.corticalDensity) + ", cancellous " +
+                     std::to_string(rule.cancellousDensity) + ")");
+  }
+}
+
+DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const DensityRule& rule) {
+  validateDensityRule(rule);
+  const double vs = grid.voxelSizeMm();
+  const double shellMm = rule.corticalThicknessMm;
+  // A brick whose centre is farther than this from the surface holds no cortical voxel.
+  const double brickReachMm = shellMm + 0.5 * std::sqrt(3.0) * kB * vs;
+  const glm::ivec3 dims = grid.dims();
+  std::atomic<std::uint64_t> cortical{0}, cancellous{0}, queries{0};
+
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.brickCount()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    std::uint64_t nCortical = 0, nCancellous = 0, nQueries = 0;
+    for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
+      const bool allocated = grid.brickAllocated(brick);
+      const Fill uniformFill = grid.brickUniformFill(brick);
+      if (!allocated && uniformFill == 0) continue;
+      const glm::ivec3 lo = grid.brickCoord(brick) * kB;
+      const glm::ivec3 hi = glm::min(lo + kB, dims);
+      const glm::ivec3 span = hi - lo;
+      const std::uint64_t inGrid = std::uint64_t(span.x) * std::uint64_t(span.y) * std::uint64_t(span.z);
+      const glm::dvec3 centre = grid.worldFromGrid(glm::dvec3(lo) + 0.5 * glm::dvec3(span));
+      ++nQueries;
+      const bool nearSurface = surface.distanceWithin(centre, brickReachMm) >= 0.0;
+
+      if (!nearSurface && !allocated) {  // deep inside: one value for the whole brick
+        grid.setBrickUniform(brick, uniformFill, rule.cancellousDensity);
+        nCancellous += inGrid;
+        continue;
+      }
+      VoxelGrid::Brick& b = grid.materialiseBrick(brick);
+      for (int z = lo.z; z < hi.z; ++z)
+        for (int y = lo.y; y < hi.y; ++y)
+          for (int x = lo.x; x < hi.x; ++x) {
+            const glm::ivec3 ijk(x, y, z);
+            const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(ijk - lo));
+            if (b.fill[local] == 0) {
+              b.density[local] = 0;
+              continue;
+            }
+            bool isCortical = false;
+            if (nearSurface) {
+              ++nQueries;
+              isCortical = surface.distanceWithin(grid.voxelCentreMm(ijk), shellMm) >= 0.0;
+            }
+            b.density[local] = isCortical ? rule.corticalDensity : rule.cancellousDensity;
+            (isCortical ? nCortical : nCancellous) += 1;
+          }
+    }
+    cortical += nCortical;
+    cancellous += nCancellous;
+    queries += nQueries;
+  });
+  grid.compact();
+  return DensityStats{cortical.load(), cancellous.load(), queries.load()};
+}
+
+}  // namespace osteon::geometry

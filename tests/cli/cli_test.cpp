@@ -1,0 +1,166 @@
+// The command line as users and scripts meet it: exit codes, one-line errors naming the file
+// or value, JSON on stdout.
+#include "osteon/geometry/mesh_io.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include <sys/wait.h>
+
+namespace osteon {
+namespace {
+
+struct CliRun {
+  int exitCode = -1;
+  std::string out;
+  std::string err;
+};
+
+class CliTest : public ::testing::Test {
+ protected:
+  std::string dir_ = test::makeTempDir("cli");
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+
+  CliRun osteon(const std::string& args) const {
+    const std::string command = std::string("'") + OSTEON_CLI + "' " + args + " >'" +
+                                path("stdout") + "' 2>'" + path("stderr") + "' </dev/null";
+    const int status = std::system(command.c_str());
+    CliRun run;
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    run.out = test::readBytes(path("stdout"));
+    run.err = test::readBytes(path("stderr"));
+    return run;
+  }
+
+  // Bad input: exit 2, nothing on stdout, one line on stderr that names `needle`.
+  void expectBadInput(const std::string& args, const std::string& needle,
+                      const std::string& reason) const {
+    const CliRun run = osteon(args);
+    EXPECT_EQ(run.exitCode, 2) << args << "\n" << run.err;
+    EXPECT_TRUE(run.out.empty()) << args << "\n" << run.out;
+    ASSERT_FALSE(run.err.empty()) << args;
+    EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << "one line: " << run.err;
+    EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(reason), std::string::npos) << run.err;
+  }
+};
+
+std::string binaryStlHeader(std::uint32_t count) {
+  std::string bytes(80, '\0');
+  bytes.append(reinterpret_cast<const char*>(&count), 4);
+  return bytes;
+}
+
+TEST_F(CliTest, EveryBadMeshGivesItsErrorAndExitCode2) {
+  const std::string tri(50, '\0');
+  test::writeBytes(path("truncated.stl"), binaryStlHeader(4) + tri);
+  test::writeBytes(path("overflow.stl"), binaryStlHeader(0xF0000000u) + tri);
+  test::writeBytes(path("empty.obj"), "# nothing here\n");
+  test::writeBytes(path("noface.off"), "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n");
+  test::writeBytes(path("nan.obj"), "v 0 0 0\nv 0 NaN 0\nv 0 1 0\nf 1 2 3\n");
+  test::writeBytes(path("inf.ply"),
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                   "end_header\n0 0 0\n1 0 -inf\n0 1 0\n3 0 1 2\n");
+  test::writeBytes(path("range.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n");
+  test::writeBytes(path("mesh.3ds"), "whatever");
+  const struct {
+    const char* file;
+    const char* reason;
+  } cases[] = {{"missing.stl", "no such file"},
+               {"mesh.3ds", "unknown mesh extension"},
+               {"truncated.stl", "truncated binary STL"},
+               {"overflow.stl", "overflows 32-bit"},
+               {"empty.obj", "empty mesh"},
+               {"noface.off", "zero triangles"},
+               {"nan.obj", "non-finite"},
+               {"inf.ply", "non-finite"},
+               {"range.obj", "out of range"}};
+  for (const auto& c : cases) {
+    expectBadInput("info '" + path(c.file) + "'", path(c.file), c.reason);
+    expectBadInput("voxelize '" + path(c.file) + "' --voxel-size 1 --json", path(c.file),
+                   c.reason);
+  }
+}
+
+TEST_F(CliTest, BadValuesAndUsageGiveExitCode2) {
+  expectBadInput("voxelize default --voxel-size 0", "--voxel-size 0", "positive");
+  expectBadInput("voxelize default --voxel-size -3", "--voxel-size -3", "positive");
+  expectBadInput("voxelize default --voxel-size nan", "--voxel-size nan", "positive");
+  expectBadInput("voxelize default --voxel-size 0.00001", "--voxel-size", "limit");
+  expectBadInput("voxelize default --voxel-size abc", "abc", "");
+  expectBadInput("voxelize default", "--voxel-size", "required");
+  expectBadInput("info default --units furlong", "furlong", "unknown unit");
+  expectBadInput("info default --units m --scale 2", "--units", "excludes");
+  expectBadInput("info default --scale 0", "--scale 0", "positive");
+  expectBadInput("voxelize default --voxel-size 1 --rays 0", "--rays 0", "1..16");
+  expectBadInput("voxelize default --voxel-size 1 --cortical-density 0", "--cortical-density",
+                 "1..32767");
+  expectBadInput("frobnicate", "frobnicate", "");
+  expectBadInput("", "subcommand", "");
+  expectBadInput("voxelize default --voxel-size 1 --out '" + path("no/such/dir/g.nrrd") + "'",
+                 path("no/such/dir/g.nrrd"), "");
+}
+
+TEST_F(CliTest, HelpAndVersionSucceed) {
+  EXPECT_EQ(osteon("--help").exitCode, 0);
+  EXPECT_EQ(osteon("voxelize --help").exitCode, 0);
+  const CliRun version = osteon("--version");
+  EXPECT_EQ(version.exitCode, 0);
+  EXPECT_NE(version.out.find("osteon"), std::string::npos);
+}
+
+TEST_F(CliTest, VoxelizeDefaultPrintsTheContractJson) {
+  const CliRun run = osteon("voxelize default --voxel-size 1.2 --json --out '" + path("g.nrrd") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_TRUE(run.err.empty()) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  for (const char* key : {"dims", "voxel_size_mm", "voxels_inside", "bricks_allocated",
+                          "volume_mm3", "mesh_volume_mm3", "time_ms"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["dims"].size(), 3u);
+  EXPECT_DOUBLE_EQ(j["voxel_size_mm"].get<double>(), 1.2);
+  EXPECT_GT(j["voxels_inside"].get<long long>(), 1000);
+  const double volume = j["volume_mm3"].get<double>();
+  const double meshVolume = j["mesh_volume_mm3"].get<double>();
+  EXPECT_NEAR(volume, meshVolume, 0.01 * meshVolume);
+  EXPECT_TRUE(std::filesystem::exists(path("g.nrrd")));
+  EXPECT_TRUE(std::filesystem::exists(path("g.density.nrrd")));
+}
+
+TEST_F(CliTest, UnitsAndScaleAgree) {
+  geometry::writeMesh(test::makeBox({0, 0, 0}, {0.02, 0.03, 0.04}), path("box_m.stl"));
+  const CliRun metres = osteon("info '" + path("box_m.stl") + "' --units m --json");
+  const CliRun scaled = osteon("info '" + path("box_m.stl") + "' --scale 1000 --json");
+  ASSERT_EQ(metres.exitCode, 0) << metres.err;
+  ASSERT_EQ(scaled.exitCode, 0) << scaled.err;
+  const double v1 = nlohmann::json::parse(metres.out)["volume_mm3"].get<double>();
+  const double v2 = nlohmann::json::parse(scaled.out)["volume_mm3"].get<double>();
+  EXPECT_NEAR(v1, 20.0 * 30.0 * 40.0, 0.1);
+  EXPECT_DOUBLE_EQ(v1, v2);
+  const CliRun inches = osteon("info '" + path("box_m.stl") + "' --units in --json");
+  EXPECT_NEAR(nlohmann::json::parse(inches.out)["volume_mm3"].get<double>(),
+              0.02 * 0.03 * 0.04 * 25.4 * 25.4 * 25.4, 1e-6);
+}
+
+TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
+  const CliRun run = osteon("model --json --out '" + path("humerus.stl") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_TRUE(j["closed"].get<bool>());
+  EXPECT_NEAR(j["head_radius_mm"].get<double>(), 23.0, 1.0);
+  // The file in data/ is what this command writes, byte for byte.
+  const bool same = test::readBytes(path("humerus.stl")) ==
+                   test::readBytes(std::string(OSTEON_SOURCE_DIR) + "/data/humerus_proximal.stl");
+  EXPECT_TRUE(same)
+      << "data/humerus_proximal.stl is stale: run `osteon model --out data/humerus_proximal.stl`";
+}
+
+}  // namespace
+}  // namespace osteon

@@ -1,0 +1,24 @@
+// Analytic test shapes as closed, outward triangle meshes, and small file helpers.
+#pragma once
+
+#include "osteon/geometry/mesh.h"
+
+#include <string>
+
+namespace osteon::test {
+
+// UV sphere: `slices` around z, `stacks` from pole to pole.
+geometry::TriangleMesh makeSphere(double radiusMm, int slices, int stacks,
+                                  glm::dvec3 centreMm = glm::dvec3(0.0));
+// Axis-aligned box from minMm to maxMm, 12 triangles.
+geometry::TriangleMesh makeBox(glm::dvec3 minMm, glm::dvec3 maxMm);
+// Torus around z: major radius R (centre to tube centre), minor radius r.
+geometry::TriangleMesh makeTorus(double majorMm, double minorMm, int majorSegments,
+                                 int minorSegments);
+
+// A fresh empty folder under the system temp dir, unique per call.
+std::string makeTempDir(const std::string& tag);
+void writeBytes(const std::string& path, const std::string& bytes);
+std::string readBytes(const std::string& path);
+
+}  // namespace osteon::test
