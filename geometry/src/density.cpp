@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace osteon::geometry {
@@ -29,12 +30,14 @@ void validateDensityRule(const DensityRule& rule) {
 
 DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const DensityRule& rule) {
   validateDensityRule(rule);
+  const glm::ivec3 dims = grid.dims();
   const double vs = grid.voxelSizeMm();
   const double shellMm = rule.corticalThicknessMm;
   // A brick whose centre is farther than this from the surface holds no cortical voxel.
   const double brickReachMm = shellMm + 0.5 * std::sqrt(3.0) * kB * vs;
-  const glm::ivec3 dims = grid.dims();
-  std::atomic<std::uint64_t> cortical{0}, cancellous{0}, queries{0};
+  // Voxel queries look a little past the shell so that a miss still bounds the next voxels.
+  const double queryReachMm = shellMm + 2.0 * vs;
+  std::atomic<std::uint64_t> corticalCount{0}, cancellousCount{0}, queryCount{0};
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.brickCount()),
                     [&](const tbb::blocked_range<std::size_t>& range) {
@@ -46,41 +49,46 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
       const glm::ivec3 lo = grid.brickCoord(brick) * kB;
       const glm::ivec3 hi = glm::min(lo + kB, dims);
       const glm::ivec3 span = hi - lo;
-      const std::uint64_t inGrid = std::uint64_t(span.x) * std::uint64_t(span.y) * std::uint64_t(span.z);
       const glm::dvec3 centre = grid.worldFromGrid(glm::dvec3(lo) + 0.5 * glm::dvec3(span));
       ++nQueries;
-      const bool nearSurface = surface.distanceWithin(centre, brickReachMm) >= 0.0;
-
-      if (!nearSurface && !allocated) {  // deep inside: one value for the whole brick
+      if (surface.distanceWithin(centre, brickReachMm) < 0.0 && !allocated) {
+        // Deep inside: the whole brick is cancellous and stays a few bytes.
         grid.setBrickUniform(brick, uniformFill, rule.cancellousDensity);
-        nCancellous += inGrid;
+        nCancellous += std::uint64_t(span.x) * std::uint64_t(span.y) * std::uint64_t(span.z);
         continue;
       }
       VoxelGrid::Brick& b = grid.materialiseBrick(brick);
       for (int z = lo.z; z < hi.z; ++z)
-        for (int y = lo.y; y < hi.y; ++y)
-          for (int x = lo.x; x < hi.x; ++x) {
+        for (int y = lo.y; y < hi.y; ++y) {
+          // Bounds on the current voxel centre's distance to the surface: neighbouring centres
+          // are one voxel apart, so one exact distance settles several voxels along the row.
+          double lower = 0.0;
+          double upper = std::numeric_limits<double>::infinity();
+          for (int x = lo.x; x < hi.x; ++x, lower -= vs, upper += vs) {
             const glm::ivec3 ijk(x, y, z);
             const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(ijk - lo));
             if (b.fill[local] == 0) {
               b.density[local] = 0;
               continue;
             }
-            bool isCortical = false;
-            if (nearSurface) {
+            if (upper > shellMm && lower <= shellMm) {
               ++nQueries;
-              isCortical = surface.distanceWithin(grid.voxelCentreMm(ijk), shellMm) >= 0.0;
+              const double d = surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
+              lower = d < 0.0 ? queryReachMm : d;
+              upper = d < 0.0 ? std::numeric_limits<double>::infinity() : d;
             }
+            const bool isCortical = upper <= shellMm;
             b.density[local] = isCortical ? rule.corticalDensity : rule.cancellousDensity;
             (isCortical ? nCortical : nCancellous) += 1;
           }
+        }
     }
-    cortical += nCortical;
-    cancellous += nCancellous;
-    queries += nQueries;
+    corticalCount += nCortical;
+    cancellousCount += nCancellous;
+    queryCount += nQueries;
   });
   grid.compact();
-  return DensityStats{cortical.load(), cancellous.load(), queries.load()};
+  return DensityStats{corticalCount.load(), cancellousCount.load(), queryCount.load()};
 }
 
 }  // namespace osteon::geometry
