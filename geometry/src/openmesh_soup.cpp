@@ -4,7 +4,7 @@
 
 namespace osteon::geometry::detail {
 
-SoupImporter::VertexHandle SoupImporter::addPoint(double x, double y, double z) {
+VertexHandle SoupImporter::addPoint(double x, double y, double z) {
   if (mesh_.positionsMm.size() >= maxVertices_) {
     fail("more vertices than the file's size allows (corrupt counts?)");
     return VertexHandle();
@@ -19,7 +19,7 @@ void SoupImporter::set_point(VertexHandle vh, const Vec3f& p) {
   }
 }
 
-SoupImporter::FaceHandle SoupImporter::add_face(const VHandles& corners) {
+FaceHandle SoupImporter::add_face(const VHandles& corners) {
   const std::size_t face = polygonsRead_++;
   if (error_) return FaceHandle();
   const std::size_t vertexCount = mesh_.positionsMm.size();
@@ -49,7 +49,7 @@ SoupImporter::FaceHandle SoupImporter::add_face(const VHandles& corners) {
   return emitted ? FaceHandle(static_cast<int>(face)) : FaceHandle();
 }
 
-SoupExporter::Vec3d SoupExporter::pointd(VertexHandle vh) const {
+Vec3d SoupExporter::pointd(VertexHandle vh) const {
   const glm::dvec3& p = mesh_.positionsMm[static_cast<std::size_t>(vh.idx())];
   return Vec3d(p.x, p.y, p.z);
 }
@@ -62,7 +62,7 @@ unsigned int SoupExporter::get_vhandles(FaceHandle fh,
   return 3;
 }
 
-SoupExporter::Vec3d SoupExporter::normald(FaceHandle fh) const {
+Vec3d SoupExporter::normald(FaceHandle fh) const {
   const glm::u32vec3& t = mesh_.triangles[static_cast<std::size_t>(fh.idx())];
   const glm::dvec3& a = mesh_.positionsMm[t.x];
   const glm::dvec3 n = glm::cross(mesh_.positionsMm[t.y] - a, mesh_.positionsMm[t.z] - a);

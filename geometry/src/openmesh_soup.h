@@ -14,6 +14,21 @@
 
 namespace osteon::geometry::detail {
 
+// OpenMesh's handle and vector types, as both adapters' overrides spell them.
+using OpenMesh::EdgeHandle;
+using OpenMesh::FaceHandle;
+using OpenMesh::HalfedgeHandle;
+using OpenMesh::Vec2f;
+using OpenMesh::Vec3d;
+using OpenMesh::Vec3f;
+using OpenMesh::Vec3uc;
+using OpenMesh::Vec3ui;
+using OpenMesh::Vec4f;
+using OpenMesh::Vec4uc;
+using OpenMesh::Vec4ui;
+using OpenMesh::VertexHandle;
+using StatusInfo = OpenMesh::Attributes::StatusInfo;
+
 class SoupImporter final : public OpenMesh::IO::BaseImporter {
  public:
   // fileBytes bounds how many vertices a file can honestly hold.
@@ -24,18 +39,6 @@ class SoupImporter final : public OpenMesh::IO::BaseImporter {
   std::size_t polygonsRead() const { return polygonsRead_; }
   std::size_t polygonsTriangulated() const { return polygonsTriangulated_; }
   std::size_t degenerateDropped() const { return degenerateDropped_; }
-
-  using VertexHandle = OpenMesh::VertexHandle;
-  using FaceHandle = OpenMesh::FaceHandle;
-  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
-  using EdgeHandle = OpenMesh::EdgeHandle;
-  using Vec2f = OpenMesh::Vec2f;
-  using Vec3f = OpenMesh::Vec3f;
-  using Vec3d = OpenMesh::Vec3d;
-  using Vec3uc = OpenMesh::Vec3uc;
-  using Vec4uc = OpenMesh::Vec4uc;
-  using Vec4f = OpenMesh::Vec4f;
-  using StatusInfo = OpenMesh::Attributes::StatusInfo;
 
   VertexHandle add_vertex(const Vec3f& p) override { return addPoint(p[0], p[1], p[2]); }
   VertexHandle add_vertex(const Vec3d& p) override { return addPoint(p[0], p[1], p[2]); }
@@ -103,20 +106,6 @@ class SoupImporter final : public OpenMesh::IO::BaseImporter {
 class SoupExporter final : public OpenMesh::IO::BaseExporter {
  public:
   explicit SoupExporter(const TriangleMesh& mesh) : mesh_(mesh) {}
-
-  using VertexHandle = OpenMesh::VertexHandle;
-  using FaceHandle = OpenMesh::FaceHandle;
-  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
-  using EdgeHandle = OpenMesh::EdgeHandle;
-  using Vec2f = OpenMesh::Vec2f;
-  using Vec3f = OpenMesh::Vec3f;
-  using Vec3d = OpenMesh::Vec3d;
-  using Vec3uc = OpenMesh::Vec3uc;
-  using Vec4uc = OpenMesh::Vec4uc;
-  using Vec3ui = OpenMesh::Vec3ui;
-  using Vec4ui = OpenMesh::Vec4ui;
-  using Vec4f = OpenMesh::Vec4f;
-  using StatusInfo = OpenMesh::Attributes::StatusInfo;
 
   Vec3f point(VertexHandle vh) const override { return Vec3f(pointd(vh)); }
   Vec3d pointd(VertexHandle vh) const override;

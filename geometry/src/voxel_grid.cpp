@@ -16,12 +16,16 @@ VoxelGrid::VoxelGrid(glm::ivec3 dims, glm::dvec3 originMm, double voxelSizeMm)
   if (!std::isfinite(voxelSizeMm) || voxelSizeMm <= 0.0) {
     throw std::invalid_argument("VoxelGrid: voxel size must be positive and finite");
   }
-  if (voxelCount() > kMaxVoxels) {
-    throw std::invalid_argument("VoxelGrid: more than 2^32 voxels");
+  // Bound the brick table, not only the voxels: a thin grid pads every brick to 8^3.
+  std::uint64_t bricks = 1;
+  for (int c = 0; c < 3; ++c) {
+    bricks *= (std::uint64_t(dims[c]) + kBrickSize - 1) / kBrickSize;
   }
-  brickDims_ = (dims + (kBrickSize - 1)) / kBrickSize;
-  const std::size_t n = std::size_t(brickDims_.x) * std::size_t(brickDims_.y) *
-                        std::size_t(brickDims_.z);
+  if (voxelCount() > kMaxVoxels || bricks > kMaxVoxels / kBrickVoxels) {
+    throw std::invalid_argument("VoxelGrid: more than 2^32 voxels (bricks included)");
+  }
+  brickDims_ = (dims + (kBrickSize - 1)) / kBrickSize;  // no overflow: each dim < 2^32 / 1
+  const std::size_t n = std::size_t(bricks);
   bricks_.resize(n);
   uniformFill_.assign(n, 0);
   uniformDensity_.assign(n, 0);
@@ -107,11 +111,18 @@ std::size_t VoxelGrid::compact() {
   for (std::size_t i = 0; i < bricks_.size(); ++i) {
     const Brick* b = bricks_[i].get();
     if (!b) continue;
+    // Only voxels inside the grid count: an edge brick's padding is never read.
+    const glm::ivec3 lo = brickCoord(i) * kBrickSize;
+    const glm::ivec3 span = glm::min(lo + kBrickSize, dims_) - lo;
     const Fill f = b->fill[0];
     const Density d = b->density[0];
-    const bool uniform =
-        std::all_of(b->fill.begin(), b->fill.end(), [f](Fill v) { return v == f; }) &&
-        std::all_of(b->density.begin(), b->density.end(), [d](Density v) { return v == d; });
+    bool uniform = true;
+    for (int z = 0; z < span.z && uniform; ++z)
+      for (int y = 0; y < span.y && uniform; ++y)
+        for (int x = 0; x < span.x && uniform; ++x) {
+          const std::size_t k = std::size_t(voxelInBrick({x, y, z}));
+          uniform = b->fill[k] == f && b->density[k] == d;
+        }
     if (!uniform) continue;
     // Same voxel values: the brick's dirty state is left as it was.
     bricks_[i].reset();

@@ -30,7 +30,8 @@ class VoxelGrid {
   static constexpr int kBrickLog2 = 3;
   static constexpr int kBrickSize = 1 << kBrickLog2;  // voxels per brick edge
   static constexpr int kBrickVoxels = kBrickSize * kBrickSize * kBrickSize;
-  // Grids above this many voxels are refused (the brick table alone would pass 100 MB).
+  // Grids above this many voxels, counting the padding of edge bricks, are refused (the brick
+  // table alone would pass 100 MB).
   static constexpr std::uint64_t kMaxVoxels = std::uint64_t(1) << 32;
 
   struct Brick {
@@ -106,7 +107,9 @@ class VoxelGrid {
   double filledVolumeMm3() const;                 // sum of fill / 255 x voxel volume
   std::size_t memoryBytes() const;
 
-  // Cached read access for neighbourhood walks: remembers the last brick it touched.
+  // Cached read access for neighbourhood walks: remembers the last brick it touched. Valid
+  // while the grid's brick storage does not change (materialiseBrick, setBrickUniform and
+  // compact invalidate it); make a new one after writes.
   class Accessor {
    public:
     explicit Accessor(const VoxelGrid& grid) : grid_(&grid) {}
