@@ -187,7 +187,8 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
                     {"cortical_density", vo.density.corticalDensity},
                     {"cancellous_density", vo.density.cancellousDensity},
                     {"cortical_voxels", stats.density.corticalVoxels},
-                    {"cancellous_voxels", stats.density.cancellousVoxels}};
+                    {"cancellous_voxels", stats.density.cancellousVoxels},
+                    {"distance_queries", stats.density.distanceQueries}};
     j["time_ms"] = stats.totalMs;
     j["timings_ms"] = {{"load", loaded.loadMs},   {"bvh", stats.bvhMs},
                        {"rays", stats.raysMs},    {"combine", stats.combineMs},

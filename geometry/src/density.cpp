@@ -5,6 +5,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -14,6 +16,7 @@ namespace osteon::geometry {
 
 // Brick edge in voxels.
 constexpr int kB = VoxelGrid::kBrickSize;
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 void validateDensityRule(const DensityRule& rule) {
   if (!std::isfinite(rule.corticalThicknessMm) || rule.corticalThicknessMm < 0.0) {
@@ -42,6 +45,8 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.brickCount()),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     std::uint64_t nCortical = 0, nCancellous = 0, nQueries = 0;
+    std::array<double, VoxelGrid::kBrickVoxels> lowerMm;
+    std::array<double, VoxelGrid::kBrickVoxels> upperMm;
     for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
       const bool allocated = grid.brickAllocated(brick);
       const Fill uniformFill = grid.brickUniformFill(brick);
@@ -58,30 +63,41 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
         continue;
       }
       VoxelGrid::Brick& b = grid.materialiseBrick(brick);
+      // Bounds on each voxel centre's distance to the surface. Neighbouring centres are one
+      // voxel apart, so the bounds of the voxels before it (x-1, y-1, z-1) widened by one
+      // voxel bound it too; one exact distance settles a run of voxels around it.
       for (int z = lo.z; z < hi.z; ++z)
-        for (int y = lo.y; y < hi.y; ++y) {
-          // Bounds on the current voxel centre's distance to the surface: neighbouring centres
-          // are one voxel apart, so one exact distance settles several voxels along the row.
-          double lower = 0.0;
-          double upper = std::numeric_limits<double>::infinity();
-          for (int x = lo.x; x < hi.x; ++x, lower -= vs, upper += vs) {
+        for (int y = lo.y; y < hi.y; ++y)
+          for (int x = lo.x; x < hi.x; ++x) {
             const glm::ivec3 ijk(x, y, z);
-            const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(ijk - lo));
-            if (b.fill[local] == 0) {
-              b.density[local] = 0;
-              continue;
+            const glm::ivec3 l = ijk - lo;
+            const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(l));
+            double lower = 0.0;
+            double upper = kUnbounded;
+            for (int axis = 0; axis < 3; ++axis) {
+              if (l[axis] == 0) continue;
+              glm::ivec3 prev = l;
+              --prev[axis];
+              const std::size_t p = std::size_t(VoxelGrid::voxelInBrick(prev));
+              lower = std::max(lower, lowerMm[p] - vs);
+              upper = std::min(upper, upperMm[p] + vs);
             }
-            if (upper > shellMm && lower <= shellMm) {
+            if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
               ++nQueries;
               const double d = surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
               lower = d < 0.0 ? queryReachMm : d;
-              upper = d < 0.0 ? std::numeric_limits<double>::infinity() : d;
+              upper = d < 0.0 ? kUnbounded : d;
+            }
+            lowerMm[local] = lower;
+            upperMm[local] = upper;
+            if (b.fill[local] == 0) {
+              b.density[local] = 0;
+              continue;
             }
             const bool isCortical = upper <= shellMm;
             b.density[local] = isCortical ? rule.corticalDensity : rule.cancellousDensity;
             (isCortical ? nCortical : nCancellous) += 1;
           }
-        }
     }
     corticalCount += nCortical;
     cancellousCount += nCancellous;
