@@ -119,57 +119,93 @@ int plyTypeBytes(const std::string& type) {
 }  // namespace
 
 bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
+  // OpenMesh's PLY reader trusts its header (malformed ones crash it or send it looping), so
+  // the header is checked here in full: known keywords only, a known format, typed
+  // properties under an element, a vertex element with x, y and z.
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open for reading");
   std::string line;
   std::getline(in, line);
-  if (line.rfind("ply", 0) != 0) throw InputError(path + ": not a PLY file (no 'ply' magic)");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "ply") throw InputError(path + ": not a PLY file (no 'ply' magic)");
+  const auto bad = [&](std::size_t lineNo, const std::string& why) {
+    return InputError(path + ": PLY header line " + std::to_string(lineNo) + ": " + why);
+  };
   bool binary = false;
+  bool formatSeen = false;
+  bool inElement = false;
+  std::string element;
+  int vertexXyz = 0;
+  bool vertexSeen = false;
   long double needBytes = 0.0L;
   long double elementCount = 0.0L;
   long double recordBytes = 0.0L;
   auto closeElement = [&] { needBytes += elementCount * recordBytes; };
-  std::size_t headerLines = 0;
+  std::size_t lineNo = 1;
   while (std::getline(in, line)) {
-    if (++headerLines > 10000) throw InputError(path + ": PLY header has no end_header");
+    if (++lineNo > 10000) throw InputError(path + ": PLY header has no end_header");
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    for (unsigned char c : line) {
+      if (c < 0x20 || c > 0x7e) throw bad(lineNo, "non-printable byte in the header");
+    }
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
+    if (keyword == "comment" || keyword == "obj_info") continue;
     if (keyword == "format") {
-      std::string kind;
-      words >> kind;
+      std::string kind, version, extra;
+      words >> kind >> version;
+      if (words >> extra || version != "1.0" ||
+          (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian")) {
+        throw bad(lineNo, "unknown format '" + line + "'");
+      }
       binary = kind != "ascii";
+      formatSeen = true;
     } else if (keyword == "element") {
       closeElement();
-      std::string name;
       long long count = -1;
-      words >> name >> count;
-      if (!words || count < 0) throw InputError(path + ": bad PLY element line: '" + line + "'");
+      std::string extra;
+      words >> element >> count;
+      if (!words || count < 0 || (words >> extra)) throw bad(lineNo, "bad element line '" + line + "'");
+      inElement = true;
+      vertexSeen = vertexSeen || element == "vertex";
       elementCount = static_cast<long double>(count);
       recordBytes = 0.0L;
     } else if (keyword == "property") {
-      std::string type;
+      if (!inElement) throw bad(lineNo, "property before any element");
+      std::string type, name, extra;
       words >> type;
       if (type == "list") {
-        std::string countType;
-        words >> countType;
+        std::string countType, itemType;
+        words >> countType >> itemType >> name;
         const int bytes = plyTypeBytes(countType);
-        if (bytes < 0) throw InputError(path + ": unknown PLY type '" + countType + "'");
+        if (bytes < 0 || plyTypeBytes(itemType) < 0 || name.empty() || (words >> extra)) {
+          throw bad(lineNo, "bad list property '" + line + "'");
+        }
         recordBytes += binary ? bytes : 2;
       } else {
+        words >> name;
         const int bytes = plyTypeBytes(type);
-        if (bytes < 0) throw InputError(path + ": unknown PLY type '" + type + "'");
+        if (bytes < 0 || name.empty() || (words >> extra)) {
+          throw bad(lineNo, "bad property '" + line + "'");
+        }
         recordBytes += binary ? bytes : 2;
+        if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++vertexXyz;
       }
     } else if (keyword == "end_header") {
       closeElement();
+      if (!formatSeen) throw InputError(path + ": PLY header has no format line");
+      if (!vertexSeen || vertexXyz != 3) {
+        throw InputError(path + ": PLY header has no vertex element with x, y and z");
+      }
       const auto headerEnd = static_cast<std::uint64_t>(in.tellg());
       if (needBytes > static_cast<long double>(fileBytes - headerEnd)) {
         throw InputError(path + ": PLY header promises more elements than its " +
                          std::to_string(fileBytes) + " bytes can hold (truncated file?)");
       }
       return binary;
+    } else {
+      throw bad(lineNo, "unknown keyword '" + keyword + "'");
     }
   }
   throw InputError(path + ": PLY header has no end_header");

@@ -6,7 +6,9 @@
 
 #include <cstring>
 #include <filesystem>
+#include <algorithm>
 #include <limits>
+#include <random>
 
 namespace osteon::geometry {
 namespace {
@@ -162,6 +164,70 @@ TEST_F(MeshIoTest, BadInputsNameTheFileAndTheReason) {
   expectInputError(path("lying.ply"), "truncated");
   test::writeBytes(path("garbage.stl"), std::string(40, '\x7f'));
   expectInputError(path("garbage.stl"), "too short");
+}
+
+TEST_F(MeshIoTest, MalformedPlyHeadersAreRejectedBeforeParsing) {
+  // Headers like these crashed or hung OpenMesh's PLY reader before the preflight.
+  const std::string body = "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string good = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                           "property float y\nproperty float z\nelement face 1\n"
+                           "property list uchar int vertex_indices\n";
+  test::writeBytes(path("ok.ply"), good + body);
+  EXPECT_EQ(readMesh(path("ok.ply")).triangleCount(), 1u);
+  std::string typo = good;
+  typo.replace(typo.find("element vertex"), 7, "eIement");
+  test::writeBytes(path("typo.ply"), typo + body);
+  expectInputError(path("typo.ply"), "unknown keyword");
+  std::string format = good;
+  format.replace(format.find("1.0"), 3, "\x81&1.0");
+  test::writeBytes(path("format.ply"), format + body);
+  expectInputError(path("format.ply"), "non-printable");
+  std::string noZ = good;
+  noZ.erase(noZ.find("property float z\n"), 17);
+  test::writeBytes(path("noz.ply"), noZ + body);
+  expectInputError(path("noz.ply"), "x, y and z");
+}
+
+// Random damage to valid files of every format: each read returns a mesh or an InputError,
+// never a crash, a hang or another exception (fixed seed, so a failure reproduces).
+TEST_F(MeshIoTest, MutatedFilesNeverCrashOrHang) {
+  std::vector<std::pair<std::string, std::string>> seeds;
+  for (const char* name : {"seed.stl", "seed.obj", "seed.ply", "seed.off"}) {
+    writeMesh(test::makeSphere(5.0, 6, 4), path(name));
+    seeds.emplace_back(name, test::readBytes(path(name)));
+  }
+  writeMesh(test::makeSphere(5.0, 6, 4), path("ascii.stl"), true);
+  seeds.emplace_back("ascii.stl", test::readBytes(path("ascii.stl")));
+  std::mt19937 rng(20261121);
+  int accepted = 0, rejected = 0;
+  for (int round = 0; round < 400; ++round) {
+    const auto& [name, original] = seeds[std::size_t(round) % seeds.size()];
+    std::string bytes = original;
+    const int edits = 1 + int(rng() % 6);
+    for (int e = 0; e < edits && !bytes.empty(); ++e) {
+      const std::size_t at = rng() % bytes.size();
+      switch (rng() % 4) {
+        case 0: bytes[at] = char(rng() % 256); break;
+        case 1: bytes[at] = "0123456789 -.e\n"[rng() % 15]; break;
+        case 2: bytes.erase(at, 1 + rng() % 20); break;
+        default: bytes.insert(at, std::string(1 + rng() % 4, char(rng() % 256))); break;
+      }
+    }
+    const std::string file = path("m" + std::to_string(round) + "_" + name);
+    test::writeBytes(file, bytes);
+    try {
+      const TriangleMesh m = readMesh(file);
+      EXPECT_FALSE(m.triangles.empty());
+      for (const glm::u32vec3& t : m.triangles) {
+        ASSERT_LT(std::max({t.x, t.y, t.z}), m.vertexCount()) << file;
+      }
+      ++accepted;
+    } catch (const InputError&) {
+      ++rejected;
+    }
+  }
+  EXPECT_GT(accepted, 0);
+  EXPECT_GT(rejected, 0);
 }
 
 TEST(SharedData, RealBonesLoadInTheirUnits) {
