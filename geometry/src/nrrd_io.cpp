@@ -104,9 +104,11 @@ void encodeLittle(const std::vector<T>& values, std::vector<unsigned char>& byte
   }
 }
 
-template <typename T, typename BrickValues, typename UniformValue>
+// Writes values of type T as type Out (each divided by `divisor`).
+template <typename T, typename Out, typename BrickValues, typename UniformValue>
 void writeVolume(const VoxelGrid& grid, const std::string& path, const char* type,
-                 const char* content, BrickValues brickValues, UniformValue uniformValue) {
+                 const char* content, T divisor, BrickValues brickValues,
+                 UniformValue uniformValue) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) {
     throw InputError(path + ": cannot open for writing (" + std::strerror(errno) + ")");
@@ -114,10 +116,12 @@ void writeVolume(const VoxelGrid& grid, const std::string& path, const char* typ
   out << header(grid, type, content);
   const glm::ivec3 n = grid.dims();
   std::vector<T> slice(std::size_t(n.x) * std::size_t(n.y));
-  std::vector<unsigned char> bytes(slice.size() * sizeof(T));
+  std::vector<Out> converted(slice.size());
+  std::vector<unsigned char> bytes(slice.size() * sizeof(Out));
   for (int z = 0; z < n.z && out; ++z) {
     gatherSlice(grid, z, slice, brickValues, uniformValue);
-    encodeLittle(slice, bytes);
+    for (std::size_t i = 0; i < slice.size(); ++i) converted[i] = Out(slice[i] / divisor);
+    encodeLittle(converted, bytes);
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   }
   out.close();
@@ -126,7 +130,7 @@ void writeVolume(const VoxelGrid& grid, const std::string& path, const char* typ
 
 // ---- Reading ----
 
-enum class ValueType { Uint8, Int16 };
+enum class ValueType { Fill, Int16 };
 
 struct Header {
   glm::ivec3 sizes{0};
@@ -134,6 +138,7 @@ struct Header {
   double voxelSizeMm = 0.0;
   glm::dvec3 originMm{0.0};
   std::uint64_t dataOffset = 0;
+  std::size_t valueBytes = 1;  // bytes per stored value
 };
 
 std::string trim(const std::string& s) {
@@ -268,10 +273,14 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
 
   const std::string type = normaliseWords(require("type", "type"));
   std::size_t valueBytes = 1;
-  if (expected == ValueType::Uint8) {
-    if (type != "uchar" && type != "unsigned char" && type != "uint8" && type != "uint8_t") {
-      fail("type " + excerpt(type) + " is not supported (fill must be uint8)");
-    }
+  if (expected == ValueType::Fill) {
+    // uint8 holds the voxelizer's 1/255 steps; uint16 the full fill units (1/16320).
+    const bool u8 = type == "uchar" || type == "unsigned char" || type == "uint8" ||
+                    type == "uint8_t";
+    const bool u16 = type == "ushort" || type == "unsigned short" ||
+                     type == "unsigned short int" || type == "uint16" || type == "uint16_t";
+    if (!u8 && !u16) fail("type " + excerpt(type) + " is not supported (fill must be uint8 or uint16)");
+    valueBytes = u8 ? 1 : 2;
   } else {
     if (type != "short" && type != "short int" && type != "signed short" &&
         type != "signed short int" && type != "int16" && type != "int16_t") {
@@ -388,6 +397,7 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     h.originMm = origin;
   }
   if (!haveSpacing) fail("no spacing ('space directions' or 'spacings' field)");
+  h.valueBytes = valueBytes;
 
   // Before anything is allocated: the data must be exactly as long as the sizes say.
   h.dataOffset = std::uint64_t(in.tellg());
@@ -405,10 +415,13 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
 }
 
 // Reads `count` values into `values`, converting from the file's byte order.
+// Reads `count` values of `width` bytes each into `values` (times `scale`), converting from
+// the file's byte order.
 template <typename T>
-void readValues(const std::string& path, std::ifstream& in, bool bigEndian, std::size_t count,
-                std::vector<unsigned char>& bytes, std::vector<T>& values) {
-  bytes.resize(count * sizeof(T));
+void readValues(const std::string& path, std::ifstream& in, bool bigEndian, std::size_t width,
+                T scale, std::size_t count, std::vector<unsigned char>& bytes,
+                std::vector<T>& values) {
+  bytes.resize(count * width);
   values.resize(count);
   if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
     throw InputError(path + ": read failed in the data");
@@ -416,25 +429,49 @@ void readValues(const std::string& path, std::ifstream& in, bool bigEndian, std:
   using U = std::make_unsigned_t<T>;
   for (std::size_t i = 0; i < count; ++i) {
     U u = 0;
-    for (std::size_t b = 0; b < sizeof(T); ++b) {
-      const std::size_t shift = 8 * (bigEndian ? sizeof(T) - 1 - b : b);
-      u = static_cast<U>(u | (U(bytes[i * sizeof(T) + b]) << shift));
+    for (std::size_t b = 0; b < width; ++b) {
+      const std::size_t shift = 8 * (bigEndian ? width - 1 - b : b);
+      u = static_cast<U>(u | (U(bytes[i * width + b]) << shift));
     }
-    values[i] = static_cast<T>(u);
+    values[i] = static_cast<T>(u * scale);
   }
 }
 
 }  // namespace
 
+namespace {
+
+// True when every fill is a whole number of the voxelizer's 1/255 steps (a grid fresh from
+// voxelization): then uint8 holds it exactly and every viewer reads it.
+bool fillFitsInSteps(const VoxelGrid& grid) {
+  for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
+    if (const VoxelGrid::Brick* b = grid.brickData(brick)) {
+      for (Fill f : b->fill) {
+        if (f % kFillPerStep != 0) return false;
+      }
+    } else if (grid.brickUniformFill(brick) % kFillPerStep != 0) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDensity) {
-  writeVolume<Fill>(
-      grid, fillPath, "uint8", "fill, 0 empty .. 255 full",
-      [](const VoxelGrid::Brick& b) { return b.fill.data(); },
-      [&grid](std::size_t brick) { return grid.brickUniformFill(brick); });
+  const auto brickFill = [](const VoxelGrid::Brick& b) { return b.fill.data(); };
+  const auto uniformFill = [&grid](std::size_t brick) { return grid.brickUniformFill(brick); };
+  if (fillFitsInSteps(grid)) {
+    writeVolume<Fill, std::uint8_t>(grid, fillPath, "uint8", "fill, 0 empty .. 255 full",
+                                    kFillPerStep, brickFill, uniformFill);
+  } else {
+    writeVolume<Fill, std::uint16_t>(grid, fillPath, "uint16", "fill, 0 empty .. 16320 full",
+                                     Fill(1), brickFill, uniformFill);
+  }
   const std::string densityPath = densityPathFor(fillPath);
   if (withDensity) {
-    writeVolume<Density>(
-        grid, densityPath, "int16", "density (drilling difficulty)",
+    writeVolume<Density, Density>(
+        grid, densityPath, "int16", "density (drilling difficulty)", Density(1),
         [](const VoxelGrid::Brick& b) { return b.density.data(); },
         [&grid](std::size_t brick) { return grid.brickUniformDensity(brick); });
   } else {
@@ -446,7 +483,7 @@ void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDens
 
 NrrdReadResult readNrrd(const std::string& fillPath) {
   std::ifstream fillIn;
-  const Header fillHeader = readHeader(fillPath, fillIn, ValueType::Uint8);
+  const Header fillHeader = readHeader(fillPath, fillIn, ValueType::Fill);
 
   const std::string densityPath = densityPathFor(fillPath);
   std::error_code ec;
@@ -489,9 +526,17 @@ NrrdReadResult readNrrd(const std::string& fillPath) {
     const int z0 = bz * kB;
     const int depth = std::min(kB, n.z - z0);
     const std::size_t count = sliceVoxels * std::size_t(depth);
-    readValues(fillPath, fillIn, false, count, bytes, fills);
+    const bool steps = fillHeader.valueBytes == 1;
+    readValues(fillPath, fillIn, fillHeader.bigEndian, fillHeader.valueBytes,
+               Fill(steps ? kFillPerStep : 1), count, bytes, fills);
+    if (const auto over = std::find_if(fills.begin(), fills.end(), [](Fill f) { return f > kFillFull; });
+        over != fills.end()) {
+      throw InputError(fillPath + ": fill value " + std::to_string(*over) + " exceeds full (" +
+                       std::to_string(kFillFull) + ")");
+    }
     if (densityLoaded) {
-      readValues(densityPath, densityIn, densityHeader.bigEndian, count, bytes, densities);
+      readValues(densityPath, densityIn, densityHeader.bigEndian, std::size_t(2), Density(1), count,
+                 bytes, densities);
     } else {
       densities.assign(count, 0);
     }

@@ -178,7 +178,7 @@ std::uint64_t VoxelGrid::countVoxels(Fill minFill) const {
 }
 
 double VoxelGrid::filledVolumeMm3() const {
-  double fillSum = 0.0;  // in units of 1/255 voxel
+  double fillSum = 0.0;  // in fill units
   for (std::size_t i = 0; i < bricks_.size(); ++i) {
     const glm::ivec3 bc = brickCoord(i);
     if (const Brick* b = bricks_[i].get()) {
@@ -193,7 +193,7 @@ double VoxelGrid::filledVolumeMm3() const {
       fillSum += double(uniformFill_[i]) * double(voxelsInBrick(bc, dims_));
     }
   }
-  return fillSum / 255.0 * voxelVolumeMm3();
+  return fillSum / double(kFillFull) * voxelVolumeMm3();
 }
 
 std::size_t VoxelGrid::memoryBytes() const {

@@ -169,9 +169,11 @@ void runAxisPass(AxisPass& pass) {
           }
           (*pass.columnKnown)[std::size_t(iu) + std::size_t(dims[u]) * std::size_t(iv)] = 1;
           Fill* dst = column.data() + colIndex * std::size_t(dims[a]);
-          const float scale = 255.f / float(votes);
+          // Fill in 1/255 steps (what 4 x 4 rays resolve), stored in fill units.
+          const float scale = float(kFillSteps) / float(votes);
           for (int k = 0; k < dims[a]; ++k) {
-            dst[k] = Fill(std::clamp(std::lround(acc[std::size_t(k)] * scale), 0L, 255L));
+            const long steps = std::clamp(std::lround(acc[std::size_t(k)] * scale), 0L, long(kFillSteps));
+            dst[k] = Fill(steps * kFillPerStep);
           }
         }
       }
@@ -250,7 +252,10 @@ std::uint64_t combineAxes(const VoxelGrid (&axes)[3],
             }
             Fill value = 0;
             if (n == 3) value = median3(vote[0], vote[1], vote[2]);
-            if (n == 2) value = Fill((int(vote[0]) + int(vote[1]) + 1) / 2);
+            if (n == 2) {  // mean of two, kept on the 1/255 steps
+              value = Fill((int(vote[0] / kFillPerStep) + int(vote[1] / kFillPerStep) + 1) / 2 *
+                           kFillPerStep);
+            }
             if (n == 1) value = vote[0];
             if (n >= 2) {
               const Fill lowest = *std::min_element(vote, vote + n);

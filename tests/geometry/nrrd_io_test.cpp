@@ -61,12 +61,14 @@ std::string headerOf(const std::string& path) {
 
 // 13 x 9 x 21 (2 x 2 x 3 bricks, every one partial along some axis except the first):
 // random bricks, a brick with a single odd voxel, and uniform bricks of several values.
-VoxelGrid makeTestGrid() {
+// fillUnit 64: fills on the voxelizer's 1/255 steps (written as uint8); 1: any fill value
+// (written as uint16, as after refinement and drilling).
+VoxelGrid makeTestGrid(Fill fillUnit = kFillPerStep) {
   VoxelGrid grid({13, 9, 21}, {-12.345678901234567, 3.1, 1e-3}, 0.54);
   std::mt19937 rng(20240607);
-  std::uniform_int_distribution<int> fillDist(0, 255);
+  std::uniform_int_distribution<int> fillDist(0, kFillFull / fillUnit);
   std::uniform_int_distribution<int> densityDist(-32768, 32767);
-  const Fill uniformFills[] = {0, 255, 128, 37};
+  const Fill uniformFills[] = {0, kFillFull, Fill(128 * fillUnit), Fill(37 * fillUnit)};
   const Density uniformDensities[] = {0, 1200, -7, 32767};
   for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
     const glm::ivec3 lo = grid.brickCoord(brick) * VoxelGrid::kBrickSize;
@@ -75,10 +77,10 @@ VoxelGrid makeTestGrid() {
       for (int z = lo.z; z < hi.z; ++z)
         for (int y = lo.y; y < hi.y; ++y)
           for (int x = lo.x; x < hi.x; ++x)
-            grid.set({x, y, z}, Fill(fillDist(rng)), Density(densityDist(rng)));
+            grid.set({x, y, z}, Fill(fillDist(rng) * fillUnit), Density(densityDist(rng)));
     } else if (brick % 5 == 1) {
-      grid.setBrickUniform(brick, 200, 300);
-      grid.set(hi - 1, 201, 300);  // one voxel off: the brick must stay allocated
+      grid.setBrickUniform(brick, Fill(200 * fillUnit), 300);
+      grid.set(hi - 1, Fill(201 * fillUnit), 300);  // one voxel off: the brick stays allocated
     } else {
       grid.setBrickUniform(brick, uniformFills[brick % 4], uniformDensities[brick % 4]);
     }
@@ -107,10 +109,15 @@ TEST(NrrdIo, DensityPathSitsBesideTheFill) {
   EXPECT_EQ(densityPathFor("a.b/GRID.NRRD"), "a.b/GRID.density.NRRD");
 }
 
-TEST(NrrdIo, RoundTripIsExact) {
+class NrrdRoundTrip : public ::testing::TestWithParam<int> {};
+
+TEST_P(NrrdRoundTrip, IsExact) {
   TempDir dir;
   const std::string path = dir.file("grid.nrrd");
-  const VoxelGrid grid = makeTestGrid();
+  const VoxelGrid grid = makeTestGrid(Fill(GetParam()));
+  EXPECT_NE(headerOf((writeNrrd(grid, path), path))
+                .find(GetParam() == kFillPerStep ? "\ntype: uint8\n" : "\ntype: uint16\n"),
+            std::string::npos);
   ASSERT_GT(grid.allocatedBrickCount(), 0u);
   ASSERT_LT(grid.allocatedBrickCount(), grid.brickCount());
   writeNrrd(grid, path);
@@ -132,6 +139,9 @@ TEST(NrrdIo, RoundTripIsExact) {
   EXPECT_TRUE(read.grid.dirtyBricks().empty());
 }
 
+// Fresh voxelizer steps (uint8 on disk) and arbitrary fill units (uint16 on disk).
+INSTANTIATE_TEST_SUITE_P(FillUnits, NrrdRoundTrip, ::testing::Values(int(kFillPerStep), 1));
+
 TEST(NrrdIo, FileIsHeaderPlusRawVoxels) {
   TempDir dir;
   const std::string path = dir.file("grid.nrrd");
@@ -152,7 +162,7 @@ TEST(NrrdIo, FileIsHeaderPlusRawVoxels) {
   for (const glm::ivec3 p :
        {glm::ivec3(0), glm::ivec3(12, 0, 0), glm::ivec3(3, 8, 0), glm::ivec3(5, 4, 20), n - 1}) {
     const std::size_t i = std::size_t(p.x + n.x * (p.y + n.y * p.z));
-    EXPECT_EQ(Fill(fillBytes[i]), grid.fill(p));
+    EXPECT_EQ(Fill(static_cast<unsigned char>(fillBytes[i]) * kFillPerStep), grid.fill(p));
     const unsigned lo = static_cast<unsigned char>(densityBytes[2 * i]);
     const unsigned hi = static_cast<unsigned char>(densityBytes[2 * i + 1]);
     EXPECT_EQ(Density(std::uint16_t(lo | (hi << 8))), grid.density(p));
@@ -238,7 +248,7 @@ TEST(NrrdIo, ReadsForeignFiles) {
   EXPECT_DOUBLE_EQ(read.grid.voxelSizeMm(), 0.5);
   EXPECT_DOUBLE_EQ(read.grid.originMm().x, 0.75);  // the origin field is a voxel centre
   EXPECT_DOUBLE_EQ(read.grid.originMm().z, 2.75);
-  EXPECT_EQ(read.grid.fill({2, 1, 1}), Fill(11 * 20));
+  EXPECT_EQ(read.grid.fill({2, 1, 1}), Fill(11 * 20 * kFillPerStep));
   EXPECT_FALSE(read.densityLoaded);
 
   // spacings instead of space directions; big-endian int16 density, byte-swapped on reading.

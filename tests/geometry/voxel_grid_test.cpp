@@ -179,7 +179,7 @@ TEST(VoxelGrid, TotalsMatchBruteForce) {
   double fillSum = 0.0;
   for (int z = 0; z < n.z; ++z)
     for (int y = 0; y < n.y; ++y)
-      for (int x = 0; x < n.x; ++x) fillSum += grid.fill({x, y, z}) / 255.0;
+      for (int x = 0; x < n.x; ++x) fillSum += grid.fill({x, y, z}) / double(kFillFull);
   EXPECT_NEAR(grid.filledVolumeMm3(), fillSum * grid.voxelVolumeMm3(), 1e-9);
 }
 

@@ -72,8 +72,10 @@ TEST(Voxelizer, FillIsExactForAVoxelAlignedBoxAndFractionalAtItsFaces) {
   const TriangleMesh shifted = test::makeBox({0, 0, 0.25}, {4, 6, 7.75});
   const VoxelGrid h = voxelizeAt(shifted, 1.0);
   EXPECT_EQ(h.countVoxels(kFillFull), 4u * 6u * 6u);
-  EXPECT_NEAR(h.fill({2, 3, 1}), 0.75 * 255, 1.0);  // layer [0.25, 1) of voxel 1
+  EXPECT_NEAR(h.fill({2, 3, 1}), 0.75 * kFillFull, kFillPerStep);  // layer [0.25, 1) of voxel 1
   EXPECT_NEAR(h.filledVolumeMm3(), 4 * 6 * 7.5, 0.1);  // 0.75 quantised to 191/255
+  // Fresh fills sit on the voxelizer's 1/255 steps.
+  EXPECT_EQ(h.fill({2, 3, 1}) % kFillPerStep, 0);
 }
 
 TEST(Voxelizer, GridIsPaddedAndCentred) {

@@ -1,5 +1,6 @@
 // Voxel grids as NRRD files that 3D Slicer, ITK and VTK open with the right spacing and
-// origin: fill as uint8 in GRID.nrrd, density as int16 in a second file beside it
+// origin: fill in GRID.nrrd (uint8 0..255 when every fill is on the voxelizer's 1/255 steps,
+// otherwise uint16 fill units 0..16320), density as int16 in a second file beside it
 // (GRID.density.nrrd). Space is left-posterior-superior in millimetres, the frame osteon
 // uses; "space origin" is the centre of voxel (0, 0, 0), as NRRD defines it for cell data.
 #pragma once

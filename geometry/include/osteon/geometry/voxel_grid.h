@@ -19,11 +19,17 @@
 
 namespace osteon::geometry {
 
-using Fill = std::uint8_t;    // fraction of the voxel inside bone: 0 empty .. 255 full
+// Bone volume inside a voxel, in units of 1/16320 of the voxel (0 empty, 16320 full).
+// 16320 = 255 x 64: the voxelizer's 1/255 steps are multiples of 64 units, and the 8 or 64
+// sub-voxels of a refined voxel (levels -1, -2) count volume in the same absolute units, so
+// a parent's fill is exactly the sum of its children's and refinement never loses volume.
+using Fill = std::uint16_t;
 using Density = std::int16_t;  // seed 3.5: integer drilling difficulty d (0 where no bone)
 
-inline constexpr Fill kFillFull = 255;
-inline constexpr Fill kFillHalf = 128;  // a voxel is "inside" at or above half full
+inline constexpr Fill kFillFull = 16320;
+inline constexpr Fill kFillHalf = 8160;     // a voxel is "inside" at or above half full
+inline constexpr Fill kFillPerStep = 64;    // one 1/255 step of the voxelizer
+inline constexpr int kFillSteps = 255;      // kFillFull / kFillPerStep
 
 class VoxelGrid {
  public:
@@ -104,7 +110,7 @@ class VoxelGrid {
 
   // Totals.
   std::uint64_t countVoxels(Fill minFill) const;  // voxels with fill >= minFill
-  double filledVolumeMm3() const;                 // sum of fill / 255 x voxel volume
+  double filledVolumeMm3() const;                 // sum of fill / kFillFull x voxel volume
   std::size_t memoryBytes() const;
 
   // Cached read access for neighbourhood walks: remembers the last brick it touched. Valid
