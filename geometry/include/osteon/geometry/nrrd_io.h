@@ -21,14 +21,14 @@ std::string densityPathFor(const std::string& fillPath);
 // Throws InputError when a file cannot be written.
 void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDensity = true);
 
-// Reads GRID.nrrd (uint8 steps or uint16 units of fill, raw encoding) and, when it exists, GRID.density.nrrd (int16,
-// either byte order). Without a density file, density is left 0 for the caller's rule.
+// Reads GRID.nrrd (fill as uint8 steps or uint16 units, raw encoding) and, when it exists,
+// GRID.density.nrrd (int16, either byte order). Without a density file, density is left 0 for the caller's rule.
 // Voxel size and origin come from osteon's keys when present (they must agree with the
 // standard fields), otherwise from "space directions" + "space origin" or "spacings".
 // Bricks whose voxels all agree stay uniform; the result has no dirty bricks.
 // Throws InputError "<file>: <reason>" for anything it cannot honour: a missing file, magic
-// or field, a fill type other than uint8/uint16 or a density type other than int16, dimension other than 3, gzip or other non-raw
-// encodings, detached data, a space other than LPS, non-axis-aligned or non-isotropic
+// or field, a fill type other than uint8/uint16 or a density type other than int16, a
+// dimension other than 3, gzip or other non-raw encodings, detached data, a space other than LPS, non-axis-aligned or non-isotropic
 // spacing, more than 2^32 voxels, data shorter or longer than the sizes say (checked before
 // anything is allocated), a density file whose sizes or geometry differ from the fill's.
 struct NrrdReadResult {
