@@ -1,0 +1,146 @@
+// Dynamic Proximity Hierarchy over level-0 voxels (seed section 3.3).
+//
+// Level 0 holds one node per occupied voxel. A node at level L covers a cube of xi^L voxels
+// (xi, the expansion ratio, odd so the cube is centred on a voxel) around the node that
+// created it. Levels are built bottom-up: the nodes of level L are taken in a seeded random
+// order; a node whose centre lies in the cell of an existing level-(L+1) node becomes that
+// node's child (the earliest created, when several cells hold it); otherwise it creates a new
+// level-(L+1) node at its own centre. Levels are added until one node, the root, remains.
+// Each level is one pass with a hash of parent cells, so construction is O(n) per level and
+// O(n log n) in all.
+//
+// Queries descend from the root and prune any subtree whose box of level-0 descendants is out
+// of reach. Removing a voxel removes its node and every ancestor left without children.
+// Nothing here allocates after construction except the caller-owned QueryScratch, which grows
+// once to its bound; queries and removals are safe in the 1 kHz loop.
+#pragma once
+
+#include "osteon/geometry/voxel_grid.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace osteon::geometry {
+
+struct DphBuildOptions {
+  int expansionRatio = 3;    // xi: odd, 3..15
+  std::uint64_t seed = 1;    // insertion order at every level
+  bool shuffle = true;       // false: level 0 in the given order, higher levels in creation order
+};
+
+// Caller-owned traversal memory, so queries never allocate once it has grown.
+struct DphQueryScratch {
+  std::vector<std::uint64_t> stack;  // (level << 32) | node
+};
+
+class DynamicProximityHierarchy {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  DynamicProximityHierarchy() = default;
+
+  // From voxel coordinates (grid indices; any z, so a z = 0 slice gives the seed's 2-D case).
+  // worldFromGrid: voxel v has its centre at originMm + (v + 0.5) * voxelSizeMm.
+  // Throws InputError for an even or out-of-range xi, or duplicate voxels.
+  static DynamicProximityHierarchy build(const std::vector<glm::ivec3>& voxels,
+                                         const DphBuildOptions& options,
+                                         glm::dvec3 originMm = glm::dvec3(0.0),
+                                         double voxelSizeMm = 1.0);
+  // Over the grid's occupied voxels (fill > 0).
+  static DynamicProximityHierarchy build(const VoxelGrid& grid, const DphBuildOptions& options);
+
+  int expansionRatio() const { return xi_; }
+  int levelCount() const { return int(levels_.size()); }
+  std::size_t nodeCount(int level) const { return levels_[std::size_t(level)].aliveCount; }
+  std::size_t voxelCount() const { return levels_.empty() ? 0 : levels_[0].aliveCount; }
+  // Half the cell edge at a level, in voxels: (xi^L - 1) / 2.
+  long long halfWidth(int level) const { return halfWidth_[std::size_t(level)]; }
+  // Index of the root at the top level, or kNone once every voxel is removed.
+  std::uint32_t root() const;
+  glm::ivec3 centre(int level, std::uint32_t node) const {
+    return levels_[std::size_t(level)].centre[node];
+  }
+  std::uint32_t parent(int level, std::uint32_t node) const {
+    return levels_[std::size_t(level)].parent[node];
+  }
+  bool alive(int level, std::uint32_t node) const {
+    return levels_[std::size_t(level)].alive[node] != 0;
+  }
+  // Children of a node at level >= 1: indices [childBegin, childEnd) at level - 1 (dead
+  // ones included; check alive()).
+  std::uint32_t childBegin(int level, std::uint32_t node) const {
+    return levels_[std::size_t(level)].childBegin[node];
+  }
+  std::uint32_t childEnd(int level, std::uint32_t node) const {
+    return levels_[std::size_t(level)].childEnd[node];
+  }
+
+  bool contains(const glm::ivec3& voxel) const { return findVoxel(voxel) != kNone; }
+  // Removes the voxel's node and prunes ancestors left without children. O(levels + log n).
+  // Returns false when the voxel is not in the hierarchy.
+  bool removeVoxel(const glm::ivec3& voxel);
+
+  glm::dvec3 voxelCentreMm(const glm::ivec3& v) const {
+    return originMm_ + (glm::dvec3(v) + 0.5) * voxelSizeMm_;
+  }
+  double voxelSizeMm() const { return voxelSizeMm_; }
+
+  // Every voxel whose centre lies within radiusMm of centreMm: fn(const glm::ivec3&).
+  template <typename Fn>
+  void forEachVoxelInSphere(const glm::dvec3& centreMm, double radiusMm, DphQueryScratch& scratch,
+                            Fn&& fn) const;
+  // Every voxel whose centre lies within radiusMm of the segment aMm-bMm.
+  template <typename Fn>
+  void forEachVoxelInCapsule(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
+                             DphQueryScratch& scratch, Fn&& fn) const;
+  // The voxel whose centre is nearest to pointMm (ties: any); false when empty.
+  bool nearestVoxel(const glm::dvec3& pointMm, DphQueryScratch& scratch, glm::ivec3& voxel,
+                    double& distanceMm) const;
+
+  // Checks every invariant; returns "" or a description of the first violation:
+  // each alive child's centre inside its parent's cell; child ranges and alive-child counts
+  // consistent; boxes enclosing their descendants; exactly one alive node at the top level
+  // while any voxel is left; every alive node below the top has an alive parent.
+  std::string validate() const;
+  // Also checks that the level-0 nodes are exactly the grid's occupied voxels.
+  std::string validateAgainst(const VoxelGrid& grid) const;
+
+  std::size_t memoryBytes() const;
+
+ private:
+  struct Level {
+    std::vector<glm::ivec3> centre;
+    std::vector<std::uint32_t> parent;
+    std::vector<std::uint32_t> childBegin;     // level >= 1
+    std::vector<std::uint32_t> childEnd;       // level >= 1
+    std::vector<std::uint32_t> aliveChildren;  // level >= 1
+    std::vector<glm::ivec3> boxMin;            // level >= 1: bounds of level-0 descendants
+    std::vector<glm::ivec3> boxMax;
+    std::vector<std::uint8_t> alive;
+    std::size_t aliveCount = 0;
+  };
+
+  std::uint32_t findVoxel(const glm::ivec3& voxel) const;
+  // Squared distance (voxel units) from a point in grid space to the box of voxel centres.
+  double boxDistanceSq(int level, std::uint32_t node, const glm::dvec3& g) const;
+  void reserveScratch(DphQueryScratch& scratch) const;
+  template <typename Reach, typename Leaf>
+  void traverse(DphQueryScratch& scratch, Reach&& reach, Leaf&& leaf) const;
+
+  int xi_ = 3;
+  glm::dvec3 originMm_{0.0};
+  double voxelSizeMm_ = 1.0;
+  std::vector<long long> halfWidth_;
+  std::vector<Level> levels_;
+  std::vector<std::uint64_t> voxelKeys_;     // sorted packed coordinates of level-0 nodes
+  std::vector<std::uint32_t> voxelNodes_;    // level-0 node of voxelKeys_[i]
+  std::size_t maxChildren_ = 0;
+};
+
+}  // namespace osteon::geometry
+
+#include "osteon/geometry/dph_queries.inl"
