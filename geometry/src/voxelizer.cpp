@@ -2,7 +2,7 @@
 
 #include "osteon/geometry/embree_scene.h"
 #include "osteon/geometry/error.h"
-#include "ray_classify.h"
+#include "column_ray.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -29,30 +29,6 @@ std::string numberText(double value) {
   std::ostringstream s;
   s << value;
   return s.str();
-}
-
-// Hits of one ray, gathered by Embree's context filter: the context comes first so the
-// filter can reach the buffer from the pointer Embree hands it.
-struct HitCollector {
-  RTCIntersectContext context;
-  std::vector<detail::RayHit>* hits;
-  int axis;
-};
-
-void collectHit(const RTCFilterFunctionNArguments* args) {
-  auto* collector = reinterpret_cast<HitCollector*>(args->context);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    const float t = RTCRayN_tfar(args->ray, args->N, i);
-    float ng = 0.f;
-    switch (collector->axis) {
-      case 0: ng = RTCHitN_Ng_x(args->hit, args->N, i); break;
-      case 1: ng = RTCHitN_Ng_y(args->hit, args->N, i); break;
-      default: ng = RTCHitN_Ng_z(args->hit, args->N, i); break;
-    }
-    collector->hits->push_back({double(t), ng > 0.f ? 1 : (ng < 0.f ? -1 : 0)});
-    args->valid[i] = 0;  // reject, so traversal goes on and reports every hit
-  }
 }
 
 // One axis of ray projection: fills `out` (fill only) and marks columns where no ray could
@@ -86,14 +62,11 @@ void runAxisPass(AxisPass& pass) {
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, brickColumns),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<detail::RayHit> hits;
     std::vector<detail::Interval> intervals;
     std::vector<float> acc(static_cast<std::size_t>(dims[a]));
     std::vector<Fill> column(std::size_t(kB * kB) * std::size_t(dims[a]), 0);
     std::uint64_t cast = 0, retried = 0, unresolved = 0, winding = 0, abstained = 0;
-    HitCollector collector;
-    collector.hits = &hits;
-    collector.axis = a;
+    detail::ColumnRay ray(*pass.scene, a, pass.outwardSign, rayStart, rayLength);
 
     for (std::size_t bcol = range.begin(); bcol != range.end(); ++bcol) {
       const int bu = int(bcol % std::size_t(brickDims[u]));
@@ -113,39 +86,17 @@ void runAxisPass(AxisPass& pass) {
               // exactly along the edges and faces of axis-aligned meshes.
               const double fu = (su + 0.5 + 0.0061803) / R;
               const double fv = (sv + 0.5 + 0.0041421) / R;
-              detail::RayOutcome outcome = detail::RayOutcome::Unresolved;
-              for (int attempt = 0; attempt < 4; ++attempt) {
-                const double jitter = attempt * 2e-3 / R;
-                RTCRayHit rh;
-                float org[3];
-                org[a] = float(rayStart);
-                org[u] = float(origin[u] + (iu + fu + jitter * std::cos(attempt * 2.4)) * vs);
-                org[v] = float(origin[v] + (iv + fv + jitter * std::sin(attempt * 2.4)) * vs);
-                rh.ray.org_x = org[0];
-                rh.ray.org_y = org[1];
-                rh.ray.org_z = org[2];
-                rh.ray.dir_x = a == 0 ? 1.f : 0.f;
-                rh.ray.dir_y = a == 1 ? 1.f : 0.f;
-                rh.ray.dir_z = a == 2 ? 1.f : 0.f;
-                rh.ray.tnear = 0.f;
-                rh.ray.tfar = float(rayLength);
-                rh.ray.mask = 0xffffffffu;
-                rh.ray.flags = 0;
-                rh.ray.time = 0.f;
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rtcInitIntersectContext(&collector.context);
-                collector.context.filter = collectHit;
-                hits.clear();
-                rtcIntersect1(pass.scene->handle(), &collector.context, &rh);
-                if (attempt == 0) ++cast; else ++retried;
-                outcome = detail::classifyRay(hits, pass.outwardSign, 1e-4, intervals);
-                if (outcome != detail::RayOutcome::Unresolved) break;
-              }
+              int attempts = 0;
+              const detail::RayOutcome outcome =
+                  ray.cast(origin[u] + (iu + fu) * vs, origin[v] + (iv + fv) * vs, 2e-3 * vs / R,
+                           intervals, attempts);
+              ++cast;
+              retried += std::uint64_t(attempts - 1);
               if (outcome == detail::RayOutcome::Winding) ++winding;
               if (outcome == detail::RayOutcome::Unresolved) {
                 ++unresolved;
                 if (pass.abstain) continue;
-                detail::pairByParity(hits, intervals);  // best effort: drop the odd hit out
+                detail::pairByParity(ray.hits(), intervals);  // best effort: drop the odd hit out
               }
               ++votes;
               // Exact overlap of each inside interval with the voxels of the column.
@@ -314,11 +265,7 @@ VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
   VoxelGrid grid = makeGridFor(mesh, options.voxelSizeMm, options.paddingVoxels);
   VoxelizeStats local;
 
-  // Hit facing can check each ray only when every edge is used once each way.
-  const MeshTopology topology = analyzeTopology(mesh);
-  const double volume = signedVolumeMm3(mesh);
-  int outwardSign = 0;
-  if (topology.consistentlyOriented() && volume != 0.0) outwardSign = volume > 0.0 ? 1 : -1;
+  const int outwardSign = detail::outwardSignOf(mesh);
   local.orientedMesh = outwardSign != 0;
 
   Clock::time_point phase = Clock::now();
