@@ -32,6 +32,21 @@ VoxelGrid::VoxelGrid(glm::ivec3 dims, glm::dvec3 originMm, double voxelSizeMm)
   dirty_.assign(n, 0);
 }
 
+VoxelGrid::VoxelGrid(const VoxelGrid& other)
+    : dims_(other.dims_), brickDims_(other.brickDims_), originMm_(other.originMm_),
+      voxelSizeMm_(other.voxelSizeMm_), uniformFill_(other.uniformFill_),
+      uniformDensity_(other.uniformDensity_), dirty_(other.dirty_) {
+  bricks_.resize(other.bricks_.size());
+  for (std::size_t i = 0; i < bricks_.size(); ++i) {
+    if (other.bricks_[i]) bricks_[i] = std::make_unique<Brick>(*other.bricks_[i]);
+  }
+}
+
+VoxelGrid& VoxelGrid::operator=(const VoxelGrid& other) {
+  if (this != &other) *this = VoxelGrid(other);
+  return *this;
+}
+
 std::uint64_t VoxelGrid::voxelCount() const {
   return std::uint64_t(dims_.x) * std::uint64_t(dims_.y) * std::uint64_t(dims_.z);
 }

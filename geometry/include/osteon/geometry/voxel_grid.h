@@ -48,6 +48,11 @@ class VoxelGrid {
   VoxelGrid() = default;
   // Throws std::invalid_argument for non-positive dims or size, or too many voxels.
   VoxelGrid(glm::ivec3 dims, glm::dvec3 originMm, double voxelSizeMm);
+  // Copies are deep (every allocated brick is duplicated); moves are cheap.
+  VoxelGrid(const VoxelGrid& other);
+  VoxelGrid& operator=(const VoxelGrid& other);
+  VoxelGrid(VoxelGrid&&) noexcept = default;
+  VoxelGrid& operator=(VoxelGrid&&) noexcept = default;
 
   glm::ivec3 dims() const { return dims_; }
   glm::dvec3 originMm() const { return originMm_; }  // corner of voxel (0, 0, 0)

@@ -1,0 +1,455 @@
+#include "osteon/geometry/refinement.h"
+
+#include "osteon/geometry/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace osteon::geometry {
+
+namespace {
+
+constexpr Fill kSubFull = kFillFull / kSubVoxels;  // a full level -2 sub-voxel: 255 units
+
+std::size_t powerOfTwoAtLeast(std::size_t n) {
+  std::size_t p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+std::size_t slotOf(std::uint64_t key, std::size_t tableSize) {
+  return std::size_t((key * 0x9E3779B97F4A7C15ull) >> 17) & (tableSize - 1);
+}
+
+// Splits `total` fill units over 64 sub-voxels in proportion to `weights`, exactly (largest
+// remainder, ties to the lower index), none above a full sub-voxel. Even split without weight.
+void distributeExactly(const std::array<std::uint8_t, kSubVoxels>* weights, Fill total,
+                       std::array<Fill, kSubVoxels>& out) {
+  unsigned weightSum = 0;
+  if (weights) {
+    for (std::uint8_t w : *weights) weightSum += w;
+  }
+  std::array<double, kSubVoxels> remainder{};
+  unsigned assigned = 0;
+  for (int i = 0; i < kSubVoxels; ++i) {
+    const double ideal = weightSum > 0 ? double(total) * (*weights)[std::size_t(i)] / weightSum
+                                       : double(total) / kSubVoxels;
+    const double whole = std::min(std::floor(ideal), double(kSubFull));
+    out[std::size_t(i)] = Fill(whole);
+    remainder[std::size_t(i)] = ideal - whole;
+    assigned += out[std::size_t(i)];
+  }
+  std::array<int, kSubVoxels> order;
+  for (int i = 0; i < kSubVoxels; ++i) order[std::size_t(i)] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return remainder[std::size_t(a)] > remainder[std::size_t(b)];
+  });
+  // Hand out what is left one unit at a time: first by largest remainder, then wherever
+  // there is room (a capped sub-voxel pushes its share on).
+  while (assigned < total) {
+    for (int k = 0; k < kSubVoxels && assigned < total; ++k) {
+      Fill& f = out[std::size_t(order[std::size_t(k)])];
+      if (f < kSubFull) {
+        ++f;
+        ++assigned;
+      }
+    }
+  }
+}
+
+// Sub-voxel fills from the mesh's sampling, adjusted to sum exactly to `total` (the parent,
+// sampled with fewer rays, differs by a few percent). The difference goes to the sub-voxels
+// the surface passes through, in proportion to f (255 - f), so sub-voxels the sampling saw
+// as full stay full and empty ones stay empty whenever the surface ones can absorb it.
+void fitToTotal(const std::array<std::uint8_t, kSubVoxels>& sampled, Fill total,
+                std::array<Fill, kSubVoxels>& out) {
+  long long sum = 0;
+  for (int i = 0; i < kSubVoxels; ++i) {
+    out[std::size_t(i)] = sampled[std::size_t(i)];
+    sum += sampled[std::size_t(i)];
+  }
+  if (sum == 0) {
+    distributeExactly(nullptr, total, out);
+    return;
+  }
+  long long delta = (long long)total - sum;
+  const int sign = delta > 0 ? 1 : -1;
+  std::array<double, kSubVoxels> weight{};
+  for (int pass = 0; delta != 0 && pass < 2; ++pass) {
+    double weightSum = 0.0;
+    for (int i = 0; i < kSubVoxels; ++i) {
+      const double f = out[std::size_t(i)];
+      const double room = sign > 0 ? kSubFull - f : f;
+      // First pass: surface sub-voxels only; second: anything with room.
+      weight[std::size_t(i)] = pass == 0 ? f * (kSubFull - f) : room;
+      weightSum += weight[std::size_t(i)];
+    }
+    if (weightSum == 0.0) continue;
+    const long long want = delta;
+    std::array<double, kSubVoxels> remainder{};
+    for (int i = 0; i < kSubVoxels && delta != 0; ++i) {
+      const double share = double(std::llabs(want)) * weight[std::size_t(i)] / weightSum;
+      const double room = sign > 0 ? kSubFull - out[std::size_t(i)] : out[std::size_t(i)];
+      const long long whole = std::min<long long>((long long)std::floor(share), (long long)room);
+      out[std::size_t(i)] = Fill(out[std::size_t(i)] + sign * whole);
+      delta -= sign * whole;
+      remainder[std::size_t(i)] = share - std::floor(share);
+    }
+    // The leftover units, one each, by largest remainder among those with weight and room.
+    std::array<int, kSubVoxels> order;
+    for (int i = 0; i < kSubVoxels; ++i) order[std::size_t(i)] = i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return remainder[std::size_t(a)] > remainder[std::size_t(b)];
+    });
+    for (bool progress = true; delta != 0 && progress;) {
+      progress = false;
+      for (int k = 0; k < kSubVoxels && delta != 0; ++k) {
+        const std::size_t i = std::size_t(order[std::size_t(k)]);
+        const bool room = sign > 0 ? out[i] < kSubFull : out[i] > 0;
+        if (weight[i] > 0.0 && room) {
+          out[i] = Fill(out[i] + sign);
+          delta -= sign;
+          progress = true;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+RefinedVoxels::RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarchy,
+                             const FineFillSource* source, const RefinementOptions& options)
+    : grid_(&grid), hierarchy_(&hierarchy), source_(source), depth_(options.depth),
+      marginMm_(options.marginMm < 0.0 ? grid.voxelSizeMm() : options.marginMm),
+      timeoutS_(options.timeoutS) {
+  if (options.depth < 0 || options.depth > kMaxRefineDepth) {
+    throw InputError("--levels " + std::to_string(options.depth) + ": refinement depth is 0, 1 or 2");
+  }
+  if (!std::isfinite(options.timeoutS) || options.timeoutS <= 0.0) {
+    std::ostringstream s;
+    s << "--refine-timeout " << options.timeoutS << ": must be a positive number of seconds";
+    throw InputError(s.str());
+  }
+  if (!std::isfinite(marginMm_)) throw InputError("refinement margin must be finite");
+  if (options.capacity == 0 || options.capacity > (1u << 24)) {
+    throw InputError("refinement capacity must be 1 .. 2^24 voxels");
+  }
+  cells_.resize(options.capacity);
+  freeCells_.resize(options.capacity);
+  for (std::size_t i = 0; i < options.capacity; ++i) {
+    freeCells_[i] = std::uint32_t(options.capacity - 1 - i);
+  }
+  freeTop_ = options.capacity;
+  activeList_.resize(options.capacity);
+  activeSlot_.resize(options.capacity);
+  const std::size_t tableSize = powerOfTwoAtLeast(2 * options.capacity);
+  tableKeys_.assign(tableSize, 0);
+  tableCells_.assign(tableSize, kNoCell);
+  masks_.assign(powerOfTwoAtLeast(2 * std::max<std::size_t>(options.maskCapacity, 1)),
+                Mask{0, 0, 0});
+  found_.reserve(std::max<std::size_t>(options.capacity, 4096));
+  // Grow the traversal stack now, not in the loop.
+  hierarchy.forEachVoxelInSphere(glm::dvec3(0.0), 0.0, scratch_, [](const glm::ivec3&) {});
+}
+
+std::uint64_t RefinedVoxels::keyOf(const glm::ivec3& v) const {
+  const glm::ivec3 d = grid_->dims();
+  return 1 + std::uint64_t(v.x) + std::uint64_t(d.x) * (std::uint64_t(v.y) + std::uint64_t(d.y) * std::uint64_t(v.z));
+}
+
+std::uint32_t RefinedVoxels::findCell(const glm::ivec3& v) const {
+  if (active_ == 0 || !grid_->inBounds(v)) return kNoCell;
+  const std::uint64_t key = keyOf(v);
+  for (std::size_t s = slotOf(key, tableKeys_.size());; s = (s + 1) & (tableKeys_.size() - 1)) {
+    if (tableKeys_[s] == key) return tableCells_[s];
+    if (tableKeys_[s] == 0) return kNoCell;
+  }
+}
+
+void RefinedVoxels::insertCell(std::uint64_t key, std::uint32_t cell) {
+  std::size_t s = slotOf(key, tableKeys_.size());
+  while (tableKeys_[s] != 0) s = (s + 1) & (tableKeys_.size() - 1);
+  tableKeys_[s] = key;
+  tableCells_[s] = cell;
+}
+
+void RefinedVoxels::eraseCell(std::uint64_t key) {
+  const std::size_t mask = tableKeys_.size() - 1;
+  std::size_t hole = slotOf(key, tableKeys_.size());
+  while (tableKeys_[hole] != key) hole = (hole + 1) & mask;
+  // Backward-shift deletion keeps every probe chain unbroken without tombstones.
+  for (std::size_t s = (hole + 1) & mask; tableKeys_[s] != 0; s = (s + 1) & mask) {
+    const std::size_t home = slotOf(tableKeys_[s], tableKeys_.size());
+    if (((s - home) & mask) >= ((s - hole) & mask)) {
+      tableKeys_[hole] = tableKeys_[s];
+      tableCells_[hole] = tableCells_[s];
+      hole = s;
+    }
+  }
+  tableKeys_[hole] = 0;
+  tableCells_[hole] = kNoCell;
+}
+
+RefinedVoxels::Mask* RefinedVoxels::findMask(std::uint64_t key) {
+  for (std::size_t s = slotOf(key, masks_.size());; s = (s + 1) & (masks_.size() - 1)) {
+    if (masks_[s].key == key) return &masks_[s];
+    if (masks_[s].key == 0) return nullptr;
+  }
+}
+
+RefinedVoxels::Mask* RefinedVoxels::insertMask(std::uint64_t key, Fill firstFill) {
+  if (Mask* m = findMask(key)) return m;
+  if (masksUsed_ * 2 >= masks_.size()) {
+    ++maskOverflows_;
+    return nullptr;
+  }
+  std::size_t s = slotOf(key, masks_.size());
+  while (masks_[s].key != 0) s = (s + 1) & (masks_.size() - 1);
+  masks_[s] = Mask{key, 0, firstFill};
+  ++masksUsed_;
+  return &masks_[s];
+}
+
+void RefinedVoxels::baseSubFill(const glm::ivec3& voxel, Fill firstFill,
+                                std::array<Fill, kSubVoxels>& out) const {
+  if (firstFill == kFillFull) {
+    out.fill(kSubFull);
+    return;
+  }
+  std::array<std::uint8_t, kSubVoxels> sampled;
+  Fill sampledFill = 0;
+  if (source_ && source_->find(voxel, sampled, sampledFill)) {
+    fitToTotal(sampled, firstFill, out);
+  } else {
+    distributeExactly(nullptr, firstFill, out);
+  }
+}
+
+void RefinedVoxels::createCell(const glm::ivec3& voxel, double nowS) {
+  if (freeTop_ == 0) {
+    ++poolExhausted_;
+    return;
+  }
+  const Fill parentFill = grid_->fill(voxel);
+  const Density parentDensity = grid_->density(voxel);
+  const std::uint64_t key = keyOf(voxel);
+  const Mask* mask = findMask(key);
+
+  // Level -2 fills as the voxel was first refined, minus what was removed since.
+  std::array<Fill, kSubVoxels> fine;
+  baseSubFill(voxel, mask ? mask->firstFill : parentFill, fine);
+  unsigned sum = 0;
+  for (int i = 0; i < kSubVoxels; ++i) {
+    if (mask && (mask->removed >> i & 1u)) fine[std::size_t(i)] = 0;
+    sum += fine[std::size_t(i)];
+  }
+  if (sum != parentFill) {
+    // The parent changed in a way no mask recorded (a full mask table): keep the volume
+    // exact and the shape as close as the remaining sub-voxels allow.
+    std::array<std::uint8_t, kSubVoxels> weights;
+    for (int i = 0; i < kSubVoxels; ++i) {
+      weights[std::size_t(i)] = std::uint8_t(std::min<unsigned>(fine[std::size_t(i)], 255u));
+    }
+    distributeExactly(&weights, parentFill, fine);
+  }
+
+  const std::uint32_t cell = freeCells_[--freeTop_];
+  Cell& c = cells_[cell];
+  c.voxel = voxel;
+  c.lastNearS = nowS;
+  c.fill.fill(0);
+  c.density.fill(0);
+  const int n = 1 << depth_;
+  const int merge = kSubPerEdge / n;  // level -2 sub-voxels per edge of one sample
+  for (int z = 0; z < kSubPerEdge; ++z)
+    for (int y = 0; y < kSubPerEdge; ++y)
+      for (int x = 0; x < kSubPerEdge; ++x) {
+        const int i = (x / merge) + n * ((y / merge) + n * (z / merge));
+        c.fill[std::size_t(i)] = Fill(c.fill[std::size_t(i)] + fine[std::size_t(x + kSubPerEdge * (y + kSubPerEdge * z))]);
+      }
+  for (int i = 0; i < n * n * n; ++i) {
+    c.density[std::size_t(i)] = c.fill[std::size_t(i)] > 0 ? parentDensity : Density(0);
+  }
+  insertCell(key, cell);
+  activeSlot_[cell] = std::uint32_t(active_);
+  activeList_[active_++] = cell;
+}
+
+void RefinedVoxels::releaseCell(std::uint32_t cell) {
+  Cell& c = cells_[cell];
+  const int count = 1 << (3 * depth_);
+  // The parent keeps the summed fill (already in the grid) and its sub-voxels' mean density.
+  long long densitySum = 0;
+  int withBone = 0;
+  for (int i = 0; i < count; ++i) {
+    if (c.fill[std::size_t(i)] == 0) continue;
+    densitySum += c.density[std::size_t(i)];
+    ++withBone;
+  }
+  if (withBone > 0) {
+    const auto mean = Density((densitySum + withBone - 1) / withBone);  // rounded up: d stays >= 1
+    if (grid_->density(c.voxel) != mean) grid_->set(c.voxel, grid_->fill(c.voxel), mean);
+  }
+  eraseCell(keyOf(c.voxel));
+  const std::uint32_t slot = activeSlot_[cell];
+  const std::uint32_t last = activeList_[--active_];
+  activeList_[slot] = last;
+  activeSlot_[last] = slot;
+  freeCells_[freeTop_++] = cell;
+}
+
+int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS) {
+  if (depth_ == 0) return 0;
+  const double vs = grid_->voxelSizeMm();
+  const double reachMm = outerRadiusMm + marginMm_;
+  int created = 0;
+  // Voxels whose cube comes within reach of the tool centre: the centre test widened by half
+  // a voxel diagonal, then the exact point-to-cube distance.
+  hierarchy_->forEachVoxelInSphere(toolCentreMm, reachMm + 0.5 * std::sqrt(3.0) * vs, scratch_,
+                                   [&](const glm::ivec3& v) {
+    const glm::dvec3 lo = grid_->worldFromGrid(glm::dvec3(v));
+    const glm::dvec3 d = glm::max(glm::max(lo - toolCentreMm, toolCentreMm - (lo + vs)), glm::dvec3(0.0));
+    if (glm::dot(d, d) > reachMm * reachMm) return;
+    const std::uint32_t cell = findCell(v);
+    if (cell != kNoCell) {
+      cells_[cell].lastNearS = nowS;
+    } else if (freeTop_ > 0) {
+      createCell(v, nowS);
+      ++created;
+    } else {
+      ++poolExhausted_;
+    }
+  });
+  return created;
+}
+
+int RefinedVoxels::expire(double nowS) {
+  int expired = 0;
+  for (std::size_t i = active_; i-- > 0;) {
+    const std::uint32_t cell = activeList_[i];
+    if (nowS - cells_[cell].lastNearS > timeoutS_) {
+      releaseCell(cell);
+      ++expired;
+    }
+  }
+  return expired;
+}
+
+int RefinedVoxels::expireAll() {
+  const int n = int(active_);
+  while (active_ > 0) releaseCell(activeList_[active_ - 1]);
+  return n;
+}
+
+RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const glm::dvec3& centreMm,
+                                            double radiusMm, int decrement) {
+  RemovalResult result;
+  Cell& c = cells_[cell];
+  const int n = 1 << depth_;
+  const double sub = grid_->voxelSizeMm() / n;
+  const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(c.voxel));
+  std::uint64_t removedBits = 0;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const std::size_t i = std::size_t(x + n * (y + n * z));
+        if (c.fill[i] == 0) continue;
+        const glm::dvec3 d = corner + (glm::dvec3(x, y, z) + 0.5) * sub - centreMm;
+        if (glm::dot(d, d) > radiusMm * radiusMm) continue;
+        c.density[i] = Density(std::max(int(c.density[i]) - decrement, 0));
+        if (c.density[i] > 0) {
+          ++result.samplesDecremented;
+          continue;
+        }
+        result.removedFill += c.fill[i];
+        ++result.samplesRemoved;
+        c.fill[i] = 0;
+        // The level -2 sub-voxels this sample covers.
+        const int merge = kSubPerEdge / n;
+        for (int fz = z * merge; fz < (z + 1) * merge; ++fz)
+          for (int fy = y * merge; fy < (y + 1) * merge; ++fy)
+            for (int fx = x * merge; fx < (x + 1) * merge; ++fx) {
+              removedBits |= std::uint64_t(1) << (fx + kSubPerEdge * (fy + kSubPerEdge * fz));
+            }
+      }
+  if (removedBits == 0) return result;
+
+  // The grid's parent stays the exact sum of its sub-voxels.
+  const Fill before = grid_->fill(c.voxel);
+  const Fill after = Fill(before - result.removedFill);
+  const std::uint64_t key = keyOf(c.voxel);
+  if (after == 0) {
+    grid_->set(c.voxel, 0, 0);
+    hierarchy_->removeVoxel(c.voxel);
+    ++result.voxelsEmptied;
+    releaseCell(cell);
+    return result;
+  }
+  grid_->set(c.voxel, after, grid_->density(c.voxel));
+  // Remember what went, so a later refinement of this voxel cannot bring it back. At the
+  // first removal ever in a voxel, `before` is the fill its sub-voxels were built from.
+  if (Mask* mask = insertMask(key, before)) mask->removed |= removedBits;
+  return result;
+}
+
+RemovalResult RefinedVoxels::removeInSphere(const glm::dvec3& centreMm, double radiusMm,
+                                            int decrement) {
+  RemovalResult total;
+  const double vs = grid_->voxelSizeMm();
+  const double reach = radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
+  // Collect first: removal edits the hierarchy the query walks.
+  found_.clear();
+  hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, [&](const glm::ivec3& v) {
+    if (found_.size() < found_.capacity()) found_.push_back(v);
+  });
+  for (const glm::ivec3& v : found_) {
+    const std::uint32_t cell = findCell(v);
+    if (cell != kNoCell) {
+      const RemovalResult r = removeFromCell(cell, centreMm, radiusMm, decrement);
+      total.removedFill += r.removedFill;
+      total.samplesRemoved += r.samplesRemoved;
+      total.samplesDecremented += r.samplesDecremented;
+      total.voxelsEmptied += r.voxelsEmptied;
+      continue;
+    }
+    const glm::dvec3 d = grid_->voxelCentreMm(v) - centreMm;
+    if (glm::dot(d, d) > radiusMm * radiusMm) continue;
+    const int density = std::max(int(grid_->density(v)) - decrement, 0);
+    if (density > 0) {
+      grid_->set(v, grid_->fill(v), Density(density));
+      ++total.samplesDecremented;
+      continue;
+    }
+    total.removedFill += grid_->fill(v);
+    ++total.samplesRemoved;
+    ++total.voxelsEmptied;
+    grid_->set(v, 0, 0);
+    hierarchy_->removeVoxel(v);
+  }
+  return total;
+}
+
+bool RefinedVoxels::subFill(const glm::ivec3& voxel, std::array<Fill, kSubVoxels>& fill,
+                            std::array<Density, kSubVoxels>& density) const {
+  const std::uint32_t cell = findCell(voxel);
+  if (cell == kNoCell) return false;
+  fill = cells_[cell].fill;
+  density = cells_[cell].density;
+  return true;
+}
+
+std::size_t RefinedVoxels::bytesInUse() const {
+  return active_ * sizeof(Cell) + masksUsed_ * sizeof(Mask);
+}
+
+std::size_t RefinedVoxels::bytesReserved() const {
+  return sizeof(*this) + cells_.capacity() * sizeof(Cell) +
+         (freeCells_.capacity() + activeList_.capacity() + activeSlot_.capacity() +
+          tableCells_.capacity()) * sizeof(std::uint32_t) +
+         tableKeys_.capacity() * sizeof(std::uint64_t) + masks_.capacity() * sizeof(Mask) +
+         found_.capacity() * sizeof(glm::ivec3) + scratch_.stack.capacity() * sizeof(std::uint64_t);
+}
+
+}  // namespace osteon::geometry

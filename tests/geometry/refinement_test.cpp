@@ -1,0 +1,261 @@
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/refinement.h"
+#include "osteon/geometry/voxelizer.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace osteon::geometry {
+namespace {
+
+// Exact integer total of the grid's fill (filledVolumeMm3 is a double of this).
+std::uint64_t totalFill(const VoxelGrid& g) {
+  std::uint64_t sum = 0;
+  for (int z = 0; z < g.dims().z; ++z)
+    for (int y = 0; y < g.dims().y; ++y)
+      for (int x = 0; x < g.dims().x; ++x) sum += g.fill({x, y, z});
+  return sum;
+}
+
+bool sameVoxels(const VoxelGrid& a, const VoxelGrid& b) {
+  for (int z = 0; z < a.dims().z; ++z)
+    for (int y = 0; y < a.dims().y; ++y)
+      for (int x = 0; x < a.dims().x; ++x) {
+        if (a.fill({x, y, z}) != b.fill({x, y, z}) || a.density({x, y, z}) != b.density({x, y, z})) {
+          return false;
+        }
+      }
+  return true;
+}
+
+// A sphere of radius 10 mm voxelized at the seed's coarsest size, with its hierarchy and the
+// mesh's fine fill.
+class RefinementTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    mesh_ = test::makeSphere(10.0, 256, 128);
+    VoxelizeOptions options;
+    options.voxelSizeMm = 1.2;
+    grid_ = voxelize(mesh_, options);
+    scene_ = std::make_unique<EmbreeScene>(mesh_);
+    source_ = FineFillSource::sample(grid_, mesh_, *scene_);
+    hierarchy_ = DynamicProximityHierarchy::build(grid_, DphBuildOptions{});
+  }
+  RefinedVoxels make(int depth, const FineFillSource* source, std::size_t capacity = 4096) {
+    RefinementOptions options;
+    options.depth = depth;
+    options.capacity = capacity;
+    return RefinedVoxels(grid_, hierarchy_, source, options);
+  }
+
+  TriangleMesh mesh_;
+  VoxelGrid grid_;
+  std::unique_ptr<EmbreeScene> scene_;
+  FineFillSource source_;
+  DynamicProximityHierarchy hierarchy_;
+  const glm::dvec3 surfacePoint_{10.0, 0.3, 0.2};
+  const double outerMm_ = 1.46 + 2 * 0.3;  // 2.92 mm drill, cushion of two level -2 voxels
+};
+
+TEST_F(RefinementTest, SubVoxelsSumExactlyToTheirParentAndFollowTheMesh) {
+  RefinedVoxels refined = make(2, &source_);
+  EXPECT_GT(source_.voxelCount(), 500u);
+  const int created = refined.refineAround(surfacePoint_, outerMm_, 0.0);
+  ASSERT_GT(created, 10);
+  EXPECT_EQ(refined.refinedCount(), std::size_t(created));
+  int partial = 0, checked = 0;
+  for (int z = 0; z < grid_.dims().z; ++z)
+    for (int y = 0; y < grid_.dims().y; ++y)
+      for (int x = 0; x < grid_.dims().x; ++x) {
+        std::array<Fill, kSubVoxels> fill;
+        std::array<Density, kSubVoxels> density;
+        if (!refined.subFill({x, y, z}, fill, density)) continue;
+        unsigned sum = 0;
+        for (Fill f : fill) sum += f;
+        ASSERT_EQ(sum, grid_.fill({x, y, z}));
+        if (grid_.fill({x, y, z}) == kFillFull) continue;
+        ++partial;
+        // Sub-voxels clearly inside the sphere are full, clearly outside empty.
+        const glm::dvec3 corner = grid_.worldFromGrid(glm::dvec3(x, y, z));
+        for (int i = 0; i < kSubVoxels; ++i) {
+          const glm::dvec3 c = corner + (glm::dvec3(i % 4, (i / 4) % 4, i / 16) + 0.5) * 0.3;
+          const double r = glm::length(c);
+          if (r < 10.0 - 0.3) {
+            EXPECT_GE(fill[std::size_t(i)], 250) << r;
+            ++checked;
+          }
+          if (r > 10.0 + 0.3) {
+            EXPECT_LE(fill[std::size_t(i)], 5) << r;
+            ++checked;
+          }
+          EXPECT_EQ(density[std::size_t(i)] > 0, fill[std::size_t(i)] > 0);
+        }
+      }
+  EXPECT_GT(partial, 3);
+  EXPECT_GT(checked, 50);
+}
+
+TEST_F(RefinementTest, WithoutTheMeshSubVoxelsInheritTheParentFill) {
+  RefinedVoxels refined = make(1, nullptr);
+  refined.refineAround(surfacePoint_, outerMm_, 0.0);
+  int seen = 0;
+  for (int z = 0; z < grid_.dims().z; ++z)
+    for (int y = 0; y < grid_.dims().y; ++y)
+      for (int x = 0; x < grid_.dims().x; ++x) {
+        std::array<Fill, kSubVoxels> fill;
+        std::array<Density, kSubVoxels> density;
+        if (!refined.subFill({x, y, z}, fill, density)) continue;
+        const Fill parent = grid_.fill({x, y, z});
+        unsigned sum = 0;
+        for (int i = 0; i < 8; ++i) {
+          sum += fill[std::size_t(i)];
+          EXPECT_NEAR(fill[std::size_t(i)], parent / 8.0, 8.0);  // even split at level -1
+        }
+        EXPECT_EQ(sum, parent);
+        ++seen;
+      }
+  EXPECT_GT(seen, 0);
+  EXPECT_DOUBLE_EQ(refined.sampleSizeMm(), 0.6);
+}
+
+TEST_F(RefinementTest, ExpiryRestoresTheGridExactlyAndFreesEverything) {
+  const VoxelGrid before = grid_;
+  const std::size_t gridBytes = grid_.memoryBytes();
+  RefinedVoxels refined = make(2, &source_);
+  EXPECT_EQ(refined.bytesInUse(), 0u);
+  refined.refineAround(surfacePoint_, outerMm_, 0.0);
+  EXPECT_GT(refined.bytesInUse(), 0u);
+  // The tool stays for a second, then leaves; nothing expires before the timeout.
+  refined.refineAround(surfacePoint_, outerMm_, 1.0);
+  EXPECT_EQ(refined.expire(2.9), 0);
+  EXPECT_GT(refined.expire(3.1), 0);
+  EXPECT_EQ(refined.refinedCount(), 0u);
+  EXPECT_EQ(refined.bytesInUse(), 0u);
+  grid_.compact();
+  EXPECT_TRUE(sameVoxels(before, grid_));
+  EXPECT_EQ(grid_.memoryBytes(), gridBytes);
+  EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
+}
+
+TEST_F(RefinementTest, RemovalAtTheFinestLevelConservesVolumeAndNeverResurrects) {
+  RefinedVoxels refined = make(2, &source_);
+  const std::uint64_t start = totalFill(grid_);
+  const glm::dvec3 tip(9.5, 0.3, 0.2);
+  refined.refineAround(tip, outerMm_, 0.0);
+  RemovalResult removed;
+  for (int step = 0; step < 60; ++step) {  // enough steps to wear d = 40 away
+    const RemovalResult r = refined.removeInSphere(tip, 1.46);
+    removed.removedFill += r.removedFill;
+    removed.samplesRemoved += r.samplesRemoved;
+    removed.voxelsEmptied += r.voxelsEmptied;
+  }
+  ASSERT_GT(removed.samplesRemoved, 20u);
+  EXPECT_EQ(totalFill(grid_), start - removed.removedFill);  // exact, in fill units
+  EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
+  // Nothing with bone is left inside the drill.
+  int inside = 0;
+  refined.forEachSampleInSphere(tip, 1.46, [&](const VoxelSample& s) {
+    EXPECT_EQ(s.level, -2);
+    ++inside;
+  });
+  EXPECT_EQ(inside, 0);
+
+  // Expire, then refine the same place again: volume unchanged, and still nothing there.
+  const std::uint64_t afterDrilling = totalFill(grid_);
+  EXPECT_GT(refined.expire(10.0), 0);
+  EXPECT_EQ(totalFill(grid_), afterDrilling);
+  EXPECT_GT(refined.refineAround(tip, outerMm_, 20.0), 0);
+  EXPECT_EQ(totalFill(grid_), afterDrilling);
+  refined.forEachSampleInSphere(tip, 1.46, [&](const VoxelSample&) { ++inside; });
+  EXPECT_EQ(inside, 0) << "removed bone came back";
+  refined.expireAll();
+  EXPECT_EQ(totalFill(grid_), afterDrilling);
+  EXPECT_GT(refined.bytesInUse(), 0u);  // the removal masks of drilled voxels remain
+}
+
+TEST_F(RefinementTest, StaticRemovalActsOnWholeVoxels) {
+  RefinedVoxels refined = make(0, &source_);
+  EXPECT_EQ(refined.refineAround(surfacePoint_, outerMm_, 0.0), 0);
+  const std::uint64_t start = totalFill(grid_);
+  RemovalResult total;
+  for (int step = 0; step < 60; ++step) {
+    const RemovalResult r = refined.removeInSphere({9.0, 0.3, 0.2}, 1.46);
+    total.removedFill += r.removedFill;
+    total.voxelsEmptied += r.voxelsEmptied;
+  }
+  EXPECT_GT(total.voxelsEmptied, 0u);
+  EXPECT_EQ(totalFill(grid_), start - total.removedFill);
+  EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
+}
+
+TEST_F(RefinementTest, SampleQueryEqualsABruteForceScan) {
+  RefinedVoxels refined = make(2, &source_);
+  refined.refineAround(surfacePoint_, outerMm_, 0.0);
+  refined.refineAround({-3.0, 9.0, 1.0}, outerMm_, 0.0);
+  std::mt19937 rng(31337);
+  std::uniform_real_distribution<double> pos(-12.0, 12.0);
+  std::uniform_real_distribution<double> rad(0.0, 4.0);
+  for (int q = 0; q < 200; ++q) {
+    // Half of the queries near the refined spots.
+    const glm::dvec3 c = q % 2 ? glm::dvec3(pos(rng), pos(rng), pos(rng))
+                               : surfacePoint_ + glm::dvec3(rad(rng) - 2, rad(rng) - 2, rad(rng) - 2);
+    const double r = rad(rng);
+    std::uint64_t fillSeen = 0;
+    int count = 0;
+    refined.forEachSampleInSphere(c, r, [&](const VoxelSample& s) {
+      fillSeen += s.fill;
+      ++count;
+    });
+    std::uint64_t fillExpected = 0;
+    int countExpected = 0;
+    for (int z = 0; z < grid_.dims().z; ++z)
+      for (int y = 0; y < grid_.dims().y; ++y)
+        for (int x = 0; x < grid_.dims().x; ++x) {
+          const glm::ivec3 v(x, y, z);
+          if (grid_.fill(v) == 0) continue;
+          std::array<Fill, kSubVoxels> fill;
+          std::array<Density, kSubVoxels> density;
+          if (!refined.subFill(v, fill, density)) {
+            if (glm::length(grid_.voxelCentreMm(v) - c) <= r) {
+              fillExpected += grid_.fill(v);
+              ++countExpected;
+            }
+            continue;
+          }
+          const glm::dvec3 corner = grid_.worldFromGrid(glm::dvec3(v));
+          for (int i = 0; i < kSubVoxels; ++i) {
+            const glm::dvec3 sc = corner + (glm::dvec3(i % 4, (i / 4) % 4, i / 16) + 0.5) * 0.3;
+            if (fill[std::size_t(i)] > 0 && glm::length(sc - c) <= r) {
+              fillExpected += fill[std::size_t(i)];
+              ++countExpected;
+            }
+          }
+        }
+    ASSERT_EQ(count, countExpected) << "query " << q;
+    ASSERT_EQ(fillSeen, fillExpected) << "query " << q;
+  }
+}
+
+TEST_F(RefinementTest, AFullPoolLeavesVoxelsUnrefinedAndSaysSo) {
+  RefinedVoxels refined = make(2, &source_, 4);
+  refined.refineAround(surfacePoint_, outerMm_, 0.0);
+  EXPECT_EQ(refined.refinedCount(), 4u);
+  EXPECT_GT(refined.poolExhausted(), 0u);
+}
+
+TEST_F(RefinementTest, BadOptionsAreInputErrors) {
+  RefinementOptions options;
+  options.depth = 3;
+  EXPECT_THROW(RefinedVoxels(grid_, hierarchy_, nullptr, options), InputError);
+  options.depth = 2;
+  options.timeoutS = 0.0;
+  EXPECT_THROW(RefinedVoxels(grid_, hierarchy_, nullptr, options), InputError);
+  options.timeoutS = 2.0;
+  options.capacity = 0;
+  EXPECT_THROW(RefinedVoxels(grid_, hierarchy_, nullptr, options), InputError);
+}
+
+}  // namespace
+}  // namespace osteon::geometry
