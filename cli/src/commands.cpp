@@ -1,6 +1,8 @@
 // The work behind each `osteon` command, and its JSON (nlohmann/json lives in this file only).
 #include "commands.h"
 
+#include "hierarchy_svg.h"
+#include "osteon/geometry/dph.h"
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/humerus_model.h"
 #include "osteon/geometry/mesh_io.h"
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 
@@ -263,6 +266,106 @@ int runModel(const ModelOptions& options) {
               model.headRadiusMm, model.headAxis.x, model.headAxis.y, model.headAxis.z);
   if (!options.out.empty()) std::printf("  wrote %s\n", options.out.c_str());
   return kExitOk;
+}
+
+namespace {
+
+bool isNrrdPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".nrrd";
+}
+
+// The grid a command works on: a GRID.nrrd as saved, or a mesh voxelized at --voxel-size.
+geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
+                        const std::optional<double>& voxelSizeMm, double& voxelizeMs) {
+  voxelizeMs = 0.0;
+  if (isNrrdPath(input)) {
+    geo::NrrdReadResult read = geo::readNrrd(input);
+    if (voxelSizeMm && std::abs(*voxelSizeMm - read.grid.voxelSizeMm()) > 1e-9 * *voxelSizeMm) {
+      std::ostringstream s;
+      s << "--voxel-size " << *voxelSizeMm << ": " << input << " has voxels of "
+        << read.grid.voxelSizeMm() << " mm (omit --voxel-size for a grid)";
+      throw InputError(s.str());
+    }
+    return std::move(read.grid);
+  }
+  if (!voxelSizeMm) throw InputError("--voxel-size: required when the input is a mesh");
+  const LoadedMesh loaded = load(input, units);
+  geo::VoxelizeOptions options;
+  options.voxelSizeMm = *voxelSizeMm;
+  geo::VoxelizeStats stats;
+  geo::VoxelGrid grid = geo::voxelize(loaded.mesh, options, &stats);
+  voxelizeMs = stats.totalMs;
+  return grid;
+}
+
+}  // namespace
+
+int runHierarchy(const HierarchyOptions& options) {
+  double voxelizeMs = 0.0;
+  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs);
+  geo::DphBuildOptions build;
+  build.expansionRatio = options.xi;
+  build.seed = options.seed;
+  const Clock::time_point start = Clock::now();
+  const geo::DynamicProximityHierarchy hierarchy = geo::DynamicProximityHierarchy::build(grid, build);
+  const double buildMs = msSince(start);
+  const std::string problem = hierarchy.validateAgainst(grid);
+
+  int sliceZ = grid.dims().z / 2;
+  if (options.sliceZMm) {
+    sliceZ = int(std::floor(grid.gridFromWorld(glm::dvec3(0.0, 0.0, *options.sliceZMm)).z));
+    if (sliceZ < 0 || sliceZ >= grid.dims().z) {
+      std::ostringstream s;
+      s << "--slice-z " << *options.sliceZMm << ": outside the grid (z from "
+        << grid.originMm().z << " to " << grid.worldFromGrid(glm::dvec3(grid.dims())).z << " mm)";
+      throw InputError(s.str());
+    }
+  }
+  if (!options.svg.empty()) {
+    std::ostringstream title;
+    title << "DPH of " << options.input << ", xi " << options.xi << ", voxel "
+          << grid.voxelSizeMm() << " mm";
+    writeHierarchySvg(hierarchy, grid, sliceZ, title.str(), options.svg);
+  }
+
+  json levels = json::array();
+  for (int level = 0; level < hierarchy.levelCount(); ++level) {
+    levels.push_back({{"level", level},
+                      {"nodes", hierarchy.nodeCount(level)},
+                      {"cell_voxels", 2 * hierarchy.halfWidth(level) + 1}});
+  }
+  if (options.json) {
+    json j = {{"input", options.input},
+              {"voxel_size_mm", grid.voxelSizeMm()},
+              {"dims", ivec3(grid.dims())},
+              {"xi", options.xi},
+              {"seed", options.seed},
+              {"voxels", hierarchy.voxelCount()},
+              {"levels", hierarchy.levelCount()},
+              {"nodes_per_level", levels},
+              {"build_ms", buildMs},
+              {"voxelize_ms", voxelizeMs},
+              {"memory_bytes", hierarchy.memoryBytes()},
+              {"valid", problem.empty()}};
+    if (!problem.empty()) j["problem"] = problem;
+    if (!options.svg.empty()) j["svg"] = options.svg;
+    printJson(j);
+  } else {
+    std::printf("osteon hierarchy %s: %zu voxels at %.4g mm, xi %d, seed %llu\n",
+                options.input.c_str(), hierarchy.voxelCount(), grid.voxelSizeMm(), options.xi,
+                static_cast<unsigned long long>(options.seed));
+    for (int level = 0; level < hierarchy.levelCount(); ++level) {
+      std::printf("  level %2d  %9zu nodes   cells of %lld voxels\n", level,
+                  hierarchy.nodeCount(level), 2 * hierarchy.halfWidth(level) + 1);
+    }
+    std::printf("  build %.1f ms, %.2f MB; %s\n", buildMs, double(hierarchy.memoryBytes()) / 1e6,
+                problem.empty() ? "all invariants hold" : problem.c_str());
+    if (!options.svg.empty()) std::printf("  wrote %s (slice z = %d)\n", options.svg.c_str(), sliceZ);
+  }
+  return problem.empty() ? kExitOk : kExitCheckFailed;
 }
 
 }  // namespace osteon::cli

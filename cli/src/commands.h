@@ -2,6 +2,7 @@
 // Each returns the process exit code: 0 success, 1 a check failed, 2 bad input or usage.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -37,6 +38,17 @@ struct VoxelizeCommandOptions {
   bool json = false;
 };
 
+struct HierarchyOptions {
+  std::string input;  // mesh, `default`, or GRID.nrrd
+  MeshUnits units;
+  std::optional<double> voxelSizeMm;
+  int xi = 3;
+  std::uint64_t seed = 1;
+  std::string svg;     // a slice of the hierarchy as SVG, empty for none
+  std::optional<double> sliceZMm;
+  bool json = false;
+};
+
 struct ModelOptions {
   std::string out;  // mesh file to write, empty for none
   bool json = false;
@@ -45,5 +57,6 @@ struct ModelOptions {
 int runInfo(const InfoOptions& options);
 int runVoxelize(const VoxelizeCommandOptions& options);
 int runModel(const ModelOptions& options);
+int runHierarchy(const HierarchyOptions& options);
 
 }  // namespace osteon::cli

@@ -72,6 +72,21 @@ int main(int argc, char** argv) {
   voxCmd->add_option("--out", vox.out, "Write the grid as NRRD (fill; density beside it)");
   voxCmd->add_flag("--json", vox.json, "Print one JSON object on stdout");
 
+  osteon::cli::HierarchyOptions dph;
+  CLI::App* dphCmd = app.add_subcommand(
+      "hierarchy", "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)");
+  dphCmd->add_option("MESH", dph.input,
+                     "Mesh file, 'default', or a GRID.nrrd written by osteon voxelize")
+      ->required();
+  addUnits(*dphCmd, dph.units);
+  dphCmd->add_option("--voxel-size", dph.voxelSizeMm,
+                     "Voxel edge in mm (required for a mesh; a grid has its own)");
+  dphCmd->add_option("--xi", dph.xi, "Expansion ratio (odd, 3..15)")->default_val(3);
+  dphCmd->add_option("--seed", dph.seed, "Seed of the insertion order")->default_val(1);
+  dphCmd->add_option("--svg", dph.svg, "Draw a z-slice of the hierarchy into this SVG file");
+  dphCmd->add_option("--slice-z", dph.sliceZMm, "Height of the --svg slice in mm (default: middle)");
+  dphCmd->add_flag("--json", dph.json, "Print one JSON object on stdout");
+
   osteon::cli::ModelOptions model;
   CLI::App* modelCmd = app.add_subcommand(
       "model", "Build the built-in proximal humerus (what 'default' means) and optionally write it");
@@ -92,14 +107,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
     };
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
-                << ": unknown command (expected info, voxelize or model; see osteon --help)\n";
+                << ": unknown command (expected info, voxelize, hierarchy or model; see osteon --help)\n";
       return kExitBadInput;
     }
     std::cerr << "osteon: error: " << oneLine(e.what()) << " (see osteon --help)\n";
@@ -110,6 +125,7 @@ int main(int argc, char** argv) {
     if (*infoCmd) return osteon::cli::runInfo(info);
     if (*voxCmd) return osteon::cli::runVoxelize(vox);
     if (*modelCmd) return osteon::cli::runModel(model);
+    if (*dphCmd) return osteon::cli::runHierarchy(dph);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

@@ -3,6 +3,7 @@
 #include "osteon/geometry/error.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -28,10 +29,6 @@ std::uint64_t packVoxel(const glm::ivec3& v) {
 }
 
 long long floorDiv(long long a, long long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-
-std::uint64_t cellKey(long long cx, long long cy, long long cz) {
-  return packVoxel(glm::ivec3(int(cx), int(cy), int(cz)));
-}
 
 long long chebyshev(const glm::ivec3& a, const glm::ivec3& b) {
   const glm::ivec3 d = glm::abs(a - b);
@@ -97,35 +94,67 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
       }
     }
 
-    // Parent cells hashed on a lattice of their own edge: a centre's containing cells lie in
-    // the 27 lattice cells around it, at most a handful per lattice cell since parent
-    // centres are more than `half` apart.
+    // Parent centres bucketed on a lattice of the cell edge: the cells that can hold a centre
+    // c have their centres within `half` of it, so they sit in the (at most 2 x 2 x 2) lattice
+    // cells overlapping [c - half, c + half]; a lattice cell holds at most 8 parent centres,
+    // since parent centres are more than `half` apart. Dense heads while the lattice is small
+    // against the node count, a hash map for sparse inputs.
+    glm::ivec3 minCentre(std::numeric_limits<int>::max());
+    glm::ivec3 maxCentre(std::numeric_limits<int>::min());
+    for (const glm::ivec3& c : below.centre) {
+      minCentre = glm::min(minCentre, c);
+      maxCentre = glm::max(maxCentre, c);
+    }
+    long long latticeLo[3], latticeDims[3];
+    for (int a = 0; a < 3; ++a) {
+      latticeLo[a] = floorDiv(minCentre[a], cellEdge);
+      latticeDims[a] = floorDiv(maxCentre[a], cellEdge) - latticeLo[a] + 1;
+    }
+    const long long latticeCells = latticeDims[0] * latticeDims[1] * latticeDims[2];
+    const bool dense = latticeCells <= 4 * (long long)count + (1LL << 20);
+    std::vector<std::uint32_t> denseHead(dense ? std::size_t(latticeCells) : 0, kNone);
+    std::unordered_map<std::uint64_t, std::uint32_t> sparseHead;
+    const auto latticeIndex = [&](long long lx, long long ly, long long lz) {
+      return std::uint64_t((lx - latticeLo[0]) +
+                           latticeDims[0] * ((ly - latticeLo[1]) + latticeDims[1] * (lz - latticeLo[2])));
+    };
+    const auto headOf = [&](std::uint64_t cell) {
+      if (dense) return denseHead[cell];
+      const auto it = sparseHead.find(cell);
+      return it == sparseHead.end() ? kNone : it->second;
+    };
+    const auto setHead = [&](std::uint64_t cell, std::uint32_t parent) {
+      if (dense) {
+        denseHead[cell] = parent;
+      } else {
+        sparseHead[cell] = parent;
+      }
+    };
+
     Level above;
-    std::unordered_map<std::uint64_t, std::uint32_t> headOfCell;
-    headOfCell.reserve(count / 4 + 16);
     std::vector<std::uint32_t> nextInCell;
     for (const std::uint32_t node : order) {
       const glm::ivec3 c = below.centre[node];
-      const long long lx = floorDiv(c.x, cellEdge);
-      const long long ly = floorDiv(c.y, cellEdge);
-      const long long lz = floorDiv(c.z, cellEdge);
+      long long from[3], to[3];
+      for (int a = 0; a < 3; ++a) {
+        from[a] = std::max(floorDiv(c[a] - half, cellEdge), latticeLo[a]);
+        to[a] = std::min(floorDiv(c[a] + half, cellEdge), latticeLo[a] + latticeDims[a] - 1);
+      }
       std::uint32_t chosen = kNone;
-      for (long long dz = -1; dz <= 1; ++dz)
-        for (long long dy = -1; dy <= 1; ++dy)
-          for (long long dx = -1; dx <= 1; ++dx) {
-            const auto it = headOfCell.find(cellKey(lx + dx, ly + dy, lz + dz));
-            if (it == headOfCell.end()) continue;
-            for (std::uint32_t p = it->second; p != kNone; p = nextInCell[p]) {
+      for (long long lz = from[2]; lz <= to[2]; ++lz)
+        for (long long ly = from[1]; ly <= to[1]; ++ly)
+          for (long long lx = from[0]; lx <= to[0]; ++lx) {
+            for (std::uint32_t p = headOf(latticeIndex(lx, ly, lz)); p != kNone; p = nextInCell[p]) {
               if (p < chosen && chebyshev(above.centre[p], c) <= half) chosen = p;
             }
           }
       if (chosen == kNone) {  // not covered: a new parent at this node's centre
         chosen = std::uint32_t(above.centre.size());
         above.centre.push_back(c);
-        const std::uint64_t key = cellKey(lx, ly, lz);
-        const auto [it, inserted] = headOfCell.emplace(key, chosen);
-        nextInCell.push_back(inserted ? kNone : it->second);
-        if (!inserted) it->second = chosen;
+        const std::uint64_t cell =
+            latticeIndex(floorDiv(c.x, cellEdge), floorDiv(c.y, cellEdge), floorDiv(c.z, cellEdge));
+        nextInCell.push_back(headOf(cell));
+        setHead(cell, chosen);
       }
       below.parent[node] = chosen;
     }

@@ -56,6 +56,8 @@ class DynamicProximityHierarchy {
   int expansionRatio() const { return xi_; }
   int levelCount() const { return int(levels_.size()); }
   std::size_t nodeCount(int level) const { return levels_[std::size_t(level)].aliveCount; }
+  // Node slots at a level, removed ones included (iterate 0..nodeSlots-1 with alive()).
+  std::size_t nodeSlots(int level) const { return levels_[std::size_t(level)].centre.size(); }
   std::size_t voxelCount() const { return levels_.empty() ? 0 : levels_[0].aliveCount; }
   // Half the cell edge at a level, in voxels: (xi^L - 1) / 2.
   long long halfWidth(int level) const { return halfWidth_[std::size_t(level)]; }
