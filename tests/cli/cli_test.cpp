@@ -149,6 +149,38 @@ TEST_F(CliTest, UnitsAndScaleAgree) {
               0.02 * 0.03 * 0.04 * 25.4 * 25.4 * 25.4, 1e-6);
 }
 
+TEST_F(CliTest, HierarchyReportsLevelsForMeshesAndGrids) {
+  const CliRun mesh = osteon("hierarchy default --voxel-size 1.2 --json --svg '" + path("h.svg") + "'");
+  ASSERT_EQ(mesh.exitCode, 0) << mesh.err;
+  const nlohmann::json j = nlohmann::json::parse(mesh.out);
+  for (const char* key : {"levels", "nodes_per_level", "build_ms", "memory_bytes", "voxels"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_TRUE(j["valid"].get<bool>());
+  const auto& levels = j["nodes_per_level"];
+  ASSERT_EQ(levels.size(), j["levels"].get<std::size_t>());
+  EXPECT_EQ(levels.back()["nodes"].get<int>(), 1);  // one root
+  EXPECT_EQ(levels[0]["nodes"].get<long long>(), j["voxels"].get<long long>());
+  long long cell = 1;
+  for (const auto& level : levels) {
+    EXPECT_EQ(level["cell_voxels"].get<long long>(), cell);  // xi^L
+    cell *= 3;
+  }
+  EXPECT_NE(test::readBytes(path("h.svg")).find("<svg"), std::string::npos);
+
+  // The same grid through NRRD gives the same hierarchy.
+  ASSERT_EQ(osteon("voxelize default --voxel-size 1.2 --out '" + path("g.nrrd") + "'").exitCode, 0);
+  const CliRun grid = osteon("hierarchy '" + path("g.nrrd") + "' --json");
+  ASSERT_EQ(grid.exitCode, 0) << grid.err;
+  EXPECT_EQ(nlohmann::json::parse(grid.out)["nodes_per_level"], levels);
+
+  expectBadInput("hierarchy default", "--voxel-size", "required");
+  expectBadInput("hierarchy default --voxel-size 1.2 --xi 4", "--xi 4", "odd");
+  expectBadInput("hierarchy '" + path("g.nrrd") + "' --voxel-size 0.5", "--voxel-size 0.5",
+                 "1.2 mm");
+  expectBadInput("hierarchy default --voxel-size 1.2 --slice-z 900", "--slice-z 900", "outside");
+}
+
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
   const CliRun run = osteon("model --json --out '" + path("humerus.stl") + "'");
   ASSERT_EQ(run.exitCode, 0) << run.err;
