@@ -2,6 +2,7 @@
 #include "osteon/geometry/refinement.h"
 
 #include "column_ray.h"
+#include "sub_fill.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -105,10 +106,16 @@ FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh&
               }
             }
       for (std::size_t e = first; e < last; ++e) {
+        std::array<std::uint8_t, kSubVoxels> sampled;
         for (int i = 0; i < kSubVoxels; ++i) {
           const float fraction = acc[(e - first) * kSubVoxels + std::size_t(i)] / float(R * R);
-          subFill[e][std::size_t(i)] = std::uint8_t(std::clamp(std::lround(fraction * 255.f), 0L, 255L));
+          sampled[std::size_t(i)] = std::uint8_t(std::clamp(std::lround(fraction * 255.f), 0L, 255L));
         }
+        // Fitted now to sum exactly to the voxel's fill, so refining only copies them.
+        const glm::ivec3 v(x, y, entries[e].z);
+        std::array<Fill, kSubVoxels> fitted;
+        detail::fitToTotal(sampled, grid.fill(v), fitted);
+        for (int i = 0; i < kSubVoxels; ++i) subFill[e][std::size_t(i)] = std::uint8_t(fitted[std::size_t(i)]);
       }
     }
   });

@@ -36,8 +36,8 @@ inline constexpr int kSubPerEdge = 1 << kMaxRefineDepth;  // level -2 sub-voxels
 inline constexpr int kSubVoxels = kSubPerEdge * kSubPerEdge * kSubPerEdge;  // 64
 
 // Level -2 fill of every voxel the surface passes through (0 < fill < full), sampled from the
-// mesh once, so refining at run time casts no rays. Fractions in 1/255 of a sub-voxel, which
-// is exactly the fill unit count of a full level -2 sub-voxel.
+// mesh once and fitted to sum exactly to the voxel's fill, so refining at run time casts no
+// rays and only copies. In fill units: a full level -2 sub-voxel holds 255.
 class FineFillSource {
  public:
   FineFillSource() = default;
@@ -60,7 +60,7 @@ class FineFillSource {
 
 struct RefinementOptions {
   int depth = 2;              // 0 (off), 1 (level -1, 8 sub-voxels) or 2 (level -2, 64)
-  double marginMm = -1.0;     // beyond the tool's outer sphere; < 0: one base voxel
+  double marginMm = -1.0;     // beyond the tool's outer sphere; < 0: one finest sample
   double timeoutS = 2.0;      // a refined voxel expires this long after the tool left
   std::size_t capacity = 4096;       // refined voxels at once (the cell pool)
   std::size_t maskCapacity = 1 << 16;  // voxels whose removed sub-voxels are remembered
