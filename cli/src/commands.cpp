@@ -48,7 +48,10 @@ double scaleToMm(const MeshUnits& units) {
 json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 json ivec3(const glm::ivec3& v) { return json::array({v.x, v.y, v.z}); }
 
-void printJson(const json& j) { std::cout << j.dump(2) << "\n"; }
+// Paths are bytes, not always UTF-8: invalid sequences print as U+FFFD rather than failing.
+void printJson(const json& j) {
+  std::cout << j.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+}
 
 struct LoadedMesh {
   geo::TriangleMesh mesh;

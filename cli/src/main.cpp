@@ -130,7 +130,8 @@ int main(int argc, char** argv) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
-    std::cerr << "osteon: error: out of memory (try a larger voxel size)\n";
+    std::cerr << "osteon: error: out of memory: the input needs more memory than this machine "
+                 "has (a larger --voxel-size needs less)\n";
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "osteon: internal error: " << oneLine(e.what()) << "\n";

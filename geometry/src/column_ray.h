@@ -17,11 +17,14 @@ int outwardSignOf(const TriangleMesh& mesh);
 // One per thread: owns its hit buffer.
 class ColumnRay {
  public:
-  // Rays along `axis` start at coordinate startMm on that axis and run lengthMm.
-  ColumnRay(const EmbreeScene& scene, int axis, int outwardSign, double startMm, double lengthMm);
+  // Rays along `axis` start at coordinate startMm on that axis and run lengthMm. Hits closer
+  // than toleranceMm are one crossing (a surface seen twice through a shared edge).
+  ColumnRay(const EmbreeScene& scene, int axis, int outwardSign, double startMm, double lengthMm,
+            double toleranceMm);
 
   // Casts at (uMm, vMm) on the two other axes ((axis+1)%3, (axis+2)%3). An odd or
-  // inconsistent hit list is re-cast up to three times, moved by multiples of jitterMm.
+  // inconsistent hit list is re-cast up to three times, moved by multiples of jitterMm, and
+  // then once more classified by parity alone.
   // intervals receive the inside spans as distances from startMm. attempts counts casts.
   RayOutcome cast(double uMm, double vMm, double jitterMm, std::vector<Interval>& intervals,
                   int& attempts);
@@ -41,6 +44,7 @@ class ColumnRay {
   int outwardSign_;
   double startMm_;
   double lengthMm_;
+  double toleranceMm_;
   std::vector<RayHit> hits_;
   Collector collector_;
 };

@@ -8,6 +8,10 @@
 namespace osteon::geometry {
 
 EmbreeScene::EmbreeScene(const TriangleMesh& mesh) : mesh_(&mesh) {
+  if (!mesh.triangles.empty()) {
+    const Aabb box = bounds(mesh);
+    centreMm_ = 0.5 * (box.minMm + box.maxMm);
+  }
   device_.reset(rtcNewDevice(nullptr));
   if (!device_) {
     throw std::runtime_error("Embree: cannot create a device (error " +
@@ -23,9 +27,10 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh) : mesh_(&mesh) {
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
       mesh.positionsMm.size()));
   for (std::size_t v = 0; v < mesh.positionsMm.size(); ++v) {
-    vertices[3 * v + 0] = float(mesh.positionsMm[v].x);
-    vertices[3 * v + 1] = float(mesh.positionsMm[v].y);
-    vertices[3 * v + 2] = float(mesh.positionsMm[v].z);
+    const glm::dvec3 local = mesh.positionsMm[v] - centreMm_;
+    vertices[3 * v + 0] = float(local.x);
+    vertices[3 * v + 1] = float(local.y);
+    vertices[3 * v + 2] = float(local.z);
   }
   auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
@@ -104,9 +109,10 @@ double EmbreeScene::distanceWithin(const glm::dvec3& pointMm, double maxDistance
                                    glm::dvec3* closestMm) const {
   ClosestQuery q{mesh_, pointMm, maxDistanceMm, glm::dvec3(0.0), false};
   RTCPointQuery query;
-  query.x = float(pointMm.x);
-  query.y = float(pointMm.y);
-  query.z = float(pointMm.z);
+  const glm::dvec3 local = pointMm - centreMm_;
+  query.x = float(local.x);
+  query.y = float(local.y);
+  query.z = float(local.z);
   query.time = 0.f;
   query.radius = float(maxDistanceMm);
   RTCPointQueryContext context;

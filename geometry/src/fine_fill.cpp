@@ -68,7 +68,7 @@ FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh&
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, columnStart.size() - 1),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-    detail::ColumnRay ray(surface, 2, outwardSign, start, length);
+    detail::ColumnRay ray(surface, 2, outwardSign, start, length, std::min(1e-4, 1e-3 * sub));
     std::vector<detail::Interval> intervals;
     std::vector<float> acc;
     for (std::size_t col = range.begin(); col != range.end(); ++col) {

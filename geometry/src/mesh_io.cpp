@@ -91,10 +91,9 @@ TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* i
     case MeshFormat::Ply: local.binary = detail::preflightPly(path, fileBytes); break;
     case MeshFormat::Obj: break;
   }
-  if (local.binary && format == MeshFormat::Stl) {
-    detail::checkBinaryStlFinite(path);
-  } else if (!local.binary) {  // binary PLY/OFF values reach the finite check below intact
-    detail::checkTextCoordinatesFinite(path, meshFormatName(format));
+  if (format == MeshFormat::Stl && local.binary) detail::checkBinaryStlFinite(path);
+  if (format == MeshFormat::Obj || (format == MeshFormat::Stl && !local.binary)) {
+    detail::checkObjOrAsciiStl(path, meshFormatName(format));
   }
 
   silenceOpenMesh();

@@ -1,6 +1,8 @@
 // Adapters between OpenMesh's file readers/writers and our triangle soup. OpenMesh's own mesh
 // kernels insist on 2-manifold topology and silently drop "complex" faces; these adapters take
 // every face as it is, so a damaged mesh loads whole and its damage stays measurable.
+// Coordinates are as OpenMesh 9 parses them: single precision, also for text files and PLY
+// doubles (about 7 significant digits; 0.01 um at 100 mm).
 #pragma once
 
 #include "osteon/geometry/mesh.h"

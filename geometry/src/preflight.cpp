@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -22,12 +23,20 @@ std::string readPrefix(const std::string& path, std::size_t maxBytes) {
   return bytes;
 }
 
+// Text: no control bytes but whitespace (UTF-8 names and comments are fine).
 bool looksLikeText(const std::string& bytes) {
   for (unsigned char c : bytes) {
     const bool whitespace = c >= 0x09 && c <= 0x0d;
-    if (!whitespace && (c < 0x20 || c > 0x7e)) return false;
+    if (!whitespace && (c < 0x20 || c == 0x7f)) return false;
   }
   return true;
+}
+
+// The text after a UTF-8 byte-order mark and leading whitespace.
+std::string skipLead(const std::string& s) {
+  std::size_t i = s.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+  return s.substr(i);
 }
 
 bool startsWithNoCase(const std::string& s, const char* prefix) {
@@ -43,7 +52,7 @@ bool startsWithNoCase(const std::string& s, const char* prefix) {
 
 StlKind preflightStl(const std::string& path, std::uint64_t fileBytes) {
   const std::string head = readPrefix(path, 4096);
-  const bool solidPrefix = startsWithNoCase(head, "solid");
+  const bool solidPrefix = startsWithNoCase(skipLead(head), "solid");
   if (fileBytes < 84) {
     if (solidPrefix && looksLikeText(head)) return StlKind::Ascii;
     throw InputError(path + ": too short for a binary STL (" + std::to_string(fileBytes) +
@@ -70,38 +79,97 @@ StlKind preflightStl(const std::string& path, std::uint64_t fileBytes) {
   throw InputError(msg.str());
 }
 
+namespace {
+
+constexpr long long kMaxCorners = 1024;  // corners of one polygon; more is a corrupt count
+
+// A coordinate token: finite and within single precision (OpenMesh parses floats).
+bool coordinateOk(const std::string& token) {
+  char* end = nullptr;
+  const double value = std::strtod(token.c_str(), &end);
+  if (end == token.c_str()) return true;  // not a number: the parser will say so
+  return std::isfinite(value) && std::abs(value) <= double(std::numeric_limits<float>::max());
+}
+
+void checkCoordinate(const std::string& path, std::size_t lineNo, const std::string& token) {
+  if (!coordinateOk(token)) {
+    throw InputError(path + ": line " + std::to_string(lineNo) + " has a non-finite coordinate '" +
+                     token + "' (NaN, Inf or beyond single precision)");
+  }
+}
+
+bool isInteger(const std::string& token) {
+  std::size_t i = token[0] == '-' || token[0] == '+' ? 1 : 0;
+  if (i >= token.size()) return false;
+  for (; i < token.size(); ++i) {
+    if (!std::isdigit(static_cast<unsigned char>(token[i]))) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> tokensOf(const std::string& line) {
+  std::istringstream words(line);
+  std::vector<std::string> tokens;
+  for (std::string t; words >> t;) tokens.push_back(t);
+  return tokens;
+}
+
+}  // namespace
+
 bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open for reading");
-  std::string firstLine;
-  std::getline(in, firstLine);
-  const bool binary = firstLine.find("BINARY") != std::string::npos;
-  if (firstLine.find("OFF") == std::string::npos) {
+  std::string line;
+  std::getline(in, line);
+  std::size_t lineNo = 1;
+  const std::size_t off = line.find("OFF");
+  if (off == std::string::npos) {
     throw InputError(path + ": not an OFF file (first line lacks the OFF keyword)");
   }
-  // Counts follow on the first non-comment line (some writers put them on the OFF line).
-  std::string rest = firstLine.substr(firstLine.find("OFF") + 3);
-  if (binary) rest = rest.substr(rest.find("BINARY") + 6);
-  std::string line = rest;
-  while (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') {
-    if (!std::getline(in, line)) throw InputError(path + ": OFF header has no element counts");
+  if (line.find("BINARY") != std::string::npos) {
+    throw InputError(path + ": binary OFF is not supported; save it as ASCII OFF or PLY");
   }
-  std::istringstream counts(line);
-  long long vertices = -1;
-  long long faces = -1;
-  counts >> vertices >> faces;
-  if (!counts || vertices < 0 || faces < 0) {
+  // Counts follow on the first non-comment line (some writers put them on the OFF line).
+  std::vector<std::string> counts = tokensOf(line.substr(off + 3));
+  while (counts.empty() || counts[0][0] == '#') {
+    if (!std::getline(in, line)) throw InputError(path + ": OFF header has no element counts");
+    ++lineNo;
+    counts = tokensOf(line);
+  }
+  if (counts.size() < 2 || !isInteger(counts[0]) || !isInteger(counts[1]) ||
+      counts[0][0] == '-' || counts[1][0] == '-' || counts[0].size() > 12 || counts[1].size() > 12) {
     throw InputError(path + ": OFF header counts are missing or negative: '" + line + "'");
   }
-  // Smallest possible records: ASCII "0 0 0\n" and "3 0 1 2\n"; binary 3 floats and 4 ints.
-  const long double need = binary ? 12.0L * vertices + 16.0L * faces
-                                  : 6.0L * vertices + 8.0L * faces;
-  if (need > static_cast<long double>(fileBytes)) {
+  const long long vertices = std::stoll(counts[0]);
+  const long long faces = std::stoll(counts[1]);
+  // Smallest possible records: "0 0 0\n" and "3 0 1 2\n".
+  if (6.0L * vertices + 8.0L * faces > static_cast<long double>(fileBytes)) {
     throw InputError(path + ": OFF header promises " + std::to_string(vertices) +
                      " vertices and " + std::to_string(faces) + " faces, more than its " +
                      std::to_string(fileBytes) + " bytes can hold (truncated file?)");
   }
-  return binary;
+  // One record per line: vertices with finite coordinates, faces whose corner count the line
+  // actually lists (the parser trusts that count and would loop or allocate on it).
+  long long seenVertices = 0, seenFaces = 0;
+  while (seenFaces < faces && std::getline(in, line)) {
+    ++lineNo;
+    const std::vector<std::string> tokens = tokensOf(line);
+    if (tokens.empty() || tokens[0][0] == '#') continue;
+    if (seenVertices < vertices) {
+      for (std::size_t k = 0; k < std::min<std::size_t>(3, tokens.size()); ++k) {
+        checkCoordinate(path, lineNo, tokens[k]);
+      }
+      ++seenVertices;
+      continue;
+    }
+    if (!isInteger(tokens[0]) || tokens[0][0] == '-' || tokens[0].size() > 6 ||
+        std::stoll(tokens[0]) > kMaxCorners || std::stoll(tokens[0]) + 1 > (long long)tokens.size()) {
+      throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner count '" +
+                       tokens[0] + "' does not match the indices on the line");
+    }
+    ++seenFaces;
+  }
+  return false;
 }
 
 namespace {
@@ -116,12 +184,103 @@ int plyTypeBytes(const std::string& type) {
   return -1;
 }
 
+struct PlyProperty {
+  bool list = false;
+  bool coordinate = false;  // vertex x, y or z
+  std::string countType;    // list only
+  std::string type;         // scalar type, or the list's item type
+};
+
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// Reads an unsigned list count of `type` from binary bytes.
+std::uint64_t readCount(const unsigned char* p, const std::string& type, bool bigEndian) {
+  const int n = plyTypeBytes(type);
+  std::uint64_t v = 0;
+  for (int b = 0; b < n; ++b) {
+    const int shift = 8 * (bigEndian ? n - 1 - b : b);
+    v |= std::uint64_t(p[b]) << shift;
+  }
+  if (type[0] != 'u' && n < 8 && (v >> (8 * n - 1)) != 0) return ~std::uint64_t(0);  // negative
+  return v;
+}
+
+// Walks the body record by record as the header describes it, so no list count can send the
+// parser past the end of the file: binary counts must fit the bytes left, ASCII counts the
+// tokens left; float values must be finite.
+void checkPlyBody(const std::string& path, std::ifstream& in, bool binary, bool bigEndian,
+                  const std::vector<PlyElement>& elements) {
+  if (binary) {
+    const std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto* bytes = reinterpret_cast<const unsigned char*>(body.data());
+    std::uint64_t at = 0;
+    const std::uint64_t size = body.size();
+    for (const PlyElement& e : elements) {
+      for (long long r = 0; r < e.count; ++r) {
+        for (const PlyProperty& p : e.properties) {
+          if (!p.list) {
+            at += std::uint64_t(plyTypeBytes(p.type));
+            continue;
+          }
+          const int countBytes = plyTypeBytes(p.countType);
+          if (at + std::uint64_t(countBytes) > size) break;
+          const std::uint64_t n = readCount(bytes + at, p.countType, bigEndian);
+          if (n > std::uint64_t(kMaxCorners)) {
+            throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
+                             " has a list of " + std::to_string(n) + " items (corrupt count?)");
+          }
+          at += std::uint64_t(countBytes) + n * std::uint64_t(plyTypeBytes(p.type));
+        }
+        if (at > size) {
+          throw InputError(path + ": truncated PLY: element '" + e.name + "' record " +
+                           std::to_string(r) + " runs past the end of the file");
+        }
+      }
+    }
+    return;
+  }
+  std::string token;
+  std::size_t tokensRead = 0;
+  const auto next = [&](const PlyElement& e) -> const std::string& {
+    if (!(in >> token)) {
+      throw InputError(path + ": truncated PLY: element '" + e.name + "' runs past the end");
+    }
+    ++tokensRead;
+    return token;
+  };
+  for (const PlyElement& e : elements) {
+    for (long long r = 0; r < e.count; ++r) {
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          const std::string& t = next(e);
+          if ((p.type == "float" || p.type == "float32" || p.type == "double" || p.type == "float64") &&
+              !coordinateOk(t)) {
+            throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
+                             " has a non-finite value '" + t + "' (NaN, Inf or beyond single precision)");
+          }
+          continue;
+        }
+        const std::string& t = next(e);
+        if (!isInteger(t) || t[0] == '-' || t.size() > 6 || std::stoll(t) > kMaxCorners) {
+          throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
+                           " has a list count '" + t + "' (corrupt count?)");
+        }
+        for (long long k = std::stoll(t); k > 0; --k) next(e);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
   // OpenMesh's PLY reader trusts its header (malformed ones crash it or send it looping), so
   // the header is checked here in full: known keywords only, a known format, typed
-  // properties under an element, a vertex element with x, y and z.
+  // properties under an element, a vertex element with x, y and z; then the body is walked.
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open for reading");
   std::string line;
@@ -132,15 +291,9 @@ bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
     return InputError(path + ": PLY header line " + std::to_string(lineNo) + ": " + why);
   };
   bool binary = false;
+  bool bigEndian = false;
   bool formatSeen = false;
-  bool inElement = false;
-  std::string element;
-  int vertexXyz = 0;
-  bool vertexSeen = false;
-  long double needBytes = 0.0L;
-  long double elementCount = 0.0L;
-  long double recordBytes = 0.0L;
-  auto closeElement = [&] { needBytes += elementCount * recordBytes; };
+  std::vector<PlyElement> elements;
   std::size_t lineNo = 1;
   while (std::getline(in, line)) {
     if (++lineNo > 10000) throw InputError(path + ": PLY header has no end_header");
@@ -160,49 +313,59 @@ bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
         throw bad(lineNo, "unknown format '" + line + "'");
       }
       binary = kind != "ascii";
+      bigEndian = kind == "binary_big_endian";
       formatSeen = true;
     } else if (keyword == "element") {
-      closeElement();
-      long long count = -1;
+      PlyElement e;
       std::string extra;
-      words >> element >> count;
-      if (!words || count < 0 || (words >> extra)) throw bad(lineNo, "bad element line '" + line + "'");
-      inElement = true;
-      vertexSeen = vertexSeen || element == "vertex";
-      elementCount = static_cast<long double>(count);
-      recordBytes = 0.0L;
+      words >> e.name >> e.count;
+      if (!words || e.count < 0 || (words >> extra)) throw bad(lineNo, "bad element line '" + line + "'");
+      elements.push_back(e);
     } else if (keyword == "property") {
-      if (!inElement) throw bad(lineNo, "property before any element");
+      if (elements.empty()) throw bad(lineNo, "property before any element");
+      PlyProperty p;
       std::string type, name, extra;
       words >> type;
       if (type == "list") {
-        std::string countType, itemType;
-        words >> countType >> itemType >> name;
-        const int bytes = plyTypeBytes(countType);
-        if (bytes < 0 || plyTypeBytes(itemType) < 0 || name.empty() || (words >> extra)) {
+        p.list = true;
+        words >> p.countType >> p.type >> name;
+        if (plyTypeBytes(p.countType) < 0 || plyTypeBytes(p.type) < 0 || name.empty() ||
+            (words >> extra) || p.countType == "float" || p.countType == "float32" ||
+            p.countType == "double" || p.countType == "float64") {
           throw bad(lineNo, "bad list property '" + line + "'");
         }
-        recordBytes += binary ? bytes : 2;
       } else {
+        p.type = type;
         words >> name;
-        const int bytes = plyTypeBytes(type);
-        if (bytes < 0 || name.empty() || (words >> extra)) {
+        if (plyTypeBytes(type) < 0 || name.empty() || (words >> extra)) {
           throw bad(lineNo, "bad property '" + line + "'");
         }
-        recordBytes += binary ? bytes : 2;
-        if (element == "vertex" && (name == "x" || name == "y" || name == "z")) ++vertexXyz;
       }
+      p.coordinate = elements.back().name == "vertex" && !p.list &&
+                     (name == "x" || name == "y" || name == "z");
+      elements.back().properties.push_back(p);
     } else if (keyword == "end_header") {
-      closeElement();
       if (!formatSeen) throw InputError(path + ": PLY header has no format line");
-      if (!vertexSeen || vertexXyz != 3) {
-        throw InputError(path + ": PLY header has no vertex element with x, y and z");
+      int xyz = 0;
+      long double needBytes = 0.0L;
+      for (const PlyElement& e : elements) {
+        if (e.properties.empty() && e.count > 0) {
+          throw InputError(path + ": PLY element '" + e.name + "' has records but no properties");
+        }
+        long double record = 0.0L;
+        for (const PlyProperty& p : e.properties) {
+          record += binary ? (p.list ? plyTypeBytes(p.countType) : plyTypeBytes(p.type)) : 2;
+          if (p.coordinate) ++xyz;
+        }
+        needBytes += record * static_cast<long double>(e.count);
       }
+      if (xyz != 3) throw InputError(path + ": PLY header has no vertex element with x, y and z");
       const auto headerEnd = static_cast<std::uint64_t>(in.tellg());
       if (needBytes > static_cast<long double>(fileBytes - headerEnd)) {
         throw InputError(path + ": PLY header promises more elements than its " +
                          std::to_string(fileBytes) + " bytes can hold (truncated file?)");
       }
+      checkPlyBody(path, in, binary, bigEndian, elements);
       return binary;
     } else {
       throw bad(lineNo, "unknown keyword '" + keyword + "'");
@@ -221,47 +384,40 @@ void checkBinaryStlFinite(const std::string& path) {
     std::memcpy(coords, record + 12, sizeof(coords));  // skip the facet normal
     for (int k = 0; k < 9; ++k) {
       if (!std::isfinite(coords[k])) {
-        throw InputError(path + ": triangle " + std::to_string(tri) + " has a non-finite vertex coordinate (" +
-                         std::to_string(coords[k]) + ")");
+        throw InputError(path + ": triangle " + std::to_string(tri) +
+                         " has a non-finite vertex coordinate (" + std::to_string(coords[k]) + ")");
       }
     }
   }
 }
 
-void checkTextCoordinatesFinite(const std::string& path, const std::string& format) {
+void checkObjOrAsciiStl(const std::string& path, const std::string& format) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open for reading");
-  // Which lines carry coordinates: OBJ "v", STL "vertex", OFF/PLY every line of the body.
-  bool inBody = format == "obj" || format == "stl";
-  bool offCountsPending = format == "off";
+  const bool obj = format == "obj";
   std::string line;
   std::size_t lineNo = 0;
   while (std::getline(in, line)) {
     ++lineNo;
-    std::istringstream words(line);
-    std::string first;
-    if (!(words >> first) || first[0] == '#') continue;
-    if (!inBody) {
-      if (format == "ply" && first == "end_header") inBody = true;
-      if (format == "off" && first.find("OFF") != std::string::npos) inBody = true;
-      continue;
-    }
-    if (format == "obj" && first != "v") continue;
-    if (format == "stl" && first != "vertex") continue;
-    if (offCountsPending) {  // the counts line of an OFF file holds no coordinates
-      offCountsPending = false;
-      continue;
-    }
-    std::string token = (format == "obj" || format == "stl") ? std::string() : first;
-    do {
-      if (token.empty()) continue;
-      char* end = nullptr;
-      const double value = std::strtod(token.c_str(), &end);
-      if (end != token.c_str() && !std::isfinite(value)) {
-        throw InputError(path + ": line " + std::to_string(lineNo) +
-                         " has a non-finite coordinate '" + token + "'");
+    const std::vector<std::string> tokens = tokensOf(line);
+    if (tokens.empty()) continue;
+    if ((obj && tokens[0] == "v") || (!obj && tokens[0] == "vertex")) {
+      for (std::size_t k = 1; k < std::min<std::size_t>(4, tokens.size()); ++k) {
+        checkCoordinate(path, lineNo, tokens[k]);
       }
-    } while (words >> token);
+    } else if (obj && tokens[0] == "f") {
+      // OpenMesh's OBJ reader asserts on a face without a usable corner.
+      if (tokens.size() < 4) {
+        throw InputError(path + ": line " + std::to_string(lineNo) + ": a face needs 3 corners");
+      }
+      for (std::size_t k = 1; k < tokens.size(); ++k) {
+        const char c = tokens[k][0];
+        if (!std::isdigit(static_cast<unsigned char>(c)) && c != '-' && c != '+') {
+          throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner '" +
+                           tokens[k] + "' is not a vertex index");
+        }
+      }
+    }
   }
 }
 

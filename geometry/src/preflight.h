@@ -19,13 +19,15 @@ StlKind preflightStl(const std::string& path, std::uint64_t fileBytes);
 // would otherwise drop such triangles without a word).
 void checkBinaryStlFinite(const std::string& path);
 
-// Rejects NaN, Inf and out-of-range numbers among the coordinates of a text mesh file
-// (text parsers stop at "nan" and go on with the next record, silently losing a vertex).
-// format: "obj", "stl", "off" or "ply".
-void checkTextCoordinatesFinite(const std::string& path, const std::string& format);
+// OBJ and ASCII STL ("obj" or "stl"): rejects NaN, Inf and beyond-float coordinates (text
+// parsers stop at "nan" and go on with the next record, silently losing a vertex) and OBJ
+// faces without three usable corners (OpenMesh's reader asserts on them).
+void checkObjOrAsciiStl(const std::string& path, const std::string& format);
 
-// Rejects OFF and PLY headers whose element counts cannot fit in fileBytes. Return whether
-// the body is binary.
+// Rejects OFF and PLY files whose headers or records the parsers would trust to a crash, a
+// loop or a huge allocation: counts that cannot fit in fileBytes, corner counts the record
+// does not hold, non-finite coordinates, binary OFF (unsupported). Return whether the body
+// is binary.
 bool preflightOff(const std::string& path, std::uint64_t fileBytes);
 bool preflightPly(const std::string& path, std::uint64_t fileBytes);
 

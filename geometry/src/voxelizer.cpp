@@ -66,7 +66,9 @@ void runAxisPass(AxisPass& pass) {
     std::vector<float> acc(static_cast<std::size_t>(dims[a]));
     std::vector<Fill> column(std::size_t(kB * kB) * std::size_t(dims[a]), 0);
     std::uint64_t cast = 0, retried = 0, unresolved = 0, winding = 0, abstained = 0;
-    detail::ColumnRay ray(*pass.scene, a, pass.outwardSign, rayStart, rayLength);
+    // Coincident hits: far below a voxel, and no more than 0.1 um on any grid.
+    detail::ColumnRay ray(*pass.scene, a, pass.outwardSign, rayStart, rayLength,
+                          std::min(1e-4, 1e-3 * vs));
 
     for (std::size_t bcol = range.begin(); bcol != range.end(); ++bcol) {
       const int bu = int(bcol % std::size_t(brickDims[u]));
@@ -240,7 +242,10 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
   const Aabb box = bounds(mesh);
   const glm::dvec3 cells = glm::ceil(box.extentMm() / voxelSizeMm) + 2.0 * paddingVoxels;
   const double voxels = cells.x * cells.y * cells.z;
-  if (!(voxels <= double(VoxelGrid::kMaxVoxels))) {
+  const glm::dvec3 bricks = glm::ceil(cells / double(VoxelGrid::kBrickSize));
+  const double brickVoxels = bricks.x * bricks.y * bricks.z * VoxelGrid::kBrickVoxels;
+  if (!(voxels <= double(VoxelGrid::kMaxVoxels)) ||
+      !(brickVoxels <= double(VoxelGrid::kMaxVoxels))) {
     std::ostringstream s;
     s << "--voxel-size " << voxelSizeMm << ": a " << box.extentMm().x << " x "
       << box.extentMm().y << " x " << box.extentMm().z << " mm mesh would need " << voxels

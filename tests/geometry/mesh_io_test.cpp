@@ -188,6 +188,41 @@ TEST_F(MeshIoTest, MalformedPlyHeadersAreRejectedBeforeParsing) {
   expectInputError(path("noz.ply"), "x, y and z");
 }
 
+TEST_F(MeshIoTest, CountsAndCornersTheParsersWouldTrustAreCheckedFirst) {
+  // Each of these crashed OpenMesh's readers, or made them loop or allocate gigabytes.
+  test::writeBytes(path("slash.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n");
+  expectInputError(path("slash.obj"), "not a vertex index");
+  test::writeBytes(path("corners.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n999999999993 0 1 2\n");
+  expectInputError(path("corners.off"), "corner count");
+  test::writeBytes(path("list.ply"),
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face 1\nproperty list uint int vertex_indices\n"
+                   "end_header\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n");
+  expectInputError(path("list.ply"), "list count");
+  test::writeBytes(path("junk.ply"),
+                   "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                   "property float z\nelement junk 1000000000000\nend_header\n0 0 0\n");
+  expectInputError(path("junk.ply"), "no properties");
+  test::writeBytes(path("binary.off"), "OFF BINARY\n" + std::string(40, '\0'));
+  expectInputError(path("binary.off"), "binary OFF is not supported");
+  test::writeBytes(path("countsOnOffLine.off"), "OFF 3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectInputError(path("countsOnOffLine.off"), "non-finite");
+  test::writeBytes(path("float.obj"), "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
+  expectInputError(path("float.obj"), "single precision");
+}
+
+TEST_F(MeshIoTest, AsciiStlWithByteOrderMarkOrUtf8NameIsText) {
+  const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                            "vertex 0 1 0\nendloop\nendfacet\n";
+  test::writeBytes(path("bom.stl"), "\xEF\xBB\xBFsolid t\n" + facet + "endsolid t\n");
+  test::writeBytes(path("utf8.stl"), "  solid Sch\xC3\xA4" "del\n" + facet + "endsolid\n");
+  for (const char* name : {"bom.stl", "utf8.stl"}) {
+    MeshFileInfo info;
+    EXPECT_EQ(readMesh(path(name), 1.0, &info).triangleCount(), 1u) << name;
+    EXPECT_FALSE(info.binary) << name;
+  }
+}
+
 // Random damage to valid files of every format: each read returns a mesh or an InputError,
 // never a crash, a hang or another exception (fixed seed, so a failure reproduces).
 TEST_F(MeshIoTest, MutatedFilesNeverCrashOrHang) {

@@ -178,6 +178,30 @@ TEST(Voxelizer, DensityRuleSeparatesCorticalShellFromCancellousCore) {
   EXPECT_LE(classMismatches, cortical / 1000);  // only centres at 8 mm +- tessellation error
 }
 
+TEST(Voxelizer, PrecisionHoldsFarFromTheOriginAndAtTinyScales) {
+  // Embree works in floats: the scene is stored around its own centre, so a unit cube at
+  // 1e5 mm voxelizes as exactly as one at the origin.
+  const TriangleMesh far = test::makeBox({1e5, 1e5, 1e5}, {1e5 + 1, 1e5 + 1, 1e5 + 1});
+  const VoxelGrid g = voxelizeAt(far, 0.01);
+  EXPECT_NEAR(g.filledVolumeMm3(), 1.0, 1e-3);
+  EXPECT_EQ(g.fill({0, 50, 50}), 0);  // the padding stays empty
+  // A 1e-4 mm cube at 1e-5 mm voxels (the hit tolerance scales with the voxel).
+  const TriangleMesh tiny = test::makeBox({0, 0, 0}, {1e-4, 1e-4, 1e-4});
+  EXPECT_NEAR(voxelizeAt(tiny, 1e-5).filledVolumeMm3(), 1e-12, 1e-14);
+}
+
+TEST(Voxelizer, AnInvertedComponentIsStillSolidAndOpenMeshesAreNotTrustedForFacing) {
+  // Two separate cubes, the second one inside out: facing cannot be trusted for it, parity
+  // can. Single-axis and robust modes both see 2 mm^3.
+  TriangleMesh mixed = test::makeBox({0, 0, 0}, {1, 1, 1});
+  TriangleMesh second = test::makeBox({3, 0, 0}, {4, 1, 1});
+  for (glm::u32vec3 t : second.triangles) mixed.triangles.push_back({t.x + 8, t.z + 8, t.y + 8});
+  mixed.positionsMm.insert(mixed.positionsMm.end(), second.positionsMm.begin(),
+                           second.positionsMm.end());
+  EXPECT_NEAR(voxelizeAt(mixed, 0.1).filledVolumeMm3(), 2.0, 1e-6);
+  EXPECT_NEAR(voxelizeAt(mixed, 0.1, true).filledVolumeMm3(), 2.0, 1e-6);
+}
+
 TEST(Voxelizer, ParallelRunsAreIdentical) {
   const TriangleMesh torus = test::makeTorus(10.0, 4.0, 96, 48);
   const VoxelGrid a = voxelizeAt(torus, 0.3);

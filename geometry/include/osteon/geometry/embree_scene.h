@@ -30,6 +30,10 @@ class EmbreeScene {
   explicit EmbreeScene(const TriangleMesh& mesh);
 
   RTCScene handle() const { return scene_.get(); }
+  // Embree holds the mesh as single-precision offsets from this point (the centre of its
+  // bounds), so precision does not fade for meshes far from the origin. Rays and queries
+  // given to handle() must use the same offsets.
+  glm::dvec3 centreMm() const { return centreMm_; }
   const TriangleMesh& mesh() const { return *mesh_; }
 
   // Distance from pointMm to the nearest point of the mesh if it is within maxDistanceMm,
@@ -39,6 +43,7 @@ class EmbreeScene {
 
  private:
   const TriangleMesh* mesh_;
+  glm::dvec3 centreMm_{0.0};
   EmbreeDevicePtr device_;
   EmbreeScenePtr scene_;
 };
