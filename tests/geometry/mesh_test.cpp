@@ -56,6 +56,19 @@ TEST(Mesh, TopologyFindsHolesFinsFlipsAndDegenerates) {
   fin.triangles.push_back({0, 1, 8});  // a third face on edge 0-1
   EXPECT_EQ(analyzeTopology(fin).nonManifoldEdges, 1u);
 
+  // Two boxes sharing only a corner vertex: closed edges, but a pinched vertex.
+  TriangleMesh pinched = test::makeBox({0, 0, 0}, {1, 1, 1});
+  const TriangleMesh corner = test::makeBox({1, 1, 1}, {2, 2, 2});
+  for (glm::u32vec3 t : corner.triangles) {
+    for (int c = 0; c < 3; ++c) t[c] = t[c] == 0 ? 7u : t[c] + 8u;  // its corner 0 is box 1's 7
+    pinched.triangles.push_back(t);
+  }
+  pinched.positionsMm.insert(pinched.positionsMm.end(), corner.positionsMm.begin(),
+                             corner.positionsMm.end());
+  EXPECT_TRUE(analyzeTopology(pinched).closed());
+  EXPECT_EQ(analyzeTopology(pinched).nonManifoldVertices, 1u);
+  EXPECT_EQ(analyzeTopology(test::makeBox({0, 0, 0}, {1, 1, 1})).nonManifoldVertices, 0u);
+
   TriangleMesh degenerate = test::makeBox({0, 0, 0}, {1, 1, 1});
   degenerate.triangles.push_back({0, 0, 1});
   degenerate.positionsMm.push_back({0.5, 0.0, 0.0});

@@ -42,10 +42,12 @@ struct MeshTopology {
   std::size_t borderEdges = 0;        // edges with one incident triangle
   std::size_t nonManifoldEdges = 0;   // edges with more than two incident triangles
   std::size_t misorientedEdges = 0;   // two-triangle edges traversed the same way by both
+  std::size_t nonManifoldVertices = 0;  // triangles around the vertex form several fans
   std::size_t degenerateTriangles = 0;  // repeated index or zero area
   std::size_t components = 0;         // connected through shared vertices
   long long eulerCharacteristic = 0;  // V - E + F over referenced vertices
   bool closed() const { return borderEdges == 0 && nonManifoldEdges == 0; }
+  bool manifold() const { return nonManifoldEdges == 0 && nonManifoldVertices == 0; }
   bool consistentlyOriented() const { return misorientedEdges == 0; }
 };
 

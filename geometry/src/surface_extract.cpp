@@ -1,0 +1,362 @@
+#include "osteon/geometry/surface.h"
+
+#include "mc_table.h"
+#include "osteon/geometry/error.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace osteon::geometry {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+constexpr int kB = VoxelGrid::kBrickSize;
+constexpr int kBlock = kB + 1;                  // a cell brick reads one more voxel per axis
+// Between two integers, so no fill value sits exactly on the iso level.
+constexpr double kIso = double(kFillHalf) - 0.5;
+// Vertices stay this far (in voxels) from the cube corners: no coincident vertices, no
+// zero-area triangles, whatever the fills and the smoothing.
+constexpr double kEdgeMargin = 1e-3;
+constexpr std::uint32_t kNoVertex = 0xffffffffu;
+
+int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// A vertex: on a grid edge (axis 0..2, parameter t from the edge's first voxel centre), or the
+// centre of a long loop (axis 3), which follows the loop's vertices.
+struct VertexInfo {
+  glm::dvec3 edgeStartMm;
+  int axis;
+  double t;
+  std::uint32_t loopFirst;  // centre vertices: the loop's vertices in loopVertices
+  std::uint32_t loopCount;
+};
+
+struct Builder {
+  const VoxelGrid& grid;
+  const SurfaceOptions& options;
+  glm::ivec3 dims;
+  glm::ivec3 cellBricks;  // cell bricks per axis, including the -1 border layer
+  double vs;
+  std::vector<VertexInfo> vertices;
+  std::vector<std::uint32_t> loopVertices;
+  std::vector<glm::u32vec3> triangles;
+  std::vector<SurfaceMesh::BrickRange> ranges;
+
+  // Crack-free: the vertex of each edge owned by a cell (its three corner-0 edges), per
+  // active cell brick.
+  std::vector<std::int32_t> slotOfBrick;  // cell brick -> slot in edgeVertex, or -1
+  std::vector<std::array<std::uint32_t, 3 * kB * kB * kB>> edgeVertex;
+
+  Builder(const VoxelGrid& g, const SurfaceOptions& o)
+      : grid(g), options(o), dims(g.dims()), vs(g.voxelSizeMm()) {
+    cellBricks = g.brickDims() + 1;
+  }
+
+  std::size_t cellBrickIndex(const glm::ivec3& cb) const {  // cb from -1
+    return std::size_t(cb.x + 1) +
+           std::size_t(cellBricks.x) * (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
+  }
+
+  // Uniform state of a grid brick: 0 outside, 1 inside, 2 mixed (allocated). Outside the
+  // grid everything is empty, so the surface closes at the border.
+  int brickState(const glm::ivec3& b) const {
+    const glm::ivec3 nb = grid.brickDims();
+    if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= nb.x || b.y >= nb.y || b.z >= nb.z) return 0;
+    const std::size_t i = grid.brickIndex(b);
+    if (grid.brickAllocated(i)) return 2;
+    return double(grid.brickUniformFill(i)) > kIso ? 1 : 0;
+  }
+
+  // A cell brick can hold surface when the bricks its cells read are not one uniform state.
+  bool cellBrickActive(const glm::ivec3& cb) const {
+    const int first = brickState(cb);
+    if (first == 2) return true;
+    for (int d = 1; d < 8; ++d) {
+      const int s = brickState(cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1));
+      if (s != first) return true;
+    }
+    return false;
+  }
+
+  // Fills of the (kB + 1)^3 voxels a cell brick's cells read.
+  void loadBlock(const glm::ivec3& cb, std::array<Fill, kBlock * kBlock * kBlock>& block) const {
+    VoxelGrid::Accessor access(grid);
+    const glm::ivec3 lo = cb * kB;
+    for (int z = 0; z < kBlock; ++z)
+      for (int y = 0; y < kBlock; ++y)
+        for (int x = 0; x < kBlock; ++x) {
+          block[std::size_t(x + kBlock * (y + kBlock * z))] = access.fill(lo + glm::ivec3(x, y, z));
+        }
+  }
+
+  std::uint32_t addEdgeVertex(const glm::ivec3& voxel, int axis, Fill a, Fill b) {
+    double t = (kIso - double(a)) / (double(b) - double(a));
+    t = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
+    vertices.push_back({grid.voxelCentreMm(voxel), axis, t, 0, 0});
+    return std::uint32_t(vertices.size() - 1);
+  }
+
+  void emitLoop(const std::uint32_t* ids, int count) {
+    if (count == 3) {
+      triangles.push_back({ids[0], ids[1], ids[2]});
+      return;
+    }
+    if (count == 4) {
+      triangles.push_back({ids[0], ids[1], ids[2]});
+      triangles.push_back({ids[0], ids[2], ids[3]});
+      return;
+    }
+    // Longer loops fan from their centre, which smoothing keeps at the loop's average.
+    const auto first = std::uint32_t(loopVertices.size());
+    loopVertices.insert(loopVertices.end(), ids, ids + count);
+    vertices.push_back({glm::dvec3(0.0), 3, 0.0, first, std::uint32_t(count)});
+    const auto centre = std::uint32_t(vertices.size() - 1);
+    for (int i = 0; i < count; ++i) triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
+  }
+
+  void run() {
+    const auto& table = detail::mcTable();
+    const std::size_t brickTotal = std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z);
+    std::vector<glm::ivec3> active;
+    for (int bz = -1; bz < cellBricks.z - 1; ++bz)
+      for (int by = -1; by < cellBricks.y - 1; ++by)
+        for (int bx = -1; bx < cellBricks.x - 1; ++bx) {
+          if (cellBrickActive({bx, by, bz})) active.push_back({bx, by, bz});
+        }
+    const bool shared = options.method == SurfaceMethod::CrackFree;
+    std::array<Fill, kBlock * kBlock * kBlock> block;
+    const auto at = [&block](int x, int y, int z) { return block[std::size_t(x + kBlock * (y + kBlock * z))]; };
+    const auto cellRange = [&](const glm::ivec3& cb, glm::ivec3& lo, glm::ivec3& hi) {
+      lo = glm::max(cb * kB, glm::ivec3(-1));
+      hi = glm::min(cb * kB + kB, dims);  // cells -1 .. dims-1
+    };
+
+    // Phase 1 (crack-free): one vertex per crossed edge, created by the edge's owner cell.
+    if (shared) {
+      slotOfBrick.assign(brickTotal, -1);
+      edgeVertex.resize(active.size());
+      for (std::size_t s = 0; s < active.size(); ++s) {
+        const glm::ivec3 cb = active[s];
+        slotOfBrick[cellBrickIndex(cb)] = std::int32_t(s);
+        edgeVertex[s].fill(kNoVertex);
+        loadBlock(cb, block);
+        glm::ivec3 lo, hi;
+        cellRange(cb, lo, hi);
+        for (int z = lo.z; z < hi.z; ++z)
+          for (int y = lo.y; y < hi.y; ++y)
+            for (int x = lo.x; x < hi.x; ++x) {
+              const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
+              const Fill f0 = at(l.x, l.y, l.z);
+              const bool in0 = double(f0) > kIso;
+              for (int axis = 0; axis < 3; ++axis) {
+                glm::ivec3 n = l;
+                ++n[axis];
+                const Fill f1 = at(n.x, n.y, n.z);
+                if ((double(f1) > kIso) == in0) continue;
+                edgeVertex[s][std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)] =
+                    addEdgeVertex({x, y, z}, axis, f0, f1);
+              }
+            }
+      }
+    }
+
+    // Phase 2: triangles, cell by cell, brick by brick.
+    for (std::size_t s = 0; s < active.size(); ++s) {
+      const glm::ivec3 cb = active[s];
+      loadBlock(cb, block);
+      glm::ivec3 lo, hi;
+      cellRange(cb, lo, hi);
+      const auto firstTriangle = std::uint32_t(triangles.size());
+      for (int z = lo.z; z < hi.z; ++z)
+        for (int y = lo.y; y < hi.y; ++y)
+          for (int x = lo.x; x < hi.x; ++x) {
+            const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
+            Fill corner[8];
+            int config = 0;
+            for (int c = 0; c < 8; ++c) {
+              corner[c] = at(l.x + (c & 1), l.y + ((c >> 1) & 1), l.z + ((c >> 2) & 1));
+              if (double(corner[c]) > kIso) config |= 1 << c;
+            }
+            if (config == 0 || config == 255) continue;
+            const detail::McCase& mc = table[std::size_t(config)];
+            std::uint32_t edgeId[12];
+            for (int e = 0; e < 12; ++e) edgeId[e] = kNoVertex;
+            std::uint32_t ids[13];
+            for (int loop = 0; loop < mc.loopCount; ++loop) {
+              int count = 0;
+              for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
+                const int e = mc.edges[std::size_t(k)];
+                if (edgeId[e] == kNoVertex) edgeId[e] = shared ? sharedVertex({x, y, z}, e) : naiveVertex({x, y, z}, e, corner);
+                ids[count++] = edgeId[e];
+              }
+              emitLoop(ids, count);
+            }
+          }
+      const auto count = std::uint32_t(triangles.size()) - firstTriangle;
+      if (count > 0) ranges.push_back({std::int64_t(cellBrickIndex(cb)), firstTriangle, count});
+    }
+  }
+
+  // The shared vertex of cube edge `e` of cell `cell`: owned by the cell at the edge's first
+  // corner, found in that cell's brick.
+  std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
+    const auto corners = detail::edgeCorners(e);
+    const int c0 = corners[0];
+    const glm::ivec3 owner = cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+    const int axis = e / 4;
+    const glm::ivec3 cb(floorDiv(owner.x, kB), floorDiv(owner.y, kB), floorDiv(owner.z, kB));
+    const std::int32_t slot = slotOfBrick[cellBrickIndex(cb)];
+    const glm::ivec3 l = owner - cb * kB;
+    return edgeVertex[std::size_t(slot)][std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)];
+  }
+
+  // Naive: every cube makes its own vertex on each of its crossed edges.
+  std::uint32_t naiveVertex(const glm::ivec3& cell, int e, const Fill* corner) {
+    const auto corners = detail::edgeCorners(e);
+    const int c0 = corners[0];
+    const glm::ivec3 start = cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+    return addEdgeVertex(start, e / 4, corner[c0], corner[corners[1]]);
+  }
+};
+
+glm::dvec3 positionOf(const VertexInfo& v, double vs) {
+  glm::dvec3 p = v.edgeStartMm;
+  p[v.axis] += v.t * vs;
+  return p;
+}
+
+void placeCentres(const std::vector<VertexInfo>& info, const std::vector<std::uint32_t>& loops,
+                  std::vector<glm::dvec3>& positions) {
+  for (std::size_t i = 0; i < info.size(); ++i) {
+    if (info[i].axis != 3) continue;
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t k = 0; k < info[i].loopCount; ++k) sum += positions[loops[info[i].loopFirst + k]];
+    positions[i] = sum / double(info[i].loopCount);
+  }
+}
+
+// Neighbours of every vertex through the triangles (compressed rows, duplicates removed).
+void buildAdjacency(std::size_t n, const std::vector<glm::u32vec3>& triangles,
+                    std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& neighbours) {
+  std::vector<std::uint32_t> degree(n + 1, 0);
+  for (const glm::u32vec3& t : triangles) {
+    for (int c = 0; c < 3; ++c) degree[t[c] + 1] += 2;
+  }
+  start.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + degree[i + 1];
+  neighbours.assign(start[n], 0);
+  std::vector<std::uint32_t> fillAt(start.begin(), start.end() - 1);
+  for (const glm::u32vec3& t : triangles) {
+    for (int c = 0; c < 3; ++c) {
+      neighbours[fillAt[t[c]]++] = t[(c + 1) % 3];
+      neighbours[fillAt[t[c]]++] = t[(c + 2) % 3];
+    }
+  }
+  // Sort and unique each row in place, then compact.
+  std::uint32_t out = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    auto b = neighbours.begin() + start[i];
+    auto e = neighbours.begin() + start[i + 1];
+    std::sort(b, e);
+    e = std::unique(b, e);
+    const std::uint32_t rowStart = out;
+    for (auto it = b; it != e; ++it) neighbours[out++] = *it;
+    start[i] = rowStart;
+  }
+  start[n] = out;
+  neighbours.resize(out);
+}
+
+}  // namespace
+
+SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
+                           SurfaceTimings* timings) {
+  if (options.smoothIterations < 0 || options.smoothIterations > 100) {
+    throw InputError("--smooth " + std::to_string(options.smoothIterations) + ": passes must be 0..100");
+  }
+  if (!(options.lambda > 0.0 && options.lambda <= 1.0) || !(options.mu < 0.0 && options.mu >= -1.0)) {
+    std::ostringstream s;
+    s << "smoothing weights lambda " << options.lambda << ", mu " << options.mu
+      << ": need 0 < lambda <= 1 and -1 <= mu < 0";
+    throw InputError(s.str());
+  }
+  SurfaceTimings local;
+  const Clock::time_point start = Clock::now();
+  Builder builder(grid, options);
+  builder.run();
+  local.extractMs = msSince(start);
+
+  Clock::time_point phase = Clock::now();
+  SurfaceMesh mesh;
+  const double vs = grid.voxelSizeMm();
+  const std::size_t n = builder.vertices.size();
+  mesh.positionsMm.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (builder.vertices[i].axis != 3) mesh.positionsMm[i] = positionOf(builder.vertices[i], vs);
+  }
+  placeCentres(builder.vertices, builder.loopVertices, mesh.positionsMm);
+  std::vector<std::uint32_t> rowStart, neighbours;
+  if (options.smoothIterations > 0) buildAdjacency(n, builder.triangles, rowStart, neighbours);
+  local.otherMs += msSince(phase);
+
+  // Laplacian passes (Jacobi): each edge vertex moves only along its own grid edge, towards
+  // its neighbours' mean, and stays inside the edge, so no triangle can fold over another.
+  phase = Clock::now();
+  std::vector<double> newT(n);
+  for (int pass = 0; pass < options.smoothIterations; ++pass) {
+    const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
+    for (std::size_t i = 0; i < n; ++i) {
+      const VertexInfo& v = builder.vertices[i];
+      if (v.axis == 3) continue;
+      const std::uint32_t b = rowStart[i];
+      const std::uint32_t e = rowStart[i + 1];
+      double mean = 0.0;
+      for (std::uint32_t k = b; k < e; ++k) mean += mesh.positionsMm[neighbours[k]][v.axis];
+      mean /= double(e - b);
+      const double t = v.t + step * (mean - mesh.positionsMm[i][v.axis]) / vs;
+      newT[i] = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      VertexInfo& v = builder.vertices[i];
+      if (v.axis == 3) continue;
+      v.t = newT[i];
+      mesh.positionsMm[i] = positionOf(v, vs);
+    }
+    placeCentres(builder.vertices, builder.loopVertices, mesh.positionsMm);
+  }
+  local.smoothMs = msSince(phase);
+
+  phase = Clock::now();
+  mesh.triangles = std::move(builder.triangles);
+  mesh.brickRanges = std::move(builder.ranges);
+  if (options.computeNormals) {
+    mesh.normals.assign(n, glm::dvec3(0.0));
+    for (const glm::u32vec3& t : mesh.triangles) {
+      const glm::dvec3& a = mesh.positionsMm[t.x];
+      // The cross product's length is twice the area: area weighting for free.
+      const glm::dvec3 w = glm::cross(mesh.positionsMm[t.y] - a, mesh.positionsMm[t.z] - a);
+      mesh.normals[t.x] += w;
+      mesh.normals[t.y] += w;
+      mesh.normals[t.z] += w;
+    }
+    for (glm::dvec3& nrm : mesh.normals) {
+      const double len = glm::length(nrm);
+      nrm = len > 0.0 ? nrm / len : glm::dvec3(0.0);
+    }
+  }
+  local.normalsMs = msSince(phase);
+  local.totalMs = msSince(start);
+  if (timings) *timings = local;
+  return mesh;
+}
+
+}  // namespace osteon::geometry
