@@ -8,6 +8,7 @@
 #include "osteon/geometry/mesh_io.h"
 #include "osteon/geometry/mesh_source.h"
 #include "osteon/geometry/nrrd_io.h"
+#include "osteon/geometry/surface.h"
 #include "osteon/geometry/units.h"
 #include "osteon/geometry/voxelizer.h"
 
@@ -369,6 +370,67 @@ int runHierarchy(const HierarchyOptions& options) {
     if (!options.svg.empty()) std::printf("  wrote %s (slice z = %d)\n", options.svg.c_str(), sliceZ);
   }
   return problem.empty() ? kExitOk : kExitCheckFailed;
+}
+
+int runMesh(const MeshCommandOptions& options) {
+  geo::SurfaceOptions so;
+  if (options.method == "crackfree") {
+    so.method = geo::SurfaceMethod::CrackFree;
+  } else if (options.method == "naive") {
+    so.method = geo::SurfaceMethod::Naive;
+  } else {
+    throw InputError("--method " + options.method + ": unknown (expected crackfree or naive)");
+  }
+  so.smoothIterations = options.smooth;
+  so.taubin = options.taubin;
+  if (!options.out.empty()) geo::meshFormatFromPath(options.out);  // fail before the work
+  double voxelizeMs = 0.0;
+  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs);
+  geo::SurfaceTimings t;
+  const geo::SurfaceMesh surface = geo::extractSurface(grid, so, &t);
+  const geo::TriangleMesh mesh = surface.toTriangleMesh();
+  const geo::MeshTopology topo = geo::analyzeTopology(mesh);
+  if (!options.out.empty()) geo::writeMesh(mesh, options.out);
+  if (options.json) {
+    json j = {{"input", options.input},
+              {"method", options.method},
+              {"voxel_size_mm", grid.voxelSizeMm()},
+              {"voxels_inside", grid.countVoxels(geo::kFillHalf)},
+              {"smooth", options.smooth},
+              {"taubin", options.taubin},
+              {"vertices", surface.vertexCount()},
+              {"triangles", surface.triangleCount()},
+              {"border_edges", topo.borderEdges},
+              {"non_manifold_edges", topo.nonManifoldEdges},
+              {"non_manifold_vertices", topo.nonManifoldVertices},
+              {"misoriented_edges", topo.misorientedEdges},
+              {"degenerate_triangles", topo.degenerateTriangles},
+              {"components", topo.components},
+              {"euler_characteristic", topo.eulerCharacteristic},
+              {"volume_mm3", geo::signedVolumeMm3(mesh)},
+              {"grid_volume_mm3", grid.filledVolumeMm3()},
+              {"time_ms",
+               {{"total", t.totalMs}, {"extract", t.extractMs}, {"smooth", t.smoothMs},
+                {"normals", t.normalsMs}, {"other", t.otherMs}}},
+              {"voxelize_ms", voxelizeMs}};
+    if (!options.out.empty()) j["out"] = options.out;
+    printJson(j);
+    return kExitOk;
+  }
+  std::printf("osteon mesh %s (%s, %d smoothing passes%s) at %.4g mm\n", options.input.c_str(),
+              options.method.c_str(), options.smooth, options.taubin ? ", Taubin" : "",
+              grid.voxelSizeMm());
+  std::printf("  surface     %zu vertices, %zu triangles, %.1f mm^3 (grid %.1f mm^3)\n",
+              surface.vertexCount(), surface.triangleCount(), geo::signedVolumeMm3(mesh),
+              grid.filledVolumeMm3());
+  std::printf("  topology    %zu border edges, %zu non-manifold edges, %zu pinched vertices, "
+              "%zu component(s), Euler characteristic %lld\n",
+              topo.borderEdges, topo.nonManifoldEdges, topo.nonManifoldVertices, topo.components,
+              topo.eulerCharacteristic);
+  std::printf("  time        %.2f ms: extract %.2f, smooth %.2f, normals %.2f, other %.2f\n",
+              t.totalMs, t.extractMs, t.smoothMs, t.normalsMs, t.otherMs);
+  if (!options.out.empty()) std::printf("  wrote       %s\n", options.out.c_str());
+  return kExitOk;
 }
 
 }  // namespace osteon::cli

@@ -49,6 +49,17 @@ struct HierarchyOptions {
   bool json = false;
 };
 
+struct MeshCommandOptions {
+  std::string input;  // mesh, `default`, or GRID.nrrd
+  MeshUnits units;
+  std::optional<double> voxelSizeMm;
+  std::string method = "crackfree";
+  int smooth = 2;
+  bool taubin = false;
+  std::string out;
+  bool json = false;
+};
+
 struct ModelOptions {
   std::string out;  // mesh file to write, empty for none
   bool json = false;
@@ -58,5 +69,6 @@ int runInfo(const InfoOptions& options);
 int runVoxelize(const VoxelizeCommandOptions& options);
 int runModel(const ModelOptions& options);
 int runHierarchy(const HierarchyOptions& options);
+int runMesh(const MeshCommandOptions& options);
 
 }  // namespace osteon::cli

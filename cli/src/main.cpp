@@ -87,6 +87,22 @@ int main(int argc, char** argv) {
   dphCmd->add_option("--slice-z", dph.sliceZMm, "Height of the --svg slice in mm (default: middle)");
   dphCmd->add_flag("--json", dph.json, "Print one JSON object on stdout");
 
+  osteon::cli::MeshCommandOptions meshOpt;
+  CLI::App* meshCmd = app.add_subcommand(
+      "mesh", "Extract the crack-free (or the seed's naive) surface of a voxelized mesh or grid");
+  meshCmd->add_option("MESH", meshOpt.input,
+                      "Mesh file, 'default', or a GRID.nrrd written by osteon voxelize")
+      ->required();
+  addUnits(*meshCmd, meshOpt.units);
+  meshCmd->add_option("--voxel-size", meshOpt.voxelSizeMm,
+                      "Voxel edge in mm (required for a mesh; a grid has its own)");
+  meshCmd->add_option("--method", meshOpt.method, "crackfree (shared vertices) or naive (seed's MC)")
+      ->default_val("crackfree");
+  meshCmd->add_option("--smooth", meshOpt.smooth, "Laplacian passes")->default_val(2);
+  meshCmd->add_flag("--taubin", meshOpt.taubin, "Alternate shrink-free Taubin lambda/mu passes");
+  meshCmd->add_option("--out", meshOpt.out, "Write the surface (.ply .obj .stl .off)");
+  meshCmd->add_flag("--json", meshOpt.json, "Print one JSON object on stdout");
+
   osteon::cli::ModelOptions model;
   CLI::App* modelCmd = app.add_subcommand(
       "model", "Build the built-in proximal humerus (what 'default' means) and optionally write it");
@@ -107,14 +123,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
     };
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
-                << ": unknown command (expected info, voxelize, hierarchy or model; see osteon --help)\n";
+                << ": unknown command (expected info, voxelize, hierarchy, mesh or model; see osteon "
+                   "--help)\n";
       return kExitBadInput;
     }
     std::cerr << "osteon: error: " << oneLine(e.what()) << " (see osteon --help)\n";
@@ -126,6 +143,7 @@ int main(int argc, char** argv) {
     if (*voxCmd) return osteon::cli::runVoxelize(vox);
     if (*modelCmd) return osteon::cli::runModel(model);
     if (*dphCmd) return osteon::cli::runHierarchy(dph);
+    if (*meshCmd) return osteon::cli::runMesh(meshOpt);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;
