@@ -4,8 +4,11 @@
 #include "osteon/geometry/error.h"
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -40,21 +43,29 @@ struct VertexInfo {
   std::uint32_t loopCount;
 };
 
+// Per active cell brick: what it adds to the surface. Vertex references inside a brick are
+// global edge-vertex ids, or (with kLocal set) ids into the brick's own extra vertices (loop
+// centres, and every vertex of the naive method), renumbered once all bricks are done.
+constexpr std::uint32_t kLocal = 0x80000000u;
+
+struct BrickOut {
+  std::vector<VertexInfo> edgeVertices;   // crack-free: owned edge crossings
+  std::vector<VertexInfo> extraVertices;  // loop centres; naive: all
+  std::vector<std::uint32_t> loopVertices;
+  std::vector<glm::u32vec3> triangles;
+  std::array<std::uint32_t, 3 * kB * kB * kB> edgeVertex;  // owned edge -> local edge vertex
+};
+
 struct Builder {
   const VoxelGrid& grid;
   const SurfaceOptions& options;
   glm::ivec3 dims;
   glm::ivec3 cellBricks;  // cell bricks per axis, including the -1 border layer
   double vs;
-  std::vector<VertexInfo> vertices;
-  std::vector<std::uint32_t> loopVertices;
-  std::vector<glm::u32vec3> triangles;
-  std::vector<SurfaceMesh::BrickRange> ranges;
-
-  // Crack-free: the vertex of each edge owned by a cell (its three corner-0 edges), per
-  // active cell brick.
-  std::vector<std::int32_t> slotOfBrick;  // cell brick -> slot in edgeVertex, or -1
-  std::vector<std::array<std::uint32_t, 3 * kB * kB * kB>> edgeVertex;
+  std::vector<glm::ivec3> active;
+  std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
+  std::vector<BrickOut> out;
+  std::vector<std::uint32_t> edgeOffset;  // first global id of each brick's edge vertices
 
   Builder(const VoxelGrid& g, const SurfaceOptions& o)
       : grid(g), options(o), dims(g.dims()), vs(g.voxelSizeMm()) {
@@ -87,144 +98,209 @@ struct Builder {
     return false;
   }
 
-  // Fills of the (kB + 1)^3 voxels a cell brick's cells read.
+  // Fills of the (kB + 1)^3 voxels a cell brick's cells read, straight from the up to eight
+  // grid bricks they lie in (0 outside the grid).
   void loadBlock(const glm::ivec3& cb, std::array<Fill, kBlock * kBlock * kBlock>& block) const {
-    VoxelGrid::Accessor access(grid);
-    const glm::ivec3 lo = cb * kB;
-    for (int z = 0; z < kBlock; ++z)
-      for (int y = 0; y < kBlock; ++y)
-        for (int x = 0; x < kBlock; ++x) {
-          block[std::size_t(x + kBlock * (y + kBlock * z))] = access.fill(lo + glm::ivec3(x, y, z));
-        }
+    const glm::ivec3 nb = grid.brickDims();
+    for (int d = 0; d < 8; ++d) {
+      const glm::ivec3 off(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+      const glm::ivec3 b = cb + off;
+      // Block coordinates this brick supplies: 0..7 from the cell brick itself, 8 from the next.
+      const glm::ivec3 from = off * kB;
+      const glm::ivec3 to = from + (1 - off) * (kB - 1) + 1;
+      const bool inGrid = b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < nb.x && b.y < nb.y && b.z < nb.z;
+      const VoxelGrid::Brick* data = inGrid ? grid.brickData(grid.brickIndex(b)) : nullptr;
+      const Fill uniform = inGrid ? grid.brickUniformFill(grid.brickIndex(b)) : Fill(0);
+      const glm::ivec3 base = cb * kB;
+      for (int z = from.z; z < to.z; ++z)
+        for (int y = from.y; y < to.y; ++y)
+          for (int x = from.x; x < to.x; ++x) {
+            const glm::ivec3 v = base + glm::ivec3(x, y, z);
+            Fill f = 0;
+            if (inGrid && v.x < dims.x && v.y < dims.y && v.z < dims.z && v.x >= 0 && v.y >= 0 && v.z >= 0) {
+              f = data ? data->fill[std::size_t(VoxelGrid::voxelInBrick(v - b * kB))] : uniform;
+            }
+            block[std::size_t(x + kBlock * (y + kBlock * z))] = f;
+          }
+    }
   }
 
-  std::uint32_t addEdgeVertex(const glm::ivec3& voxel, int axis, Fill a, Fill b) {
+  VertexInfo edgeVertexInfo(const glm::ivec3& voxel, int axis, Fill a, Fill b) const {
     double t = (kIso - double(a)) / (double(b) - double(a));
     t = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
-    vertices.push_back({grid.voxelCentreMm(voxel), axis, t, 0, 0});
-    return std::uint32_t(vertices.size() - 1);
+    return {grid.voxelCentreMm(voxel), axis, t, 0, 0};
   }
 
-  void emitLoop(const std::uint32_t* ids, int count) {
+  static void emitLoop(BrickOut& o, const std::uint32_t* ids, int count) {
     if (count == 3) {
-      triangles.push_back({ids[0], ids[1], ids[2]});
+      o.triangles.push_back({ids[0], ids[1], ids[2]});
       return;
     }
     if (count == 4) {
-      triangles.push_back({ids[0], ids[1], ids[2]});
-      triangles.push_back({ids[0], ids[2], ids[3]});
+      o.triangles.push_back({ids[0], ids[1], ids[2]});
+      o.triangles.push_back({ids[0], ids[2], ids[3]});
       return;
     }
     // Longer loops fan from their centre, which smoothing keeps at the loop's average.
-    const auto first = std::uint32_t(loopVertices.size());
-    loopVertices.insert(loopVertices.end(), ids, ids + count);
-    vertices.push_back({glm::dvec3(0.0), 3, 0.0, first, std::uint32_t(count)});
-    const auto centre = std::uint32_t(vertices.size() - 1);
-    for (int i = 0; i < count; ++i) triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
+    const auto first = std::uint32_t(o.loopVertices.size());
+    o.loopVertices.insert(o.loopVertices.end(), ids, ids + count);
+    o.extraVertices.push_back({glm::dvec3(0.0), 3, 0.0, first, std::uint32_t(count)});
+    const std::uint32_t centre = kLocal | std::uint32_t(o.extraVertices.size() - 1);
+    for (int i = 0; i < count; ++i) o.triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
   }
 
-  void run() {
+  void cellRange(const glm::ivec3& cb, glm::ivec3& lo, glm::ivec3& hi) const {
+    lo = glm::max(cb * kB, glm::ivec3(-1));
+    hi = glm::min(cb * kB + kB, dims);  // cells -1 .. dims-1
+  }
+
+  // Phase 1 (crack-free): one vertex per crossed edge, made by the cell that owns the edge
+  // (the cell at the edge's first voxel), numbered within its brick.
+  void makeEdgeVertices(std::size_t s, std::array<Fill, kBlock * kBlock * kBlock>& block) {
+    const glm::ivec3 cb = active[s];
+    BrickOut& o = out[s];
+    o.edgeVertex.fill(kNoVertex);
+    loadBlock(cb, block);
+    glm::ivec3 lo, hi;
+    cellRange(cb, lo, hi);
+    for (int z = lo.z; z < hi.z; ++z)
+      for (int y = lo.y; y < hi.y; ++y)
+        for (int x = lo.x; x < hi.x; ++x) {
+          const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
+          const Fill f0 = block[std::size_t(l.x + kBlock * (l.y + kBlock * l.z))];
+          const bool in0 = double(f0) > kIso;
+          for (int axis = 0; axis < 3; ++axis) {
+            glm::ivec3 n = l;
+            ++n[axis];
+            const Fill f1 = block[std::size_t(n.x + kBlock * (n.y + kBlock * n.z))];
+            if ((double(f1) > kIso) == in0) continue;
+            o.edgeVertex[std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)] =
+                std::uint32_t(o.edgeVertices.size());
+            o.edgeVertices.push_back(edgeVertexInfo({x, y, z}, axis, f0, f1));
+          }
+        }
+  }
+
+  // The shared vertex of cube edge `e` of cell `cell`, by its owner's brick.
+  std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
+    const auto corners = detail::edgeCorners(e);
+    const int c0 = corners[0];
+    const glm::ivec3 owner = cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+    const glm::ivec3 cb(floorDiv(owner.x, kB), floorDiv(owner.y, kB), floorDiv(owner.z, kB));
+    const auto slot = std::size_t(slotOfBrick[cellBrickIndex(cb)]);
+    const glm::ivec3 l = owner - cb * kB;
+    return edgeOffset[slot] + out[slot].edgeVertex[std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + e / 4)];
+  }
+
+  // Phase 2: triangles of one brick's cells.
+  void makeTriangles(std::size_t s, std::array<Fill, kBlock * kBlock * kBlock>& block) {
     const auto& table = detail::mcTable();
-    const std::size_t brickTotal = std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z);
-    std::vector<glm::ivec3> active;
+    const bool shared = options.method == SurfaceMethod::CrackFree;
+    const glm::ivec3 cb = active[s];
+    BrickOut& o = out[s];
+    loadBlock(cb, block);
+    glm::ivec3 lo, hi;
+    cellRange(cb, lo, hi);
+    for (int z = lo.z; z < hi.z; ++z)
+      for (int y = lo.y; y < hi.y; ++y)
+        for (int x = lo.x; x < hi.x; ++x) {
+          const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
+          Fill corner[8];
+          int config = 0;
+          for (int c = 0; c < 8; ++c) {
+            corner[c] = block[std::size_t((l.x + (c & 1)) + kBlock * ((l.y + ((c >> 1) & 1)) + kBlock * (l.z + ((c >> 2) & 1))))];
+            if (double(corner[c]) > kIso) config |= 1 << c;
+          }
+          if (config == 0 || config == 255) continue;
+          const detail::McCase& mc = table[std::size_t(config)];
+          std::uint32_t ids[13];
+          for (int loop = 0; loop < mc.loopCount; ++loop) {
+            int count = 0;
+            for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
+              const int e = mc.edges[std::size_t(k)];
+              if (shared) {
+                ids[count++] = sharedVertex({x, y, z}, e);
+                continue;
+              }
+              // Naive: every cube makes its own vertex on each of its crossed edges.
+              const auto corners = detail::edgeCorners(e);
+              const int c0 = corners[0];
+              const glm::ivec3 startVoxel = glm::ivec3(x, y, z) + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+              o.extraVertices.push_back(edgeVertexInfo(startVoxel, e / 4, corner[c0], corner[corners[1]]));
+              ids[count++] = kLocal | std::uint32_t(o.extraVertices.size() - 1);
+            }
+            emitLoop(o, ids, count);
+          }
+        }
+  }
+
+  void run(std::vector<VertexInfo>& vertices, std::vector<std::uint32_t>& loopVertices,
+           std::vector<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
     for (int bz = -1; bz < cellBricks.z - 1; ++bz)
       for (int by = -1; by < cellBricks.y - 1; ++by)
         for (int bx = -1; bx < cellBricks.x - 1; ++bx) {
           if (cellBrickActive({bx, by, bz})) active.push_back({bx, by, bz});
         }
+    slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
+    for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
+    out.resize(active.size());
     const bool shared = options.method == SurfaceMethod::CrackFree;
-    std::array<Fill, kBlock * kBlock * kBlock> block;
-    const auto at = [&block](int x, int y, int z) { return block[std::size_t(x + kBlock * (y + kBlock * z))]; };
-    const auto cellRange = [&](const glm::ivec3& cb, glm::ivec3& lo, glm::ivec3& hi) {
-      lo = glm::max(cb * kB, glm::ivec3(-1));
-      hi = glm::min(cb * kB + kB, dims);  // cells -1 .. dims-1
-    };
 
-    // Phase 1 (crack-free): one vertex per crossed edge, created by the edge's owner cell.
+    // Bricks are independent within a phase; each writes only its own BrickOut.
+    const auto forEachBrick = [&](auto&& work) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active.size(), 4),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+        std::array<Fill, kBlock * kBlock * kBlock> block;
+        for (std::size_t s = r.begin(); s != r.end(); ++s) work(s, block);
+      });
+    };
+    edgeOffset.assign(active.size() + 1, 0);
     if (shared) {
-      slotOfBrick.assign(brickTotal, -1);
-      edgeVertex.resize(active.size());
+      forEachBrick([&](std::size_t s, auto& block) { makeEdgeVertices(s, block); });
       for (std::size_t s = 0; s < active.size(); ++s) {
-        const glm::ivec3 cb = active[s];
-        slotOfBrick[cellBrickIndex(cb)] = std::int32_t(s);
-        edgeVertex[s].fill(kNoVertex);
-        loadBlock(cb, block);
-        glm::ivec3 lo, hi;
-        cellRange(cb, lo, hi);
-        for (int z = lo.z; z < hi.z; ++z)
-          for (int y = lo.y; y < hi.y; ++y)
-            for (int x = lo.x; x < hi.x; ++x) {
-              const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
-              const Fill f0 = at(l.x, l.y, l.z);
-              const bool in0 = double(f0) > kIso;
-              for (int axis = 0; axis < 3; ++axis) {
-                glm::ivec3 n = l;
-                ++n[axis];
-                const Fill f1 = at(n.x, n.y, n.z);
-                if ((double(f1) > kIso) == in0) continue;
-                edgeVertex[s][std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)] =
-                    addEdgeVertex({x, y, z}, axis, f0, f1);
-              }
-            }
+        edgeOffset[s + 1] = edgeOffset[s] + std::uint32_t(out[s].edgeVertices.size());
       }
     }
+    forEachBrick([&](std::size_t s, auto& block) { makeTriangles(s, block); });
 
-    // Phase 2: triangles, cell by cell, brick by brick.
+    // Number everything in brick order: deterministic, whatever the scheduling.
+    std::vector<std::uint32_t> extraOffset(active.size() + 1, edgeOffset.back());
+    std::vector<std::uint32_t> triOffset(active.size() + 1, 0), loopOffset(active.size() + 1, 0);
     for (std::size_t s = 0; s < active.size(); ++s) {
-      const glm::ivec3 cb = active[s];
-      loadBlock(cb, block);
-      glm::ivec3 lo, hi;
-      cellRange(cb, lo, hi);
-      const auto firstTriangle = std::uint32_t(triangles.size());
-      for (int z = lo.z; z < hi.z; ++z)
-        for (int y = lo.y; y < hi.y; ++y)
-          for (int x = lo.x; x < hi.x; ++x) {
-            const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
-            Fill corner[8];
-            int config = 0;
-            for (int c = 0; c < 8; ++c) {
-              corner[c] = at(l.x + (c & 1), l.y + ((c >> 1) & 1), l.z + ((c >> 2) & 1));
-              if (double(corner[c]) > kIso) config |= 1 << c;
-            }
-            if (config == 0 || config == 255) continue;
-            const detail::McCase& mc = table[std::size_t(config)];
-            std::uint32_t edgeId[12];
-            for (int e = 0; e < 12; ++e) edgeId[e] = kNoVertex;
-            std::uint32_t ids[13];
-            for (int loop = 0; loop < mc.loopCount; ++loop) {
-              int count = 0;
-              for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
-                const int e = mc.edges[std::size_t(k)];
-                if (edgeId[e] == kNoVertex) edgeId[e] = shared ? sharedVertex({x, y, z}, e) : naiveVertex({x, y, z}, e, corner);
-                ids[count++] = edgeId[e];
-              }
-              emitLoop(ids, count);
-            }
-          }
-      const auto count = std::uint32_t(triangles.size()) - firstTriangle;
-      if (count > 0) ranges.push_back({std::int64_t(cellBrickIndex(cb)), firstTriangle, count});
+      extraOffset[s + 1] = extraOffset[s] + std::uint32_t(out[s].extraVertices.size());
+      triOffset[s + 1] = triOffset[s] + std::uint32_t(out[s].triangles.size());
+      loopOffset[s + 1] = loopOffset[s] + std::uint32_t(out[s].loopVertices.size());
     }
-  }
-
-  // The shared vertex of cube edge `e` of cell `cell`: owned by the cell at the edge's first
-  // corner, found in that cell's brick.
-  std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
-    const auto corners = detail::edgeCorners(e);
-    const int c0 = corners[0];
-    const glm::ivec3 owner = cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
-    const int axis = e / 4;
-    const glm::ivec3 cb(floorDiv(owner.x, kB), floorDiv(owner.y, kB), floorDiv(owner.z, kB));
-    const std::int32_t slot = slotOfBrick[cellBrickIndex(cb)];
-    const glm::ivec3 l = owner - cb * kB;
-    return edgeVertex[std::size_t(slot)][std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)];
-  }
-
-  // Naive: every cube makes its own vertex on each of its crossed edges.
-  std::uint32_t naiveVertex(const glm::ivec3& cell, int e, const Fill* corner) {
-    const auto corners = detail::edgeCorners(e);
-    const int c0 = corners[0];
-    const glm::ivec3 start = cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
-    return addEdgeVertex(start, e / 4, corner[c0], corner[corners[1]]);
+    vertices.resize(extraOffset.back());
+    triangles.resize(triOffset.back());
+    loopVertices.resize(loopOffset.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active.size(), 8),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t s = r.begin(); s != r.end(); ++s) {
+        BrickOut& o = out[s];
+        const auto resolve = [&](std::uint32_t id) {
+          return (id & kLocal) ? extraOffset[s] + (id & ~kLocal) : id;
+        };
+        std::copy(o.edgeVertices.begin(), o.edgeVertices.end(), vertices.begin() + edgeOffset[s]);
+        for (std::size_t k = 0; k < o.extraVertices.size(); ++k) {
+          VertexInfo v = o.extraVertices[k];
+          if (v.axis == 3) v.loopFirst += loopOffset[s];
+          vertices[extraOffset[s] + k] = v;
+        }
+        for (std::size_t k = 0; k < o.loopVertices.size(); ++k) {
+          loopVertices[loopOffset[s] + k] = resolve(o.loopVertices[k]);
+        }
+        for (std::size_t k = 0; k < o.triangles.size(); ++k) {
+          const glm::u32vec3 t = o.triangles[k];
+          triangles[triOffset[s] + k] = {resolve(t.x), resolve(t.y), resolve(t.z)};
+        }
+      }
+    });
+    for (std::size_t s = 0; s < active.size(); ++s) {
+      if (triOffset[s + 1] > triOffset[s]) {
+        ranges.push_back({std::int64_t(cellBrickIndex(active[s])), triOffset[s], triOffset[s + 1] - triOffset[s]});
+      }
+    }
   }
 };
 
@@ -291,21 +367,27 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
   }
   SurfaceTimings local;
   const Clock::time_point start = Clock::now();
-  Builder builder(grid, options);
-  builder.run();
+  std::vector<VertexInfo> vertices;
+  std::vector<std::uint32_t> loopVertices;
+  std::vector<glm::u32vec3> triangles;
+  std::vector<SurfaceMesh::BrickRange> ranges;
+  {
+    Builder builder(grid, options);
+    builder.run(vertices, loopVertices, triangles, ranges);
+  }
   local.extractMs = msSince(start);
 
   Clock::time_point phase = Clock::now();
   SurfaceMesh mesh;
   const double vs = grid.voxelSizeMm();
-  const std::size_t n = builder.vertices.size();
+  const std::size_t n = vertices.size();
   mesh.positionsMm.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (builder.vertices[i].axis != 3) mesh.positionsMm[i] = positionOf(builder.vertices[i], vs);
+    if (vertices[i].axis != 3) mesh.positionsMm[i] = positionOf(vertices[i], vs);
   }
-  placeCentres(builder.vertices, builder.loopVertices, mesh.positionsMm);
+  placeCentres(vertices, loopVertices, mesh.positionsMm);
   std::vector<std::uint32_t> rowStart, neighbours;
-  if (options.smoothIterations > 0) buildAdjacency(n, builder.triangles, rowStart, neighbours);
+  if (options.smoothIterations > 0) buildAdjacency(n, triangles, rowStart, neighbours);
   local.otherMs += msSince(phase);
 
   // Laplacian passes (Jacobi): each edge vertex moves only along its own grid edge, towards
@@ -315,7 +397,7 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
   for (int pass = 0; pass < options.smoothIterations; ++pass) {
     const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
     for (std::size_t i = 0; i < n; ++i) {
-      const VertexInfo& v = builder.vertices[i];
+      const VertexInfo& v = vertices[i];
       if (v.axis == 3) continue;
       const std::uint32_t b = rowStart[i];
       const std::uint32_t e = rowStart[i + 1];
@@ -326,18 +408,18 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
       newT[i] = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
     }
     for (std::size_t i = 0; i < n; ++i) {
-      VertexInfo& v = builder.vertices[i];
+      VertexInfo& v = vertices[i];
       if (v.axis == 3) continue;
       v.t = newT[i];
       mesh.positionsMm[i] = positionOf(v, vs);
     }
-    placeCentres(builder.vertices, builder.loopVertices, mesh.positionsMm);
+    placeCentres(vertices, loopVertices, mesh.positionsMm);
   }
   local.smoothMs = msSince(phase);
 
   phase = Clock::now();
-  mesh.triangles = std::move(builder.triangles);
-  mesh.brickRanges = std::move(builder.ranges);
+  mesh.triangles = std::move(triangles);
+  mesh.brickRanges = std::move(ranges);
   if (options.computeNormals) {
     mesh.normals.assign(n, glm::dvec3(0.0));
     for (const glm::u32vec3& t : mesh.triangles) {
