@@ -1,6 +1,6 @@
 #include "osteon/geometry/surface.h"
 
-#include "mc_table.h"
+#include "surface_cells.h"
 #include "osteon/geometry/error.h"
 
 #include <glm/geometric.hpp>
@@ -22,26 +22,8 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-constexpr int kB = VoxelGrid::kBrickSize;
-constexpr int kBlock = kB + 1;                  // a cell brick reads one more voxel per axis
-// Between two integers, so no fill value sits exactly on the iso level.
-constexpr double kIso = double(kFillHalf) - 0.5;
-// Vertices stay this far (in voxels) from the cube corners: no coincident vertices, no
-// zero-area triangles, whatever the fills and the smoothing.
-constexpr double kEdgeMargin = 1e-3;
-constexpr std::uint32_t kNoVertex = 0xffffffffu;
-
-int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-
-// A vertex: on a grid edge (axis 0..2, parameter t from the edge's first voxel centre), or the
-// centre of a long loop (axis 3), which follows the loop's vertices.
-struct VertexInfo {
-  glm::dvec3 edgeStartMm;
-  int axis;
-  double t;
-  std::uint32_t loopFirst;  // centre vertices: the loop's vertices in loopVertices
-  std::uint32_t loopCount;
-};
+using namespace detail;
+constexpr int kB = kCellBrick;
 
 // Per active cell brick: what it adds to the surface. Vertex references inside a brick are
 // global edge-vertex ids, or (with kLocal set) ids into the brick's own extra vertices (loop
@@ -77,60 +59,6 @@ struct Builder {
            std::size_t(cellBricks.x) * (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
   }
 
-  // Uniform state of a grid brick: 0 outside, 1 inside, 2 mixed (allocated). Outside the
-  // grid everything is empty, so the surface closes at the border.
-  int brickState(const glm::ivec3& b) const {
-    const glm::ivec3 nb = grid.brickDims();
-    if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= nb.x || b.y >= nb.y || b.z >= nb.z) return 0;
-    const std::size_t i = grid.brickIndex(b);
-    if (grid.brickAllocated(i)) return 2;
-    return double(grid.brickUniformFill(i)) > kIso ? 1 : 0;
-  }
-
-  // A cell brick can hold surface when the bricks its cells read are not one uniform state.
-  bool cellBrickActive(const glm::ivec3& cb) const {
-    const int first = brickState(cb);
-    if (first == 2) return true;
-    for (int d = 1; d < 8; ++d) {
-      const int s = brickState(cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1));
-      if (s != first) return true;
-    }
-    return false;
-  }
-
-  // Fills of the (kB + 1)^3 voxels a cell brick's cells read, straight from the up to eight
-  // grid bricks they lie in (0 outside the grid).
-  void loadBlock(const glm::ivec3& cb, std::array<Fill, kBlock * kBlock * kBlock>& block) const {
-    const glm::ivec3 nb = grid.brickDims();
-    for (int d = 0; d < 8; ++d) {
-      const glm::ivec3 off(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-      const glm::ivec3 b = cb + off;
-      // Block coordinates this brick supplies: 0..7 from the cell brick itself, 8 from the next.
-      const glm::ivec3 from = off * kB;
-      const glm::ivec3 to = from + (1 - off) * (kB - 1) + 1;
-      const bool inGrid = b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < nb.x && b.y < nb.y && b.z < nb.z;
-      const VoxelGrid::Brick* data = inGrid ? grid.brickData(grid.brickIndex(b)) : nullptr;
-      const Fill uniform = inGrid ? grid.brickUniformFill(grid.brickIndex(b)) : Fill(0);
-      const glm::ivec3 base = cb * kB;
-      for (int z = from.z; z < to.z; ++z)
-        for (int y = from.y; y < to.y; ++y)
-          for (int x = from.x; x < to.x; ++x) {
-            const glm::ivec3 v = base + glm::ivec3(x, y, z);
-            Fill f = 0;
-            if (inGrid && v.x < dims.x && v.y < dims.y && v.z < dims.z && v.x >= 0 && v.y >= 0 && v.z >= 0) {
-              f = data ? data->fill[std::size_t(VoxelGrid::voxelInBrick(v - b * kB))] : uniform;
-            }
-            block[std::size_t(x + kBlock * (y + kBlock * z))] = f;
-          }
-    }
-  }
-
-  VertexInfo edgeVertexInfo(const glm::ivec3& voxel, int axis, Fill a, Fill b) const {
-    double t = (kIso - double(a)) / (double(b) - double(a));
-    t = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
-    return {grid.voxelCentreMm(voxel), axis, t, 0, 0};
-  }
-
   static void emitLoop(BrickOut& o, const std::uint32_t* ids, int count) {
     if (count == 3) {
       o.triangles.push_back({ids[0], ids[1], ids[2]});
@@ -144,25 +72,20 @@ struct Builder {
     // Longer loops fan from their centre, which smoothing keeps at the loop's average.
     const auto first = std::uint32_t(o.loopVertices.size());
     o.loopVertices.insert(o.loopVertices.end(), ids, ids + count);
-    o.extraVertices.push_back({glm::dvec3(0.0), 3, 0.0, first, std::uint32_t(count)});
+    o.extraVertices.push_back({glm::dvec3(0.0), 3, 0.0, first, std::uint32_t(count), glm::ivec3(0)});
     const std::uint32_t centre = kLocal | std::uint32_t(o.extraVertices.size() - 1);
     for (int i = 0; i < count; ++i) o.triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
   }
 
-  void cellRange(const glm::ivec3& cb, glm::ivec3& lo, glm::ivec3& hi) const {
-    lo = glm::max(cb * kB, glm::ivec3(-1));
-    hi = glm::min(cb * kB + kB, dims);  // cells -1 .. dims-1
-  }
-
   // Phase 1 (crack-free): one vertex per crossed edge, made by the cell that owns the edge
   // (the cell at the edge's first voxel), numbered within its brick.
-  void makeEdgeVertices(std::size_t s, std::array<Fill, kBlock * kBlock * kBlock>& block) {
+  void makeEdgeVertices(std::size_t s, FillBlock& block) {
     const glm::ivec3 cb = active[s];
     BrickOut& o = out[s];
     o.edgeVertex.fill(kNoVertex);
-    loadBlock(cb, block);
+    loadBlock(grid, cb, block);
     glm::ivec3 lo, hi;
-    cellRange(cb, lo, hi);
+    cellRange(grid, cb, lo, hi);
     for (int z = lo.z; z < hi.z; ++z)
       for (int y = lo.y; y < hi.y; ++y)
         for (int x = lo.x; x < hi.x; ++x) {
@@ -176,16 +99,14 @@ struct Builder {
             if ((double(f1) > kIso) == in0) continue;
             o.edgeVertex[std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)] =
                 std::uint32_t(o.edgeVertices.size());
-            o.edgeVertices.push_back(edgeVertexInfo({x, y, z}, axis, f0, f1));
+            o.edgeVertices.push_back(edgeVertexInfo(grid, {x, y, z}, axis, f0, f1));
           }
         }
   }
 
   // The shared vertex of cube edge `e` of cell `cell`, by its owner's brick.
   std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
-    const auto corners = detail::edgeCorners(e);
-    const int c0 = corners[0];
-    const glm::ivec3 owner = cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+    const glm::ivec3 owner = edgeStart(cell, e);
     const glm::ivec3 cb(floorDiv(owner.x, kB), floorDiv(owner.y, kB), floorDiv(owner.z, kB));
     const auto slot = std::size_t(slotOfBrick[cellBrickIndex(cb)]);
     const glm::ivec3 l = owner - cb * kB;
@@ -193,24 +114,20 @@ struct Builder {
   }
 
   // Phase 2: triangles of one brick's cells.
-  void makeTriangles(std::size_t s, std::array<Fill, kBlock * kBlock * kBlock>& block) {
+  void makeTriangles(std::size_t s, FillBlock& block) {
     const auto& table = detail::mcTable();
     const bool shared = options.method == SurfaceMethod::CrackFree;
     const glm::ivec3 cb = active[s];
     BrickOut& o = out[s];
-    loadBlock(cb, block);
+    loadBlock(grid, cb, block);
     glm::ivec3 lo, hi;
-    cellRange(cb, lo, hi);
+    cellRange(grid, cb, lo, hi);
     for (int z = lo.z; z < hi.z; ++z)
       for (int y = lo.y; y < hi.y; ++y)
         for (int x = lo.x; x < hi.x; ++x) {
           const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
           Fill corner[8];
-          int config = 0;
-          for (int c = 0; c < 8; ++c) {
-            corner[c] = block[std::size_t((l.x + (c & 1)) + kBlock * ((l.y + ((c >> 1) & 1)) + kBlock * (l.z + ((c >> 2) & 1))))];
-            if (double(corner[c]) > kIso) config |= 1 << c;
-          }
+          const int config = cellConfig(block, l, corner);
           if (config == 0 || config == 255) continue;
           const detail::McCase& mc = table[std::size_t(config)];
           std::uint32_t ids[13];
@@ -223,10 +140,9 @@ struct Builder {
                 continue;
               }
               // Naive: every cube makes its own vertex on each of its crossed edges.
-              const auto corners = detail::edgeCorners(e);
-              const int c0 = corners[0];
-              const glm::ivec3 startVoxel = glm::ivec3(x, y, z) + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
-              o.extraVertices.push_back(edgeVertexInfo(startVoxel, e / 4, corner[c0], corner[corners[1]]));
+              const auto corners = edgeCorners(e);
+              o.extraVertices.push_back(edgeVertexInfo(grid, edgeStart({x, y, z}, e), e / 4,
+                                                       corner[corners[0]], corner[corners[1]]));
               ids[count++] = kLocal | std::uint32_t(o.extraVertices.size() - 1);
             }
             emitLoop(o, ids, count);
@@ -239,7 +155,7 @@ struct Builder {
     for (int bz = -1; bz < cellBricks.z - 1; ++bz)
       for (int by = -1; by < cellBricks.y - 1; ++by)
         for (int bx = -1; bx < cellBricks.x - 1; ++bx) {
-          if (cellBrickActive({bx, by, bz})) active.push_back({bx, by, bz});
+          if (cellBrickActive(grid, {bx, by, bz})) active.push_back({bx, by, bz});
         }
     slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
     for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
@@ -250,7 +166,7 @@ struct Builder {
     const auto forEachBrick = [&](auto&& work) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active.size(), 4),
                         [&](const tbb::blocked_range<std::size_t>& r) {
-        std::array<Fill, kBlock * kBlock * kBlock> block;
+        FillBlock block;
         for (std::size_t s = r.begin(); s != r.end(); ++s) work(s, block);
       });
     };
@@ -303,12 +219,6 @@ struct Builder {
     }
   }
 };
-
-glm::dvec3 positionOf(const VertexInfo& v, double vs) {
-  glm::dvec3 p = v.edgeStartMm;
-  p[v.axis] += v.t * vs;
-  return p;
-}
 
 void placeCentres(const std::vector<VertexInfo>& info, const std::vector<std::uint32_t>& loops,
                   std::vector<glm::dvec3>& positions) {

@@ -1,0 +1,73 @@
+// The cell-level pieces of surface extraction shared by the full extractor and the
+// incremental updater: which cell bricks can hold surface, reading a brick's fills, making a
+// vertex on a crossed edge, and the case of one cell.
+#pragma once
+
+#include "mc_table.h"
+#include "osteon/geometry/voxel_grid.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+
+namespace osteon::geometry::detail {
+
+inline constexpr int kCellBrick = VoxelGrid::kBrickSize;  // cells per cell-brick edge
+inline constexpr int kBlock = kCellBrick + 1;             // voxels a cell brick reads per edge
+// Between two integers, so no fill value sits exactly on the iso level.
+inline constexpr double kIso = double(kFillHalf) - 0.5;
+// Vertices stay this far (in voxels) from the cube corners: no coincident vertices, no
+// zero-area triangles, whatever the fills and the smoothing.
+inline constexpr double kEdgeMargin = 1e-3;
+inline constexpr std::uint32_t kNoVertex = 0xffffffffu;
+
+using FillBlock = std::array<Fill, kBlock * kBlock * kBlock>;
+
+inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+// A vertex: on a grid edge (axis 0..2, parameter t from the edge's first voxel centre), or the
+// centre of a long loop (axis 3), which follows the loop's vertices.
+struct VertexInfo {
+  glm::dvec3 edgeStartMm;
+  int axis;
+  double t;
+  std::uint32_t loopFirst;  // centre vertices: the loop's vertices
+  std::uint32_t loopCount;
+  glm::ivec3 voxel;         // edge vertices: the edge's first voxel; centres: their cell
+};
+
+inline glm::dvec3 positionOf(const VertexInfo& v, double voxelSizeMm) {
+  glm::dvec3 p = v.edgeStartMm;
+  p[v.axis] += v.t * voxelSizeMm;
+  return p;
+}
+
+// Cells are numbered by their first voxel, from -1 (the border layer outside the grid) to
+// dims - 1; cell brick cb holds cells cb * 8 .. cb * 8 + 7.
+bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
+void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
+void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& lo, glm::ivec3& hi);
+VertexInfo edgeVertexInfo(const VoxelGrid& grid, const glm::ivec3& voxel, int axis, Fill a, Fill b);
+
+inline Fill blockFill(const FillBlock& block, int x, int y, int z) {
+  return block[std::size_t(x + kBlock * (y + kBlock * z))];
+}
+
+// The case (bit c: corner c inside) of the cell at block-local position l.
+inline int cellConfig(const FillBlock& block, const glm::ivec3& l, Fill corner[8]) {
+  int config = 0;
+  for (int c = 0; c < 8; ++c) {
+    corner[c] = blockFill(block, l.x + (c & 1), l.y + ((c >> 1) & 1), l.z + ((c >> 2) & 1));
+    if (double(corner[c]) > kIso) config |= 1 << c;
+  }
+  return config;
+}
+
+// The first voxel of cube edge e of a cell (the cell that owns the edge).
+inline glm::ivec3 edgeStart(const glm::ivec3& cell, int e) {
+  const int c0 = edgeCorners(e)[0];
+  return cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+}
+
+}  // namespace osteon::geometry::detail
