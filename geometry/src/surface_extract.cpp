@@ -214,7 +214,8 @@ struct Builder {
     });
     for (std::size_t s = 0; s < active.size(); ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
-        ranges.push_back({std::int64_t(cellBrickIndex(active[s])), triOffset[s], triOffset[s + 1] - triOffset[s]});
+        ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],
+                          triOffset[s + 1] - triOffset[s]});
       }
     }
   }
@@ -264,8 +265,7 @@ void buildAdjacency(std::size_t n, const std::vector<glm::u32vec3>& triangles,
 
 }  // namespace
 
-SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
-                           SurfaceTimings* timings) {
+void validateSurfaceOptions(const SurfaceOptions& options) {
   if (options.smoothIterations < 0 || options.smoothIterations > 100) {
     throw InputError("--smooth " + std::to_string(options.smoothIterations) + ": passes must be 0..100");
   }
@@ -275,6 +275,11 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
       << ": need 0 < lambda <= 1 and -1 <= mu < 0";
     throw InputError(s.str());
   }
+}
+
+SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
+                           SurfaceTimings* timings) {
+  validateSurfaceOptions(options);
   SurfaceTimings local;
   const Clock::time_point start = Clock::now();
   std::vector<VertexInfo> vertices;

@@ -31,8 +31,14 @@ struct SurfaceMesh {
   std::vector<glm::dvec3> positionsMm;
   std::vector<glm::dvec3> normals;        // area-weighted, unit length (empty if not asked)
   std::vector<glm::u32vec3> triangles;
+  // Triangles of the cells of one cell brick. Cells are numbered by their first voxel, from
+  // -1 (the layer outside the grid that closes the surface) to dims - 1, and cell brick cb
+  // holds cells 8 cb .. 8 cb + 7, so cb runs from -1 to brickDims - 1 on each axis.
   struct BrickRange {
-    std::int64_t brick;      // grid brick index; -1 for cells in the grid's outer border layer
+    std::int64_t brick;      // key of the cell brick: (cb.x + 1) + (nb.x + 1) ((cb.y + 1) +
+                             // (nb.y + 1) (cb.z + 1)), nb the grid's brickDims; stable across
+                             // updates
+    glm::ivec3 cellBrick;    // cb
     std::uint32_t first;     // triangles [first, first + count)
     std::uint32_t count;
   };
@@ -52,7 +58,11 @@ struct SurfaceTimings {
   double totalMs = 0.0;
 };
 
-// Throws InputError for bad options (negative iterations, lambda outside (0, 1]).
+// Throws InputError for bad options: passes outside 0..100, lambda outside (0, 1], mu outside
+// [-1, 0).
+void validateSurfaceOptions(const SurfaceOptions& options);
+
+// Throws InputError for bad options (see validateSurfaceOptions).
 SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options = {},
                            SurfaceTimings* timings = nullptr);
 

@@ -1,0 +1,139 @@
+#include "support/cgal_checks.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <utility>
+#include <vector>
+
+namespace osteon::test {
+
+namespace {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using Polygon = std::array<std::size_t, 3>;
+
+struct Soup {
+  std::vector<Point> points;
+  std::vector<Polygon> triangles;
+};
+
+Soup toSoup(const geometry::TriangleMesh& mesh) {
+  Soup soup;
+  soup.points.reserve(mesh.positionsMm.size());
+  for (const glm::dvec3& p : mesh.positionsMm) soup.points.emplace_back(p.x, p.y, p.z);
+  soup.triangles.reserve(mesh.triangles.size());
+  for (const glm::u32vec3& t : mesh.triangles) soup.triangles.push_back({t.x, t.y, t.z});
+  return soup;
+}
+
+// Whether two soup triangles meet anywhere but in the vertices or edge they share (the test
+// CGAL's self_intersections applies to adjacent faces; exact predicates throughout).
+bool trianglesIntersect(const Soup& soup, const Polygon& f, const Polygon& g) {
+  const auto& P = soup.points;
+  std::array<int, 3> inG{-1, -1, -1};  // for each corner of f, its corner in g, or -1
+  int shared = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (f[std::size_t(i)] == g[std::size_t(j)]) {
+        inG[std::size_t(i)] = j;
+        ++shared;
+      }
+    }
+  const Kernel::Triangle_3 tf(P[f[0]], P[f[1]], P[f[2]]);
+  const Kernel::Triangle_3 tg(P[g[0]], P[g[1]], P[g[2]]);
+  if (shared == 0) return CGAL::do_intersect(tf, tg);
+  if (shared == 3) return true;  // the same triangle twice
+  if (shared == 2) {
+    // Sharing edge ab: they overlap only when coplanar with c and d on the same side of ab.
+    int fOnly = 0;
+    while (inG[std::size_t(fOnly)] != -1) ++fOnly;
+    const Point& a = P[f[std::size_t((fOnly + 1) % 3)]];
+    const Point& b = P[f[std::size_t((fOnly + 2) % 3)]];
+    const Point& c = P[f[std::size_t(fOnly)]];
+    std::size_t d = 0;
+    for (std::size_t v : g) {
+      if (v != f[0] && v != f[1] && v != f[2]) d = v;
+    }
+    return CGAL::coplanar(a, b, c, P[d]) &&
+           CGAL::coplanar_orientation(a, b, c, P[d]) == CGAL::POSITIVE;
+  }
+  // Sharing vertex a only: the intersection, if more than a, is a segment from a ending on
+  // the edge opposite a of one triangle, inside the other.
+  int fa = 0;
+  while (inG[std::size_t(fa)] == -1) ++fa;
+  const int ga = inG[std::size_t(fa)];
+  const Kernel::Segment_3 fOpp(P[f[std::size_t((fa + 1) % 3)]], P[f[std::size_t((fa + 2) % 3)]]);
+  const Kernel::Segment_3 gOpp(P[g[std::size_t((ga + 1) % 3)]], P[g[std::size_t((ga + 2) % 3)]]);
+  return CGAL::do_intersect(fOpp, tg) || CGAL::do_intersect(gOpp, tf);
+}
+
+// Fallback for soups that are not polygon meshes (pinched vertices, fins, flipped faces):
+// box broad phase, then the exact pair test above.
+std::size_t soupPairs(const Soup& soup, std::size_t cap) {
+  using Box = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, const Polygon*>;
+  std::vector<Box> boxes;
+  std::size_t degenerate = 0;
+  for (const Polygon& t : soup.triangles) {
+    const Point& p = soup.points[t[0]];
+    const Point& q = soup.points[t[1]];
+    const Point& r = soup.points[t[2]];
+    // As CGAL does: a degenerate triangle counts as one intersecting pair.
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || CGAL::collinear(p, q, r)) {
+      ++degenerate;
+      continue;
+    }
+    boxes.emplace_back(p.bbox() + q.bbox() + r.bbox(), &t);
+  }
+  std::size_t count = std::min(degenerate, cap);
+  if (count >= cap) return count;
+  struct Full {};  // stops the broad phase once cap pairs are found
+  try {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      if (!trianglesIntersect(soup, *a.handle(), *b.handle())) return;
+      if (++count >= cap) throw Full{};
+    });
+  } catch (const Full&) {
+  }
+  return count;
+}
+
+// The surface mesh of the soup, or false when the soup is not a polygon mesh (precondition
+// of polygon_soup_to_polygon_mesh, which we do not repair: orienting would hide bugs).
+bool toSurfaceMesh(const Soup& soup, Mesh& mesh) {
+  if (!PMP::is_polygon_soup_a_polygon_mesh(soup.triangles)) return false;
+  PMP::polygon_soup_to_polygon_mesh(soup.points, soup.triangles, mesh);
+  return true;
+}
+
+}  // namespace
+
+std::size_t selfIntersectingPairs(const geometry::TriangleMesh& mesh, std::size_t cap) {
+  if (cap == 0 || mesh.triangles.empty()) return 0;
+  const Soup soup = toSoup(mesh);
+  Mesh surface;
+  if (!toSurfaceMesh(soup, surface)) return soupPairs(soup, cap);
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+  PMP::self_intersections(surface, std::back_inserter(pairs),
+                          CGAL::parameters::maximum_number(static_cast<unsigned int>(cap)));
+  return std::min(pairs.size(), cap);
+}
+
+bool doesSelfIntersect(const geometry::TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) return false;
+  const Soup soup = toSoup(mesh);
+  Mesh surface;
+  if (!toSurfaceMesh(soup, surface)) return soupPairs(soup, 1) > 0;
+  return PMP::does_self_intersect(surface);
+}
+
+}  // namespace osteon::test
