@@ -24,6 +24,8 @@ double msSince(Clock::time_point start) {
 
 using namespace detail;
 constexpr int kB = kCellBrick;
+// fill > this <=> fill > kIso (fills are integers, kIso sits halfway between two).
+constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 
 // Per active cell brick: what it adds to the surface. Vertex references inside a brick are
 // global edge-vertex ids, or (with kLocal set) ids into the brick's own extra vertices (loop
@@ -86,48 +88,64 @@ struct Builder {
     loadBlock(grid, cb, block);
     glm::ivec3 lo, hi;
     cellRange(grid, cb, lo, hi);
+    constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
     for (int z = lo.z; z < hi.z; ++z)
-      for (int y = lo.y; y < hi.y; ++y)
+      for (int y = lo.y; y < hi.y; ++y) {
+        const glm::ivec3 rowStart = glm::ivec3(lo.x, y, z) - cb * kB;
+        const int rowBase = rowStart.x + kBlock * (rowStart.y + kBlock * rowStart.z);
         for (int x = lo.x; x < hi.x; ++x) {
-          const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
-          const Fill f0 = block[std::size_t(l.x + kBlock * (l.y + kBlock * l.z))];
-          const bool in0 = double(f0) > kIso;
+          const int i = rowBase + (x - lo.x);
+          const Fill f0 = block[std::size_t(i)];
+          const bool in0 = f0 > kInsideAbove;
           for (int axis = 0; axis < 3; ++axis) {
-            glm::ivec3 n = l;
-            ++n[axis];
-            const Fill f1 = block[std::size_t(n.x + kBlock * (n.y + kBlock * n.z))];
-            if ((double(f1) > kIso) == in0) continue;
-            o.edgeVertex[std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + axis)] =
+            const Fill f1 = block[std::size_t(i + kStep[axis])];
+            if ((f1 > kInsideAbove) == in0) continue;
+            const int lx = x - cb.x * kB, ly = y - cb.y * kB, lz = z - cb.z * kB;
+            o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] =
                 std::uint32_t(o.edgeVertices.size());
             o.edgeVertices.push_back(edgeVertexInfo(grid, {x, y, z}, axis, f0, f1));
           }
         }
+      }
   }
 
-  // The shared vertex of cube edge `e` of cell `cell`, by its owner's brick.
-  std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
-    const glm::ivec3 owner = edgeStart(cell, e);
-    const glm::ivec3 cb(floorDiv(owner.x, kB), floorDiv(owner.y, kB), floorDiv(owner.z, kB));
-    const auto slot = std::size_t(slotOfBrick[cellBrickIndex(cb)]);
-    const glm::ivec3 l = owner - cb * kB;
-    return edgeOffset[slot] + out[slot].edgeVertex[std::size_t(3 * (l.x + kB * (l.y + kB * l.z)) + e / 4)];
-  }
-
-  // Phase 2: triangles of one brick's cells.
+  // Phase 2: triangles of one brick's cells. The hot loop: corner states as bits of the
+  // block, and each cube edge's vertex read from the owning brick (this one, or one of the
+  // seven above it for cells on its upper faces) without any search.
   void makeTriangles(std::size_t s, FillBlock& block) {
     const auto& table = detail::mcTable();
     const bool shared = options.method == SurfaceMethod::CrackFree;
     const glm::ivec3 cb = active[s];
     BrickOut& o = out[s];
     loadBlock(grid, cb, block);
+    std::array<std::uint8_t, kBlock * kBlock * kBlock> inside;
+    for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = block[i] > kInsideAbove ? 1 : 0;
+    const BrickOut* owners[8] = {};
+    std::uint32_t ownerOffset[8] = {};
+    if (shared) {
+      for (int d = 0; d < 8; ++d) {
+        const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+        if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
+        const std::int32_t slot = slotOfBrick[cellBrickIndex(nb)];
+        if (slot < 0) continue;
+        owners[d] = &out[std::size_t(slot)];
+        ownerOffset[d] = edgeOffset[std::size_t(slot)];
+      }
+    }
+    static const std::array<int, 8> cornerStep = [] {
+      std::array<int, 8> steps{};
+      for (int c = 0; c < 8; ++c) steps[std::size_t(c)] = (c & 1) + kBlock * ((c >> 1) & 1) + kBlock * kBlock * ((c >> 2) & 1);
+      return steps;
+    }();
     glm::ivec3 lo, hi;
     cellRange(grid, cb, lo, hi);
     for (int z = lo.z; z < hi.z; ++z)
       for (int y = lo.y; y < hi.y; ++y)
         for (int x = lo.x; x < hi.x; ++x) {
           const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
-          Fill corner[8];
-          const int config = cellConfig(block, l, corner);
+          const int base = l.x + kBlock * (l.y + kBlock * l.z);
+          int config = 0;
+          for (int c = 0; c < 8; ++c) config |= inside[std::size_t(base + cornerStep[std::size_t(c)])] << c;
           if (config == 0 || config == 255) continue;
           const detail::McCase& mc = table[std::size_t(config)];
           std::uint32_t ids[13];
@@ -135,14 +153,19 @@ struct Builder {
             int count = 0;
             for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
               const int e = mc.edges[std::size_t(k)];
+              const glm::ivec3 start = edgeStart(l, e);
               if (shared) {
-                ids[count++] = sharedVertex({x, y, z}, e);
+                const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
+                const glm::ivec3 local = start & (kB - 1);
+                ids[count++] = ownerOffset[d] + owners[d]->edgeVertex[std::size_t(
+                                   3 * (local.x + kB * (local.y + kB * local.z)) + e / 4)];
                 continue;
               }
               // Naive: every cube makes its own vertex on each of its crossed edges.
               const auto corners = edgeCorners(e);
-              o.extraVertices.push_back(edgeVertexInfo(grid, edgeStart({x, y, z}, e), e / 4,
-                                                       corner[corners[0]], corner[corners[1]]));
+              o.extraVertices.push_back(edgeVertexInfo(grid, cb * kB + start, e / 4,
+                                                       block[std::size_t(base + cornerStep[corners[0]])],
+                                                       block[std::size_t(base + cornerStep[corners[1]])]));
               ids[count++] = kLocal | std::uint32_t(o.extraVertices.size() - 1);
             }
             emitLoop(o, ids, count);

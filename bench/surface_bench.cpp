@@ -1,0 +1,301 @@
+// Surface extraction (seed 3.4): full extraction against VTK's vtkFlyingEdges3D on the same
+// uint8 volumes, the incremental update after one drilling step at 0.25 mm, and the seed's
+// Tables 1 and 2 for the built-in and the shared humerus. Figures go to docs/performance.md.
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/mesh_io.h"
+#include "osteon/geometry/refinement.h"
+#include "osteon/geometry/surface.h"
+#include "osteon/geometry/surface_updater.h"
+#include "osteon/geometry/voxelizer.h"
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#ifdef OSTEON_HAVE_VTK
+#include <vtkFlyingEdges3D.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkSMPTools.h>
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+
+namespace {
+
+using namespace osteon::geometry;
+using Clock = std::chrono::steady_clock;
+
+const HumerusModel& model() {
+  static const HumerusModel m = buildHumerusModel();
+  return m;
+}
+
+// A volume whose longest side has n voxels: the built-in humerus, or a sphere with three
+// drilled tunnels (straight cylinders of empty voxels).
+const VoxelGrid& volume(const std::string& name, int n) {
+  static std::map<std::pair<std::string, int>, std::unique_ptr<VoxelGrid>> cache;
+  auto& slot = cache[{name, n}];
+  if (slot) return *slot;
+  VoxelizeOptions options;
+  if (name == "humerus") {
+    const Aabb box = bounds(model().mesh);
+    const glm::dvec3 e = box.extentMm();
+    options.voxelSizeMm = std::max({e.x, e.y, e.z}) / (n - 2);
+    slot = std::make_unique<VoxelGrid>(voxelize(model().mesh, options));
+    return *slot;
+  }
+  options.voxelSizeMm = 1.0;
+  TriangleMesh sphere;
+  {
+    // UV sphere filling the n^3 box.
+    const double r = 0.5 * (n - 3);
+    const int slices = 256, stacks = 128;
+    sphere.positionsMm.push_back({0, 0, r});
+    for (int i = 1; i < stacks; ++i)
+      for (int j = 0; j < slices; ++j) {
+        const double th = M_PI * i / stacks, ph = 2 * M_PI * j / slices;
+        sphere.positionsMm.push_back(r * glm::dvec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+      }
+    sphere.positionsMm.push_back({0, 0, -r});
+    const auto ring = [&](int i, int j) { return std::uint32_t(1 + (i - 1) * slices + (j % slices)); };
+    const auto south = std::uint32_t(sphere.positionsMm.size() - 1);
+    for (int j = 0; j < slices; ++j) sphere.triangles.push_back({0u, ring(1, j), ring(1, j + 1)});
+    for (int i = 1; i + 1 < stacks; ++i)
+      for (int j = 0; j < slices; ++j) {
+        sphere.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+        sphere.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+      }
+    for (int j = 0; j < slices; ++j) sphere.triangles.push_back({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
+  }
+  slot = std::make_unique<VoxelGrid>(voxelize(sphere, options));
+  VoxelGrid& g = *slot;
+  const glm::ivec3 d = g.dims();
+  for (int axis = 0; axis < 3; ++axis) {  // three tunnels of radius n/12 through the centre
+    const double radius = n / 12.0;
+    for (int z = 0; z < d.z; ++z)
+      for (int y = 0; y < d.y; ++y)
+        for (int x = 0; x < d.x; ++x) {
+          glm::dvec3 p = glm::dvec3(x, y, z) - glm::dvec3(d) * 0.5 + 0.5;
+          p[axis] = 0.0;
+          p[(axis + 1) % 3] -= n / 8.0;  // off centre, so they do not all meet
+          if (glm::length(p) < radius) g.set({x, y, z}, 0, 0);
+        }
+  }
+  g.compact();
+  g.clearDirty();
+  return g;
+}
+
+void BM_ExtractOsteon(benchmark::State& state, const std::string& name, bool singleThread) {
+  const VoxelGrid& g = volume(name, int(state.range(0)));
+  std::unique_ptr<tbb::global_control> oneThread;
+  if (singleThread) {
+    oneThread = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+  }
+  SurfaceOptions options;  // marching cubes only: no smoothing, no normals, like FlyingEdges
+  options.smoothIterations = 0;
+  options.computeNormals = false;
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const SurfaceMesh m = extractSurface(g, options);
+    triangles = m.triangleCount();
+    benchmark::DoNotOptimize(triangles);
+  }
+  state.counters["triangles"] = double(triangles);
+  state.counters["voxels"] = double(g.voxelCount());
+}
+
+#ifdef OSTEON_HAVE_VTK
+void BM_ExtractFlyingEdges(benchmark::State& state, const std::string& name) {
+  const VoxelGrid& g = volume(name, int(state.range(0)));
+  const glm::ivec3 d = g.dims();
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(d.x, d.y, d.z);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* values = static_cast<unsigned char*>(image->GetScalarPointer());
+  for (int z = 0; z < d.z; ++z)
+    for (int y = 0; y < d.y; ++y)
+      for (int x = 0; x < d.x; ++x) {
+        values[x + std::size_t(d.x) * (y + std::size_t(d.y) * z)] = static_cast<unsigned char>(g.fill({x, y, z}) / kFillPerStep);
+      }
+  vtkSMPTools::Initialize(1);  // single thread, as the peer is quoted
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    vtkNew<vtkFlyingEdges3D> fe;
+    fe->SetInputData(image);
+    fe->SetValue(0, 127.5);
+    fe->ComputeNormalsOff();
+    fe->ComputeGradientsOff();
+    fe->ComputeScalarsOff();
+    fe->Update();
+    triangles = std::size_t(fe->GetOutput()->GetNumberOfPolys());
+    benchmark::DoNotOptimize(triangles);
+  }
+  state.counters["triangles"] = double(triangles);
+  state.counters["voxels"] = double(g.voxelCount());
+}
+#endif
+
+void registerExtraction() {
+  for (const char* name : {"sphere_drilled", "humerus"}) {
+    const std::string n = name;
+    benchmark::RegisterBenchmark(("extract/osteon_2threads/" + n).c_str(),
+                                 [n](benchmark::State& s) { BM_ExtractOsteon(s, n, false); })
+        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark(("extract/osteon_1thread/" + n).c_str(),
+                                 [n](benchmark::State& s) { BM_ExtractOsteon(s, n, true); })
+        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+#ifdef OSTEON_HAVE_VTK
+    benchmark::RegisterBenchmark(("extract/vtkFlyingEdges3D_1thread/" + n).c_str(),
+                                 [n](benchmark::State& s) { BM_ExtractFlyingEdges(s, n); })
+        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+#endif
+  }
+}
+
+void report(benchmark::State& state, std::vector<double>& ms, const std::string& prefix) {
+  if (ms.empty()) return;
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, std::size_t(q * double(ms.size())))]; };
+  state.counters[prefix + "p50_ms"] = at(0.5);
+  state.counters[prefix + "p99_ms"] = at(0.99);
+  state.counters[prefix + "max_ms"] = ms.back();
+  state.counters[prefix + "steps"] = double(ms.size());
+}
+
+// One drilling step = one 1 ms haptic step of material removal (seed 3.5: every voxel inside
+// the 2.92 mm tip loses one density unit, those at 0 go), then the surface update, smoothing
+// and normals included. The drill enters the humeral head along its axis at 5 mm/s for 2 s.
+void BM_IncrementalDrillStep(benchmark::State& state) {
+  const double vs = double(state.range(0)) / 1000.0;
+  VoxelizeOptions options;
+  options.voxelSizeMm = vs;
+  std::vector<double> changed, all;
+  std::size_t cellBricks = 0, steps = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    VoxelGrid grid = voxelize(model().mesh, options);
+    auto hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+    RefinementOptions ro;
+    ro.depth = 0;
+    RefinedVoxels drill(grid, hierarchy, nullptr, ro);
+    SurfaceUpdater updater(grid);
+    grid.clearDirty();
+    const glm::dvec3 axis = model().headAxis;
+    const glm::dvec3 start = model().headCentreMm + (model().headRadiusMm + 1.0) * axis;
+    state.ResumeTiming();
+    for (int step = 0; step < 2000; ++step) {
+      const glm::dvec3 tip = start - axis * (0.005 * step);  // 5 um per 1 ms step
+      drill.removeInSphere(tip, 1.46, 1);
+      const std::vector<std::size_t> dirty = grid.dirtyBricks();
+      grid.clearDirty();
+      const Clock::time_point t0 = Clock::now();
+      const SurfaceUpdater::UpdateStats s = updater.update(dirty);
+      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      all.push_back(ms);
+      if (s.verticesTouched > 0) {
+        changed.push_back(ms);
+        cellBricks += s.cellBricks;
+        ++steps;
+      }
+    }
+  }
+  report(state, all, "every_step_");
+  report(state, changed, "changing_step_");
+  state.counters["cell_bricks_per_changing_step"] = steps ? double(cellBricks) / double(steps) : 0.0;
+}
+BENCHMARK(BM_IncrementalDrillStep)->Arg(250)->Arg(540)->ArgName("voxel_um")
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Worst case: the whole 2.92 mm sphere of bone removed at once at a new place every step.
+void BM_IncrementalSphereRemoved(benchmark::State& state) {
+  VoxelizeOptions options;
+  options.voxelSizeMm = double(state.range(0)) / 1000.0;
+  VoxelGrid grid = voxelize(model().mesh, options);
+  auto hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+  RefinementOptions ro;
+  ro.depth = 0;
+  RefinedVoxels drill(grid, hierarchy, nullptr, ro);
+  SurfaceUpdater updater(grid);
+  grid.clearDirty();
+  std::vector<double> ms;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const glm::dvec3 p = model().mesh.positionsMm[(i++ * 7919) % model().mesh.vertexCount()];
+    for (int k = 0; k < 60; ++k) drill.removeInSphere(p, 1.46, 1);
+    const std::vector<std::size_t> dirty = grid.dirtyBricks();
+    grid.clearDirty();
+    state.ResumeTiming();
+    const Clock::time_point t0 = Clock::now();
+    updater.update(dirty);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  report(state, ms, "");
+}
+BENCHMARK(BM_IncrementalSphereRemoved)->Arg(250)->ArgName("voxel_um")
+    ->Unit(benchmark::kMillisecond)->Iterations(200);
+
+// The seed's Tables 1 and 2: voxels, triangles, vertices and the mesh time, broken down.
+void BM_SeedTables(benchmark::State& state, const std::string& which) {
+  static const TriangleMesh shared = [] {
+    const std::string path = std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
+    return std::filesystem::exists(path) ? readMesh(path, 1000.0) : TriangleMesh{};
+  }();
+  const TriangleMesh& mesh = which == "humerus_shared" ? shared : model().mesh;
+  if (mesh.triangles.empty()) {
+    state.SkipWithError("shared data not found");
+    return;
+  }
+  VoxelizeOptions options;
+  options.voxelSizeMm = double(state.range(0)) / 1000.0;
+  const VoxelGrid grid = voxelize(mesh, options);
+  SurfaceTimings sum;
+  SurfaceMesh m;
+  int runs = 0;
+  for (auto _ : state) {
+    SurfaceTimings t;
+    m = extractSurface(grid, SurfaceOptions{}, &t);
+    sum.extractMs += t.extractMs;
+    sum.smoothMs += t.smoothMs;
+    sum.normalsMs += t.normalsMs;
+    sum.otherMs += t.otherMs;
+    sum.totalMs += t.totalMs;
+    ++runs;
+  }
+  state.counters["voxels_inside"] = double(grid.countVoxels(kFillHalf));
+  state.counters["triangles"] = double(m.triangleCount());
+  state.counters["vertices"] = double(m.vertexCount());
+  state.counters["extract_ms"] = sum.extractMs / runs;
+  state.counters["smooth_ms"] = sum.smoothMs / runs;
+  state.counters["normals_ms"] = sum.normalsMs / runs;
+  state.counters["other_ms"] = sum.otherMs / runs;
+  state.counters["total_ms"] = sum.totalMs / runs;
+}
+
+void registerTables() {
+  for (const char* which : {"humerus_default", "humerus_shared"}) {
+    const std::string w = which;
+    benchmark::RegisterBenchmark(("seed_table/" + w).c_str(), [w](benchmark::State& s) { BM_SeedTables(s, w); })
+        ->Arg(1200)->Arg(900)->Arg(720)->Arg(540)->ArgName("voxel_um")->Unit(benchmark::kMillisecond);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  registerExtraction();
+  registerTables();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
