@@ -98,9 +98,11 @@ void VoxelGrid::set(const glm::ivec3& ijk, Fill fill, Density density) {
     if (uniformFill_[brick] == fill && uniformDensity_[brick] == density) return;
     b = &materialiseBrick(brick);
   }
+  // Dirty means "the surface may have changed": fill, not density (a drilling step lowers
+  // the density of every voxel under the tool but removes few).
+  if (b->fill[std::size_t(local)] != fill) dirty_[brick] = 1;
   b->fill[std::size_t(local)] = fill;
   b->density[std::size_t(local)] = density;
-  dirty_[brick] = 1;
 }
 
 void VoxelGrid::setBrickUniform(std::size_t brick, Fill fill, Density density) {
@@ -111,7 +113,6 @@ void VoxelGrid::setBrickUniform(std::size_t brick, Fill fill, Density density) {
 }
 
 VoxelGrid::Brick& VoxelGrid::materialiseBrick(std::size_t brick) {
-  dirty_[brick] = 1;
   if (!bricks_[brick]) {
     auto b = std::make_unique<Brick>();
     b->fill.fill(uniformFill_[brick]);

@@ -78,7 +78,8 @@ class VoxelGrid {
   // Per-voxel access; outside the grid reads as empty.
   Fill fill(const glm::ivec3& ijk) const;
   Density density(const glm::ivec3& ijk) const;
-  // Writes mark the brick dirty and materialise it when the value breaks its uniformity.
+  // Writes materialise the brick when the value breaks its uniformity, and mark it dirty when
+  // the fill changes (dirty: the surface there may have changed; density alone does not).
   void set(const glm::ivec3& ijk, Fill fill, Density density);
 
   // Bricks.
@@ -100,14 +101,15 @@ class VoxelGrid {
   Density brickUniformDensity(std::size_t brick) const { return uniformDensity_[brick]; }
   // Frees a brick's arrays and gives all its voxels one value. Marks it dirty.
   void setBrickUniform(std::size_t brick, Fill fill, Density density);
-  // Per-voxel arrays of a brick, created from its uniform value when needed. Marks it dirty.
+  // Per-voxel arrays of a brick, created from its uniform value when needed (the values do not
+  // change, so neither does the dirty flag).
   // Distinct bricks may be materialised from distinct threads at once.
   Brick& materialiseBrick(std::size_t brick);
   // Frees the arrays of allocated bricks whose voxels all agree; returns how many.
   std::size_t compact();
   std::size_t allocatedBrickCount() const;
 
-  // Dirty flags for incremental meshing.
+  // Dirty flags for incremental meshing: bricks whose fill may have changed.
   bool brickDirty(std::size_t brick) const { return dirty_[brick] != 0; }
   void markBrickDirty(std::size_t brick) { dirty_[brick] = 1; }
   std::vector<std::size_t> dirtyBricks() const;
