@@ -181,6 +181,27 @@ TEST_F(CliTest, HierarchyReportsLevelsForMeshesAndGrids) {
   expectBadInput("hierarchy default --voxel-size 1.2 --slice-z 900", "--slice-z 900", "outside");
 }
 
+TEST_F(CliTest, MeshIsClosedForCrackFreeAndCrackedForNaive) {
+  const CliRun good = osteon("mesh default --voxel-size 1.2 --json --out '" + path("s.ply") + "'");
+  ASSERT_EQ(good.exitCode, 0) << good.err;
+  const nlohmann::json j = nlohmann::json::parse(good.out);
+  EXPECT_EQ(j["border_edges"].get<int>(), 0);
+  EXPECT_EQ(j["non_manifold_edges"].get<int>(), 0);
+  EXPECT_EQ(j["euler_characteristic"].get<int>(), 2);
+  EXPECT_GT(j["triangles"].get<int>(), 10000);
+  for (const char* key : {"total", "extract", "smooth", "normals", "other"}) {
+    EXPECT_TRUE(j["time_ms"].contains(key)) << key;
+  }
+  EXPECT_EQ(geometry::readMesh(path("s.ply")).triangleCount(), j["triangles"].get<std::size_t>());
+  const CliRun naive = osteon("mesh default --voxel-size 1.2 --method naive --json");
+  ASSERT_EQ(naive.exitCode, 0) << naive.err;
+  EXPECT_GT(nlohmann::json::parse(naive.out)["border_edges"].get<int>(), 0);
+  expectBadInput("mesh default --voxel-size 1.2 --method marching", "--method marching", "unknown");
+  expectBadInput("mesh default --voxel-size 1.2 --smooth -1", "--smooth -1", "0..100");
+  expectBadInput("mesh default --voxel-size 1.2 --out '" + path("s.vtk") + "'", path("s.vtk"),
+                 "unknown mesh extension");
+}
+
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
   const CliRun run = osteon("model --json --out '" + path("humerus.stl") + "'");
   ASSERT_EQ(run.exitCode, 0) << run.err;
