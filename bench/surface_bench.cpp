@@ -170,34 +170,50 @@ void report(benchmark::State& state, std::vector<double>& ms, const std::string&
   state.counters[prefix + "steps"] = double(ms.size());
 }
 
+// The built-in humerus at one voxel size, with a static drill (level 0) and the surface kept
+// up to date.
+struct DrillScene {
+  VoxelGrid grid;
+  DynamicProximityHierarchy hierarchy;
+  std::unique_ptr<RefinedVoxels> drill;
+  std::unique_ptr<SurfaceUpdater> updater;
+
+  explicit DrillScene(double voxelSizeMm) {
+    VoxelizeOptions options;
+    options.voxelSizeMm = voxelSizeMm;
+    grid = voxelize(model().mesh, options);
+    hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+    RefinementOptions ro;
+    ro.depth = 0;
+    drill = std::make_unique<RefinedVoxels>(grid, hierarchy, nullptr, ro);
+    updater = std::make_unique<SurfaceUpdater>(grid);
+    grid.clearDirty();
+  }
+  SurfaceUpdater::UpdateStats updateSurface() {
+    const std::vector<std::size_t> dirty = grid.dirtyBricks();
+    grid.clearDirty();
+    return updater->update(dirty);
+  }
+};
+
 // One drilling step = one 1 ms haptic step of material removal (seed 3.5: every voxel inside
 // the 2.92 mm tip loses one density unit, those at 0 go), then the surface update, smoothing
 // and normals included. The drill enters the humeral head along its axis at 5 mm/s for 2 s.
 void BM_IncrementalDrillStep(benchmark::State& state) {
   const double vs = double(state.range(0)) / 1000.0;
-  VoxelizeOptions options;
-  options.voxelSizeMm = vs;
   std::vector<double> changed, all;
   std::size_t cellBricks = 0, steps = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    VoxelGrid grid = voxelize(model().mesh, options);
-    auto hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
-    RefinementOptions ro;
-    ro.depth = 0;
-    RefinedVoxels drill(grid, hierarchy, nullptr, ro);
-    SurfaceUpdater updater(grid);
-    grid.clearDirty();
+    DrillScene scene(vs);
     const glm::dvec3 axis = model().headAxis;
     const glm::dvec3 start = model().headCentreMm + (model().headRadiusMm + 1.0) * axis;
     state.ResumeTiming();
     for (int step = 0; step < 2000; ++step) {
       const glm::dvec3 tip = start - axis * (0.005 * step);  // 5 um per 1 ms step
-      drill.removeInSphere(tip, 1.46, 1);
-      const std::vector<std::size_t> dirty = grid.dirtyBricks();
-      grid.clearDirty();
+      scene.drill->removeInSphere(tip, 1.46, 1);
       const Clock::time_point t0 = Clock::now();
-      const SurfaceUpdater::UpdateStats s = updater.update(dirty);
+      const SurfaceUpdater::UpdateStats s = scene.updateSurface();
       const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       all.push_back(ms);
       if (s.verticesTouched > 0) {
@@ -216,26 +232,16 @@ BENCHMARK(BM_IncrementalDrillStep)->Arg(250)->Arg(540)->ArgName("voxel_um")
 
 // Worst case: the whole 2.92 mm sphere of bone removed at once at a new place every step.
 void BM_IncrementalSphereRemoved(benchmark::State& state) {
-  VoxelizeOptions options;
-  options.voxelSizeMm = double(state.range(0)) / 1000.0;
-  VoxelGrid grid = voxelize(model().mesh, options);
-  auto hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
-  RefinementOptions ro;
-  ro.depth = 0;
-  RefinedVoxels drill(grid, hierarchy, nullptr, ro);
-  SurfaceUpdater updater(grid);
-  grid.clearDirty();
+  DrillScene scene(double(state.range(0)) / 1000.0);
   std::vector<double> ms;
   std::size_t i = 0;
   for (auto _ : state) {
     state.PauseTiming();
     const glm::dvec3 p = model().mesh.positionsMm[(i++ * 7919) % model().mesh.vertexCount()];
-    for (int k = 0; k < 60; ++k) drill.removeInSphere(p, 1.46, 1);
-    const std::vector<std::size_t> dirty = grid.dirtyBricks();
-    grid.clearDirty();
+    for (int k = 0; k < 60; ++k) scene.drill->removeInSphere(p, 1.46, 1);
     state.ResumeTiming();
     const Clock::time_point t0 = Clock::now();
-    updater.update(dirty);
+    scene.updateSurface();
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
   report(state, ms, "");

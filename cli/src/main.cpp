@@ -25,6 +25,16 @@ void addUnits(CLI::App& cmd, osteon::cli::MeshUnits& units) {
   u->excludes(s);
 }
 
+// Commands that work on a grid take a mesh (voxelized at --voxel-size) or a saved grid.
+void addGridInput(CLI::App& cmd, std::string& input, osteon::cli::MeshUnits& units,
+                  std::optional<double>& voxelSizeMm) {
+  cmd.add_option("MESH", input, "Mesh file, 'default', or a GRID.nrrd written by osteon voxelize")
+      ->required();
+  addUnits(cmd, units);
+  cmd.add_option("--voxel-size", voxelSizeMm,
+                 "Voxel edge in mm (required for a mesh; a grid has its own)");
+}
+
 void addMesh(CLI::App& cmd, std::string& mesh) {
   cmd.add_option("MESH", mesh, "Mesh file (.stl .obj .ply .off) or 'default' for the built-in humerus")
       ->required();
@@ -75,12 +85,7 @@ int main(int argc, char** argv) {
   osteon::cli::HierarchyOptions dph;
   CLI::App* dphCmd = app.add_subcommand(
       "hierarchy", "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)");
-  dphCmd->add_option("MESH", dph.input,
-                     "Mesh file, 'default', or a GRID.nrrd written by osteon voxelize")
-      ->required();
-  addUnits(*dphCmd, dph.units);
-  dphCmd->add_option("--voxel-size", dph.voxelSizeMm,
-                     "Voxel edge in mm (required for a mesh; a grid has its own)");
+  addGridInput(*dphCmd, dph.input, dph.units, dph.voxelSizeMm);
   dphCmd->add_option("--xi", dph.xi, "Expansion ratio (odd, 3..15)")->default_val(3);
   dphCmd->add_option("--seed", dph.seed, "Seed of the insertion order")->default_val(1);
   dphCmd->add_option("--svg", dph.svg, "Draw a z-slice of the hierarchy into this SVG file");
@@ -90,12 +95,7 @@ int main(int argc, char** argv) {
   osteon::cli::MeshCommandOptions meshOpt;
   CLI::App* meshCmd = app.add_subcommand(
       "mesh", "Extract the crack-free (or the seed's naive) surface of a voxelized mesh or grid");
-  meshCmd->add_option("MESH", meshOpt.input,
-                      "Mesh file, 'default', or a GRID.nrrd written by osteon voxelize")
-      ->required();
-  addUnits(*meshCmd, meshOpt.units);
-  meshCmd->add_option("--voxel-size", meshOpt.voxelSizeMm,
-                      "Voxel edge in mm (required for a mesh; a grid has its own)");
+  addGridInput(*meshCmd, meshOpt.input, meshOpt.units, meshOpt.voxelSizeMm);
   meshCmd->add_option("--method", meshOpt.method, "crackfree (shared vertices) or naive (seed's MC)")
       ->default_val("crackfree");
   meshCmd->add_option("--smooth", meshOpt.smooth, "Laplacian passes")->default_val(2);
