@@ -29,29 +29,35 @@ bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cb) {
 }
 
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cb, FillBlock& block) {
-  // Straight from the up to eight grid bricks the block lies in (0 outside the grid).
+  // Straight from the up to eight grid bricks the block lies in, a row at a time (0 outside
+  // the grid).
   const glm::ivec3 nb = grid.brickDims();
   const glm::ivec3 dims = grid.dims();
   const glm::ivec3 base = cb * kCellBrick;
+  block.fill(0);
   for (int d = 0; d < 8; ++d) {
     const glm::ivec3 off(d & 1, (d >> 1) & 1, (d >> 2) & 1);
     const glm::ivec3 b = cb + off;
-    // Block coordinates this brick supplies: 0..7 from the cell brick itself, 8 from the next.
+    if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= nb.x || b.y >= nb.y || b.z >= nb.z) continue;
+    // Block coordinates this brick supplies: 0..7 from the cell brick itself, 8 from the next,
+    // clipped to the grid.
     const glm::ivec3 from = off * kCellBrick;
-    const glm::ivec3 to = from + (1 - off) * (kCellBrick - 1) + 1;
-    const bool inGrid = b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < nb.x && b.y < nb.y && b.z < nb.z;
-    const VoxelGrid::Brick* data = inGrid ? grid.brickData(grid.brickIndex(b)) : nullptr;
-    const Fill uniform = inGrid ? grid.brickUniformFill(grid.brickIndex(b)) : Fill(0);
+    const glm::ivec3 to = glm::min(from + (1 - off) * (kCellBrick - 1) + 1, dims - base);
+    if (to.x <= from.x || to.y <= from.y || to.z <= from.z) continue;
+    const std::size_t brick = grid.brickIndex(b);
+    const VoxelGrid::Brick* data = grid.brickData(brick);
+    const Fill uniform = grid.brickUniformFill(brick);
+    const int count = to.x - from.x;
     for (int z = from.z; z < to.z; ++z)
-      for (int y = from.y; y < to.y; ++y)
-        for (int x = from.x; x < to.x; ++x) {
-          const glm::ivec3 v = base + glm::ivec3(x, y, z);
-          Fill f = 0;
-          if (inGrid && v.x < dims.x && v.y < dims.y && v.z < dims.z) {
-            f = data ? data->fill[std::size_t(VoxelGrid::voxelInBrick(v - b * kCellBrick))] : uniform;
-          }
-          block[std::size_t(x + kBlock * (y + kBlock * z))] = f;
+      for (int y = from.y; y < to.y; ++y) {
+        Fill* dst = block.data() + (from.x + kBlock * (y + kBlock * z));
+        if (data) {
+          const glm::ivec3 local = base + glm::ivec3(from.x, y, z) - b * kCellBrick;
+          std::copy_n(data->fill.data() + VoxelGrid::voxelInBrick(local), count, dst);
+        } else if (uniform != 0) {
+          std::fill_n(dst, count, uniform);
         }
+      }
   }
 }
 

@@ -64,10 +64,23 @@ inline int cellConfig(const FillBlock& block, const glm::ivec3& l, Fill corner[8
   return config;
 }
 
+// Offset of cube edge e's first corner from the cell: edge e = 4 axis + bu + 2 bv runs along
+// `axis` from (bu << u) | (bv << v), u = axis + 1, v = axis + 2 (mod 3). A table, so the hot
+// loop does not call into the table generator.
+inline constexpr std::array<std::array<int, 3>, 12> kEdgeStartOffset = [] {
+  std::array<std::array<int, 3>, 12> t{};
+  for (int e = 0; e < 12; ++e) {
+    const int axis = e / 4;
+    t[std::size_t(e)][std::size_t((axis + 1) % 3)] = e & 1;
+    t[std::size_t(e)][std::size_t((axis + 2) % 3)] = (e >> 1) & 1;
+  }
+  return t;
+}();
+
 // The first voxel of cube edge e of a cell (the cell that owns the edge).
 inline glm::ivec3 edgeStart(const glm::ivec3& cell, int e) {
-  const int c0 = edgeCorners(e)[0];
-  return cell + glm::ivec3(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+  const auto& o = kEdgeStartOffset[std::size_t(e)];
+  return cell + glm::ivec3(o[0], o[1], o[2]);
 }
 
 }  // namespace osteon::geometry::detail

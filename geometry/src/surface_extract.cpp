@@ -33,6 +33,7 @@ constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 constexpr std::uint32_t kLocal = 0x80000000u;
 
 struct BrickOut {
+  FillBlock block;                        // the voxels its cells read (loaded once)
   std::vector<VertexInfo> edgeVertices;   // crack-free: owned edge crossings
   std::vector<VertexInfo> extraVertices;  // loop centres; naive: all
   std::vector<std::uint32_t> loopVertices;
@@ -81,11 +82,13 @@ struct Builder {
 
   // Phase 1 (crack-free): one vertex per crossed edge, made by the cell that owns the edge
   // (the cell at the edge's first voxel), numbered within its brick.
-  void makeEdgeVertices(std::size_t s, FillBlock& block) {
+  void makeEdgeVertices(std::size_t s) {
     const glm::ivec3 cb = active[s];
     BrickOut& o = out[s];
     o.edgeVertex.fill(kNoVertex);
-    loadBlock(grid, cb, block);
+    loadBlock(grid, cb, o.block);
+    const FillBlock& block = o.block;
+    o.edgeVertices.reserve(96);
     glm::ivec3 lo, hi;
     cellRange(grid, cb, lo, hi);
     constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
@@ -112,12 +115,14 @@ struct Builder {
   // Phase 2: triangles of one brick's cells. The hot loop: corner states as bits of the
   // block, and each cube edge's vertex read from the owning brick (this one, or one of the
   // seven above it for cells on its upper faces) without any search.
-  void makeTriangles(std::size_t s, FillBlock& block) {
+  void makeTriangles(std::size_t s) {
     const auto& table = detail::mcTable();
     const bool shared = options.method == SurfaceMethod::CrackFree;
     const glm::ivec3 cb = active[s];
     BrickOut& o = out[s];
-    loadBlock(grid, cb, block);
+    if (!shared) loadBlock(grid, cb, o.block);  // crack-free: loaded by makeEdgeVertices
+    const FillBlock& block = o.block;
+    o.triangles.reserve(192);
     std::array<std::uint8_t, kBlock * kBlock * kBlock> inside;
     for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = block[i] > kInsideAbove ? 1 : 0;
     const BrickOut* owners[8] = {};
@@ -189,18 +194,17 @@ struct Builder {
     const auto forEachBrick = [&](auto&& work) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active.size(), 4),
                         [&](const tbb::blocked_range<std::size_t>& r) {
-        FillBlock block;
-        for (std::size_t s = r.begin(); s != r.end(); ++s) work(s, block);
+        for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
       });
     };
     edgeOffset.assign(active.size() + 1, 0);
     if (shared) {
-      forEachBrick([&](std::size_t s, auto& block) { makeEdgeVertices(s, block); });
+      forEachBrick([&](std::size_t s) { makeEdgeVertices(s); });
       for (std::size_t s = 0; s < active.size(); ++s) {
         edgeOffset[s + 1] = edgeOffset[s] + std::uint32_t(out[s].edgeVertices.size());
       }
     }
-    forEachBrick([&](std::size_t s, auto& block) { makeTriangles(s, block); });
+    forEachBrick([&](std::size_t s) { makeTriangles(s); });
 
     // Number everything in brick order: deterministic, whatever the scheduling.
     std::vector<std::uint32_t> extraOffset(active.size() + 1, edgeOffset.back());
