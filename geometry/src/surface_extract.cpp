@@ -32,8 +32,27 @@ constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 // centres, and every vertex of the naive method), renumbered once all bricks are done.
 constexpr std::uint32_t kLocal = 0x80000000u;
 
+// Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
+// rows of cells with no crossing are skipped with a few word operations.
+using RowMasks = std::array<std::uint16_t, kBlock * kBlock>;
+
+void insideRows(const FillBlock& block, RowMasks& rows) {
+  for (int r = 0; r < kBlock * kBlock; ++r) {
+    std::uint16_t m = 0;
+    const Fill* f = block.data() + r * kBlock;
+    for (int x = 0; x < kBlock; ++x) m = std::uint16_t(m | ((f[x] > kInsideAbove ? 1u : 0u) << x));
+    rows[std::size_t(r)] = m;
+  }
+}
+
+// The cells of a row range whose x lies in [xLo, xHi) (block-local), as a bit mask.
+inline std::uint32_t xRange(int xLo, int xHi) {
+  return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
+}
+
 struct BrickOut {
   FillBlock block;                        // the voxels its cells read (loaded once)
+  RowMasks rows;                          // inside bits of block
   std::vector<VertexInfo> edgeVertices;   // crack-free: owned edge crossings
   std::vector<VertexInfo> extraVertices;  // loop centres; naive: all
   std::vector<std::uint32_t> loopVertices;
@@ -89,24 +108,30 @@ struct Builder {
     loadBlock(grid, cb, o.block);
     const FillBlock& block = o.block;
     o.edgeVertices.reserve(96);
+    insideRows(block, o.rows);
     glm::ivec3 lo, hi;
     cellRange(grid, cb, lo, hi);
-    constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
-    for (int z = lo.z; z < hi.z; ++z)
-      for (int y = lo.y; y < hi.y; ++y) {
-        const glm::ivec3 rowStart = glm::ivec3(lo.x, y, z) - cb * kB;
-        const int rowBase = rowStart.x + kBlock * (rowStart.y + kBlock * rowStart.z);
-        for (int x = lo.x; x < hi.x; ++x) {
-          const int i = rowBase + (x - lo.x);
-          const Fill f0 = block[std::size_t(i)];
-          const bool in0 = f0 > kInsideAbove;
-          for (int axis = 0; axis < 3; ++axis) {
-            const Fill f1 = block[std::size_t(i + kStep[axis])];
-            if ((f1 > kInsideAbove) == in0) continue;
-            const int lx = x - cb.x * kB, ly = y - cb.y * kB, lz = z - cb.z * kB;
+    const glm::ivec3 l0 = lo - cb * kB;
+    const glm::ivec3 l1 = hi - cb * kB;
+    const std::uint32_t cells = xRange(l0.x, l1.x);
+    for (int lz = l0.z; lz < l1.z; ++lz)
+      for (int ly = l0.y; ly < l1.y; ++ly) {
+        const std::uint32_t r = o.rows[std::size_t(ly + kBlock * lz)];
+        // Crossed edges along x, y and z, by cell x, as bits.
+        const std::uint32_t crossing[3] = {
+            (r ^ (r >> 1)) & cells,
+            (r ^ o.rows[std::size_t(ly + 1 + kBlock * lz)]) & cells,
+            (r ^ o.rows[std::size_t(ly + kBlock * (lz + 1))]) & cells};
+        constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
+        for (int axis = 0; axis < 3; ++axis) {
+          for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
+            const int lx = __builtin_ctz(bits);
+            const int i = lx + kBlock * (ly + kBlock * lz);
             o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] =
                 std::uint32_t(o.edgeVertices.size());
-            o.edgeVertices.push_back(edgeVertexInfo(grid, {x, y, z}, axis, f0, f1));
+            o.edgeVertices.push_back(edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
+                                                    block[std::size_t(i)],
+                                                    block[std::size_t(i + kStep[axis])]));
           }
         }
       }
@@ -123,8 +148,7 @@ struct Builder {
     if (!shared) loadBlock(grid, cb, o.block);  // crack-free: loaded by makeEdgeVertices
     const FillBlock& block = o.block;
     o.triangles.reserve(192);
-    std::array<std::uint8_t, kBlock * kBlock * kBlock> inside;
-    for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = block[i] > kInsideAbove ? 1 : 0;
+    if (!shared) insideRows(block, o.rows);
     const BrickOut* owners[8] = {};
     std::uint32_t ownerOffset[8] = {};
     if (shared) {
@@ -144,13 +168,26 @@ struct Builder {
     }();
     glm::ivec3 lo, hi;
     cellRange(grid, cb, lo, hi);
-    for (int z = lo.z; z < hi.z; ++z)
-      for (int y = lo.y; y < hi.y; ++y)
-        for (int x = lo.x; x < hi.x; ++x) {
-          const glm::ivec3 l = glm::ivec3(x, y, z) - cb * kB;
-          const int base = l.x + kBlock * (l.y + kBlock * l.z);
-          int config = 0;
-          for (int c = 0; c < 8; ++c) config |= inside[std::size_t(base + cornerStep[std::size_t(c)])] << c;
+    const glm::ivec3 l0 = lo - cb * kB;
+    const glm::ivec3 l1 = hi - cb * kB;
+    const std::uint32_t cells = xRange(l0.x, l1.x);
+    for (int lz = l0.z; lz < l1.z; ++lz)
+      for (int ly = l0.y; ly < l1.y; ++ly) {
+        // The four rows of corners of this row of cells; skip it when none differ.
+        const std::uint32_t r0 = o.rows[std::size_t(ly + kBlock * lz)];
+        const std::uint32_t r1 = o.rows[std::size_t(ly + 1 + kBlock * lz)];
+        const std::uint32_t r2 = o.rows[std::size_t(ly + kBlock * (lz + 1))];
+        const std::uint32_t r3 = o.rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
+        const std::uint32_t any = r0 | r1 | r2 | r3;
+        const std::uint32_t all = r0 & r1 & r2 & r3;
+        // A cell is mixed when its corners (bits x, x + 1 of the four rows) are not all equal.
+        const std::uint32_t mixed = ((any | (any >> 1)) & ~(all & (all >> 1))) & cells;
+        for (std::uint32_t bits = mixed; bits != 0; bits &= bits - 1) {
+          const int lx = __builtin_ctz(bits);
+          const glm::ivec3 l(lx, ly, lz);
+          const int base = lx + kBlock * (ly + kBlock * lz);
+          const int config = int(((r0 >> lx) & 3u) | (((r1 >> lx) & 3u) << 2) |
+                                 (((r2 >> lx) & 3u) << 4) | (((r3 >> lx) & 3u) << 6));
           if (config == 0 || config == 255) continue;
           const detail::McCase& mc = table[std::size_t(config)];
           std::uint32_t ids[13];
@@ -176,6 +213,7 @@ struct Builder {
             emitLoop(o, ids, count);
           }
         }
+      }
   }
 
   void run(std::vector<VertexInfo>& vertices, std::vector<std::uint32_t>& loopVertices,
