@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace osteon::geometry::detail {
 
@@ -32,16 +33,32 @@ struct VertexInfo {
   glm::dvec3 edgeStartMm;
   int axis;
   double t;
+  double lengthMm;          // edge vertices: the edge's length (a voxel, or a finer sample)
   std::uint32_t loopFirst;  // centre vertices: the loop's vertices
   std::uint32_t loopCount;
   glm::ivec3 voxel;         // edge vertices: the edge's first voxel; centres: their cell
 };
 
-inline glm::dvec3 positionOf(const VertexInfo& v, double voxelSizeMm) {
+inline glm::dvec3 positionOf(const VertexInfo& v) {
   glm::dvec3 p = v.edgeStartMm;
-  p[v.axis] += v.t * voxelSizeMm;
+  p[v.axis] += v.t * v.lengthMm;
   return p;
 }
+
+// After extraction: positions, edge-constrained smoothing (Laplacian or Taubin; each edge
+// vertex moves only along its own edge, loop centres follow their loop's mean) and
+// area-weighted normals. Moves `triangles` into `mesh`; adds to the timings.
+struct SurfaceOptionsView {
+  int smoothIterations;
+  double lambda;
+  bool taubin;
+  double mu;
+  bool computeNormals;
+};
+void finishSurface(std::vector<VertexInfo>& vertices, const std::vector<std::uint32_t>& loopVertices,
+                   std::vector<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
+                   std::vector<glm::dvec3>& positions, std::vector<glm::dvec3>& normals,
+                   double& otherMs, double& smoothMs, double& normalsMs);
 
 // Cells are numbered by their first voxel, from -1 (the border layer outside the grid) to
 // dims - 1; cell brick cb holds cells cb * 8 .. cb * 8 + 7.

@@ -97,7 +97,7 @@ struct Builder {
     // Longer loops fan from their centre, which smoothing keeps at the loop's average.
     const auto first = std::uint32_t(o.loopVertices.size());
     o.loopVertices.insert(o.loopVertices.end(), ids, ids + count);
-    o.extraVertices.push_back({glm::dvec3(0.0), 3, 0.0, first, std::uint32_t(count), glm::ivec3(0)});
+    o.extraVertices.push_back({glm::dvec3(0.0), 3, 0.0, 0.0, first, std::uint32_t(count), glm::ivec3(0)});
     const std::uint32_t centre = kLocal | std::uint32_t(o.extraVertices.size() - 1);
     for (int i = 0; i < count; ++i) o.triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
   }
@@ -289,48 +289,6 @@ struct Builder {
   }
 };
 
-void placeCentres(const std::vector<VertexInfo>& info, const std::vector<std::uint32_t>& loops,
-                  std::vector<glm::dvec3>& positions) {
-  for (std::size_t i = 0; i < info.size(); ++i) {
-    if (info[i].axis != 3) continue;
-    glm::dvec3 sum(0.0);
-    for (std::uint32_t k = 0; k < info[i].loopCount; ++k) sum += positions[loops[info[i].loopFirst + k]];
-    positions[i] = sum / double(info[i].loopCount);
-  }
-}
-
-// Neighbours of every vertex through the triangles (compressed rows, duplicates removed).
-void buildAdjacency(std::size_t n, const std::vector<glm::u32vec3>& triangles,
-                    std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& neighbours) {
-  std::vector<std::uint32_t> degree(n + 1, 0);
-  for (const glm::u32vec3& t : triangles) {
-    for (int c = 0; c < 3; ++c) degree[t[c] + 1] += 2;
-  }
-  start.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + degree[i + 1];
-  neighbours.assign(start[n], 0);
-  std::vector<std::uint32_t> fillAt(start.begin(), start.end() - 1);
-  for (const glm::u32vec3& t : triangles) {
-    for (int c = 0; c < 3; ++c) {
-      neighbours[fillAt[t[c]]++] = t[(c + 1) % 3];
-      neighbours[fillAt[t[c]]++] = t[(c + 2) % 3];
-    }
-  }
-  // Sort and unique each row in place, then compact.
-  std::uint32_t out = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    auto b = neighbours.begin() + start[i];
-    auto e = neighbours.begin() + start[i + 1];
-    std::sort(b, e);
-    e = std::unique(b, e);
-    const std::uint32_t rowStart = out;
-    for (auto it = b; it != e; ++it) neighbours[out++] = *it;
-    start[i] = rowStart;
-  }
-  start[n] = out;
-  neighbours.resize(out);
-}
-
 }  // namespace
 
 void validateSurfaceOptions(const SurfaceOptions& options) {
@@ -360,65 +318,12 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
   }
   local.extractMs = msSince(start);
 
-  Clock::time_point phase = Clock::now();
   SurfaceMesh mesh;
-  const double vs = grid.voxelSizeMm();
-  const std::size_t n = vertices.size();
-  mesh.positionsMm.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (vertices[i].axis != 3) mesh.positionsMm[i] = positionOf(vertices[i], vs);
-  }
-  placeCentres(vertices, loopVertices, mesh.positionsMm);
-  std::vector<std::uint32_t> rowStart, neighbours;
-  if (options.smoothIterations > 0) buildAdjacency(n, triangles, rowStart, neighbours);
-  local.otherMs += msSince(phase);
-
-  // Laplacian passes (Jacobi): each edge vertex moves only along its own grid edge, towards
-  // its neighbours' mean, and stays inside the edge, so no triangle can fold over another.
-  phase = Clock::now();
-  std::vector<double> newT(n);
-  for (int pass = 0; pass < options.smoothIterations; ++pass) {
-    const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
-    for (std::size_t i = 0; i < n; ++i) {
-      const VertexInfo& v = vertices[i];
-      if (v.axis == 3) continue;
-      const std::uint32_t b = rowStart[i];
-      const std::uint32_t e = rowStart[i + 1];
-      double mean = 0.0;
-      for (std::uint32_t k = b; k < e; ++k) mean += mesh.positionsMm[neighbours[k]][v.axis];
-      mean /= double(e - b);
-      const double t = v.t + step * (mean - mesh.positionsMm[i][v.axis]) / vs;
-      newT[i] = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      VertexInfo& v = vertices[i];
-      if (v.axis == 3) continue;
-      v.t = newT[i];
-      mesh.positionsMm[i] = positionOf(v, vs);
-    }
-    placeCentres(vertices, loopVertices, mesh.positionsMm);
-  }
-  local.smoothMs = msSince(phase);
-
-  phase = Clock::now();
+  finishSurface(vertices, loopVertices, triangles,
+                {options.smoothIterations, options.lambda, options.taubin, options.mu, options.computeNormals},
+                mesh.positionsMm, mesh.normals, local.otherMs, local.smoothMs, local.normalsMs);
   mesh.triangles = std::move(triangles);
   mesh.brickRanges = std::move(ranges);
-  if (options.computeNormals) {
-    mesh.normals.assign(n, glm::dvec3(0.0));
-    for (const glm::u32vec3& t : mesh.triangles) {
-      const glm::dvec3& a = mesh.positionsMm[t.x];
-      // The cross product's length is twice the area: area weighting for free.
-      const glm::dvec3 w = glm::cross(mesh.positionsMm[t.y] - a, mesh.positionsMm[t.z] - a);
-      mesh.normals[t.x] += w;
-      mesh.normals[t.y] += w;
-      mesh.normals[t.z] += w;
-    }
-    for (glm::dvec3& nrm : mesh.normals) {
-      const double len = glm::length(nrm);
-      nrm = len > 0.0 ? nrm / len : glm::dvec3(0.0);
-    }
-  }
-  local.normalsMs = msSince(phase);
   local.totalMs = msSince(start);
   if (timings) *timings = local;
   return mesh;

@@ -251,7 +251,7 @@ struct SurfaceUpdater::Impl {
             b->triangles.push_back({ids[0], ids[2], ids[3]});
           } else {
             const std::uint32_t centre =
-                allocate({glm::dvec3(0.0), 3, 0.0, 0, 0, glm::ivec3(x, y, z)});
+                allocate({glm::dvec3(0.0), 3, 0.0, 0.0, 0, 0, glm::ivec3(x, y, z)});
             centreLoop[centre].assign(ids, ids + count);
             for (int i = 0; i < count; ++i)
               b->triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
@@ -349,9 +349,9 @@ struct SurfaceUpdater::Impl {
       }
     }
     const auto raw = [&](std::uint32_t slot) {
-      if (info[slot].axis != 3) return positionOf(info[slot], vs);
+      if (info[slot].axis != 3) return positionOf(info[slot]);
       glm::dvec3 sum(0.0);
-      for (std::uint32_t l : centreLoop[slot]) sum += positionOf(info[l], vs);
+      for (std::uint32_t l : centreLoop[slot]) sum += positionOf(info[l]);
       return sum / double(centreLoop[slot].size());
     };
     const std::size_t n = region.size();
@@ -373,7 +373,7 @@ struct SurfaceUpdater::Impl {
         double mean = 0.0;
         for (std::uint32_t k = rowStart[i]; k < rowStart[i + 1]; ++k) mean += now(rows[k])[v.axis];
         mean /= double(rowStart[i + 1] - rowStart[i]);
-        nextT[i] = std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / vs, kEdgeMargin,
+        nextT[i] = std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / v.lengthMm, kEdgeMargin,
                               1.0 - kEdgeMargin);
       }
       for (std::size_t i = 0; i < n; ++i) {
@@ -381,7 +381,7 @@ struct SurfaceUpdater::Impl {
         if (v.axis == 3) continue;
         curT[i] = nextT[i];
         v.t = curT[i];
-        cur[i] = positionOf(v, vs);
+        cur[i] = positionOf(v);
       }
       for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t slot = region[i];
