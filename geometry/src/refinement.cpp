@@ -345,6 +345,13 @@ RemovalResult RefinedVoxels::removeInSphere(const glm::dvec3& centreMm, double r
   return total;
 }
 
+std::vector<glm::ivec3> RefinedVoxels::refinedVoxels() const {
+  std::vector<glm::ivec3> out;
+  out.reserve(active_);
+  for (std::size_t i = 0; i < active_; ++i) out.push_back(cells_[activeList_[i]].voxel);
+  return out;
+}
+
 bool RefinedVoxels::subFill(const glm::ivec3& voxel, std::array<Fill, kSubVoxels>& fill,
                             std::array<Density, kSubVoxels>& density) const {
   const std::uint32_t cell = findCell(voxel);

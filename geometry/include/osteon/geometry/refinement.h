@@ -109,6 +109,8 @@ class RefinedVoxels {
   RemovalResult removeInSphere(const glm::dvec3& centreMm, double radiusMm, int decrement = 1);
 
   bool isRefined(const glm::ivec3& voxel) const { return findCell(voxel) != kNoCell; }
+  // The refined level-0 voxels now, in no particular order.
+  std::vector<glm::ivec3> refinedVoxels() const;
   // A refined voxel's samples (the first 8^depth entries, x fastest); false if not refined.
   bool subFill(const glm::ivec3& voxel, std::array<Fill, kSubVoxels>& fill,
                std::array<Density, kSubVoxels>& density) const;

@@ -66,4 +66,20 @@ void validateSurfaceOptions(const SurfaceOptions& options);
 SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options = {},
                            SurfaceTimings* timings = nullptr);
 
+class RefinedVoxels;
+
+// Multi-resolution: where voxels are refined (levels -1, -2, seed 3.5), the surface is
+// extracted on the refined lattice and joined to the level-0 surface without cracks. The
+// refined lattice (spacing voxel / 2^depth) passes through the voxel centres; its samples are
+// the mean of the eight sub-voxels around them inside the refined region (an unrefined voxel
+// counting as sub-voxels of its own fill), and the trilinear interpolation of the voxel fills
+// on the region's boundary faces. Cells with a refined corner are extracted on
+// the refined lattice; level-0 cells sharing a face with them are transition cells whose loops
+// follow the refined segments on that face (the face corners are unrefined, so the refined
+// samples there are the bilinear interpolation of the same four fills and the crossings on
+// the face's edges are the level-0 crossings). The whole surface stays closed, 2-manifold and
+// consistently oriented. Always the crack-free method; brickRanges are left empty.
+SurfaceMesh extractSurface(const VoxelGrid& grid, const RefinedVoxels& refined,
+                           const SurfaceOptions& options = {}, SurfaceTimings* timings = nullptr);
+
 }  // namespace osteon::geometry
