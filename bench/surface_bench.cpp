@@ -37,7 +37,7 @@ const HumerusModel& model() {
   return m;
 }
 
-// A volume whose longest side has n voxels: the built-in humerus, or a sphere with three
+// An n^3 volume: the built-in humerus in the middle of it, or a sphere filling it with three
 // drilled tunnels (straight cylinders of empty voxels).
 const VoxelGrid& volume(const std::string& name, int n) {
   static std::map<std::pair<std::string, int>, std::unique_ptr<VoxelGrid>> cache;
@@ -45,10 +45,24 @@ const VoxelGrid& volume(const std::string& name, int n) {
   if (slot) return *slot;
   VoxelizeOptions options;
   if (name == "humerus") {
+    // The bone voxelized so its longest side spans the box, then placed in the middle of an
+    // n^3 volume, as a scan would hold it: the same n^3 voxels for both extractors.
     const Aabb box = bounds(model().mesh);
     const glm::dvec3 e = box.extentMm();
     options.voxelSizeMm = std::max({e.x, e.y, e.z}) / (n - 2);
-    slot = std::make_unique<VoxelGrid>(voxelize(model().mesh, options));
+    const VoxelGrid bone = voxelize(model().mesh, options);
+    const glm::ivec3 shift = (glm::ivec3(n) - bone.dims()) / 2;
+    slot = std::make_unique<VoxelGrid>(glm::ivec3(n), bone.originMm() - glm::dvec3(shift) * options.voxelSizeMm,
+                                       options.voxelSizeMm);
+    const glm::ivec3 d = bone.dims();
+    for (int z = 0; z < d.z; ++z)
+      for (int y = 0; y < d.y; ++y)
+        for (int x = 0; x < d.x; ++x) {
+          const Fill f = bone.fill({x, y, z});
+          if (f != 0) slot->set(glm::ivec3(x, y, z) + shift, f, bone.density({x, y, z}));
+        }
+    slot->compact();
+    slot->clearDirty();
     return *slot;
   }
   options.voxelSizeMm = 1.0;

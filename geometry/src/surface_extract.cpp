@@ -27,10 +27,33 @@ constexpr int kB = kCellBrick;
 // fill > this <=> fill > kIso (fills are integers, kIso sits halfway between two).
 constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 
-// Per active cell brick: what it adds to the surface. Vertex references inside a brick are
-// global edge-vertex ids, or (with kLocal set) ids into the brick's own extra vertices (loop
-// centres, and every vertex of the naive method), renumbered once all bricks are done.
-constexpr std::uint32_t kLocal = 0x80000000u;
+// What each case adds: triangles, loop-centre vertices, centre-loop entries, loop corners.
+struct CaseCounts {
+  std::array<std::uint8_t, 256> triangles, centres, loopEntries, corners;
+};
+
+const CaseCounts& caseCounts() {
+  static const CaseCounts counts = [] {
+    CaseCounts c{};
+    for (int config = 0; config < 256; ++config) {
+      const McCase& mc = mcTable()[std::size_t(config)];
+      int tris = 0, centres = 0, entries = 0, corners = 0;
+      for (int loop = 0; loop < mc.loopCount; ++loop) {
+        const int k = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
+        tris += k == 3 ? 1 : (k == 4 ? 2 : k);
+        centres += k >= 5 ? 1 : 0;
+        entries += k >= 5 ? k : 0;
+        corners += k;
+      }
+      c.triangles[std::size_t(config)] = std::uint8_t(tris);
+      c.centres[std::size_t(config)] = std::uint8_t(centres);
+      c.loopEntries[std::size_t(config)] = std::uint8_t(entries);
+      c.corners[std::size_t(config)] = std::uint8_t(corners);
+    }
+    return c;
+  }();
+  return counts;
+}
 
 // Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
 // rows of cells with no crossing are skipped with a few word operations.
@@ -50,32 +73,35 @@ inline std::uint32_t xRange(int xLo, int xHi) {
   return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
 }
 
+// Per active cell brick: its fills, their inside bits, how much it adds, and the vertex of
+// each edge its cells own.
 struct BrickOut {
   // Left uninitialised: every brick fills its arrays before reading them, and zeroing some
   // 8 KiB per active brick up front was a tenth of the extraction time.
   BrickOut() {}  // NOLINT: deliberately not = default (that would zero the arrays)
-  FillBlock block;                        // the voxels its cells read (loaded once)
-  RowMasks rows;                          // inside bits of block
-  std::vector<VertexInfo> edgeVertices;   // crack-free: owned edge crossings
-  std::vector<VertexInfo> extraVertices;  // loop centres; naive: all
-  std::vector<std::uint32_t> loopVertices;
-  std::vector<glm::u32vec3> triangles;
-  std::array<std::uint32_t, 3 * kB * kB * kB> edgeVertex;  // owned edge -> local edge vertex
+  FillBlock block;
+  RowMasks rows;
+  std::uint32_t edges, extras, triangles, loopEntries;  // counts
+  std::array<std::uint32_t, 3 * kB * kB * kB> edgeVertex;  // owned edge -> global vertex id
 };
 
+// Extraction in three parallel passes over the active cell bricks: count (edges, triangles,
+// centres), then, with every brick's place in the output known, write edge vertices, then
+// triangles and loop centres, straight into the output arrays. Numbering follows brick order,
+// so the result does not depend on scheduling.
 struct Builder {
   const VoxelGrid& grid;
   const SurfaceOptions& options;
   glm::ivec3 dims;
   glm::ivec3 cellBricks;  // cell bricks per axis, including the -1 border layer
-  double vs;
+  bool shared;
   std::vector<glm::ivec3> active;
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
   std::vector<BrickOut> out;
-  std::vector<std::uint32_t> edgeOffset;  // first global id of each brick's edge vertices
+  std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
 
   Builder(const VoxelGrid& g, const SurfaceOptions& o)
-      : grid(g), options(o), dims(g.dims()), vs(g.voxelSizeMm()) {
+      : grid(g), options(o), dims(g.dims()), shared(o.method == SurfaceMethod::CrackFree) {
     cellBricks = g.brickDims() + 1;
   }
 
@@ -84,84 +110,105 @@ struct Builder {
            std::size_t(cellBricks.x) * (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
   }
 
-  static void emitLoop(BrickOut& o, const std::uint32_t* ids, int count) {
-    if (count == 3) {
-      o.triangles.push_back({ids[0], ids[1], ids[2]});
-      return;
-    }
-    if (count == 4) {
-      o.triangles.push_back({ids[0], ids[1], ids[2]});
-      o.triangles.push_back({ids[0], ids[2], ids[3]});
-      return;
-    }
-    // Longer loops fan from their centre, which smoothing keeps at the loop's average.
-    const auto first = std::uint32_t(o.loopVertices.size());
-    o.loopVertices.insert(o.loopVertices.end(), ids, ids + count);
-    o.extraVertices.push_back({glm::dvec3(0.0), 3, 0.0, 0.0, first, std::uint32_t(count), glm::ivec3(0)});
-    const std::uint32_t centre = kLocal | std::uint32_t(o.extraVertices.size() - 1);
-    for (int i = 0; i < count; ++i) o.triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
-  }
-
-  // Phase 1 (crack-free): one vertex per crossed edge, made by the cell that owns the edge
-  // (the cell at the edge's first voxel), numbered within its brick.
-  void makeEdgeVertices(std::size_t s) {
-    const glm::ivec3 cb = active[s];
-    BrickOut& o = out[s];
-    o.edgeVertex.fill(kNoVertex);
-    loadBlock(grid, cb, o.block);
-    const FillBlock& block = o.block;
-    o.edgeVertices.reserve(96);
-    insideRows(block, o.rows);
+  template <typename Fn>
+  void forEachRow(std::size_t s, Fn&& fn) const {
     glm::ivec3 lo, hi;
-    cellRange(grid, cb, lo, hi);
-    const glm::ivec3 l0 = lo - cb * kB;
-    const glm::ivec3 l1 = hi - cb * kB;
+    cellRange(grid, active[s], lo, hi);
+    const glm::ivec3 l0 = lo - active[s] * kB;
+    const glm::ivec3 l1 = hi - active[s] * kB;
     const std::uint32_t cells = xRange(l0.x, l1.x);
     for (int lz = l0.z; lz < l1.z; ++lz)
-      for (int ly = l0.y; ly < l1.y; ++ly) {
-        const std::uint32_t r = o.rows[std::size_t(ly + kBlock * lz)];
-        // Crossed edges along x, y and z, by cell x, as bits.
-        const std::uint32_t crossing[3] = {
-            (r ^ (r >> 1)) & cells,
-            (r ^ o.rows[std::size_t(ly + 1 + kBlock * lz)]) & cells,
-            (r ^ o.rows[std::size_t(ly + kBlock * (lz + 1))]) & cells};
-        constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
-        for (int axis = 0; axis < 3; ++axis) {
-          for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
-            const int lx = __builtin_ctz(bits);
-            const int i = lx + kBlock * (ly + kBlock * lz);
-            o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] =
-                std::uint32_t(o.edgeVertices.size());
-            o.edgeVertices.push_back(edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
-                                                    block[std::size_t(i)],
-                                                    block[std::size_t(i + kStep[axis])]));
-          }
-        }
-      }
+      for (int ly = l0.y; ly < l1.y; ++ly) fn(ly, lz, cells);
   }
 
-  // Phase 2: triangles of one brick's cells. The hot loop: corner states as bits of the
-  // block, and each cube edge's vertex read from the owning brick (this one, or one of the
-  // seven above it for cells on its upper faces) without any search.
-  void makeTriangles(std::size_t s) {
-    const auto& table = detail::mcTable();
-    const bool shared = options.method == SurfaceMethod::CrackFree;
-    const glm::ivec3 cb = active[s];
+  // Crossed edges along x, y and z of a row of cells, by cell x, as bits.
+  static void rowCrossings(const RowMasks& rows, int ly, int lz, std::uint32_t cells, std::uint32_t (&crossing)[3]) {
+    const std::uint32_t r = rows[std::size_t(ly + kBlock * lz)];
+    crossing[0] = (r ^ (r >> 1)) & cells;
+    crossing[1] = (r ^ rows[std::size_t(ly + 1 + kBlock * lz)]) & cells;
+    crossing[2] = (r ^ rows[std::size_t(ly + kBlock * (lz + 1))]) & cells;
+  }
+
+  // Mixed cells of a row (corners not all inside or all outside), and the four corner rows.
+  static std::uint32_t rowMixed(const RowMasks& rows, int ly, int lz, std::uint32_t cells, std::uint32_t (&r)[4]) {
+    r[0] = rows[std::size_t(ly + kBlock * lz)];
+    r[1] = rows[std::size_t(ly + 1 + kBlock * lz)];
+    r[2] = rows[std::size_t(ly + kBlock * (lz + 1))];
+    r[3] = rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
+    const std::uint32_t any = r[0] | r[1] | r[2] | r[3];
+    const std::uint32_t all = r[0] & r[1] & r[2] & r[3];
+    return ((any | (any >> 1)) & ~(all & (all >> 1))) & cells;
+  }
+
+  static int configOf(const std::uint32_t (&r)[4], int lx) {
+    return int(((r[0] >> lx) & 3u) | (((r[1] >> lx) & 3u) << 2) | (((r[2] >> lx) & 3u) << 4) |
+               (((r[3] >> lx) & 3u) << 6));
+  }
+
+  // Pass 1: fills, inside bits, counts.
+  void count(std::size_t s) {
     BrickOut& o = out[s];
-    if (!shared) loadBlock(grid, cb, o.block);  // crack-free: loaded by makeEdgeVertices
-    const FillBlock& block = o.block;
-    o.triangles.reserve(192);
-    if (!shared) insideRows(block, o.rows);
+    loadBlock(grid, active[s], o.block);
+    insideRows(o.block, o.rows);
+    const CaseCounts& cc = caseCounts();
+    std::uint32_t edges = 0, extras = 0, tris = 0, entries = 0;
+    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+      if (shared) {
+        std::uint32_t crossing[3];
+        rowCrossings(o.rows, ly, lz, cells, crossing);
+        edges += std::uint32_t(__builtin_popcount(crossing[0]) + __builtin_popcount(crossing[1]) +
+                               __builtin_popcount(crossing[2]));
+      }
+      std::uint32_t r[4];
+      for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
+        const auto config = std::size_t(configOf(r, __builtin_ctz(bits)));
+        tris += cc.triangles[config];
+        extras += cc.centres[config] + (shared ? 0u : cc.corners[config]);
+        entries += cc.loopEntries[config];
+      }
+    });
+    o.edges = edges;
+    o.extras = extras;
+    o.triangles = tris;
+    o.loopEntries = entries;
+  }
+
+  // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it.
+  void writeEdgeVertices(std::size_t s, std::vector<VertexInfo>& vertices) {
+    BrickOut& o = out[s];
+    const glm::ivec3 cb = active[s];
+    std::uint32_t next = edgeOffset[s];
+    constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
+    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+      std::uint32_t crossing[3];
+      rowCrossings(o.rows, ly, lz, cells, crossing);
+      for (int axis = 0; axis < 3; ++axis) {
+        for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
+          const int lx = __builtin_ctz(bits);
+          const int i = lx + kBlock * (ly + kBlock * lz);
+          o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] = next;
+          vertices[next++] = edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
+                                            o.block[std::size_t(i)], o.block[std::size_t(i + kStep[axis])]);
+        }
+      }
+    });
+  }
+
+  // Pass 3: triangles of one brick's cells, and their loop centres; each cube edge's vertex
+  // read from the owning brick (this one, or one of the seven above it for cells on its upper
+  // faces) without any search.
+  void writeTriangles(std::size_t s, std::vector<VertexInfo>& vertices,
+                      std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
+    const auto& table = mcTable();
+    const glm::ivec3 cb = active[s];
+    const BrickOut& o = out[s];
     const BrickOut* owners[8] = {};
-    std::uint32_t ownerOffset[8] = {};
     if (shared) {
       for (int d = 0; d < 8; ++d) {
         const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
         if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
         const std::int32_t slot = slotOfBrick[cellBrickIndex(nb)];
-        if (slot < 0) continue;
-        owners[d] = &out[std::size_t(slot)];
-        ownerOffset[d] = edgeOffset[std::size_t(slot)];
+        if (slot >= 0) owners[d] = &out[std::size_t(slot)];
       }
     }
     static const std::array<int, 8> cornerStep = [] {
@@ -169,54 +216,51 @@ struct Builder {
       for (int c = 0; c < 8; ++c) steps[std::size_t(c)] = (c & 1) + kBlock * ((c >> 1) & 1) + kBlock * kBlock * ((c >> 2) & 1);
       return steps;
     }();
-    glm::ivec3 lo, hi;
-    cellRange(grid, cb, lo, hi);
-    const glm::ivec3 l0 = lo - cb * kB;
-    const glm::ivec3 l1 = hi - cb * kB;
-    const std::uint32_t cells = xRange(l0.x, l1.x);
-    for (int lz = l0.z; lz < l1.z; ++lz)
-      for (int ly = l0.y; ly < l1.y; ++ly) {
-        // The four rows of corners of this row of cells; skip it when none differ.
-        const std::uint32_t r0 = o.rows[std::size_t(ly + kBlock * lz)];
-        const std::uint32_t r1 = o.rows[std::size_t(ly + 1 + kBlock * lz)];
-        const std::uint32_t r2 = o.rows[std::size_t(ly + kBlock * (lz + 1))];
-        const std::uint32_t r3 = o.rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
-        const std::uint32_t any = r0 | r1 | r2 | r3;
-        const std::uint32_t all = r0 & r1 & r2 & r3;
-        // A cell is mixed when its corners (bits x, x + 1 of the four rows) are not all equal.
-        const std::uint32_t mixed = ((any | (any >> 1)) & ~(all & (all >> 1))) & cells;
-        for (std::uint32_t bits = mixed; bits != 0; bits &= bits - 1) {
-          const int lx = __builtin_ctz(bits);
-          const glm::ivec3 l(lx, ly, lz);
-          const int base = lx + kBlock * (ly + kBlock * lz);
-          const int config = int(((r0 >> lx) & 3u) | (((r1 >> lx) & 3u) << 2) |
-                                 (((r2 >> lx) & 3u) << 4) | (((r3 >> lx) & 3u) << 6));
-          if (config == 0 || config == 255) continue;
-          const detail::McCase& mc = table[std::size_t(config)];
-          std::uint32_t ids[13];
-          for (int loop = 0; loop < mc.loopCount; ++loop) {
-            int count = 0;
-            for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
-              const int e = mc.edges[std::size_t(k)];
-              const glm::ivec3 start = edgeStart(l, e);
-              if (shared) {
-                const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
-                const glm::ivec3 local = start & (kB - 1);
-                ids[count++] = ownerOffset[d] + owners[d]->edgeVertex[std::size_t(
-                                   3 * (local.x + kB * (local.y + kB * local.z)) + e / 4)];
-                continue;
-              }
-              // Naive: every cube makes its own vertex on each of its crossed edges.
-              const auto corners = edgeCorners(e);
-              o.extraVertices.push_back(edgeVertexInfo(grid, cb * kB + start, e / 4,
-                                                       block[std::size_t(base + cornerStep[corners[0]])],
-                                                       block[std::size_t(base + cornerStep[corners[1]])]));
-              ids[count++] = kLocal | std::uint32_t(o.extraVertices.size() - 1);
+    std::uint32_t nextTri = triOffset[s];
+    std::uint32_t nextExtra = extraOffset[s];
+    std::uint32_t nextEntry = loopOffset[s];
+    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+      std::uint32_t r[4];
+      for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
+        const int lx = __builtin_ctz(bits);
+        const glm::ivec3 l(lx, ly, lz);
+        const int base = lx + kBlock * (ly + kBlock * lz);
+        const McCase& mc = table[std::size_t(configOf(r, lx))];
+        std::uint32_t ids[13];
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          int count = 0;
+          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
+            const int e = mc.edges[std::size_t(k)];
+            const glm::ivec3 start = edgeStart(l, e);
+            if (shared) {
+              const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
+              const glm::ivec3 local = start & (kB - 1);
+              ids[count++] = owners[d]->edgeVertex[std::size_t(3 * (local.x + kB * (local.y + kB * local.z)) + e / 4)];
+              continue;
             }
-            emitLoop(o, ids, count);
+            // Naive: every cube makes its own vertex on each of its crossed edges.
+            const auto corners = edgeCorners(e);
+            vertices[nextExtra] = edgeVertexInfo(grid, cb * kB + start, e / 4,
+                                                 o.block[std::size_t(base + cornerStep[corners[0]])],
+                                                 o.block[std::size_t(base + cornerStep[corners[1]])]);
+            ids[count++] = nextExtra++;
+          }
+          if (count == 3) {
+            triangles[nextTri++] = {ids[0], ids[1], ids[2]};
+          } else if (count == 4) {
+            triangles[nextTri++] = {ids[0], ids[1], ids[2]};
+            triangles[nextTri++] = {ids[0], ids[2], ids[3]};
+          } else {
+            // Longer loops fan from their centre, which smoothing keeps at the loop's mean.
+            std::copy(ids, ids + count, loopVertices.begin() + nextEntry);
+            vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
+            nextEntry += std::uint32_t(count);
+            const std::uint32_t centre = nextExtra++;
+            for (int i = 0; i < count; ++i) triangles[nextTri++] = {centre, ids[i], ids[(i + 1) % count]};
           }
         }
       }
+    });
   }
 
   void run(std::vector<VertexInfo>& vertices, std::vector<std::uint32_t>& loopVertices,
@@ -229,58 +273,30 @@ struct Builder {
     slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
     for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
     out.resize(active.size());
-    const bool shared = options.method == SurfaceMethod::CrackFree;
-
-    // Bricks are independent within a phase; each writes only its own BrickOut.
+    const std::size_t n = active.size();
     const auto forEachBrick = [&](auto&& work) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active.size(), 4),
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4),
                         [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
       });
     };
-    edgeOffset.assign(active.size() + 1, 0);
-    if (shared) {
-      forEachBrick([&](std::size_t s) { makeEdgeVertices(s); });
-      for (std::size_t s = 0; s < active.size(); ++s) {
-        edgeOffset[s + 1] = edgeOffset[s] + std::uint32_t(out[s].edgeVertices.size());
-      }
+    forEachBrick([&](std::size_t s) { count(s); });
+    edgeOffset.assign(n + 1, 0);
+    triOffset.assign(n + 1, 0);
+    loopOffset.assign(n + 1, 0);
+    for (std::size_t s = 0; s < n; ++s) {
+      edgeOffset[s + 1] = edgeOffset[s] + out[s].edges;
+      triOffset[s + 1] = triOffset[s] + out[s].triangles;
+      loopOffset[s + 1] = loopOffset[s] + out[s].loopEntries;
     }
-    forEachBrick([&](std::size_t s) { makeTriangles(s); });
-
-    // Number everything in brick order: deterministic, whatever the scheduling.
-    std::vector<std::uint32_t> extraOffset(active.size() + 1, edgeOffset.back());
-    std::vector<std::uint32_t> triOffset(active.size() + 1, 0), loopOffset(active.size() + 1, 0);
-    for (std::size_t s = 0; s < active.size(); ++s) {
-      extraOffset[s + 1] = extraOffset[s] + std::uint32_t(out[s].extraVertices.size());
-      triOffset[s + 1] = triOffset[s] + std::uint32_t(out[s].triangles.size());
-      loopOffset[s + 1] = loopOffset[s] + std::uint32_t(out[s].loopVertices.size());
-    }
-    vertices.resize(extraOffset.back());
-    triangles.resize(triOffset.back());
-    loopVertices.resize(loopOffset.back());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, active.size(), 8),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t s = r.begin(); s != r.end(); ++s) {
-        BrickOut& o = out[s];
-        const auto resolve = [&](std::uint32_t id) {
-          return (id & kLocal) ? extraOffset[s] + (id & ~kLocal) : id;
-        };
-        std::copy(o.edgeVertices.begin(), o.edgeVertices.end(), vertices.begin() + edgeOffset[s]);
-        for (std::size_t k = 0; k < o.extraVertices.size(); ++k) {
-          VertexInfo v = o.extraVertices[k];
-          if (v.axis == 3) v.loopFirst += loopOffset[s];
-          vertices[extraOffset[s] + k] = v;
-        }
-        for (std::size_t k = 0; k < o.loopVertices.size(); ++k) {
-          loopVertices[loopOffset[s] + k] = resolve(o.loopVertices[k]);
-        }
-        for (std::size_t k = 0; k < o.triangles.size(); ++k) {
-          const glm::u32vec3 t = o.triangles[k];
-          triangles[triOffset[s] + k] = {resolve(t.x), resolve(t.y), resolve(t.z)};
-        }
-      }
-    });
-    for (std::size_t s = 0; s < active.size(); ++s) {
+    extraOffset.assign(n + 1, edgeOffset[n]);
+    for (std::size_t s = 0; s < n; ++s) extraOffset[s + 1] = extraOffset[s] + out[s].extras;
+    vertices.resize(extraOffset[n]);
+    triangles.resize(triOffset[n]);
+    loopVertices.resize(loopOffset[n]);
+    if (shared) forEachBrick([&](std::size_t s) { writeEdgeVertices(s, vertices); });
+    forEachBrick([&](std::size_t s) { writeTriangles(s, vertices, loopVertices, triangles); });
+    for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
         ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],
                           triOffset[s + 1] - triOffset[s]});
