@@ -25,6 +25,14 @@ inline constexpr std::uint32_t kNoVertex = 0xffffffffu;
 
 using FillBlock = std::array<Fill, kBlock * kBlock * kBlock>;
 
+// Set bits of a word. Debian builds for baseline x86-64, which has no POPCNT instruction, so
+// __builtin_popcount would be a library call in the extraction's innermost loop.
+inline std::uint32_t bitCount(std::uint32_t v) {
+  v = v - ((v >> 1) & 0x55555555u);
+  v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+  return (((v + (v >> 4)) & 0x0f0f0f0fu) * 0x01010101u) >> 24;
+}
+
 inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 // A vertex: on a grid edge (axis 0..2, parameter t from the edge's first voxel centre), or the

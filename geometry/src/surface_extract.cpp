@@ -156,8 +156,7 @@ struct Builder {
       if (shared) {
         std::uint32_t crossing[3];
         rowCrossings(o.rows, ly, lz, cells, crossing);
-        edges += std::uint32_t(__builtin_popcount(crossing[0]) + __builtin_popcount(crossing[1]) +
-                               __builtin_popcount(crossing[2]));
+        edges += bitCount(crossing[0]) + bitCount(crossing[1]) + bitCount(crossing[2]);
       }
       std::uint32_t r[4];
       for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
