@@ -257,8 +257,8 @@ int RefinedVoxels::expireAll() {
   return n;
 }
 
-RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const glm::dvec3& centreMm,
-                                            double radiusMm, int decrement) {
+RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume& volume,
+                                            int decrement) {
   RemovalResult result;
   Cell& c = cells_[cell];
   const int n = 1 << depth_;
@@ -270,8 +270,7 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const glm::dvec3
       for (int x = 0; x < n; ++x) {
         const std::size_t i = std::size_t(x + n * (y + n * z));
         if (c.fill[i] == 0) continue;
-        const glm::dvec3 d = corner + (glm::dvec3(x, y, z) + 0.5) * sub - centreMm;
-        if (glm::dot(d, d) > radiusMm * radiusMm) continue;
+        if (!volume.contains(corner + (glm::dvec3(x, y, z) + 0.5) * sub)) continue;
         c.density[i] = Density(std::max(int(c.density[i]) - decrement, 0));
         if (c.density[i] > 0) {
           ++result.samplesDecremented;
@@ -308,11 +307,11 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const glm::dvec3
   return result;
 }
 
-RemovalResult RefinedVoxels::removeInSphere(const glm::dvec3& centreMm, double radiusMm,
-                                            int decrement) {
+RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement) {
   RemovalResult total;
   const double vs = grid_->voxelSizeMm();
-  const double reach = radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
+  const glm::dvec3 centreMm = volume.centreMm();
+  const double reach = volume.boundingRadiusMm() + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
   // Collect first: removal edits the hierarchy the query walks.
   found_.clear();
   hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, [&](const glm::ivec3& v) {
@@ -321,15 +320,14 @@ RemovalResult RefinedVoxels::removeInSphere(const glm::dvec3& centreMm, double r
   for (const glm::ivec3& v : found_) {
     const std::uint32_t cell = findCell(v);
     if (cell != kNoCell) {
-      const RemovalResult r = removeFromCell(cell, centreMm, radiusMm, decrement);
+      const RemovalResult r = removeFromCell(cell, volume, decrement);
       total.removedFill += r.removedFill;
       total.samplesRemoved += r.samplesRemoved;
       total.samplesDecremented += r.samplesDecremented;
       total.voxelsEmptied += r.voxelsEmptied;
       continue;
     }
-    const glm::dvec3 d = grid_->voxelCentreMm(v) - centreMm;
-    if (glm::dot(d, d) > radiusMm * radiusMm) continue;
+    if (!volume.contains(grid_->voxelCentreMm(v))) continue;
     const int density = std::max(int(grid_->density(v)) - decrement, 0);
     if (density > 0) {
       grid_->set(v, grid_->fill(v), Density(density));

@@ -190,6 +190,50 @@ TEST_F(RefinementTest, StaticRemovalActsOnWholeVoxels) {
   EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
 }
 
+TEST(CutVolume, SphereCapsuleAndOpenCylinder) {
+  const CutVolume s = CutVolume::sphere({1, 2, 3}, 2.0);
+  EXPECT_TRUE(s.contains({1, 2, 4.99}));
+  EXPECT_FALSE(s.contains({1, 2, 5.01}));
+  EXPECT_DOUBLE_EQ(s.boundingRadiusMm(), 2.0);
+  CutVolume c{{0, 0, 0}, {10, 0, 0}, 1.0, false};
+  EXPECT_TRUE(c.contains({5, 0.99, 0}));
+  EXPECT_FALSE(c.contains({5, 1.01, 0}));
+  EXPECT_TRUE(c.contains({-0.9, 0, 0}));  // rounded end
+  EXPECT_DOUBLE_EQ(c.boundingRadiusMm(), 6.0);
+  c.sideOnly = true;                      // a shaver cuts with its side only
+  EXPECT_FALSE(c.contains({-0.1, 0, 0}));
+  EXPECT_FALSE(c.contains({10.1, 0.2, 0}));
+  EXPECT_TRUE(c.contains({9.9, 0.2, 0}));
+}
+
+TEST_F(RefinementTest, CylinderRemovalTakesExactlyTheSamplesInside) {
+  for (const int depth : {0, 2}) {
+    SetUp();
+    RefinedVoxels refined = make(depth, &source_);
+    const CutVolume cut{{-4, -1, 0.3}, {4, 1, 0.3}, 1.5, true};
+    refined.refineAround(cut.centreMm(), cut.boundingRadiusMm(), 0.0);
+    std::uint64_t inside = 0, samples = 0;
+    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
+      if (cut.contains(s.centreMm)) {
+        inside += s.fill;
+        ++samples;
+      }
+    });
+    ASSERT_GT(samples, 20u) << "depth " << depth;
+    const std::uint64_t before = totalFill(grid_);
+    // Decrement past every density: one call removes every sample inside, nothing else.
+    const RemovalResult r = refined.removeIn(cut, 1000);
+    EXPECT_EQ(r.removedFill, inside) << "depth " << depth;
+    EXPECT_EQ(r.samplesRemoved, samples) << "depth " << depth;
+    EXPECT_EQ(totalFill(grid_), before - inside) << "depth " << depth;
+    std::uint64_t left = 0;
+    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
+      if (cut.contains(s.centreMm)) ++left;
+    });
+    EXPECT_EQ(left, 0u) << "depth " << depth;
+  }
+}
+
 TEST_F(RefinementTest, SampleQueryEqualsABruteForceScan) {
   RefinedVoxels refined = make(2, &source_);
   refined.refineAround(surfacePoint_, outerMm_, 0.0);

@@ -24,6 +24,8 @@
 #include "osteon/geometry/embree_scene.h"
 #include "osteon/geometry/voxel_grid.h"
 
+#include <glm/geometric.hpp>
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -75,6 +77,31 @@ struct VoxelSample {
   Density density;
 };
 
+// A tool's cutting volume: the points within radiusMm of the segment a-b, a sphere when
+// a == b. sideOnly keeps only points whose projection falls on the segment: a cylinder
+// without end caps, for a shaver that cuts with its side.
+struct CutVolume {
+  glm::dvec3 aMm{0.0};
+  glm::dvec3 bMm{0.0};
+  double radiusMm = 0.0;
+  bool sideOnly = false;
+
+  static CutVolume sphere(const glm::dvec3& centreMm, double radiusMm) {
+    return CutVolume{centreMm, centreMm, radiusMm, false};
+  }
+  glm::dvec3 centreMm() const { return 0.5 * (aMm + bMm); }
+  double boundingRadiusMm() const { return 0.5 * glm::length(bMm - aMm) + radiusMm; }
+  bool contains(const glm::dvec3& pMm) const {
+    const glm::dvec3 ab = bMm - aMm;
+    const double len2 = glm::dot(ab, ab);
+    double t = len2 > 0.0 ? glm::dot(pMm - aMm, ab) / len2 : 0.0;
+    if (sideOnly && (t < 0.0 || t > 1.0)) return false;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    const glm::dvec3 d = pMm - (aMm + t * ab);
+    return glm::dot(d, d) <= radiusMm * radiusMm;
+  }
+};
+
 struct RemovalResult {
   std::uint64_t removedFill = 0;   // fill units taken out of the grid (exact volume)
   std::uint32_t samplesRemoved = 0;
@@ -106,7 +133,11 @@ class RefinedVoxels {
 
   // Drilling step (seed 3.5): every sample whose centre lies within radiusMm of centreMm
   // loses `decrement` density; a sample at d <= 0 is removed (its fill leaves the grid).
-  RemovalResult removeInSphere(const glm::dvec3& centreMm, double radiusMm, int decrement = 1);
+  RemovalResult removeInSphere(const glm::dvec3& centreMm, double radiusMm, int decrement = 1) {
+    return removeIn(CutVolume::sphere(centreMm, radiusMm), decrement);
+  }
+  // The same for any cutting volume (a shaver's cylinder).
+  RemovalResult removeIn(const CutVolume& volume, int decrement = 1);
 
   bool isRefined(const glm::ivec3& voxel) const { return findCell(voxel) != kNoCell; }
   // The refined level-0 voxels now, in no particular order.
@@ -148,8 +179,7 @@ class RefinedVoxels {
   void releaseCell(std::uint32_t cell);
   // The level -2 fills of a voxel as first refined, summing exactly to firstFill.
   void baseSubFill(const glm::ivec3& voxel, Fill firstFill, std::array<Fill, kSubVoxels>& out) const;
-  RemovalResult removeFromCell(std::uint32_t cell, const glm::dvec3& centreMm, double radiusMm,
-                               int decrement);
+  RemovalResult removeFromCell(std::uint32_t cell, const CutVolume& volume, int decrement);
 
   VoxelGrid* grid_;
   DynamicProximityHierarchy* hierarchy_;
