@@ -1,0 +1,77 @@
+// One drilling step (seed 3.5): refine near the tool, compute the contact force, wear the bone
+// inside the cutting layer down by one density unit, remove what reaches zero, expire refined
+// voxels the tool has left. The collision thread runs this at 1 kHz; the deterministic mode
+// calls it with a fixed 1 ms step.
+//
+// --levels 0 computes at the base voxel size (static); 1 and 2 refine near the tool and
+// compute at VS/2 or VS/4 (dynamic).
+#pragma once
+
+#include "osteon/geometry/refinement.h"
+#include "osteon/simulation/contact.h"
+#include "osteon/simulation/tool.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace osteon::simulation {
+
+struct DrillingOptions {
+  int levels = 2;                           // 0 static, 1 or 2 dynamic
+  int decrement = 1;                        // density units per drilling step (seed: d - 1)
+  geometry::RefinementOptions refinement;  // depth is taken from `levels`
+};
+
+// Throws InputError naming the value for levels outside 0..2 or a decrement below 1.
+void validateDrillingOptions(const DrillingOptions& options);
+
+struct StepInput {
+  double tS = 0.0;
+  ToolPose pose;
+  bool drillOn = false;
+};
+
+struct StepOutput {
+  ContactForce contact;            // from the bone before this step's removal
+  geometry::RemovalResult removal;
+  int refined = 0;                 // voxels newly refined this step
+};
+
+struct DrillingTotals {
+  std::uint64_t steps = 0;
+  std::uint64_t removedFill = 0;   // grid fill units: exact volume
+  std::uint64_t samplesRemoved = 0;
+  std::uint64_t voxelsEmptied = 0;
+  std::uint64_t nonFiniteForces = 0;
+};
+
+class DrillingSimulation {
+ public:
+  // grid, hierarchy (and source, which may be null) must outlive this object.
+  DrillingSimulation(geometry::VoxelGrid& grid, geometry::DynamicProximityHierarchy& hierarchy,
+                     const geometry::FineFillSource* source, const ToolKind kind,
+                     const ToolOptions& toolOptions, const DrillingOptions& options);
+
+  // No allocation, no lock, no throw.
+  StepOutput step(const StepInput& input);
+
+  const Tool& tool() const { return model_.tool(); }
+  const ForceModel& forceModel() const { return model_; }
+  double finestVoxelMm() const { return finestVoxelMm_; }
+  int levels() const { return levels_; }
+  const DrillingTotals& totals() const { return totals_; }
+  double removedVolumeMm3() const;
+  geometry::RefinedVoxels& voxels() { return *voxels_; }
+  const geometry::VoxelGrid& grid() const { return *grid_; }
+
+ private:
+  geometry::VoxelGrid* grid_;
+  int levels_;
+  int decrement_;
+  double finestVoxelMm_;
+  std::unique_ptr<geometry::RefinedVoxels> voxels_;
+  ForceModel model_;
+  DrillingTotals totals_;
+};
+
+}  // namespace osteon::simulation

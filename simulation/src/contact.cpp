@@ -1,0 +1,75 @@
+#include "osteon/simulation/contact.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace osteon::simulation {
+
+using geometry::VoxelSample;
+
+namespace {
+
+glm::dvec3 closestOnSegment(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& p) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  if (!(len2 > 0.0)) return a;
+  const double t = std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0);
+  return a + t * ab;
+}
+
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm)
+    : tool_(tool), finestVoxelMm_(finestVoxelMm) {
+  const double ratio = baseVoxelMm / finestVoxelMm;
+  weightPerFill_ = ratio * ratio * ratio / double(geometry::kFillFull);
+  const double unitVolume = 4.0 / 3.0 * M_PI * finestVoxelMm * finestVoxelMm * finestVoxelMm;
+  for (int p = 0; p < tool.partCount; ++p) {
+    maxCount_[std::size_t(p)] = tool.parts[std::size_t(p)].shellVolumeMm3() / unitVolume;
+  }
+}
+
+ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose& pose) const {
+  ContactForce out;
+  glm::dvec3 total(0.0);
+  for (int p = 0; p < tool_.partCount; ++p) {
+    const ToolPart& part = tool_.parts[std::size_t(p)];
+    const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
+    const double ri2 = part.innerRadiusMm * part.innerRadiusMm;
+    const double ro2 = part.outerRadiusMm * part.outerRadiusMm;
+    glm::dvec3 direction(0.0);
+    double n = 0.0;
+    voxels.forEachSampleInSphere(0.5 * (a + b), 0.5 * glm::length(b - a) + part.outerRadiusMm,
+                                 [&](const VoxelSample& s) {
+      const glm::dvec3 toCore = closestOnSegment(a, b, s.centreMm) - s.centreMm;
+      const double d2 = glm::dot(toCore, toCore);
+      if (d2 <= ri2 || d2 > ro2) return;
+      const double w = double(s.fill) * weightPerFill_;
+      direction += w * toCore;
+      n += w;
+      ++out.samples;
+      out.level = std::min(out.level, s.level);
+    });
+    out.contactVoxels += n;
+    const double len = glm::length(direction);
+    if (n <= 0.0 || !(len > 1e-12 * n)) continue;  // no bone, or pushed equally from all sides
+    const double magnitude = tool_.maxForceN * std::min(n / maxCount_[std::size_t(p)], 1.0);
+    total += (magnitude / len) * direction;
+  }
+  const double magnitude = glm::length(total);
+  if (!finite(total) || !std::isfinite(magnitude)) {
+    out.nonFinite = true;
+    return out;  // zero force
+  }
+  out.forceN = magnitude > tool_.maxForceN ? total * (tool_.maxForceN / magnitude) : total;
+  out.magnitudeN = std::min(magnitude, tool_.maxForceN);
+  return out;
+}
+
+}  // namespace osteon::simulation

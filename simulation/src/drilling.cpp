@@ -1,0 +1,92 @@
+#include "osteon/simulation/drilling.h"
+
+#include "osteon/geometry/error.h"
+
+#include <cmath>
+#include <string>
+
+namespace osteon::simulation {
+
+void validateDrillingOptions(const DrillingOptions& options) {
+  if (options.levels < 0 || options.levels > geometry::kMaxRefineDepth) {
+    throw InputError("--levels " + std::to_string(options.levels) + ": must be 0, 1 or 2");
+  }
+  if (options.decrement < 1) {
+    throw InputError("density decrement " + std::to_string(options.decrement) + ": must be at least 1");
+  }
+}
+
+namespace {
+
+double finestOf(const geometry::VoxelGrid& grid, const DrillingOptions& options) {
+  validateDrillingOptions(options);
+  return grid.voxelSizeMm() / double(1 << options.levels);
+}
+
+geometry::RefinementOptions withDepth(geometry::RefinementOptions r, int levels) {
+  r.depth = levels;
+  return r;
+}
+
+}  // namespace
+
+DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
+                                       geometry::DynamicProximityHierarchy& hierarchy,
+                                       const geometry::FineFillSource* source, const ToolKind kind,
+                                       const ToolOptions& toolOptions, const DrillingOptions& options)
+    : grid_(&grid),
+      levels_(options.levels),
+      decrement_(options.decrement),
+      finestVoxelMm_(finestOf(grid, options)),
+      voxels_(std::make_unique<geometry::RefinedVoxels>(grid, hierarchy, source,
+                                                        withDepth(options.refinement, options.levels))),
+      model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()) {}
+
+StepOutput DrillingSimulation::step(const StepInput& input) {
+  StepOutput out;
+  const Tool& tool = model_.tool();
+  ++totals_.steps;
+  const glm::dvec3& tip = input.pose.tipMm;
+  const glm::dquat& q = input.pose.orientation;
+  if (!std::isfinite(tip.x + tip.y + tip.z + q.w + q.x + q.y + q.z + input.tS)) {
+    // A broken pose from a device or a path: no contact, no cut, and it is counted.
+    out.contact.nonFinite = true;
+    ++totals_.nonFiniteForces;
+    return out;
+  }
+  // Refine around the cutting parts only: the drill's shaft pushes with whatever level is
+  // there, so a long shaft does not refine a tunnel's length of voxels.
+  for (int p = 0; p < tool.partCount; ++p) {
+    const ToolPart& part = tool.parts[std::size_t(p)];
+    if (!part.cuts) continue;
+    const glm::dvec3 a = input.pose.toWorld(part.aMm), b = input.pose.toWorld(part.bMm);
+    out.refined += voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm,
+                                         input.tS);
+  }
+  out.contact = model_.compute(*voxels_, input.pose);
+  if (input.drillOn) {
+    for (int p = 0; p < tool.partCount; ++p) {
+      const ToolPart& part = tool.parts[std::size_t(p)];
+      if (!part.cuts) continue;
+      const geometry::CutVolume cut{input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm),
+                                    part.innerRadiusMm, part.cutsOnSideOnly};
+      const geometry::RemovalResult r = voxels_->removeIn(cut, decrement_);
+      out.removal.removedFill += r.removedFill;
+      out.removal.samplesRemoved += r.samplesRemoved;
+      out.removal.samplesDecremented += r.samplesDecremented;
+      out.removal.voxelsEmptied += r.voxelsEmptied;
+    }
+  }
+  voxels_->expire(input.tS);
+  totals_.removedFill += out.removal.removedFill;
+  totals_.samplesRemoved += out.removal.samplesRemoved;
+  totals_.voxelsEmptied += out.removal.voxelsEmptied;
+  totals_.nonFiniteForces += out.contact.nonFinite ? 1 : 0;
+  return out;
+}
+
+double DrillingSimulation::removedVolumeMm3() const {
+  return double(totals_.removedFill) / double(geometry::kFillFull) * grid_->voxelVolumeMm3();
+}
+
+}  // namespace osteon::simulation

@@ -1,0 +1,242 @@
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/simulation/drilling.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+namespace osteon::simulation {
+namespace {
+
+using geometry::DynamicProximityHierarchy;
+using geometry::VoxelGrid;
+
+std::uint64_t totalFill(const VoxelGrid& g) {
+  std::uint64_t sum = 0;
+  for (int z = 0; z < g.dims().z; ++z)
+    for (int y = 0; y < g.dims().y; ++y)
+      for (int x = 0; x < g.dims().x; ++x) sum += g.fill({x, y, z});
+  return sum;
+}
+
+// Volume of the part of a ball of radius r beyond a plane at distance h from its centre.
+double capVolume(double r, double h) {
+  if (h >= r) return 0.0;
+  return M_PI * (r - h) * (r - h) * (2.0 * r + h) / 3.0;
+}
+
+// A bone slab, top face z = 0, voxel faces on the plane.
+struct Slab {
+  VoxelGrid grid;
+  DynamicProximityHierarchy hierarchy;
+  explicit Slab(double voxelMm) {
+    geometry::VoxelizeOptions o;
+    o.voxelSizeMm = voxelMm;
+    grid = geometry::voxelize(test::makeBox({-8, -8, -8}, {8, 8, 0}), o);
+    hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  }
+};
+
+TEST(Tool, ShellsAndTheSeedsMaximumCount) {
+  const Tool drill = makeTool(ToolKind::Drill, ToolOptions{}, 0.3);
+  ASSERT_EQ(drill.partCount, 2);
+  const ToolPart& tip = drill.parts[0];
+  EXPECT_DOUBLE_EQ(tip.innerRadiusMm, 1.46);
+  EXPECT_DOUBLE_EQ(tip.outerRadiusMm, 1.46 + 0.6);
+  EXPECT_TRUE(tip.cuts);
+  EXPECT_FALSE(drill.parts[1].cuts);
+  EXPECT_LE(drill.parts[1].outerRadiusMm, tip.innerRadiusMm);  // the shaft fits its hole
+  const ForceModel model(drill, 0.3, 1.2);
+  // Eq. (2): c = (r_o^3 - r_i^3) / v_min^3 for the sphere.
+  EXPECT_NEAR(model.maxCount(0), (std::pow(2.06, 3) - std::pow(1.46, 3)) / std::pow(0.3, 3), 1e-9);
+  const Tool shaver = makeTool(ToolKind::Shaver, ToolOptions{}, 0.3);
+  EXPECT_TRUE(shaver.parts[0].cutsOnSideOnly);
+  EXPECT_GT(shaver.parts[0].lengthMm(), 0.0);
+  ToolOptions custom;
+  custom.outerRadiusMm = 2.5;
+  EXPECT_DOUBLE_EQ(makeTool(ToolKind::Burr, custom, 0.3).parts[0].outerRadiusMm, 2.5);
+}
+
+TEST(Tool, BadOptionsAreInputErrors) {
+  EXPECT_THROW(parseToolKind("scalpel"), InputError);
+  ToolOptions o;
+  o.tipDiameterMm = -1.0;
+  EXPECT_THROW(validateToolOptions(o), InputError);
+  o = ToolOptions{};
+  o.outerRadiusMm = 1.0;  // inside the 1.46 mm inner layer
+  EXPECT_THROW(validateToolOptions(o), InputError);
+  o = ToolOptions{};
+  o.shaftDiameterMm = 3.0;
+  EXPECT_THROW(validateToolOptions(o), InputError);
+  DrillingOptions d;
+  d.levels = 3;
+  EXPECT_THROW(validateDrillingOptions(d), InputError);
+}
+
+TEST(Tool, PosePointsTheToolWhereAsked) {
+  for (const glm::dvec3 f : {glm::dvec3(0, 0, -1), glm::dvec3(0, 0, 1), glm::dvec3(1, 2, -3)}) {
+    const ToolPose pose = ToolPose::pointing({1, 2, 3}, f);
+    EXPECT_NEAR(glm::length(pose.forward() - glm::normalize(f)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(pose.toWorld({0, 0, 0}) - glm::dvec3(1, 2, 3)), 0.0, 1e-12);
+  }
+}
+
+// Eqs. (1)-(2) on a flat slab: the force points out of the slab and n is the bone in the
+// shell, counted exactly over the voxels and close to the analytic cap volumes.
+TEST(Contact, SlabAtKnownDepthGivesTheExpectedCountAndDirection) {
+  for (const int levels : {0, 2}) {
+    Slab slab(levels == 0 ? 0.25 : 1.0);
+    DrillingOptions options;
+    options.levels = levels;
+    DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{}, options);
+    ASSERT_DOUBLE_EQ(sim.finestVoxelMm(), 0.25);
+    const ToolPart& tip = sim.tool().parts[0];
+    const double h = 1.0;  // tool centre 1 mm above the slab: the tip is 0.46 mm deep
+    const glm::dvec3 centre(0.13, -0.21, h);
+    const StepOutput out = sim.step({0.0, ToolPose::pointing(centre, {0, 0, -1}), false});
+    EXPECT_EQ(out.contact.level, -levels);
+    // Exact: every finest voxel of the slab whose centre lies in the shell.
+    const double v = 0.25;
+    double expected = 0.0;
+    for (double z = -8 + v / 2; z < 0; z += v)
+      for (double y = -8 + v / 2; y < 8; y += v)
+        for (double x = -8 + v / 2; x < 8; x += v) {
+          const double d = glm::length(glm::dvec3(x, y, z) - centre);
+          if (d > tip.innerRadiusMm && d <= tip.outerRadiusMm) expected += 1.0;
+        }
+    EXPECT_NEAR(out.contact.contactVoxels, expected, 1e-6) << "levels " << levels;
+    const double analytic =
+        (capVolume(tip.outerRadiusMm, h) - capVolume(tip.innerRadiusMm, h)) / (v * v * v);
+    EXPECT_NEAR(out.contact.contactVoxels, analytic, 0.05 * analytic) << "levels " << levels;
+    const double c = sim.forceModel().maxCount(0);
+    EXPECT_NEAR(out.contact.magnitudeN, std::min(3.3 * expected / c, 3.3), 1e-9);
+    const glm::dvec3 dir = out.contact.forceN / out.contact.magnitudeN;
+    EXPECT_GT(dir.z, std::cos(2.0 * M_PI / 180.0)) << "levels " << levels;
+  }
+}
+
+TEST(Contact, NoBoneNoForceAndBrokenPosesAreCounted) {
+  Slab slab(0.5);
+  DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
+  const StepOutput far = sim.step({0.0, ToolPose::pointing({0, 0, 20}, {0, 0, -1}), true});
+  EXPECT_EQ(far.contact.magnitudeN, 0.0);
+  EXPECT_EQ(far.removal.removedFill, 0u);
+  const StepOutput nan = sim.step({0.001, ToolPose::pointing({NAN, 0, 1}, {0, 0, -1}), true});
+  EXPECT_TRUE(nan.contact.nonFinite);
+  EXPECT_EQ(nan.contact.magnitudeN, 0.0);
+  EXPECT_EQ(sim.totals().nonFiniteForces, 1u);
+}
+
+// Seed 3.5: each drilling step takes one unit of d; a sample goes at d <= 0, not before.
+TEST(Removal, DensityWearsDownInExactlyDSteps) {
+  for (const int levels : {0, 1}) {
+    Slab slab(0.5);
+    const glm::ivec3 d = slab.grid.dims();
+    for (int z = 0; z < d.z; ++z)
+      for (int y = 0; y < d.y; ++y)
+        for (int x = 0; x < d.x; ++x) {
+          if (slab.grid.fill({x, y, z}) > 0) slab.grid.set({x, y, z}, slab.grid.fill({x, y, z}), 7);
+        }
+    DrillingOptions options;
+    options.levels = levels;
+    DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{}, options);
+    const ToolPose pose = ToolPose::pointing({0.1, 0.1, 0.5}, {0, 0, -1});
+    const std::uint64_t before = totalFill(slab.grid);
+    for (int step = 1; step <= 7; ++step) {
+      const StepOutput out = sim.step({0.001 * step, pose, true});
+      if (step < 7) {
+        EXPECT_EQ(out.removal.samplesRemoved, 0u) << "step " << step << " levels " << levels;
+        EXPECT_GT(out.removal.samplesDecremented, 0u);
+      } else {
+        EXPECT_GT(out.removal.samplesRemoved, 0u) << "levels " << levels;
+        EXPECT_EQ(out.removal.samplesDecremented, 0u);
+      }
+    }
+    EXPECT_EQ(totalFill(slab.grid), before - sim.totals().removedFill);
+    EXPECT_GT(sim.removedVolumeMm3(), 0.0);
+  }
+}
+
+// The built-in humerus drilled along a straight line, dynamic and static: every unit of fill
+// that leaves the grid is accounted for, forces stay within N_max, and a second run gives the
+// same forces bit for bit.
+class HumerusDrilling : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { model_ = new geometry::HumerusModel(geometry::buildHumerusModel()); }
+  static void TearDownTestSuite() { delete model_; }
+
+  std::vector<double> run(int levels, std::uint64_t* removed = nullptr, bool* conserved = nullptr) {
+    geometry::VoxelizeOptions o;
+    o.voxelSizeMm = 1.2;
+    VoxelGrid grid = geometry::voxelize(model_->mesh, o);
+    DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+    const std::uint64_t before = totalFill(grid);
+    DrillingOptions options;
+    options.levels = levels;
+    DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, options);
+    const glm::dvec3 axis = model_->headAxis;
+    const glm::dvec3 start = model_->headCentreMm + axis * (model_->headRadiusMm + 3.0);
+    std::vector<double> forces;
+    for (int i = 0; i < 3000; ++i) {
+      const double t = 0.001 * i;
+      const glm::dvec3 tip = start - axis * (5.0 * t);  // 5 mm/s into the head
+      const StepOutput out = sim.step({t, ToolPose::pointing(tip, -axis), true});
+      forces.push_back(out.contact.forceN.x);
+      forces.push_back(out.contact.forceN.y);
+      forces.push_back(out.contact.forceN.z);
+      EXPECT_LE(out.contact.magnitudeN, 3.3 + 1e-12);
+    }
+    if (removed) *removed = sim.totals().removedFill;
+    if (conserved) *conserved = totalFill(grid) == before - sim.totals().removedFill;
+    return forces;
+  }
+
+  static geometry::HumerusModel* model_;
+};
+geometry::HumerusModel* HumerusDrilling::model_ = nullptr;
+
+TEST_F(HumerusDrilling, RemovalConservesVolumeAndRunsAreBitIdentical) {
+  for (const int levels : {0, 2}) {
+    std::uint64_t removed = 0;
+    bool conserved = false;
+    const std::vector<double> a = run(levels, &removed, &conserved);
+    EXPECT_GT(removed, 0u) << "levels " << levels;
+    EXPECT_TRUE(conserved) << "levels " << levels;
+    const std::vector<double> b = run(levels);
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << "levels " << levels;
+    double peak = 0.0;
+    for (std::size_t i = 0; i < a.size(); i += 3) peak = std::max(peak, std::hypot(a[i], a[i + 1], a[i + 2]));
+    EXPECT_GT(peak, 0.5) << "levels " << levels;  // the drill met bone
+  }
+}
+
+TEST_F(HumerusDrilling, ForcesStayBoundedAndFiniteOnRandomPoses) {
+  geometry::VoxelizeOptions o;
+  o.voxelSizeMm = 1.2;
+  VoxelGrid grid = geometry::voxelize(model_->mesh, o);
+  DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  for (const ToolKind kind : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
+    DrillingSimulation sim(grid, hierarchy, nullptr, kind, ToolOptions{}, DrillingOptions{});
+    std::mt19937 rng(1234);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const double r = model_->headRadiusMm + 4.0;
+    for (int i = 0; i < 1500; ++i) {
+      const glm::dvec3 tip = model_->headCentreMm + r * glm::dvec3(u(rng), u(rng), u(rng));
+      const StepOutput out = sim.step({0.001 * i, ToolPose::pointing(tip, {u(rng), u(rng), u(rng)}), i % 2 == 0});
+      ASSERT_TRUE(std::isfinite(out.contact.magnitudeN));
+      ASSERT_LE(out.contact.magnitudeN, 3.3 + 1e-12);
+      ASSERT_FALSE(out.contact.nonFinite);
+    }
+    EXPECT_EQ(sim.totals().nonFiniteForces, 0u) << toolKindName(kind);
+  }
+}
+
+}  // namespace
+}  // namespace osteon::simulation
