@@ -1,0 +1,88 @@
+// Drill paths (seed 4): the 5 o'clock (anteroinferior) and 7 o'clock (posteroinferior)
+// portals on the humeral head, and arbitrary paths from CSV.
+//
+// The head comes from a sphere fitted to the mesh, so any humerus works: the bone's long axis
+// by principal components, the sphere fitted robustly at each end of it, the head being the
+// end that a sphere fits best. Superior points from the shaft to the head; medial from the
+// shaft axis to the head centre; anterior = medial x superior for a right humerus (a left one
+// mirrors it).
+//
+// Portal paths: the clock face is the plane across the medial-lateral axis seen from lateral,
+// 12 o'clock superior and 3 o'clock anterior (right shoulder). The entry point is on the head
+// sphere at that clock position; the drill enters at 45 degrees to the sphere's normal, tilted
+// medially towards the head's bulk, starts with its cushion clear of the surface and moves at
+// constant speed for 7 s with the drill on, to a depth of 15 mm past the entry point: the
+// depth of a suture-anchor hole, which is what the seed's drilling prepares.
+#pragma once
+
+#include "osteon/geometry/mesh.h"
+#include "osteon/simulation/tool.h"
+
+#include <string>
+#include <vector>
+
+namespace osteon::simulation {
+
+struct HumeralHead {
+  glm::dvec3 centreMm{0.0};
+  double radiusMm = 0.0;
+  double rmsResidualMm = 0.0;  // of the points the fit kept
+  int pointsUsed = 0;
+  glm::dvec3 superior{0.0, 0.0, 1.0};
+  glm::dvec3 medial{1.0, 0.0, 0.0};
+  glm::dvec3 anterior{0.0, -1.0, 0.0};
+};
+
+// Throws InputError when the mesh has too few points or no end fits a sphere.
+HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide = true);
+
+enum class Portal { FiveOClock, SevenOClock };
+
+struct Waypoint {
+  double tS = 0.0;
+  glm::dvec3 tipMm{0.0};
+  glm::dquat orientation{1.0, 0.0, 0.0, 0.0};
+  bool drillOn = false;
+};
+
+// Piecewise-linear in time (orientations by normalized lerp).
+class DrillPath {
+ public:
+  DrillPath() = default;
+  explicit DrillPath(std::vector<Waypoint> points);  // times strictly increasing
+  double durationS() const { return points_.empty() ? 0.0 : points_.back().tS; }
+  const std::vector<Waypoint>& points() const { return points_; }
+  // The pose and drill state at time t (clamped to the path's ends). No allocation.
+  void sample(double tS, ToolPose& pose, bool& drillOn) const;
+
+ private:
+  std::vector<Waypoint> points_;
+  mutable std::size_t cursor_ = 0;  // the last segment used: samples mostly move forward
+};
+
+struct PortalPathOptions {
+  double durationS = 7.0;
+  double depthMm = 15.0;       // past the entry point, along the path
+  double entryAngleDeg = 45.0; // to the surface normal
+  double clearanceMm = 1.0;    // between the cushion and the surface at the start
+};
+
+struct PortalPlan {
+  DrillPath path;
+  glm::dvec3 entryMm{0.0};      // on the head sphere
+  glm::dvec3 normal{0.0};       // outward at the entry
+  glm::dvec3 direction{0.0};    // of travel
+  double speedMmPerS = 0.0;
+};
+
+// Portal names: "portal-5", "portal-7".
+Portal parsePortal(const std::string& text);
+PortalPlan makePortalPath(Portal portal, const HumeralHead& head, double toolOuterRadiusMm,
+                          const PortalPathOptions& options = {});
+
+// CSV with a header row: t, x, y, z, drill_on [, qw, qx, qy, qz] (seconds, millimetres, 0/1,
+// the tool's orientation; without it the tool points along the direction of travel). Throws
+// InputError naming the file and line for anything else.
+DrillPath loadPathCsv(const std::string& path);
+
+}  // namespace osteon::simulation

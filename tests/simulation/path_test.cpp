@@ -1,0 +1,103 @@
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/mesh_io.h"
+#include "osteon/simulation/path.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace osteon::simulation {
+namespace {
+
+TEST(HumeralHead, FitFindsTheBuiltInModelsHeadAndFrame) {
+  const geometry::HumerusModel model = geometry::buildHumerusModel();
+  const HumeralHead head = fitHumeralHead(model.mesh);
+  EXPECT_LT(glm::length(head.centreMm - model.headCentreMm), 1.0);
+  EXPECT_NEAR(head.radiusMm, model.headRadiusMm, 1.0);
+  EXPECT_GT(glm::dot(head.superior, model.shaftAxis), 0.99);
+  // LPS, right humerus: medial +x, anterior -y.
+  EXPECT_GT(head.medial.x, 0.9);
+  EXPECT_LT(head.anterior.y, -0.9);
+  EXPECT_GT(fitHumeralHead(model.mesh, false).anterior.y, 0.9);
+}
+
+TEST(HumeralHead, FitFindsTheHeadOfTheSharedHumerusInMetres) {
+  const std::string file = std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "shared data not found: " << file;
+  const geometry::TriangleMesh mesh = geometry::readMesh(file, 1000.0);
+  const HumeralHead head = fitHumeralHead(mesh);
+  // The README gives the head as about 43 mm across.
+  EXPECT_NEAR(2.0 * head.radiusMm, 43.0, 6.0);
+  EXPECT_LT(head.rmsResidualMm, 1.5);
+  // The head is at the end of the bone superior points to.
+  const geometry::Aabb box = geometry::bounds(mesh);
+  const glm::dvec3 mid = 0.5 * (box.minMm + box.maxMm);
+  EXPECT_GT(glm::dot(head.centreMm - mid, head.superior), 100.0);
+}
+
+TEST(Portal, PathsEnterTheHeadAtTheirClockPositionAt45Degrees) {
+  const geometry::HumerusModel model = geometry::buildHumerusModel();
+  const HumeralHead head = fitHumeralHead(model.mesh);
+  const PortalPlan five = makePortalPath(Portal::FiveOClock, head, 2.06);
+  const PortalPlan seven = makePortalPath(Portal::SevenOClock, head, 2.06);
+  for (const PortalPlan* p : {&five, &seven}) {
+    EXPECT_NEAR(glm::dot(-p->direction, p->normal), std::cos(M_PI / 4), 1e-9);
+    EXPECT_LT(glm::dot(p->normal, head.superior), -0.8);  // inferior
+    EXPECT_NEAR(p->path.durationS(), 7.0, 1e-12);
+    ToolPose pose;
+    bool on = false;
+    p->path.sample(0.0, pose, on);
+    EXPECT_TRUE(on);
+    // The cushion starts clear of the head.
+    EXPECT_GT(glm::length(pose.tipMm - head.centreMm), head.radiusMm + 2.06);
+    EXPECT_NEAR(glm::length(pose.forward() - p->direction), 0.0, 1e-9);
+    p->path.sample(7.0, pose, on);
+    EXPECT_NEAR(glm::length(pose.tipMm - p->entryMm), 15.0, 1e-9);
+  }
+  EXPECT_GT(glm::dot(five.normal, head.anterior), 0.4);   // anteroinferior
+  EXPECT_LT(glm::dot(seven.normal, head.anterior), -0.4);  // posteroinferior
+  EXPECT_THROW(parsePortal("portal-6"), InputError);
+}
+
+TEST(PathCsv, ReadsPathsAndRejectsBadRowsNamingTheLine) {
+  const std::string dir = test::makeTempDir("path_csv");
+  const std::string good = dir + "/good.csv";
+  test::writeBytes(good, "t,x,y,z,drill_on\n0,0,0,10,0\n1,0,0,0,1\n2,0,0,-10,1\n");
+  const DrillPath path = loadPathCsv(good);
+  ToolPose pose;
+  bool on = true;
+  path.sample(0.5, pose, on);
+  EXPECT_FALSE(on);
+  EXPECT_NEAR(pose.tipMm.z, 5.0, 1e-12);
+  EXPECT_NEAR(pose.forward().z, -1.0, 1e-12);  // along the travel
+  path.sample(1.5, pose, on);
+  EXPECT_TRUE(on);
+  const std::string quat = dir + "/quat.csv";
+  test::writeBytes(quat, "t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1,1,0,0,0\n1,1,0,0,1,0,1,0,0\n");
+  EXPECT_EQ(loadPathCsv(quat).points().size(), 2u);
+  const auto expectError = [&](const std::string& text, const std::string& fragment) {
+    const std::string f = dir + "/bad.csv";
+    test::writeBytes(f, text);
+    try {
+      loadPathCsv(f);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+  };
+  expectError("", "empty");
+  expectError("time,x,y,z,drill_on\n", "header");
+  expectError("t,x,y,z,drill_on\n0,0,0,0,1\n0.5,0,zero,0,1\n", ":3:");
+  expectError("t,x,y,z,drill_on\n0,0,0,0,1\n0,1,0,0,1\n", "increase");
+  expectError("t,x,y,z,drill_on\n0,0,0,0,2\n1,0,0,0,1\n", "drill_on");
+  expectError("t,x,y,z,drill_on\n0,0,0,0,1\n1,0,0\n", "expected 5");
+  expectError("t,x,y,z,drill_on\n0,0,0,0,1\n", "two rows");
+  expectError("t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1,0,0,0,0\n1,0,0,0,1,1,0,0,0\n", "zero");
+  EXPECT_THROW(loadPathCsv(dir + "/missing.csv"), InputError);
+}
+
+}  // namespace
+}  // namespace osteon::simulation
