@@ -27,13 +27,6 @@ namespace osteon::cli {
 namespace geo = osteon::geometry;
 using nlohmann::json;
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
 double scaleToMm(const MeshUnits& units) {
   if (units.scale) {
     if (!std::isfinite(*units.scale) || *units.scale <= 0.0) {
@@ -44,6 +37,13 @@ double scaleToMm(const MeshUnits& units) {
     return *units.scale;
   }
   return geo::millimetresPer(geo::parseLengthUnit(units.units));
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
 json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }

@@ -65,10 +65,25 @@ struct ModelOptions {
   bool json = false;
 };
 
+struct DrillCommandOptions {
+  std::string mesh;
+  MeshUnits units;
+  double voxelSizeMm = 0.0;
+  int levels = 2;
+  std::string path;          // portal-5, portal-7 or a CSV file
+  std::string tool = "drill";
+  std::string outDir = ".";
+  bool json = false;
+};
+
+// Millimetres per file unit from --units or --scale; throws InputError for bad values.
+double scaleToMm(const MeshUnits& units);
+
 int runInfo(const InfoOptions& options);
 int runVoxelize(const VoxelizeCommandOptions& options);
 int runModel(const ModelOptions& options);
 int runHierarchy(const HierarchyOptions& options);
 int runMesh(const MeshCommandOptions& options);
+int runDrill(const DrillCommandOptions& options);  // drill.cpp
 
 }  // namespace osteon::cli

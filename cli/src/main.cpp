@@ -103,6 +103,22 @@ int main(int argc, char** argv) {
   meshCmd->add_option("--out", meshOpt.out, "Write the surface (.ply .obj .stl .off)");
   meshCmd->add_flag("--json", meshOpt.json, "Print one JSON object on stdout");
 
+  osteon::cli::DrillCommandOptions drill;
+  CLI::App* drillCmd = app.add_subcommand(
+      "drill", "Drill a path into the bone at 1 kHz (deterministic): force log, summary, surface");
+  addMesh(*drillCmd, drill.mesh);
+  addUnits(*drillCmd, drill.units);
+  drillCmd->add_option("--voxel-size", drill.voxelSizeMm, "Base voxel edge in mm")->required();
+  drillCmd->add_option("--levels", drill.levels,
+                       "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
+      ->default_val(2);
+  drillCmd->add_option("--path", drill.path, "portal-5, portal-7 or PATH.csv (t,x,y,z,drill_on)")
+      ->required();
+  drillCmd->add_option("--tool", drill.tool, "drill, burr or shaver")->default_val("drill");
+  drillCmd->add_option("--out-dir", drill.outDir, "Folder for forces.csv, summary.json, surface.ply")
+      ->default_val(".");
+  drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
+
   osteon::cli::ModelOptions model;
   CLI::App* modelCmd = app.add_subcommand(
       "model", "Build the built-in proximal humerus (what 'default' means) and optionally write it");
@@ -123,14 +139,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
     };
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
-                << ": unknown command (expected info, voxelize, hierarchy, mesh or model; see osteon "
+                << ": unknown command (expected info, voxelize, hierarchy, mesh, drill or model; see osteon "
                    "--help)\n";
       return kExitBadInput;
     }
@@ -144,6 +160,7 @@ int main(int argc, char** argv) {
     if (*modelCmd) return osteon::cli::runModel(model);
     if (*dphCmd) return osteon::cli::runHierarchy(dph);
     if (*meshCmd) return osteon::cli::runMesh(meshOpt);
+    if (*drillCmd) return osteon::cli::runDrill(drill);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

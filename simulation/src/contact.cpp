@@ -29,7 +29,8 @@ ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelM
     : tool_(tool), finestVoxelMm_(finestVoxelMm) {
   const double ratio = baseVoxelMm / finestVoxelMm;
   weightPerFill_ = ratio * ratio * ratio / double(geometry::kFillFull);
-  const double unitVolume = 4.0 / 3.0 * M_PI * finestVoxelMm * finestVoxelMm * finestVoxelMm;
+  const double cube = finestVoxelMm * finestVoxelMm * finestVoxelMm;
+  const double unitVolume = tool.literalSeedCount ? 4.0 / 3.0 * M_PI * cube : cube;
   for (int p = 0; p < tool.partCount; ++p) {
     maxCount_[std::size_t(p)] = tool.parts[std::size_t(p)].shellVolumeMm3() / unitVolume;
   }

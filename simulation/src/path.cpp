@@ -192,16 +192,53 @@ Portal parsePortal(const std::string& text) {
   throw InputError("--path " + text + ": not a portal (portal-5, portal-7) nor a .csv file");
 }
 
-PortalPlan makePortalPath(Portal portal, const HumeralHead& head, double toolOuterRadiusMm,
-                          const PortalPathOptions& options) {
+namespace {
+
+// The last crossing of the mesh along the ray (Moller-Trumbore over every triangle; run once
+// per path). False when the ray meets nothing.
+bool lastCrossing(const geometry::TriangleMesh& mesh, const glm::dvec3& origin, const glm::dvec3& dir,
+                  glm::dvec3& pointMm, glm::dvec3& normal) {
+  double best = -1.0;
+  const std::size_t nv = mesh.positionsMm.size();
+  for (const glm::u32vec3& t : mesh.triangles) {
+    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
+    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y], c = mesh.positionsMm[t.z];
+    const glm::dvec3 e1 = b - a, e2 = c - a;
+    const glm::dvec3 p = glm::cross(dir, e2);
+    const double det = glm::dot(e1, p);
+    if (std::abs(det) < 1e-14) continue;
+    const glm::dvec3 s = origin - a;
+    const double u = glm::dot(s, p) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const glm::dvec3 q = glm::cross(s, e1);
+    const double v = glm::dot(dir, q) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double dist = glm::dot(e2, q) / det;
+    if (dist > best) {
+      best = dist;
+      pointMm = origin + dist * dir;
+      normal = glm::normalize(glm::cross(e1, e2));
+    }
+  }
+  return best > 0.0;
+}
+
+}  // namespace
+
+PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry::TriangleMesh& mesh,
+                          double toolOuterRadiusMm, const PortalPathOptions& options) {
   // Clock angle from 12 towards 3 as seen from lateral: 5 o'clock is 150 degrees.
   const double theta = (portal == Portal::FiveOClock ? 150.0 : 210.0) * M_PI / 180.0;
-  const glm::dvec3 u = std::cos(theta) * head.superior + std::sin(theta) * head.anterior;
   PortalPlan plan;
-  plan.normal = glm::normalize(u);
-  plan.entryMm = head.centreMm + head.radiusMm * plan.normal;
+  plan.clockDirection = glm::normalize(std::cos(theta) * head.superior + std::sin(theta) * head.anterior);
+  if (!lastCrossing(mesh, head.centreMm, plan.clockDirection, plan.entryMm, plan.normal)) {
+    throw InputError(std::string(portal == Portal::FiveOClock ? "portal-5" : "portal-7") +
+                     ": the ray from the head centre towards the portal never leaves the bone");
+  }
+  if (glm::dot(plan.normal, plan.clockDirection) < 0.0) plan.normal = -plan.normal;
   // Tilted from the inward normal towards medial, into the bulk of the head.
   glm::dvec3 tangent = head.medial - glm::dot(head.medial, plan.normal) * plan.normal;
+  if (glm::length(tangent) < 1e-9) tangent = head.superior - glm::dot(head.superior, plan.normal) * plan.normal;
   tangent = glm::normalize(tangent);
   const double a = options.entryAngleDeg * M_PI / 180.0;
   plan.direction = glm::normalize(-std::cos(a) * plan.normal + std::sin(a) * tangent);

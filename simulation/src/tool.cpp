@@ -66,6 +66,7 @@ Tool makeTool(ToolKind kind, const ToolOptions& o, double finestVoxelMm) {
   Tool tool;
   tool.kind = kind;
   tool.maxForceN = o.maxForceN;
+  tool.literalSeedCount = o.literalSeedCount;
   const double ri = 0.5 * o.tipDiameterMm;
   const double ro = o.outerRadiusMm > 0.0 ? o.outerRadiusMm : ri + o.cushionVoxels * finestVoxelMm;
   ToolPart cutter;

@@ -52,9 +52,12 @@ TEST(Tool, ShellsAndTheSeedsMaximumCount) {
   EXPECT_TRUE(tip.cuts);
   EXPECT_FALSE(drill.parts[1].cuts);
   EXPECT_LE(drill.parts[1].outerRadiusMm, tip.innerRadiusMm);  // the shaft fits its hole
-  const ForceModel model(drill, 0.3, 1.2);
-  // Eq. (2): c = (r_o^3 - r_i^3) / v_min^3 for the sphere.
-  EXPECT_NEAR(model.maxCount(0), (std::pow(2.06, 3) - std::pow(1.46, 3)) / std::pow(0.3, 3), 1e-9);
+  // Eq. (2): c, the finest voxels the sphere's shell holds, and as the seed prints it.
+  const double seedC = (std::pow(2.06, 3) - std::pow(1.46, 3)) / std::pow(0.3, 3);
+  EXPECT_NEAR(ForceModel(drill, 0.3, 1.2).maxCount(0), 4.0 / 3.0 * M_PI * seedC, 1e-9);
+  ToolOptions literal;
+  literal.literalSeedCount = true;
+  EXPECT_NEAR(ForceModel(makeTool(ToolKind::Drill, literal, 0.3), 0.3, 1.2).maxCount(0), seedC, 1e-9);
   const Tool shaver = makeTool(ToolKind::Shaver, ToolOptions{}, 0.3);
   EXPECT_TRUE(shaver.parts[0].cutsOnSideOnly);
   EXPECT_GT(shaver.parts[0].lengthMm(), 0.0);

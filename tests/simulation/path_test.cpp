@@ -40,24 +40,26 @@ TEST(HumeralHead, FitFindsTheHeadOfTheSharedHumerusInMetres) {
 TEST(Portal, PathsEnterTheHeadAtTheirClockPositionAt45Degrees) {
   const geometry::HumerusModel model = geometry::buildHumerusModel();
   const HumeralHead head = fitHumeralHead(model.mesh);
-  const PortalPlan five = makePortalPath(Portal::FiveOClock, head, 2.06);
-  const PortalPlan seven = makePortalPath(Portal::SevenOClock, head, 2.06);
+  const PortalPlan five = makePortalPath(Portal::FiveOClock, head, model.mesh, 2.06);
+  const PortalPlan seven = makePortalPath(Portal::SevenOClock, head, model.mesh, 2.06);
   for (const PortalPlan* p : {&five, &seven}) {
     EXPECT_NEAR(glm::dot(-p->direction, p->normal), std::cos(M_PI / 4), 1e-9);
-    EXPECT_LT(glm::dot(p->normal, head.superior), -0.8);  // inferior
+    EXPECT_LT(glm::dot(p->clockDirection, head.superior), -0.8);  // inferior
     EXPECT_NEAR(p->path.durationS(), 7.0, 1e-12);
     ToolPose pose;
     bool on = false;
     p->path.sample(0.0, pose, on);
     EXPECT_TRUE(on);
-    // The cushion starts clear of the head.
-    EXPECT_GT(glm::length(pose.tipMm - head.centreMm), head.radiusMm + 2.06);
+    // The cushion starts clear of the bone: no voxel of the mesh within its reach.
+    double nearest = 1e300;
+    for (const glm::dvec3& v : model.mesh.positionsMm) nearest = std::min(nearest, glm::length(v - pose.tipMm));
+    EXPECT_GT(nearest, 2.06) << "start inside or touching the bone";
     EXPECT_NEAR(glm::length(pose.forward() - p->direction), 0.0, 1e-9);
     p->path.sample(7.0, pose, on);
     EXPECT_NEAR(glm::length(pose.tipMm - p->entryMm), 15.0, 1e-9);
   }
-  EXPECT_GT(glm::dot(five.normal, head.anterior), 0.4);   // anteroinferior
-  EXPECT_LT(glm::dot(seven.normal, head.anterior), -0.4);  // posteroinferior
+  EXPECT_GT(glm::dot(five.clockDirection, head.anterior), 0.4);   // anteroinferior
+  EXPECT_LT(glm::dot(seven.clockDirection, head.anterior), -0.4);  // posteroinferior
   EXPECT_THROW(parsePortal("portal-6"), InputError);
 }
 

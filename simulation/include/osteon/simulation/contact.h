@@ -8,8 +8,12 @@
 //                       core to the sample centre C_k (the tool centre for a sphere, as the
 //                       seed), w_k the sample's bone in finest-voxel units
 //   magnitude (eq. 2) = N_max n / c, clamped to N_max, n = sum_k w_k
-//   c = shell volume / (4/3 pi v_min^3): for a sphere exactly the seed's (r_o^3 - r_i^3) /
-//       v_min^3; for a capsule or cylinder the same ratio with its own shell volume
+//   c = the maximum count, the number of finest voxels the shell holds: shell volume / v_min^3,
+//       for a sphere 4/3 pi (r_o^3 - r_i^3) / v_min^3, for a capsule or cylinder the same with
+//       its own shell volume (Tool::literalSeedCount: the seed's printed (r_o^3 - r_i^3) /
+//       v_min^3, which counts voxels as balls of radius v_min, 4.19 times too few, so the force
+//       saturates once a quarter of the shell holds bone: a drill in its own hole is then
+//       always at N_max)
 // w_k = fill_k / full level-0 fill x (VS / v_min)^3: a full finest sample counts 1, as in the
 // seed's voxel count; a partial or coarser one counts its bone volume, so n is the bone volume
 // in the shell over v_min^3 at every level. The parts' forces add; the sum is clamped to

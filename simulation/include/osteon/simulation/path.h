@@ -8,9 +8,9 @@
 // mirrors it).
 //
 // Portal paths: the clock face is the plane across the medial-lateral axis seen from lateral,
-// 12 o'clock superior and 3 o'clock anterior (right shoulder). The entry point is on the head
-// sphere at that clock position; the drill enters at 45 degrees to the sphere's normal, tilted
-// medially towards the head's bulk, starts with its cushion clear of the surface and moves at
+// 12 o'clock superior and 3 o'clock anterior (right shoulder). The entry point is on the bone's
+// surface in that clock direction from the head centre; the drill enters at 45 degrees to the
+// surface normal, tilted medially towards the head's bulk, starts with its cushion clear of the surface and moves at
 // constant speed for 7 s with the drill on, to a depth of 15 mm past the entry point: the
 // depth of a suture-anchor hole, which is what the seed's drilling prepares.
 #pragma once
@@ -69,16 +69,21 @@ struct PortalPathOptions {
 
 struct PortalPlan {
   DrillPath path;
-  glm::dvec3 entryMm{0.0};      // on the head sphere
+  glm::dvec3 entryMm{0.0};      // on the bone surface
   glm::dvec3 normal{0.0};       // outward at the entry
+  glm::dvec3 clockDirection{0.0};  // from the head centre
   glm::dvec3 direction{0.0};    // of travel
   double speedMmPerS = 0.0;
 };
 
 // Portal names: "portal-5", "portal-7".
 Portal parsePortal(const std::string& text);
-PortalPlan makePortalPath(Portal portal, const HumeralHead& head, double toolOuterRadiusMm,
-                          const PortalPathOptions& options = {});
+// The entry point is where the ray from the head centre towards the clock position leaves
+// the bone for the last time (the mesh's outer surface there, which below the head's equator
+// is the neck rather than the sphere); the 45 degrees are to that triangle's normal. Throws
+// InputError when the ray never leaves the bone.
+PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry::TriangleMesh& mesh,
+                          double toolOuterRadiusMm, const PortalPathOptions& options = {});
 
 // CSV with a header row: t, x, y, z, drill_on [, qw, qx, qy, qz] (seconds, millimetres, 0/1,
 // the tool's orientation; without it the tool points along the direction of travel). Throws

@@ -41,6 +41,7 @@ struct Tool {
   std::array<ToolPart, kMaxToolParts> parts{};
   int partCount = 0;
   double maxForceN = 3.3;  // N_max, what the haptic device can exert (seed 3.5)
+  bool literalSeedCount = false;  // c as printed in the seed (see contact.h)
 };
 
 struct ToolOptions {
@@ -51,6 +52,7 @@ struct ToolOptions {
   double shaftLengthMm = 30.0;
   double shaverWindowMm = 4.0;     // shaver: length of the cylinder that cuts on its side
   double maxForceN = 3.3;
+  bool literalSeedCount = false;   // c as printed in the seed's eq. (2) (see contact.h)
 };
 
 // Throws InputError naming the option for non-positive or inconsistent sizes.

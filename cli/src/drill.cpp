@@ -1,0 +1,141 @@
+// `osteon drill`: one drilling run in the deterministic mode (seed 4): forces.csv,
+// summary.json and the drilled surface.
+#include "commands.h"
+
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/embree_scene.h"
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/mesh_io.h"
+#include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/simulation/runner.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace osteon::cli {
+
+namespace geo = osteon::geometry;
+namespace sim = osteon::simulation;
+using nlohmann::json;
+
+namespace {
+
+bool endsWithCsv(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".csv";
+}
+
+json percentilesJson(const sim::Percentiles& p) { return {{"p50", p.p50}, {"p99", p.p99}, {"max", p.max}}; }
+
+void makeOutDir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    throw InputError("--out-dir " + dir + ": cannot create the folder (" + ec.message() + ")");
+  }
+}
+
+}  // namespace
+
+int runDrill(const DrillCommandOptions& options) {
+  // Everything that can be refused is refused before the work.
+  sim::DrillingOptions drilling;
+  drilling.levels = options.levels;
+  sim::validateDrillingOptions(drilling);
+  const sim::ToolKind kind = sim::parseToolKind(options.tool);
+  const bool csvPath = endsWithCsv(options.path);
+  sim::DrillPath path;
+  sim::Portal portal = sim::Portal::FiveOClock;
+  if (csvPath) {
+    path = sim::loadPathCsv(options.path);
+  } else {
+    portal = sim::parsePortal(options.path);
+  }
+  if (!(options.voxelSizeMm > 0.0)) {
+    std::ostringstream s;
+    s << "--voxel-size " << options.voxelSizeMm << ": must be a positive number of mm";
+    throw InputError(s.str());
+  }
+  makeOutDir(options.outDir);
+
+  const geo::TriangleMesh mesh = geo::loadMeshArgument(options.mesh, scaleToMm(options.units));
+  geo::VoxelizeOptions vo;
+  vo.voxelSizeMm = options.voxelSizeMm;
+  geo::VoxelGrid grid = geo::voxelize(mesh, vo);
+  geo::DynamicProximityHierarchy hierarchy = geo::DynamicProximityHierarchy::build(grid, geo::DphBuildOptions{});
+  std::unique_ptr<geo::EmbreeScene> scene;
+  geo::FineFillSource source;
+  if (options.levels > 0) {
+    scene = std::make_unique<geo::EmbreeScene>(mesh);
+    source = geo::FineFillSource::sample(grid, mesh, *scene);
+  }
+  sim::DrillingSimulation simulation(grid, hierarchy, options.levels > 0 ? &source : nullptr, kind,
+                                     sim::ToolOptions{}, drilling);
+  json pathJson = {{"name", options.path}};
+  if (!csvPath) {
+    const sim::HumeralHead head = sim::fitHumeralHead(mesh);
+    const sim::PortalPlan plan = sim::makePortalPath(portal, head, mesh, simulation.tool().parts[0].outerRadiusMm);
+    path = plan.path;
+    pathJson["head_centre_mm"] = {head.centreMm.x, head.centreMm.y, head.centreMm.z};
+    pathJson["head_radius_mm"] = head.radiusMm;
+    pathJson["entry_mm"] = {plan.entryMm.x, plan.entryMm.y, plan.entryMm.z};
+    pathJson["direction"] = {plan.direction.x, plan.direction.y, plan.direction.z};
+    pathJson["speed_mm_per_s"] = plan.speedMmPerS;
+  }
+  pathJson["duration_s"] = path.durationS();
+
+  geo::SurfaceUpdater updater(grid, geo::SurfaceOptions{});
+  const sim::RunResult run = sim::runDeterministic(simulation, grid, path, &updater);
+
+  const std::string forcesPath = options.outDir + "/forces.csv";
+  const std::string summaryPath = options.outDir + "/summary.json";
+  const std::string surfacePath = options.outDir + "/surface.ply";
+  sim::writeForceLog(run.log, forcesPath);
+  // The drilled bone with its refined regions, crack-free and smoothed.
+  const geo::SurfaceMesh surface = geo::extractSurface(grid, simulation.voxels(), geo::SurfaceOptions{});
+  geo::writeMesh(surface.toTriangleMesh(), surfacePath);
+
+  const sim::RunSummary& s = run.summary;
+  const json summary = {{"jitter_n", s.jitterN},
+                        {"max_step_change_n", s.maxStepChangeN},
+                        {"max_force_n", s.maxForceN},
+                        {"removed_volume_mm3", s.removedVolumeMm3},
+                        {"haptic_step_us", percentilesJson(s.hapticStepUs)},
+                        {"remesh_ms", percentilesJson(s.remeshMs)},
+                        {"overruns", s.overruns},
+                        {"steps", s.steps},
+                        {"non_finite_forces", s.nonFiniteForces},
+                        {"mode", "deterministic"},
+                        {"mesh", options.mesh},
+                        {"tool", sim::toolKindName(kind)},
+                        {"voxel_size_mm", options.voxelSizeMm},
+                        {"levels", options.levels},
+                        {"finest_voxel_mm", simulation.finestVoxelMm()},
+                        {"path", pathJson},
+                        {"surface_triangles", surface.triangleCount()},
+                        {"files", {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}}}};
+  {
+    std::ofstream out(summaryPath);
+    out << summary.dump(2) << "\n";
+    if (!out) throw InputError(summaryPath + ": cannot write the summary");
+  }
+  if (options.json) {
+    std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+  } else {
+    std::cout << "drilled " << options.path << " with the " << sim::toolKindName(kind) << " at "
+              << options.voxelSizeMm << " mm, " << options.levels << " level(s): " << s.steps
+              << " steps, max force " << s.maxForceN << " N, jitter " << s.jitterN << " N, removed "
+              << s.removedVolumeMm3 << " mm3\n"
+              << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace osteon::cli
