@@ -32,8 +32,9 @@ double forceJitterN(const std::vector<ForceLogRow>& log, double fromS, double to
   for (std::size_t i = 0; i < log.size(); ++i) {
     const double t = log[i].tS;
     if (t < fromS || t > toS) continue;
-    while (lo < log.size() && log[lo].tS < t - 0.5 * windowS) ++lo;
-    while (hi < log.size() && log[hi].tS <= t + 0.5 * windowS) ++hi;
+    // A nanosecond of slack keeps the window symmetric (51 samples at 1 ms) despite rounding.
+    while (lo < log.size() && log[lo].tS < t - 0.5 * windowS - 1e-9) ++lo;
+    while (hi < log.size() && log[hi].tS <= t + 0.5 * windowS + 1e-9) ++hi;
     const double mean = (prefix[hi] - prefix[lo]) / double(hi - lo);
     const double e = log[i].magnitudeN - mean;
     sum2 += e * e;

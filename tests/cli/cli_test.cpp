@@ -4,6 +4,8 @@
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
@@ -200,6 +202,49 @@ TEST_F(CliTest, MeshIsClosedForCrackFreeAndCrackedForNaive) {
   expectBadInput("mesh default --voxel-size 1.2 --smooth -1", "--smooth -1", "0..100");
   expectBadInput("mesh default --voxel-size 1.2 --out '" + path("s.vtk") + "'", path("s.vtk"),
                  "unknown mesh extension");
+}
+
+TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
+  const std::string args = "drill default --voxel-size 1.2 --levels 1 --path portal-7 --json --out-dir ";
+  const CliRun run = osteon(args + "'" + path("a") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  for (const char* key : {"jitter_n", "max_step_change_n", "max_force_n", "removed_volume_mm3",
+                          "haptic_step_us", "remesh_ms", "overruns", "steps"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  for (const char* key : {"p50", "p99", "max"}) {
+    EXPECT_TRUE(j["haptic_step_us"].contains(key)) << key;
+    EXPECT_TRUE(j["remesh_ms"].contains(key)) << key;
+  }
+  EXPECT_EQ(j["steps"].get<int>(), 7001);
+  EXPECT_GT(j["removed_volume_mm3"].get<double>(), 10.0);
+  EXPECT_LE(j["max_force_n"].get<double>(), 3.3);
+  EXPECT_EQ(nlohmann::json::parse(test::readBytes(path("a/summary.json")))["steps"], j["steps"]);
+  const std::string log = test::readBytes(path("a/forces.csv"));
+  EXPECT_EQ(log.substr(0, log.find('\n')), "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 7002);
+  // The drilled surface is closed.
+  const geometry::TriangleMesh surface = geometry::readMesh(path("a/surface.ply"));
+  EXPECT_EQ(geometry::analyzeTopology(surface).borderEdges, 0u);
+  // The same input gives the same log, byte for byte.
+  ASSERT_EQ(osteon(args + "'" + path("b") + "'").exitCode, 0);
+  EXPECT_TRUE(log == test::readBytes(path("b/forces.csv")));
+
+  test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
+  const CliRun csv = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --json --path '" +
+                            path("p.csv") + "' --out-dir '" + path("c") + "'");
+  ASSERT_EQ(csv.exitCode, 0) << csv.err;
+  EXPECT_EQ(nlohmann::json::parse(csv.out)["steps"].get<int>(), 1001);
+  EXPECT_EQ(nlohmann::json::parse(csv.out)["max_force_n"].get<double>(), 0.0);  // in the air
+
+  expectBadInput("drill default --voxel-size 1.2 --levels 3 --path portal-5", "--levels 3", "0, 1 or 2");
+  expectBadInput("drill default --voxel-size 1.2 --path portal-6", "portal-6", "not a portal");
+  expectBadInput("drill default --voxel-size 1.2 --path portal-5 --tool scalpel", "scalpel", "unknown tool");
+  expectBadInput("drill default --voxel-size 0 --path portal-5", "--voxel-size 0", "positive");
+  test::writeBytes(path("bad.csv"), "t,x,y,z,drill_on\n0,0,0,0,1\n0.5,0,nan?,0,1\n");
+  expectBadInput("drill default --voxel-size 1.2 --path '" + path("bad.csv") + "'", "bad.csv:3", "not a finite number");
+  expectBadInput("drill default --voxel-size 1.2 --path '" + path("none.csv") + "'", "none.csv", "cannot open");
 }
 
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {

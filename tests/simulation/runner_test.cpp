@@ -1,0 +1,98 @@
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/simulation/runner.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+namespace osteon::simulation {
+namespace {
+
+std::vector<ForceLogRow> series(int n, double (*f)(int)) {
+  std::vector<ForceLogRow> log(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    log[std::size_t(i)].tS = 0.001 * i;
+    log[std::size_t(i)].magnitudeN = f(i);
+  }
+  return log;
+}
+
+TEST(Metrics, JitterAndStepChangeOnKnownSignals) {
+  const auto flat = series(7001, [](int) { return 2.0; });
+  EXPECT_NEAR(forceJitterN(flat), 0.0, 1e-12);
+  EXPECT_EQ(maxStepChangeN(flat), 0.0);
+  // +-0.1 N alternating every sample: the 51-sample mean is within 0.004 N of 2, so the jitter
+  // is the amplitude.
+  const auto buzz = series(7001, [](int i) { return 2.0 + (i % 2 ? 0.1 : -0.1); });
+  EXPECT_NEAR(forceJitterN(buzz), 0.1, 0.005);
+  EXPECT_NEAR(maxStepChangeN(buzz), 0.2, 1e-12);
+  // A slow ramp is not jitter: the centred mean follows it exactly.
+  const auto ramp = series(7001, [](int i) { return 0.0005 * i; });
+  EXPECT_NEAR(forceJitterN(ramp), 0.0, 1e-9);
+  const Percentiles p = percentilesOf({5, 1, 4, 2, 3});
+  EXPECT_EQ(p.p50, 3);
+  EXPECT_EQ(p.max, 5);
+}
+
+// Seed 4, the headline result: forces computed on refined voxels are smoother than on the
+// coarse voxels they refine, on both portals.
+class PortalRuns : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { model_ = new geometry::HumerusModel(geometry::buildHumerusModel()); }
+  static void TearDownTestSuite() { delete model_; }
+
+  RunResult run(Portal portal, int levels) {
+    geometry::VoxelizeOptions o;
+    o.voxelSizeMm = 1.2;
+    geometry::VoxelGrid grid = geometry::voxelize(model_->mesh, o);
+    auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+    DrillingOptions options;
+    options.levels = levels;
+    DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, options);
+    const PortalPlan plan = makePortalPath(portal, fitHumeralHead(model_->mesh), model_->mesh,
+                                           sim.tool().parts[0].outerRadiusMm);
+    return runDeterministic(sim, grid, plan.path, nullptr);
+  }
+  static geometry::HumerusModel* model_;
+};
+geometry::HumerusModel* PortalRuns::model_ = nullptr;
+
+TEST_F(PortalRuns, DynamicTwoLevelsIsSmootherThanStaticOnBothPortals) {
+  for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
+    const RunResult coarse = run(portal, 0);
+    const RunResult fine = run(portal, 2);
+    ASSERT_EQ(coarse.log.size(), 7001u);
+    EXPECT_GT(coarse.summary.maxForceN, 1.0);  // the drill met bone on this path
+    EXPECT_GT(fine.summary.maxForceN, 1.0);
+    EXPECT_GT(fine.summary.removedVolumeMm3, 50.0);
+    EXPECT_LT(fine.summary.jitterN, coarse.summary.jitterN);
+    EXPECT_LT(fine.summary.maxStepChangeN, coarse.summary.maxStepChangeN);
+    EXPECT_EQ(fine.log.back().level, -2);
+    EXPECT_EQ(fine.summary.nonFiniteForces, 0u);
+  }
+}
+
+TEST(ForceLog, HasTheHeaderAndOneRowPerStep) {
+  std::vector<ForceLogRow> log(3);
+  log[1].tS = 0.001;
+  log[2].tS = 0.002;
+  log[2].magnitudeN = 1.5;
+  const std::string file = test::makeTempDir("force_log") + "/forces.csv";
+  writeForceLog(log, file);
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 3);
+  EXPECT_THROW(writeForceLog(log, "/nonexistent-dir/forces.csv"), InputError);
+}
+
+}  // namespace
+}  // namespace osteon::simulation
