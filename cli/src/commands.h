@@ -76,6 +76,14 @@ struct DrillCommandOptions {
   bool json = false;
 };
 
+struct ExperimentCommandOptions {
+  std::string name;               // "seed"
+  std::string mesh = "default";
+  MeshUnits units;
+  std::string outDir = "experiment-seed";
+  bool json = false;
+};
+
 // Millimetres per file unit from --units or --scale; throws InputError for bad values.
 double scaleToMm(const MeshUnits& units);
 
@@ -85,5 +93,6 @@ int runModel(const ModelOptions& options);
 int runHierarchy(const HierarchyOptions& options);
 int runMesh(const MeshCommandOptions& options);
 int runDrill(const DrillCommandOptions& options);  // drill.cpp
+int runExperiment(const ExperimentCommandOptions& options);  // experiment.cpp
 
 }  // namespace osteon::cli

@@ -119,6 +119,16 @@ int main(int argc, char** argv) {
       ->default_val(".");
   drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
 
+  osteon::cli::ExperimentCommandOptions experiment;
+  CLI::App* experimentCmd = app.add_subcommand(
+      "experiment", "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)");
+  experimentCmd->add_option("NAME", experiment.name, "Experiment: seed")->required();
+  experimentCmd->add_option("--mesh", experiment.mesh, "Humerus mesh, or 'default'")->default_val("default");
+  addUnits(*experimentCmd, experiment.units);
+  experimentCmd->add_option("--out-dir", experiment.outDir, "Folder for plots, table and logs")
+      ->default_val("experiment-seed");
+  experimentCmd->add_flag("--json", experiment.json, "Print the table as JSON on stdout");
+
   osteon::cli::ModelOptions model;
   CLI::App* modelCmd = app.add_subcommand(
       "model", "Build the built-in proximal humerus (what 'default' means) and optionally write it");
@@ -139,14 +149,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
     };
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
-                << ": unknown command (expected info, voxelize, hierarchy, mesh, drill or model; see osteon "
+                << ": unknown command (expected info, voxelize, hierarchy, mesh, drill, experiment or model; see osteon "
                    "--help)\n";
       return kExitBadInput;
     }
@@ -161,6 +171,7 @@ int main(int argc, char** argv) {
     if (*dphCmd) return osteon::cli::runHierarchy(dph);
     if (*meshCmd) return osteon::cli::runMesh(meshOpt);
     if (*drillCmd) return osteon::cli::runDrill(drill);
+    if (*experimentCmd) return osteon::cli::runExperiment(experiment);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
@@ -245,6 +246,31 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   test::writeBytes(path("bad.csv"), "t,x,y,z,drill_on\n0,0,0,0,1\n0.5,0,nan?,0,1\n");
   expectBadInput("drill default --voxel-size 1.2 --path '" + path("bad.csv") + "'", "bad.csv:3", "not a finite number");
   expectBadInput("drill default --voxel-size 1.2 --path '" + path("none.csv") + "'", "none.csv", "cannot open");
+}
+
+// Seed section 4: 14 runs, six plots, and the dynamic runs smoother than the static ones.
+TEST_F(CliTest, ExperimentSeedDrawsThePlotsAndTheJitterTable) {
+  const CliRun run = osteon("experiment seed --json --out-dir '" + path("exp") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  ASSERT_EQ(j["runs"].size(), 14u);
+  ASSERT_EQ(j["plots"].size(), 6u);
+  for (const auto& image : j["plots"]) {
+    const std::string bytes = test::readBytes(path("exp/" + image.get<std::string>()));
+    ASSERT_GT(bytes.size(), 10000u) << image;
+    EXPECT_EQ(bytes.substr(1, 3), "PNG") << image;
+  }
+  std::map<std::string, double> staticJitter;
+  for (const auto& r : j["runs"]) {
+    const std::string key = std::to_string(r["voxel_size_mm"].get<double>()) + r["portal"].get<std::string>();
+    if (r["levels"].get<int>() == 0) {
+      staticJitter[key] = r["jitter_n"].get<double>();
+    } else {
+      EXPECT_LT(r["jitter_n"].get<double>(), staticJitter.at(key)) << r.dump();
+    }
+  }
+  EXPECT_NE(test::readBytes(path("exp/jitter.md")).find("| 1.2 mm | portal-7 | 2 |"), std::string::npos);
+  expectBadInput("experiment lunar", "experiment lunar", "unknown");
 }
 
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {

@@ -1,0 +1,134 @@
+// `osteon experiment seed`: the seed's section 4 rerun. Force logs per run, the jitter table
+// (Markdown and JSON) and force plots in the manner of the seed's Figs. 6-8, drawn by gnuplot.
+#include "commands.h"
+
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/mesh_source.h"
+#include "osteon/simulation/experiment.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+namespace osteon::cli {
+
+namespace sim = osteon::simulation;
+using nlohmann::json;
+
+namespace {
+
+std::string runLabel(const sim::ExperimentRun& r) {
+  std::ostringstream s;
+  if (r.levels == 0) {
+    s << "static " << r.voxelSizeMm << " mm";
+  } else {
+    s << "dynamic " << r.levels << " level" << (r.levels > 1 ? "s" : "") << " ("
+      << r.voxelSizeMm / double(1 << r.levels) << " mm)";
+  }
+  return s.str();
+}
+
+// One figure per voxel size and portal, static and dynamic on the same axes (seed Figs. 6-8).
+std::string writePlotScript(const std::string& dir, const std::vector<sim::ExperimentRun>& runs,
+                            std::vector<std::string>& images) {
+  std::map<std::pair<double, int>, std::vector<const sim::ExperimentRun*>> figures;
+  for (const sim::ExperimentRun& r : runs) figures[{-r.voxelSizeMm, int(r.portal)}].push_back(&r);
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1100,600 font 'sans,12'\n"
+     << "set datafile separator ','\nset grid\nset key top left box opaque\n"
+     << "set xlabel 'time (s)'\nset ylabel 'force |F| (N)'\nset xrange [0:7]\nset yrange [0:3.5]\n";
+  int figure = 6;
+  double lastSize = 0.0;
+  for (const auto& [key, members] : figures) {
+    const double size = -key.first;
+    if (lastSize != 0.0 && size != lastSize) ++figure;
+    lastSize = size;
+    const sim::ExperimentRun& first = *members.front();
+    std::ostringstream file;
+    file << "fig" << figure << "_" << size << "mm_" << sim::portalName(first.portal) << ".png";
+    images.push_back(file.str());
+    gp << "set output '" << dir << "/" << file.str() << "'\n"
+       << "set title 'VS = " << size << " mm, " << sim::portalName(first.portal)
+       << (first.portal == sim::Portal::FiveOClock ? " (anteroinferior)" : " (posteroinferior)")
+       << ": static and dynamic voxels'\nplot ";
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      gp << (i ? ", " : "") << "'" << dir << "/runs/" << members[i]->name()
+         << "/forces.csv' every ::1 using 1:8 with lines lw " << (members[i]->levels == 0 ? 1.2 : 1.6)
+         << " title '" << runLabel(*members[i]) << "'";
+    }
+    gp << "\n";
+  }
+  const std::string script = dir + "/plots.gp";
+  std::ofstream(script) << gp.str();
+  return script;
+}
+
+}  // namespace
+
+int runExperiment(const ExperimentCommandOptions& options) {
+  if (options.name != "seed") throw InputError("experiment " + options.name + ": unknown (expected seed)");
+  std::error_code ec;
+  std::filesystem::create_directories(options.outDir + "/runs", ec);
+  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scaleToMm(options.units));
+
+  const std::vector<sim::ExperimentRun> runs = sim::runSeedExperiment(
+      mesh, sim::seedExperimentCases(), [&](const sim::ExperimentRun& r) {
+        const std::string dir = options.outDir + "/runs/" + r.name();
+        std::filesystem::create_directories(dir);
+        sim::writeForceLog(r.result.log, dir + "/forces.csv");
+        if (!options.json) {
+          std::cerr << "  " << r.name() << ": jitter " << r.result.summary.jitterN << " N\n";
+        }
+      });
+
+  // The table: jitter per run, as the seed compares its figures.
+  json rows = json::array();
+  std::ostringstream md;
+  md << "| voxel size | portal | levels | force voxel | jitter (N) | max step change (N) | max force (N) | removed (mm3) |\n"
+     << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const sim::ExperimentRun& r : runs) {
+    const sim::RunSummary& s = r.result.summary;
+    const double finest = r.voxelSizeMm / double(1 << r.levels);
+    rows.push_back({{"voxel_size_mm", r.voxelSizeMm}, {"portal", sim::portalName(r.portal)},
+                    {"levels", r.levels}, {"finest_voxel_mm", finest}, {"jitter_n", s.jitterN},
+                    {"max_step_change_n", s.maxStepChangeN}, {"max_force_n", s.maxForceN},
+                    {"removed_volume_mm3", s.removedVolumeMm3}, {"steps", s.steps},
+                    {"log", "runs/" + r.name() + "/forces.csv"}});
+    char line[256];
+    std::snprintf(line, sizeof line, "| %g mm | %s | %d | %g mm | %.4f | %.4f | %.3f | %.1f |\n",
+                  r.voxelSizeMm, sim::portalName(r.portal), r.levels, finest, s.jitterN,
+                  s.maxStepChangeN, s.maxForceN, s.removedVolumeMm3);
+    md << line;
+  }
+  std::vector<std::string> images;
+  const std::string script = writePlotScript(options.outDir, runs, images);
+  const json table = {{"experiment", "seed"}, {"mesh", options.mesh}, {"runs", rows}, {"plots", images}};
+  std::ofstream(options.outDir + "/experiment.json") << table.dump(2) << "\n";
+  std::ofstream(options.outDir + "/jitter.md") << md.str();
+
+  // The logs and the table are on disk before the plotting can fail.
+  const std::string command = "gnuplot '" + script + "' 2>'" + options.outDir + "/gnuplot.log'";
+  const int status = std::system(command.c_str());
+  if (status != 0) {
+    throw InputError("gnuplot: could not draw the plots (is gnuplot installed? scripts/setup installs "
+                     "gnuplot-nox; see " + options.outDir + "/gnuplot.log); logs and table are in " +
+                     options.outDir);
+  }
+  if (options.json) {
+    std::cout << table.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+  } else {
+    std::cout << md.str() << "plots: ";
+    for (const std::string& i : images) std::cout << options.outDir << "/" << i << " ";
+    std::cout << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace osteon::cli

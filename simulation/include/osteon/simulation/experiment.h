@@ -1,0 +1,39 @@
+// The seed's section 4 experiment: static against dynamic voxels on both portals, at 1.2 mm
+// (1 and 2 levels), 0.9 mm and 0.72 mm (1 level), each a 7 s drilling path logged at 1 kHz in
+// the deterministic mode.
+#pragma once
+
+#include "osteon/geometry/mesh.h"
+#include "osteon/simulation/runner.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace osteon::simulation {
+
+struct ExperimentRun {
+  double voxelSizeMm = 0.0;
+  Portal portal = Portal::FiveOClock;
+  int levels = 0;
+  RunResult result;
+  std::string name() const;  // e.g. "1.2mm_portal-5_L2"
+};
+
+struct ExperimentCase {
+  double voxelSizeMm;
+  std::vector<int> dynamicLevels;  // compared with levels 0 (static)
+};
+
+// The seed's cases: 1.2 mm with 1 and 2 levels, 0.9 mm and 0.72 mm with 1 level.
+std::vector<ExperimentCase> seedExperimentCases();
+
+// Runs every case on both portals, static first. `progress` (may be empty) hears each run as it
+// finishes. Throws InputError when the mesh has no humeral head to drill.
+std::vector<ExperimentRun> runSeedExperiment(const geometry::TriangleMesh& mesh,
+                                             const std::vector<ExperimentCase>& cases,
+                                             const std::function<void(const ExperimentRun&)>& progress = {});
+
+const char* portalName(Portal portal);
+
+}  // namespace osteon::simulation
