@@ -38,10 +38,10 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
     const double ro2 = part.outerRadiusMm * part.outerRadiusMm;
     glm::dvec3 direction(0.0);
     double n = 0.0;
-    // A long part (the drill's shaft) is queried in chunks as long as its outer radius (that
-    // minimises the volume the spheres sweep):
-    // one sphere around all of it would visit every voxel within half its length. A sample
-    // counts in the chunk its closest core point falls in, so none counts twice.
+    // A long part (the drill's shaft) is queried in chunks as long as its outer radius, which
+    // minimises the volume the spheres sweep; one sphere around all of it would visit every
+    // voxel within half its length. A sample counts in the chunk its closest core point falls
+    // in, so none counts twice.
     const double length = glm::length(b - a);
     const int chunks = std::max(1, int(std::ceil(length / part.outerRadiusMm)));
     const glm::dvec3 ab = b - a;
