@@ -193,23 +193,25 @@ std::uint64_t VoxelGrid::countVoxels(Fill minFill) const {
   return count;
 }
 
-double VoxelGrid::filledVolumeMm3() const {
-  double fillSum = 0.0;  // in fill units
+std::uint64_t VoxelGrid::totalFill() const {
+  std::uint64_t total = 0;
   for (std::size_t i = 0; i < bricks_.size(); ++i) {
     const glm::ivec3 bc = brickCoord(i);
     if (const Brick* b = bricks_[i].get()) {
       const glm::ivec3 lo = bc * kBrickSize;
       const glm::ivec3 hi = glm::min(lo + kBrickSize, dims_) - lo;
-      std::uint64_t sum = 0;
       for (int z = 0; z < hi.z; ++z)
         for (int y = 0; y < hi.y; ++y)
-          for (int x = 0; x < hi.x; ++x) sum += b->fill[std::size_t(voxelInBrick({x, y, z}))];
-      fillSum += double(sum);
+          for (int x = 0; x < hi.x; ++x) total += b->fill[std::size_t(voxelInBrick({x, y, z}))];
     } else {
-      fillSum += double(uniformFill_[i]) * double(voxelsInBrick(bc, dims_));
+      total += std::uint64_t(uniformFill_[i]) * std::uint64_t(voxelsInBrick(bc, dims_));
     }
   }
-  return fillSum / double(kFillFull) * voxelVolumeMm3();
+  return total;
+}
+
+double VoxelGrid::filledVolumeMm3() const {
+  return double(totalFill()) / double(kFillFull) * voxelVolumeMm3();
 }
 
 std::size_t VoxelGrid::memoryBytes() const {

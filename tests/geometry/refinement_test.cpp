@@ -10,15 +10,6 @@
 namespace osteon::geometry {
 namespace {
 
-// Exact integer total of the grid's fill (filledVolumeMm3 is a double of this).
-std::uint64_t totalFill(const VoxelGrid& g) {
-  std::uint64_t sum = 0;
-  for (int z = 0; z < g.dims().z; ++z)
-    for (int y = 0; y < g.dims().y; ++y)
-      for (int x = 0; x < g.dims().x; ++x) sum += g.fill({x, y, z});
-  return sum;
-}
-
 bool sameVoxels(const VoxelGrid& a, const VoxelGrid& b) {
   for (int z = 0; z < a.dims().z; ++z)
     for (int y = 0; y < a.dims().y; ++y)
@@ -141,7 +132,7 @@ TEST_F(RefinementTest, ExpiryRestoresTheGridExactlyAndFreesEverything) {
 
 TEST_F(RefinementTest, RemovalAtTheFinestLevelConservesVolumeAndNeverResurrects) {
   RefinedVoxels refined = make(2, &source_);
-  const std::uint64_t start = totalFill(grid_);
+  const std::uint64_t start = grid_.totalFill();
   const glm::dvec3 tip(9.5, 0.3, 0.2);
   refined.refineAround(tip, outerMm_, 0.0);
   RemovalResult removed;
@@ -152,7 +143,7 @@ TEST_F(RefinementTest, RemovalAtTheFinestLevelConservesVolumeAndNeverResurrects)
     removed.voxelsEmptied += r.voxelsEmptied;
   }
   ASSERT_GT(removed.samplesRemoved, 20u);
-  EXPECT_EQ(totalFill(grid_), start - removed.removedFill);  // exact, in fill units
+  EXPECT_EQ(grid_.totalFill(), start - removed.removedFill);  // exact, in fill units
   EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
   // Nothing with bone is left inside the drill.
   int inside = 0;
@@ -163,22 +154,22 @@ TEST_F(RefinementTest, RemovalAtTheFinestLevelConservesVolumeAndNeverResurrects)
   EXPECT_EQ(inside, 0);
 
   // Expire, then refine the same place again: volume unchanged, and still nothing there.
-  const std::uint64_t afterDrilling = totalFill(grid_);
+  const std::uint64_t afterDrilling = grid_.totalFill();
   EXPECT_GT(refined.expire(10.0), 0);
-  EXPECT_EQ(totalFill(grid_), afterDrilling);
+  EXPECT_EQ(grid_.totalFill(), afterDrilling);
   EXPECT_GT(refined.refineAround(tip, outerMm_, 20.0), 0);
-  EXPECT_EQ(totalFill(grid_), afterDrilling);
+  EXPECT_EQ(grid_.totalFill(), afterDrilling);
   refined.forEachSampleInSphere(tip, 1.46, [&](const VoxelSample&) { ++inside; });
   EXPECT_EQ(inside, 0) << "removed bone came back";
   refined.expireAll();
-  EXPECT_EQ(totalFill(grid_), afterDrilling);
+  EXPECT_EQ(grid_.totalFill(), afterDrilling);
   EXPECT_GT(refined.bytesInUse(), 0u);  // the removal masks of drilled voxels remain
 }
 
 TEST_F(RefinementTest, StaticRemovalActsOnWholeVoxels) {
   RefinedVoxels refined = make(0, &source_);
   EXPECT_EQ(refined.refineAround(surfacePoint_, outerMm_, 0.0), 0);
-  const std::uint64_t start = totalFill(grid_);
+  const std::uint64_t start = grid_.totalFill();
   RemovalResult total;
   for (int step = 0; step < 60; ++step) {
     const RemovalResult r = refined.removeInSphere({9.0, 0.3, 0.2}, 1.46);
@@ -186,7 +177,7 @@ TEST_F(RefinementTest, StaticRemovalActsOnWholeVoxels) {
     total.voxelsEmptied += r.voxelsEmptied;
   }
   EXPECT_GT(total.voxelsEmptied, 0u);
-  EXPECT_EQ(totalFill(grid_), start - total.removedFill);
+  EXPECT_EQ(grid_.totalFill(), start - total.removedFill);
   EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
 }
 
@@ -220,12 +211,12 @@ TEST_F(RefinementTest, CylinderRemovalTakesExactlyTheSamplesInside) {
       }
     });
     ASSERT_GT(samples, 20u) << "depth " << depth;
-    const std::uint64_t before = totalFill(grid_);
+    const std::uint64_t before = grid_.totalFill();
     // Decrement past every density: one call removes every sample inside, nothing else.
     const RemovalResult r = refined.removeIn(cut, 1000);
     EXPECT_EQ(r.removedFill, inside) << "depth " << depth;
     EXPECT_EQ(r.samplesRemoved, samples) << "depth " << depth;
-    EXPECT_EQ(totalFill(grid_), before - inside) << "depth " << depth;
+    EXPECT_EQ(grid_.totalFill(), before - inside) << "depth " << depth;
     std::uint64_t left = 0;
     refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
       if (cut.contains(s.centreMm)) ++left;

@@ -244,3 +244,23 @@ TEST(VoxelGrid, ConstructorRejectsBadArguments) {
 
 }  // namespace
 }  // namespace osteon::geometry
+
+namespace osteon::geometry {
+namespace {
+
+TEST(VoxelGridTotals, TotalFillEqualsTheSumOverEveryVoxel) {
+  VoxelGrid g({19, 10, 9}, glm::dvec3(0.0), 0.5);  // edge bricks partly outside the grid
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> fill(0, kFillFull);
+  for (int i = 0; i < 400; ++i) g.set({int(rng() % 19), int(rng() % 10), int(rng() % 9)}, Fill(fill(rng)), 1);
+  g.setBrickUniform(g.brickIndex({1, 1, 0}), kFillFull, 3);
+  std::uint64_t sum = 0;
+  for (int z = 0; z < 9; ++z)
+    for (int y = 0; y < 10; ++y)
+      for (int x = 0; x < 19; ++x) sum += g.fill({x, y, z});
+  EXPECT_EQ(g.totalFill(), sum);
+  EXPECT_DOUBLE_EQ(g.filledVolumeMm3(), double(sum) / kFillFull * 0.125);
+}
+
+}  // namespace
+}  // namespace osteon::geometry

@@ -17,14 +17,6 @@ namespace {
 using geometry::DynamicProximityHierarchy;
 using geometry::VoxelGrid;
 
-std::uint64_t totalFill(const VoxelGrid& g) {
-  std::uint64_t sum = 0;
-  for (int z = 0; z < g.dims().z; ++z)
-    for (int y = 0; y < g.dims().y; ++y)
-      for (int x = 0; x < g.dims().x; ++x) sum += g.fill({x, y, z});
-  return sum;
-}
-
 // Volume of the part of a ball of radius r beyond a plane at distance h from its centre.
 double capVolume(double r, double h) {
   if (h >= r) return 0.0;
@@ -150,7 +142,7 @@ TEST(Removal, DensityWearsDownInExactlyDSteps) {
     options.levels = levels;
     DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{}, options);
     const ToolPose pose = ToolPose::pointing({0.1, 0.1, 0.5}, {0, 0, -1});
-    const std::uint64_t before = totalFill(slab.grid);
+    const std::uint64_t before = slab.grid.totalFill();
     for (int step = 1; step <= 7; ++step) {
       const StepOutput out = sim.step({0.001 * step, pose, true});
       if (step < 7) {
@@ -161,7 +153,7 @@ TEST(Removal, DensityWearsDownInExactlyDSteps) {
         EXPECT_EQ(out.removal.samplesDecremented, 0u);
       }
     }
-    EXPECT_EQ(totalFill(slab.grid), before - sim.totals().removedFill);
+    EXPECT_EQ(slab.grid.totalFill(), before - sim.totals().removedFill);
     EXPECT_GT(sim.removedVolumeMm3(), 0.0);
   }
 }
@@ -179,7 +171,7 @@ class HumerusDrilling : public ::testing::Test {
     o.voxelSizeMm = 1.2;
     VoxelGrid grid = geometry::voxelize(model_->mesh, o);
     DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    const std::uint64_t before = totalFill(grid);
+    const std::uint64_t before = grid.totalFill();
     DrillingOptions options;
     options.levels = levels;
     DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, options);
@@ -196,7 +188,7 @@ class HumerusDrilling : public ::testing::Test {
       EXPECT_LE(out.contact.magnitudeN, 3.3 + 1e-12);
     }
     if (removed) *removed = sim.totals().removedFill;
-    if (conserved) *conserved = totalFill(grid) == before - sim.totals().removedFill;
+    if (conserved) *conserved = grid.totalFill() == before - sim.totals().removedFill;
     return forces;
   }
 

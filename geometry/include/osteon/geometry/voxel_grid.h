@@ -117,7 +117,8 @@ class VoxelGrid {
 
   // Totals.
   std::uint64_t countVoxels(Fill minFill) const;  // voxels with fill >= minFill
-  double filledVolumeMm3() const;                 // sum of fill / kFillFull x voxel volume
+  std::uint64_t totalFill() const;                // sum of fill, exact (removal accounting)
+  double filledVolumeMm3() const;                 // totalFill / kFillFull x voxel volume
   std::size_t memoryBytes() const;
 
   // Cached read access for neighbourhood walks: remembers the last brick it touched. Valid
