@@ -112,6 +112,7 @@ class VoxelGrid {
   // Dirty flags for incremental meshing: bricks whose fill may have changed.
   bool brickDirty(std::size_t brick) const { return dirty_[brick] != 0; }
   void markBrickDirty(std::size_t brick) { dirty_[brick] = 1; }
+  void clearBrickDirty(std::size_t brick) { dirty_[brick] = 0; }
   std::vector<std::size_t> dirtyBricks() const;
   void clearDirty();
 

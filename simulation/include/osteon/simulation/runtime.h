@@ -1,0 +1,76 @@
+// The threaded runtime (seed 4: "three separate threads for collision detection, and visual and
+// haptic rendering"):
+//   haptic     1 kHz: device pose in, the latest force out
+//   collision  1 kHz: the latest pose -> a drilling step (refine, force, removal); the force
+//              and every changed brick handed on
+//   visual     as fast as it can: changed bricks into its own copy of the grid, the surface
+//              updated incrementally
+// The 1 kHz loops never allocate, lock or throw: hand-offs are triple buffers and a bounded
+// ring (runtime/handoff.h), logs and timings go to arrays sized before the start. Periods are
+// kept with clock_nanosleep on CLOCK_MONOTONIC to absolute deadlines; a period whose work ends
+// after its deadline is an overrun, and missed periods are skipped, not run late.
+#pragma once
+
+#include "osteon/geometry/surface_updater.h"
+#include "osteon/simulation/drilling.h"
+#include "osteon/simulation/runner.h"
+
+#include <cstdint>
+
+namespace osteon::simulation {
+
+// The device side: where the tool is, and where the force goes. Called from the haptic thread
+// only; must not block, allocate or throw.
+class PoseSource {
+ public:
+  virtual ~PoseSource() = default;
+  virtual void sample(double tS, ToolPose& pose, bool& drillOn) noexcept = 0;
+};
+
+class ForceSink {
+ public:
+  virtual ~ForceSink() = default;
+  virtual void apply(double tS, const glm::dvec3& forceN) noexcept = 0;
+};
+
+// A scripted device: the pose along a drill path, in wall-clock time from the start.
+class PathPoseSource : public PoseSource {
+ public:
+  explicit PathPoseSource(const DrillPath& path) : path_(&path) {}
+  void sample(double tS, ToolPose& pose, bool& drillOn) noexcept override { path_->sample(tS, pose, drillOn); }
+
+ private:
+  const DrillPath* path_;
+};
+
+struct RuntimeOptions {
+  double durationS = 7.0;
+  double periodS = 0.001;
+  bool realtimePriority = true;  // ask for SCHED_FIFO (granted only with the privilege)
+  std::size_t brickRingCapacity = 4096;
+};
+
+struct RuntimeStats {
+  std::uint64_t hapticSteps = 0, collisionSteps = 0;
+  std::uint64_t hapticOverruns = 0, collisionOverruns = 0;
+  std::uint64_t visualUpdates = 0;
+  std::uint64_t bricksHandedOver = 0;
+  std::uint64_t ringFull = 0;       // changed bricks the visual thread could not be given
+  std::uint64_t logDropped = 0;
+  Percentiles hapticStepUs, collisionStepUs, remeshMs;
+  bool realtimeGranted = false;
+};
+
+struct RuntimeResult {
+  RunResult run;  // force log (collision thread) and the summary of runner.h
+  RuntimeStats stats;
+};
+
+// Runs the three threads for options.durationS; `grid` is the grid `sim` drills. `sink` may be
+// null. The visual thread's surface ends equal to a full extraction of the drilled grid unless
+// stats.ringFull > 0.
+RuntimeResult runThreaded(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source,
+                          ForceSink* sink, const geometry::SurfaceOptions& surfaceOptions,
+                          const RuntimeOptions& options, geometry::SurfaceMesh* finalSurface = nullptr);
+
+}  // namespace osteon::simulation
