@@ -73,6 +73,7 @@ struct DrillCommandOptions {
   std::string path;          // portal-5, portal-7 or a CSV file
   std::string tool = "drill";
   std::string outDir = ".";
+  bool threaded = false;     // the three-thread runtime in real time, not the deterministic mode
   bool json = false;
 };
 

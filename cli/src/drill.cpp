@@ -9,6 +9,7 @@
 #include "osteon/geometry/mesh_source.h"
 #include "osteon/geometry/voxelizer.h"
 #include "osteon/simulation/runner.h"
+#include "osteon/simulation/runtime.h"
 
 #include <nlohmann/json.hpp>
 
@@ -91,8 +92,25 @@ int runDrill(const DrillCommandOptions& options) {
   }
   pathJson["duration_s"] = path.durationS();
 
-  geo::SurfaceUpdater updater(grid, geo::SurfaceOptions{});
-  const sim::RunResult run = sim::runDeterministic(simulation, grid, path, &updater);
+  sim::RunResult run;
+  json runtimeJson;
+  if (options.threaded) {
+    sim::PathPoseSource device(path);
+    sim::RuntimeOptions ro;
+    ro.durationS = path.durationS();
+    const sim::RuntimeResult r = sim::runThreaded(simulation, grid, device, nullptr, geo::SurfaceOptions{}, ro);
+    run = r.run;
+    const sim::RuntimeStats& st = r.stats;
+    runtimeJson = {{"haptic_steps", st.hapticSteps}, {"collision_steps", st.collisionSteps},
+                   {"haptic_overruns", st.hapticOverruns}, {"collision_overruns", st.collisionOverruns},
+                   {"haptic_loop_us", percentilesJson(st.hapticStepUs)},
+                   {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
+                   {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
+                   {"realtime_priority", st.realtimeGranted}};
+  } else {
+    geo::SurfaceUpdater updater(grid, geo::SurfaceOptions{});
+    run = sim::runDeterministic(simulation, grid, path, &updater);
+  }
 
   const std::string forcesPath = options.outDir + "/forces.csv";
   const std::string summaryPath = options.outDir + "/summary.json";
@@ -103,7 +121,7 @@ int runDrill(const DrillCommandOptions& options) {
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
 
   const sim::RunSummary& s = run.summary;
-  const json summary = {{"jitter_n", s.jitterN},
+  json summary = {{"jitter_n", s.jitterN},
                         {"max_step_change_n", s.maxStepChangeN},
                         {"max_force_n", s.maxForceN},
                         {"removed_volume_mm3", s.removedVolumeMm3},
@@ -112,7 +130,7 @@ int runDrill(const DrillCommandOptions& options) {
                         {"overruns", s.overruns},
                         {"steps", s.steps},
                         {"non_finite_forces", s.nonFiniteForces},
-                        {"mode", "deterministic"},
+                        {"mode", options.threaded ? "threaded" : "deterministic"},
                         {"mesh", options.mesh},
                         {"tool", sim::toolKindName(kind)},
                         {"voxel_size_mm", options.voxelSizeMm},
@@ -121,6 +139,7 @@ int runDrill(const DrillCommandOptions& options) {
                         {"path", pathJson},
                         {"surface_triangles", surface.triangleCount()},
                         {"files", {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}}}};
+  if (options.threaded) summary["runtime"] = runtimeJson;
   {
     std::ofstream out(summaryPath);
     out << summary.dump(2) << "\n";

@@ -117,6 +117,8 @@ int main(int argc, char** argv) {
   drillCmd->add_option("--tool", drill.tool, "drill, burr or shaver")->default_val("drill");
   drillCmd->add_option("--out-dir", drill.outDir, "Folder for forces.csv, summary.json, surface.ply")
       ->default_val(".");
+  drillCmd->add_flag("--threaded", drill.threaded,
+                     "Run the haptic, collision and visual threads in real time (not bit-identical)");
   drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
 
   osteon::cli::ExperimentCommandOptions experiment;

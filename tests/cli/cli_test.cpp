@@ -232,6 +232,17 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   ASSERT_EQ(osteon(args + "'" + path("b") + "'").exitCode, 0);
   EXPECT_TRUE(log == test::readBytes(path("b/forces.csv")));
 
+  // The same run on the three real-time threads.
+  const CliRun threaded = osteon("drill default --voxel-size 1.2 --levels 0 --path portal-5 --threaded --json --out-dir '" +
+                                 path("t") + "'");
+  ASSERT_EQ(threaded.exitCode, 0) << threaded.err;
+  const nlohmann::json t = nlohmann::json::parse(threaded.out);
+  EXPECT_EQ(t["mode"], "threaded");
+  EXPECT_GT(t["runtime"]["collision_steps"].get<int>(), 3500);  // most periods, even on a busy machine
+  EXPECT_GT(t["runtime"]["visual_updates"].get<int>(), 0);
+  EXPECT_EQ(t["runtime"]["ring_full"].get<int>(), 0);
+  EXPECT_GT(t["removed_volume_mm3"].get<double>(), 10.0);
+
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
   const CliRun csv = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --json --path '" +
                             path("p.csv") + "' --out-dir '" + path("c") + "'");
