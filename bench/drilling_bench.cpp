@@ -1,0 +1,116 @@
+// osteon_bench_drilling [--runtime-s S]: the drilling figures of docs/performance.md.
+//   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
+//      humerus at 1.2 mm with 2 levels and at 0.3 mm static, deterministic mode: p50/p99/max,
+//      and the force jitter of each (dynamic 1.2 mm must be no worse than static 0.3 mm).
+//   2. The threaded runtime for S seconds (default 60) on a path that keeps cutting new bone,
+//      so the visual thread is always remeshing: the share of 1 ms periods that overran.
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/embree_scene.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/simulation/experiment.h"
+#include "osteon/simulation/runtime.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <memory>
+
+using namespace osteon;
+using namespace osteon::simulation;
+
+namespace {
+
+struct Scene {
+  geometry::VoxelGrid grid;
+  geometry::DynamicProximityHierarchy hierarchy;
+  geometry::FineFillSource source;
+  std::unique_ptr<DrillingSimulation> sim;
+};
+
+std::unique_ptr<Scene> makeScene(const geometry::HumerusModel& model, const geometry::EmbreeScene& embree,
+                                 double voxelMm, int levels) {
+  auto s = std::make_unique<Scene>();
+  geometry::VoxelizeOptions vo;
+  vo.voxelSizeMm = voxelMm;
+  s->grid = geometry::voxelize(model.mesh, vo);
+  s->hierarchy = geometry::DynamicProximityHierarchy::build(s->grid, geometry::DphBuildOptions{});
+  if (levels > 0) s->source = geometry::FineFillSource::sample(s->grid, model.mesh, embree);
+  DrillingOptions options;
+  options.levels = levels;
+  s->sim = std::make_unique<DrillingSimulation>(s->grid, s->hierarchy, levels > 0 ? &s->source : nullptr,
+                                                ToolKind::Drill, ToolOptions{}, options);
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  double runtimeS = 60.0;
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::strcmp(argv[i], "--runtime-s") == 0) runtimeS = std::atof(argv[i + 1]);
+  }
+  const geometry::HumerusModel model = geometry::buildHumerusModel();
+  const geometry::EmbreeScene embree(model.mesh);
+  const HumeralHead head = fitHumeralHead(model.mesh);
+
+  std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
+  std::printf("| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max step change N |\n");
+  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
+    for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
+      auto scene = makeScene(model, embree, voxelMm, levels);
+      const PortalPlan plan = makePortalPath(portal, head, model.mesh, scene->sim->tool().parts[0].outerRadiusMm);
+      const RunResult r = runDeterministic(*scene->sim, scene->grid, plan.path, nullptr);
+      const RunSummary& s = r.summary;
+      std::printf("| %g mm | %d | %g mm | %s | %.1f | %.1f | %.1f | %.4f | %.4f |\n", voxelMm, levels,
+                  scene->sim->finestVoxelMm(), portalName(portal), s.hapticStepUs.p50, s.hapticStepUs.p99,
+                  s.hapticStepUs.max, s.jitterN, s.maxStepChangeN);
+      std::fflush(stdout);
+    }
+  }
+
+  // A helix inside the head, its turns 3.4 mm apart along the head axis: every turn cuts new
+  // bone, so removal and remeshing never stop.
+  auto scene = makeScene(model, embree, 1.2, 2);
+  std::vector<Waypoint> points;
+  const glm::dvec3 w = glm::normalize(model.headAxis);
+  const glm::dvec3 u = glm::normalize(glm::cross(w, std::abs(w.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  const glm::dvec3 v = glm::cross(w, u);
+  const double radiusMm = 8.0, speedMmPerS = 3.0;
+  const double omega = speedMmPerS / radiusMm;
+  const double pitchPerS = 3.4 * omega / (2.0 * M_PI);
+  for (double t = 0.0; t <= runtimeS + 1e-9; t += 0.05) {
+    const glm::dvec3 p = head.centreMm + radiusMm * (std::cos(omega * t) * u + std::sin(omega * t) * v) +
+                         (-8.0 + pitchPerS * t) * w;
+    const glm::dvec3 tangent = -radiusMm * omega * std::sin(omega * t) * u + radiusMm * omega * std::cos(omega * t) * v;
+    points.push_back({t, p, ToolPose::pointing(p, tangent).orientation, true});
+  }
+  const DrillPath path(points);
+  PathPoseSource device(path);
+  RuntimeOptions ro;
+  ro.durationS = runtimeS;
+  char startText[32];
+  const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
+  const RuntimeResult r = runThreaded(*scene->sim, scene->grid, device, nullptr, geometry::SurfaceOptions{}, ro);
+  const RuntimeStats& st = r.stats;
+  std::printf("\nthreaded runtime, %g s at 1.2 mm / 2 levels, helix through the head (started %s)\n", runtimeS,
+              startText);
+  std::printf("realtime priority: %s\n", st.realtimeGranted ? "SCHED_FIFO granted" : "not granted (normal scheduling)");
+  std::printf("haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
+              (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns,
+              100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1)), st.hapticStepUs.p99);
+  std::printf("collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
+              (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
+              100.0 * double(st.collisionOverruns) / double(std::max<std::uint64_t>(st.collisionSteps, 1)),
+              st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
+  std::printf("visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, ring full %llu\n",
+              (unsigned long long)st.visualUpdates, st.remeshMs.p50, st.remeshMs.p99, st.remeshMs.max,
+              (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
+  std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3, r.run.summary.jitterN);
+  return 0;
+}
