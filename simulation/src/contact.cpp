@@ -38,30 +38,28 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
     const double ro2 = part.outerRadiusMm * part.outerRadiusMm;
     glm::dvec3 direction(0.0);
     double n = 0.0;
-    // A long part (the drill's shaft) is queried in chunks as long as its outer radius, which
-    // minimises the volume the spheres sweep; one sphere around all of it would visit every
-    // voxel within half its length. A sample counts in the chunk its closest core point falls
-    // in, so none counts twice.
-    const double length = glm::length(b - a);
-    const int chunks = std::max(1, int(std::ceil(length / part.outerRadiusMm)));
     const glm::dvec3 ab = b - a;
     const double len2 = glm::dot(ab, ab);
-    for (int chunk = 0; chunk < chunks; ++chunk) {
-      const glm::dvec3 centre = a + (double(chunk) + 0.5) / double(chunks) * ab;
-      voxels.forEachSampleInSphere(centre, 0.5 * length / double(chunks) + part.outerRadiusMm,
-                                   [&](const VoxelSample& s) {
-        const double t = len2 > 0.0 ? std::clamp(glm::dot(s.centreMm - a, ab) / len2, 0.0, 1.0) : 0.0;
-        if (std::min(chunks - 1, int(t * double(chunks))) != chunk) return;
-        const glm::dvec3 toCore = a + t * ab - s.centreMm;
-        const double d2 = glm::dot(toCore, toCore);
-        if (d2 <= ri2 || d2 > ro2) return;
-        const double w = double(s.fill) * weightPerFill_;
-        direction += w * toCore;
-        n += w;
-        ++out.samples;
-        out.level = std::min(out.level, s.level);
-      });
-    }
+    // A refined voxel wholly outside the shell (beyond the outer layer, or inside the inner
+    // one, where the tool has cut) is not opened.
+    const auto open = [&](const glm::dvec3& c, double halfDiagonal) {
+      const double t = len2 > 0.0 ? std::clamp(glm::dot(c - a, ab) / len2, 0.0, 1.0) : 0.0;
+      const double d = glm::length(a + t * ab - c);
+      return d - halfDiagonal <= part.outerRadiusMm && d + halfDiagonal > part.innerRadiusMm;
+    };
+    // One capsule query around the part's core (a long shaft in a sphere query would visit
+    // every voxel within half its length).
+    voxels.forEachSampleNearSegment(a, b, part.outerRadiusMm, open, [&](const VoxelSample& s) {
+      const double t = len2 > 0.0 ? std::clamp(glm::dot(s.centreMm - a, ab) / len2, 0.0, 1.0) : 0.0;
+      const glm::dvec3 toCore = a + t * ab - s.centreMm;
+      const double d2 = glm::dot(toCore, toCore);
+      if (d2 <= ri2 || d2 > ro2) return;
+      const double w = double(s.fill) * weightPerFill_;
+      direction += w * toCore;
+      n += w;
+      ++out.samples;
+      out.level = std::min(out.level, s.level);
+    });
     out.contactVoxels += n;
     const double len = glm::length(direction);
     if (n <= 0.0 || !(len > 1e-12 * n)) continue;  // no bone, or pushed equally from all sides

@@ -129,7 +129,15 @@ class RefinedVoxels {
   // Samples whose centre lies within radiusMm of centreMm, at the finest level present:
   // fn(const VoxelSample&).
   template <typename Fn>
-  void forEachSampleInSphere(const glm::dvec3& centreMm, double radiusMm, Fn&& fn);
+  void forEachSampleInSphere(const glm::dvec3& centreMm, double radiusMm, Fn&& fn) {
+    forEachSampleNearSegment(centreMm, centreMm, radiusMm, [](const glm::dvec3&, double) { return true; }, fn);
+  }
+  // Samples whose centre lies within radiusMm of the segment a-b (a capsule; a sphere when
+  // a == b), opening a refined voxel only when openVoxel(centreMm, halfDiagonalMm) says its
+  // cube may hold samples the caller wants (a contact shell culls the rest: 64 tests each).
+  template <typename Open, typename Fn>
+  void forEachSampleNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
+                                Open&& openVoxel, Fn&& fn);
 
   // Drilling step (seed 3.5): every sample whose centre lies within radiusMm of centreMm
   // loses `decrement` density; a sample at d <= 0 is removed (its fill leaves the grid).
@@ -203,20 +211,30 @@ class RefinedVoxels {
   std::vector<glm::ivec3> found_;          // voxels of the current query (reserved)
 };
 
-template <typename Fn>
-void RefinedVoxels::forEachSampleInSphere(const glm::dvec3& centreMm, double radiusMm, Fn&& fn) {
+template <typename Open, typename Fn>
+void RefinedVoxels::forEachSampleNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
+                                             Open&& openVoxel, Fn&& fn) {
   const double vs = grid_->voxelSizeMm();
   // A refined voxel may hold samples in reach although its centre is not.
-  const double reach = radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
+  const double halfDiagonal = 0.5 * std::sqrt(3.0) * vs;
+  const double reach = radiusMm + (depth_ > 0 ? halfDiagonal : 0.0);
   const double r2 = radiusMm * radiusMm;
-  hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, [&](const glm::ivec3& v) {
+  const glm::dvec3 ab = bMm - aMm;
+  const double len2 = glm::dot(ab, ab);
+  const auto distanceSq = [&](const glm::dvec3& p) {
+    double t = len2 > 0.0 ? glm::dot(p - aMm, ab) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    const glm::dvec3 d = p - (aMm + t * ab);
+    return glm::dot(d, d);
+  };
+  const auto visit = [&](const glm::ivec3& v) {
     const glm::dvec3 c = grid_->voxelCentreMm(v);
     const std::uint32_t cell = findCell(v);
     if (cell == kNoCell) {
-      const glm::dvec3 d = c - centreMm;
-      if (glm::dot(d, d) <= r2) fn(VoxelSample{c, vs, 0, grid_->fill(v), grid_->density(v)});
+      if (distanceSq(c) <= r2) fn(VoxelSample{c, vs, 0, grid_->fill(v), grid_->density(v)});
       return;
     }
+    if (!openVoxel(c, halfDiagonal)) return;
     const Cell& cl = cells_[cell];
     const int n = 1 << depth_;
     const double sub = vs / n;
@@ -227,12 +245,16 @@ void RefinedVoxels::forEachSampleInSphere(const glm::dvec3& centreMm, double rad
           const int i = x + n * (y + n * z);
           if (cl.fill[std::size_t(i)] == 0) continue;
           const glm::dvec3 sc = corner + (glm::dvec3(x, y, z) + 0.5) * sub;
-          const glm::dvec3 d = sc - centreMm;
-          if (glm::dot(d, d) <= r2) {
+          if (distanceSq(sc) <= r2) {
             fn(VoxelSample{sc, sub, -depth_, cl.fill[std::size_t(i)], cl.density[std::size_t(i)]});
           }
         }
-  });
+  };
+  if (len2 > 0.0) {
+    hierarchy_->forEachVoxelInCapsule(aMm, bMm, reach, scratch_, visit);
+  } else {
+    hierarchy_->forEachVoxelInSphere(aMm, reach, scratch_, visit);
+  }
 }
 
 }  // namespace osteon::geometry
