@@ -130,6 +130,7 @@ int runDrill(const DrillCommandOptions& options) {
                         {"overruns", s.overruns},
                         {"steps", s.steps},
                         {"non_finite_forces", s.nonFiniteForces},
+                        {"brick_allocations", s.brickAllocations},
                         {"mode", options.threaded ? "threaded" : "deterministic"},
                         {"mesh", options.mesh},
                         {"tool", sim::toolKindName(kind)},

@@ -96,6 +96,14 @@ void VoxelGrid::set(const glm::ivec3& ijk, Fill fill, Density density) {
   Brick* b = bricks_[brick].get();
   if (!b) {
     if (uniformFill_[brick] == fill && uniformDensity_[brick] == density) return;
+    if (!spare_.empty()) {
+      bricks_[brick] = std::move(spare_.back());
+      spare_.pop_back();
+      bricks_[brick]->fill.fill(uniformFill_[brick]);
+      bricks_[brick]->density.fill(uniformDensity_[brick]);
+    } else if (spare_.capacity() > 0) {
+      ++spareMisses_;
+    }
     b = &materialiseBrick(brick);
   }
   // Dirty means "the surface may have changed": fill, not density (a drilling step lowers
@@ -105,8 +113,20 @@ void VoxelGrid::set(const glm::ivec3& ijk, Fill fill, Density density) {
   b->density[std::size_t(local)] = density;
 }
 
-void VoxelGrid::setBrickUniform(std::size_t brick, Fill fill, Density density) {
+void VoxelGrid::reserveSpareBricks(std::size_t count) {
+  spare_.reserve(spare_.size() + count);
+  while (spare_.size() < spare_.capacity()) spare_.push_back(std::make_unique<Brick>());
+}
+
+void VoxelGrid::release(std::size_t brick) {
+  if (bricks_[brick] && spare_.size() < spare_.capacity()) {
+    spare_.push_back(std::move(bricks_[brick]));  // within capacity: no allocation
+  }
   bricks_[brick].reset();
+}
+
+void VoxelGrid::setBrickUniform(std::size_t brick, Fill fill, Density density) {
+  release(brick);
   uniformFill_[brick] = fill;
   uniformDensity_[brick] = density;
   dirty_[brick] = 1;
@@ -141,7 +161,7 @@ std::size_t VoxelGrid::compact() {
         }
     if (!uniform) continue;
     // Same voxel values: the brick's dirty state is left as it was.
-    bricks_[i].reset();
+    release(i);
     uniformFill_[i] = f;
     uniformDensity_[i] = d;
     ++freed;
@@ -217,7 +237,8 @@ double VoxelGrid::filledVolumeMm3() const {
 std::size_t VoxelGrid::memoryBytes() const {
   const std::size_t perSlot = sizeof(std::unique_ptr<Brick>) + sizeof(Fill) + sizeof(Density) +
                               sizeof(std::uint8_t);
-  return sizeof(*this) + bricks_.size() * perSlot + allocatedBrickCount() * sizeof(Brick);
+  return sizeof(*this) + bricks_.size() * perSlot + allocatedBrickCount() * sizeof(Brick) +
+         spare_.capacity() * sizeof(std::unique_ptr<Brick>) + spare_.size() * sizeof(Brick);
 }
 
 bool VoxelGrid::Accessor::locate(const glm::ivec3& ijk, int& local) {

@@ -40,7 +40,10 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
       finestVoxelMm_(finestOf(grid, options)),
       voxels_(std::make_unique<geometry::RefinedVoxels>(grid, hierarchy, source,
                                                         withDepth(options.refinement, options.levels))),
-      model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()) {}
+      model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()) {
+  grid.reserveSpareBricks(options.spareBricks);
+  spareMissesAtStart_ = grid.spareMisses();
+}
 
 StepOutput DrillingSimulation::step(const StepInput& input) {
   StepOutput out;
@@ -82,6 +85,7 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
   totals_.samplesRemoved += out.removal.samplesRemoved;
   totals_.voxelsEmptied += out.removal.voxelsEmptied;
   totals_.nonFiniteForces += out.contact.nonFinite ? 1 : 0;
+  totals_.brickAllocations = grid_->spareMisses() - spareMissesAtStart_;
   return out;
 }
 

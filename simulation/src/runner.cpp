@@ -92,6 +92,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
   s.remeshMs = percentilesOf(remeshMs);
   s.steps = steps;
   s.nonFiniteForces = sim.totals().nonFiniteForces;
+  s.brickAllocations = sim.totals().brickAllocations;
   return result;
 }
 

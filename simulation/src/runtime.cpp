@@ -213,6 +213,7 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   s.overruns = stats.hapticOverruns + stats.collisionOverruns;
   s.steps = stats.collisionSteps;
   s.nonFiniteForces = sim.totals().nonFiniteForces;
+  s.brickAllocations = sim.totals().brickAllocations;
   if (finalSurface) *finalSurface = updater.mesh();
   return result;
 }

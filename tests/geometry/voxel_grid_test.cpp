@@ -262,5 +262,27 @@ TEST(VoxelGridTotals, TotalFillEqualsTheSumOverEveryVoxel) {
   EXPECT_DOUBLE_EQ(g.filledVolumeMm3(), double(sum) / kFillFull * 0.125);
 }
 
+TEST(VoxelGridTotals, SpareBricksServeSetAndComeBackWhenFreed) {
+  VoxelGrid g({16, 16, 16}, glm::dvec3(0.0), 1.0);
+  g.reserveSpareBricks(2);
+  EXPECT_EQ(g.spareBricks(), 2u);
+  const std::size_t before = g.memoryBytes();
+  g.set({0, 0, 0}, 100, 1);  // brick 0 from the pool
+  g.set({9, 0, 0}, 100, 1);  // brick 1 from the pool
+  EXPECT_EQ(g.spareBricks(), 0u);
+  EXPECT_EQ(g.spareMisses(), 0u);
+  EXPECT_EQ(g.memoryBytes(), before);  // the same bricks, now in use
+  g.set({0, 9, 0}, 100, 1);  // the pool is empty: allocated, and counted
+  EXPECT_EQ(g.spareMisses(), 1u);
+  EXPECT_EQ(g.fill({0, 9, 0}), 100);
+  EXPECT_EQ(g.fill({1, 9, 0}), 0);  // the rest of the brick keeps its uniform value
+  g.setBrickUniform(g.brickIndex({0, 0, 0}), 0, 0);
+  EXPECT_EQ(g.spareBricks(), 1u);  // back in the pool
+  g.set({0, 0, 9}, 7, 1);
+  EXPECT_EQ(g.spareMisses(), 1u);
+  EXPECT_EQ(g.fill({0, 0, 8}), 0);  // a recycled brick starts from the uniform value, not old data
+  EXPECT_EQ(g.fill({0, 0, 9}), 7);
+}
+
 }  // namespace
 }  // namespace osteon::geometry

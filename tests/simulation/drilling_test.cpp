@@ -187,6 +187,7 @@ class HumerusDrilling : public ::testing::Test {
       forces.push_back(out.contact.forceN.z);
       EXPECT_LE(out.contact.magnitudeN, 3.3 + 1e-12);
     }
+    EXPECT_EQ(sim.totals().brickAllocations, 0u);  // the spare pool covered every new brick
     if (removed) *removed = sim.totals().removedFill;
     if (conserved) *conserved = grid.totalFill() == before - sim.totals().removedFill;
     return forces;

@@ -80,7 +80,16 @@ class VoxelGrid {
   Density density(const glm::ivec3& ijk) const;
   // Writes materialise the brick when the value breaks its uniformity, and mark it dirty when
   // the fill changes (dirty: the surface there may have changed; density alone does not).
+  // One writer at a time (parallel writers use materialiseBrick on distinct bricks). A brick
+  // set() materialises comes from the spare pool while it lasts, so a real-time writer does
+  // not allocate.
   void set(const glm::ivec3& ijk, Fill fill, Density density);
+  // Allocates `count` spare bricks up front for set(); bricks freed by setBrickUniform and
+  // compact return to the pool while it has room.
+  void reserveSpareBricks(std::size_t count);
+  std::size_t spareBricks() const { return spare_.size(); }
+  // Bricks set() had to allocate because the reserved pool was empty.
+  std::uint64_t spareMisses() const { return spareMisses_; }
 
   // Bricks.
   glm::ivec3 brickDims() const { return brickDims_; }
@@ -150,6 +159,10 @@ class VoxelGrid {
   std::vector<Fill> uniformFill_;
   std::vector<Density> uniformDensity_;
   std::vector<std::uint8_t> dirty_;  // bytes, not bits: threads write distinct bricks
+  std::vector<std::unique_ptr<Brick>> spare_;  // not copied with the grid
+  std::uint64_t spareMisses_ = 0;
+
+  void release(std::size_t brick);  // frees a brick's arrays, into the pool when it has room
 };
 
 }  // namespace osteon::geometry

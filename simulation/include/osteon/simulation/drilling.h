@@ -20,6 +20,8 @@ struct DrillingOptions {
   int levels = 2;                           // 0 static, 1 or 2 dynamic
   int decrement = 1;                        // density units per drilling step (seed: d - 1)
   geometry::RefinementOptions refinement;  // depth is taken from `levels`
+  // Bricks kept ready for removal in uniform bricks (2 KiB each), so a step never allocates.
+  std::size_t spareBricks = 1024;
 };
 
 // Throws InputError naming the value for levels outside 0..2 or a decrement below 1.
@@ -43,6 +45,7 @@ struct DrillingTotals {
   std::uint64_t samplesRemoved = 0;
   std::uint64_t voxelsEmptied = 0;
   std::uint64_t nonFiniteForces = 0;
+  std::uint64_t brickAllocations = 0;  // bricks a step had to allocate (the spare pool ran out)
 };
 
 class DrillingSimulation {
@@ -72,6 +75,7 @@ class DrillingSimulation {
   std::unique_ptr<geometry::RefinedVoxels> voxels_;
   ForceModel model_;
   DrillingTotals totals_;
+  std::uint64_t spareMissesAtStart_ = 0;
 };
 
 }  // namespace osteon::simulation
