@@ -4,7 +4,7 @@
 #include "osteon/geometry/refinement.h"
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/voxelizer.h"
-#include "support/cgal_checks.h"
+#include "osteon/validation/mesh_checks.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -26,7 +26,7 @@ void expectSoundSurface(const SurfaceMesh& surface, long long euler, const std::
   EXPECT_EQ(t.degenerateTriangles, 0u) << what;
   EXPECT_EQ(t.eulerCharacteristic, euler) << what;
   EXPECT_GT(signedVolumeMm3(mesh), 0.0) << what;
-  EXPECT_EQ(test::selfIntersectingPairs(mesh, 10), 0u) << what;
+  EXPECT_EQ(validation::selfIntersectingPairs(mesh, 10), 0u) << what;
 }
 
 class MultiResolution : public ::testing::Test {
@@ -126,7 +126,7 @@ TEST(MultiResolutionNoise, RandomRefinementOfNoiseVolumesStaysSound) {
       EXPECT_EQ(t.nonManifoldVertices, 0u) << what;
       EXPECT_EQ(t.misorientedEdges, 0u) << what;
       EXPECT_EQ(t.degenerateTriangles, 0u) << what;
-      EXPECT_EQ(test::selfIntersectingPairs(mesh, 10), 0u) << what;
+      EXPECT_EQ(validation::selfIntersectingPairs(mesh, 10), 0u) << what;
     }
   }
 }

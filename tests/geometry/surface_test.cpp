@@ -4,7 +4,7 @@
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/voxel_grid.h"
 #include "osteon/geometry/voxelizer.h"
-#include "support/cgal_checks.h"
+#include "osteon/validation/mesh_checks.h"
 #include "support/shapes.h"
 
 #include <glm/common.hpp>
@@ -73,7 +73,7 @@ std::string surfaceProblems(const SurfaceMesh& s, bool cgal = true) {
     if (!(volume > 0.0)) out << " signed volume " << volume << ";";
   }
   if (cgal) {
-    const std::size_t pairs = test::selfIntersectingPairs(mesh, 10);
+    const std::size_t pairs = validation::selfIntersectingPairs(mesh, 10);
     if (pairs) out << " CGAL self-intersecting pairs " << pairs << ";";
   }
   return out.str();
@@ -164,18 +164,18 @@ TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
 
 TEST(SurfaceChecks, CgalFindsCrossingsInPolygonMeshes) {
   const TriangleMesh one = tetrahedron(glm::dvec3(0.0), 1.0);
-  EXPECT_EQ(test::selfIntersectingPairs(one), 0u);
-  EXPECT_FALSE(test::doesSelfIntersect(one));
+  EXPECT_EQ(validation::selfIntersectingPairs(one), 0u);
+  EXPECT_FALSE(validation::doesSelfIntersect(one));
   // Two closed tetrahedra overlapping: a polygon mesh of two components.
   const TriangleMesh crossing = merged(one, tetrahedron(glm::dvec3(0.3), 1.0));
-  EXPECT_GT(test::selfIntersectingPairs(crossing), 0u);
-  EXPECT_EQ(test::selfIntersectingPairs(crossing, 1), 1u);
-  EXPECT_TRUE(test::doesSelfIntersect(crossing));
+  EXPECT_GT(validation::selfIntersectingPairs(crossing), 0u);
+  EXPECT_EQ(validation::selfIntersectingPairs(crossing, 1), 1u);
+  EXPECT_TRUE(validation::doesSelfIntersect(crossing));
   // Disjoint: none.
-  EXPECT_FALSE(test::doesSelfIntersect(merged(one, tetrahedron(glm::dvec3(2.0), 1.0))));
+  EXPECT_FALSE(validation::doesSelfIntersect(merged(one, tetrahedron(glm::dvec3(2.0), 1.0))));
   // A face folded onto its neighbour across their shared edge.
   const TriangleMesh fold{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {1, 0, 3}}};
-  EXPECT_EQ(test::selfIntersectingPairs(fold), 1u);
+  EXPECT_EQ(validation::selfIntersectingPairs(fold), 1u);
 }
 
 // Soups that are no polygon mesh (pinched vertex, edge used twice the same way) take the
@@ -185,24 +185,24 @@ TEST(SurfaceChecks, CgalFallbackHandlesSoupsThatAreNoPolygonMesh) {
   pinched.positionsMm.insert(pinched.positionsMm.end(), {{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}});
   pinched.triangles.insert(pinched.triangles.end(), {{0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}});
   ASSERT_EQ(analyzeTopology(pinched).nonManifoldVertices, 1u);
-  EXPECT_EQ(test::selfIntersectingPairs(pinched), 0u);  // they touch at vertex 0 only
-  EXPECT_FALSE(test::doesSelfIntersect(pinched));
+  EXPECT_EQ(validation::selfIntersectingPairs(pinched), 0u);  // they touch at vertex 0 only
+  EXPECT_FALSE(validation::doesSelfIntersect(pinched));
 
   TriangleMesh piercing = tetrahedron(glm::dvec3(0.0), 1.0);  // shares vertex 0, crosses face 123
   piercing.positionsMm.insert(piercing.positionsMm.end(), {{2, 0.1, 0.1}, {0.1, 2, 0.1}, {0.1, 0.1, 2}});
   piercing.triangles.insert(piercing.triangles.end(), {{0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}});
-  EXPECT_GT(test::selfIntersectingPairs(piercing), 0u);
-  EXPECT_TRUE(test::doesSelfIntersect(piercing));
+  EXPECT_GT(validation::selfIntersectingPairs(piercing), 0u);
+  EXPECT_TRUE(validation::doesSelfIntersect(piercing));
 
   // Edge 0 -> 1 used twice in the same direction; overlapping, then not.
   const TriangleMesh folded{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
-  EXPECT_EQ(test::selfIntersectingPairs(folded), 1u);
+  EXPECT_EQ(validation::selfIntersectingPairs(folded), 1u);
   const TriangleMesh flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, -0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
-  EXPECT_EQ(test::selfIntersectingPairs(flat), 0u);
+  EXPECT_EQ(validation::selfIntersectingPairs(flat), 0u);
   // Sharing vertex 0 at an angle without crossing.
   const TriangleMesh fan{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0.2, 0.3}},
                          {{0, 1, 2}, {0, 3, 4}, {0, 1, 3}, {0, 1, 4}}};
-  EXPECT_EQ(test::selfIntersectingPairs(fan), 0u);
+  EXPECT_EQ(validation::selfIntersectingPairs(fan), 0u);
 }
 
 TEST(SurfaceChecks, ProblemListCatchesBrokenSurfaces) {
@@ -517,7 +517,7 @@ TEST(SurfaceTopology, SmoothingNeverCreatesSelfIntersectionsOnHumerusAndTorus) {
       const SurfaceMesh s = extractSurface(*grid, smoothing(passes));
       ASSERT_GT(s.triangleCount(), 1000u);
       EXPECT_EQ(surfaceProblems(s, false), "");
-      EXPECT_FALSE(test::doesSelfIntersect(s.toTriangleMesh()));
+      EXPECT_FALSE(validation::doesSelfIntersect(s.toTriangleMesh()));
       EXPECT_EQ(topologyOf(s).components, 1u);
     }
   }

@@ -1,7 +1,9 @@
-#include "support/cgal_checks.h"
+#include "osteon/validation/mesh_checks.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/distance.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/box_intersection_d.h>
@@ -9,10 +11,11 @@
 #include <algorithm>
 #include <array>
 #include <iterator>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
-namespace osteon::test {
+namespace osteon::validation {
 
 namespace {
 
@@ -136,4 +139,49 @@ bool doesSelfIntersect(const geometry::TriangleMesh& mesh) {
   return PMP::does_self_intersect(surface);
 }
 
-}  // namespace osteon::test
+MeshReport checkMesh(const geometry::TriangleMesh& mesh, std::size_t intersectionCap) {
+  MeshReport report;
+  report.topology = geometry::analyzeTopology(mesh);
+  report.volumeMm3 = geometry::signedVolumeMm3(mesh);
+  if (mesh.triangles.empty()) return report;
+  const Soup soup = toSoup(mesh);
+  Mesh surface;
+  const bool polygonMesh = toSurfaceMesh(soup, surface);
+  if (polygonMesh) {
+    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+    PMP::self_intersections(surface, std::back_inserter(pairs),
+                            CGAL::parameters::maximum_number(static_cast<unsigned int>(intersectionCap)));
+    report.selfIntersections = std::min(pairs.size(), intersectionCap);
+  } else {
+    report.selfIntersections = soupPairs(soup, intersectionCap);
+  }
+  report.selfIntersectionsCapped = report.selfIntersections >= intersectionCap;
+  // is_outward_oriented's preconditions: closed, and no self-intersection.
+  if (polygonMesh && report.watertight() && report.selfIntersections == 0 && CGAL::is_closed(surface)) {
+    report.outwardOriented = PMP::is_outward_oriented(surface);
+  }
+  if (report.watertight() && report.topology.components == 1) {
+    report.genus = (2 - report.topology.eulerCharacteristic) / 2;
+  }
+  return report;
+}
+
+Accuracy compareMeshes(const geometry::TriangleMesh& surface, const geometry::TriangleMesh& reference,
+                       double pointsPerMm2) {
+  Accuracy a;
+  const Soup s = toSoup(surface), r = toSoup(reference);
+  Mesh ms, mr;
+  if (!toSurfaceMesh(s, ms) || !toSurfaceMesh(r, mr)) {
+    throw std::invalid_argument("compareMeshes: both meshes must be polygon meshes");
+  }
+  const auto params = CGAL::parameters::number_of_points_per_area_unit(pointsPerMm2);
+  a.surfaceToReferenceMm = PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(ms, mr, params);
+  a.referenceToSurfaceMm = PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(mr, ms, params);
+  a.hausdorffMm = std::max(a.surfaceToReferenceMm, a.referenceToSurfaceMm);
+  const double vs = geometry::signedVolumeMm3(surface), vr = geometry::signedVolumeMm3(reference);
+  a.volumeDifferenceMm3 = vs - vr;
+  a.volumeDifferencePercent = vr != 0.0 ? 100.0 * (vs - vr) / std::abs(vr) : 0.0;
+  return a;
+}
+
+}  // namespace osteon::validation
