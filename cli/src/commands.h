@@ -77,6 +77,15 @@ struct DrillCommandOptions {
   bool json = false;
 };
 
+struct CheckCommandOptions {
+  std::string mesh;
+  MeshUnits units;
+  std::string reference;  // empty: no accuracy
+  int cracks = 512;       // pixels per side of each crack view
+  std::string images;     // folder for the six crack views, empty for none
+  bool json = false;
+};
+
 struct ExperimentCommandOptions {
   std::string name;               // "seed"
   std::string mesh = "default";
@@ -95,5 +104,6 @@ int runHierarchy(const HierarchyOptions& options);
 int runMesh(const MeshCommandOptions& options);
 int runDrill(const DrillCommandOptions& options);  // drill.cpp
 int runExperiment(const ExperimentCommandOptions& options);  // experiment.cpp
+int runCheck(const CheckCommandOptions& options);  // check.cpp
 
 }  // namespace osteon::cli

@@ -121,6 +121,18 @@ int main(int argc, char** argv) {
                      "Run the haptic, collision and visual threads in real time (not bit-identical)");
   drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
 
+  osteon::cli::CheckCommandOptions check;
+  CLI::App* checkCmd = app.add_subcommand(
+      "check", "Prove a surface crack-free: exact checks (CGAL), pixel crack metric, accuracy");
+  addMesh(*checkCmd, check.mesh);
+  addUnits(*checkCmd, check.units);
+  checkCmd->add_option("--reference", check.reference,
+                       "Mesh the surface came from (same units): Hausdorff distance, volume difference");
+  checkCmd->add_option("--cracks", check.cracks, "Pixels per side of each of the six crack views")
+      ->default_val(512);
+  checkCmd->add_option("--images", check.images, "Write the six crack views as PNG into this folder");
+  checkCmd->add_flag("--json", check.json, "Print one JSON object on stdout");
+
   osteon::cli::ExperimentCommandOptions experiment;
   CLI::App* experimentCmd = app.add_subcommand(
       "experiment", "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)");
@@ -151,14 +163,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd, checkCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
     };
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
-                << ": unknown command (expected info, voxelize, hierarchy, mesh, drill, experiment or model; see osteon "
+                << ": unknown command (expected info, voxelize, hierarchy, mesh, check, drill, experiment or model; "
+                   "see osteon "
                    "--help)\n";
       return kExitBadInput;
     }
@@ -174,6 +187,7 @@ int main(int argc, char** argv) {
     if (*meshCmd) return osteon::cli::runMesh(meshOpt);
     if (*drillCmd) return osteon::cli::runDrill(drill);
     if (*experimentCmd) return osteon::cli::runExperiment(experiment);
+    if (*checkCmd) return osteon::cli::runCheck(check);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

@@ -284,6 +284,32 @@ TEST_F(CliTest, ExperimentSeedDrawsThePlotsAndTheJitterTable) {
   expectBadInput("experiment lunar", "experiment lunar", "unknown");
 }
 
+TEST_F(CliTest, CheckPassesTheCrackFreeSurfaceAndFailsTheNaiveOne) {
+  ASSERT_EQ(osteon("mesh default --voxel-size 1.2 --out '" + path("cf.ply") + "'").exitCode, 0);
+  ASSERT_EQ(osteon("mesh default --voxel-size 1.2 --method naive --out '" + path("naive.ply") + "'").exitCode, 0);
+  const CliRun good = osteon("check '" + path("cf.ply") + "' --reference default --cracks 128 --json --images '" +
+                             path("img") + "'");
+  ASSERT_EQ(good.exitCode, 0) << good.err;
+  const nlohmann::json g = nlohmann::json::parse(good.out);
+  EXPECT_EQ(g["verdict"], "PASS");
+  EXPECT_EQ(g["border_edges"].get<int>(), 0);
+  EXPECT_EQ(g["self_intersections"].get<int>(), 0);
+  EXPECT_TRUE(g["outward_oriented"].get<bool>());
+  EXPECT_EQ(g["genus"].get<int>(), 0);
+  EXPECT_EQ(g["crack_percent"].get<double>(), 0.0);
+  EXPECT_LT(g["hausdorff_mm"].get<double>(), 1.2);  // within a voxel of the model
+  EXPECT_EQ(g["crack_images"].size(), 6u);
+  EXPECT_EQ(test::readBytes(path("img/cracks_+x.png")).substr(1, 3), "PNG");
+  const CliRun bad = osteon("check '" + path("naive.ply") + "' --cracks 128 --json");
+  EXPECT_EQ(bad.exitCode, 1) << bad.err;
+  const nlohmann::json b = nlohmann::json::parse(bad.out);
+  EXPECT_EQ(b["verdict"], "FAIL");
+  EXPECT_GT(b["border_edges"].get<int>(), 0);
+  EXPECT_GT(b["crack_percent"].get<double>(), 1.0);
+  expectBadInput("check '" + path("cf.ply") + "' --cracks 4", "--cracks 4", "16..4096");
+  expectBadInput("check '" + path("none.ply") + "'", "none.ply", "");
+}
+
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
   const CliRun run = osteon("model --json --out '" + path("humerus.stl") + "'");
   ASSERT_EQ(run.exitCode, 0) << run.err;

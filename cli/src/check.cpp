@@ -1,0 +1,91 @@
+// `osteon check`: the crack-free guarantees of one surface as numbers (issue: validation).
+#include "commands.h"
+
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/mesh_source.h"
+#include "osteon/validation/crack_metric.h"
+#include "osteon/validation/mesh_checks.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+
+namespace osteon::cli {
+
+using nlohmann::json;
+namespace val = osteon::validation;
+
+int runCheck(const CheckCommandOptions& options) {
+  const double scale = scaleToMm(options.units);
+  if (options.cracks < 16 || options.cracks > 4096) {
+    throw InputError("--cracks " + std::to_string(options.cracks) + ": pixels per side must be 16..4096");
+  }
+  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
+  geometry::TriangleMesh reference;
+  if (!options.reference.empty()) reference = geometry::loadMeshArgument(options.reference, scale);
+  if (!options.images.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.images, ec);
+    if (ec) throw InputError("--images " + options.images + ": cannot create the folder (" + ec.message() + ")");
+  }
+
+  const val::MeshReport r = val::checkMesh(mesh);
+  val::CrackMetricOptions co;
+  co.pixels = options.cracks;
+  co.keepImages = !options.images.empty();
+  const val::CrackMetric cracks = val::measureCracks(mesh, co);
+  std::vector<std::string> images;
+  if (co.keepImages) images = val::writeCrackImages(cracks, options.images);
+
+  const bool pass = r.watertight() && r.selfIntersections == 0;
+  json j = {{"mesh", options.mesh},
+            {"verdict", pass ? "PASS" : "FAIL"},
+            {"vertices", mesh.vertexCount()},
+            {"triangles", mesh.triangleCount()},
+            {"closed", r.topology.closed()},
+            {"border_edges", r.topology.borderEdges},
+            {"non_manifold_edges", r.topology.nonManifoldEdges},
+            {"non_manifold_vertices", r.topology.nonManifoldVertices},
+            {"misoriented_edges", r.topology.misorientedEdges},
+            {"degenerate_faces", r.topology.degenerateTriangles},
+            {"self_intersections", r.selfIntersections},
+            {"self_intersections_capped", r.selfIntersectionsCapped},
+            {"outward_oriented", r.outwardOriented},
+            {"components", r.topology.components},
+            {"euler_characteristic", r.topology.eulerCharacteristic},
+            {"genus", r.genus},
+            {"volume_mm3", r.volumeMm3},
+            {"crack_percent", cracks.crackPercent()},
+            {"crack_pixels", {{"red", cracks.red}, {"white", cracks.white}, {"per_side", cracks.pixels}}},
+            {"crack_images", images}};
+  if (!options.reference.empty()) {
+    try {
+      const val::Accuracy a = val::compareMeshes(mesh, reference);
+      j["reference"] = options.reference;
+      j["hausdorff_mm"] = a.hausdorffMm;
+      j["hausdorff_surface_to_reference_mm"] = a.surfaceToReferenceMm;
+      j["hausdorff_reference_to_surface_mm"] = a.referenceToSurfaceMm;
+      j["volume_difference_mm3"] = a.volumeDifferenceMm3;
+      j["volume_difference_percent"] = a.volumeDifferencePercent;
+    } catch (const std::invalid_argument&) {
+      throw InputError("--reference: " + options.mesh + " or " + options.reference +
+                       " is not a polygon mesh (non-manifold), so the Hausdorff distance is undefined");
+    }
+  }
+  if (options.json) {
+    std::cout << j.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+  } else {
+    std::cout << options.mesh << ": " << (pass ? "PASS" : "FAIL") << " - border edges "
+              << r.topology.borderEdges << ", non-manifold edges " << r.topology.nonManifoldEdges
+              << ", vertices " << r.topology.nonManifoldVertices << ", self-intersections "
+              << r.selfIntersections << (r.selfIntersectionsCapped ? "+" : "") << ", cracks "
+              << cracks.crackPercent() << " % of " << cracks.red + cracks.white << " pixels";
+    if (j.contains("hausdorff_mm")) std::cout << ", Hausdorff " << j["hausdorff_mm"].get<double>() << " mm";
+    std::cout << "\n";
+  }
+  return pass ? kExitOk : kExitCheckFailed;
+}
+
+}  // namespace osteon::cli
