@@ -19,6 +19,7 @@ struct SphereFit {
   double radius = 0.0;
   double rms = 0.0;
   int used = 0;
+  glm::dvec3 pointsMean{0.0};  // of the points fitted: on a head, the articular cap's middle
   bool ok = false;
 };
 
@@ -61,6 +62,7 @@ SphereFit fitSphere(const std::vector<glm::dvec3>& points, const glm::dvec3& shi
   }
   fit.rms = std::sqrt(sum / double(points.size()));
   fit.used = int(points.size());
+  for (const glm::dvec3& p : points) fit.pointsMean += p / double(points.size());
   fit.ok = std::isfinite(fit.radius) && std::isfinite(fit.centre.x + fit.centre.y + fit.centre.z);
   return fit;
 }
@@ -164,6 +166,9 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide) {
   out.radiusMm = head.radius;
   out.rmsResidualMm = head.rms;
   out.pointsUsed = head.used;
+  // The articular surface is the part of the bone on the sphere: its middle gives the axis.
+  const glm::dvec3 toCap = head.pointsMean - head.centre;
+  out.axis = glm::length(toCap) > 1e-9 ? glm::normalize(toCap) : glm::dvec3(0.0);
   out.superior = topIsHead ? axis : -axis;
   // The shaft's centre line passes through the centroid of the middle of the bone; the head
   // sits medial of it.
@@ -227,18 +232,28 @@ bool lastCrossing(const geometry::TriangleMesh& mesh, const glm::dvec3& origin, 
 
 PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry::TriangleMesh& mesh,
                           double toolOuterRadiusMm, const PortalPathOptions& options) {
-  // Clock angle from 12 towards 3 as seen from lateral: 5 o'clock is 150 degrees.
+  // Clock angle from 12 (superior) towards 3 (anterior): 5 o'clock is 150 degrees. The clock
+  // face lies on the articular surface, a cone of half-angle options.clockConeDeg around the
+  // head axis, so every hour is on the head itself.
   const double theta = (portal == Portal::FiveOClock ? 150.0 : 210.0) * M_PI / 180.0;
+  glm::dvec3 h = head.axis;
+  if (!(glm::length(h) > 0.5)) h = head.medial;  // no cap found: face medially
+  glm::dvec3 up = head.superior - glm::dot(head.superior, h) * h;
+  if (glm::length(up) < 1e-6) up = head.anterior - glm::dot(head.anterior, h) * h;
+  up = glm::normalize(up);
+  glm::dvec3 front = glm::cross(h, up);
+  if (glm::dot(front, head.anterior) < 0.0) front = -front;
+  const double cone = options.clockConeDeg * M_PI / 180.0;
   PortalPlan plan;
-  plan.clockDirection = glm::normalize(std::cos(theta) * head.superior + std::sin(theta) * head.anterior);
+  plan.clockDirection = glm::normalize(std::cos(cone) * h + std::sin(cone) * (std::cos(theta) * up + std::sin(theta) * front));
   if (!lastCrossing(mesh, head.centreMm, plan.clockDirection, plan.entryMm, plan.normal)) {
     throw InputError(std::string(portal == Portal::FiveOClock ? "portal-5" : "portal-7") +
                      ": the ray from the head centre towards the portal never leaves the bone");
   }
   if (glm::dot(plan.normal, plan.clockDirection) < 0.0) plan.normal = -plan.normal;
-  // Tilted from the inward normal towards medial, into the bulk of the head.
-  glm::dvec3 tangent = head.medial - glm::dot(head.medial, plan.normal) * plan.normal;
-  if (glm::length(tangent) < 1e-9) tangent = head.superior - glm::dot(head.superior, plan.normal) * plan.normal;
+  // Tilted from the inward normal towards the articular pole, so the path stays in the head.
+  glm::dvec3 tangent = h - glm::dot(h, plan.normal) * plan.normal;
+  if (glm::length(tangent) < 1e-6) tangent = up - glm::dot(up, plan.normal) * plan.normal;
   tangent = glm::normalize(tangent);
   const double a = options.entryAngleDeg * M_PI / 180.0;
   plan.direction = glm::normalize(-std::cos(a) * plan.normal + std::sin(a) * tangent);

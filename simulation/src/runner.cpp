@@ -82,6 +82,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
         grid.clearDirty();
       }
     }
+    if (options.afterStep) options.afterStep(i, input, out);
   }
   RunSummary& s = result.summary;
   s.jitterN = forceJitterN(result.log);

@@ -17,6 +17,7 @@ TEST(HumeralHead, FitFindsTheBuiltInModelsHeadAndFrame) {
   EXPECT_LT(glm::length(head.centreMm - model.headCentreMm), 1.0);
   EXPECT_NEAR(head.radiusMm, model.headRadiusMm, 1.0);
   EXPECT_GT(glm::dot(head.superior, model.shaftAxis), 0.99);
+  EXPECT_GT(glm::dot(head.axis, model.headAxis), 0.97);  // through the articular cap
   // LPS, right humerus: medial +x, anterior -y.
   EXPECT_GT(head.medial.x, 0.9);
   EXPECT_LT(head.anterior.y, -0.9);
@@ -44,7 +45,9 @@ TEST(Portal, PathsEnterTheHeadAtTheirClockPositionAt45Degrees) {
   const PortalPlan seven = makePortalPath(Portal::SevenOClock, head, model.mesh, 2.06);
   for (const PortalPlan* p : {&five, &seven}) {
     EXPECT_NEAR(glm::dot(-p->direction, p->normal), std::cos(M_PI / 4), 1e-9);
-    EXPECT_LT(glm::dot(p->clockDirection, head.superior), -0.8);  // inferior
+    // On the articular cap, below its pole; the hole stays in the head.
+    EXPECT_NEAR(glm::dot(p->clockDirection, head.axis), std::cos(M_PI / 4), 1e-9);
+    EXPECT_LT(glm::dot(p->clockDirection, head.superior), glm::dot(head.axis, head.superior));
     EXPECT_NEAR(p->path.durationS(), 7.0, 1e-12);
     ToolPose pose;
     bool on = false;
@@ -57,9 +60,11 @@ TEST(Portal, PathsEnterTheHeadAtTheirClockPositionAt45Degrees) {
     EXPECT_NEAR(glm::length(pose.forward() - p->direction), 0.0, 1e-9);
     p->path.sample(7.0, pose, on);
     EXPECT_NEAR(glm::length(pose.tipMm - p->entryMm), 15.0, 1e-9);
+    EXPECT_LT(glm::length(pose.tipMm - head.centreMm), head.radiusMm - 5.0);  // deep in the head
   }
-  EXPECT_GT(glm::dot(five.clockDirection, head.anterior), 0.4);   // anteroinferior
-  EXPECT_LT(glm::dot(seven.clockDirection, head.anterior), -0.4);  // posteroinferior
+  // 5 o'clock anteroinferior, 7 o'clock posteroinferior: mirror images across the 6 o'clock line.
+  EXPECT_GT(glm::dot(five.clockDirection - seven.clockDirection, head.anterior), 0.5);
+  EXPECT_NEAR(glm::dot(five.clockDirection, head.superior), glm::dot(seven.clockDirection, head.superior), 1e-9);
   EXPECT_THROW(parsePortal("portal-6"), InputError);
 }
 

@@ -7,10 +7,12 @@
 // shaft axis to the head centre; anterior = medial x superior for a right humerus (a left one
 // mirrors it).
 //
-// Portal paths: the clock face is the plane across the medial-lateral axis seen from lateral,
-// 12 o'clock superior and 3 o'clock anterior (right shoulder). The entry point is on the bone's
-// surface in that clock direction from the head centre; the drill enters at 45 degrees to the
-// surface normal, tilted medially towards the head's bulk, starts with its cushion clear of the surface and moves at
+// Portal paths: the clock face is drawn on the articular surface around the head axis (the
+// direction from the head centre to the middle of the points on the sphere), 12 o'clock
+// towards superior and 3 o'clock towards anterior (right shoulder), each hour 45 degrees off
+// the axis. The entry point is on the bone's surface in that direction from the head centre;
+// the drill enters at 45 degrees to the surface normal, tilted towards the articular pole so
+// the hole stays in the head, starts with its cushion clear of the surface and moves at
 // constant speed for 7 s with the drill on, to a depth of 15 mm past the entry point: the
 // depth of a suture-anchor hole, which is what the seed's drilling prepares.
 #pragma once
@@ -28,6 +30,7 @@ struct HumeralHead {
   double radiusMm = 0.0;
   double rmsResidualMm = 0.0;  // of the points the fit kept
   int pointsUsed = 0;
+  glm::dvec3 axis{0.0};  // from the centre through the middle of the articular surface
   glm::dvec3 superior{0.0, 0.0, 1.0};
   glm::dvec3 medial{1.0, 0.0, 0.0};
   glm::dvec3 anterior{0.0, -1.0, 0.0};
@@ -65,6 +68,7 @@ struct PortalPathOptions {
   double depthMm = 15.0;       // past the entry point, along the path
   double entryAngleDeg = 45.0; // to the surface normal
   double clearanceMm = 1.0;    // between the cushion and the surface at the start
+  double clockConeDeg = 45.0;  // the clock face's angle from the head axis
 };
 
 struct PortalPlan {
@@ -79,9 +83,8 @@ struct PortalPlan {
 // Portal names: "portal-5", "portal-7".
 Portal parsePortal(const std::string& text);
 // The entry point is where the ray from the head centre towards the clock position leaves
-// the bone for the last time (the mesh's outer surface there, which below the head's equator
-// is the neck rather than the sphere); the 45 degrees are to that triangle's normal. Throws
-// InputError when the ray never leaves the bone.
+// the bone for the last time (the mesh's outer surface there); the 45 degrees are to that
+// triangle's normal. Throws InputError when the ray never leaves the bone.
 PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry::TriangleMesh& mesh,
                           double toolOuterRadiusMm, const PortalPathOptions& options = {});
 

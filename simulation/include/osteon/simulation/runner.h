@@ -8,6 +8,7 @@
 #include "osteon/simulation/path.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,8 @@ double maxStepChangeN(const std::vector<ForceLogRow>& log);
 struct DeterministicOptions {
   double stepS = 0.001;
   int remeshEverySteps = 1;  // the visual work: incremental surface update every N steps
+  // Called after each step (and its surface update), for checks that follow a run.
+  std::function<void(std::size_t step, const StepInput& input, const StepOutput& output)> afterStep;
 };
 
 struct RunResult {

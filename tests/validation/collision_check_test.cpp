@@ -1,0 +1,50 @@
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/humerus_model.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/validation/collision_check.h"
+
+#include <gtest/gtest.h>
+
+namespace osteon::validation {
+namespace {
+
+using namespace osteon::simulation;
+
+CollisionCheckResult drill(int levels, bool updateSurface) {
+  const geometry::HumerusModel model = geometry::buildHumerusModel();
+  geometry::VoxelizeOptions vo;
+  vo.voxelSizeMm = 1.2;
+  geometry::VoxelGrid grid = geometry::voxelize(model.mesh, vo);
+  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  DrillingOptions options;
+  options.levels = levels;
+  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, options);
+  const PortalPlan plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
+                                         sim.tool().parts[0].outerRadiusMm);
+  CollisionCheckOptions check;
+  check.everySteps = 25;
+  check.updateSurface = updateSurface;
+  return crossCheckCollisions(sim, grid, plan.path, check);
+}
+
+// The crack-free surface, kept up to date, agrees with the voxels at every checked step.
+TEST(CollisionCheck, TheCrackFreeSurfaceNeverMissesAContact) {
+  for (const int levels : {0, 2}) {
+    const CollisionCheckResult r = drill(levels, true);
+    EXPECT_EQ(r.checked, 281u);
+    EXPECT_GT(r.contacts, 200u) << "levels " << levels;
+    EXPECT_EQ(r.misses, 0u) << "levels " << levels;
+    EXPECT_EQ(r.falseContacts, 0u) << "levels " << levels;
+  }
+}
+
+// The check can fail: a surface that stops following the drill (the bone it shows is gone)
+// leaves the tool deep inside it, touching nothing the surface shows.
+TEST(CollisionCheck, AStaleSurfaceShowsMisses) {
+  const CollisionCheckResult r = drill(0, false);
+  EXPECT_GT(r.misses, 50u);
+  EXPECT_GT(r.worstMissMm, 1.0);
+}
+
+}  // namespace
+}  // namespace osteon::validation
