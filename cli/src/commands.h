@@ -86,6 +86,15 @@ struct CheckCommandOptions {
   bool json = false;
 };
 
+struct ValidateCommandOptions {
+  std::string models = "default";      // comma-separated: default or mesh paths
+  MeshUnits units;
+  std::string voxelSizes = "1.2,0.9,0.72,0.54";
+  bool quick = false;
+  std::string outDir = "validation-report";
+  std::string compare;                 // a previous report.json
+};
+
 struct ExperimentCommandOptions {
   std::string name;               // "seed"
   std::string mesh = "default";
@@ -105,5 +114,6 @@ int runMesh(const MeshCommandOptions& options);
 int runDrill(const DrillCommandOptions& options);  // drill.cpp
 int runExperiment(const ExperimentCommandOptions& options);  // experiment.cpp
 int runCheck(const CheckCommandOptions& options);  // check.cpp
+int runValidate(const ValidateCommandOptions& options);  // validate.cpp
 
 }  // namespace osteon::cli

@@ -133,6 +133,19 @@ int main(int argc, char** argv) {
   checkCmd->add_option("--images", check.images, "Write the six crack views as PNG into this folder");
   checkCmd->add_flag("--json", check.json, "Print one JSON object on stdout");
 
+  osteon::cli::ValidateCommandOptions validate;
+  CLI::App* validateCmd = app.add_subcommand(
+      "validate", "The nightly run: every guarantee on models x voxel sizes x methods x modes; report");
+  validateCmd->add_option("--models", validate.models, "Comma-separated meshes ('default' for the built-in)")
+      ->default_val("default");
+  addUnits(*validateCmd, validate.units);
+  validateCmd->add_option("--voxel-sizes", validate.voxelSizes, "Comma-separated voxel sizes in mm")
+      ->default_val("1.2,0.9,0.72,0.54");
+  validateCmd->add_flag("--quick", validate.quick, "1.2 mm only, coarser checks: about a minute");
+  validateCmd->add_option("--out-dir", validate.outDir, "Folder for report.html, report.json, the log, images")
+      ->default_val("validation-report");
+  validateCmd->add_option("--compare", validate.compare, "A previous report.json: mark regressions");
+
   osteon::cli::ExperimentCommandOptions experiment;
   CLI::App* experimentCmd = app.add_subcommand(
       "experiment", "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)");
@@ -163,14 +176,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd, checkCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd, checkCmd, validateCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
     };
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
-                << ": unknown command (expected info, voxelize, hierarchy, mesh, check, drill, experiment or model; "
+                << ": unknown command (expected info, voxelize, hierarchy, mesh, check, validate, drill, "
+                   "experiment or model; "
                    "see osteon "
                    "--help)\n";
       return kExitBadInput;
@@ -188,6 +202,7 @@ int main(int argc, char** argv) {
     if (*drillCmd) return osteon::cli::runDrill(drill);
     if (*experimentCmd) return osteon::cli::runExperiment(experiment);
     if (*checkCmd) return osteon::cli::runCheck(check);
+    if (*validateCmd) return osteon::cli::runValidate(validate);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

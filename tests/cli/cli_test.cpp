@@ -310,6 +310,56 @@ TEST_F(CliTest, CheckPassesTheCrackFreeSurfaceAndFailsTheNaiveOne) {
   expectBadInput("check '" + path("none.ply") + "'", "none.ply", "");
 }
 
+// The nightly run, quick: the crack-free method keeps every guarantee, the naive one breaks
+// them (measured here, not assumed), and the report follows its schema.
+TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
+  const CliRun run = osteon("validate --quick --out-dir '" + path("v") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("[4/4]"), std::string::npos);  // progress per case
+  const nlohmann::json j = nlohmann::json::parse(test::readBytes(path("v/report.json")));
+  EXPECT_EQ(j["schema"], "osteon-validate/1");
+  EXPECT_EQ(j["verdict"], "PASS");
+  ASSERT_EQ(j["cases"].size(), 4u);
+  for (const auto& c : j["cases"]) {
+    for (const char* key : {"model", "voxel_size_mm", "method", "mode", "border_edges", "non_manifold",
+                            "self_intersections", "crack_percent", "hausdorff_mm", "collision_misses",
+                            "max_force_n", "jitter_n", "pass", "failures"}) {
+      EXPECT_TRUE(c.contains(key)) << key;
+    }
+    EXPECT_LE(c["max_force_n"].get<double>(), 3.3);
+    EXPECT_GT(c["max_force_n"].get<double>(), 1.0);  // the paths met bone
+    if (c["method"] == "crackfree") {
+      EXPECT_TRUE(c["pass"].get<bool>()) << c.dump();
+      EXPECT_EQ(c["border_edges"].get<int>(), 0);
+      EXPECT_EQ(c["crack_percent"].get<double>(), 0.0);
+      EXPECT_EQ(c["collision_misses"].get<int>(), 0);
+      EXPECT_GT(c["collision_checks"].get<int>(), 500);
+      EXPECT_EQ(c["after"]["border_edges"].get<int>(), 0);
+    } else {
+      EXPECT_FALSE(c["pass"].get<bool>());
+      EXPECT_GT(c["border_edges"].get<int>(), 0);
+      EXPECT_GT(c["crack_percent"].get<double>(), 0.0);
+    }
+  }
+  const std::string html = test::readBytes(path("v/report.html"));
+  EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
+  EXPECT_NE(html.find("images/0_naive/cracks_+x.png"), std::string::npos);
+  EXPECT_FALSE(test::readBytes(path("v/images/0_naive/cracks_+x.png")).empty());
+
+  // --compare: an older report in which a crack-free case was smoother marks a regression.
+  nlohmann::json older = j;
+  older["cases"][0]["jitter_n"] = 0.5 * j["cases"][0]["jitter_n"].get<double>();
+  test::writeBytes(path("old.json"), older.dump());
+  const CliRun again = osteon("validate --quick --out-dir '" + path("w") + "' --compare '" + path("old.json") + "'");
+  ASSERT_EQ(again.exitCode, 0) << again.err;
+  const nlohmann::json k = nlohmann::json::parse(test::readBytes(path("w/report.json")));
+  ASSERT_EQ(k["regressions"].size(), 1u);
+  EXPECT_NE(k["regressions"][0]["what"].get<std::string>().find("jitter_n"), std::string::npos);
+
+  expectBadInput("validate --voxel-sizes 1.2,abc", "--voxel-sizes 1.2,abc", "not a voxel size");
+  expectBadInput("validate --quick --compare '" + path("none.json") + "'", "none.json", "cannot open");
+}
+
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
   const CliRun run = osteon("model --json --out '" + path("humerus.stl") + "'");
   ASSERT_EQ(run.exitCode, 0) << run.err;

@@ -1,0 +1,305 @@
+// `osteon validate`: the nightly run and its report (report.json with a stable schema,
+// report.html, validate.log, crack images).
+#include "commands.h"
+
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/surface.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/validation/validate.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+namespace osteon::cli {
+
+using nlohmann::json;
+namespace val = osteon::validation;
+
+namespace {
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+std::vector<double> parseVoxelSizes(const std::string& text) {
+  std::vector<double> sizes;
+  for (const std::string& item : splitList(text)) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != item.size() || !(v >= 0.1 && v <= 10.0)) {
+      throw InputError("--voxel-sizes " + text + ": '" + item + "' is not a voxel size in 0.1..10 mm");
+    }
+    sizes.push_back(v);
+  }
+  if (sizes.empty()) throw InputError("--voxel-sizes " + text + ": no voxel size given");
+  return sizes;
+}
+
+json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
+  return {{"border_edges", r.topology.borderEdges},
+          {"non_manifold", r.topology.nonManifoldEdges + r.topology.nonManifoldVertices},
+          {"self_intersections", r.selfIntersections},
+          {"self_intersections_capped", r.selfIntersectionsCapped},
+          {"outward_oriented", r.outwardOriented},
+          {"components", r.topology.components},
+          {"genus", r.genus},
+          {"crack_percent", c.crackPercent()},
+          {"red_pixels", c.red}};
+}
+
+json caseJson(const val::ValidationCase& c) {
+  std::uint64_t misses = 0, falseContacts = 0, checked = 0, nonFinite = 0;
+  double maxForce = 0.0, jitter = 0.0;
+  json portals = json::array();
+  for (const val::PortalRun& p : c.portals) {
+    misses += p.collisions.misses;
+    falseContacts += p.collisions.falseContacts;
+    checked += p.collisions.checked;
+    nonFinite += p.nonFiniteForces;
+    maxForce = std::max(maxForce, p.maxForceN);
+    jitter = std::max(jitter, p.jitterN);
+    portals.push_back({{"portal", p.portal}, {"collision_misses", p.collisions.misses},
+                       {"false_contacts", p.collisions.falseContacts}, {"checked_steps", p.collisions.checked},
+                       {"contacts", p.collisions.contacts}, {"max_force_n", p.maxForceN}, {"jitter_n", p.jitterN},
+                       {"removed_volume_mm3", p.collisions.run.summary.removedVolumeMm3}});
+  }
+  json j = {{"model", c.model},
+            {"voxel_size_mm", c.voxelSizeMm},
+            {"method", c.method},
+            {"mode", c.mode},
+            {"pass", c.pass()},
+            {"failures", c.failures},
+            {"border_edges", c.before.topology.borderEdges},
+            {"non_manifold", c.before.topology.nonManifoldEdges + c.before.topology.nonManifoldVertices},
+            {"self_intersections", c.before.selfIntersections},
+            {"crack_percent", c.cracks.crackPercent()},
+            {"hausdorff_mm", c.accuracyKnown ? json(c.accuracy.hausdorffMm) : json(nullptr)},
+            {"hausdorff_voxels", c.accuracyKnown ? json(c.accuracy.hausdorffMm / c.voxelSizeMm) : json(nullptr)},
+            {"volume_difference_percent", c.accuracyKnown ? json(c.accuracy.volumeDifferencePercent) : json(nullptr)},
+            {"collision_misses", misses},
+            {"false_contacts", falseContacts},
+            {"collision_checks", checked},
+            {"max_force_n", maxForce},
+            {"jitter_n", jitter},
+            {"non_finite_forces", nonFinite},
+            {"triangles", c.triangles},
+            {"vertices", c.vertices},
+            {"extract_ms", c.extractMs},
+            {"before", surfaceJson(c.before, c.cracks)},
+            {"portals", portals}};
+  if (!c.portals.empty()) j["after"] = surfaceJson(c.after, c.afterCracks);
+  return j;
+}
+
+std::string caseKey(const json& c) {
+  std::ostringstream s;
+  s << c.value("model", "") << "|" << c.value("voxel_size_mm", 0.0) << "|" << c.value("method", "") << "|"
+    << c.value("mode", "");
+  return s.str();
+}
+
+// Regressions against an older report: a case that passed and fails, or a crack-free metric
+// that got worse (counts up at all; distances and jitter by more than 10 %).
+json compareReports(const json& now, const json& old) {
+  std::map<std::string, json> before;
+  for (const json& c : old.value("cases", json::array())) before[caseKey(c)] = c;
+  json regressions = json::array();
+  for (const json& c : now["cases"]) {
+    const auto it = before.find(caseKey(c));
+    if (it == before.end()) continue;
+    const json& o = it->second;
+    const auto note = [&](const std::string& what) { regressions.push_back({{"case", caseKey(c)}, {"what", what}}); };
+    if (o.value("pass", false) && !c.value("pass", false)) note("passed before, fails now");
+    if (c.value("method", "") != "crackfree") continue;
+    for (const char* k : {"border_edges", "non_manifold", "self_intersections", "collision_misses"}) {
+      if (c.value(k, 0) > o.value(k, 0)) note(std::string(k) + " " + std::to_string(o.value(k, 0)) + " -> " + std::to_string(c.value(k, 0)));
+    }
+    for (const char* k : {"crack_percent", "hausdorff_mm", "jitter_n"}) {
+      if (!c[k].is_number() || !o.contains(k) || !o[k].is_number()) continue;
+      const double a = o[k].get<double>(), b = c[k].get<double>();
+      if ((std::string(k) == "crack_percent" && b > a) || b > 1.1 * a + 1e-12) {
+        note(std::string(k) + " " + std::to_string(a) + " -> " + std::to_string(b));
+      }
+    }
+  }
+  return regressions;
+}
+
+std::string htmlEscape(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+void writeHtml(const std::string& path, const json& report, const std::vector<std::string>& images) {
+  std::ostringstream h;
+  const bool pass = report["verdict"] == "PASS";
+  h << "<!doctype html><html><head><meta charset='utf-8'><title>osteon validation: "
+    << report["verdict"].get<std::string>() << "</title><style>body{font-family:sans-serif;margin:2em}"
+    << "table{border-collapse:collapse}td,th{border:1px solid #999;padding:3px 8px;text-align:right}"
+    << ".pass{color:#070}.fail{color:#b00;font-weight:bold}img{width:200px;margin:4px;border:1px solid #ccc}</style>"
+    << "</head><body>\n<h1>osteon validation: <span class='" << (pass ? "pass" : "fail") << "'>"
+    << report["verdict"].get<std::string>() << "</span></h1>\n<p>"
+    << (pass ? "Every crack-free case keeps every guarantee."
+             : "A crack-free case broke a guarantee: see the failures below.")
+    << " The naive method is the seed's baseline, measured beside it and expected to fail.</p>\n";
+  h << "<p>Started " << htmlEscape(report["started"].get<std::string>()) << ", "
+    << report["seconds"].get<double>() << " s. osteon " << htmlEscape(report["osteon_version"].get<std::string>())
+    << ".</p>\n";
+  if (!report["regressions"].empty()) {
+    h << "<h2 class='fail'>Regressions against " << htmlEscape(report.value("compared_with", "")) << "</h2><ul>";
+    for (const json& r : report["regressions"]) {
+      h << "<li>" << htmlEscape(r["case"].get<std::string>()) << ": " << htmlEscape(r["what"].get<std::string>()) << "</li>";
+    }
+    h << "</ul>\n";
+  }
+  h << "<h2>Cases</h2><table><tr><th>model</th><th>voxel</th><th>method</th><th>mode</th><th>verdict</th>"
+    << "<th>border edges</th><th>non-manifold</th><th>self-int.</th><th>cracks %</th><th>Hausdorff mm</th>"
+    << "<th>collision misses</th><th>max |F| N</th><th>jitter N</th><th>after drilling: border / cracks %</th></tr>\n";
+  for (const json& c : report["cases"]) {
+    const bool ok = c["pass"].get<bool>();
+    h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << c["voxel_size_mm"] << " mm</td><td>"
+      << c["method"].get<std::string>() << "</td><td>" << c["mode"].get<std::string>() << "</td><td class='"
+      << (ok ? "pass'>pass" : "fail'>FAIL") << "</td><td>" << c["border_edges"] << "</td><td>" << c["non_manifold"]
+      << "</td><td>" << c["self_intersections"] << "</td><td>" << c["crack_percent"] << "</td><td>"
+      << c["hausdorff_mm"] << "</td><td>" << c["collision_misses"] << "</td><td>" << c["max_force_n"] << "</td><td>"
+      << c["jitter_n"] << "</td><td>";
+    if (c.contains("after")) h << c["after"]["border_edges"] << " / " << c["after"]["crack_percent"];
+    h << "</td></tr>\n";
+  }
+  h << "</table>\n<h2>Failures</h2><ul>";
+  for (const json& c : report["cases"]) {
+    for (const json& f : c["failures"]) {
+      h << "<li>" << htmlEscape(caseKey(c)) << ": " << htmlEscape(f.get<std::string>()) << "</li>";
+    }
+  }
+  h << "</ul>\n<h2>Crack views (seed 3.4: front faces white, back faces red)</h2>\n";
+  for (const std::string& img : images) h << "<img src='" << htmlEscape(img) << "' title='" << htmlEscape(img) << "'>";
+  h << "\n<h2>Environment</h2><pre>" << htmlEscape(report["environment"].dump(2)) << "</pre></body></html>\n";
+  std::ofstream out(path);
+  out << h.str();
+  if (!out) throw InputError(path + ": cannot write the report");
+}
+
+}  // namespace
+
+int runValidate(const ValidateCommandOptions& options) {
+  const std::vector<double> sizes = options.quick ? std::vector<double>{1.2} : parseVoxelSizes(options.voxelSizes);
+  const std::vector<std::string> names = splitList(options.models);
+  if (names.empty()) throw InputError("--models " + options.models + ": no model given");
+  json old;
+  if (!options.compare.empty()) {
+    std::ifstream in(options.compare);
+    if (!in) throw InputError("--compare " + options.compare + ": cannot open");
+    try {
+      old = json::parse(in);
+    } catch (const std::exception&) {
+      throw InputError("--compare " + options.compare + ": not a JSON report");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(options.outDir + "/images", ec);
+  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  std::vector<val::ValidationModel> models;
+  for (const std::string& name : names) models.push_back({name, geometry::loadMeshArgument(name, scaleToMm(options.units))});
+
+  val::ValidationOptions vo;
+  vo.voxelSizesMm = sizes;
+  vo.crackPixels = options.quick ? 256 : 512;
+  vo.checkEverySteps = options.quick ? 25 : 10;
+  std::ofstream log(options.outDir + "/validate.log");
+  const auto started = std::chrono::system_clock::now();
+  const std::time_t startedT = std::chrono::system_clock::to_time_t(started);
+  char startedText[32];
+  std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
+  std::size_t done = 0;
+  const std::size_t total = models.size() * sizes.size() * 4;
+  const val::ValidationReport report = val::runValidation(models, vo, [&](const val::ValidationCase& c) {
+    std::ostringstream line;
+    line << "[" << ++done << "/" << total << "] " << c.model << " " << c.voxelSizeMm << " mm " << c.method << " "
+         << c.mode << ": " << (c.pass() ? "pass" : "FAIL");
+    for (const std::string& f : c.failures) line << "; " << f;
+    std::cout << line.str() << "\n" << std::flush;
+    log << line.str() << "\n" << std::flush;
+  });
+
+  // Crack views of each model's surfaces at the first voxel size, before drilling.
+  std::vector<std::string> images;
+  for (const val::ValidationModel& m : models) {
+    geometry::VoxelizeOptions gv;
+    gv.voxelSizeMm = sizes.front();
+    const geometry::VoxelGrid grid = geometry::voxelize(m.mesh, gv);
+    for (const char* method : {"crackfree", "naive"}) {
+      geometry::SurfaceOptions so;
+      so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;
+      val::CrackMetricOptions co;
+      co.pixels = 256;
+      co.keepImages = true;
+      const std::string dir = options.outDir + "/images/" + std::to_string(&m - models.data()) + "_" + method;
+      std::filesystem::create_directories(dir);
+      for (const std::string& p : val::writeCrackImages(val::measureCracks(geometry::extractSurface(grid, so).toTriangleMesh(), co), dir)) {
+        images.push_back(std::filesystem::relative(p, options.outDir).string());
+      }
+    }
+  }
+
+  json cases = json::array();
+  for (const val::ValidationCase& c : report.cases) cases.push_back(caseJson(c));
+  const double seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
+  json j = {{"schema", "osteon-validate/1"},
+            {"verdict", report.pass() ? "PASS" : "FAIL"},
+            {"started", startedText},
+            {"seconds", seconds},
+            {"osteon_version", OSTEON_VERSION},
+            {"options", {{"models", names}, {"voxel_sizes_mm", sizes}, {"quick", options.quick},
+                         {"crack_pixels", vo.crackPixels}, {"collision_check_every_steps", vo.checkEverySteps}}},
+            {"environment", {{"compiler", __VERSION__}, {"cpp", __cplusplus},
+                             {"hardware_threads", std::thread::hardware_concurrency()}}},
+            {"cases", cases},
+            {"regressions", json::array()}};
+  if (!options.compare.empty()) {
+    j["compared_with"] = options.compare;
+    j["regressions"] = compareReports(j, old);
+  }
+  {
+    std::ofstream out(options.outDir + "/report.json");
+    out << j.dump(2) << "\n";
+    if (!out) throw InputError(options.outDir + "/report.json: cannot write the report");
+  }
+  writeHtml(options.outDir + "/report.html", j, images);
+  std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << report.cases.size() << " cases, "
+            << j["regressions"].size() << " regressions, " << seconds << " s); report: " << options.outDir
+            << "/report.html\n";
+  return report.pass() ? kExitOk : kExitCheckFailed;
+}
+
+}  // namespace osteon::cli

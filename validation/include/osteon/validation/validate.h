@@ -1,0 +1,66 @@
+// The nightly validation run (`osteon validate`): for each model x voxel size x surface method
+// (crack-free, the seed's naive baseline) x force mode (static, dynamic with 2 levels), the
+// surface is extracted and checked before drilling (exact checks, pixel cracks, accuracy),
+// both portal paths are drilled with the collision cross-check, and the drilled surface is
+// checked again. A guarantee broken by the crack-free method fails the run; the naive method
+// is measured beside it, expected to break them.
+#pragma once
+
+#include "osteon/validation/collision_check.h"
+#include "osteon/validation/crack_metric.h"
+#include "osteon/validation/mesh_checks.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace osteon::validation {
+
+struct ValidationModel {
+  std::string name;                // as given: "default" or a path
+  geometry::TriangleMesh mesh;     // in mm
+};
+
+struct ValidationOptions {
+  std::vector<double> voxelSizesMm{1.2, 0.9, 0.72, 0.54};
+  int crackPixels = 512;
+  int checkEverySteps = 10;        // collision cross-check period along the paths
+  bool drill = true;
+};
+
+struct PortalRun {
+  std::string portal;
+  CollisionCheckResult collisions;  // crack-free method only (counts zero for naive)
+  double maxForceN = 0.0;
+  double jitterN = 0.0;
+  std::uint64_t nonFiniteForces = 0;
+};
+
+struct ValidationCase {
+  std::string model;
+  double voxelSizeMm = 0.0;
+  std::string method;   // "crackfree" | "naive"
+  std::string mode;     // "static" | "dynamic"
+  MeshReport before;
+  CrackMetric cracks;
+  Accuracy accuracy;
+  bool accuracyKnown = false;
+  double extractMs = 0.0;
+  std::size_t triangles = 0, vertices = 0;
+  std::vector<PortalRun> portals;
+  MeshReport after;     // the drilled surface (both portals drilled into one bone)
+  CrackMetric afterCracks;
+  std::vector<std::string> failures;  // broken guarantees, in words
+  bool pass() const { return failures.empty(); }
+};
+
+struct ValidationReport {
+  std::vector<ValidationCase> cases;
+  // PASS when every crack-free case keeps every guarantee.
+  bool pass() const;
+};
+
+ValidationReport runValidation(const std::vector<ValidationModel>& models, const ValidationOptions& options,
+                               const std::function<void(const ValidationCase&)>& progress = {});
+
+}  // namespace osteon::validation

@@ -1,0 +1,146 @@
+#include "osteon/validation/validate.h"
+
+#include "osteon/geometry/dph.h"
+#include "osteon/geometry/embree_scene.h"
+#include "osteon/geometry/error.h"
+#include "osteon/geometry/surface.h"
+#include "osteon/geometry/voxelizer.h"
+#include "osteon/simulation/experiment.h"
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+namespace osteon::validation {
+
+namespace sim = osteon::simulation;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The guarantees a surface must keep, in words when broken.
+void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when, std::vector<std::string>& out) {
+  const auto add = [&](bool broken, const std::string& what) {
+    if (broken) out.push_back(std::string(when) + ": " + what);
+  };
+  add(r.topology.borderEdges > 0, std::to_string(r.topology.borderEdges) + " border edges");
+  add(r.topology.nonManifoldEdges + r.topology.nonManifoldVertices > 0,
+      std::to_string(r.topology.nonManifoldEdges + r.topology.nonManifoldVertices) + " non-manifold elements");
+  add(r.selfIntersections > 0, std::to_string(r.selfIntersections) + (r.selfIntersectionsCapped ? "+" : "") +
+                                   " self-intersecting pairs");
+  add(c.red > 0, std::to_string(c.red) + " red pixels");
+}
+
+}  // namespace
+
+bool ValidationReport::pass() const {
+  for (const ValidationCase& c : cases) {
+    if (c.method == "crackfree" && !c.pass()) return false;
+  }
+  return true;
+}
+
+ValidationReport runValidation(const std::vector<ValidationModel>& models, const ValidationOptions& options,
+                               const std::function<void(const ValidationCase&)>& progress) {
+  ValidationReport report;
+  CrackMetricOptions crackOptions;
+  crackOptions.pixels = options.crackPixels;
+  for (const ValidationModel& model : models) {
+    // Drilling needs a humeral head; a bone without one is checked but not drilled.
+    std::optional<sim::HumeralHead> head;
+    if (options.drill) {
+      try {
+        head = sim::fitHumeralHead(model.mesh);
+      } catch (const InputError&) {
+        head.reset();
+      }
+    }
+    const geometry::EmbreeScene scene(model.mesh);
+    for (const double voxelMm : options.voxelSizesMm) {
+      geometry::VoxelizeOptions vo;
+      vo.voxelSizeMm = voxelMm;
+      const geometry::VoxelGrid original = geometry::voxelize(model.mesh, vo);
+      const geometry::FineFillSource source = geometry::FineFillSource::sample(original, model.mesh, scene);
+      for (const char* method : {"crackfree", "naive"}) {
+        geometry::SurfaceOptions so;
+        so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;
+        const Clock::time_point start = Clock::now();
+        const geometry::TriangleMesh surface = geometry::extractSurface(original, so).toTriangleMesh();
+        const double extractMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        ValidationCase base;
+        base.model = model.name;
+        base.voxelSizeMm = voxelMm;
+        base.method = method;
+        base.extractMs = extractMs;
+        base.triangles = surface.triangleCount();
+        base.vertices = surface.vertexCount();
+        base.before = checkMesh(surface);
+        base.cracks = measureCracks(surface, crackOptions);
+        try {
+          base.accuracy = compareMeshes(surface, model.mesh);
+          base.accuracyKnown = true;
+        } catch (const std::invalid_argument&) {
+          base.accuracyKnown = false;  // the source is not a polygon mesh
+        }
+        surfaceFailures(base.before, base.cracks, "before drilling", base.failures);
+        for (const int levels : {0, 2}) {
+          ValidationCase c = base;
+          c.mode = levels == 0 ? "static" : "dynamic";
+          if (head) {
+            geometry::VoxelGrid grid = original;
+            auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+            sim::DrillingOptions drilling;
+            drilling.levels = levels;
+            sim::DrillingSimulation simulation(grid, hierarchy, levels > 0 ? &source : nullptr, sim::ToolKind::Drill,
+                                               sim::ToolOptions{}, drilling);
+            for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
+              const sim::PortalPlan plan =
+                  sim::makePortalPath(portal, *head, model.mesh, simulation.tool().parts[0].outerRadiusMm);
+              PortalRun run;
+              run.portal = sim::portalName(portal);
+              if (so.method == geometry::SurfaceMethod::CrackFree) {
+                CollisionCheckOptions check;
+                check.everySteps = options.checkEverySteps;
+                run.collisions = crossCheckCollisions(simulation, grid, plan.path, check);
+              } else {
+                // The incremental surface is crack-free only: the naive run drills without one.
+                run.collisions.run = sim::runDeterministic(simulation, grid, plan.path, nullptr);
+                run.collisions.steps = run.collisions.run.summary.steps;
+              }
+              const sim::RunSummary& s = run.collisions.run.summary;
+              run.maxForceN = s.maxForceN;
+              run.jitterN = s.jitterN;
+              run.nonFiniteForces = s.nonFiniteForces;
+              run.collisions.run.log.clear();  // the report keeps the numbers, not 7,000 rows
+              run.collisions.run.log.shrink_to_fit();
+              if (run.collisions.misses > 0) {
+                c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) + " collision misses");
+              }
+              if (run.nonFiniteForces > 0) c.failures.push_back(run.portal + ": NaN or infinite force");
+              if (run.maxForceN > simulation.tool().maxForceN + 1e-9) c.failures.push_back(run.portal + ": force above the cap");
+              c.portals.push_back(std::move(run));
+              // The next path starts its own clock; after the last, the refined voxels stay
+              // so the drilled surface below includes them.
+              if (portal == sim::Portal::FiveOClock) simulation.voxels().expireAll();
+            }
+            const geometry::TriangleMesh drilled =
+                so.method == geometry::SurfaceMethod::CrackFree
+                    ? geometry::extractSurface(grid, simulation.voxels(), so).toTriangleMesh()
+                    : geometry::extractSurface(grid, so).toTriangleMesh();
+            c.after = checkMesh(drilled);
+            c.afterCracks = measureCracks(drilled, crackOptions);
+            surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);
+          }
+          if (progress) progress(c);
+          report.cases.push_back(std::move(c));
+        }
+      }
+    }
+  }
+  return report;
+}
+
+}  // namespace osteon::validation
