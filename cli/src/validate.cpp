@@ -105,7 +105,11 @@ json caseJson(const val::ValidationCase& c) {
             {"non_finite_forces", nonFinite},
             {"triangles", c.triangles},
             {"vertices", c.vertices},
+            {"voxels", c.voxels},
             {"extract_ms", c.extractMs},
+            {"mesh_time_ms", {{"total", c.timings.totalMs}, {"extract", c.timings.extractMs},
+                              {"smooth", c.timings.smoothMs}, {"normals", c.timings.normalsMs},
+                              {"other", c.timings.otherMs}}},
             {"before", surfaceJson(c.before, c.cracks)},
             {"portals", portals}};
   if (!c.portals.empty()) j["after"] = surfaceJson(c.after, c.afterCracks);
@@ -195,6 +199,22 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
       << c["jitter_n"] << "</td><td>";
     if (c.contains("after")) h << c["after"]["border_edges"] << " / " << c["after"]["crack_percent"];
     h << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  // The seed's Tables 1 and 2 (built-in humerus there: ViRCAST's own model) beside ours.
+  h << "<h2>Mesh creation beside the seed's Tables 1 and 2</h2><table><tr><th>model</th><th>voxel</th>"
+    << "<th>voxels</th><th>triangles</th><th>vertices</th><th>mesh ms</th><th>extract</th><th>smooth</th>"
+    << "<th>normals</th><th>other</th><th>seed's mesh ms</th></tr>\n";
+  for (const json& c : report["cases"]) {
+    if (c["method"] != "crackfree" || c["mode"] != "static") continue;
+    const double vs = c["voxel_size_mm"].get<double>();
+    const char* seed = std::abs(vs - 1.2) < 1e-9 ? "6" : std::abs(vs - 0.9) < 1e-9 ? "14"
+                     : std::abs(vs - 0.72) < 1e-9 ? "20" : std::abs(vs - 0.54) < 1e-9 ? "34" : "-";
+    const json& t = c["mesh_time_ms"];
+    h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << vs << " mm</td><td>" << c["voxels"]
+      << "</td><td>" << c["triangles"] << "</td><td>" << c["vertices"] << "</td><td>" << t["total"] << "</td><td>"
+      << t["extract"] << "</td><td>" << t["smooth"] << "</td><td>" << t["normals"] << "</td><td>" << t["other"]
+      << "</td><td>" << seed << "</td></tr>\n";
   }
   h << "</table>\n<h2>Failures</h2><ul>";
   for (const json& c : report["cases"]) {

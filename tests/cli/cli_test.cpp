@@ -341,8 +341,11 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
       EXPECT_GT(c["crack_percent"].get<double>(), 0.0);
     }
   }
+  EXPECT_GT(j["cases"][0]["mesh_time_ms"]["total"].get<double>(), 0.0);
+  EXPECT_GT(j["cases"][0]["voxels"].get<int>(), 10000);
   const std::string html = test::readBytes(path("v/report.html"));
   EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
+  EXPECT_NE(html.find("beside the seed's Tables 1 and 2"), std::string::npos);
   EXPECT_NE(html.find("images/0_naive/cracks_+x.png"), std::string::npos);
   EXPECT_FALSE(test::readBytes(path("v/images/0_naive/cracks_+x.png")).empty());
 

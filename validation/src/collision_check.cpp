@@ -17,7 +17,11 @@ CollisionCheckResult crossCheckCollisions(simulation::DrillingSimulation& sim, g
   run.afterStep = [&](std::size_t step, const simulation::StepInput& in, const simulation::StepOutput& out) {
     if (options.everySteps <= 0 || step % std::size_t(options.everySteps) != 0) return;
     const bool voxelContact = out.contact.samples > 0;
-    const geometry::TriangleMesh mesh = surface.mesh().toTriangleMesh();
+    geometry::SurfaceOptions naive;
+    naive.method = geometry::SurfaceMethod::Naive;
+    const geometry::TriangleMesh mesh = options.method == geometry::SurfaceMethod::Naive
+                                            ? geometry::extractSurface(grid, naive).toTriangleMesh()
+                                            : surface.mesh().toTriangleMesh();
     if (mesh.triangles.empty()) return;
     const geometry::EmbreeScene scene(mesh);
     // The distance from the cutting part's core to the surface: its centre for a sphere, the

@@ -6,6 +6,7 @@
 // stands for the voxels to within about half a voxel.
 #pragma once
 
+#include "osteon/geometry/surface.h"
 #include "osteon/simulation/runner.h"
 
 #include <cstdint>
@@ -17,6 +18,9 @@ struct CollisionCheckOptions {
   double toleranceVoxels = 1.0;
   bool updateSurface = true;    // false: the surface stays as it was before drilling (a visual
                                 // thread that fell behind; the check must then see misses)
+  // The surface the trainee would see: the incremental crack-free one, or the seed's naive
+  // marching cubes extracted whole from the grid at each check.
+  geometry::SurfaceMethod method = geometry::SurfaceMethod::CrackFree;
 };
 
 struct CollisionCheckResult {

@@ -6,6 +6,7 @@
 // is measured beside it, expected to break them.
 #pragma once
 
+#include "osteon/geometry/surface.h"
 #include "osteon/validation/collision_check.h"
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"
@@ -45,7 +46,9 @@ struct ValidationCase {
   CrackMetric cracks;
   Accuracy accuracy;
   bool accuracyKnown = false;
-  double extractMs = 0.0;
+  double extractMs = 0.0;                // wall time of the whole extraction
+  geometry::SurfaceTimings timings;       // its breakdown, as the seed's Table 2
+  std::uint64_t voxels = 0;               // voxels at least half full, as the seed's Table 1
   std::size_t triangles = 0, vertices = 0;
   std::vector<PortalRun> portals;
   MeshReport after;     // the drilled surface (both portals drilled into one bone)
