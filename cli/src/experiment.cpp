@@ -1,6 +1,7 @@
 // `osteon experiment seed`: the seed's section 4 rerun. Force logs per run, the jitter table
 // (Markdown and JSON) and force plots in the manner of the seed's Figs. 6-8, drawn by gnuplot.
 #include "commands.h"
+#include "force_plots.h"
 
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/mesh_source.h"
@@ -35,38 +36,31 @@ std::string runLabel(const sim::ExperimentRun& r) {
 }
 
 // One figure per voxel size and portal, static and dynamic on the same axes (seed Figs. 6-8).
-std::string writePlotScript(const std::string& dir, const std::vector<sim::ExperimentRun>& runs,
-                            std::vector<std::string>& images) {
-  std::map<std::pair<double, int>, std::vector<const sim::ExperimentRun*>> figures;
-  for (const sim::ExperimentRun& r : runs) figures[{-r.voxelSizeMm, int(r.portal)}].push_back(&r);
-  std::ostringstream gp;
-  gp << "set terminal pngcairo size 1100,600 font 'sans,12'\n"
-     << "set datafile separator ','\nset grid\nset key top left box opaque\n"
-     << "set xlabel 'time (s)'\nset ylabel 'force |F| (N)'\nset xrange [0:7]\nset yrange [0:3.5]\n";
-  int figure = 6;
+std::vector<ForceFigure> figuresOf(const std::string& dir, const std::vector<sim::ExperimentRun>& runs,
+                                   std::vector<std::string>& images) {
+  std::map<std::pair<double, int>, std::vector<const sim::ExperimentRun*>> byCase;
+  for (const sim::ExperimentRun& r : runs) byCase[{-r.voxelSizeMm, int(r.portal)}].push_back(&r);
+  std::vector<ForceFigure> figures;
+  int number = 6;
   double lastSize = 0.0;
-  for (const auto& [key, members] : figures) {
+  for (const auto& [key, members] : byCase) {
     const double size = -key.first;
-    if (lastSize != 0.0 && size != lastSize) ++figure;
+    if (lastSize != 0.0 && size != lastSize) ++number;
     lastSize = size;
     const sim::ExperimentRun& first = *members.front();
-    std::ostringstream file;
-    file << "fig" << figure << "_" << size << "mm_" << sim::portalName(first.portal) << ".png";
+    std::ostringstream file, title;
+    file << "fig" << number << "_" << size << "mm_" << sim::portalName(first.portal) << ".png";
+    title << "VS = " << size << " mm, " << sim::portalName(first.portal)
+          << (first.portal == sim::Portal::FiveOClock ? " (anteroinferior)" : " (posteroinferior)")
+          << ": static and dynamic voxels";
     images.push_back(file.str());
-    gp << "set output '" << dir << "/" << file.str() << "'\n"
-       << "set title 'VS = " << size << " mm, " << sim::portalName(first.portal)
-       << (first.portal == sim::Portal::FiveOClock ? " (anteroinferior)" : " (posteroinferior)")
-       << ": static and dynamic voxels'\nplot ";
-    for (std::size_t i = 0; i < members.size(); ++i) {
-      gp << (i ? ", " : "") << "'" << dir << "/runs/" << members[i]->name()
-         << "/forces.csv' every ::1 using 1:8 with lines lw " << (members[i]->levels == 0 ? 1.2 : 1.6)
-         << " title '" << runLabel(*members[i]) << "'";
+    ForceFigure figure{dir + "/" + file.str(), title.str(), {}};
+    for (const sim::ExperimentRun* m : members) {
+      figure.series.push_back({dir + "/runs/" + m->name() + "/forces.csv", runLabel(*m), m->levels == 0 ? 1.2 : 1.6});
     }
-    gp << "\n";
+    figures.push_back(std::move(figure));
   }
-  const std::string script = dir + "/plots.gp";
-  std::ofstream(script) << gp.str();
-  return script;
+  return figures;
 }
 
 }  // namespace
@@ -108,19 +102,12 @@ int runExperiment(const ExperimentCommandOptions& options) {
     md << line;
   }
   std::vector<std::string> images;
-  const std::string script = writePlotScript(options.outDir, runs, images);
+  const std::vector<ForceFigure> figures = figuresOf(options.outDir, runs, images);
   const json table = {{"experiment", "seed"}, {"mesh", options.mesh}, {"runs", rows}, {"plots", images}};
   std::ofstream(options.outDir + "/experiment.json") << table.dump(2) << "\n";
   std::ofstream(options.outDir + "/jitter.md") << md.str();
-
   // The logs and the table are on disk before the plotting can fail.
-  const std::string command = "gnuplot '" + script + "' 2>'" + options.outDir + "/gnuplot.log'";
-  const int status = std::system(command.c_str());
-  if (status != 0) {
-    throw InputError("gnuplot: could not draw the plots (is gnuplot installed? scripts/setup installs "
-                     "gnuplot-nox; see " + options.outDir + "/gnuplot.log); logs and table are in " +
-                     options.outDir);
-  }
+  drawForcePlots(figures, options.outDir + "/plots.gp");
   if (options.json) {
     std::cout << table.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {
