@@ -1,15 +1,19 @@
 // `osteon validate`: the nightly run and its report (report.json with a stable schema,
 // report.html, validate.log, crack images).
 #include "commands.h"
+#include "force_plots.h"
 
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/mesh_source.h"
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/voxelizer.h"
+#include "osteon/simulation/runner.h"
 #include "osteon/validation/validate.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -224,6 +228,8 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   }
   h << "</ul>\n<h2>Crack views (seed 3.4: front faces white, back faces red)</h2>\n";
   for (const std::string& img : images) h << "<img src='" << htmlEscape(img) << "' title='" << htmlEscape(img) << "'>";
+  h << "\n<h2>Forces (as the seed's Figs. 6-8)</h2>\n";
+  for (const json& p : report["plots"]) h << "<img style='width:550px' src='" << htmlEscape(p.get<std::string>()) << "'>";
   h << "\n<h2>Environment</h2><pre>" << htmlEscape(report["environment"].dump(2)) << "</pre></body></html>\n";
   std::ofstream out(path);
   out << h.str();
@@ -263,7 +269,23 @@ int runValidate(const ValidateCommandOptions& options) {
   std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
   std::size_t done = 0;
   const std::size_t total = models.size() * sizes.size() * 4;
+  // Force logs of the crack-free runs, for the plots: forces/<model>_<voxel>_<mode>_<portal>.csv.
+  std::filesystem::create_directories(options.outDir + "/forces");
+  std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
   const val::ValidationReport report = val::runValidation(models, vo, [&](const val::ValidationCase& c) {
+    if (c.method == "crackfree") {
+      for (const val::PortalRun& p : c.portals) {
+        std::ostringstream stem, group;
+        stem << "forces/" << std::filesystem::path(c.model).stem().string() << "_" << c.voxelSizeMm << "mm_" << c.mode
+             << "_" << p.portal << ".csv";
+        group << std::filesystem::path(c.model).stem().string() << ", VS = " << c.voxelSizeMm << " mm, " << p.portal;
+        simulation::writeForceLog(p.collisions.run.log, options.outDir + "/" + stem.str());
+        std::ostringstream label;
+        label << c.mode << (c.mode == "static" ? " " : " 2 levels, ") << c.voxelSizeMm / (c.mode == "static" ? 1.0 : 4.0)
+              << " mm";
+        plotGroups[group.str()].push_back({options.outDir + "/" + stem.str(), label.str(), c.mode == "static" ? 1.2 : 1.6});
+      }
+    }
     std::ostringstream line;
     line << "[" << ++done << "/" << total << "] " << c.model << " " << c.voxelSizeMm << " mm " << c.method << " "
          << c.mode << ": ";
@@ -297,6 +319,21 @@ int runValidate(const ValidateCommandOptions& options) {
     }
   }
 
+  // Static against dynamic per model, voxel size and portal, as the seed's Figs. 6-8.
+  std::vector<ForceFigure> figures;
+  std::vector<std::string> plots;
+  std::filesystem::create_directories(options.outDir + "/plots");
+  for (const auto& [group, series] : plotGroups) {
+    std::string name;  // the title, as a file name
+    for (const char ch : group) {
+      if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-') name += ch;
+      else if (!name.empty() && name.back() != '_') name += '_';
+    }
+    figures.push_back({options.outDir + "/plots/" + name + ".png", group + ": static and dynamic voxels", series});
+    plots.push_back("plots/" + name + ".png");
+  }
+  if (!figures.empty()) drawForcePlots(figures, options.outDir + "/plots/plots.gp");
+
   json cases = json::array();
   for (const val::ValidationCase& c : report.cases) cases.push_back(caseJson(c));
   const double seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
@@ -320,6 +357,7 @@ int runValidate(const ValidateCommandOptions& options) {
     out << j.dump(2) << "\n";
     if (!out) throw InputError(options.outDir + "/report.json: cannot write the report");
   }
+  j["plots"] = plots;
   writeHtml(options.outDir + "/report.html", j, images);
   std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << report.cases.size() << " cases, "
             << j["regressions"].size() << " regressions, " << seconds << " s); report: " << options.outDir

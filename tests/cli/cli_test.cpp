@@ -346,6 +346,11 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
   const std::string html = test::readBytes(path("v/report.html"));
   EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
   EXPECT_NE(html.find("beside the seed's Tables 1 and 2"), std::string::npos);
+  ASSERT_EQ(j["plots"].size(), 2u);  // static against dynamic, one per portal
+  for (const auto& plot : j["plots"]) {
+    EXPECT_EQ(test::readBytes(path("v/" + plot.get<std::string>())).substr(1, 3), "PNG") << plot;
+    EXPECT_NE(html.find(plot.get<std::string>()), std::string::npos);
+  }
   EXPECT_NE(html.find("images/0_naive/cracks_+x.png"), std::string::npos);
   EXPECT_FALSE(test::readBytes(path("v/images/0_naive/cracks_+x.png")).empty());
 

@@ -31,7 +31,7 @@ struct ValidationOptions {
 
 struct PortalRun {
   std::string portal;
-  CollisionCheckResult collisions;  // crack-free method only (counts zero for naive)
+  CollisionCheckResult collisions;  // with the run's force log
   double maxForceN = 0.0;
   double jitterN = 0.0;
   std::uint64_t nonFiniteForces = 0;
