@@ -347,6 +347,7 @@ int runValidate(const ValidateCommandOptions& options) {
             {"environment", {{"compiler", __VERSION__}, {"cpp", __cplusplus},
                              {"hardware_threads", std::thread::hardware_concurrency()}}},
             {"cases", cases},
+            {"plots", plots},
             {"regressions", json::array()}};
   if (!options.compare.empty()) {
     j["compared_with"] = options.compare;
@@ -357,7 +358,6 @@ int runValidate(const ValidateCommandOptions& options) {
     out << j.dump(2) << "\n";
     if (!out) throw InputError(options.outDir + "/report.json: cannot write the report");
   }
-  j["plots"] = plots;
   writeHtml(options.outDir + "/report.html", j, images);
   std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << report.cases.size() << " cases, "
             << j["regressions"].size() << " regressions, " << seconds << " s); report: " << options.outDir
