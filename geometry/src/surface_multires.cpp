@@ -218,13 +218,18 @@ struct MultiRes {
       if (inside(value(q0 + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1)))) config |= 1 << c;
     }
     if (config == 0 || config == 255) return;
+    emitCase(config, [&](int e) { return fineVertexOf(edgeStart(q0, e), e / 4); });
+  }
+
+  // The case table's loops for one cell, each cube edge's vertex from vertexOf(edge).
+  template <typename VertexOf>
+  void emitCase(int config, VertexOf&& vertexOf) {
     const McCase& mc = mcTable()[std::size_t(config)];
     std::uint32_t ids[13];
     for (int loop = 0; loop < mc.loopCount; ++loop) {
       int count = 0;
       for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
-        const int e = mc.edges[std::size_t(k)];
-        ids[count++] = fineVertexOf(edgeStart(q0, e), e / 4);
+        ids[count++] = vertexOf(int(mc.edges[std::size_t(k)]));
       }
       emitLoop(ids, count);
     }
@@ -247,16 +252,7 @@ struct MultiRes {
     }
     if (config == 0 || config == 255) return;
     if (!transition) {
-      const McCase& mc = mcTable()[std::size_t(config)];
-      std::uint32_t ids[13];
-      for (int loop = 0; loop < mc.loopCount; ++loop) {
-        int count = 0;
-        for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
-          const int e = mc.edges[std::size_t(k)];
-          ids[count++] = coarseVertexOf(edgeStart(c, e), e / 4);
-        }
-        emitLoop(ids, count);
-      }
+      emitCase(config, [&](int e) { return coarseVertexOf(edgeStart(c, e), e / 4); });
       return;
     }
     std::vector<Segment> segments;
