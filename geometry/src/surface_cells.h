@@ -68,12 +68,25 @@ void finishSurface(std::vector<VertexInfo>& vertices, const std::vector<std::uin
                    std::vector<glm::dvec3>& positions, std::vector<glm::dvec3>& normals,
                    double& otherMs, double& smoothMs, double& normalsMs);
 
+// Unit normals, each the sum of its triangles' area-weighted normals.
+void areaWeightedNormals(const std::vector<glm::dvec3>& positions, const std::vector<glm::u32vec3>& triangles,
+                         std::vector<glm::dvec3>& normals);
+
 // Cells are numbered by their first voxel, from -1 (the border layer outside the grid) to
 // dims - 1; cell brick cb holds cells cb * 8 .. cb * 8 + 7.
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& lo, glm::ivec3& hi);
-VertexInfo edgeVertexInfo(const VoxelGrid& grid, const glm::ivec3& voxel, int axis, Fill a, Fill b);
+
+// Where the iso level crosses an edge whose ends hold fills a and b, as a fraction of the edge.
+inline double edgeParameter(Fill a, Fill b) {
+  const double t = (kIso - double(a)) / (double(b) - double(a));
+  return t < kEdgeMargin ? kEdgeMargin : (t > 1.0 - kEdgeMargin ? 1.0 - kEdgeMargin : t);
+}
+
+inline VertexInfo edgeVertexInfo(const VoxelGrid& grid, const glm::ivec3& voxel, int axis, Fill a, Fill b) {
+  return {grid.voxelCentreMm(voxel), axis, edgeParameter(a, b), grid.voxelSizeMm(), 0, 0, voxel};
+}
 
 inline Fill blockFill(const FillBlock& block, int x, int y, int z) {
   return block[std::size_t(x + kBlock * (y + kBlock * z))];

@@ -82,7 +82,10 @@ struct BrickOut {
   FillBlock block;
   RowMasks rows;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
-  std::array<std::uint32_t, 3 * kB * kB * kB> edgeVertex;  // owned edge -> global vertex id
+  std::uint32_t firstEdgeVertex;  // global id of the brick's first edge vertex
+  // Owned edge -> vertex id relative to firstEdgeVertex (a brick owns at most 3 * 512 edges):
+  // 16 bits halve the table that pass 3 reads back from all over memory.
+  std::array<std::uint16_t, 3 * kB * kB * kB> edgeVertex;
 };
 
 // Extraction in three parallel passes over the active cell bricks: count (edges, triangles,
@@ -95,13 +98,17 @@ struct Builder {
   glm::ivec3 dims;
   glm::ivec3 cellBricks;  // cell bricks per axis, including the -1 border layer
   bool shared;
+  // Without smoothing nothing slides along its edge afterwards, so vertices are written as
+  // positions straight away and the per-vertex edge record (VertexInfo) is never made.
+  bool direct;
   std::vector<glm::ivec3> active;
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
   std::vector<BrickOut> out;
   std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
 
   Builder(const VoxelGrid& g, const SurfaceOptions& o)
-      : grid(g), options(o), dims(g.dims()), shared(o.method == SurfaceMethod::CrackFree) {
+      : grid(g), options(o), dims(g.dims()), shared(o.method == SurfaceMethod::CrackFree),
+        direct(o.smoothIterations == 0) {
     cellBricks = g.brickDims() + 1;
   }
 
@@ -173,10 +180,12 @@ struct Builder {
   }
 
   // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it.
-  void writeEdgeVertices(std::size_t s, std::vector<VertexInfo>& vertices) {
+  void writeEdgeVertices(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions) {
     BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
-    std::uint32_t next = edgeOffset[s];
+    const std::uint32_t first = edgeOffset[s];
+    o.firstEdgeVertex = first;
+    std::uint32_t next = first;
     constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t crossing[3];
@@ -185,9 +194,14 @@ struct Builder {
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
           const int i = lx + kBlock * (ly + kBlock * lz);
-          o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] = next;
-          vertices[next++] = edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
-                                            o.block[std::size_t(i)], o.block[std::size_t(i + kStep[axis])]);
+          o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] = std::uint16_t(next - first);
+          const VertexInfo v = edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
+                                              o.block[std::size_t(i)], o.block[std::size_t(i + kStep[axis])]);
+          if (direct) {
+            positions[next++] = positionOf(v);
+          } else {
+            vertices[next++] = v;
+          }
         }
       }
     });
@@ -196,7 +210,7 @@ struct Builder {
   // Pass 3: triangles of one brick's cells, and their loop centres; each cube edge's vertex
   // read from the owning brick (this one, or one of the seven above it for cells on its upper
   // faces) without any search.
-  void writeTriangles(std::size_t s, std::vector<VertexInfo>& vertices,
+  void writeTriangles(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions,
                       std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
     const auto& table = mcTable();
     const glm::ivec3 cb = active[s];
@@ -234,14 +248,21 @@ struct Builder {
             if (shared) {
               const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
               const glm::ivec3 local = start & (kB - 1);
-              ids[count++] = owners[d]->edgeVertex[std::size_t(3 * (local.x + kB * (local.y + kB * local.z)) + e / 4)];
+              const BrickOut& owner = *owners[d];
+              ids[count++] = owner.firstEdgeVertex +
+                             owner.edgeVertex[std::size_t(3 * (local.x + kB * (local.y + kB * local.z)) + e / 4)];
               continue;
             }
             // Naive: every cube makes its own vertex on each of its crossed edges.
             const auto corners = edgeCorners(e);
-            vertices[nextExtra] = edgeVertexInfo(grid, cb * kB + start, e / 4,
-                                                 o.block[std::size_t(base + cornerStep[corners[0]])],
-                                                 o.block[std::size_t(base + cornerStep[corners[1]])]);
+            const VertexInfo v = edgeVertexInfo(grid, cb * kB + start, e / 4,
+                                                o.block[std::size_t(base + cornerStep[corners[0]])],
+                                                o.block[std::size_t(base + cornerStep[corners[1]])]);
+            if (direct) {
+              positions[nextExtra] = positionOf(v);
+            } else {
+              vertices[nextExtra] = v;
+            }
             ids[count++] = nextExtra++;
           }
           if (count == 3) {
@@ -251,9 +272,15 @@ struct Builder {
             triangles[nextTri++] = {ids[0], ids[2], ids[3]};
           } else {
             // Longer loops fan from their centre, which smoothing keeps at the loop's mean.
-            std::copy(ids, ids + count, loopVertices.begin() + nextEntry);
-            vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
-            nextEntry += std::uint32_t(count);
+            if (direct) {  // every vertex of the loop is written by now (pass 2 or just above)
+              glm::dvec3 sum(0.0);
+              for (int i = 0; i < count; ++i) sum += positions[ids[i]];
+              positions[nextExtra] = sum / double(count);
+            } else {
+              std::copy(ids, ids + count, loopVertices.begin() + nextEntry);
+              vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
+              nextEntry += std::uint32_t(count);
+            }
             const std::uint32_t centre = nextExtra++;
             for (int i = 0; i < count; ++i) triangles[nextTri++] = {centre, ids[i], ids[(i + 1) % count]};
           }
@@ -262,7 +289,7 @@ struct Builder {
     });
   }
 
-  void run(std::vector<VertexInfo>& vertices, std::vector<std::uint32_t>& loopVertices,
+  void run(std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions, std::vector<std::uint32_t>& loopVertices,
            std::vector<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
     for (int bz = -1; bz < cellBricks.z - 1; ++bz)
       for (int by = -1; by < cellBricks.y - 1; ++by)
@@ -290,11 +317,15 @@ struct Builder {
     }
     extraOffset.assign(n + 1, edgeOffset[n]);
     for (std::size_t s = 0; s < n; ++s) extraOffset[s + 1] = extraOffset[s] + out[s].extras;
-    vertices.resize(extraOffset[n]);
+    if (direct) {
+      positions.resize(extraOffset[n]);
+    } else {
+      vertices.resize(extraOffset[n]);
+    }
     triangles.resize(triOffset[n]);
-    loopVertices.resize(loopOffset[n]);
-    if (shared) forEachBrick([&](std::size_t s) { writeEdgeVertices(s, vertices); });
-    forEachBrick([&](std::size_t s) { writeTriangles(s, vertices, loopVertices, triangles); });
+    if (!direct) loopVertices.resize(loopOffset[n]);
+    if (shared) forEachBrick([&](std::size_t s) { writeEdgeVertices(s, vertices, positions); });
+    forEachBrick([&](std::size_t s) { writeTriangles(s, vertices, positions, loopVertices, triangles); });
     for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
         ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],
@@ -327,16 +358,24 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
   std::vector<std::uint32_t> loopVertices;
   std::vector<glm::u32vec3> triangles;
   std::vector<SurfaceMesh::BrickRange> ranges;
+  SurfaceMesh mesh;
+  bool direct = false;
   {
     Builder builder(grid, options);
-    builder.run(vertices, loopVertices, triangles, ranges);
+    builder.run(vertices, mesh.positionsMm, loopVertices, triangles, ranges);
+    direct = builder.direct;
   }
   local.extractMs = msSince(start);
 
-  SurfaceMesh mesh;
-  finishSurface(vertices, loopVertices, triangles,
-                {options.smoothIterations, options.lambda, options.taubin, options.mu, options.computeNormals},
-                mesh.positionsMm, mesh.normals, local.otherMs, local.smoothMs, local.normalsMs);
+  if (direct) {
+    const Clock::time_point phase = Clock::now();
+    if (options.computeNormals) areaWeightedNormals(mesh.positionsMm, triangles, mesh.normals);
+    local.normalsMs = msSince(phase);
+  } else {
+    finishSurface(vertices, loopVertices, triangles,
+                  {options.smoothIterations, options.lambda, options.taubin, options.mu, options.computeNormals},
+                  mesh.positionsMm, mesh.normals, local.otherMs, local.smoothMs, local.normalsMs);
+  }
   mesh.triangles = std::move(triangles);
   mesh.brickRanges = std::move(ranges);
   local.totalMs = msSince(start);
