@@ -221,8 +221,9 @@ void RefinedVoxels::forEachSampleNearSegment(const glm::dvec3& aMm, const glm::d
   const double r2 = radiusMm * radiusMm;
   const glm::dvec3 ab = bMm - aMm;
   const double len2 = glm::dot(ab, ab);
+  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
   const auto distanceSq = [&](const glm::dvec3& p) {
-    double t = len2 > 0.0 ? glm::dot(p - aMm, ab) / len2 : 0.0;
+    double t = glm::dot(p - aMm, ab) * invLen2;
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
     const glm::dvec3 d = p - (aMm + t * ab);
     return glm::dot(d, d);
@@ -239,16 +240,37 @@ void RefinedVoxels::forEachSampleNearSegment(const glm::dvec3& aMm, const glm::d
     const int n = 1 << depth_;
     const double sub = vs / n;
     const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
+    // The samples lie on a lattice, so w = sample - a and w . ab split into per-axis terms:
+    // |w - t ab|^2 = |w|^2 - 2 t (w . ab) + t^2 |ab|^2 with t = clamp(w . ab / |ab|^2) costs a
+    // few additions per sample, no division (this loop is most of a haptic step).
+    std::array<double, 4> wx, wy, wz, px, py, pz;  // n <= 4
+    for (int k = 0; k < n; ++k) {
+      const glm::dvec3 w = corner + (double(k) + 0.5) * sub - aMm;
+      wx[std::size_t(k)] = w.x;
+      wy[std::size_t(k)] = w.y;
+      wz[std::size_t(k)] = w.z;
+      px[std::size_t(k)] = w.x * ab.x;
+      py[std::size_t(k)] = w.y * ab.y;
+      pz[std::size_t(k)] = w.z * ab.z;
+    }
     for (int z = 0; z < n; ++z)
-      for (int y = 0; y < n; ++y)
+      for (int y = 0; y < n; ++y) {
+        const double wyz2 = wy[std::size_t(y)] * wy[std::size_t(y)] + wz[std::size_t(z)] * wz[std::size_t(z)];
+        const double pyz = py[std::size_t(y)] + pz[std::size_t(z)];
+        const int row = n * (y + n * z);
         for (int x = 0; x < n; ++x) {
-          const int i = x + n * (y + n * z);
-          if (cl.fill[std::size_t(i)] == 0) continue;
-          const glm::dvec3 sc = corner + (glm::dvec3(x, y, z) + 0.5) * sub;
-          if (distanceSq(sc) <= r2) {
-            fn(VoxelSample{sc, sub, -depth_, cl.fill[std::size_t(i)], cl.density[std::size_t(i)]});
+          const Fill f = cl.fill[std::size_t(row + x)];
+          if (f == 0) continue;
+          const double w2 = wx[std::size_t(x)] * wx[std::size_t(x)] + wyz2;
+          const double proj = px[std::size_t(x)] + pyz;
+          double t = proj * invLen2;
+          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+          if (w2 - 2.0 * t * proj + t * t * len2 <= r2) {
+            const glm::dvec3 sc = corner + (glm::dvec3(x, y, z) + 0.5) * sub;
+            fn(VoxelSample{sc, sub, -depth_, f, cl.density[std::size_t(row + x)]});
           }
         }
+      }
   };
   if (len2 > 0.0) {
     hierarchy_->forEachVoxelInCapsule(aMm, bMm, reach, scratch_, visit);
