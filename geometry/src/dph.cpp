@@ -281,15 +281,6 @@ bool DynamicProximityHierarchy::removeVoxel(const glm::ivec3& voxel) {
   return true;
 }
 
-double DynamicProximityHierarchy::boxDistanceSq(int level, std::uint32_t node,
-                                                const glm::dvec3& g) const {
-  const Level& lv = levels_[std::size_t(level)];
-  const glm::dvec3 lo(lv.boxMin[node]);
-  const glm::dvec3 hi(lv.boxMax[node]);
-  const glm::dvec3 d = glm::max(glm::max(lo - g, g - hi), glm::dvec3(0.0));
-  return glm::dot(d, d);
-}
-
 void DynamicProximityHierarchy::reserveScratch(DphQueryScratch& scratch) const {
   // Depth first: at most every child of one node per level waits on the stack.
   const std::size_t need = std::size_t(levelCount()) * (maxChildren_ + 1) + 1;

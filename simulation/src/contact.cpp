@@ -40,17 +40,22 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
     double n = 0.0;
     const glm::dvec3 ab = b - a;
     const double len2 = glm::dot(ab, ab);
+    const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
     // A refined voxel wholly outside the shell (beyond the outer layer, or inside the inner
-    // one, where the tool has cut) is not opened.
+    // one, where the tool has cut) is not opened; d - h <= r_o and d + h > r_i compared
+    // squared, without a square root.
     const auto open = [&](const glm::dvec3& c, double halfDiagonal) {
-      const double t = len2 > 0.0 ? std::clamp(glm::dot(c - a, ab) / len2, 0.0, 1.0) : 0.0;
-      const double d = glm::length(a + t * ab - c);
-      return d - halfDiagonal <= part.outerRadiusMm && d + halfDiagonal > part.innerRadiusMm;
+      const double t = std::clamp(glm::dot(c - a, ab) * invLen2, 0.0, 1.0);
+      const glm::dvec3 toCore = a + t * ab - c;
+      const double d2 = glm::dot(toCore, toCore);
+      const double far = part.outerRadiusMm + halfDiagonal;
+      const double near = part.innerRadiusMm - halfDiagonal;
+      return d2 <= far * far && (near < 0.0 || d2 > near * near);
     };
     // One capsule query around the part's core (a long shaft in a sphere query would visit
     // every voxel within half its length).
     voxels.forEachSampleNearSegment(a, b, part.outerRadiusMm, open, [&](const VoxelSample& s) {
-      const double t = len2 > 0.0 ? std::clamp(glm::dot(s.centreMm - a, ab) / len2, 0.0, 1.0) : 0.0;
+      const double t = std::clamp(glm::dot(s.centreMm - a, ab) * invLen2, 0.0, 1.0);
       const glm::dvec3 toCore = a + t * ab - s.centreMm;
       const double d2 = glm::dot(toCore, toCore);
       if (d2 <= ri2 || d2 > ro2) return;

@@ -75,7 +75,11 @@ std::set<std::array<int, 3>> bruteCapsule(const std::vector<glm::ivec3>& voxels,
   std::set<std::array<int, 3>> out;
   for (const glm::ivec3& v : voxels) {
     if (!h.contains(v)) continue;
-    if (dph_detail::segmentDistanceSq(h.voxelCentreMm(v), s.a, s.b) <= s.radius * s.radius) {
+    // Closest point of the segment by its own formula, independent of the query's.
+    const glm::dvec3 ab = s.b - s.a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(h.voxelCentreMm(v) - s.a, ab) / len2, 0.0, 1.0) : 0.0;
+    if (glm::length(h.voxelCentreMm(v) - (s.a + t * ab)) <= s.radius) {
       out.insert({v.x, v.y, v.z});
     }
   }

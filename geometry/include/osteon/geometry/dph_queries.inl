@@ -15,16 +15,32 @@ inline std::uint64_t packItem(int level, std::uint32_t node) {
   return (std::uint64_t(level) << 32) | node;
 }
 
-// Squared distance from p to the segment a-b.
-inline double segmentDistanceSq(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  const glm::dvec3 d = p - (a + t * ab);
-  return glm::dot(d, d);
-}
+// Squared distance from a point to the segment a-b, the segment's terms computed once (no
+// division per point).
+struct Segment {
+  glm::dvec3 a, ab;
+  double len2, invLen2;
+  Segment(const glm::dvec3& from, const glm::dvec3& to)
+      : a(from), ab(to - from), len2(glm::dot(ab, ab)), invLen2(len2 > 0.0 ? 1.0 / len2 : 0.0) {}
+  double distanceSq(const glm::dvec3& p) const {
+    const glm::dvec3 ap = p - a;
+    double t = glm::dot(ap, ab) * invLen2;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    const glm::dvec3 d = ap - t * ab;
+    return glm::dot(d, d);
+  }
+};
 
 }  // namespace dph_detail
+
+// Inline: queried for every node a haptic step's queries visit.
+inline double DynamicProximityHierarchy::boxDistanceSq(int level, std::uint32_t node, const glm::dvec3& g) const {
+  const Level& lv = levels_[std::size_t(level)];
+  const glm::dvec3 lo(lv.boxMin[node]);
+  const glm::dvec3 hi(lv.boxMax[node]);
+  const glm::dvec3 d = glm::max(glm::max(lo - g, g - hi), glm::dvec3(0.0));
+  return glm::dot(d, d);
+}
 
 // Depth first from the root, visiting a node only when `reach(level, node)` says its subtree
 // may hold an answer, and handing level-0 voxels to `leaf(centre)`. Grid space here puts
@@ -49,6 +65,12 @@ void DynamicProximityHierarchy::traverse(DphQueryScratch& scratch, Reach&& reach
     }
     if (!reach(level, node)) continue;
     const Level& below = levels_[std::size_t(level) - 1];
+    if (level == 1) {  // voxels straight to `leaf`, not through the stack (most of the work)
+      for (std::uint32_t c = lv.childBegin[node]; c < lv.childEnd[node]; ++c) {
+        if (below.alive[c]) leaf(below.centre[c]);
+      }
+      continue;
+    }
     for (std::uint32_t c = lv.childBegin[node]; c < lv.childEnd[node]; ++c) {
       if (below.alive[c]) stack[top++] = dph_detail::packItem(level - 1, c);
     }
@@ -78,6 +100,7 @@ void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, con
   const glm::dvec3 a = (aMm - originMm_) / voxelSizeMm_ - 0.5;
   const glm::dvec3 b = (bMm - originMm_) / voxelSizeMm_ - 0.5;
   const double r = radiusMm / voxelSizeMm_;
+  const dph_detail::Segment segment(a, b);
   const auto reach = [&](int level, std::uint32_t node) {
     // The box's circumscribed sphere against the segment: a safe lower bound.
     const Level& lv = levels_[std::size_t(level)];
@@ -85,11 +108,12 @@ void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, con
     const glm::dvec3 hi(lv.boxMax[node]);
     const glm::dvec3 mid = 0.5 * (lo + hi);
     const double halfDiagonal = 0.5 * glm::length(hi - lo);
-    const double d = std::sqrt(dph_detail::segmentDistanceSq(mid, a, b)) - halfDiagonal;
+    const double d = std::sqrt(segment.distanceSq(mid)) - halfDiagonal;
     return d <= r;
   };
+  const double r2 = r * r;
   const auto leaf = [&](const glm::ivec3& v) {
-    if (dph_detail::segmentDistanceSq(glm::dvec3(v), a, b) <= r * r) fn(v);
+    if (segment.distanceSq(glm::dvec3(v)) <= r2) fn(v);
   };
   traverse(scratch, reach, leaf);
 }
