@@ -317,9 +317,13 @@ RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement) {
   hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, [&](const glm::ivec3& v) {
     if (found_.size() < found_.capacity()) found_.push_back(v);
   });
+  // A refined voxel whose centre lies beyond the cut by more than half its diagonal has no
+  // sample inside: it is not opened (64 failing tests).
+  const CutVolume widened{volume.aMm, volume.bMm, volume.radiusMm + 0.5 * std::sqrt(3.0) * vs, false};
   for (const glm::ivec3& v : found_) {
     const std::uint32_t cell = findCell(v);
     if (cell != kNoCell) {
+      if (!widened.contains(grid_->voxelCentreMm(v))) continue;
       const RemovalResult r = removeFromCell(cell, volume, decrement);
       total.removedFill += r.removedFill;
       total.samplesRemoved += r.samplesRemoved;
