@@ -73,20 +73,30 @@ json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
 }
 
 json caseJson(const val::ValidationCase& c) {
-  std::uint64_t misses = 0, falseContacts = 0, checked = 0, nonFinite = 0;
-  double maxForce = 0.0, jitter = 0.0;
+  std::uint64_t misses = 0, falseContacts = 0, checked = 0, nonFinite = 0, rays = 0, missedSamples = 0;
+  std::uint64_t boundary = 0, skipped = 0;
+  double maxForce = 0.0, jitter = 0.0, worstMiss = 0.0;
   json portals = json::array();
   for (const val::PortalRun& p : c.portals) {
     misses += p.collisions.misses;
     falseContacts += p.collisions.falseContacts;
     checked += p.collisions.checked;
+    rays += p.collisions.raysCast;
+    missedSamples += p.collisions.missedSamples;
+    boundary += p.collisions.boundarySamples;
+    skipped += p.collisions.skippedSamples;
+    worstMiss = std::max(worstMiss, p.collisions.worstMissMm);
     nonFinite += p.nonFiniteForces;
     maxForce = std::max(maxForce, p.maxForceN);
     jitter = std::max(jitter, p.jitterN);
     portals.push_back({{"portal", p.portal}, {"collision_misses", p.collisions.misses},
                        {"false_contacts", p.collisions.falseContacts}, {"checked_steps", p.collisions.checked},
-                       {"contacts", p.collisions.contacts}, {"max_force_n", p.maxForceN}, {"jitter_n", p.jitterN},
-                       {"removed_volume_mm3", p.collisions.run.summary.removedVolumeMm3}});
+                       {"contacts", p.collisions.contacts}, {"contact_samples", p.collisions.contactSamples},
+                       {"boundary_samples", p.collisions.boundarySamples},
+                       {"skipped_samples", p.collisions.skippedSamples}, {"skipped_steps", p.collisions.skippedSteps},
+                       {"rays_cast", p.collisions.raysCast}, {"missed_samples", p.collisions.missedSamples},
+                       {"worst_miss_mm", p.collisions.worstMissMm}, {"max_force_n", p.maxForceN},
+                       {"jitter_n", p.jitterN}, {"removed_volume_mm3", p.collisions.run.summary.removedVolumeMm3}});
   }
   json j = {{"model", c.model},
             {"voxel_size_mm", c.voxelSizeMm},
@@ -104,6 +114,11 @@ json caseJson(const val::ValidationCase& c) {
             {"collision_misses", misses},
             {"false_contacts", falseContacts},
             {"collision_checks", checked},
+            {"collision_rays", rays},
+            {"collision_missed_samples", missedSamples},
+            {"collision_boundary_samples", boundary},
+            {"collision_skipped_samples", skipped},
+            {"collision_worst_miss_mm", worstMiss},
             {"max_force_n", maxForce},
             {"jitter_n", jitter},
             {"non_finite_forces", nonFinite},
@@ -192,14 +207,15 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   }
   h << "<h2>Cases</h2><table><tr><th>model</th><th>voxel</th><th>method</th><th>mode</th><th>verdict</th>"
     << "<th>border edges</th><th>non-manifold</th><th>self-int.</th><th>cracks %</th><th>Hausdorff mm</th>"
-    << "<th>collision misses</th><th>max |F| N</th><th>jitter N</th><th>after drilling: border / cracks %</th></tr>\n";
+    << "<th>collision misses</th><th>rays missed / cast</th><th>max |F| N</th><th>jitter N</th><th>after drilling: border / cracks %</th></tr>\n";
   for (const json& c : report["cases"]) {
     const bool ok = c["pass"].get<bool>();
     h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << c["voxel_size_mm"] << " mm</td><td>"
       << c["method"].get<std::string>() << "</td><td>" << c["mode"].get<std::string>() << "</td><td class='"
       << (ok ? "pass'>pass" : "fail'>FAIL") << "</td><td>" << c["border_edges"] << "</td><td>" << c["non_manifold"]
       << "</td><td>" << c["self_intersections"] << "</td><td>" << c["crack_percent"] << "</td><td>"
-      << c["hausdorff_mm"] << "</td><td>" << c["collision_misses"] << "</td><td>" << c["max_force_n"] << "</td><td>"
+      << c["hausdorff_mm"] << "</td><td>" << c["collision_misses"] << "</td><td>" << c["collision_missed_samples"]
+      << " / " << c["collision_rays"] << "</td><td>" << c["max_force_n"] << "</td><td>"
       << c["jitter_n"] << "</td><td>";
     if (c.contains("after")) h << c["after"]["border_edges"] << " / " << c["after"]["crack_percent"];
     h << "</td></tr>\n";
