@@ -4,10 +4,12 @@
 #include "force_plots.h"
 
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/library_versions.h"
 #include "osteon/geometry/mesh_source.h"
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/voxelizer.h"
 #include "osteon/simulation/runner.h"
+#include "osteon/validation/library_versions.h"
 #include "osteon/validation/validate.h"
 
 #include <nlohmann/json.hpp>
@@ -23,6 +25,8 @@
 #include <map>
 #include <sstream>
 #include <thread>
+
+#include <sys/utsname.h>
 
 namespace osteon::cli {
 
@@ -133,6 +137,29 @@ json caseJson(const val::ValidationCase& c) {
             {"portals", portals}};
   if (!c.portals.empty()) j["after"] = surfaceJson(c.after, c.afterCracks);
   return j;
+}
+
+// What produced the numbers: compiler, build, the libraries linked, the machine.
+json environmentJson() {
+  json libraries = json::object();
+  for (const auto& [name, version] : geometry::libraryVersions()) libraries[name] = version;
+  for (const auto& [name, version] : val::libraryVersions()) libraries[name] = version;
+  std::string os = "unknown";
+  utsname u{};
+  if (uname(&u) == 0) os = std::string(u.sysname) + " " + u.release + " " + u.machine;
+  std::string cpu = "unknown";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    if (line.rfind("model name", 0) != 0) continue;
+    const std::size_t colon = line.find(':');
+    const std::size_t start = colon == std::string::npos ? colon : line.find_first_not_of(" \t", colon + 1);
+    if (start != std::string::npos) cpu = line.substr(start);
+    break;
+  }
+  const std::string buildType = OSTEON_BUILD_TYPE;
+  return {{"compiler", __VERSION__}, {"cpp", __cplusplus}, {"build_type", buildType.empty() ? "unset" : buildType},
+          {"hardware_threads", std::thread::hardware_concurrency()}, {"os", os}, {"cpu", cpu},
+          {"libraries", libraries}};
 }
 
 std::string caseKey(const json& c) {
@@ -360,8 +387,7 @@ int runValidate(const ValidateCommandOptions& options) {
             {"osteon_version", OSTEON_VERSION},
             {"options", {{"models", names}, {"voxel_sizes_mm", sizes}, {"quick", options.quick},
                          {"crack_pixels", vo.crackPixels}, {"collision_check_every_steps", vo.checkEverySteps}}},
-            {"environment", {{"compiler", __VERSION__}, {"cpp", __cplusplus},
-                             {"hardware_threads", std::thread::hardware_concurrency()}}},
+            {"environment", environmentJson()},
             {"cases", cases},
             {"plots", plots},
             {"regressions", json::array()}};

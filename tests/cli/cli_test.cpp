@@ -348,9 +348,20 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
   }
   EXPECT_GT(j["cases"][0]["mesh_time_ms"]["total"].get<double>(), 0.0);
   EXPECT_GT(j["cases"][0]["voxels"].get<int>(), 10000);
+  // What produced the numbers: the build, the machine and the libraries linked.
+  const nlohmann::json& env = j["environment"];
+  for (const char* key : {"compiler", "build_type", "os", "cpu"}) {
+    ASSERT_TRUE(env.contains(key)) << key;
+    EXPECT_FALSE(env[key].get<std::string>().empty()) << key;
+  }
+  for (const char* library : {"cgal", "embree", "openmesh", "tbb", "glm", "openimageio"}) {
+    ASSERT_TRUE(env["libraries"].contains(library)) << library;
+    EXPECT_NE(env["libraries"][library].get<std::string>().find('.'), std::string::npos) << library;
+  }
   const std::string html = test::readBytes(path("v/report.html"));
   EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
   EXPECT_NE(html.find("beside the seed's Tables 1 and 2"), std::string::npos);
+  EXPECT_NE(html.find("openimageio"), std::string::npos);  // the environment block
   ASSERT_EQ(j["plots"].size(), 2u);  // static against dynamic, one per portal
   for (const auto& plot : j["plots"]) {
     EXPECT_EQ(test::readBytes(path("v/" + plot.get<std::string>())).substr(1, 3), "PNG") << plot;
