@@ -4,10 +4,12 @@
 #include "force_plots.h"
 
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/library_versions.h"
 #include "osteon/geometry/mesh_source.h"
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/voxelizer.h"
 #include "osteon/simulation/runner.h"
+#include "osteon/validation/library_versions.h"
 #include "osteon/validation/validate.h"
 
 #include <nlohmann/json.hpp>
@@ -23,6 +25,8 @@
 #include <map>
 #include <sstream>
 #include <thread>
+
+#include <sys/utsname.h>
 
 namespace osteon::cli {
 
@@ -73,20 +77,30 @@ json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
 }
 
 json caseJson(const val::ValidationCase& c) {
-  std::uint64_t misses = 0, falseContacts = 0, checked = 0, nonFinite = 0;
-  double maxForce = 0.0, jitter = 0.0;
+  std::uint64_t misses = 0, falseContacts = 0, checked = 0, nonFinite = 0, rays = 0, missedSamples = 0;
+  std::uint64_t boundary = 0, skipped = 0;
+  double maxForce = 0.0, jitter = 0.0, worstMiss = 0.0;
   json portals = json::array();
   for (const val::PortalRun& p : c.portals) {
     misses += p.collisions.misses;
     falseContacts += p.collisions.falseContacts;
     checked += p.collisions.checked;
+    rays += p.collisions.raysCast;
+    missedSamples += p.collisions.missedSamples;
+    boundary += p.collisions.boundarySamples;
+    skipped += p.collisions.skippedSamples;
+    worstMiss = std::max(worstMiss, p.collisions.worstMissMm);
     nonFinite += p.nonFiniteForces;
     maxForce = std::max(maxForce, p.maxForceN);
     jitter = std::max(jitter, p.jitterN);
     portals.push_back({{"portal", p.portal}, {"collision_misses", p.collisions.misses},
                        {"false_contacts", p.collisions.falseContacts}, {"checked_steps", p.collisions.checked},
-                       {"contacts", p.collisions.contacts}, {"max_force_n", p.maxForceN}, {"jitter_n", p.jitterN},
-                       {"removed_volume_mm3", p.collisions.run.summary.removedVolumeMm3}});
+                       {"contacts", p.collisions.contacts}, {"contact_samples", p.collisions.contactSamples},
+                       {"boundary_samples", p.collisions.boundarySamples},
+                       {"skipped_samples", p.collisions.skippedSamples}, {"skipped_steps", p.collisions.skippedSteps},
+                       {"rays_cast", p.collisions.raysCast}, {"missed_samples", p.collisions.missedSamples},
+                       {"worst_miss_mm", p.collisions.worstMissMm}, {"max_force_n", p.maxForceN},
+                       {"jitter_n", p.jitterN}, {"removed_volume_mm3", p.collisions.run.summary.removedVolumeMm3}});
   }
   json j = {{"model", c.model},
             {"voxel_size_mm", c.voxelSizeMm},
@@ -104,6 +118,11 @@ json caseJson(const val::ValidationCase& c) {
             {"collision_misses", misses},
             {"false_contacts", falseContacts},
             {"collision_checks", checked},
+            {"collision_rays", rays},
+            {"collision_missed_samples", missedSamples},
+            {"collision_boundary_samples", boundary},
+            {"collision_skipped_samples", skipped},
+            {"collision_worst_miss_mm", worstMiss},
             {"max_force_n", maxForce},
             {"jitter_n", jitter},
             {"non_finite_forces", nonFinite},
@@ -118,6 +137,29 @@ json caseJson(const val::ValidationCase& c) {
             {"portals", portals}};
   if (!c.portals.empty()) j["after"] = surfaceJson(c.after, c.afterCracks);
   return j;
+}
+
+// What produced the numbers: compiler, build, the libraries linked, the machine.
+json environmentJson() {
+  json libraries = json::object();
+  for (const auto& [name, version] : geometry::libraryVersions()) libraries[name] = version;
+  for (const auto& [name, version] : val::libraryVersions()) libraries[name] = version;
+  std::string os = "unknown";
+  utsname u{};
+  if (uname(&u) == 0) os = std::string(u.sysname) + " " + u.release + " " + u.machine;
+  std::string cpu = "unknown";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    if (line.rfind("model name", 0) != 0) continue;
+    const std::size_t colon = line.find(':');
+    const std::size_t start = colon == std::string::npos ? colon : line.find_first_not_of(" \t", colon + 1);
+    if (start != std::string::npos) cpu = line.substr(start);
+    break;
+  }
+  const std::string buildType = OSTEON_BUILD_TYPE;
+  return {{"compiler", __VERSION__}, {"cpp", __cplusplus}, {"build_type", buildType.empty() ? "unset" : buildType},
+          {"hardware_threads", std::thread::hardware_concurrency()}, {"os", os}, {"cpu", cpu},
+          {"libraries", libraries}};
 }
 
 std::string caseKey(const json& c) {
@@ -192,14 +234,15 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   }
   h << "<h2>Cases</h2><table><tr><th>model</th><th>voxel</th><th>method</th><th>mode</th><th>verdict</th>"
     << "<th>border edges</th><th>non-manifold</th><th>self-int.</th><th>cracks %</th><th>Hausdorff mm</th>"
-    << "<th>collision misses</th><th>max |F| N</th><th>jitter N</th><th>after drilling: border / cracks %</th></tr>\n";
+    << "<th>collision misses</th><th>rays missed / cast</th><th>max |F| N</th><th>jitter N</th><th>after drilling: border / cracks %</th></tr>\n";
   for (const json& c : report["cases"]) {
     const bool ok = c["pass"].get<bool>();
     h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << c["voxel_size_mm"] << " mm</td><td>"
       << c["method"].get<std::string>() << "</td><td>" << c["mode"].get<std::string>() << "</td><td class='"
       << (ok ? "pass'>pass" : "fail'>FAIL") << "</td><td>" << c["border_edges"] << "</td><td>" << c["non_manifold"]
       << "</td><td>" << c["self_intersections"] << "</td><td>" << c["crack_percent"] << "</td><td>"
-      << c["hausdorff_mm"] << "</td><td>" << c["collision_misses"] << "</td><td>" << c["max_force_n"] << "</td><td>"
+      << c["hausdorff_mm"] << "</td><td>" << c["collision_misses"] << "</td><td>" << c["collision_missed_samples"]
+      << " / " << c["collision_rays"] << "</td><td>" << c["max_force_n"] << "</td><td>"
       << c["jitter_n"] << "</td><td>";
     if (c.contains("after")) h << c["after"]["border_edges"] << " / " << c["after"]["crack_percent"];
     h << "</td></tr>\n";
@@ -344,8 +387,7 @@ int runValidate(const ValidateCommandOptions& options) {
             {"osteon_version", OSTEON_VERSION},
             {"options", {{"models", names}, {"voxel_sizes_mm", sizes}, {"quick", options.quick},
                          {"crack_pixels", vo.crackPixels}, {"collision_check_every_steps", vo.checkEverySteps}}},
-            {"environment", {{"compiler", __VERSION__}, {"cpp", __cplusplus},
-                             {"hardware_threads", std::thread::hardware_concurrency()}}},
+            {"environment", environmentJson()},
             {"cases", cases},
             {"plots", plots},
             {"regressions", json::array()}};

@@ -123,4 +123,30 @@ double EmbreeScene::distanceWithin(const glm::dvec3& pointMm, double maxDistance
   return q.bestDistance;
 }
 
+bool EmbreeScene::segmentHits(const glm::dvec3& fromMm, const glm::dvec3& toMm) const {
+  const glm::dvec3 d = toMm - fromMm;
+  const double length = glm::length(d);
+  if (!(length > 0.0) || mesh_->triangles.empty()) return false;
+  const glm::dvec3 origin = fromMm - centreMm_;
+  const glm::dvec3 direction = d / length;
+  RTCRay ray;
+  ray.org_x = float(origin.x);
+  ray.org_y = float(origin.y);
+  ray.org_z = float(origin.z);
+  ray.tnear = 0.f;
+  ray.dir_x = float(direction.x);
+  ray.dir_y = float(direction.y);
+  ray.dir_z = float(direction.z);
+  ray.time = 0.f;
+  ray.tfar = float(length);
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1(scene_.get(), &context, &ray);
+  return ray.tfar < 0.f;  // Embree sets it to -inf on a hit
+}
+
 }  // namespace osteon::geometry
+

@@ -15,6 +15,40 @@ bool finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// The one definition of a part's shell: the samples whose centres lie farther than the inner
+// layer from the core and not farther than the outer. fn(sample, toCore), toCore running from
+// the sample's centre to the nearest point of the core.
+template <typename Fn>
+void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, const ToolPose& pose,
+                        Fn&& fn) {
+  const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
+  const double ri2 = part.innerRadiusMm * part.innerRadiusMm;
+  const double ro2 = part.outerRadiusMm * part.outerRadiusMm;
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  // A refined voxel wholly outside the shell (beyond the outer layer, or inside the inner
+  // one, where the tool has cut) is not opened; d - h <= r_o and d + h > r_i compared
+  // squared, without a square root.
+  const auto open = [&](const glm::dvec3& c, double halfDiagonal) {
+    const double t = std::clamp(glm::dot(c - a, ab) * invLen2, 0.0, 1.0);
+    const glm::dvec3 toCore = a + t * ab - c;
+    const double d2 = glm::dot(toCore, toCore);
+    const double far = part.outerRadiusMm + halfDiagonal;
+    const double near = part.innerRadiusMm - halfDiagonal;
+    return d2 <= far * far && (near < 0.0 || d2 > near * near);
+  };
+  // One capsule query around the part's core (a long shaft in a sphere query would visit
+  // every voxel within half its length).
+  voxels.forEachSampleNearSegment(a, b, part.outerRadiusMm, open, [&](const VoxelSample& s) {
+    const double t = std::clamp(glm::dot(s.centreMm - a, ab) * invLen2, 0.0, 1.0);
+    const glm::dvec3 toCore = a + t * ab - s.centreMm;
+    const double d2 = glm::dot(toCore, toCore);
+    if (d2 <= ri2 || d2 > ro2) return;
+    fn(s, toCore);
+  });
+}
+
 }  // namespace
 
 ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm)
@@ -32,39 +66,16 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
   ContactForce out;
   glm::dvec3 total(0.0);
   for (int p = 0; p < tool_.partCount; ++p) {
-    const ToolPart& part = tool_.parts[std::size_t(p)];
-    const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
-    const double ri2 = part.innerRadiusMm * part.innerRadiusMm;
-    const double ro2 = part.outerRadiusMm * part.outerRadiusMm;
     glm::dvec3 direction(0.0);
     double n = 0.0;
-    const glm::dvec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
-    // A refined voxel wholly outside the shell (beyond the outer layer, or inside the inner
-    // one, where the tool has cut) is not opened; d - h <= r_o and d + h > r_i compared
-    // squared, without a square root.
-    const auto open = [&](const glm::dvec3& c, double halfDiagonal) {
-      const double t = std::clamp(glm::dot(c - a, ab) * invLen2, 0.0, 1.0);
-      const glm::dvec3 toCore = a + t * ab - c;
-      const double d2 = glm::dot(toCore, toCore);
-      const double far = part.outerRadiusMm + halfDiagonal;
-      const double near = part.innerRadiusMm - halfDiagonal;
-      return d2 <= far * far && (near < 0.0 || d2 > near * near);
-    };
-    // One capsule query around the part's core (a long shaft in a sphere query would visit
-    // every voxel within half its length).
-    voxels.forEachSampleNearSegment(a, b, part.outerRadiusMm, open, [&](const VoxelSample& s) {
-      const double t = std::clamp(glm::dot(s.centreMm - a, ab) * invLen2, 0.0, 1.0);
-      const glm::dvec3 toCore = a + t * ab - s.centreMm;
-      const double d2 = glm::dot(toCore, toCore);
-      if (d2 <= ri2 || d2 > ro2) return;
-      const double w = double(s.fill) * weightPerFill_;
-      direction += w * toCore;
-      n += w;
-      ++out.samples;
-      out.level = std::min(out.level, s.level);
-    });
+    forEachShellSample(voxels, tool_.parts[std::size_t(p)], pose,
+                       [&](const VoxelSample& s, const glm::dvec3& toCore) {
+                         const double w = double(s.fill) * weightPerFill_;
+                         direction += w * toCore;
+                         n += w;
+                         ++out.samples;
+                         out.level = std::min(out.level, s.level);
+                       });
     out.contactVoxels += n;
     const double len = glm::length(direction);
     if (n <= 0.0 || !(len > 1e-12 * n)) continue;  // no bone, or pushed equally from all sides
@@ -81,4 +92,13 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
   return out;
 }
 
+std::vector<VoxelSample> ForceModel::shellSamples(geometry::RefinedVoxels& voxels,
+                                                  const ToolPose& pose, int part) const {
+  std::vector<VoxelSample> samples;
+  forEachShellSample(voxels, tool_.parts[std::size_t(part)], pose,
+                     [&](const VoxelSample& s, const glm::dvec3&) { samples.push_back(s); });
+  return samples;
+}
+
 }  // namespace osteon::simulation
+

@@ -323,7 +323,9 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
   for (const auto& c : j["cases"]) {
     for (const char* key : {"model", "voxel_size_mm", "method", "mode", "border_edges", "non_manifold",
                             "self_intersections", "crack_percent", "hausdorff_mm", "collision_misses",
-                            "max_force_n", "jitter_n", "pass", "failures"}) {
+                            "collision_rays", "collision_missed_samples", "collision_boundary_samples",
+                            "collision_skipped_samples", "collision_worst_miss_mm", "max_force_n", "jitter_n",
+                            "pass", "failures"}) {
       EXPECT_TRUE(c.contains(key)) << key;
     }
     EXPECT_LE(c["max_force_n"].get<double>(), 3.3);
@@ -334,18 +336,32 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
       EXPECT_EQ(c["crack_percent"].get<double>(), 0.0);
       EXPECT_EQ(c["collision_misses"].get<int>(), 0);
       EXPECT_GT(c["collision_checks"].get<int>(), 500);
+      EXPECT_GT(c["collision_rays"].get<int>(), 5000);
+      EXPECT_EQ(c["collision_missed_samples"].get<int>(), 0);
       EXPECT_EQ(c["after"]["border_edges"].get<int>(), 0);
     } else {
       EXPECT_FALSE(c["pass"].get<bool>());
       EXPECT_GT(c["border_edges"].get<int>(), 0);
       EXPECT_GT(c["crack_percent"].get<double>(), 0.0);
+      EXPECT_GT(c["collision_misses"].get<int>(), 0) << c["mode"];  // rays through its cracks
     }
   }
   EXPECT_GT(j["cases"][0]["mesh_time_ms"]["total"].get<double>(), 0.0);
   EXPECT_GT(j["cases"][0]["voxels"].get<int>(), 10000);
+  // What produced the numbers: the build, the machine and the libraries linked.
+  const nlohmann::json& env = j["environment"];
+  for (const char* key : {"compiler", "build_type", "os", "cpu"}) {
+    ASSERT_TRUE(env.contains(key)) << key;
+    EXPECT_FALSE(env[key].get<std::string>().empty()) << key;
+  }
+  for (const char* library : {"cgal", "embree", "openmesh", "tbb", "glm", "openimageio"}) {
+    ASSERT_TRUE(env["libraries"].contains(library)) << library;
+    EXPECT_NE(env["libraries"][library].get<std::string>().find('.'), std::string::npos) << library;
+  }
   const std::string html = test::readBytes(path("v/report.html"));
   EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
   EXPECT_NE(html.find("beside the seed's Tables 1 and 2"), std::string::npos);
+  EXPECT_NE(html.find("openimageio"), std::string::npos);  // the environment block
   ASSERT_EQ(j["plots"].size(), 2u);  // static against dynamic, one per portal
   for (const auto& plot : j["plots"]) {
     EXPECT_EQ(test::readBytes(path("v/" + plot.get<std::string>())).substr(1, 3), "PNG") << plot;

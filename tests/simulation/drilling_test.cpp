@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
 namespace osteon::simulation {
 namespace {
@@ -94,8 +95,16 @@ TEST(Contact, SlabAtKnownDepthGivesTheExpectedCountAndDirection) {
     const ToolPart& tip = sim.tool().parts[0];
     const double h = 1.0;  // tool centre 1 mm above the slab: the tip is 0.46 mm deep
     const glm::dvec3 centre(0.13, -0.21, h);
-    const StepOutput out = sim.step({0.0, ToolPose::pointing(centre, {0, 0, -1}), false});
+    const ToolPose pose = ToolPose::pointing(centre, {0, 0, -1});
+    const StepOutput out = sim.step({0.0, pose, false});
     EXPECT_EQ(out.contact.level, -levels);
+    // The samples a check can list (nothing was removed) are the ones the force counted.
+    const std::vector<geometry::VoxelSample> shell = sim.forceModel().shellSamples(sim.voxels(), pose, 0);
+    EXPECT_EQ(shell.size(), out.contact.samples) << "levels " << levels;
+    for (const geometry::VoxelSample& s : shell) {
+      const double d = glm::length(s.centreMm - centre);
+      EXPECT_TRUE(d > tip.innerRadiusMm && d <= tip.outerRadiusMm) << d;
+    }
     // Exact: every finest voxel of the slab whose centre lies in the shell.
     const double v = 0.25;
     double expected = 0.0;

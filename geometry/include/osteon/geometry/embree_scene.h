@@ -40,6 +40,9 @@ class EmbreeScene {
   // otherwise a negative value. closestMm receives that nearest point when found.
   double distanceWithin(const glm::dvec3& pointMm, double maxDistanceMm,
                         glm::dvec3* closestMm = nullptr) const;
+  // Whether the segment from fromMm to toMm meets the mesh: one occlusion ray, watertight (the
+  // scene is robust), so a segment between the two sides of a closed mesh always hits.
+  bool segmentHits(const glm::dvec3& fromMm, const glm::dvec3& toMm) const;
 
  private:
   const TriangleMesh* mesh_;

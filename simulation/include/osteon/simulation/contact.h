@@ -25,6 +25,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace osteon::simulation {
 
@@ -49,6 +50,10 @@ class ForceModel {
   // Samples come from `voxels` at the finest level it holds near the tool (call refineAround
   // first in dynamic mode). No allocation, no lock, no throw.
   ContactForce compute(geometry::RefinedVoxels& voxels, const ToolPose& pose) const;
+  // The samples in part `part`'s shell, exactly those compute() counts, for checks that hold
+  // the voxels' contact against something else (the surface). Allocates: not for the loop.
+  std::vector<geometry::VoxelSample> shellSamples(geometry::RefinedVoxels& voxels,
+                                                  const ToolPose& pose, int part) const;
 
  private:
   Tool tool_;

@@ -1,0 +1,12 @@
+// The versions of the libraries the validation module is built with (CGAL, OpenImageIO), so
+// their headers stay inside this module. CGAL is header-only: its version is the headers'.
+// OpenImageIO's is the runtime library's own.
+#pragma once
+
+#include "osteon/geometry/library_versions.h"
+
+namespace osteon::validation {
+
+geometry::LibraryVersions libraryVersions();
+
+}  // namespace osteon::validation
