@@ -1,4 +1,5 @@
-// osteon_bench_drilling [--runtime-s S]: the drilling figures of docs/performance.md.
+// osteon_bench_drilling [--runtime-s S] [--runtime-only]: the drilling figures of
+// docs/performance.md.
 //   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
 //      humerus at 1.2 mm with 2 levels and at 0.3 mm static, deterministic mode: p50/p99/max,
 //      and the force jitter of each (dynamic 1.2 mm must be no worse than static 0.3 mm).
@@ -50,17 +51,20 @@ std::unique_ptr<Scene> makeScene(const geometry::HumerusModel& model, const geom
 
 int main(int argc, char** argv) {
   double runtimeS = 60.0;
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (std::strcmp(argv[i], "--runtime-s") == 0) runtimeS = std::atof(argv[i + 1]);
+  bool haptic = true;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
   }
   const geometry::HumerusModel model = geometry::buildHumerusModel();
   const geometry::EmbreeScene embree(model.mesh);
   const HumeralHead head = fitHumeralHead(model.mesh);
 
-  std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
-  std::printf("| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max step change N |\n");
-  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  if (haptic) std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
+  if (haptic) std::printf("| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max step change N |\n");
+  if (haptic) std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
   for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
+    if (!haptic) break;
     for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
       auto scene = makeScene(model, embree, voxelMm, levels);
       const PortalPlan plan = makePortalPath(portal, head, model.mesh, scene->sim->tool().parts[0].outerRadiusMm);
@@ -90,6 +94,14 @@ int main(int argc, char** argv) {
     points.push_back({t, p, ToolPose::pointing(p, tangent).orientation, true});
   }
   const DrillPath path(points);
+  {
+    // The same path in the deterministic mode (one thread, no visual thread): the step's own
+    // cost on this path, against which the threaded figures below compare.
+    auto alone = makeScene(model, embree, 1.2, 2);
+    const RunSummary s = runDeterministic(*alone->sim, alone->grid, path, nullptr).summary;
+    std::printf("\nhelix path, deterministic: step p50 %.1f p99 %.1f max %.1f us\n", s.hapticStepUs.p50,
+                s.hapticStepUs.p99, s.hapticStepUs.max);
+  }
   PathPoseSource device(path);
   RuntimeOptions ro;
   ro.durationS = runtimeS;
