@@ -21,6 +21,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -196,6 +197,14 @@ json compareReports(const json& now, const json& old) {
   return regressions;
 }
 
+// A number for a table cell: four significant digits (the JSON keeps full precision).
+std::string cell(const json& v) {
+  if (!v.is_number_float()) return v.dump();
+  std::ostringstream out;
+  out << std::setprecision(4) << v.get<double>();
+  return out.str();
+}
+
 std::string htmlEscape(const std::string& s) {
   std::string out;
   for (const char c : s) {
@@ -240,11 +249,11 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
     h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << c["voxel_size_mm"] << " mm</td><td>"
       << c["method"].get<std::string>() << "</td><td>" << c["mode"].get<std::string>() << "</td><td class='"
       << (ok ? "pass'>pass" : "fail'>FAIL") << "</td><td>" << c["border_edges"] << "</td><td>" << c["non_manifold"]
-      << "</td><td>" << c["self_intersections"] << "</td><td>" << c["crack_percent"] << "</td><td>"
-      << c["hausdorff_mm"] << "</td><td>" << c["collision_misses"] << "</td><td>" << c["collision_missed_samples"]
-      << " / " << c["collision_rays"] << "</td><td>" << c["max_force_n"] << "</td><td>"
-      << c["jitter_n"] << "</td><td>";
-    if (c.contains("after")) h << c["after"]["border_edges"] << " / " << c["after"]["crack_percent"];
+      << "</td><td>" << c["self_intersections"] << "</td><td>" << cell(c["crack_percent"]) << "</td><td>"
+      << cell(c["hausdorff_mm"]) << "</td><td>" << c["collision_misses"] << "</td><td>" << c["collision_missed_samples"]
+      << " / " << c["collision_rays"] << "</td><td>" << cell(c["max_force_n"]) << "</td><td>"
+      << cell(c["jitter_n"]) << "</td><td>";
+    if (c.contains("after")) h << c["after"]["border_edges"] << " / " << cell(c["after"]["crack_percent"]);
     h << "</td></tr>\n";
   }
   h << "</table>\n";
@@ -259,8 +268,8 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
                      : std::abs(vs - 0.72) < 1e-9 ? "20" : std::abs(vs - 0.54) < 1e-9 ? "34" : "-";
     const json& t = c["mesh_time_ms"];
     h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << vs << " mm</td><td>" << c["voxels"]
-      << "</td><td>" << c["triangles"] << "</td><td>" << c["vertices"] << "</td><td>" << t["total"] << "</td><td>"
-      << t["extract"] << "</td><td>" << t["smooth"] << "</td><td>" << t["normals"] << "</td><td>" << t["other"]
+      << "</td><td>" << c["triangles"] << "</td><td>" << c["vertices"] << "</td><td>" << cell(t["total"]) << "</td><td>"
+      << cell(t["extract"]) << "</td><td>" << cell(t["smooth"]) << "</td><td>" << cell(t["normals"]) << "</td><td>" << cell(t["other"])
       << "</td><td>" << seed << "</td></tr>\n";
   }
   h << "</table>\n<h2>Failures</h2><ul>";

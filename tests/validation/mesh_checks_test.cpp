@@ -73,5 +73,17 @@ TEST(MeshChecks, HausdorffAndVolumeAgainstTheReference) {
   EXPECT_NEAR(bigger.volumeDifferencePercent, 100.0 * (1.331 - 1.0), 1.0);
 }
 
+// The sample points are seeded: the same meshes give the same distance, run after run (a
+// nightly report compared with yesterday's must not move by chance).
+TEST(MeshChecks, HausdorffIsRepeatable) {
+  const TriangleMesh coarse = test::makeSphere(10.0, 24, 12);
+  const TriangleMesh fine = test::makeSphere(10.0, 128, 64);
+  const Accuracy first = compareMeshes(coarse, fine);
+  const Accuracy second = compareMeshes(coarse, fine);
+  EXPECT_GT(first.hausdorffMm, 0.0);
+  EXPECT_EQ(first.surfaceToReferenceMm, second.surfaceToReferenceMm);
+  EXPECT_EQ(first.referenceToSurfaceMm, second.referenceToSurfaceMm);
+}
+
 }  // namespace
 }  // namespace osteon::validation
