@@ -68,6 +68,14 @@ void insideRows(const FillBlock& block, RowMasks& rows) {
   }
 }
 
+// Set bits of each byte value.
+constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
+  std::array<std::uint8_t, 256> t{};
+  for (int v = 0; v < 256; ++v) t[std::size_t(v)] = std::uint8_t((v & 1) + ((v >> 1) & 1) + ((v >> 2) & 1) + ((v >> 3) & 1) +
+                                                                   ((v >> 4) & 1) + ((v >> 5) & 1) + ((v >> 6) & 1) + ((v >> 7) & 1));
+  return t;
+}();
+
 // The cells of a row range whose x lies in [xLo, xHi) (block-local), as a bit mask.
 inline std::uint32_t xRange(int xLo, int xHi) {
   return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
@@ -82,16 +90,36 @@ struct BrickOut {
   FillBlock block;
   RowMasks rows;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
-  std::uint32_t firstEdgeVertex;  // global id of the brick's first edge vertex
-  // Owned edge -> vertex id relative to firstEdgeVertex (a brick owns at most 3 * 512 edges):
-  // 16 bits halve the table that pass 3 reads back from all over memory.
-  std::array<std::uint16_t, 3 * kB * kB * kB> edgeVertex;
+};
+
+// Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
+// vertex of an owned edge is firstEdgeVertex + the crossings before its (row, axis) byte +
+// those of lower x in it: 580 bytes per brick, kept apart from the bulky BrickOut so that the
+// neighbours' indices pass 3 reads stay in cache (a table of every edge's id took 3-6 KiB per
+// brick, and fetching it from memory was a third of the extraction's time).
+struct EdgeIndex {
+  EdgeIndex() {}  // NOLINT: left uninitialised, as BrickOut
+  std::uint32_t firstEdgeVertex;                          // global id of the brick's first
+  std::array<std::uint8_t, 3 * kB * kB> crossings;        // bit x: the edge of cell x crosses
+  std::array<std::uint16_t, 3 * kB * kB> crossingsBefore;
 };
 
 // Extraction in three parallel passes over the active cell bricks: count (edges, triangles,
 // centres), then, with every brick's place in the output known, write edge vertices, then
 // triangles and loop centres, straight into the output arrays. Numbering follows brick order,
 // so the result does not depend on scheduling.
+// The extraction's scratch (per brick state, indices, offsets), kept per thread between calls:
+// sized by the largest extraction the thread has run (about 2.2 KiB per cell brick with
+// surface), it spares later calls the page faults of fresh arrays, which took a fifth of the
+// time of repeated extractions.
+struct Scratch {
+  std::vector<glm::ivec3> active;
+  std::vector<std::int32_t> slotOfBrick;
+  std::vector<BrickOut> out;
+  std::vector<EdgeIndex> index;
+  std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
+};
+
 struct Builder {
   const VoxelGrid& grid;
   const SurfaceOptions& options;
@@ -104,12 +132,34 @@ struct Builder {
   std::vector<glm::ivec3> active;
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
   std::vector<BrickOut> out;
+  std::vector<EdgeIndex> index;
   std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
+
+  // Borrows this thread's scratch for its lifetime (contents are overwritten, capacity kept).
+  void swapScratch(Scratch& w) {
+    active.swap(w.active);
+    slotOfBrick.swap(w.slotOfBrick);
+    out.swap(w.out);
+    index.swap(w.index);
+    edgeOffset.swap(w.edgeOffset);
+    extraOffset.swap(w.extraOffset);
+    triOffset.swap(w.triOffset);
+    loopOffset.swap(w.loopOffset);
+  }
+  static Scratch& threadScratch() {
+    static thread_local Scratch scratch;
+    return scratch;
+  }
+  ~Builder() { swapScratch(threadScratch()); }
+  Builder(const Builder&) = delete;
+  Builder& operator=(const Builder&) = delete;
 
   Builder(const VoxelGrid& g, const SurfaceOptions& o)
       : grid(g), options(o), dims(g.dims()), shared(o.method == SurfaceMethod::CrackFree),
         direct(o.smoothIterations == 0) {
     cellBricks = g.brickDims() + 1;
+    swapScratch(threadScratch());
+    active.clear();
   }
 
   std::size_t cellBrickIndex(const glm::ivec3& cb) const {  // cb from -1
@@ -159,11 +209,15 @@ struct Builder {
     insideRows(o.block, o.rows);
     const CaseCounts& cc = caseCounts();
     std::uint32_t edges = 0, extras = 0, tris = 0, entries = 0;
+    EdgeIndex& edgeIndex = index[s];
+    if (shared) edgeIndex.crossings.fill(0);
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       if (shared) {
         std::uint32_t crossing[3];
         rowCrossings(o.rows, ly, lz, cells, crossing);
-        edges += bitCount(crossing[0]) + bitCount(crossing[1]) + bitCount(crossing[2]);
+        for (int axis = 0; axis < 3; ++axis) {
+          edgeIndex.crossings[std::size_t(3 * (ly + kB * lz) + axis)] = std::uint8_t(crossing[axis]);
+        }
       }
       std::uint32_t r[4];
       for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
@@ -173,6 +227,12 @@ struct Builder {
         entries += cc.loopEntries[config];
       }
     });
+    if (shared) {
+      for (std::size_t i = 0; i < edgeIndex.crossings.size(); ++i) {
+        edgeIndex.crossingsBefore[i] = std::uint16_t(edges);
+        edges += kBitsInByte[edgeIndex.crossings[i]];
+      }
+    }
     o.edges = edges;
     o.extras = extras;
     o.triangles = tris;
@@ -183,9 +243,7 @@ struct Builder {
   void writeEdgeVertices(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions) {
     BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
-    const std::uint32_t first = edgeOffset[s];
-    o.firstEdgeVertex = first;
-    std::uint32_t next = first;
+    std::uint32_t next = index[s].firstEdgeVertex;
     constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t crossing[3];
@@ -194,7 +252,6 @@ struct Builder {
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
           const int i = lx + kBlock * (ly + kBlock * lz);
-          o.edgeVertex[std::size_t(3 * (lx + kB * (ly + kB * lz)) + axis)] = std::uint16_t(next - first);
           const VertexInfo v = edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
                                               o.block[std::size_t(i)], o.block[std::size_t(i + kStep[axis])]);
           if (direct) {
@@ -215,13 +272,13 @@ struct Builder {
     const auto& table = mcTable();
     const glm::ivec3 cb = active[s];
     const BrickOut& o = out[s];
-    const BrickOut* owners[8] = {};
+    const EdgeIndex* owners[8] = {};
     if (shared) {
       for (int d = 0; d < 8; ++d) {
         const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
         if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
         const std::int32_t slot = slotOfBrick[cellBrickIndex(nb)];
-        if (slot >= 0) owners[d] = &out[std::size_t(slot)];
+        if (slot >= 0) owners[d] = &index[std::size_t(slot)];
       }
     }
     static const std::array<int, 8> cornerStep = [] {
@@ -248,9 +305,10 @@ struct Builder {
             if (shared) {
               const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
               const glm::ivec3 local = start & (kB - 1);
-              const BrickOut& owner = *owners[d];
-              ids[count++] = owner.firstEdgeVertex +
-                             owner.edgeVertex[std::size_t(3 * (local.x + kB * (local.y + kB * local.z)) + e / 4)];
+              const EdgeIndex& owner = *owners[d];
+              const auto byte = std::size_t(3 * (local.y + kB * local.z) + e / 4);
+              ids[count++] = owner.firstEdgeVertex + owner.crossingsBefore[byte] +
+                             kBitsInByte[owner.crossings[byte] & ((1u << local.x) - 1u)];
               continue;
             }
             // Naive: every cube makes its own vertex on each of its crossed edges.
@@ -299,6 +357,7 @@ struct Builder {
     slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
     for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
     out.resize(active.size());
+    index.resize(active.size());
     const std::size_t n = active.size();
     const auto forEachBrick = [&](auto&& work) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4),
@@ -314,6 +373,9 @@ struct Builder {
       edgeOffset[s + 1] = edgeOffset[s] + out[s].edges;
       triOffset[s + 1] = triOffset[s] + out[s].triangles;
       loopOffset[s + 1] = loopOffset[s] + out[s].loopEntries;
+    }
+    if (shared) {
+      for (std::size_t s = 0; s < n; ++s) index[s].firstEdgeVertex = edgeOffset[s];
     }
     extraOffset.assign(n + 1, edgeOffset[n]);
     for (std::size_t s = 0; s < n; ++s) extraOffset[s + 1] = extraOffset[s] + out[s].extras;
