@@ -76,6 +76,17 @@ constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
   return t;
 }();
 
+// For cube edge e of a cell, the offset of its (row, axis) byte in the EdgeIndex of the cell's
+// brick from the cell's row's first byte.
+constexpr std::array<int, 12> kEdgeByte = [] {
+  std::array<int, 12> t{};
+  for (int e = 0; e < 12; ++e) {
+    const auto& o = kEdgeStartOffset[std::size_t(e)];
+    t[std::size_t(e)] = 3 * (o[1] + kCellBrick * o[2]) + e / 4;
+  }
+  return t;
+}();
+
 // The cells of a row range whose x lies in [xLo, xHi) (block-local), as a bit mask.
 inline std::uint32_t xRange(int xLo, int xHi) {
   return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
@@ -296,11 +307,22 @@ struct Builder {
         const glm::ivec3 l(lx, ly, lz);
         const int base = lx + kBlock * (ly + kBlock * lz);
         const McCase& mc = table[std::size_t(configOf(r, lx))];
+        // A cell off the brick's upper faces owns all its edges' vertices through its own
+        // brick: no owner to pick, the byte and bit follow from tables.
+        const bool interior = shared && lx < kB - 1 && ly < kB - 1 && lz < kB - 1;
+        const int rowByte = 3 * (ly + kB * lz);
         std::uint32_t ids[13];
         for (int loop = 0; loop < mc.loopCount; ++loop) {
           int count = 0;
           for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
             const int e = mc.edges[std::size_t(k)];
+            if (interior) {
+              const EdgeIndex& own = *owners[0];
+              const auto byte = std::size_t(rowByte + kEdgeByte[std::size_t(e)]);
+              ids[count++] = own.firstEdgeVertex + own.crossingsBefore[byte] +
+                             kBitsInByte[own.crossings[byte] & ((1u << (lx + kEdgeStartOffset[std::size_t(e)][0])) - 1u)];
+              continue;
+            }
             const glm::ivec3 start = edgeStart(l, e);
             if (shared) {
               const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
