@@ -13,6 +13,10 @@
 #include <cmath>
 #include <sstream>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace osteon::geometry {
 
 namespace {
@@ -59,14 +63,78 @@ const CaseCounts& caseCounts() {
 // rows of cells with no crossing are skipped with a few word operations.
 using RowMasks = std::array<std::uint16_t, kBlock * kBlock>;
 
-void insideRows(const FillBlock& block, RowMasks& rows) {
-  for (int r = 0; r < kBlock * kBlock; ++r) {
-    std::uint16_t m = 0;
-    const Fill* f = block.data() + r * kBlock;
-    for (int x = 0; x < kBlock; ++x) m = std::uint16_t(m | ((f[x] > kInsideAbove ? 1u : 0u) << x));
-    rows[std::size_t(r)] = m;
-  }
+// The cells of a row range whose x lies in [xLo, xHi) (block-local), as a bit mask.
+inline std::uint32_t xRange(int xLo, int xHi) {
+  return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
 }
+
+// Where a cell brick's 9^3 block of fills comes from, read in place (no copy): the up to eight
+// grid bricks it overlaps (octant d: +x if d & 1, +y if d & 2, +z if d & 4), each an array or
+// one uniform value, and the block coordinates that lie in the grid ([lo, hi) per axis;
+// outside it every fill is 0, so the surface closes at the border).
+struct BlockSource {
+  std::array<const Fill*, 8> data;
+  std::array<Fill, 8> uniform;
+  glm::ivec3 lo, hi;
+
+  void init(const VoxelGrid& grid, const glm::ivec3& cb) {
+    const glm::ivec3 nb = grid.brickDims();
+    const glm::ivec3 base = cb * kCellBrick;
+    lo = glm::max(-base, glm::ivec3(0));
+    hi = glm::min(grid.dims() - base, glm::ivec3(kBlock));
+    for (int d = 0; d < 8; ++d) {
+      const glm::ivec3 b = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+      data[std::size_t(d)] = nullptr;
+      uniform[std::size_t(d)] = 0;
+      if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= nb.x || b.y >= nb.y || b.z >= nb.z) continue;
+      const std::size_t brick = grid.brickIndex(b);
+      if (const VoxelGrid::Brick* brickData = grid.brickData(brick)) {
+        data[std::size_t(d)] = brickData->fill.data();
+      } else {
+        uniform[std::size_t(d)] = grid.brickUniformFill(brick);
+      }
+    }
+  }
+
+  Fill at(int x, int y, int z) const {  // block coordinates 0..8
+    if (x < lo.x || y < lo.y || z < lo.z || x >= hi.x || y >= hi.y || z >= hi.z) return 0;
+    const auto d = std::size_t((x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2));
+    const Fill* f = data[d];
+    return f ? f[(x & 7) + kCellBrick * ((y & 7) + kCellBrick * (z & 7))] : uniform[d];
+  }
+
+  // Inside bits of the block's rows, one 9-bit word per (y, z) row, straight from the bricks
+  // (a row's first eight voxels are one brick row: one vector compare).
+  void insideRows(RowMasks& rows) const {
+    const std::uint32_t xValid = xRange(lo.x, hi.x);
+    for (int z = 0; z < kBlock; ++z)
+      for (int y = 0; y < kBlock; ++y) {
+        std::uint32_t m = 0;
+        if (y >= lo.y && y < hi.y && z >= lo.z && z < hi.z) {
+          const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+          const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+          m = data[d] ? insideOf8(data[d] + row) : (uniform[d] > kInsideAbove ? 0xffu : 0u);
+          const Fill next = data[d | 1] ? data[d | 1][row] : uniform[d | 1];
+          m |= (next > kInsideAbove ? 1u : 0u) << 8;
+          m &= xValid;
+        }
+        rows[std::size_t(y + kBlock * z)] = std::uint16_t(m);
+      }
+  }
+
+  static std::uint32_t insideOf8(const Fill* f) {
+#if defined(__SSE2__)
+    // Fills are at most 16320, so the signed 16-bit compare is exact.
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(f));
+    const __m128i inside = _mm_cmpgt_epi16(v, _mm_set1_epi16(std::int16_t(kInsideAbove)));
+    return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(inside, _mm_setzero_si128()))) & 0xffu;
+#else
+    std::uint32_t m = 0;
+    for (int x = 0; x < kCellBrick; ++x) m |= (f[x] > kInsideAbove ? 1u : 0u) << x;
+    return m;
+#endif
+  }
+};
 
 // Set bits of each byte value.
 constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
@@ -87,18 +155,13 @@ constexpr std::array<int, 12> kEdgeByte = [] {
   return t;
 }();
 
-// The cells of a row range whose x lies in [xLo, xHi) (block-local), as a bit mask.
-inline std::uint32_t xRange(int xLo, int xHi) {
-  return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
-}
-
 // Per active cell brick: its fills, their inside bits, how much it adds, and the vertex of
 // each edge its cells own.
 struct BrickOut {
   // Left uninitialised: every brick fills its arrays before reading them, and zeroing some
   // 8 KiB per active brick up front was a tenth of the extraction time.
   BrickOut() {}  // NOLINT: deliberately not = default (that would zero the arrays)
-  FillBlock block;
+  BlockSource source;
   RowMasks rows;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
 };
@@ -216,8 +279,8 @@ struct Builder {
   // Pass 1: fills, inside bits, counts.
   void count(std::size_t s) {
     BrickOut& o = out[s];
-    loadBlock(grid, active[s], o.block);
-    insideRows(o.block, o.rows);
+    o.source.init(grid, active[s]);
+    o.source.insideRows(o.rows);
     const CaseCounts& cc = caseCounts();
     std::uint32_t edges = 0, extras = 0, tris = 0, entries = 0;
     EdgeIndex& edgeIndex = index[s];
@@ -255,16 +318,15 @@ struct Builder {
     BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
     std::uint32_t next = index[s].firstEdgeVertex;
-    constexpr int kStep[3] = {1, kBlock, kBlock * kBlock};
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t crossing[3];
       rowCrossings(o.rows, ly, lz, cells, crossing);
       for (int axis = 0; axis < 3; ++axis) {
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
-          const int i = lx + kBlock * (ly + kBlock * lz);
-          const VertexInfo v = edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis,
-                                              o.block[std::size_t(i)], o.block[std::size_t(i + kStep[axis])]);
+          const VertexInfo v =
+              edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis, o.source.at(lx, ly, lz),
+                             o.source.at(lx + (axis == 0), ly + (axis == 1), lz + (axis == 2)));
           if (direct) {
             positions[next++] = positionOf(v);
           } else {
@@ -292,11 +354,6 @@ struct Builder {
         if (slot >= 0) owners[d] = &index[std::size_t(slot)];
       }
     }
-    static const std::array<int, 8> cornerStep = [] {
-      std::array<int, 8> steps{};
-      for (int c = 0; c < 8; ++c) steps[std::size_t(c)] = (c & 1) + kBlock * ((c >> 1) & 1) + kBlock * kBlock * ((c >> 2) & 1);
-      return steps;
-    }();
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
@@ -305,7 +362,6 @@ struct Builder {
       for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
         const int lx = __builtin_ctz(bits);
         const glm::ivec3 l(lx, ly, lz);
-        const int base = lx + kBlock * (ly + kBlock * lz);
         const McCase& mc = table[std::size_t(configOf(r, lx))];
         // A cell off the brick's upper faces owns all its edges' vertices through its own
         // brick: no owner to pick, the byte and bit follow from tables.
@@ -334,10 +390,10 @@ struct Builder {
               continue;
             }
             // Naive: every cube makes its own vertex on each of its crossed edges.
-            const auto corners = edgeCorners(e);
-            const VertexInfo v = edgeVertexInfo(grid, cb * kB + start, e / 4,
-                                                o.block[std::size_t(base + cornerStep[corners[0]])],
-                                                o.block[std::size_t(base + cornerStep[corners[1]])]);
+            const int axis = e / 4;
+            const VertexInfo v = edgeVertexInfo(
+                grid, cb * kB + start, axis, o.source.at(start.x, start.y, start.z),
+                o.source.at(start.x + (axis == 0), start.y + (axis == 1), start.z + (axis == 2)));
             if (direct) {
               positions[nextExtra] = positionOf(v);
             } else {
