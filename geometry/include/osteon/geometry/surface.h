@@ -62,7 +62,10 @@ struct SurfaceTimings {
 // [-1, 0).
 void validateSurfaceOptions(const SurfaceOptions& options);
 
-// Throws InputError for bad options (see validateSurfaceOptions).
+// Throws InputError for bad options (see validateSurfaceOptions). Runs on TBB's threads. Each
+// calling thread keeps the extraction's scratch between calls (about 2.2 KiB per cell brick
+// that holds surface, sized by the largest extraction it has run), so repeated extractions
+// do not fault in fresh pages; it is freed when the thread ends.
 SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options = {},
                            SurfaceTimings* timings = nullptr);
 
