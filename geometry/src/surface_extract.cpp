@@ -183,7 +183,7 @@ struct EdgeIndex {
 // triangles and loop centres, straight into the output arrays. Numbering follows brick order,
 // so the result does not depend on scheduling.
 // The extraction's scratch (per brick state, indices, offsets), kept per thread between calls:
-// sized by the largest extraction the thread has run (about 2.2 KiB per cell brick with
+// sized by the largest extraction the thread has run (under 1 KiB per cell brick with
 // surface), it spares later calls the page faults of fresh arrays, which took a fifth of the
 // time of repeated extractions.
 struct Scratch {

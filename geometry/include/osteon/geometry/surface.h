@@ -63,9 +63,9 @@ struct SurfaceTimings {
 void validateSurfaceOptions(const SurfaceOptions& options);
 
 // Throws InputError for bad options (see validateSurfaceOptions). Runs on TBB's threads. Each
-// calling thread keeps the extraction's scratch between calls (about 2.2 KiB per cell brick
-// that holds surface, sized by the largest extraction it has run), so repeated extractions
-// do not fault in fresh pages; it is freed when the thread ends.
+// calling thread keeps the extraction's scratch between calls (under 1 KiB per cell brick that
+// holds surface and 4 bytes per cell brick of the grid, sized by the largest extraction it has
+// run), so repeated extractions do not fault in fresh pages; it is freed when the thread ends.
 SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options = {},
                            SurfaceTimings* timings = nullptr);
 
