@@ -89,6 +89,23 @@ Density VoxelGrid::density(const glm::ivec3& ijk) const {
   return b ? b->density[std::size_t(local)] : uniformDensity_[brick];
 }
 
+void VoxelGrid::fillAndDensity(const glm::ivec3& ijk, Fill& fill, Density& density) const {
+  std::size_t brick;
+  int local;
+  if (!locate(ijk, brick, local)) {
+    fill = 0;
+    density = 0;
+    return;
+  }
+  if (const Brick* b = bricks_[brick].get()) {
+    fill = b->fill[std::size_t(local)];
+    density = b->density[std::size_t(local)];
+  } else {
+    fill = uniformFill_[brick];
+    density = uniformDensity_[brick];
+  }
+}
+
 void VoxelGrid::set(const glm::ivec3& ijk, Fill fill, Density density) {
   std::size_t brick;
   int local;

@@ -68,6 +68,26 @@ TEST(VoxelGrid, OutsideReadsEmpty) {
   EXPECT_THROW(grid.set({5, 0, 0}, 1, 1), std::out_of_range);
 }
 
+// fillAndDensity reads what fill and density read, in uniform bricks, stored ones and outside.
+TEST(VoxelGrid, FillAndDensityTogether) {
+  VoxelGrid grid({12, 9, 10}, glm::dvec3(0.0), 1.0);
+  grid.setBrickUniform(0, kFillFull, 40);
+  grid.set({9, 3, 2}, 1234, -7);
+  for (const glm::ivec3 p : {glm::ivec3(1, 1, 1), glm::ivec3(9, 3, 2), glm::ivec3(9, 3, 3),
+                             glm::ivec3(-1, 0, 0), glm::ivec3(12, 0, 0)}) {
+    Fill f = 1;
+    Density d = 1;
+    grid.fillAndDensity(p, f, d);
+    EXPECT_EQ(f, grid.fill(p));
+    EXPECT_EQ(d, grid.density(p));
+  }
+  Fill f = 0;
+  Density d = 0;
+  grid.fillAndDensity({9, 3, 2}, f, d);
+  EXPECT_EQ(f, 1234);
+  EXPECT_EQ(d, -7);
+}
+
 TEST(VoxelGrid, SetMaterialisesOnlyWhenNeededAndMarksDirty) {
   VoxelGrid grid({16, 16, 16}, glm::dvec3(0.0), 1.0);
   grid.setBrickUniform(0, 100, 5);

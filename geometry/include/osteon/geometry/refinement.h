@@ -232,7 +232,11 @@ void RefinedVoxels::forEachSampleNearSegment(const glm::dvec3& aMm, const glm::d
     const glm::dvec3 c = grid_->voxelCentreMm(v);
     const std::uint32_t cell = findCell(v);
     if (cell == kNoCell) {
-      if (distanceSq(c) <= r2) fn(VoxelSample{c, vs, 0, grid_->fill(v), grid_->density(v)});
+      if (distanceSq(c) <= r2) {
+        VoxelSample s{c, vs, 0, 0, 0};
+        grid_->fillAndDensity(v, s.fill, s.density);
+        fn(s);
+      }
       return;
     }
     if (!openVoxel(c, halfDiagonal)) return;

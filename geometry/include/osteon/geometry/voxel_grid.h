@@ -78,6 +78,8 @@ class VoxelGrid {
   // Per-voxel access; outside the grid reads as empty.
   Fill fill(const glm::ivec3& ijk) const;
   Density density(const glm::ivec3& ijk) const;
+  // Both at once: one brick look-up (the haptic step reads both for every voxel it visits).
+  void fillAndDensity(const glm::ivec3& ijk, Fill& fill, Density& density) const;
   // Writes materialise the brick when the value breaks its uniformity, and mark it dirty when
   // the fill changes (dirty: the surface there may have changed; density alone does not).
   // One writer at a time (parallel writers use materialiseBrick on distinct bricks). A brick
