@@ -32,46 +32,46 @@ bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cb) {
   return false;
 }
 
-void loadBlock(const VoxelGrid& grid, const glm::ivec3& cb, FillBlock& block) {
-  // Straight from the up to eight grid bricks the block lies in, a row at a time (0 outside
-  // the grid).
+void BlockSource::init(const VoxelGrid& grid, const glm::ivec3& cb) {
   const glm::ivec3 nb = grid.brickDims();
-  const glm::ivec3 dims = grid.dims();
   const glm::ivec3 base = cb * kCellBrick;
-  block.fill(0);
+  lo = glm::max(-base, glm::ivec3(0));
+  hi = glm::min(grid.dims() - base, glm::ivec3(kBlock));
   for (int d = 0; d < 8; ++d) {
-    const glm::ivec3 off(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-    const glm::ivec3 b = cb + off;
+    const glm::ivec3 b = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+    data[std::size_t(d)] = nullptr;
+    uniform[std::size_t(d)] = 0;
     if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= nb.x || b.y >= nb.y || b.z >= nb.z) continue;
-    // Block coordinates this brick supplies: 0..7 from the cell brick itself, 8 from the next,
-    // clipped to the grid.
-    const glm::ivec3 from = off * kCellBrick;
-    const glm::ivec3 to = glm::min(from + (1 - off) * (kCellBrick - 1) + 1, dims - base);
-    if (to.x <= from.x || to.y <= from.y || to.z <= from.z) continue;
     const std::size_t brick = grid.brickIndex(b);
-    const VoxelGrid::Brick* data = grid.brickData(brick);
-    const Fill uniform = grid.brickUniformFill(brick);
-    const int count = to.x - from.x;
-    for (int z = from.z; z < to.z; ++z)
-      for (int y = from.y; y < to.y; ++y) {
-        Fill* dst = block.data() + (from.x + kBlock * (y + kBlock * z));
-        if (data) {
-          const glm::ivec3 local = base + glm::ivec3(from.x, y, z) - b * kCellBrick;
-          const Fill* src = data->fill.data() + VoxelGrid::voxelInBrick(local);
-          // Whole brick rows are the common case: a fixed-size copy the compiler inlines
-          // (a library memmove call per row was a tenth of the extraction).
-          if (count == kCellBrick) {
-            std::memcpy(dst, src, kCellBrick * sizeof(Fill));
-          } else if (count == 1) {  // the block's last column, from the next brick along x
-            *dst = *src;
-          } else {
-            std::copy_n(src, count, dst);
-          }
-        } else if (uniform != 0) {
-          std::fill_n(dst, count, uniform);
-        }
-      }
+    if (const VoxelGrid::Brick* brickData = grid.brickData(brick)) {
+      data[std::size_t(d)] = brickData->fill.data();
+    } else {
+      uniform[std::size_t(d)] = grid.brickUniformFill(brick);
+    }
   }
+}
+
+void loadBlock(const VoxelGrid& grid, const glm::ivec3& cb, FillBlock& block) {
+  // A row at a time from the bricks: its first eight voxels are one brick row (a fixed-size
+  // copy the compiler inlines; a library memmove call per row was a tenth of the extraction),
+  // the ninth the next brick's along x; 0 outside the grid.
+  BlockSource src;
+  src.init(grid, cb);
+  block.fill(0);
+  for (int z = src.lo.z; z < src.hi.z; ++z)
+    for (int y = src.lo.y; y < src.hi.y; ++y) {
+      Fill* dst = block.data() + kBlock * (y + kBlock * z);
+      const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+      const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+      if (src.data[d]) {
+        std::memcpy(dst, src.data[d] + row, kCellBrick * sizeof(Fill));
+      } else {
+        std::fill_n(dst, kCellBrick, src.uniform[d]);
+      }
+      dst[kCellBrick] = src.data[d | 1] ? src.data[d | 1][row] : src.uniform[d | 1];
+      for (int x = 0; x < src.lo.x; ++x) dst[x] = 0;
+      for (int x = src.hi.x; x < kBlock; ++x) dst[x] = 0;
+    }
 }
 
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cb, glm::ivec3& lo, glm::ivec3& hi) {

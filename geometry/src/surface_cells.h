@@ -72,6 +72,25 @@ void finishSurface(std::vector<VertexInfo>& vertices, const std::vector<std::uin
 void areaWeightedNormals(const std::vector<glm::dvec3>& positions, const std::vector<glm::u32vec3>& triangles,
                          std::vector<glm::dvec3>& normals);
 
+// Where a cell brick's 9^3 block of fills comes from, read in place: the up to eight grid
+// bricks it overlaps (octant d: +x if d & 1, +y if d & 2, +z if d & 4), each an array or one
+// uniform value, and the block coordinates that lie in the grid ([lo, hi) per axis; outside it
+// every fill is 0, so the surface closes at the border). The full extractor reads through it;
+// loadBlock copies through it.
+struct BlockSource {
+  std::array<const Fill*, 8> data;
+  std::array<Fill, 8> uniform;
+  glm::ivec3 lo, hi;
+
+  void init(const VoxelGrid& grid, const glm::ivec3& cellBrick);
+  Fill at(int x, int y, int z) const {  // block coordinates 0..8
+    if (x < lo.x || y < lo.y || z < lo.z || x >= hi.x || y >= hi.y || z >= hi.z) return 0;
+    const auto d = std::size_t((x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2));
+    const Fill* f = data[d];
+    return f ? f[(x & 7) + kCellBrick * ((y & 7) + kCellBrick * (z & 7))] : uniform[d];
+  }
+};
+
 // Cells are numbered by their first voxel, from -1 (the border layer outside the grid) to
 // dims - 1; cell brick cb holds cells cb * 8 .. cb * 8 + 7.
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);

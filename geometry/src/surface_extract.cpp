@@ -68,73 +68,38 @@ inline std::uint32_t xRange(int xLo, int xHi) {
   return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
 }
 
-// Where a cell brick's 9^3 block of fills comes from, read in place (no copy): the up to eight
-// grid bricks it overlaps (octant d: +x if d & 1, +y if d & 2, +z if d & 4), each an array or
-// one uniform value, and the block coordinates that lie in the grid ([lo, hi) per axis;
-// outside it every fill is 0, so the surface closes at the border).
-struct BlockSource {
-  std::array<const Fill*, 8> data;
-  std::array<Fill, 8> uniform;
-  glm::ivec3 lo, hi;
-
-  void init(const VoxelGrid& grid, const glm::ivec3& cb) {
-    const glm::ivec3 nb = grid.brickDims();
-    const glm::ivec3 base = cb * kCellBrick;
-    lo = glm::max(-base, glm::ivec3(0));
-    hi = glm::min(grid.dims() - base, glm::ivec3(kBlock));
-    for (int d = 0; d < 8; ++d) {
-      const glm::ivec3 b = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-      data[std::size_t(d)] = nullptr;
-      uniform[std::size_t(d)] = 0;
-      if (b.x < 0 || b.y < 0 || b.z < 0 || b.x >= nb.x || b.y >= nb.y || b.z >= nb.z) continue;
-      const std::size_t brick = grid.brickIndex(b);
-      if (const VoxelGrid::Brick* brickData = grid.brickData(brick)) {
-        data[std::size_t(d)] = brickData->fill.data();
-      } else {
-        uniform[std::size_t(d)] = grid.brickUniformFill(brick);
-      }
-    }
-  }
-
-  Fill at(int x, int y, int z) const {  // block coordinates 0..8
-    if (x < lo.x || y < lo.y || z < lo.z || x >= hi.x || y >= hi.y || z >= hi.z) return 0;
-    const auto d = std::size_t((x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2));
-    const Fill* f = data[d];
-    return f ? f[(x & 7) + kCellBrick * ((y & 7) + kCellBrick * (z & 7))] : uniform[d];
-  }
-
-  // Inside bits of the block's rows, one 9-bit word per (y, z) row, straight from the bricks
-  // (a row's first eight voxels are one brick row: one vector compare).
-  void insideRows(RowMasks& rows) const {
-    const std::uint32_t xValid = xRange(lo.x, hi.x);
-    for (int z = 0; z < kBlock; ++z)
-      for (int y = 0; y < kBlock; ++y) {
-        std::uint32_t m = 0;
-        if (y >= lo.y && y < hi.y && z >= lo.z && z < hi.z) {
-          const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-          const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-          m = data[d] ? insideOf8(data[d] + row) : (uniform[d] > kInsideAbove ? 0xffu : 0u);
-          const Fill next = data[d | 1] ? data[d | 1][row] : uniform[d | 1];
-          m |= (next > kInsideAbove ? 1u : 0u) << 8;
-          m &= xValid;
-        }
-        rows[std::size_t(y + kBlock * z)] = std::uint16_t(m);
-      }
-  }
-
-  static std::uint32_t insideOf8(const Fill* f) {
+// Inside bits of eight fills in a row.
+std::uint32_t insideOf8(const Fill* f) {
 #if defined(__SSE2__)
-    // Fills are at most 16320, so the signed 16-bit compare is exact.
-    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(f));
-    const __m128i inside = _mm_cmpgt_epi16(v, _mm_set1_epi16(std::int16_t(kInsideAbove)));
-    return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(inside, _mm_setzero_si128()))) & 0xffu;
+  // Fills are at most 16320, so the signed 16-bit compare is exact.
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(f));
+  const __m128i inside = _mm_cmpgt_epi16(v, _mm_set1_epi16(std::int16_t(kInsideAbove)));
+  return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(inside, _mm_setzero_si128()))) & 0xffu;
 #else
-    std::uint32_t m = 0;
-    for (int x = 0; x < kCellBrick; ++x) m |= (f[x] > kInsideAbove ? 1u : 0u) << x;
-    return m;
+  std::uint32_t m = 0;
+  for (int x = 0; x < kCellBrick; ++x) m |= (f[x] > kInsideAbove ? 1u : 0u) << x;
+  return m;
 #endif
-  }
-};
+}
+
+// Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
+// bricks (a row's first eight voxels are one brick row: one vector compare).
+void insideRows(const BlockSource& src, RowMasks& rows) {
+  const std::uint32_t xValid = xRange(src.lo.x, src.hi.x);
+  for (int z = 0; z < kBlock; ++z)
+    for (int y = 0; y < kBlock; ++y) {
+      std::uint32_t m = 0;
+      if (y >= src.lo.y && y < src.hi.y && z >= src.lo.z && z < src.hi.z) {
+        const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+        const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+        m = src.data[d] ? insideOf8(src.data[d] + row) : (src.uniform[d] > kInsideAbove ? 0xffu : 0u);
+        const Fill next = src.data[d | 1] ? src.data[d | 1][row] : src.uniform[d | 1];
+        m |= (next > kInsideAbove ? 1u : 0u) << 8;
+        m &= xValid;
+      }
+      rows[std::size_t(y + kBlock * z)] = std::uint16_t(m);
+    }
+}
 
 // Set bits of each byte value.
 constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
@@ -280,7 +245,7 @@ struct Builder {
   void count(std::size_t s) {
     BrickOut& o = out[s];
     o.source.init(grid, active[s]);
-    o.source.insideRows(o.rows);
+    insideRows(o.source, o.rows);
     const CaseCounts& cc = caseCounts();
     std::uint32_t edges = 0, extras = 0, tris = 0, entries = 0;
     EdgeIndex& edgeIndex = index[s];
