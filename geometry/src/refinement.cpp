@@ -216,6 +216,7 @@ void RefinedVoxels::releaseCell(std::uint32_t cell) {
 
 int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS) {
   if (depth_ == 0) return 0;
+  lastRefineS_ = nowS;
   const double vs = grid_->voxelSizeMm();
   const double reachMm = outerRadiusMm + marginMm_;
   int created = 0;

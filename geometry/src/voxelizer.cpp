@@ -240,7 +240,12 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
   }
   if (paddingVoxels < 1) throw InputError("padding: at least one voxel is needed");
   const Aabb box = bounds(mesh);
-  const glm::dvec3 cells = glm::ceil(box.extentMm() / voxelSizeMm) + 2.0 * paddingVoxels;
+  // Voxel faces lie on the world lattice of this voxel size (multiples of it from the mesh's
+  // own origin), so grids of sizes VS and VS / 2^k nest: a refined voxel's sub-voxels are the
+  // finer grid's voxels, and forces at one sample size sample the same points in static and
+  // dynamic mode, whatever the bounding box.
+  const glm::dvec3 first = glm::floor(box.minMm / voxelSizeMm) - double(paddingVoxels);
+  const glm::dvec3 cells = glm::ceil(box.maxMm / voxelSizeMm) + double(paddingVoxels) - first;
   const double voxels = cells.x * cells.y * cells.z;
   const glm::dvec3 bricks = glm::ceil(cells / double(VoxelGrid::kBrickSize));
   const double brickVoxels = bricks.x * bricks.y * bricks.z * VoxelGrid::kBrickVoxels;
@@ -253,10 +258,7 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
     throw InputError(s.str());
   }
   const glm::ivec3 dims(cells);
-  // The box sits in the middle of the grid, so the padding is even on both sides.
-  const glm::dvec3 centre = 0.5 * (box.minMm + box.maxMm);
-  const glm::dvec3 origin = centre - 0.5 * glm::dvec3(dims) * voxelSizeMm;
-  return VoxelGrid(dims, origin, voxelSizeMm);
+  return VoxelGrid(dims, first * voxelSizeMm, voxelSizeMm);
 }
 
 VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,

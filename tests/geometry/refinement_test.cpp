@@ -130,6 +130,36 @@ TEST_F(RefinementTest, ExpiryRestoresTheGridExactlyAndFreesEverything) {
   EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
 }
 
+TEST_F(RefinementTest, VoxelsAQueryOpensStayRefinedAsLongAsItKeepsOpeningThem) {
+  // A drill's shaft keeps pushing on the wall the tip refined: the tip refines at the
+  // surface point at t = 0 and then works 8 mm away; a query around the first place (the
+  // shaft) keeps its voxels alive, voxels nobody reaches expire.
+  RefinedVoxels refined = make(2, &source_);
+  refined.refineAround(surfacePoint_, outerMm_, 0.0);
+  const std::size_t atStart = refined.refinedCount();
+  const glm::dvec3 away = surfacePoint_ + glm::dvec3(0.0, 8.0, 0.0);
+  for (double t = 1.0; t <= 5.0; t += 1.0) {
+    refined.refineAround(away, outerMm_, t);
+    int samples = 0;
+    refined.forEachSampleInSphere(surfacePoint_, 0.5, [&](const VoxelSample&) { ++samples; });
+    EXPECT_GT(samples, 0);
+    refined.expire(t);
+  }
+  // Those the 0.5 mm query opened are alive at t = 5, the rest of the first set are gone.
+  int alive = 0;
+  for (const glm::ivec3& v : refined.refinedVoxels()) {
+    const glm::dvec3 c = grid_.voxelCentreMm(v);
+    alive += glm::length(c - surfacePoint_) < 0.5 + 1.1 ? 1 : 0;
+  }
+  EXPECT_GT(alive, 0);
+  EXPECT_LT(refined.refinedCount(), 2 * atStart);
+  refined.refineAround(away, outerMm_, 9.0);
+  refined.expire(9.0);
+  for (const glm::ivec3& v : refined.refinedVoxels()) {
+    EXPECT_GT(glm::length(grid_.voxelCentreMm(v) - surfacePoint_), 4.0);  // only near `away`
+  }
+}
+
 TEST_F(RefinementTest, RemovalAtTheFinestLevelConservesVolumeAndNeverResurrects) {
   RefinedVoxels refined = make(2, &source_);
   const std::uint64_t start = grid_.totalFill();

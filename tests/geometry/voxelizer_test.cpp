@@ -78,7 +78,7 @@ TEST(Voxelizer, FillIsExactForAVoxelAlignedBoxAndFractionalAtItsFaces) {
   EXPECT_EQ(h.fill({2, 3, 1}) % kFillPerStep, 0);
 }
 
-TEST(Voxelizer, GridIsPaddedAndCentred) {
+TEST(Voxelizer, GridIsPaddedAndOnTheWorldLattice) {
   const TriangleMesh sphere = test::makeSphere(5.0, 64, 32, {100, -50, 7});
   const VoxelGrid g = voxelizeAt(sphere, 0.7);
   const Aabb box = bounds(sphere);
@@ -87,11 +87,27 @@ TEST(Voxelizer, GridIsPaddedAndCentred) {
     const double above = g.worldFromGrid(glm::dvec3(g.dims()))[c] - box.maxMm[c];
     EXPECT_GE(below, 0.7 - 1e-9);
     EXPECT_GE(above, 0.7 - 1e-9);
-    EXPECT_NEAR(below, above, 1e-9);
+    EXPECT_LT(below, 1.4 + 1e-9);
+    EXPECT_LT(above, 1.4 + 1e-9);
+    // Voxel faces on multiples of the voxel size.
+    const double k = g.originMm()[c] / 0.7;
+    EXPECT_NEAR(k, std::round(k), 1e-9);
   }
   // The outermost layer holds nothing.
   for (int x = 0; x < g.dims().x; ++x)
     for (int y = 0; y < g.dims().y; ++y) EXPECT_EQ(g.fill({x, y, 0}), 0);
+}
+
+TEST(Voxelizer, GridsOfHalvedSizesNest) {
+  // A 1.2 mm voxel's 4 x 4 x 4 sub-voxels are the 0.3 mm grid's voxels: static and dynamic
+  // forces at 0.3 mm sample the same points.
+  const TriangleMesh sphere = test::makeSphere(5.0, 64, 32, {13.37, -4.2, 7.9});
+  const VoxelGrid coarse = voxelizeAt(sphere, 1.2);
+  const VoxelGrid fine = voxelizeAt(sphere, 0.3);
+  for (int c = 0; c < 3; ++c) {
+    const double offset = (coarse.originMm()[c] - fine.originMm()[c]) / 0.3;
+    EXPECT_NEAR(offset, std::round(offset), 1e-9);
+  }
 }
 
 TEST(Voxelizer, InwardMeshesAndOverlappingShellsGiveTheSolid) {

@@ -14,6 +14,9 @@
 //   removed leaves the grid and the hierarchy at once.
 // - A refined voxel the tool has not come near for `timeoutS` expires: its cell returns to the
 //   pool, its parent keeps the summed fill and the mean density of its remaining sub-voxels.
+//   Near means within the refinement margin of a cutting part (refineAround) or opened by a
+//   sample query of any part (a drill's shaft pushing on a tunnel's wall keeps the wall
+//   refined where it pushes, so the force there does not drop a level under it).
 //
 // Everything after construction runs without allocating, locking or throwing: cells come from
 // a fixed pool and are found through a fixed open-addressing table. When the pool is full,
@@ -26,6 +29,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -195,6 +199,7 @@ class RefinedVoxels {
   int depth_;
   double marginMm_;
   double timeoutS_;
+  double lastRefineS_ = 0.0;  // nowS of the latest refineAround: when a query's voxels are near
   std::vector<Cell> cells_;
   std::vector<std::uint32_t> freeCells_;
   std::size_t freeTop_ = 0;
@@ -240,7 +245,8 @@ void RefinedVoxels::forEachSampleNearSegment(const glm::dvec3& aMm, const glm::d
       return;
     }
     if (!openVoxel(c, halfDiagonal)) return;
-    const Cell& cl = cells_[cell];
+    Cell& cl = cells_[cell];
+    cl.lastNearS = std::max(cl.lastNearS, lastRefineS_);
     const int n = 1 << depth_;
     const double sub = vs / n;
     const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
