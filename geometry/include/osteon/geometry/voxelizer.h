@@ -37,7 +37,8 @@ struct VoxelizeStats {
 };
 
 // The grid that voxelize() would make for this mesh and voxel size: dims and origin, the
-// mesh's bounding box centred in it with paddingVoxels on each side. Throws InputError when
+// mesh's bounding box in it with paddingVoxels to paddingVoxels + 1 on each side, voxel faces
+// on multiples of the voxel size (grids of sizes VS and VS / 2^k nest). Throws InputError when
 // the voxel size is not positive and finite or the grid would exceed VoxelGrid::kMaxVoxels.
 VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingVoxels = 1);
 
