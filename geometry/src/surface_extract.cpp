@@ -11,6 +11,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #if defined(__SSE2__)
@@ -57,6 +58,46 @@ const CaseCounts& caseCounts() {
     return c;
   }();
   return counts;
+}
+
+// A case's triangles as references to its edges' vertices (0-11) and its long loops' centres
+// (12 + i), in the order its loops give them (a triangle, a quad split from its first corner,
+// a fan around the centre), and the edges it uses as bits.
+struct FlatCase {
+  std::uint16_t edgeMask = 0;
+  std::uint8_t triangleCount = 0;
+  std::uint8_t longLoops = 0;
+  std::array<std::array<std::uint8_t, 3>, 12> triangles{};
+};
+
+const std::array<FlatCase, 256>& flatCases() {
+  static const std::array<FlatCase, 256> cases = [] {
+    std::array<FlatCase, 256> t{};
+    for (int config = 0; config < 256; ++config) {
+      const McCase& mc = mcTable()[std::size_t(config)];
+      FlatCase& f = t[std::size_t(config)];
+      const auto add = [&f](int a, int b, int c) {
+        f.triangles[f.triangleCount++] = {std::uint8_t(a), std::uint8_t(b), std::uint8_t(c)};
+      };
+      for (int loop = 0; loop < mc.loopCount; ++loop) {
+        const int first = mc.loopBegin[std::size_t(loop)];
+        const int k = mc.loopBegin[std::size_t(loop) + 1] - first;
+        const auto edge = [&](int i) { return int(mc.edges[std::size_t(first + i % k)]); };
+        for (int i = 0; i < k; ++i) f.edgeMask = std::uint16_t(f.edgeMask | (1u << edge(i)));
+        if (k == 3) {
+          add(edge(0), edge(1), edge(2));
+        } else if (k == 4) {
+          add(edge(0), edge(1), edge(2));
+          add(edge(0), edge(2), edge(3));
+        } else {
+          const int centre = 12 + f.longLoops++;
+          for (int i = 0; i < k; ++i) add(centre, edge(i), edge(i + 1));
+        }
+      }
+    }
+    return t;
+  }();
+  return cases;
 }
 
 // Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
@@ -278,24 +319,55 @@ struct Builder {
     o.loopEntries = entries;
   }
 
-  // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it.
+  // Fills of block row (y, z) at x = 0..8 (0 outside the grid), from the grid's bricks: the
+  // first eight are one brick row, the ninth the next brick's along x.
+  static void blockRow(const BlockSource& src, int y, int z, Fill* row) {
+    if (y < src.lo.y || y >= src.hi.y || z < src.lo.z || z >= src.hi.z) {
+      std::fill_n(row, kBlock, Fill(0));
+      return;
+    }
+    const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+    const int offset = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+    if (src.data[d]) {
+      std::memcpy(row, src.data[d] + offset, kCellBrick * sizeof(Fill));
+    } else {
+      std::fill_n(row, kCellBrick, src.uniform[d]);
+    }
+    row[kCellBrick] = src.data[d | 1] ? src.data[d | 1][offset] : src.uniform[d | 1];
+    for (int x = 0; x < src.lo.x; ++x) row[x] = 0;
+    for (int x = src.hi.x; x < kBlock; ++x) row[x] = 0;
+  }
+
+  // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it. A row's
+  // edges read their fills from three block rows copied once (its own, the next along y and
+  // along z) rather than through the block's bounds and brick choice per fill.
   void writeEdgeVertices(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions) {
-    BrickOut& o = out[s];
+    const BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
+    const double vs = grid.voxelSizeMm();
     std::uint32_t next = index[s].firstEdgeVertex;
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t crossing[3];
       rowCrossings(o.rows, ly, lz, cells, crossing);
+      if ((crossing[0] | crossing[1] | crossing[2]) == 0) return;
+      Fill fills[3][kBlock + 1];  // this row; the next along y; along z
+      blockRow(o.source, ly, lz, fills[0]);
+      if (crossing[1]) blockRow(o.source, ly + 1, lz, fills[1]);
+      if (crossing[2]) blockRow(o.source, ly, lz + 1, fills[2]);
+      const glm::ivec3 rowStart = cb * kB + glm::ivec3(0, ly, lz);
       for (int axis = 0; axis < 3; ++axis) {
+        const Fill* far = axis == 0 ? fills[0] + 1 : fills[axis];
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
-          const VertexInfo v =
-              edgeVertexInfo(grid, cb * kB + glm::ivec3(lx, ly, lz), axis, o.source.at(lx, ly, lz),
-                             o.source.at(lx + (axis == 0), ly + (axis == 1), lz + (axis == 2)));
+          const glm::ivec3 voxel = rowStart + glm::ivec3(lx, 0, 0);
+          // As edgeVertexInfo and positionOf make it, so every extractor agrees to the bit.
+          const double t = edgeParameter(fills[0][lx], far[lx]);
           if (direct) {
-            positions[next++] = positionOf(v);
+            glm::dvec3 p = grid.voxelCentreMm(voxel);
+            p[axis] += t * vs;
+            positions[next++] = p;
           } else {
-            vertices[next++] = v;
+            vertices[next++] = {grid.voxelCentreMm(voxel), axis, t, vs, 0, 0, voxel};
           }
         }
       }
@@ -304,57 +376,110 @@ struct Builder {
 
   // Pass 3: triangles of one brick's cells, and their loop centres; each cube edge's vertex
   // read from the owning brick (this one, or one of the seven above it for cells on its upper
-  // faces) without any search.
+  // faces) without any search. A cell looks up each edge its case uses once, then writes the
+  // case's triangles from a flat list.
   void writeTriangles(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions,
                       std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
+    if (!shared) {
+      writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
+      return;
+    }
     const auto& table = mcTable();
+    const auto& flat = flatCases();
     const glm::ivec3 cb = active[s];
     const BrickOut& o = out[s];
     const EdgeIndex* owners[8] = {};
-    if (shared) {
-      for (int d = 0; d < 8; ++d) {
-        const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-        if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
-        const std::int32_t slot = slotOfBrick[cellBrickIndex(nb)];
-        if (slot >= 0) owners[d] = &index[std::size_t(slot)];
-      }
+    for (int d = 0; d < 8; ++d) {
+      const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
+      const std::int32_t slot = slotOfBrick[cellBrickIndex(nb)];
+      if (slot >= 0) owners[d] = &index[std::size_t(slot)];
     }
+    const EdgeIndex& own = *owners[0];
+    std::uint32_t nextTri = triOffset[s];
+    std::uint32_t nextExtra = extraOffset[s];
+    std::uint32_t nextEntry = loopOffset[s];
+    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+      std::uint32_t r[4];
+      std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r);
+      if (bits == 0) return;
+      const bool rowInterior = ly < kB - 1 && lz < kB - 1;
+      const int rowByte = 3 * (ly + kB * lz);
+      for (; bits != 0; bits &= bits - 1) {
+        const int lx = __builtin_ctz(bits);
+        const int config = configOf(r, lx);
+        const FlatCase& fc = flat[std::size_t(config)];
+        std::uint32_t ids[12 + 2];
+        if (rowInterior && lx < kB - 1) {
+          // Off the brick's upper faces every edge is this brick's: byte and bit by table.
+          for (std::uint32_t m = fc.edgeMask; m != 0; m &= m - 1) {
+            const auto e = std::size_t(__builtin_ctz(m));
+            const auto byte = std::size_t(rowByte + kEdgeByte[e]);
+            ids[e] = own.firstEdgeVertex + own.crossingsBefore[byte] +
+                     kBitsInByte[own.crossings[byte] & ((1u << (lx + kEdgeStartOffset[e][0])) - 1u)];
+          }
+        } else {
+          const glm::ivec3 l(lx, ly, lz);
+          for (std::uint32_t m = fc.edgeMask; m != 0; m &= m - 1) {
+            const int e = __builtin_ctz(m);
+            const glm::ivec3 start = edgeStart(l, e);
+            const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
+            const glm::ivec3 local = start & (kB - 1);
+            const EdgeIndex& owner = *owners[d];
+            const auto byte = std::size_t(3 * (local.y + kB * local.z) + e / 4);
+            ids[e] = owner.firstEdgeVertex + owner.crossingsBefore[byte] +
+                     kBitsInByte[owner.crossings[byte] & ((1u << local.x) - 1u)];
+          }
+        }
+        if (fc.longLoops != 0) {
+          // Loops of five or more edges fan from a centre, which smoothing keeps at the
+          // loop's mean (every edge vertex is written by pass 2).
+          const McCase& mc = table[std::size_t(config)];
+          int centre = 0;
+          for (int loop = 0; loop < mc.loopCount; ++loop) {
+            const int first = mc.loopBegin[std::size_t(loop)];
+            const int count = mc.loopBegin[std::size_t(loop) + 1] - first;
+            if (count < 5) continue;
+            if (direct) {
+              glm::dvec3 sum(0.0);
+              for (int i = 0; i < count; ++i) sum += positions[ids[mc.edges[std::size_t(first + i)]]];
+              positions[nextExtra] = sum / double(count);
+            } else {
+              for (int i = 0; i < count; ++i) loopVertices[nextEntry + std::uint32_t(i)] = ids[mc.edges[std::size_t(first + i)]];
+              vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
+              nextEntry += std::uint32_t(count);
+            }
+            ids[12 + centre++] = nextExtra++;
+          }
+        }
+        for (int t = 0; t < fc.triangleCount; ++t) {
+          const auto& tri = fc.triangles[std::size_t(t)];
+          triangles[nextTri++] = {ids[tri[0]], ids[tri[1]], ids[tri[2]]};
+        }
+      }
+    });
+  }
+
+  // The naive baseline: every cube makes its own vertex on each of its crossed edges.
+  void writeTrianglesNaive(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions,
+                           std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
+    const auto& table = mcTable();
+    const glm::ivec3 cb = active[s];
+    const BrickOut& o = out[s];
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t r[4];
       for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
-        const int lx = __builtin_ctz(bits);
-        const glm::ivec3 l(lx, ly, lz);
-        const McCase& mc = table[std::size_t(configOf(r, lx))];
-        // A cell off the brick's upper faces owns all its edges' vertices through its own
-        // brick: no owner to pick, the byte and bit follow from tables.
-        const bool interior = shared && lx < kB - 1 && ly < kB - 1 && lz < kB - 1;
-        const int rowByte = 3 * (ly + kB * lz);
+        const glm::ivec3 l(__builtin_ctz(bits), ly, lz);
+        const McCase& mc = table[std::size_t(configOf(r, l.x))];
         std::uint32_t ids[13];
         for (int loop = 0; loop < mc.loopCount; ++loop) {
           int count = 0;
           for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
             const int e = mc.edges[std::size_t(k)];
-            if (interior) {
-              const EdgeIndex& own = *owners[0];
-              const auto byte = std::size_t(rowByte + kEdgeByte[std::size_t(e)]);
-              ids[count++] = own.firstEdgeVertex + own.crossingsBefore[byte] +
-                             kBitsInByte[own.crossings[byte] & ((1u << (lx + kEdgeStartOffset[std::size_t(e)][0])) - 1u)];
-              continue;
-            }
             const glm::ivec3 start = edgeStart(l, e);
-            if (shared) {
-              const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
-              const glm::ivec3 local = start & (kB - 1);
-              const EdgeIndex& owner = *owners[d];
-              const auto byte = std::size_t(3 * (local.y + kB * local.z) + e / 4);
-              ids[count++] = owner.firstEdgeVertex + owner.crossingsBefore[byte] +
-                             kBitsInByte[owner.crossings[byte] & ((1u << local.x) - 1u)];
-              continue;
-            }
-            // Naive: every cube makes its own vertex on each of its crossed edges.
             const int axis = e / 4;
             const VertexInfo v = edgeVertexInfo(
                 grid, cb * kB + start, axis, o.source.at(start.x, start.y, start.z),
@@ -372,8 +497,8 @@ struct Builder {
             triangles[nextTri++] = {ids[0], ids[1], ids[2]};
             triangles[nextTri++] = {ids[0], ids[2], ids[3]};
           } else {
-            // Longer loops fan from their centre, which smoothing keeps at the loop's mean.
-            if (direct) {  // every vertex of the loop is written by now (pass 2 or just above)
+            // Longer loops fan from their centre, as in the crack-free method.
+            if (direct) {
               glm::dvec3 sum(0.0);
               for (int i = 0; i < count; ++i) sum += positions[ids[i]];
               positions[nextExtra] = sum / double(count);
