@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -100,6 +101,21 @@ const std::array<FlatCase, 256>& flatCases() {
   return cases;
 }
 
+// The same four counts in the 16-bit lanes of one word (triangles, centres, loop entries,
+// corners), so a cell adds them with one addition: a brick's 512 cells add at most 12 each.
+const std::array<std::uint64_t, 256>& packedCaseCounts() {
+  static const std::array<std::uint64_t, 256> packed = [] {
+    const CaseCounts& c = caseCounts();
+    std::array<std::uint64_t, 256> p{};
+    for (std::size_t i = 0; i < 256; ++i) {
+      p[i] = std::uint64_t(c.triangles[i]) | (std::uint64_t(c.centres[i]) << 16) |
+             (std::uint64_t(c.loopEntries[i]) << 32) | (std::uint64_t(c.corners[i]) << 48);
+    }
+    return p;
+  }();
+  return packed;
+}
+
 // Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
 // rows of cells with no crossing are skipped with a few word operations.
 using RowMasks = std::array<std::uint16_t, kBlock * kBlock>;
@@ -126,6 +142,34 @@ std::uint32_t insideOf8(const Fill* f) {
 // Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
 // bricks (a row's first eight voxels are one brick row: one vector compare).
 void insideRows(const BlockSource& src, RowMasks& rows) {
+  // Inside the grid, with uniform bricks empty or full (nearly every block): uniform bricks
+  // read as arrays of their value, so every row is one compare and no branch.
+  static const std::array<Fill, VoxelGrid::kBrickVoxels> kEmpty{};
+  static const std::array<Fill, VoxelGrid::kBrickVoxels> kFull = [] {
+    std::array<Fill, VoxelGrid::kBrickVoxels> b;
+    b.fill(kFillFull);
+    return b;
+  }();
+  if (src.lo == glm::ivec3(0) && src.hi == glm::ivec3(kBlock)) {
+    std::array<const Fill*, 8> brick;
+    bool arrays = true;
+    for (std::size_t d = 0; d < 8; ++d) {
+      brick[d] = src.data[d] ? src.data[d]
+                 : src.uniform[d] == 0 ? kEmpty.data()
+                 : src.uniform[d] == kFillFull ? kFull.data() : nullptr;
+      arrays = arrays && brick[d] != nullptr;
+    }
+    if (arrays) {
+      for (int z = 0; z < kBlock; ++z)
+        for (int y = 0; y < kBlock; ++y) {
+          const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+          const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+          rows[std::size_t(y + kBlock * z)] =
+              std::uint16_t(insideOf8(brick[d] + row) | (brick[d | 1][row] > kInsideAbove ? 0x100u : 0u));
+        }
+      return;
+    }
+  }
   const std::uint32_t xValid = xRange(src.lo.x, src.hi.x);
   for (int z = 0; z < kBlock; ++z)
     for (int y = 0; y < kBlock; ++y) {
@@ -287,32 +331,31 @@ struct Builder {
     BrickOut& o = out[s];
     o.source.init(grid, active[s]);
     insideRows(o.source, o.rows);
-    const CaseCounts& cc = caseCounts();
-    std::uint32_t edges = 0, extras = 0, tris = 0, entries = 0;
+    const auto& packed = packedCaseCounts();
+    std::uint32_t edges = 0;
+    std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
     EdgeIndex& edgeIndex = index[s];
-    if (shared) edgeIndex.crossings.fill(0);
+    if (shared) edgeIndex.crossings.fill(0);  // rows outside the grid: no crossings
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       if (shared) {
+        // Rows come in byte order, so the prefix counts are made here too.
         std::uint32_t crossing[3];
         rowCrossings(o.rows, ly, lz, cells, crossing);
-        for (int axis = 0; axis < 3; ++axis) {
-          edgeIndex.crossings[std::size_t(3 * (ly + kB * lz) + axis)] = std::uint8_t(crossing[axis]);
+        const auto byte = std::size_t(3 * (ly + kB * lz));
+        for (std::size_t axis = 0; axis < 3; ++axis) {
+          edgeIndex.crossings[byte + axis] = std::uint8_t(crossing[axis]);
+          edgeIndex.crossingsBefore[byte + axis] = std::uint16_t(edges);
+          edges += kBitsInByte[crossing[axis]];
         }
       }
       std::uint32_t r[4];
       for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
-        const auto config = std::size_t(configOf(r, __builtin_ctz(bits)));
-        tris += cc.triangles[config];
-        extras += cc.centres[config] + (shared ? 0u : cc.corners[config]);
-        entries += cc.loopEntries[config];
+        sums += packed[std::size_t(configOf(r, __builtin_ctz(bits)))];
       }
     });
-    if (shared) {
-      for (std::size_t i = 0; i < edgeIndex.crossings.size(); ++i) {
-        edgeIndex.crossingsBefore[i] = std::uint16_t(edges);
-        edges += kBitsInByte[edgeIndex.crossings[i]];
-      }
-    }
+    const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
+    const std::uint32_t tris = lane(0), entries = lane(2);
+    const std::uint32_t extras = lane(1) + (shared ? 0u : lane(3));
     o.edges = edges;
     o.extras = extras;
     o.triangles = tris;
@@ -345,6 +388,8 @@ struct Builder {
     const BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
     const double vs = grid.voxelSizeMm();
+    std::array<double, kCellBrick> centreX;
+    for (int x = 0; x < kCellBrick; ++x) centreX[std::size_t(x)] = grid.voxelCentreMm(cb * kB + glm::ivec3(x, 0, 0)).x;
     std::uint32_t next = index[s].firstEdgeVertex;
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t crossing[3];
@@ -355,22 +400,26 @@ struct Builder {
       if (crossing[1]) blockRow(o.source, ly + 1, lz, fills[1]);
       if (crossing[2]) blockRow(o.source, ly, lz + 1, fills[2]);
       const glm::ivec3 rowStart = cb * kB + glm::ivec3(0, ly, lz);
-      for (int axis = 0; axis < 3; ++axis) {
-        const Fill* far = axis == 0 ? fills[0] + 1 : fills[axis];
+      // Voxel centres as grid.voxelCentreMm makes them (so every extractor agrees to the
+      // bit), the row's y and z once.
+      const glm::dvec3 rowCentre = grid.voxelCentreMm(rowStart);
+      const auto edges = [&](auto axisTag, const Fill* far) {
+        constexpr int axis = decltype(axisTag)::value;
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
-          const glm::ivec3 voxel = rowStart + glm::ivec3(lx, 0, 0);
-          // As edgeVertexInfo and positionOf make it, so every extractor agrees to the bit.
           const double t = edgeParameter(fills[0][lx], far[lx]);
+          glm::dvec3 p(centreX[std::size_t(lx)], rowCentre.y, rowCentre.z);
           if (direct) {
-            glm::dvec3 p = grid.voxelCentreMm(voxel);
             p[axis] += t * vs;
             positions[next++] = p;
           } else {
-            vertices[next++] = {grid.voxelCentreMm(voxel), axis, t, vs, 0, 0, voxel};
+            vertices[next++] = {p, axis, t, vs, 0, 0, rowStart + glm::ivec3(lx, 0, 0)};
           }
         }
-      }
+      };
+      edges(std::integral_constant<int, 0>{}, fills[0] + 1);
+      edges(std::integral_constant<int, 1>{}, fills[1]);
+      edges(std::integral_constant<int, 2>{}, fills[2]);
     });
   }
 
