@@ -214,6 +214,8 @@ struct BrickOut {
   BlockSource source;
   RowMasks rows;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
+  std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
+  std::uint32_t rowCells;     // the cells of every row that lie in the grid, as x bits
 };
 
 // Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
@@ -302,6 +304,16 @@ struct Builder {
       for (int ly = l0.y; ly < l1.y; ++ly) fn(ly, lz, cells);
   }
 
+  // The rows pass 1 found mixed cells in, in the same order: later passes skip the rest.
+  template <typename Fn>
+  void forEachSurfaceRow(std::size_t s, Fn&& fn) const {
+    const BrickOut& o = out[s];
+    for (std::uint64_t rows = o.surfaceRows; rows != 0; rows &= rows - 1) {
+      const int row = __builtin_ctzll(rows);
+      fn(row & (kB - 1), row >> 3, o.rowCells);
+    }
+  }
+
   // Crossed edges along x, y and z of a row of cells, by cell x, as bits.
   static void rowCrossings(const RowMasks& rows, int ly, int lz, std::uint32_t cells, std::uint32_t (&crossing)[3]) {
     const std::uint32_t r = rows[std::size_t(ly + kBlock * lz)];
@@ -334,9 +346,18 @@ struct Builder {
     const auto& packed = packedCaseCounts();
     std::uint32_t edges = 0;
     std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
+    std::uint64_t surfaceRows = 0;
+    std::uint32_t rowCells = 0;
     EdgeIndex& edgeIndex = index[s];
     if (shared) edgeIndex.crossings.fill(0);  // rows outside the grid: no crossings
     forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+      std::uint32_t r[4];
+      const std::uint32_t mixed = rowMixed(o.rows, ly, lz, cells, r);
+      // A row of cells none of which is mixed has no crossed edge either (each edge a row's
+      // cells own lies on one of them): nothing to count, its bytes stay 0.
+      if (mixed == 0) return;
+      surfaceRows |= std::uint64_t(1) << (ly + kB * lz);
+      rowCells = cells;
       if (shared) {
         // Rows come in byte order, so the prefix counts are made here too.
         std::uint32_t crossing[3];
@@ -348,14 +369,15 @@ struct Builder {
           edges += kBitsInByte[crossing[axis]];
         }
       }
-      std::uint32_t r[4];
-      for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
+      for (std::uint32_t bits = mixed; bits != 0; bits &= bits - 1) {
         sums += packed[std::size_t(configOf(r, __builtin_ctz(bits)))];
       }
     });
     const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
     const std::uint32_t tris = lane(0), entries = lane(2);
     const std::uint32_t extras = lane(1) + (shared ? 0u : lane(3));
+    o.surfaceRows = surfaceRows;
+    o.rowCells = rowCells;
     o.edges = edges;
     o.extras = extras;
     o.triangles = tris;
@@ -391,7 +413,7 @@ struct Builder {
     std::array<double, kCellBrick> centreX;
     for (int x = 0; x < kCellBrick; ++x) centreX[std::size_t(x)] = grid.voxelCentreMm(cb * kB + glm::ivec3(x, 0, 0)).x;
     std::uint32_t next = index[s].firstEdgeVertex;
-    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+    forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t crossing[3];
       rowCrossings(o.rows, ly, lz, cells, crossing);
       if ((crossing[0] | crossing[1] | crossing[2]) == 0) return;
@@ -448,7 +470,7 @@ struct Builder {
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
-    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+    forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t r[4];
       std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r);
       if (bits == 0) return;
@@ -518,7 +540,7 @@ struct Builder {
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
-    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
+    forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t r[4];
       for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
         const glm::ivec3 l(__builtin_ctz(bits), ly, lz);
