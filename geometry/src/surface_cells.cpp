@@ -22,6 +22,26 @@ int brickState(const VoxelGrid& grid, const glm::ivec3& b) {
 
 }  // namespace
 
+void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint8_t>& states, std::vector<glm::ivec3>& active) {
+  // States of bricks -1 .. nb (the border reads as empty), then the same rule as below.
+  const glm::ivec3 e = grid.brickDims() + 2;
+  states.resize(std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z));
+  const auto at = [&](int x, int y, int z) {  // brick coordinates + 1
+    return std::size_t(x) + std::size_t(e.x) * (std::size_t(y) + std::size_t(e.y) * std::size_t(z));
+  };
+  for (int z = 0; z < e.z; ++z)
+    for (int y = 0; y < e.y; ++y)
+      for (int x = 0; x < e.x; ++x) states[at(x, y, z)] = std::uint8_t(brickState(grid, {x - 1, y - 1, z - 1}));
+  for (int z = 0; z + 1 < e.z; ++z)
+    for (int y = 0; y + 1 < e.y; ++y)
+      for (int x = 0; x + 1 < e.x; ++x) {
+        const std::uint8_t first = states[at(x, y, z)];
+        bool mixed = first == 2;
+        for (int d = 1; d < 8 && !mixed; ++d) mixed = states[at(x + (d & 1), y + ((d >> 1) & 1), z + ((d >> 2) & 1))] != first;
+        if (mixed) active.push_back({x - 1, y - 1, z - 1});
+      }
+}
+
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cb) {
   // A cell brick can hold surface when the bricks its cells read are not one uniform state.
   const int first = brickState(grid, cb);
@@ -47,6 +67,25 @@ void BlockSource::init(const VoxelGrid& grid, const glm::ivec3& cb) {
       data[std::size_t(d)] = brickData->fill.data();
     } else {
       uniform[std::size_t(d)] = grid.brickUniformFill(brick);
+    }
+  }
+  // Empty and full uniform bricks (nearly all of them) read as constant arrays, so most
+  // blocks read every row the same way.
+  static const std::array<Fill, VoxelGrid::kBrickVoxels> kEmpty{};
+  static const std::array<Fill, VoxelGrid::kBrickVoxels> kFull = [] {
+    std::array<Fill, VoxelGrid::kBrickVoxels> b;
+    b.fill(kFillFull);
+    return b;
+  }();
+  dense = lo == glm::ivec3(0) && hi == glm::ivec3(kBlock);
+  for (std::size_t d = 0; d < 8; ++d) {
+    if (data[d]) continue;
+    if (uniform[d] == 0) {
+      data[d] = kEmpty.data();
+    } else if (uniform[d] == kFillFull) {
+      data[d] = kFull.data();
+    } else {
+      dense = false;
     }
   }
 }

@@ -78,9 +78,10 @@ void areaWeightedNormals(const std::vector<glm::dvec3>& positions, const std::ve
 // every fill is 0, so the surface closes at the border). The full extractor reads through it;
 // loadBlock copies through it.
 struct BlockSource {
-  std::array<const Fill*, 8> data;
+  std::array<const Fill*, 8> data;  // uniform empty and full bricks point at constant arrays
   std::array<Fill, 8> uniform;
   glm::ivec3 lo, hi;
+  bool dense;  // wholly inside the grid, every brick an array: rows read without checks
 
   void init(const VoxelGrid& grid, const glm::ivec3& cellBrick);
   Fill at(int x, int y, int z) const {  // block coordinates 0..8
@@ -94,6 +95,9 @@ struct BlockSource {
 // Cells are numbered by their first voxel, from -1 (the border layer outside the grid) to
 // dims - 1; cell brick cb holds cells cb * 8 .. cb * 8 + 7.
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
+// Every cell brick's activity at once: each grid brick's state looked up once (the per-brick
+// test looks each up eight times). Appends the active cell bricks in z, y, x order.
+void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint8_t>& states, std::vector<glm::ivec3>& active);
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& lo, glm::ivec3& hi);
 

@@ -142,33 +142,15 @@ std::uint32_t insideOf8(const Fill* f) {
 // Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
 // bricks (a row's first eight voxels are one brick row: one vector compare).
 void insideRows(const BlockSource& src, RowMasks& rows) {
-  // Inside the grid, with uniform bricks empty or full (nearly every block): uniform bricks
-  // read as arrays of their value, so every row is one compare and no branch.
-  static const std::array<Fill, VoxelGrid::kBrickVoxels> kEmpty{};
-  static const std::array<Fill, VoxelGrid::kBrickVoxels> kFull = [] {
-    std::array<Fill, VoxelGrid::kBrickVoxels> b;
-    b.fill(kFillFull);
-    return b;
-  }();
-  if (src.lo == glm::ivec3(0) && src.hi == glm::ivec3(kBlock)) {
-    std::array<const Fill*, 8> brick;
-    bool arrays = true;
-    for (std::size_t d = 0; d < 8; ++d) {
-      brick[d] = src.data[d] ? src.data[d]
-                 : src.uniform[d] == 0 ? kEmpty.data()
-                 : src.uniform[d] == kFillFull ? kFull.data() : nullptr;
-      arrays = arrays && brick[d] != nullptr;
-    }
-    if (arrays) {
-      for (int z = 0; z < kBlock; ++z)
-        for (int y = 0; y < kBlock; ++y) {
-          const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-          const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-          rows[std::size_t(y + kBlock * z)] =
-              std::uint16_t(insideOf8(brick[d] + row) | (brick[d | 1][row] > kInsideAbove ? 0x100u : 0u));
-        }
-      return;
-    }
+  if (src.dense) {  // nearly every block: one compare per row, no branch
+    for (int z = 0; z < kBlock; ++z)
+      for (int y = 0; y < kBlock; ++y) {
+        const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+        const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+        rows[std::size_t(y + kBlock * z)] =
+            std::uint16_t(insideOf8(src.data[d] + row) | (src.data[d | 1][row] > kInsideAbove ? 0x100u : 0u));
+      }
+    return;
   }
   const std::uint32_t xValid = xRange(src.lo.x, src.hi.x);
   for (int z = 0; z < kBlock; ++z)
@@ -240,6 +222,7 @@ struct EdgeIndex {
 // time of repeated extractions.
 struct Scratch {
   std::vector<glm::ivec3> active;
+  std::vector<std::uint8_t> brickStates;
   std::vector<std::int32_t> slotOfBrick;
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
@@ -256,6 +239,7 @@ struct Builder {
   // positions straight away and the per-vertex edge record (VertexInfo) is never made.
   bool direct;
   std::vector<glm::ivec3> active;
+  std::vector<std::uint8_t> brickStates;  // grid bricks' uniform states (scratch)
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
@@ -264,6 +248,7 @@ struct Builder {
   // Borrows this thread's scratch for its lifetime (contents are overwritten, capacity kept).
   void swapScratch(Scratch& w) {
     active.swap(w.active);
+    brickStates.swap(w.brickStates);
     slotOfBrick.swap(w.slotOfBrick);
     out.swap(w.out);
     index.swap(w.index);
@@ -387,6 +372,13 @@ struct Builder {
   // Fills of block row (y, z) at x = 0..8 (0 outside the grid), from the grid's bricks: the
   // first eight are one brick row, the ninth the next brick's along x.
   static void blockRow(const BlockSource& src, int y, int z, Fill* row) {
+    if (src.dense) {
+      const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+      const int offset = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+      std::memcpy(row, src.data[d] + offset, kCellBrick * sizeof(Fill));
+      row[kCellBrick] = src.data[d | 1][offset];
+      return;
+    }
     if (y < src.lo.y || y >= src.hi.y || z < src.lo.z || z >= src.hi.z) {
       std::fill_n(row, kBlock, Fill(0));
       return;
@@ -588,11 +580,7 @@ struct Builder {
 
   void run(std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions, std::vector<std::uint32_t>& loopVertices,
            std::vector<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
-    for (int bz = -1; bz < cellBricks.z - 1; ++bz)
-      for (int by = -1; by < cellBricks.y - 1; ++by)
-        for (int bx = -1; bx < cellBricks.x - 1; ++bx) {
-          if (cellBrickActive(grid, {bx, by, bz})) active.push_back({bx, by, bz});
-        }
+    activeCellBricks(grid, brickStates, active);
     slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
     for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
     out.resize(active.size());
