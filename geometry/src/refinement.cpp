@@ -7,6 +7,10 @@
 #include <cmath>
 #include <sstream>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace osteon::geometry {
 
 namespace {
@@ -256,6 +260,80 @@ int RefinedVoxels::expireAll() {
   const int n = int(active_);
   while (active_ > 0) releaseCell(activeList_[active_ - 1]);
   return n;
+}
+
+void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms,
+                                   ShellHits& hits) const {
+  // Per-axis terms of the samples' lattice: centre coordinates and their parts of
+  // (centre - a) . ab, summed in the order glm::dot sums them, so every distance here equals
+  // the one glm computes for the sample's centre to the bit (the same samples, whatever the
+  // caller checks them against). Most of a haptic step is this loop.
+  const int n = 1 << depth_;
+  const double sub = grid_->voxelSizeMm() / double(n);
+  std::array<double, 4> cx, cy, cz, px, py, pz;
+  for (int k = 0; k < n; ++k) {
+    const glm::dvec3 c = cornerMm + (double(k) + 0.5) * sub;
+    cx[std::size_t(k)] = c.x;
+    cy[std::size_t(k)] = c.y;
+    cz[std::size_t(k)] = c.z;
+    px[std::size_t(k)] = (c.x - terms.a.x) * terms.ab.x;
+    py[std::size_t(k)] = (c.y - terms.a.y) * terms.ab.y;
+    pz[std::size_t(k)] = (c.z - terms.a.z) * terms.ab.z;
+  }
+  hits.count = 0;
+  const auto keep = [&](int i, double tx, double ty, double tz) {
+    hits.index[std::size_t(hits.count)] = std::uint8_t(i);
+    hits.toCore[std::size_t(hits.count)] = {tx, ty, tz};
+    ++hits.count;
+  };
+#if defined(__SSE2__)
+  if (n >= 2) {
+    const __m128d ax = _mm_set1_pd(terms.a.x), ay = _mm_set1_pd(terms.a.y), az = _mm_set1_pd(terms.a.z);
+    const __m128d bx = _mm_set1_pd(terms.ab.x), by = _mm_set1_pd(terms.ab.y), bz = _mm_set1_pd(terms.ab.z);
+    const __m128d inv = _mm_set1_pd(terms.invLen2), zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
+    const __m128d inner2 = _mm_set1_pd(terms.inner2), outer2 = _mm_set1_pd(terms.outer2);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y) {
+        const __m128d pyv = _mm_set1_pd(py[std::size_t(y)]), pzv = _mm_set1_pd(pz[std::size_t(z)]);
+        const __m128d cyv = _mm_set1_pd(cy[std::size_t(y)]), czv = _mm_set1_pd(cz[std::size_t(z)]);
+        const int row = n * (y + n * z);
+        for (int x = 0; x < n; x += 2) {
+          const int i = row + x;
+          const bool f0 = cell.fill[std::size_t(i)] != 0, f1 = cell.fill[std::size_t(i) + 1] != 0;
+          if (!f0 && !f1) continue;
+          const __m128d dot = _mm_add_pd(_mm_add_pd(_mm_loadu_pd(&px[std::size_t(x)]), pyv), pzv);
+          const __m128d t = _mm_min_pd(_mm_max_pd(_mm_mul_pd(dot, inv), zero), one);
+          const __m128d tx = _mm_sub_pd(_mm_add_pd(ax, _mm_mul_pd(t, bx)), _mm_loadu_pd(&cx[std::size_t(x)]));
+          const __m128d ty = _mm_sub_pd(_mm_add_pd(ay, _mm_mul_pd(t, by)), cyv);
+          const __m128d tz = _mm_sub_pd(_mm_add_pd(az, _mm_mul_pd(t, bz)), czv);
+          const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(tx, tx), _mm_mul_pd(ty, ty)), _mm_mul_pd(tz, tz));
+          const int in = _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(d2, inner2), _mm_cmple_pd(d2, outer2))) &
+                         (int(f0) | (int(f1) << 1));
+          if (in == 0) continue;
+          alignas(16) double vx[2], vy[2], vz[2];
+          _mm_store_pd(vx, tx);
+          _mm_store_pd(vy, ty);
+          _mm_store_pd(vz, tz);
+          if (in & 1) keep(i, vx[0], vy[0], vz[0]);
+          if (in & 2) keep(i + 1, vx[1], vy[1], vz[1]);
+        }
+      }
+    return;
+  }
+#endif
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const int i = x + n * (y + n * z);
+        if (cell.fill[std::size_t(i)] == 0) continue;
+        double t = ((px[std::size_t(x)] + py[std::size_t(y)]) + pz[std::size_t(z)]) * terms.invLen2;
+        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+        const double tx = (terms.a.x + t * terms.ab.x) - cx[std::size_t(x)];
+        const double ty = (terms.a.y + t * terms.ab.y) - cy[std::size_t(y)];
+        const double tz = (terms.a.z + t * terms.ab.z) - cz[std::size_t(z)];
+        const double d2 = (tx * tx + ty * ty) + tz * tz;
+        if (d2 > terms.inner2 && d2 <= terms.outer2) keep(i, tx, ty, tz);
+      }
 }
 
 RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume& volume,

@@ -22,8 +22,6 @@ template <typename Fn>
 void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, const ToolPose& pose,
                         Fn&& fn) {
   const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
-  const double ri2 = part.innerRadiusMm * part.innerRadiusMm;
-  const double ro2 = part.outerRadiusMm * part.outerRadiusMm;
   const glm::dvec3 ab = b - a;
   const double len2 = glm::dot(ab, ab);
   const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
@@ -38,15 +36,9 @@ void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, c
     const double near = part.innerRadiusMm - halfDiagonal;
     return d2 <= far * far && (near < 0.0 || d2 > near * near);
   };
-  // One capsule query around the part's core (a long shaft in a sphere query would visit
-  // every voxel within half its length).
-  voxels.forEachSampleNearSegment(a, b, part.outerRadiusMm, open, [&](const VoxelSample& s) {
-    const double t = std::clamp(glm::dot(s.centreMm - a, ab) * invLen2, 0.0, 1.0);
-    const glm::dvec3 toCore = a + t * ab - s.centreMm;
-    const double d2 = glm::dot(toCore, toCore);
-    if (d2 <= ri2 || d2 > ro2) return;
-    fn(s, toCore);
-  });
+  // One query around the part's core (a long shaft in a sphere query would visit every voxel
+  // within half its length), which tests each sample against both layers.
+  voxels.forEachSampleInShell(a, b, part.innerRadiusMm, part.outerRadiusMm, open, fn);
 }
 
 }  // namespace

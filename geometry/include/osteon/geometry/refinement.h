@@ -141,7 +141,18 @@ class RefinedVoxels {
   // cube may hold samples the caller wants (a contact shell culls the rest: 64 tests each).
   template <typename Open, typename Fn>
   void forEachSampleNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
-                                Open&& openVoxel, Fn&& fn);
+                                Open&& openVoxel, Fn&& fn) {
+    forEachSampleInShell(aMm, bMm, -1.0, radiusMm, openVoxel,
+                         [&](const VoxelSample& s, const glm::dvec3&) { fn(s); });
+  }
+  // Samples whose centre lies farther than innerMm (< 0: any) and not farther than outerMm
+  // from the segment a-b: fn(const VoxelSample&, const glm::dvec3& toCoreMm), toCoreMm running
+  // from the sample's centre to its nearest point of the segment, a + t (b - a) - centre with
+  // t = clamp((centre - a) . (b - a) / |b - a|^2, 0, 1), the distance tested being its length.
+  // Visits samples in a fixed order (voxels as the hierarchy gives them, sub-voxels x fastest).
+  template <typename Open, typename Fn>
+  void forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm, double outerMm,
+                            Open&& openVoxel, Fn&& fn);
 
   // Drilling step (seed 3.5): every sample whose centre lies within radiusMm of centreMm
   // loses `decrement` density; a sample at d <= 0 is removed (its fill leaves the grid).
@@ -189,6 +200,18 @@ class RefinedVoxels {
   Mask* insertMask(std::uint64_t key, Fill firstFill);
   void createCell(const glm::ivec3& voxel, double nowS);
   void releaseCell(std::uint32_t cell);
+  // The samples of one refined voxel in a shell around a segment (see forEachSampleInShell),
+  // tested two at a time with SSE2 where it is there: their indices and toCore vectors.
+  struct ShellTerms {
+    glm::dvec3 a, ab;
+    double invLen2, inner2, outer2;  // inner2 < 0: no inner bound
+  };
+  struct ShellHits {
+    int count;
+    std::array<std::uint8_t, kSubVoxels> index;
+    std::array<glm::dvec3, kSubVoxels> toCore;
+  };
+  void shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms, ShellHits& hits) const;
   // The level -2 fills of a voxel as first refined, summing exactly to firstFill.
   void baseSubFill(const glm::ivec3& voxel, Fill firstFill, std::array<Fill, kSubVoxels>& out) const;
   RemovalResult removeFromCell(std::uint32_t cell, const CutVolume& volume, int decrement);
@@ -217,70 +240,47 @@ class RefinedVoxels {
 };
 
 template <typename Open, typename Fn>
-void RefinedVoxels::forEachSampleNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
-                                             Open&& openVoxel, Fn&& fn) {
+void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm,
+                                         double outerMm, Open&& openVoxel, Fn&& fn) {
   const double vs = grid_->voxelSizeMm();
   // A refined voxel may hold samples in reach although its centre is not.
   const double halfDiagonal = 0.5 * std::sqrt(3.0) * vs;
-  const double reach = radiusMm + (depth_ > 0 ? halfDiagonal : 0.0);
-  const double r2 = radiusMm * radiusMm;
-  const glm::dvec3 ab = bMm - aMm;
-  const double len2 = glm::dot(ab, ab);
-  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
-  const auto distanceSq = [&](const glm::dvec3& p) {
-    double t = glm::dot(p - aMm, ab) * invLen2;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    const glm::dvec3 d = p - (aMm + t * ab);
-    return glm::dot(d, d);
-  };
+  const double reach = outerMm + (depth_ > 0 ? halfDiagonal : 0.0);
+  ShellTerms terms;
+  terms.a = aMm;
+  terms.ab = bMm - aMm;
+  const double len2 = glm::dot(terms.ab, terms.ab);
+  terms.invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  terms.inner2 = innerMm < 0.0 ? -1.0 : innerMm * innerMm;
+  terms.outer2 = outerMm * outerMm;
+  ShellHits hits;
   const auto visit = [&](const glm::ivec3& v) {
     const glm::dvec3 c = grid_->voxelCentreMm(v);
     const std::uint32_t cell = findCell(v);
     if (cell == kNoCell) {
-      if (distanceSq(c) <= r2) {
+      double t = glm::dot(c - aMm, terms.ab) * terms.invLen2;
+      t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+      const glm::dvec3 toCore = aMm + t * terms.ab - c;
+      const double d2 = glm::dot(toCore, toCore);
+      if (d2 > terms.inner2 && d2 <= terms.outer2) {
         VoxelSample s{c, vs, 0, 0, 0};
         grid_->fillAndDensity(v, s.fill, s.density);
-        fn(s);
+        fn(s, toCore);
       }
       return;
     }
     if (!openVoxel(c, halfDiagonal)) return;
     Cell& cl = cells_[cell];
     cl.lastNearS = std::max(cl.lastNearS, lastRefineS_);
+    const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
+    shellSamplesOf(cl, corner, terms, hits);
     const int n = 1 << depth_;
     const double sub = vs / n;
-    const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
-    // The samples lie on a lattice, so w = sample - a and w . ab split into per-axis terms:
-    // |w - t ab|^2 = |w|^2 - 2 t (w . ab) + t^2 |ab|^2 with t = clamp(w . ab / |ab|^2) costs a
-    // few additions per sample, no division (this loop is most of a haptic step).
-    std::array<double, 4> wx, wy, wz, px, py, pz;  // n <= 4
-    for (int k = 0; k < n; ++k) {
-      const glm::dvec3 w = corner + (double(k) + 0.5) * sub - aMm;
-      wx[std::size_t(k)] = w.x;
-      wy[std::size_t(k)] = w.y;
-      wz[std::size_t(k)] = w.z;
-      px[std::size_t(k)] = w.x * ab.x;
-      py[std::size_t(k)] = w.y * ab.y;
-      pz[std::size_t(k)] = w.z * ab.z;
+    for (int h = 0; h < hits.count; ++h) {
+      const int i = hits.index[std::size_t(h)];
+      const glm::dvec3 sc = corner + (glm::dvec3(i % n, (i / n) % n, i / (n * n)) + 0.5) * sub;
+      fn(VoxelSample{sc, sub, -depth_, cl.fill[std::size_t(i)], cl.density[std::size_t(i)]}, hits.toCore[std::size_t(h)]);
     }
-    for (int z = 0; z < n; ++z)
-      for (int y = 0; y < n; ++y) {
-        const double wyz2 = wy[std::size_t(y)] * wy[std::size_t(y)] + wz[std::size_t(z)] * wz[std::size_t(z)];
-        const double pyz = py[std::size_t(y)] + pz[std::size_t(z)];
-        const int row = n * (y + n * z);
-        for (int x = 0; x < n; ++x) {
-          const Fill f = cl.fill[std::size_t(row + x)];
-          if (f == 0) continue;
-          const double w2 = wx[std::size_t(x)] * wx[std::size_t(x)] + wyz2;
-          const double proj = px[std::size_t(x)] + pyz;
-          double t = proj * invLen2;
-          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-          if (w2 - 2.0 * t * proj + t * t * len2 <= r2) {
-            const glm::dvec3 sc = corner + (glm::dvec3(x, y, z) + 0.5) * sub;
-            fn(VoxelSample{sc, sub, -depth_, f, cl.density[std::size_t(row + x)]});
-          }
-        }
-      }
   };
   if (len2 > 0.0) {
     hierarchy_->forEachVoxelInCapsule(aMm, bMm, reach, scratch_, visit);
