@@ -344,12 +344,28 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
   const double sub = grid_->voxelSizeMm() / n;
   const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(c.voxel));
   std::uint64_t removedBits = 0;
+  // A sphere (the drill's tip, the burr): contains() measures p - a, whose squared length
+  // splits into per-axis terms summed in glm::dot's order, so this is the same test to the
+  // bit at two additions per sample.
+  const glm::dvec3 ab = volume.bMm - volume.aMm;
+  const bool sphere = !(glm::dot(ab, ab) > 0.0);
+  std::array<double, 4> dx2{}, dy2{}, dz2{};
+  for (int k = 0; sphere && k < n; ++k) {
+    const glm::dvec3 d = corner + (double(k) + 0.5) * sub - volume.aMm;
+    dx2[std::size_t(k)] = d.x * d.x;
+    dy2[std::size_t(k)] = d.y * d.y;
+    dz2[std::size_t(k)] = d.z * d.z;
+  }
+  const double r2 = volume.radiusMm * volume.radiusMm;
   for (int z = 0; z < n; ++z)
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const std::size_t i = std::size_t(x + n * (y + n * z));
         if (c.fill[i] == 0) continue;
-        if (!volume.contains(corner + (glm::dvec3(x, y, z) + 0.5) * sub)) continue;
+        if (sphere ? !((dx2[std::size_t(x)] + dy2[std::size_t(y)]) + dz2[std::size_t(z)] <= r2)
+                   : !volume.contains(corner + (glm::dvec3(x, y, z) + 0.5) * sub)) {
+          continue;
+        }
         c.density[i] = Density(std::max(int(c.density[i]) - decrement, 0));
         if (c.density[i] > 0) {
           ++result.samplesDecremented;
