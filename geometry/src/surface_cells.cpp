@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 
 namespace osteon::geometry::detail {
 
@@ -91,26 +90,11 @@ void BlockSource::init(const VoxelGrid& grid, const glm::ivec3& cb) {
 }
 
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cb, FillBlock& block) {
-  // A row at a time from the bricks: its first eight voxels are one brick row (a fixed-size
-  // copy the compiler inlines; a library memmove call per row was a tenth of the extraction),
-  // the ninth the next brick's along x; 0 outside the grid.
+  // A row at a time from the bricks (BlockSource::row), 0 outside the grid.
   BlockSource src;
   src.init(grid, cb);
-  block.fill(0);
-  for (int z = src.lo.z; z < src.hi.z; ++z)
-    for (int y = src.lo.y; y < src.hi.y; ++y) {
-      Fill* dst = block.data() + kBlock * (y + kBlock * z);
-      const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-      const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-      if (src.data[d]) {
-        std::memcpy(dst, src.data[d] + row, kCellBrick * sizeof(Fill));
-      } else {
-        std::fill_n(dst, kCellBrick, src.uniform[d]);
-      }
-      dst[kCellBrick] = src.data[d | 1] ? src.data[d | 1][row] : src.uniform[d | 1];
-      for (int x = 0; x < src.lo.x; ++x) dst[x] = 0;
-      for (int x = src.hi.x; x < kBlock; ++x) dst[x] = 0;
-    }
+  for (int z = 0; z < kBlock; ++z)
+    for (int y = 0; y < kBlock; ++y) src.row(y, z, block.data() + kBlock * (y + kBlock * z));
 }
 
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cb, glm::ivec3& lo, glm::ivec3& hi) {

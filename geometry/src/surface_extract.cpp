@@ -369,32 +369,6 @@ struct Builder {
     o.loopEntries = entries;
   }
 
-  // Fills of block row (y, z) at x = 0..8 (0 outside the grid), from the grid's bricks: the
-  // first eight are one brick row, the ninth the next brick's along x.
-  static void blockRow(const BlockSource& src, int y, int z, Fill* row) {
-    if (src.dense) {
-      const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-      const int offset = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-      std::memcpy(row, src.data[d] + offset, kCellBrick * sizeof(Fill));
-      row[kCellBrick] = src.data[d | 1][offset];
-      return;
-    }
-    if (y < src.lo.y || y >= src.hi.y || z < src.lo.z || z >= src.hi.z) {
-      std::fill_n(row, kBlock, Fill(0));
-      return;
-    }
-    const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-    const int offset = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-    if (src.data[d]) {
-      std::memcpy(row, src.data[d] + offset, kCellBrick * sizeof(Fill));
-    } else {
-      std::fill_n(row, kCellBrick, src.uniform[d]);
-    }
-    row[kCellBrick] = src.data[d | 1] ? src.data[d | 1][offset] : src.uniform[d | 1];
-    for (int x = 0; x < src.lo.x; ++x) row[x] = 0;
-    for (int x = src.hi.x; x < kBlock; ++x) row[x] = 0;
-  }
-
   // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it. A row's
   // edges read their fills from three block rows copied once (its own, the next along y and
   // along z) rather than through the block's bounds and brick choice per fill.
@@ -410,9 +384,9 @@ struct Builder {
       rowCrossings(o.rows, ly, lz, cells, crossing);
       if ((crossing[0] | crossing[1] | crossing[2]) == 0) return;
       Fill fills[3][kBlock + 1];  // this row; the next along y; along z
-      blockRow(o.source, ly, lz, fills[0]);
-      if (crossing[1]) blockRow(o.source, ly + 1, lz, fills[1]);
-      if (crossing[2]) blockRow(o.source, ly, lz + 1, fills[2]);
+      o.source.row(ly, lz, fills[0]);
+      if (crossing[1]) o.source.row(ly + 1, lz, fills[1]);
+      if (crossing[2]) o.source.row(ly, lz + 1, fills[2]);
       const glm::ivec3 rowStart = cb * kB + glm::ivec3(0, ly, lz);
       // Voxel centres as grid.voxelCentreMm makes them (so every extractor agrees to the
       // bit), the row's y and z once.
