@@ -11,7 +11,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <sstream>
 #include <type_traits>
 
