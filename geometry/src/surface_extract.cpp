@@ -277,6 +277,8 @@ struct Builder {
            std::size_t(cellBricks.x) * (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
   }
 
+  // The brick's rows of cells in the grid, in byte order, less whole z layers that can hold no
+  // mixed cell (every voxel of the two slices they read inside, or every one outside).
   template <typename Fn>
   void forEachRow(std::size_t s, Fn&& fn) const {
     glm::ivec3 lo, hi;
@@ -284,8 +286,24 @@ struct Builder {
     const glm::ivec3 l0 = lo - active[s] * kB;
     const glm::ivec3 l1 = hi - active[s] * kB;
     const std::uint32_t cells = xRange(l0.x, l1.x);
-    for (int lz = l0.z; lz < l1.z; ++lz)
+    const RowMasks& rows = out[s].rows;
+    std::array<std::uint32_t, kBlock> sliceAny, sliceAll;
+    for (int z = 0; z < kBlock; ++z) {
+      std::uint32_t any = 0, all = 0x1ffu;
+      for (int y = 0; y < kBlock; ++y) {
+        any |= rows[std::size_t(y + kBlock * z)];
+        all &= rows[std::size_t(y + kBlock * z)];
+      }
+      sliceAny[std::size_t(z)] = any;
+      sliceAll[std::size_t(z)] = all;
+    }
+    for (int lz = l0.z; lz < l1.z; ++lz) {
+      // As rowMixed, over both slices at once: a mixed cell in the layer sets its bit here.
+      const std::uint32_t any = sliceAny[std::size_t(lz)] | sliceAny[std::size_t(lz) + 1];
+      const std::uint32_t all = sliceAll[std::size_t(lz)] & sliceAll[std::size_t(lz) + 1];
+      if ((((any | (any >> 1)) & ~(all & (all >> 1))) & cells) == 0) continue;
       for (int ly = l0.y; ly < l1.y; ++ly) fn(ly, lz, cells);
+    }
   }
 
   // The rows pass 1 found mixed cells in, in the same order: later passes skip the rest.
@@ -322,6 +340,18 @@ struct Builder {
                (((r[3] >> lx) & 3u) << 6));
   }
 
+  // Every cell's case in a row at once: byte x is configOf(r, x). A row's inside bits spread
+  // by table into one bit pair per byte, four rows shifted into place.
+  static std::uint64_t rowConfigs(const std::uint32_t (&r)[4]) {
+    static const std::array<std::uint64_t, 512> spread = [] {
+      std::array<std::uint64_t, 512> t{};
+      for (std::uint32_t bits = 0; bits < 512; ++bits)
+        for (int x = 0; x < kCellBrick; ++x) t[bits] |= std::uint64_t((bits >> x) & 3u) << (8 * x);
+      return t;
+    }();
+    return spread[r[0]] | (spread[r[1]] << 2) | (spread[r[2]] << 4) | (spread[r[3]] << 6);
+  }
+
   // Pass 1: fills, inside bits, counts.
   void count(std::size_t s) {
     BrickOut& o = out[s];
@@ -353,8 +383,9 @@ struct Builder {
           edges += kBitsInByte[crossing[axis]];
         }
       }
+      const std::uint64_t configs = rowConfigs(r);
       for (std::uint32_t bits = mixed; bits != 0; bits &= bits - 1) {
-        sums += packed[std::size_t(configOf(r, __builtin_ctz(bits)))];
+        sums += packed[std::size_t((configs >> (8 * __builtin_ctz(bits))) & 0xffu)];
       }
     });
     const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
@@ -441,9 +472,10 @@ struct Builder {
       if (bits == 0) return;
       const bool rowInterior = ly < kB - 1 && lz < kB - 1;
       const int rowByte = 3 * (ly + kB * lz);
+      const std::uint64_t configs = rowConfigs(r);
       for (; bits != 0; bits &= bits - 1) {
         const int lx = __builtin_ctz(bits);
-        const int config = configOf(r, lx);
+        const auto config = int((configs >> (8 * lx)) & 0xffu);
         const FlatCase& fc = flat[std::size_t(config)];
         std::uint32_t ids[12 + 2];
         if (rowInterior && lx < kB - 1) {
