@@ -286,6 +286,30 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
     hits.toCore[std::size_t(hits.count)] = {tx, ty, tz};
     ++hits.count;
   };
+  // Around a point (the drill's tip, a burr) every distance is ((a.x - x)^2 + (a.y - y)^2) +
+  // (a.z - z)^2, and rounded addition is monotonic, so a row's smallest and largest squared
+  // x term bound all its distances exactly: rows wholly beyond the outer layer or within the
+  // inner one are skipped without testing their samples.
+  const bool point = !(terms.invLen2 > 0.0);
+  std::array<double, 4> dy2{}, dz2{};
+  double minX2 = 0.0, maxX2 = 0.0;
+  if (point) {
+    for (int k = 0; k < n; ++k) {
+      const double dx = terms.a.x - cx[std::size_t(k)];
+      const double x2 = dx * dx;
+      minX2 = k == 0 ? x2 : std::min(minX2, x2);
+      maxX2 = k == 0 ? x2 : std::max(maxX2, x2);
+      const double dy = terms.a.y - cy[std::size_t(k)], dz = terms.a.z - cz[std::size_t(k)];
+      dy2[std::size_t(k)] = dy * dy;
+      dz2[std::size_t(k)] = dz * dz;
+    }
+  }
+  const auto rowOutside = [&](int y, int z) {
+    if (!point) return false;
+    const double lo = (minX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)];
+    const double hi = (maxX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)];
+    return lo > terms.outer2 || hi <= terms.inner2;
+  };
 #if defined(__SSE2__)
   if (n >= 2) {
     const __m128d ax = _mm_set1_pd(terms.a.x), ay = _mm_set1_pd(terms.a.y), az = _mm_set1_pd(terms.a.z);
@@ -295,6 +319,7 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
     for (int z = 0; z < n; ++z)
       for (int y = 0; y < n; ++y) {
         const __m128d pyv = _mm_set1_pd(py[std::size_t(y)]), pzv = _mm_set1_pd(pz[std::size_t(z)]);
+        if (rowOutside(y, z)) continue;
         const __m128d cyv = _mm_set1_pd(cy[std::size_t(y)]), czv = _mm_set1_pd(cz[std::size_t(z)]);
         const int row = n * (y + n * z);
         for (int x = 0; x < n; x += 2) {
