@@ -382,8 +382,12 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
     dz2[std::size_t(k)] = d.z * d.z;
   }
   const double r2 = volume.radiusMm * volume.radiusMm;
+  // A row whose nearest sample is beyond the sphere has none inside (rounded addition is
+  // monotonic, so the bound is exact).
+  const double minX2 = *std::min_element(dx2.begin(), dx2.begin() + n);
   for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y)
+    for (int y = 0; y < n; ++y) {
+      if (sphere && (minX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)] > r2) continue;
       for (int x = 0; x < n; ++x) {
         const std::size_t i = std::size_t(x + n * (y + n * z));
         if (c.fill[i] == 0) continue;
@@ -407,6 +411,7 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
               removedBits |= std::uint64_t(1) << (fx + kSubPerEdge * (fy + kSubPerEdge * fz));
             }
       }
+    }
   if (removedBits == 0) return result;
 
   // The grid's parent stays the exact sum of its sub-voxels.
