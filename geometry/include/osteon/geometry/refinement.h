@@ -278,7 +278,9 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
     const double sub = vs / n;
     for (int h = 0; h < hits.count; ++h) {
       const int i = hits.index[std::size_t(h)];
-      const glm::dvec3 sc = corner + (glm::dvec3(i % n, (i / n) % n, i / (n * n)) + 0.5) * sub;
+      // Sub-voxel coordinates by shifts (n is a power of two), not integer divisions.
+      const glm::ivec3 k(i & (n - 1), (i >> depth_) & (n - 1), i >> (2 * depth_));
+      const glm::dvec3 sc = corner + (glm::dvec3(k) + 0.5) * sub;
       fn(VoxelSample{sc, sub, -depth_, cl.fill[std::size_t(i)], cl.density[std::size_t(i)]}, hits.toCore[std::size_t(h)]);
     }
   };
