@@ -66,12 +66,6 @@ glm::ivec3 VoxelGrid::brickCoord(std::size_t brick) const {
   return glm::ivec3(int(brick % nx), int((brick / nx) % ny), int(brick / (nx * ny)));
 }
 
-bool VoxelGrid::locate(const glm::ivec3& ijk, std::size_t& brick, int& local) const {
-  if (!inBounds(ijk)) return false;
-  brick = brickIndex(ijk >> kBrickLog2);
-  local = voxelInBrick(ijk & (kBrickSize - 1));
-  return true;
-}
 
 Fill VoxelGrid::fill(const glm::ivec3& ijk) const {
   std::size_t brick;
@@ -89,22 +83,6 @@ Density VoxelGrid::density(const glm::ivec3& ijk) const {
   return b ? b->density[std::size_t(local)] : uniformDensity_[brick];
 }
 
-void VoxelGrid::fillAndDensity(const glm::ivec3& ijk, Fill& fill, Density& density) const {
-  std::size_t brick;
-  int local;
-  if (!locate(ijk, brick, local)) {
-    fill = 0;
-    density = 0;
-    return;
-  }
-  if (const Brick* b = bricks_[brick].get()) {
-    fill = b->fill[std::size_t(local)];
-    density = b->density[std::size_t(local)];
-  } else {
-    fill = uniformFill_[brick];
-    density = uniformDensity_[brick];
-  }
-}
 
 void VoxelGrid::set(const glm::ivec3& ijk, Fill fill, Density density) {
   std::size_t brick;

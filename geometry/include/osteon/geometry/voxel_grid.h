@@ -167,4 +167,29 @@ class VoxelGrid {
   void release(std::size_t brick);  // frees a brick's arrays, into the pool when it has room
 };
 
+// Inline: the haptic step reads every level-0 voxel of its shells through these.
+inline bool VoxelGrid::locate(const glm::ivec3& ijk, std::size_t& brick, int& local) const {
+  if (!inBounds(ijk)) return false;
+  brick = brickIndex(ijk >> kBrickLog2);
+  local = voxelInBrick(ijk & (kBrickSize - 1));
+  return true;
+}
+
+inline void VoxelGrid::fillAndDensity(const glm::ivec3& ijk, Fill& fill, Density& density) const {
+  std::size_t brick;
+  int local;
+  if (!locate(ijk, brick, local)) {
+    fill = 0;
+    density = 0;
+    return;
+  }
+  if (const Brick* b = bricks_[brick].get()) {
+    fill = b->fill[std::size_t(local)];
+    density = b->density[std::size_t(local)];
+  } else {
+    fill = uniformFill_[brick];
+    density = uniformDensity_[brick];
+  }
+}
+
 }  // namespace osteon::geometry
