@@ -19,10 +19,22 @@ int brickState(const VoxelGrid& grid, const glm::ivec3& b) {
   return double(grid.brickUniformFill(i)) > kIso ? 1 : 0;
 }
 
+// A cell brick can hold surface when the eight bricks its cells read (octant d: +x if d & 1,
+// +y if d & 2, +z if d & 4) are not one uniform state.
+template <typename StateOf>
+bool readsSurface(StateOf&& stateOf) {
+  const int first = stateOf(0);
+  if (first == 2) return true;
+  for (int d = 1; d < 8; ++d) {
+    if (stateOf(d) != first) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint8_t>& states, std::vector<glm::ivec3>& active) {
-  // States of bricks -1 .. nb (the border reads as empty), then the same rule as below.
+  // States of bricks -1 .. nb (the border reads as empty), each looked up once.
   const glm::ivec3 e = grid.brickDims() + 2;
   states.resize(std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z));
   const auto at = [&](int x, int y, int z) {  // brick coordinates + 1
@@ -34,21 +46,14 @@ void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint8_t>& states, 
   for (int z = 0; z + 1 < e.z; ++z)
     for (int y = 0; y + 1 < e.y; ++y)
       for (int x = 0; x + 1 < e.x; ++x) {
-        const std::uint8_t first = states[at(x, y, z)];
-        bool mixed = first == 2;
-        for (int d = 1; d < 8 && !mixed; ++d) mixed = states[at(x + (d & 1), y + ((d >> 1) & 1), z + ((d >> 2) & 1))] != first;
-        if (mixed) active.push_back({x - 1, y - 1, z - 1});
+        if (readsSurface([&](int d) { return int(states[at(x + (d & 1), y + ((d >> 1) & 1), z + ((d >> 2) & 1))]); })) {
+          active.push_back({x - 1, y - 1, z - 1});
+        }
       }
 }
 
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cb) {
-  // A cell brick can hold surface when the bricks its cells read are not one uniform state.
-  const int first = brickState(grid, cb);
-  if (first == 2) return true;
-  for (int d = 1; d < 8; ++d) {
-    if (brickState(grid, cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1)) != first) return true;
-  }
-  return false;
+  return readsSurface([&](int d) { return brickState(grid, cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1)); });
 }
 
 void BlockSource::init(const VoxelGrid& grid, const glm::ivec3& cb) {
