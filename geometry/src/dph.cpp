@@ -3,6 +3,8 @@
 #include "osteon/geometry/error.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -56,6 +58,8 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
                      ": the expansion ratio must be odd, from 3 to 15 (cells centred on a voxel)");
   }
   DynamicProximityHierarchy h;
+  static std::atomic<std::uint64_t> builds{0};
+  h.generation_ = ++builds;
   h.xi_ = xi;
   h.originMm_ = originMm;
   h.voxelSizeMm_ = voxelSizeMm;
@@ -279,6 +283,32 @@ bool DynamicProximityHierarchy::removeVoxel(const glm::ivec3& voxel) {
     --lv.aliveCount;
   }
   return true;
+}
+
+DphNearCache::DphNearCache(double skinMm, std::size_t capacity) : skinMm_(skinMm) {
+  if (!(skinMm >= 0.0) || !std::isfinite(skinMm)) {
+    throw InputError("query cache skin " + std::to_string(skinMm) + " mm: must be a finite length >= 0");
+  }
+  nodes_.reserve(capacity);
+  centres_.reserve(capacity);
+}
+
+std::size_t DphNearCache::capacityFor(double lengthMm, double radiusMm, double voxelMm) {
+  // Voxel centres within r of the core fill at most the core's volume inflated by half a
+  // voxel diagonal (each voxel's cube lies inside it): bound by one voxel.
+  const double r = radiusMm / voxelMm + 1.0, len = lengthMm / voxelMm;
+  const double count = M_PI * r * r * len + 4.0 / 3.0 * M_PI * r * r * r;
+  return std::size_t(std::ceil(count)) + 64;
+}
+
+bool DphNearCache::covers(const DynamicProximityHierarchy& h, const glm::dvec3& a, const glm::dvec3& b,
+                          double radiusMm) const {
+  if (reachMm_ < 0.0 || owner_ != &h || generation_ != h.generation()) return false;
+  // Every point of the new segment lies within max(|a - a0|, |b - b0|) of the kept one's
+  // (the same interpolation parameter), so the new capsule lies inside the kept one inflated
+  // by that much. A relative margin covers the rounding of the walk's distances.
+  const double moved = std::max(glm::length(a - aMm_), glm::length(b - bMm_));
+  return moved + radiusMm <= reachMm_ * (1.0 - 1e-9) - 1e-9 * h.voxelSizeMm();
 }
 
 void DynamicProximityHierarchy::reserveScratch(DphQueryScratch& scratch) const {

@@ -432,14 +432,14 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
   return result;
 }
 
-RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement) {
+RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, DphNearCache* cache) {
   RemovalResult total;
   const double vs = grid_->voxelSizeMm();
   const glm::dvec3 centreMm = volume.centreMm();
   const double reach = volume.boundingRadiusMm() + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
   // Collect first: removal edits the hierarchy the query walks.
   found_.clear();
-  hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, [&](const glm::ivec3& v) {
+  hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, cache, [&](const glm::ivec3& v) {
     if (found_.size() < found_.capacity()) found_.push_back(v);
   });
   // A refined voxel whose centre lies beyond the cut by more than half its diagonal has no

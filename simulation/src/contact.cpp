@@ -20,7 +20,7 @@ bool finite(const glm::dvec3& v) {
 // the sample's centre to the nearest point of the core.
 template <typename Fn>
 void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, const ToolPose& pose,
-                        Fn&& fn) {
+                        geometry::DphNearCache* cache, Fn&& fn) {
   const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
   const glm::dvec3 ab = b - a;
   const double len2 = glm::dot(ab, ab);
@@ -38,13 +38,13 @@ void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, c
   };
   // One query around the part's core (a long shaft in a sphere query would visit every voxel
   // within half its length), which tests each sample against both layers.
-  voxels.forEachSampleInShell(a, b, part.innerRadiusMm, part.outerRadiusMm, open, fn);
+  voxels.forEachSampleInShell(a, b, part.innerRadiusMm, part.outerRadiusMm, cache, open, fn);
 }
 
 }  // namespace
 
 ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm)
-    : tool_(tool), finestVoxelMm_(finestVoxelMm) {
+    : tool_(tool), finestVoxelMm_(finestVoxelMm), baseVoxelMm_(baseVoxelMm) {
   const double ratio = baseVoxelMm / finestVoxelMm;
   weightPerFill_ = ratio * ratio * ratio / double(geometry::kFillFull);
   const double cube = finestVoxelMm * finestVoxelMm * finestVoxelMm;
@@ -54,13 +54,27 @@ ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelM
   }
 }
 
-ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose& pose) const {
+ContactCaches ForceModel::makeCaches(double skinMm) const {
+  ContactCaches caches;
+  // The shell query reaches half a voxel diagonal further where voxels may be refined.
+  const double refinedReach = baseVoxelMm_ > finestVoxelMm_ ? 0.5 * std::sqrt(3.0) * baseVoxelMm_ : 0.0;
+  for (int p = 0; p < tool_.partCount; ++p) {
+    const ToolPart& part = tool_.parts[std::size_t(p)];
+    const double reach = part.outerRadiusMm + refinedReach + skinMm;
+    caches.shell[std::size_t(p)] =
+        geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach, baseVoxelMm_));
+  }
+  return caches;
+}
+
+ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose& pose,
+                                 ContactCaches* caches) const {
   ContactForce out;
   glm::dvec3 total(0.0);
   for (int p = 0; p < tool_.partCount; ++p) {
     glm::dvec3 direction(0.0);
     double n = 0.0;
-    forEachShellSample(voxels, tool_.parts[std::size_t(p)], pose,
+    forEachShellSample(voxels, tool_.parts[std::size_t(p)], pose, caches ? &caches->shell[std::size_t(p)] : nullptr,
                        [&](const VoxelSample& s, const glm::dvec3& toCore) {
                          const double w = double(s.fill) * weightPerFill_;
                          direction += w * toCore;
@@ -87,7 +101,7 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
 std::vector<VoxelSample> ForceModel::shellSamples(geometry::RefinedVoxels& voxels,
                                                   const ToolPose& pose, int part) const {
   std::vector<VoxelSample> samples;
-  forEachShellSample(voxels, tool_.parts[std::size_t(part)], pose,
+  forEachShellSample(voxels, tool_.parts[std::size_t(part)], pose, nullptr,
                      [&](const VoxelSample& s, const glm::dvec3&) { samples.push_back(s); });
   return samples;
 }

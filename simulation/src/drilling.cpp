@@ -43,6 +43,25 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
       model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()) {
   grid.reserveSpareBricks(options.spareBricks);
   spareMissesAtStart_ = grid.spareMisses();
+  if (!(options.querySkinVoxels >= 0.0) || !std::isfinite(options.querySkinVoxels)) {
+    throw InputError("query skin " + std::to_string(options.querySkinVoxels) + " voxels: must be a finite number >= 0");
+  }
+  cached_ = options.querySkinVoxels > 0.0;
+  if (cached_) {
+    const double vs = grid.voxelSizeMm();
+    const double skinMm = options.querySkinVoxels * vs;
+    contactCaches_ = model_.makeCaches(skinMm);
+    // removeIn walks a sphere around each cutting part (its bounding sphere, plus half a
+    // voxel diagonal where voxels may be refined).
+    const Tool& tool = model_.tool();
+    const double refinedReach = options.levels > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0;
+    for (int p = 0; p < tool.partCount; ++p) {
+      const ToolPart& part = tool.parts[std::size_t(p)];
+      if (!part.cuts) continue;
+      const double reach = 0.5 * part.lengthMm() + part.innerRadiusMm + refinedReach + skinMm;
+      cutCaches_[std::size_t(p)] = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(0.0, reach, vs));
+    }
+  }
 }
 
 StepOutput DrillingSimulation::step(const StepInput& input) {
@@ -66,14 +85,14 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     out.refined += voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm,
                                          input.tS);
   }
-  out.contact = model_.compute(*voxels_, input.pose);
+  out.contact = model_.compute(*voxels_, input.pose, cached_ ? &contactCaches_ : nullptr);
   if (input.drillOn) {
     for (int p = 0; p < tool.partCount; ++p) {
       const ToolPart& part = tool.parts[std::size_t(p)];
       if (!part.cuts) continue;
       const geometry::CutVolume cut{input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm),
                                     part.innerRadiusMm, part.cutsOnSideOnly};
-      const geometry::RemovalResult r = voxels_->removeIn(cut, decrement_);
+      const geometry::RemovalResult r = voxels_->removeIn(cut, decrement_, cached_ ? &cutCaches_[std::size_t(p)] : nullptr);
       out.removal.removedFill += r.removedFill;
       out.removal.samplesRemoved += r.samplesRemoved;
       out.removal.samplesDecremented += r.samplesDecremented;

@@ -165,6 +165,78 @@ TEST(Dph, RandomRemovalsKeepEveryInvariantAndQueriesExact) {
   EXPECT_EQ(calls, 0);
 }
 
+// A query through a cache gives the walk's answer voxel for voxel, in the walk's order, as the
+// tool drifts (small moves answered from the cache), jumps (walks again) and voxels go.
+TEST(Dph, CachedQueriesEqualTheWalkInTheSameOrder) {
+  std::mt19937 rng(8080);
+  std::vector<glm::ivec3> voxels = randomVoxels(rng, 30, 0.7);
+  const double vs = 0.5;
+  auto h = DynamicProximityHierarchy::build(voxels, DphBuildOptions{}, {-1.0, 2.0, 0.5}, vs);
+  DphQueryScratch scratch;
+  const double radiusMm = 2.1;
+  DphNearCache sphereCache(vs, DphNearCache::capacityFor(0.0, radiusMm + vs, vs));
+  DphNearCache capsuleCache(vs, DphNearCache::capacityFor(4.0, radiusMm + vs, vs));
+  std::uniform_real_distribution<double> step(-0.06, 0.06);
+  std::uniform_int_distribution<std::size_t> pick(0, voxels.size() - 1);
+  glm::dvec3 tip(6.0, 9.0, 7.0);
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
+  for (int q = 0; q < 600; ++q) {
+    tip += glm::dvec3(step(rng), step(rng), step(rng));
+    if (q % 97 == 96) tip += glm::dvec3(1.5, -0.7, 0.4);  // a jump beyond the skin
+    for (int k = 0; k < 3; ++k) h.removeVoxel(voxels[pick(rng)]);  // drilled away (or already gone)
+    const glm::dvec3 back = tip + 4.0 * axis;
+    std::vector<glm::ivec3> walked, cached;
+    h.forEachVoxelInSphere(tip, radiusMm, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
+    h.forEachVoxelInSphere(tip, radiusMm, scratch, &sphereCache, [&](const glm::ivec3& v) { cached.push_back(v); });
+    ASSERT_EQ(cached, walked) << "sphere query " << q;
+    ASSERT_FALSE(walked.empty()) << "query " << q << " found nothing to compare";
+    walked.clear();
+    cached.clear();
+    h.forEachVoxelInCapsule(tip, back, radiusMm, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
+    h.forEachVoxelInCapsule(tip, back, radiusMm, scratch, &capsuleCache, [&](const glm::ivec3& v) { cached.push_back(v); });
+    ASSERT_EQ(cached, walked) << "capsule query " << q;
+  }
+  // Most queries came from the cache; the jumps (and the drift beyond the skin) walked.
+  for (const DphNearCache* c : {&sphereCache, &capsuleCache}) {
+    EXPECT_EQ(c->walks() + c->reuses(), 600u);
+    EXPECT_GE(c->walks(), 6u);
+    EXPECT_GT(c->reuses(), 450u);
+    EXPECT_EQ(c->overflows(), 0u);
+  }
+}
+
+// A cache too small for an answer walks at the query's own radius (counted), and a cache kept
+// from one hierarchy never answers for another, however alike.
+TEST(Dph, CacheOverflowsAndOtherHierarchiesStillGetTheWalksAnswer) {
+  std::mt19937 rng(31);
+  const std::vector<glm::ivec3> voxels = randomVoxels(rng, 16, 0.8);
+  const auto h1 = DynamicProximityHierarchy::build(voxels, DphBuildOptions{});
+  auto h2 = DynamicProximityHierarchy::build(voxels, DphBuildOptions{});
+  EXPECT_NE(h1.generation(), h2.generation());
+  DphQueryScratch scratch;
+  const glm::dvec3 c(8.0, 8.0, 8.0);
+  std::vector<glm::ivec3> walked, cached;
+  h1.forEachVoxelInSphere(c, 3.0, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
+  DphNearCache tiny(1.0, 10);
+  h1.forEachVoxelInSphere(c, 3.0, scratch, &tiny, [&](const glm::ivec3& v) { cached.push_back(v); });
+  EXPECT_EQ(cached, walked);
+  EXPECT_EQ(tiny.overflows(), 1u);
+
+  DphNearCache cache(1.0, DphNearCache::capacityFor(0.0, 4.0, 1.0));
+  cached.clear();
+  h1.forEachVoxelInSphere(c, 3.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+  EXPECT_EQ(cached, walked);
+  // The same voxels, but h2 loses one: the cache kept from h1 must not answer for it.
+  const glm::ivec3 gone = walked.front();
+  ASSERT_TRUE(h2.removeVoxel(gone));
+  cached.clear();
+  h2.forEachVoxelInSphere(c, 3.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+  EXPECT_EQ(cached.size(), walked.size() - 1);
+  EXPECT_EQ(std::count(cached.begin(), cached.end(), gone), 0);
+  EXPECT_EQ(cache.walks(), 2u);
+  EXPECT_THROW(DphNearCache(-1.0, 8), InputError);
+}
+
 TEST(Dph, BuildsFromAGridAndTracksItsOccupiedVoxels) {
   VoxelGrid grid({40, 30, 20}, {1.0, 2.0, 3.0}, 0.5);
   std::mt19937 rng(5);

@@ -175,7 +175,8 @@ class HumerusDrilling : public ::testing::Test {
   static void SetUpTestSuite() { model_ = new geometry::HumerusModel(geometry::buildHumerusModel()); }
   static void TearDownTestSuite() { delete model_; }
 
-  std::vector<double> run(int levels, std::uint64_t* removed = nullptr, bool* conserved = nullptr) {
+  std::vector<double> run(int levels, std::uint64_t* removed = nullptr, bool* conserved = nullptr,
+                          double querySkinVoxels = DrillingOptions{}.querySkinVoxels, ToolKind kind = ToolKind::Drill) {
     geometry::VoxelizeOptions o;
     o.voxelSizeMm = 1.2;
     VoxelGrid grid = geometry::voxelize(model_->mesh, o);
@@ -183,7 +184,8 @@ class HumerusDrilling : public ::testing::Test {
     const std::uint64_t before = grid.totalFill();
     DrillingOptions options;
     options.levels = levels;
-    DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, options);
+    options.querySkinVoxels = querySkinVoxels;
+    DrillingSimulation sim(grid, hierarchy, nullptr, kind, ToolOptions{}, options);
     const glm::dvec3 axis = model_->headAxis;
     const glm::dvec3 start = model_->headCentreMm + axis * (model_->headRadiusMm + 3.0);
     std::vector<double> forces;
@@ -219,6 +221,24 @@ TEST_F(HumerusDrilling, RemovalConservesVolumeAndRunsAreBitIdentical) {
     double peak = 0.0;
     for (std::size_t i = 0; i < a.size(); i += 3) peak = std::max(peak, std::hypot(a[i], a[i + 1], a[i + 2]));
     EXPECT_GT(peak, 0.5) << "levels " << levels;  // the drill met bone
+  }
+}
+
+// The hierarchy queries answered from their caches (the default) give the forces and the
+// removal of walking the hierarchy at every step, bit for bit.
+TEST_F(HumerusDrilling, CachedQueriesGiveTheForcesOfAWalkEveryStep) {
+  ASSERT_GT(DrillingOptions{}.querySkinVoxels, 0.0);
+  for (const ToolKind kind : {ToolKind::Drill, ToolKind::Shaver}) {
+    for (const int levels : {0, 2}) {
+      std::uint64_t removedCached = 0, removedWalked = 0;
+      const std::vector<double> cached = run(levels, &removedCached, nullptr, 1.0, kind);
+      const std::vector<double> walked = run(levels, &removedWalked, nullptr, 0.0, kind);
+      ASSERT_EQ(cached.size(), walked.size());
+      EXPECT_EQ(std::memcmp(cached.data(), walked.data(), cached.size() * sizeof(double)), 0)
+          << toolKindName(kind) << " levels " << levels;
+      EXPECT_EQ(removedCached, removedWalked);
+      EXPECT_GT(removedCached, 0u);
+    }
   }
 }
 

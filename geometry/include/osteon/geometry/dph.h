@@ -37,6 +37,47 @@ struct DphQueryScratch {
   std::vector<std::uint64_t> stack;  // (level << 32) | node
 };
 
+class DynamicProximityHierarchy;
+
+// A query's answer kept for the queries that follow it nearby: the voxels within the query's
+// radius plus a skin, in the order the hierarchy gave them (a neighbour list with a skin, as
+// molecular dynamics keeps them). A later query whose sphere or capsule lies inside the kept,
+// inflated one (each end moved less than the skin) is answered by testing the kept voxels
+// that are still in the hierarchy; otherwise the hierarchy is walked again with the skin
+// added. The answer is the walk's, voxel for voxel and in the same order: pruning keeps the
+// depth-first order of the voxels it visits, and voxels are only ever removed. A tool in
+// contact moves micrometres per millisecond, so one walk serves many steps. One cache per
+// query site (a tool part's shell, its cut); caller-owned, sized up front, never allocating
+// in a query. A walk whose answer would not fit is answered directly and counted.
+class DphNearCache {
+ public:
+  DphNearCache() = default;
+  // skinMm >= 0; capacity: voxels kept at most.
+  DphNearCache(double skinMm, std::size_t capacity);
+  // Room for every voxel of a capsule (a sphere at lengthMm 0) of radiusMm, skin included,
+  // in a grid of voxelMm: the capacity a query site needs so that its answers always fit.
+  static std::size_t capacityFor(double lengthMm, double radiusMm, double voxelMm);
+  double skinMm() const { return skinMm_; }
+  std::size_t capacity() const { return nodes_.capacity(); }
+  std::uint64_t walks() const { return walks_; }        // queries answered by a walk
+  std::uint64_t reuses() const { return reuses_; }      // queries answered from the kept voxels
+  std::uint64_t overflows() const { return overflows_; }
+  void clear() { reachMm_ = -1.0; }
+
+ private:
+  friend class DynamicProximityHierarchy;
+  bool covers(const DynamicProximityHierarchy& h, const glm::dvec3& a, const glm::dvec3& b, double radiusMm) const;
+
+  const DynamicProximityHierarchy* owner_ = nullptr;
+  std::uint64_t generation_ = 0;
+  glm::dvec3 aMm_{0.0}, bMm_{0.0};
+  double reachMm_ = -1.0;  // < 0: nothing kept
+  double skinMm_ = 0.0;
+  std::vector<std::uint32_t> nodes_;  // level-0 nodes, walk order
+  std::vector<glm::ivec3> centres_;
+  std::uint64_t walks_ = 0, reuses_ = 0, overflows_ = 0;
+};
+
 class DynamicProximityHierarchy {
  public:
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -92,13 +133,24 @@ class DynamicProximityHierarchy {
   double voxelSizeMm() const { return voxelSizeMm_; }
 
   // Every voxel whose centre lies within radiusMm of centreMm: fn(const glm::ivec3&).
+  // With a cache, the same voxels in the same order, from the cache when it covers the query.
   template <typename Fn>
   void forEachVoxelInSphere(const glm::dvec3& centreMm, double radiusMm, DphQueryScratch& scratch,
-                            Fn&& fn) const;
+                            Fn&& fn) const {
+    forEachVoxelInSphere(centreMm, radiusMm, scratch, nullptr, fn);
+  }
+  template <typename Fn>
+  void forEachVoxelInSphere(const glm::dvec3& centreMm, double radiusMm, DphQueryScratch& scratch,
+                            DphNearCache* cache, Fn&& fn) const;
   // Every voxel whose centre lies within radiusMm of the segment aMm-bMm.
   template <typename Fn>
   void forEachVoxelInCapsule(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
-                             DphQueryScratch& scratch, Fn&& fn) const;
+                             DphQueryScratch& scratch, Fn&& fn) const {
+    forEachVoxelInCapsule(aMm, bMm, radiusMm, scratch, nullptr, fn);
+  }
+  template <typename Fn>
+  void forEachVoxelInCapsule(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
+                             DphQueryScratch& scratch, DphNearCache* cache, Fn&& fn) const;
   // The voxel whose centre is nearest to pointMm (ties: any); false when empty.
   bool nearestVoxel(const glm::dvec3& pointMm, DphQueryScratch& scratch, glm::ivec3& voxel,
                     double& distanceMm) const;
@@ -112,6 +164,8 @@ class DynamicProximityHierarchy {
   std::string validateAgainst(const VoxelGrid& grid) const;
 
   std::size_t memoryBytes() const;
+  // Distinct for every build (copies share it): a cache kept from one never answers another.
+  std::uint64_t generation() const { return generation_; }
 
  private:
   struct Level {
@@ -130,8 +184,14 @@ class DynamicProximityHierarchy {
   // Squared distance (voxel units) from a point in grid space to the box of voxel centres.
   double boxDistanceSq(int level, std::uint32_t node, const glm::dvec3& g) const;
   void reserveScratch(DphQueryScratch& scratch) const;
+  // leaf(centre, node) for the level-0 nodes of subtrees in reach, depth first.
   template <typename Reach, typename Leaf>
   void traverse(DphQueryScratch& scratch, Reach&& reach, Leaf&& leaf) const;
+  // A query through a cache: `covered` says whether the cache answers it; walk(radiusMm, leaf)
+  // walks the hierarchy; test(centre) is the walk's own leaf test at the query's radius.
+  template <typename Walk, typename Test, typename Fn>
+  void answerThroughCache(const glm::dvec3& a, const glm::dvec3& b, double radiusMm, DphNearCache& cache,
+                          Walk&& walk, Test&& test, Fn&& fn) const;
 
   int xi_ = 3;
   glm::dvec3 originMm_{0.0};
@@ -141,6 +201,7 @@ class DynamicProximityHierarchy {
   std::vector<std::uint64_t> voxelKeys_;     // sorted packed coordinates of level-0 nodes
   std::vector<std::uint32_t> voxelNodes_;    // level-0 node of voxelKeys_[i]
   std::size_t maxChildren_ = 0;
+  std::uint64_t generation_ = 0;
 };
 
 }  // namespace osteon::geometry

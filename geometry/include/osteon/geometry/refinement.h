@@ -142,7 +142,7 @@ class RefinedVoxels {
   template <typename Open, typename Fn>
   void forEachSampleNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double radiusMm,
                                 Open&& openVoxel, Fn&& fn) {
-    forEachSampleInShell(aMm, bMm, -1.0, radiusMm, openVoxel,
+    forEachSampleInShell(aMm, bMm, -1.0, radiusMm, nullptr, openVoxel,
                          [&](const VoxelSample& s, const glm::dvec3&) { fn(s); });
   }
   // Samples whose centre lies farther than innerMm (< 0: any) and not farther than outerMm
@@ -150,9 +150,11 @@ class RefinedVoxels {
   // from the sample's centre to its nearest point of the segment, a + t (b - a) - centre with
   // t = clamp((centre - a) . (b - a) / |b - a|^2, 0, 1), the distance tested being its length.
   // Visits samples in a fixed order (voxels as the hierarchy gives them, sub-voxels x fastest).
+  // `cache` (may be null): the hierarchy query's cache for this call site (dph.h); the same
+  // samples in the same order with or without it.
   template <typename Open, typename Fn>
   void forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm, double outerMm,
-                            Open&& openVoxel, Fn&& fn);
+                            DphNearCache* cache, Open&& openVoxel, Fn&& fn);
 
   // Drilling step (seed 3.5): every sample whose centre lies within radiusMm of centreMm
   // loses `decrement` density; a sample at d <= 0 is removed (its fill leaves the grid).
@@ -160,7 +162,8 @@ class RefinedVoxels {
     return removeIn(CutVolume::sphere(centreMm, radiusMm), decrement);
   }
   // The same for any cutting volume (a shaver's cylinder).
-  RemovalResult removeIn(const CutVolume& volume, int decrement = 1);
+  // `cache` as for forEachSampleInShell.
+  RemovalResult removeIn(const CutVolume& volume, int decrement = 1, DphNearCache* cache = nullptr);
 
   bool isRefined(const glm::ivec3& voxel) const { return findCell(voxel) != kNoCell; }
   // The refined level-0 voxels now, in no particular order.
@@ -241,7 +244,7 @@ class RefinedVoxels {
 
 template <typename Open, typename Fn>
 void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm,
-                                         double outerMm, Open&& openVoxel, Fn&& fn) {
+                                         double outerMm, DphNearCache* cache, Open&& openVoxel, Fn&& fn) {
   const double vs = grid_->voxelSizeMm();
   // A refined voxel may hold samples in reach although its centre is not.
   const double halfDiagonal = 0.5 * std::sqrt(3.0) * vs;
@@ -285,9 +288,9 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
     }
   };
   if (len2 > 0.0) {
-    hierarchy_->forEachVoxelInCapsule(aMm, bMm, reach, scratch_, visit);
+    hierarchy_->forEachVoxelInCapsule(aMm, bMm, reach, scratch_, cache, visit);
   } else {
-    hierarchy_->forEachVoxelInSphere(aMm, reach, scratch_, visit);
+    hierarchy_->forEachVoxelInSphere(aMm, reach, scratch_, cache, visit);
   }
 }
 

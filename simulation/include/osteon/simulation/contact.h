@@ -38,6 +38,12 @@ struct ContactForce {
   bool nonFinite = false;      // zero force returned in place of a NaN or Inf
 };
 
+// The hierarchy-query caches compute() may use, one per tool part's shell
+// (geometry::DphNearCache): owned by whoever steps the model, so compute() stays const.
+struct ContactCaches {
+  std::array<geometry::DphNearCache, kMaxToolParts> shell;
+};
+
 class ForceModel {
  public:
   // finestVoxelMm: v_min; baseVoxelMm: the grid's voxel size.
@@ -49,7 +55,12 @@ class ForceModel {
 
   // Samples come from `voxels` at the finest level it holds near the tool (call refineAround
   // first in dynamic mode). No allocation, no lock, no throw.
-  ContactForce compute(geometry::RefinedVoxels& voxels, const ToolPose& pose) const;
+  // With caches (may be null), the same force from fewer hierarchy walks while the tool
+  // moves less than the caches' skin between calls.
+  ContactForce compute(geometry::RefinedVoxels& voxels, const ToolPose& pose,
+                       ContactCaches* caches = nullptr) const;
+  // Caches for this model's parts with the given skin, sized so that answers always fit.
+  ContactCaches makeCaches(double skinMm) const;
   // The samples in part `part`'s shell, exactly those compute() counts, for checks that hold
   // the voxels' contact against something else (the surface). Allocates: not for the loop.
   std::vector<geometry::VoxelSample> shellSamples(geometry::RefinedVoxels& voxels,
@@ -58,6 +69,7 @@ class ForceModel {
  private:
   Tool tool_;
   double finestVoxelMm_;
+  double baseVoxelMm_;
   double weightPerFill_;  // (VS / v_min)^3 / kFillFull
   std::array<double, kMaxToolParts> maxCount_{};
 };

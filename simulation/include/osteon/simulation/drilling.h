@@ -22,6 +22,10 @@ struct DrillingOptions {
   geometry::RefinementOptions refinement;  // depth is taken from `levels`
   // Bricks kept ready for removal in uniform bricks (2 KiB each), so a step never allocates.
   std::size_t spareBricks = 1024;
+  // Hierarchy queries answered from the previous walk while the tool moves less than this
+  // many base voxels (geometry::DphNearCache); 0: walk at every query. The same forces and
+  // removal either way.
+  double querySkinVoxels = 1.0;
 };
 
 // Throws InputError naming the value for levels outside 0..2 or a decrement below 1.
@@ -74,6 +78,9 @@ class DrillingSimulation {
   double finestVoxelMm_;
   std::unique_ptr<geometry::RefinedVoxels> voxels_;
   ForceModel model_;
+  ContactCaches contactCaches_;
+  std::array<geometry::DphNearCache, kMaxToolParts> cutCaches_;
+  bool cached_ = false;
   DrillingTotals totals_;
   std::uint64_t spareMissesAtStart_ = 0;
 };
