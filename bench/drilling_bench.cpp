@@ -1,4 +1,5 @@
-// osteon_bench_drilling [--runtime-s S] [--runtime-only]: the drilling figures of
+// osteon_bench_drilling [--runtime-s S] [--runtime-only] [--query-skin VOXELS] [--query-slice NODES]:
+// the drilling figures of
 // docs/performance.md.
 //   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
 //      humerus at 1.2 mm with 2 levels and at 0.3 mm static, deterministic mode: p50/p99/max,
@@ -35,7 +36,8 @@ struct Scene {
 };
 
 std::unique_ptr<Scene> makeScene(const geometry::HumerusModel& model, const geometry::EmbreeScene& embree,
-                                 double voxelMm, int levels) {
+                                 double voxelMm, int levels, double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
+                                 std::size_t querySliceNodes = DrillingOptions{}.querySliceNodes) {
   auto s = std::make_unique<Scene>();
   geometry::VoxelizeOptions vo;
   vo.voxelSizeMm = voxelMm;
@@ -44,6 +46,8 @@ std::unique_ptr<Scene> makeScene(const geometry::HumerusModel& model, const geom
   if (levels > 0) s->source = geometry::FineFillSource::sample(s->grid, model.mesh, embree);
   DrillingOptions options;
   options.levels = levels;
+  options.querySkinVoxels = querySkinVoxels;
+  options.querySliceNodes = querySliceNodes;
   s->sim = std::make_unique<DrillingSimulation>(s->grid, s->hierarchy, levels > 0 ? &s->source : nullptr,
                                                 ToolKind::Drill, ToolOptions{}, options);
   return s;
@@ -69,8 +73,12 @@ Percentiles noiseFloor() {
 
 int main(int argc, char** argv) {
   double runtimeS = 60.0;
+  double skin = DrillingOptions{}.querySkinVoxels;
+  std::size_t slices = DrillingOptions{}.querySliceNodes;
   bool haptic = true;
   for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--query-skin") == 0 && i + 1 < argc) skin = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) slices = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
   }
@@ -79,18 +87,20 @@ int main(int argc, char** argv) {
   const HumeralHead head = fitHumeralHead(model.mesh);
 
   if (haptic) std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
-  if (haptic) std::printf("| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max step change N |\n");
-  if (haptic) std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  if (haptic) std::printf("query caches: skin %g base voxels, %zu nodes per slice\n", skin, slices);
+  if (haptic) std::printf("| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max step change N | steps that walked |\n");
+  if (haptic) std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
     if (!haptic) break;
     for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
-      auto scene = makeScene(model, embree, voxelMm, levels);
+      auto scene = makeScene(model, embree, voxelMm, levels, skin, slices);
       const PortalPlan plan = makePortalPath(portal, head, model.mesh, scene->sim->tool().parts[0].outerRadiusMm);
       const RunResult r = runDeterministic(*scene->sim, scene->grid, plan.path, nullptr);
       const RunSummary& s = r.summary;
-      std::printf("| %g mm | %d | %g mm | %s | %.1f | %.1f | %.1f | %.4f | %.4f |\n", voxelMm, levels,
+      std::printf("| %g mm | %d | %g mm | %s | %.1f | %.1f | %.1f | %.4f | %.4f | %llu |\n", voxelMm, levels,
                   scene->sim->finestVoxelMm(), portalName(portal), s.hapticStepUs.p50, s.hapticStepUs.p99,
-                  s.hapticStepUs.max, s.jitterN, s.maxStepChangeN);
+                  s.hapticStepUs.max, s.jitterN, s.maxStepChangeN,
+                  (unsigned long long)scene->sim->totals().stepsThatWalked);
       std::fflush(stdout);
     }
   }

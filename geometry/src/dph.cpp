@@ -285,12 +285,25 @@ bool DynamicProximityHierarchy::removeVoxel(const glm::ivec3& voxel) {
   return true;
 }
 
-DphNearCache::DphNearCache(double skinMm, std::size_t capacity) : skinMm_(skinMm) {
+DphNearCache::DphNearCache(double skinMm, std::size_t capacity, std::size_t sliceNodes)
+    : skinMm_(skinMm), sliceNodes_(sliceNodes) {
   if (!(skinMm >= 0.0) || !std::isfinite(skinMm)) {
     throw InputError("query cache skin " + std::to_string(skinMm) + " mm: must be a finite length >= 0");
   }
-  nodes_.reserve(capacity);
-  centres_.reserve(capacity);
+  kept_.reserve(capacity);
+  if (sliceNodes_ > 0) next_.reserve(capacity);
+}
+
+void DphNearCache::Answer::reserve(std::size_t capacity) {
+  // Sized and written now, so that no page of it is first touched inside a query.
+  nodes.resize(capacity);
+  centres.resize(capacity);
+  nodes.clear();
+  centres.clear();
+}
+
+void DphNearCache::reserveFor(const DynamicProximityHierarchy& h) {
+  if (sliceNodes_ > 0) stack_.assign(h.traversalStackSize(), 0);
 }
 
 std::size_t DphNearCache::capacityFor(double lengthMm, double radiusMm, double voxelMm) {
@@ -301,19 +314,26 @@ std::size_t DphNearCache::capacityFor(double lengthMm, double radiusMm, double v
   return std::size_t(std::ceil(count)) + 64;
 }
 
-bool DphNearCache::covers(const DynamicProximityHierarchy& h, const glm::dvec3& a, const glm::dvec3& b,
-                          double radiusMm) const {
-  if (reachMm_ < 0.0 || owner_ != &h || generation_ != h.generation()) return false;
+double DphNearCache::moved(const Answer& answer, const glm::dvec3& a, const glm::dvec3& b) {
+  return std::max(glm::length(a - answer.aMm), glm::length(b - answer.bMm));
+}
+
+bool DphNearCache::covers(const DynamicProximityHierarchy& h, const Answer& answer, const glm::dvec3& a,
+                          const glm::dvec3& b, double radiusMm) const {
+  if (answer.reachMm < 0.0) return false;
   // Every point of the new segment lies within max(|a - a0|, |b - b0|) of the kept one's
   // (the same interpolation parameter), so the new capsule lies inside the kept one inflated
   // by that much. A relative margin covers the rounding of the walk's distances.
-  const double moved = std::max(glm::length(a - aMm_), glm::length(b - bMm_));
-  return moved + radiusMm <= reachMm_ * (1.0 - 1e-9) - 1e-9 * h.voxelSizeMm();
+  return moved(answer, a, b) + radiusMm <= answer.reachMm * (1.0 - 1e-9) - 1e-9 * h.voxelSizeMm();
+}
+
+std::size_t DynamicProximityHierarchy::traversalStackSize() const {
+  // Depth first: at most every child of one node per level waits on the stack.
+  return std::size_t(levelCount()) * (maxChildren_ + 1) + 1;
 }
 
 void DynamicProximityHierarchy::reserveScratch(DphQueryScratch& scratch) const {
-  // Depth first: at most every child of one node per level waits on the stack.
-  const std::size_t need = std::size_t(levelCount()) * (maxChildren_ + 1) + 1;
+  const std::size_t need = traversalStackSize();
   if (scratch.stack.size() < need) scratch.stack.resize(need);
 }
 

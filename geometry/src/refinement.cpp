@@ -432,6 +432,28 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
   return result;
 }
 
+bool RefinedVoxels::SphereAxes::build(const VoxelGrid& grid, const glm::dvec3& pointMm, double reachMm) {
+  const double vs = grid.voxelSizeMm();
+  const double r = reachMm / vs;
+  if (!(r >= 0.0) || !(r < 0.5 * kMaxSize - 2.0)) return false;
+  for (int k = 0; k < 3; ++k) {
+    const double g = (pointMm[k] - grid.originMm()[k]) / vs - 0.5;
+    if (!(std::abs(g) < 1e9)) return false;
+    lo[k] = int(std::floor(g - r)) - 1;
+    size[k] = unsigned(int(std::ceil(g + r)) + 1 - lo[k] + 1);
+    for (unsigned i = 0; i < size[k]; ++i) {
+      glm::ivec3 v(0);
+      v[k] = lo[k] + int(i);
+      const double c = grid.voxelCentreMm(v)[k];
+      const double d = pointMm[k] - c;
+      centre[k][i] = c;
+      toCore[k][i] = d;
+      sq[k][i] = d * d;
+    }
+  }
+  return true;
+}
+
 RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, DphNearCache* cache) {
   RemovalResult total;
   const double vs = grid_->voxelSizeMm();

@@ -54,15 +54,18 @@ ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelM
   }
 }
 
-ContactCaches ForceModel::makeCaches(double skinMm) const {
+ContactCaches ForceModel::makeCaches(double skinMm, std::size_t sliceNodes,
+                                     const geometry::DynamicProximityHierarchy& hierarchy) const {
   ContactCaches caches;
   // The shell query reaches half a voxel diagonal further where voxels may be refined.
   const double refinedReach = baseVoxelMm_ > finestVoxelMm_ ? 0.5 * std::sqrt(3.0) * baseVoxelMm_ : 0.0;
   for (int p = 0; p < tool_.partCount; ++p) {
     const ToolPart& part = tool_.parts[std::size_t(p)];
     const double reach = part.outerRadiusMm + refinedReach + skinMm;
-    caches.shell[std::size_t(p)] =
-        geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach, baseVoxelMm_));
+    geometry::DphNearCache& cache = caches.shell[std::size_t(p)];
+    cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach, baseVoxelMm_),
+                                   sliceNodes);
+    cache.reserveFor(hierarchy);
   }
   return caches;
 }

@@ -50,7 +50,7 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
   if (cached_) {
     const double vs = grid.voxelSizeMm();
     const double skinMm = options.querySkinVoxels * vs;
-    contactCaches_ = model_.makeCaches(skinMm);
+    contactCaches_ = model_.makeCaches(skinMm, options.querySliceNodes, hierarchy);
     // removeIn walks a sphere around each cutting part (its bounding sphere, plus half a
     // voxel diagonal where voxels may be refined).
     const Tool& tool = model_.tool();
@@ -59,7 +59,9 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
       const ToolPart& part = tool.parts[std::size_t(p)];
       if (!part.cuts) continue;
       const double reach = 0.5 * part.lengthMm() + part.innerRadiusMm + refinedReach + skinMm;
-      cutCaches_[std::size_t(p)] = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(0.0, reach, vs));
+      geometry::DphNearCache& cache = cutCaches_[std::size_t(p)];
+      cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(0.0, reach, vs), options.querySliceNodes);
+      cache.reserveFor(hierarchy);
     }
   }
 }
@@ -100,6 +102,16 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     }
   }
   voxels_->expire(input.tS);
+  if (cached_) {
+    std::uint64_t walks = 0, reuses = 0;
+    for (std::size_t p = 0; p < std::size_t(kMaxToolParts); ++p) {
+      walks += contactCaches_.shell[p].walks() + cutCaches_[p].walks();
+      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses();
+    }
+    totals_.stepsThatWalked += walks > totals_.queryWalks ? 1 : 0;
+    totals_.queryWalks = walks;
+    totals_.queryReuses = reuses;
+  }
   totals_.removedFill += out.removal.removedFill;
   totals_.samplesRemoved += out.removal.samplesRemoved;
   totals_.voxelsEmptied += out.removal.voxelsEmptied;

@@ -167,15 +167,17 @@ TEST(Dph, RandomRemovalsKeepEveryInvariantAndQueriesExact) {
 
 // A query through a cache gives the walk's answer voxel for voxel, in the walk's order, as the
 // tool drifts (small moves answered from the cache), jumps (walks again) and voxels go.
-TEST(Dph, CachedQueriesEqualTheWalkInTheSameOrder) {
+void expectCachedQueriesEqualTheWalk(std::size_t sliceNodes) {
   std::mt19937 rng(8080);
   std::vector<glm::ivec3> voxels = randomVoxels(rng, 30, 0.7);
   const double vs = 0.5;
   auto h = DynamicProximityHierarchy::build(voxels, DphBuildOptions{}, {-1.0, 2.0, 0.5}, vs);
   DphQueryScratch scratch;
   const double radiusMm = 2.1;
-  DphNearCache sphereCache(vs, DphNearCache::capacityFor(0.0, radiusMm + vs, vs));
-  DphNearCache capsuleCache(vs, DphNearCache::capacityFor(4.0, radiusMm + vs, vs));
+  DphNearCache sphereCache(vs, DphNearCache::capacityFor(0.0, radiusMm + vs, vs), sliceNodes);
+  DphNearCache capsuleCache(vs, DphNearCache::capacityFor(4.0, radiusMm + vs, vs), sliceNodes);
+  sphereCache.reserveFor(h);
+  capsuleCache.reserveFor(h);
   std::uniform_real_distribution<double> step(-0.06, 0.06);
   std::uniform_int_distribution<std::size_t> pick(0, voxels.size() - 1);
   glm::dvec3 tip(6.0, 9.0, 7.0);
@@ -196,13 +198,27 @@ TEST(Dph, CachedQueriesEqualTheWalkInTheSameOrder) {
     h.forEachVoxelInCapsule(tip, back, radiusMm, scratch, &capsuleCache, [&](const glm::ivec3& v) { cached.push_back(v); });
     ASSERT_EQ(cached, walked) << "capsule query " << q;
   }
-  // Most queries came from the cache; the jumps (and the drift beyond the skin) walked.
+  // Most queries came from the cache; the jumps walked, and so did the drift beyond the skin
+  // unless slices gathered the next answer in time.
   for (const DphNearCache* c : {&sphereCache, &capsuleCache}) {
     EXPECT_EQ(c->walks() + c->reuses(), 600u);
     EXPECT_GE(c->walks(), 6u);
     EXPECT_GT(c->reuses(), 450u);
     EXPECT_EQ(c->overflows(), 0u);
+    if (sliceNodes == 0) {
+      EXPECT_EQ(c->sliced(), 0u);
+      EXPECT_GT(c->walks(), 6u);
+    } else if (sliceNodes >= 64) {  // fewer nodes a slice: the skin runs out first, and it walks
+      EXPECT_GT(c->sliced(), 0u);
+    }
   }
+}
+
+TEST(Dph, CachedQueriesEqualTheWalkInTheSameOrder) { expectCachedQueriesEqualTheWalk(0); }
+
+// Next answers gathered a few nodes per query while voxels go between the slices.
+TEST(Dph, CachedQueriesWithSlicesEqualTheWalkInTheSameOrder) {
+  for (const std::size_t slice : {7u, 64u, 100000u}) expectCachedQueriesEqualTheWalk(slice);
 }
 
 // A cache too small for an answer walks at the query's own radius (counted), and a cache kept

@@ -43,39 +43,73 @@ class DynamicProximityHierarchy;
 // radius plus a skin, in the order the hierarchy gave them (a neighbour list with a skin, as
 // molecular dynamics keeps them). A later query whose sphere or capsule lies inside the kept,
 // inflated one (each end moved less than the skin) is answered by testing the kept voxels
-// that are still in the hierarchy; otherwise the hierarchy is walked again with the skin
-// added. The answer is the walk's, voxel for voxel and in the same order: pruning keeps the
-// depth-first order of the voxels it visits, and voxels are only ever removed. A tool in
-// contact moves micrometres per millisecond, so one walk serves many steps. One cache per
-// query site (a tool part's shell, its cut); caller-owned, sized up front, never allocating
-// in a query. A walk whose answer would not fit is answered directly and counted.
+// that are still in the hierarchy. The answer is the walk's, voxel for voxel and in the same
+// order: pruning keeps the depth-first order of the voxels it visits, and voxels are only
+// ever removed. A tool in contact moves micrometres per millisecond, so one walk serves many
+// steps.
+//
+// A walk meets hierarchy nodes the kept answers never touch, so it runs from cold memory
+// (several times a warm walk's time). With slices on, once the tool has used a third of the
+// skin the next answer is gathered around where it is then, `sliceNodes` nodes per query,
+// and takes over when complete; a query walks at once only when no kept answer covers it (the
+// first, a jump, a tool faster than the slices).
+//
+// One cache per query site (a tool part's shell, its cut); caller-owned, sized up front
+// (capacity, and reserveFor the hierarchy's traversal), never allocating in a query. A walk
+// whose answer would not fit is answered directly and counted.
 class DphNearCache {
  public:
   DphNearCache() = default;
-  // skinMm >= 0; capacity: voxels kept at most.
-  DphNearCache(double skinMm, std::size_t capacity);
+  // skinMm >= 0; capacity: voxels kept at most; sliceNodes: nodes per query for the next
+  // answer (0: no slices, walk when the kept answer no longer covers).
+  DphNearCache(double skinMm, std::size_t capacity, std::size_t sliceNodes = 0);
   // Room for every voxel of a capsule (a sphere at lengthMm 0) of radiusMm, skin included,
   // in a grid of voxelMm: the capacity a query site needs so that its answers always fit.
   static std::size_t capacityFor(double lengthMm, double radiusMm, double voxelMm);
+  // Sizes the slices' traversal stack for h (slices wait until it is sized).
+  void reserveFor(const DynamicProximityHierarchy& h);
   double skinMm() const { return skinMm_; }
-  std::size_t capacity() const { return nodes_.capacity(); }
-  std::uint64_t walks() const { return walks_; }        // queries answered by a walk
-  std::uint64_t reuses() const { return reuses_; }      // queries answered from the kept voxels
+  std::size_t capacity() const { return kept_.nodes.capacity(); }
+  std::uint64_t walks() const { return walks_; }          // queries that had to walk at once
+  std::uint64_t reuses() const { return reuses_; }        // queries answered from a kept answer
+  std::uint64_t sliced() const { return sliced_; }        // answers gathered in slices
   std::uint64_t overflows() const { return overflows_; }
-  void clear() { reachMm_ = -1.0; }
+  void clear() {
+    kept_.reachMm = -1.0;
+    next_.reachMm = -1.0;
+    slicing_ = false;
+  }
 
  private:
   friend class DynamicProximityHierarchy;
-  bool covers(const DynamicProximityHierarchy& h, const glm::dvec3& a, const glm::dvec3& b, double radiusMm) const;
+  struct Answer {
+    std::vector<std::uint32_t> nodes;  // level-0 nodes, walk order
+    std::vector<glm::ivec3> centres;
+    glm::dvec3 aMm{0.0}, bMm{0.0};
+    double reachMm = -1.0;  // < 0: nothing kept
+    void reserve(std::size_t capacity);
+    bool add(const glm::ivec3& v, std::uint32_t node) {
+      if (nodes.size() == nodes.capacity()) return false;
+      nodes.push_back(node);
+      centres.push_back(v);
+      return true;
+    }
+  };
+  // How far the query's ends lie from the answer's: max(|a - a0|, |b - b0|).
+  static double moved(const Answer& answer, const glm::dvec3& a, const glm::dvec3& b);
+  bool covers(const DynamicProximityHierarchy& h, const Answer& answer, const glm::dvec3& a, const glm::dvec3& b,
+              double radiusMm) const;
 
   const DynamicProximityHierarchy* owner_ = nullptr;
   std::uint64_t generation_ = 0;
-  glm::dvec3 aMm_{0.0}, bMm_{0.0};
-  double reachMm_ = -1.0;  // < 0: nothing kept
   double skinMm_ = 0.0;
-  std::vector<std::uint32_t> nodes_;  // level-0 nodes, walk order
-  std::vector<glm::ivec3> centres_;
-  std::uint64_t walks_ = 0, reuses_ = 0, overflows_ = 0;
+  std::size_t sliceNodes_ = 0;
+  Answer kept_, next_;
+  bool slicing_ = false;      // next_ is being gathered
+  bool nextFits_ = true;
+  std::vector<std::uint64_t> stack_;  // the slices' traversal
+  std::size_t top_ = 0;
+  std::uint64_t walks_ = 0, reuses_ = 0, sliced_ = 0, overflows_ = 0;
 };
 
 class DynamicProximityHierarchy {
@@ -166,6 +200,8 @@ class DynamicProximityHierarchy {
   std::size_t memoryBytes() const;
   // Distinct for every build (copies share it): a cache kept from one never answers another.
   std::uint64_t generation() const { return generation_; }
+  // Entries a depth-first traversal's stack needs at most.
+  std::size_t traversalStackSize() const;
 
  private:
   struct Level {
@@ -187,11 +223,16 @@ class DynamicProximityHierarchy {
   // leaf(centre, node) for the level-0 nodes of subtrees in reach, depth first.
   template <typename Reach, typename Leaf>
   void traverse(DphQueryScratch& scratch, Reach&& reach, Leaf&& leaf) const;
-  // A query through a cache: `covered` says whether the cache answers it; walk(radiusMm, leaf)
-  // walks the hierarchy; test(centre) is the walk's own leaf test at the query's radius.
-  template <typename Walk, typename Test, typename Fn>
-  void answerThroughCache(const glm::dvec3& a, const glm::dvec3& b, double radiusMm, DphNearCache& cache,
-                          Walk&& walk, Test&& test, Fn&& fn) const;
+  // The same walk from a saved stack (top items), for at most `budget` nodes; true when done.
+  void startTraversal(std::uint64_t* stack, std::size_t& top) const;
+  template <typename Reach, typename Leaf>
+  bool traverseFrom(std::uint64_t* stack, std::size_t& top, std::size_t budget, Reach&& reach, Leaf&& leaf) const;
+  // A query through a cache. walkFrom(a, b, radiusMm, stack, top, budget, leaf) walks for the
+  // query of those ends and radius (see traverseFrom); test(centre) is the walk's own leaf
+  // test for this query.
+  template <typename WalkFrom, typename Test, typename Fn>
+  void answerThroughCache(const glm::dvec3& a, const glm::dvec3& b, double radiusMm, DphQueryScratch& scratch,
+                          DphNearCache& cache, WalkFrom&& walkFrom, Test&& test, Fn&& fn) const;
 
   int xi_ = 3;
   glm::dvec3 originMm_{0.0};

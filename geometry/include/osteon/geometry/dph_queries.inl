@@ -82,76 +82,129 @@ inline double DynamicProximityHierarchy::boxDistanceSq(int level, std::uint32_t 
 }
 
 // Depth first from the root, visiting a node only when `reach(level, node)` says its subtree
-// may hold an answer, and handing level-0 voxels to `leaf(centre)`. Grid space here puts
+// may hold an answer, and handing level-0 voxels to `leaf(centre, node)`. Grid space here puts
 // voxel v's centre at v.
 template <typename Reach, typename Leaf>
 void DynamicProximityHierarchy::traverse(DphQueryScratch& scratch, Reach&& reach,
                                          Leaf&& leaf) const {
-  const std::uint32_t rootNode = root();
-  if (rootNode == kNone) return;
   reserveScratch(scratch);
-  std::uint64_t* stack = scratch.stack.data();
   std::size_t top = 0;
-  stack[top++] = dph_detail::packItem(levelCount() - 1, rootNode);
+  startTraversal(scratch.stack.data(), top);
+  traverseFrom(scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(), reach, leaf);
+}
+
+inline void DynamicProximityHierarchy::startTraversal(std::uint64_t* stack, std::size_t& top) const {
+  top = 0;
+  const std::uint32_t rootNode = root();
+  if (rootNode != kNone) stack[top++] = dph_detail::packItem(levelCount() - 1, rootNode);
+}
+
+// Removals between two calls only clear alive flags: a saved stack stays valid, and a voxel
+// handed to `leaf` may since have gone (callers check alive() when they use it).
+template <typename Reach, typename Leaf>
+bool DynamicProximityHierarchy::traverseFrom(std::uint64_t* stack, std::size_t& top, std::size_t budget,
+                                             Reach&& reach, Leaf&& leaf) const {
+  std::size_t spent = 0;
   while (top > 0) {
+    if (spent >= budget) return false;
     const std::uint64_t item = stack[--top];
     const int level = int(item >> 32);
     const auto node = std::uint32_t(item & 0xffffffffu);
     const Level& lv = levels_[std::size_t(level)];
+    ++spent;
     if (level == 0) {
       leaf(lv.centre[node], node);
       continue;
     }
     if (!reach(level, node)) continue;
     const Level& below = levels_[std::size_t(level) - 1];
+    const std::uint32_t begin = lv.childBegin[node], end = lv.childEnd[node];
+    spent += end - begin;
     if (level == 1) {  // voxels straight to `leaf`, not through the stack (most of the work)
-      for (std::uint32_t c = lv.childBegin[node]; c < lv.childEnd[node]; ++c) {
+      for (std::uint32_t c = begin; c < end; ++c) {
         if (below.alive[c]) leaf(below.centre[c], c);
       }
       continue;
     }
-    for (std::uint32_t c = lv.childBegin[node]; c < lv.childEnd[node]; ++c) {
+    for (std::uint32_t c = begin; c < end; ++c) {
       if (below.alive[c]) stack[top++] = dph_detail::packItem(level - 1, c);
     }
   }
+  return true;
 }
 
-template <typename Walk, typename Test, typename Fn>
+template <typename WalkFrom, typename Test, typename Fn>
 void DynamicProximityHierarchy::answerThroughCache(const glm::dvec3& a, const glm::dvec3& b, double radiusMm,
-                                                   DphNearCache& cache, Walk&& walk, Test&& test,
-                                                   Fn&& fn) const {
-  if (cache.covers(*this, a, b, radiusMm)) {
+                                                   DphQueryScratch& scratch, DphNearCache& cache,
+                                                   WalkFrom&& walkFrom, Test&& test, Fn&& fn) const {
+  using Answer = DphNearCache::Answer;
+  if (cache.owner_ != this || cache.generation_ != generation_) {
+    cache.clear();
+    cache.owner_ = this;
+    cache.generation_ = generation_;
+  }
+  const auto walkNow = [&](double radius, auto&& leaf) {
+    reserveScratch(scratch);
+    std::size_t top = 0;
+    startTraversal(scratch.stack.data(), top);
+    walkFrom(a, b, radius, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(), leaf);
+  };
+  // A complete next answer takes over when it covers the query.
+  if (!cache.slicing_ && cache.next_.reachMm >= 0.0) {
+    if (cache.nextFits_ && cache.covers(*this, cache.next_, a, b, radiusMm)) {
+      std::swap(cache.kept_, cache.next_);
+      ++cache.sliced_;
+    }
+    cache.next_.reachMm = -1.0;
+  }
+  Answer& kept = cache.kept_;
+  if (cache.covers(*this, kept, a, b, radiusMm)) {
     ++cache.reuses_;
   } else {
     ++cache.walks_;
-    cache.reachMm_ = -1.0;
-    cache.nodes_.clear();
-    cache.centres_.clear();
+    cache.slicing_ = false;
+    cache.next_.reachMm = -1.0;
+    kept.reachMm = -1.0;
+    kept.nodes.clear();
+    kept.centres.clear();
     bool fits = true;
-    walk(radiusMm + cache.skinMm_, [&](const glm::ivec3& v, std::uint32_t node) {
-      if (cache.nodes_.size() == cache.nodes_.capacity()) {
-        fits = false;
-        return;
-      }
-      cache.nodes_.push_back(node);
-      cache.centres_.push_back(v);
-    });
+    walkNow(radiusMm + cache.skinMm_, [&](const glm::ivec3& v, std::uint32_t node) { fits = kept.add(v, node) && fits; });
     if (!fits) {
       ++cache.overflows_;
-      walk(radiusMm, [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
+      kept.nodes.clear();
+      kept.centres.clear();
+      walkNow(radiusMm, [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
       return;
     }
-    cache.owner_ = this;
-    cache.generation_ = generation_;
-    cache.aMm_ = a;
-    cache.bMm_ = b;
-    cache.reachMm_ = radiusMm + cache.skinMm_;
+    kept.aMm = a;
+    kept.bMm = b;
+    kept.reachMm = radiusMm + cache.skinMm_;
   }
   const std::uint8_t* alive = levels_[0].alive.data();
-  const std::size_t n = cache.nodes_.size();
+  const std::size_t n = kept.nodes.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const glm::ivec3& v = cache.centres_[i];
-    if (alive[cache.nodes_[i]] && test(v)) fn(v);
+    const glm::ivec3& v = kept.centres[i];
+    if (alive[kept.nodes[i]] && test(v)) fn(v);
+  }
+  // The next answer, a slice per query, once a third of the skin is used.
+  if (cache.sliceNodes_ == 0 || cache.stack_.size() < traversalStackSize()) return;
+  Answer& next = cache.next_;
+  if (!cache.slicing_ && next.reachMm < 0.0 && DphNearCache::moved(kept, a, b) > cache.skinMm_ / 3.0) {
+    next.nodes.clear();
+    next.centres.clear();
+    next.aMm = a;
+    next.bMm = b;
+    next.reachMm = radiusMm + cache.skinMm_;
+    cache.nextFits_ = true;
+    cache.slicing_ = true;
+    startTraversal(cache.stack_.data(), cache.top_);
+  }
+  if (cache.slicing_) {
+    cache.slicing_ = !walkFrom(next.aMm, next.bMm, next.reachMm, cache.stack_.data(), cache.top_, cache.sliceNodes_,
+                               [&](const glm::ivec3& v, std::uint32_t node) {
+                                 cache.nextFits_ = next.add(v, node) && cache.nextFits_;
+                               });
+    if (!cache.slicing_ && !cache.nextFits_) ++cache.overflows_;
   }
 }
 
@@ -159,9 +212,10 @@ template <typename Fn>
 void DynamicProximityHierarchy::forEachVoxelInSphere(const glm::dvec3& centreMm, double radiusMm,
                                                      DphQueryScratch& scratch, DphNearCache* cache,
                                                      Fn&& fn) const {
-  const glm::dvec3 g = (centreMm - originMm_) / voxelSizeMm_ - 0.5;
-  // Walks the hierarchy for the voxels within radius of the centre: leaf(centre, node).
-  const auto walk = [&](double radius, auto&& leaf) {
+  // Walks for the voxels within radius of a centre, from a saved stack: leaf(centre, node).
+  const auto walkFrom = [&](const glm::dvec3& cMm, const glm::dvec3&, double radius, std::uint64_t* stack,
+                            std::size_t& top, std::size_t budget, auto&& leaf) {
+    const glm::dvec3 g = (cMm - originMm_) / voxelSizeMm_ - 0.5;
     const double r = radius / voxelSizeMm_;
     const double r2 = r * r;
     dph_detail::AxisWindow w[3];
@@ -176,24 +230,28 @@ void DynamicProximityHierarchy::forEachVoxelInSphere(const glm::dvec3& centreMm,
         if (!w[0].overlaps(lo.x, hi.x) || !w[1].overlaps(lo.y, hi.y) || !w[2].overlaps(lo.z, hi.z)) return false;
         return w[0].boxSq(lo.x, hi.x) + w[1].boxSq(lo.y, hi.y) + w[2].boxSq(lo.z, hi.z) <= r2;
       };
-      traverse(scratch, reach, [&](const glm::ivec3& v, std::uint32_t node) {
+      return traverseFrom(stack, top, budget, reach, [&](const glm::ivec3& v, std::uint32_t node) {
         if (dph_detail::inWindows(w, v, r2)) leaf(v, node);
       });
-      return;
     }
     const auto reach = [&](int level, std::uint32_t node) {
       return boxDistanceSq(level, node, g) <= r2;
     };
-    traverse(scratch, reach, [&](const glm::ivec3& v, std::uint32_t node) {
+    return traverseFrom(stack, top, budget, reach, [&](const glm::ivec3& v, std::uint32_t node) {
       const glm::dvec3 d = glm::dvec3(v) - g;
       if (glm::dot(d, d) <= r2) leaf(v, node);
     });
   };
   if (!cache) {
-    walk(radiusMm, [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
+    reserveScratch(scratch);
+    std::size_t top = 0;
+    startTraversal(scratch.stack.data(), top);
+    walkFrom(centreMm, centreMm, radiusMm, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(),
+             [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
     return;
   }
   // The walk's leaf test at the query's radius, for the kept voxels.
+  const glm::dvec3 g = (centreMm - originMm_) / voxelSizeMm_ - 0.5;
   const double r = radiusMm / voxelSizeMm_;
   const double r2 = r * r;
   dph_detail::AxisWindow w[3];
@@ -203,17 +261,16 @@ void DynamicProximityHierarchy::forEachVoxelInSphere(const glm::dvec3& centreMm,
     const glm::dvec3 d = glm::dvec3(v) - g;
     return glm::dot(d, d) <= r2;
   };
-  answerThroughCache(centreMm, centreMm, radiusMm, *cache, walk, test, fn);
+  answerThroughCache(centreMm, centreMm, radiusMm, scratch, *cache, walkFrom, test, fn);
 }
 
 template <typename Fn>
 void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, const glm::dvec3& bMm,
                                                       double radiusMm, DphQueryScratch& scratch,
                                                       DphNearCache* cache, Fn&& fn) const {
-  const glm::dvec3 a = (aMm - originMm_) / voxelSizeMm_ - 0.5;
-  const glm::dvec3 b = (bMm - originMm_) / voxelSizeMm_ - 0.5;
-  const dph_detail::Segment segment(a, b);
-  const auto walk = [&](double radius, auto&& leaf) {
+  const auto walkFrom = [&](const glm::dvec3& fromMm, const glm::dvec3& toMm, double radius, std::uint64_t* stack,
+                            std::size_t& top, std::size_t budget, auto&& leaf) {
+    const dph_detail::Segment segment((fromMm - originMm_) / voxelSizeMm_ - 0.5, (toMm - originMm_) / voxelSizeMm_ - 0.5);
     const double r = radius / voxelSizeMm_;
     const auto reach = [&](int level, std::uint32_t node) {
       // The box's circumscribed sphere against the segment: a safe lower bound.
@@ -226,17 +283,22 @@ void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, con
       return d <= r;
     };
     const double r2 = r * r;
-    traverse(scratch, reach, [&](const glm::ivec3& v, std::uint32_t node) {
+    return traverseFrom(stack, top, budget, reach, [&](const glm::ivec3& v, std::uint32_t node) {
       if (segment.distanceSq(glm::dvec3(v)) <= r2) leaf(v, node);
     });
   };
   if (!cache) {
-    walk(radiusMm, [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
+    reserveScratch(scratch);
+    std::size_t top = 0;
+    startTraversal(scratch.stack.data(), top);
+    walkFrom(aMm, bMm, radiusMm, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(),
+             [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
     return;
   }
+  const dph_detail::Segment segment((aMm - originMm_) / voxelSizeMm_ - 0.5, (bMm - originMm_) / voxelSizeMm_ - 0.5);
   const double r = radiusMm / voxelSizeMm_;
   const double r2 = r * r;
-  answerThroughCache(aMm, bMm, radiusMm, *cache, walk,
+  answerThroughCache(aMm, bMm, radiusMm, scratch, *cache, walkFrom,
                      [&](const glm::ivec3& v) { return segment.distanceSq(glm::dvec3(v)) <= r2; }, fn);
 }
 

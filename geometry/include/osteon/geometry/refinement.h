@@ -215,6 +215,17 @@ class RefinedVoxels {
     std::array<glm::dvec3, kSubVoxels> toCore;
   };
   void shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms, ShellHits& hits) const;
+  // Per axis, over the voxels within reach of a point p (one more each side): voxel centres
+  // c = origin + (i + 0.5) vs, toCore = p - c and its square, as voxelCentreMm and the shell
+  // test compute them.
+  struct SphereAxes {
+    static constexpr int kMaxSize = 64;
+    int lo[3];
+    unsigned size[3];
+    double centre[3][kMaxSize], toCore[3][kMaxSize], sq[3][kMaxSize];
+    // False when the window would not fit (a reach of about 30 voxels or more, or a far point).
+    bool build(const VoxelGrid& grid, const glm::dvec3& pointMm, double reachMm);
+  };
   // The level -2 fills of a voxel as first refined, summing exactly to firstFill.
   void baseSubFill(const glm::ivec3& voxel, Fill firstFill, std::array<Fill, kSubVoxels>& out) const;
   RemovalResult removeFromCell(std::uint32_t cell, const CutVolume& volume, int decrement);
@@ -257,9 +268,26 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
   terms.inner2 = innerMm < 0.0 ? -1.0 : innerMm * innerMm;
   terms.outer2 = outerMm * outerMm;
   ShellHits hits;
+  // Around a point (a sphere, the drill's tip) an unrefined voxel's centre and toCore come from
+  // per-axis tables over the query's window, the same values the formulas below give: every
+  // voxel of a static run is read this way.
+  SphereAxes axes;
+  const bool tabled = len2 == 0.0 && axes.build(*grid_, aMm + 0.0 * terms.ab, reach);
   const auto visit = [&](const glm::ivec3& v) {
+    const std::uint32_t cell = active_ == 0 ? kNoCell : findCell(v);
+    if (tabled && cell == kNoCell) {
+      const auto ix = unsigned(v.x - axes.lo[0]), iy = unsigned(v.y - axes.lo[1]), iz = unsigned(v.z - axes.lo[2]);
+      if (ix < axes.size[0] && iy < axes.size[1] && iz < axes.size[2]) {
+        const double d2 = axes.sq[0][ix] + axes.sq[1][iy] + axes.sq[2][iz];
+        if (d2 > terms.inner2 && d2 <= terms.outer2) {
+          VoxelSample s{{axes.centre[0][ix], axes.centre[1][iy], axes.centre[2][iz]}, vs, 0, 0, 0};
+          grid_->fillAndDensity(v, s.fill, s.density);
+          fn(s, glm::dvec3(axes.toCore[0][ix], axes.toCore[1][iy], axes.toCore[2][iz]));
+        }
+        return;
+      }
+    }
     const glm::dvec3 c = grid_->voxelCentreMm(v);
-    const std::uint32_t cell = findCell(v);
     if (cell == kNoCell) {
       double t = glm::dot(c - aMm, terms.ab) * terms.invLen2;
       t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);

@@ -59,8 +59,10 @@ class ForceModel {
   // moves less than the caches' skin between calls.
   ContactForce compute(geometry::RefinedVoxels& voxels, const ToolPose& pose,
                        ContactCaches* caches = nullptr) const;
-  // Caches for this model's parts with the given skin, sized so that answers always fit.
-  ContactCaches makeCaches(double skinMm) const;
+  // Caches for this model's parts with the given skin and slices (geometry::DphNearCache),
+  // sized so that answers always fit and ready for `hierarchy`.
+  ContactCaches makeCaches(double skinMm, std::size_t sliceNodes,
+                           const geometry::DynamicProximityHierarchy& hierarchy) const;
   // The samples in part `part`'s shell, exactly those compute() counts, for checks that hold
   // the voxels' contact against something else (the surface). Allocates: not for the loop.
   std::vector<geometry::VoxelSample> shellSamples(geometry::RefinedVoxels& voxels,

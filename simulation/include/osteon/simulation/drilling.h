@@ -25,7 +25,10 @@ struct DrillingOptions {
   // Hierarchy queries answered from the previous walk while the tool moves less than this
   // many base voxels (geometry::DphNearCache); 0: walk at every query. The same forces and
   // removal either way.
-  double querySkinVoxels = 1.0;
+  double querySkinVoxels = 2.0;
+  // Hierarchy nodes per step spent gathering a query's next answer before the tool leaves the
+  // skin (0: walk at once when it does), so that no step pays a whole walk from cold memory.
+  std::size_t querySliceNodes = 256;
 };
 
 // Throws InputError naming the value for levels outside 0..2 or a decrement below 1.
@@ -50,6 +53,9 @@ struct DrillingTotals {
   std::uint64_t voxelsEmptied = 0;
   std::uint64_t nonFiniteForces = 0;
   std::uint64_t brickAllocations = 0;  // bricks a step had to allocate (the spare pool ran out)
+  // Hierarchy queries (contact shells and cuts): walked, or answered from their caches.
+  std::uint64_t queryWalks = 0, queryReuses = 0;
+  std::uint64_t stepsThatWalked = 0;
 };
 
 class DrillingSimulation {
