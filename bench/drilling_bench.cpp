@@ -6,7 +6,9 @@
 //      and the force jitter of each (dynamic 1.2 mm must be no worse than static 0.3 mm).
 //      Beside them, the machine's own noise: a fixed workload's p50, p99 and max.
 //   2. The threaded runtime for S seconds (default 60) on a path that keeps cutting new bone,
-//      so the visual thread is always remeshing: the share of 1 ms periods that overran.
+//      so the visual thread is always remeshing: the share of 1 ms periods that overran, the
+//      CPU time the hypervisor stole meanwhile, and the machine's floor: the same loops with no
+//      work for S seconds.
 #include "osteon/geometry/dph.h"
 #include "osteon/geometry/embree_scene.h"
 #include "osteon/geometry/humerus_model.h"
@@ -14,13 +16,22 @@
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/runtime.h"
 
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <fstream>
 #include <memory>
+#include <string>
+#include <thread>
 #include <vector>
 
 using namespace osteon;
@@ -67,6 +78,67 @@ Percentiles noiseFloor() {
   }
   if (sink < 0.0) std::printf("unreachable\n");  // keeps the work
   return percentilesOf(us);
+}
+
+// CPU time the hypervisor gave to other guests while this one had work ("steal" in
+// /proc/stat), in seconds since boot; -1 where the kernel does not say.
+double stealSeconds() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  unsigned long long user, nice, system, idle, iowait, irq, softirq, steal;
+  if (!(stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal) || cpu != "cpu") return -1.0;
+  return double(steal) / double(sysconf(_SC_CLK_TCK));
+}
+
+// The machine's own overrun floor: the runtime's two 1 kHz loops (SCHED_FIFO, absolute
+// deadlines, the same overrun rule) with no work at all, beside a thread streaming through
+// 64 MiB as a busy visual thread does. Every overrun here is the machine's.
+struct OverrunFloor {
+  std::uint64_t periods[2] = {0, 0}, overruns[2] = {0, 0};
+  double stealS = 0.0;
+};
+
+OverrunFloor overrunFloor(double seconds) {
+  using Clock = std::chrono::steady_clock;
+  OverrunFloor f;
+  std::atomic<bool> stop{false};
+  const auto startAt = Clock::now() + std::chrono::milliseconds(5);
+  const auto loop = [&](int which, int priority, std::chrono::microseconds offset) {
+    sched_param p{};
+    p.sched_priority = priority;
+    pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+    const auto period = std::chrono::milliseconds(1);
+    const auto periods = std::uint64_t(seconds * 1000.0);
+    for (std::uint64_t k = 0; k < periods;) {
+      const auto deadline = startAt + offset + k * period;
+      std::this_thread::sleep_until(deadline);
+      const auto end = Clock::now();
+      ++f.periods[which];
+      if (end > deadline + period) {
+        ++f.overruns[which];
+        k = std::uint64_t((end - startAt - offset) / period) + 1;
+      } else {
+        ++k;
+      }
+    }
+  };
+  const double steal0 = stealSeconds();
+  std::thread busy([&] {
+    std::vector<double> data(8 << 20, 1.0);
+    double sink = 0.0;
+    while (!stop.load(std::memory_order_relaxed)) {
+      for (std::size_t i = 0; i < data.size(); i += 8) sink += data[i];
+    }
+    if (sink < 0.0) std::printf("unreachable\n");
+  });
+  std::thread haptic(loop, 0, 80, std::chrono::microseconds(0));
+  std::thread collision(loop, 1, 79, std::chrono::microseconds(500));
+  haptic.join();
+  collision.join();
+  stop.store(true);
+  busy.join();
+  f.stealS = stealSeconds() - steal0;
+  return f;
 }
 
 }  // namespace
@@ -141,7 +213,9 @@ int main(int argc, char** argv) {
   char startText[32];
   const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
+  const double steal0 = stealSeconds();
   const RuntimeResult r = runThreaded(*scene->sim, scene->grid, device, nullptr, geometry::SurfaceOptions{}, ro);
+  const double stealS = stealSeconds() - steal0;
   const RuntimeStats& st = r.stats;
   std::printf("\nthreaded runtime, %g s at 1.2 mm / 2 levels, helix through the head (started %s)\n", runtimeS,
               startText);
@@ -157,5 +231,15 @@ int main(int argc, char** argv) {
               (unsigned long long)st.visualUpdates, st.remeshMs.p50, st.remeshMs.p99, st.remeshMs.max,
               (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
   std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3, r.run.summary.jitterN);
+  std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
+  const OverrunFloor floor = overrunFloor(runtimeS);
+  std::printf("\nmachine floor, %g s: the same two 1 kHz loops with no work, a thread streaming memory beside them\n",
+              runtimeS);
+  std::printf("haptic: %llu periods, %llu overran (%.4f %%); collision: %llu periods, %llu overran (%.4f %%); "
+              "stolen %.2f s\n",
+              (unsigned long long)floor.periods[0], (unsigned long long)floor.overruns[0],
+              100.0 * double(floor.overruns[0]) / double(std::max<std::uint64_t>(floor.periods[0], 1)),
+              (unsigned long long)floor.periods[1], (unsigned long long)floor.overruns[1],
+              100.0 * double(floor.overruns[1]) / double(std::max<std::uint64_t>(floor.periods[1], 1)), floor.stealS);
   return 0;
 }

@@ -25,7 +25,7 @@ struct DrillingOptions {
   // Hierarchy queries answered from the previous walk while the tool moves less than this
   // many base voxels (geometry::DphNearCache); 0: walk at every query. The same forces and
   // removal either way.
-  double querySkinVoxels = 2.0;
+  double querySkinVoxels = 1.0;
   // Hierarchy nodes per step spent gathering a query's next answer before the tool leaves the
   // skin (0: walk at once when it does), so that no step pays a whole walk from cold memory.
   std::size_t querySliceNodes = 256;
