@@ -131,6 +131,7 @@ int runDrill(const DrillCommandOptions& options) {
                         {"steps", s.steps},
                         {"non_finite_forces", s.nonFiniteForces},
                         {"brick_allocations", s.brickAllocations},
+                        {"cut_overflows", s.cutOverflows},
                         {"mode", options.threaded ? "threaded" : "deterministic"},
                         {"mesh", options.mesh},
                         {"tool", sim::toolKindName(kind)},

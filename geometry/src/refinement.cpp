@@ -457,13 +457,25 @@ bool RefinedVoxels::SphereAxes::build(const VoxelGrid& grid, const glm::dvec3& p
 RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, DphNearCache* cache) {
   RemovalResult total;
   const double vs = grid_->voxelSizeMm();
-  const glm::dvec3 centreMm = volume.centreMm();
-  const double reach = volume.boundingRadiusMm() + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
+  // The voxels whose centre lies within the cut's radius of its segment (a sphere's of its
+  // centre), widened by half a voxel diagonal where voxels may be refined.
+  const double reach = volume.radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
   // Collect first: removal edits the hierarchy the query walks.
   found_.clear();
-  hierarchy_->forEachVoxelInSphere(centreMm, reach, scratch_, cache, [&](const glm::ivec3& v) {
-    if (found_.size() < found_.capacity()) found_.push_back(v);
-  });
+  bool overflowed = false;
+  const auto collect = [&](const glm::ivec3& v) {
+    if (found_.size() < found_.capacity()) {
+      found_.push_back(v);
+    } else {
+      overflowed = true;
+    }
+  };
+  if (volume.aMm == volume.bMm) {
+    hierarchy_->forEachVoxelInSphere(volume.aMm, reach, scratch_, cache, collect);
+  } else {
+    hierarchy_->forEachVoxelInCapsule(volume.aMm, volume.bMm, reach, scratch_, cache, collect);
+  }
+  cutOverflows_ += overflowed ? 1 : 0;
   // A refined voxel whose centre lies beyond the cut by more than half its diagonal has no
   // sample inside: it is not opened (64 failing tests).
   const CutVolume widened{volume.aMm, volume.bMm, volume.radiusMm + 0.5 * std::sqrt(3.0) * vs, false};

@@ -47,22 +47,23 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
     throw InputError("query skin " + std::to_string(options.querySkinVoxels) + " voxels: must be a finite number >= 0");
   }
   cached_ = options.querySkinVoxels > 0.0;
-  if (cached_) {
-    const double vs = grid.voxelSizeMm();
-    const double skinMm = options.querySkinVoxels * vs;
-    contactCaches_ = model_.makeCaches(skinMm, options.querySliceNodes, hierarchy);
-    // removeIn walks a sphere around each cutting part (its bounding sphere, plus half a
-    // voxel diagonal where voxels may be refined).
-    const Tool& tool = model_.tool();
-    const double refinedReach = options.levels > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0;
-    for (int p = 0; p < tool.partCount; ++p) {
-      const ToolPart& part = tool.parts[std::size_t(p)];
-      if (!part.cuts) continue;
-      const double reach = 0.5 * part.lengthMm() + part.innerRadiusMm + refinedReach + skinMm;
-      geometry::DphNearCache& cache = cutCaches_[std::size_t(p)];
-      cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(0.0, reach, vs), options.querySliceNodes);
-      cache.reserveFor(hierarchy);
-    }
+  const double vs = grid.voxelSizeMm();
+  const double skinMm = options.querySkinVoxels * vs;
+  if (cached_) contactCaches_ = model_.makeCaches(skinMm, options.querySliceNodes, hierarchy);
+  // removeIn walks the capsule around each cutting part's core (a sphere for a tip), plus half
+  // a voxel diagonal where voxels may be refined. Room for every voxel it can reach, and a cache.
+  const Tool& tool = model_.tool();
+  const double refinedReach = options.levels > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0;
+  for (int p = 0; p < tool.partCount; ++p) {
+    const ToolPart& part = tool.parts[std::size_t(p)];
+    if (!part.cuts) continue;
+    const double reach = part.innerRadiusMm + refinedReach;
+    voxels_->reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), reach, vs));
+    if (!cached_) continue;
+    geometry::DphNearCache& cache = cutCaches_[std::size_t(p)];
+    cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach + skinMm, vs),
+                                   options.querySliceNodes);
+    cache.reserveFor(hierarchy);
   }
 }
 
@@ -117,6 +118,7 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
   totals_.voxelsEmptied += out.removal.voxelsEmptied;
   totals_.nonFiniteForces += out.contact.nonFinite ? 1 : 0;
   totals_.brickAllocations = grid_->spareMisses() - spareMissesAtStart_;
+  totals_.cutOverflows = voxels_->cutOverflows();
   return out;
 }
 

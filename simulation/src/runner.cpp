@@ -94,6 +94,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
   s.steps = steps;
   s.nonFiniteForces = sim.totals().nonFiniteForces;
   s.brickAllocations = sim.totals().brickAllocations;
+  s.cutOverflows = sim.totals().cutOverflows;
   return result;
 }
 

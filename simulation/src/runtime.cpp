@@ -214,6 +214,7 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   s.steps = stats.collisionSteps;
   s.nonFiniteForces = sim.totals().nonFiniteForces;
   s.brickAllocations = sim.totals().brickAllocations;
+  s.cutOverflows = sim.totals().cutOverflows;
   if (finalSurface) *finalSurface = updater.mesh();
   return result;
 }

@@ -167,6 +167,39 @@ TEST(Removal, DensityWearsDownInExactlyDSteps) {
   }
 }
 
+// A long cut at a fine voxel size reaches far more voxels than the default room for a query:
+// every voxel in the cut goes in one step all the same (none left silently).
+TEST(Removal, AShaverInsideBoneAtFineVoxelsRemovesEveryVoxelInItsCut) {
+  Slab slab(0.2);
+  DrillingOptions options;
+  options.levels = 0;
+  options.decrement = 1000;  // every density gone in one step
+  DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Shaver, ToolOptions{}, options);
+  const ToolPose pose = ToolPose::pointing({0.05, -0.1, -4.0}, {1, 0.2, 0});
+  const StepOutput out = sim.step({0.0, pose, true});
+  EXPECT_EQ(sim.totals().cutOverflows, 0u);
+  const Tool& tool = sim.tool();
+  std::size_t inCut = 0, left = 0;
+  for (int p = 0; p < tool.partCount; ++p) {
+    const ToolPart& part = tool.parts[std::size_t(p)];
+    if (!part.cuts) continue;
+    const geometry::CutVolume cut{pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.innerRadiusMm, part.cutsOnSideOnly};
+    const glm::ivec3 dims = slab.grid.dims();
+    for (int z = 0; z < dims.z; ++z)
+      for (int y = 0; y < dims.y; ++y)
+        for (int x = 0; x < dims.x; ++x) {
+          if (!cut.contains(slab.grid.voxelCentreMm({x, y, z}))) continue;
+          ++inCut;
+          left += slab.grid.fill({x, y, z}) != 0 ? 1 : 0;
+        }
+  }
+  // The cut's query (its bounding sphere, 3.46 mm) holds about 21,000 voxels here, five times
+  // the 4,096 a query held before.
+  EXPECT_GT(inCut, 3000u);
+  EXPECT_EQ(left, 0u);
+  EXPECT_EQ(out.removal.voxelsEmptied, inCut);
+}
+
 // The built-in humerus drilled along a straight line, dynamic and static: every unit of fill
 // that leaves the grid is accounted for, forces stay within N_max, and a second run gives the
 // same forces bit for bit.

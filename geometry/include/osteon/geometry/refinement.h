@@ -176,6 +176,13 @@ class RefinedVoxels {
   std::size_t refinedCount() const { return active_; }
   std::uint64_t poolExhausted() const { return poolExhausted_; }
   std::uint64_t maskOverflows() const { return maskOverflows_; }
+  // Room for a removal's voxels (its bounding sphere's): reserve the most a cut can reach
+  // before the loop starts (allocates). A cut that still finds more is counted here and
+  // leaves the rest for the next step.
+  void reserveCutVoxels(std::size_t voxels) {
+    if (voxels > found_.capacity()) found_.reserve(voxels);
+  }
+  std::uint64_t cutOverflows() const { return cutOverflows_; }
   // Bytes held by refined voxels and removal masks now (0 when nothing is refined or drilled).
   std::size_t bytesInUse() const;
   // Bytes reserved up front (pool and tables).
@@ -249,6 +256,7 @@ class RefinedVoxels {
   std::size_t masksUsed_ = 0;
   std::uint64_t poolExhausted_ = 0;
   std::uint64_t maskOverflows_ = 0;
+  std::uint64_t cutOverflows_ = 0;
   DphQueryScratch scratch_;
   std::vector<glm::ivec3> found_;          // voxels of the current query (reserved)
 };

@@ -53,6 +53,7 @@ struct DrillingTotals {
   std::uint64_t voxelsEmptied = 0;
   std::uint64_t nonFiniteForces = 0;
   std::uint64_t brickAllocations = 0;  // bricks a step had to allocate (the spare pool ran out)
+  std::uint64_t cutOverflows = 0;      // cuts that found more voxels than reserved (the rest left)
   // Hierarchy queries (contact shells and cuts): walked, or answered from their caches.
   std::uint64_t queryWalks = 0, queryReuses = 0;
   std::uint64_t stepsThatWalked = 0;

@@ -41,6 +41,7 @@ struct RunSummary {
   std::uint64_t overruns = 0;     // steps over their period (threaded runtime; 0 here)
   std::uint64_t steps = 0;
   std::uint64_t nonFiniteForces = 0;
+  std::uint64_t cutOverflows = 0;      // cuts that found more voxels than reserved room (0: none)
   std::uint64_t brickAllocations = 0;  // heap allocations in the drilling steps (0: the pool sufficed)
 };
 
