@@ -266,7 +266,9 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
                                          double outerMm, DphNearCache* cache, Open&& openVoxel, Fn&& fn) {
   const double vs = grid_->voxelSizeMm();
   // A refined voxel may hold samples in reach although its centre is not.
-  const double halfDiagonal = 0.5 * std::sqrt(3.0) * vs;
+  // Its samples' centres lie within a cube one sample narrower than the voxel: half that
+  // cube's diagonal from the voxel's centre.
+  const double halfDiagonal = 0.5 * std::sqrt(3.0) * (vs - vs / double(1 << depth_));
   const double reach = outerMm + (depth_ > 0 ? halfDiagonal : 0.0);
   ShellTerms terms;
   terms.a = aMm;
