@@ -218,7 +218,8 @@ void RefinedVoxels::releaseCell(std::uint32_t cell) {
   freeCells_[freeTop_++] = cell;
 }
 
-int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS) {
+int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS,
+                                DphNearCache* cache) {
   if (depth_ == 0) return 0;
   lastRefineS_ = nowS;
   const double vs = grid_->voxelSizeMm();
@@ -226,7 +227,7 @@ int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadi
   int created = 0;
   // Voxels whose cube comes within reach of the tool centre: the centre test widened by half
   // a voxel diagonal, then the exact point-to-cube distance.
-  hierarchy_->forEachVoxelInSphere(toolCentreMm, reachMm + 0.5 * std::sqrt(3.0) * vs, scratch_,
+  hierarchy_->forEachVoxelInSphere(toolCentreMm, refineReachMm(outerRadiusMm), scratch_, cache,
                                    [&](const glm::ivec3& v) {
     const glm::dvec3 lo = grid_->worldFromGrid(glm::dvec3(v));
     const glm::dvec3 d = glm::max(glm::max(lo - toolCentreMm, toolCentreMm - (lo + vs)), glm::dvec3(0.0));

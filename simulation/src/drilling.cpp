@@ -60,6 +60,13 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
     const double reach = part.innerRadiusMm + refinedReach;
     voxels_->reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), reach, vs));
     if (!cached_) continue;
+    if (options.levels > 0) {
+      geometry::DphNearCache& near = refineCaches_[std::size_t(p)];
+      const double refineReach = voxels_->refineReachMm(0.5 * part.lengthMm() + part.outerRadiusMm);
+      near = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(0.0, refineReach + skinMm, vs),
+                                    options.querySliceNodes);
+      near.reserveFor(hierarchy);
+    }
     geometry::DphNearCache& cache = cutCaches_[std::size_t(p)];
     cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach + skinMm, vs),
                                    options.querySliceNodes);
@@ -85,8 +92,8 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
     const glm::dvec3 a = input.pose.toWorld(part.aMm), b = input.pose.toWorld(part.bMm);
-    out.refined += voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm,
-                                         input.tS);
+    out.refined += voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm, input.tS,
+                                         cached_ ? &refineCaches_[std::size_t(p)] : nullptr);
   }
   out.contact = model_.compute(*voxels_, input.pose, cached_ ? &contactCaches_ : nullptr);
   if (input.drillOn) {
@@ -106,8 +113,8 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
   if (cached_) {
     std::uint64_t walks = 0, reuses = 0;
     for (std::size_t p = 0; p < std::size_t(kMaxToolParts); ++p) {
-      walks += contactCaches_.shell[p].walks() + cutCaches_[p].walks();
-      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses();
+      walks += contactCaches_.shell[p].walks() + cutCaches_[p].walks() + refineCaches_[p].walks();
+      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses() + refineCaches_[p].reuses();
     }
     totals_.stepsThatWalked += walks > totals_.queryWalks ? 1 : 0;
     totals_.queryWalks = walks;

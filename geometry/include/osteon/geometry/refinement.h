@@ -125,7 +125,12 @@ class RefinedVoxels {
 
   // Refines (or keeps alive) every voxel within the margin of the tool's outer sphere.
   // Returns the number of voxels newly refined.
-  int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS);
+  // `cache` (may be null): the hierarchy query's cache for this call site (dph.h).
+  int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS, DphNearCache* cache = nullptr);
+  // The radius refineAround's query reaches for a tool of outerRadiusMm (for a cache's size).
+  double refineReachMm(double outerRadiusMm) const {
+    return outerRadiusMm + marginMm_ + 0.5 * std::sqrt(3.0) * grid_->voxelSizeMm();
+  }
   // Expires refined voxels not touched since nowS - timeoutS; returns how many.
   int expire(double nowS);
   int expireAll();

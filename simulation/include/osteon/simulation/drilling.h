@@ -87,6 +87,7 @@ class DrillingSimulation {
   ForceModel model_;
   ContactCaches contactCaches_;
   std::array<geometry::DphNearCache, kMaxToolParts> cutCaches_;
+  std::array<geometry::DphNearCache, kMaxToolParts> refineCaches_;
   bool cached_ = false;
   DrillingTotals totals_;
   std::uint64_t spareMissesAtStart_ = 0;
