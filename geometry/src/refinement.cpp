@@ -187,8 +187,10 @@ void RefinedVoxels::createCell(const glm::ivec3& voxel, double nowS) {
           c.fill[i] = Fill(c.fill[i] + fine[std::size_t(x + kSubPerEdge * (y + kSubPerEdge * z))]);
         }
   }
+  c.occupied = 0;
   for (int i = 0; i < n * n * n; ++i) {
     c.density[std::size_t(i)] = c.fill[std::size_t(i)] > 0 ? parentDensity : Density(0);
+    if (c.fill[std::size_t(i)] > 0) c.occupied |= std::uint64_t(1) << i;
   }
   insertCell(key, cell);
   activeSlot_[cell] = std::uint32_t(active_);
@@ -265,6 +267,8 @@ int RefinedVoxels::expireAll() {
 
 void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms,
                                    ShellHits& hits) const {
+  hits.count = 0;
+  if (cell.occupied == 0) return;  // drilled through: no sample left
   // Per-axis terms of the samples' lattice: centre coordinates and their parts of
   // (centre - a) . ab, summed in the order glm::dot sums them, so every distance here equals
   // the one glm computes for the sample's centre to the bit (the same samples, whatever the
@@ -281,7 +285,6 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
     py[std::size_t(k)] = (c.y - terms.a.y) * terms.ab.y;
     pz[std::size_t(k)] = (c.z - terms.a.z) * terms.ab.z;
   }
-  hits.count = 0;
   const auto keep = [&](int i, double tx, double ty, double tz) {
     hits.index[std::size_t(hits.count)] = std::uint8_t(i);
     hits.toCore[std::size_t(hits.count)] = {tx, ty, tz};
@@ -321,11 +324,13 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
       for (int y = 0; y < n; ++y) {
         const __m128d pyv = _mm_set1_pd(py[std::size_t(y)]), pzv = _mm_set1_pd(pz[std::size_t(z)]);
         if (rowOutside(y, z)) continue;
-        const __m128d cyv = _mm_set1_pd(cy[std::size_t(y)]), czv = _mm_set1_pd(cz[std::size_t(z)]);
         const int row = n * (y + n * z);
+        const unsigned rowBits = unsigned(cell.occupied >> row) & ((1u << n) - 1u);
+        if (rowBits == 0) continue;
+        const __m128d cyv = _mm_set1_pd(cy[std::size_t(y)]), czv = _mm_set1_pd(cz[std::size_t(z)]);
         for (int x = 0; x < n; x += 2) {
           const int i = row + x;
-          const bool f0 = cell.fill[std::size_t(i)] != 0, f1 = cell.fill[std::size_t(i) + 1] != 0;
+          const bool f0 = ((rowBits >> x) & 1u) != 0, f1 = ((rowBits >> (x + 1)) & 1u) != 0;
           if (!f0 && !f1) continue;
           const __m128d dot = _mm_add_pd(_mm_add_pd(_mm_loadu_pd(&px[std::size_t(x)]), pyv), pzv);
           const __m128d t = _mm_min_pd(_mm_max_pd(_mm_mul_pd(dot, inv), zero), one);
@@ -389,6 +394,7 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
   for (int z = 0; z < n; ++z)
     for (int y = 0; y < n; ++y) {
       if (sphere && (minX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)] > r2) continue;
+      if (((c.occupied >> (n * (y + n * z))) & ((std::uint64_t(1) << n) - 1)) == 0) continue;
       for (int x = 0; x < n; ++x) {
         const std::size_t i = std::size_t(x + n * (y + n * z));
         if (c.fill[i] == 0) continue;
@@ -404,6 +410,7 @@ RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume&
         result.removedFill += c.fill[i];
         ++result.samplesRemoved;
         c.fill[i] = 0;
+        c.occupied &= ~(std::uint64_t(1) << i);
         // The level -2 sub-voxels this sample covers.
         const int merge = kSubPerEdge / n;
         for (int fz = z * merge; fz < (z + 1) * merge; ++fz)

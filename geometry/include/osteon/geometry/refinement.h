@@ -200,6 +200,7 @@ class RefinedVoxels {
     double lastNearS;
     std::array<Fill, kSubVoxels> fill;        // level -depth sub-voxels, x fastest
     std::array<Density, kSubVoxels> density;
+    std::uint64_t occupied;                   // bit i: fill[i] > 0 (rows of bone at a glance)
   };
   struct Mask {
     std::uint64_t key;      // grid linear index + 1 (0: empty slot)
