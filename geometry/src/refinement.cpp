@@ -4,6 +4,7 @@
 #include "sub_fill.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <sstream>
 
@@ -188,6 +189,7 @@ void RefinedVoxels::createCell(const glm::ivec3& voxel, double nowS) {
         }
   }
   c.occupied = 0;
+  c.slackSite = nullptr;
   for (int i = 0; i < n * n * n; ++i) {
     c.density[std::size_t(i)] = c.fill[std::size_t(i)] > 0 ? parentDensity : Density(0);
     if (c.fill[std::size_t(i)] > 0) c.occupied |= std::uint64_t(1) << i;
@@ -265,10 +267,20 @@ int RefinedVoxels::expireAll() {
   return n;
 }
 
-void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms,
-                                   ShellHits& hits) const {
+double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms,
+                                   ShellHits& hits, bool wantSlack) const {
   hits.count = 0;
-  if (cell.occupied == 0) return;  // drilled through: no sample left
+  // Smallest squared distance among samples beyond the outer layer, largest among those
+  // within the inner one (for the slack; samples without bone do not count).
+  double minAbove2 = std::numeric_limits<double>::infinity(), maxBelow2 = -std::numeric_limits<double>::infinity();
+  const auto slack = [&] {
+    if (!wantSlack || hits.count > 0) return 0.0;
+    const double above = minAbove2 < std::numeric_limits<double>::infinity() ? std::sqrt(minAbove2) - terms.outerMm
+                                                                            : std::numeric_limits<double>::infinity();
+    const double below = maxBelow2 >= 0.0 ? terms.innerMm - std::sqrt(maxBelow2) : std::numeric_limits<double>::infinity();
+    return std::min(above, below);
+  };
+  if (cell.occupied == 0) return slack();  // drilled through: no sample left
   // Per-axis terms of the samples' lattice: centre coordinates and their parts of
   // (centre - a) . ab, summed in the order glm::dot sums them, so every distance here equals
   // the one glm computes for the sample's centre to the bit (the same samples, whatever the
@@ -320,6 +332,9 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
     const __m128d bx = _mm_set1_pd(terms.ab.x), by = _mm_set1_pd(terms.ab.y), bz = _mm_set1_pd(terms.ab.z);
     const __m128d inv = _mm_set1_pd(terms.invLen2), zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
     const __m128d inner2 = _mm_set1_pd(terms.inner2), outer2 = _mm_set1_pd(terms.outer2);
+    const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
+    const __m128d negInf = _mm_set1_pd(-std::numeric_limits<double>::infinity());
+    __m128d minAboveV = inf, maxBelowV = negInf;
     for (int z = 0; z < n; ++z)
       for (int y = 0; y < n; ++y) {
         const __m128d pyv = _mm_set1_pd(py[std::size_t(y)]), pzv = _mm_set1_pd(pz[std::size_t(z)]);
@@ -340,6 +355,13 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
           const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(tx, tx), _mm_mul_pd(ty, ty)), _mm_mul_pd(tz, tz));
           const int in = _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(d2, inner2), _mm_cmple_pd(d2, outer2))) &
                          (int(f0) | (int(f1) << 1));
+          if (wantSlack) {
+            const __m128d bone = _mm_castsi128_pd(_mm_set_epi64x(f1 ? -1 : 0, f0 ? -1 : 0));
+            const __m128d above = _mm_and_pd(_mm_cmpgt_pd(d2, outer2), bone);
+            const __m128d below = _mm_and_pd(_mm_cmple_pd(d2, inner2), bone);
+            minAboveV = _mm_min_pd(minAboveV, _mm_or_pd(_mm_and_pd(above, d2), _mm_andnot_pd(above, inf)));
+            maxBelowV = _mm_max_pd(maxBelowV, _mm_or_pd(_mm_and_pd(below, d2), _mm_andnot_pd(below, negInf)));
+          }
           if (in == 0) continue;
           alignas(16) double vx[2], vy[2], vz[2];
           _mm_store_pd(vx, tx);
@@ -349,7 +371,14 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
           if (in & 2) keep(i + 1, vx[1], vy[1], vz[1]);
         }
       }
-    return;
+    if (wantSlack) {
+      alignas(16) double lo[2], hi[2];
+      _mm_store_pd(lo, minAboveV);
+      _mm_store_pd(hi, maxBelowV);
+      minAbove2 = std::min(lo[0], lo[1]);
+      maxBelow2 = std::max(hi[0], hi[1]);
+    }
+    return slack();
   }
 #endif
   for (int z = 0; z < n; ++z)
@@ -364,7 +393,10 @@ void RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
         const double tz = (terms.a.z + t * terms.ab.z) - cz[std::size_t(z)];
         const double d2 = (tx * tx + ty * ty) + tz * tz;
         if (d2 > terms.inner2 && d2 <= terms.outer2) keep(i, tx, ty, tz);
+        if (d2 > terms.outer2) minAbove2 = std::min(minAbove2, d2);
+        if (d2 <= terms.inner2) maxBelow2 = std::max(maxBelow2, d2);
       }
+  return slack();
 }
 
 RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume& volume,

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <random>
 
 namespace osteon::geometry {
@@ -301,6 +303,46 @@ TEST_F(RefinementTest, SampleQueryEqualsABruteForceScan) {
     ASSERT_EQ(count, countExpected) << "query " << q;
     ASSERT_EQ(fillSeen, fillExpected) << "query " << q;
   }
+}
+
+// A shell around a drifting, turning segment (a shaft levered in its hole) through a query
+// cache: the voxels skipped while their slack lasts hide no sample, so every query gives the
+// samples of the same query without the cache, in the same order, while bone is cut between.
+TEST_F(RefinementTest, ShellQueriesThroughACacheSkipNoSample) {
+  RefinedVoxels refined = make(2, &source_);
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(-1.0, 0.2, 0.1));
+  refined.refineAround(surfacePoint_ + 2.0 * axis, 6.0, 0.0);
+  ASSERT_GT(refined.refinedCount(), 100u);
+  DphNearCache cache(1.2, DphNearCache::capacityFor(5.0, 1.2 + 1.04 + 1.2, 1.2), 64);
+  cache.reserveFor(hierarchy_);
+  std::mt19937 rng(4242);
+  std::uniform_real_distribution<double> wobble(-0.004, 0.004);
+  glm::dvec3 a = surfacePoint_ + 0.5 * axis, b = a + 5.0 * axis;
+  std::size_t inShell = 0, queries = 0;
+  const auto open = [](const glm::dvec3&, double) { return true; };
+  for (int step = 0; step < 1500; ++step) {
+    // The far end sweeps a circle of 1.5 mm, the near end drifts: samples enter and leave.
+    const double phase = 0.004 * step;
+    a += glm::dvec3(wobble(rng), wobble(rng), wobble(rng));
+    b = a + 5.0 * axis + 1.5 * glm::dvec3(0.0, std::cos(phase) - 1.0, std::sin(phase));
+    std::vector<std::pair<int, std::uint64_t>> plain, cached;
+    const auto record = [](std::vector<std::pair<int, std::uint64_t>>& out) {
+      return [&out](const VoxelSample& s, const glm::dvec3& toCore) {
+        std::uint64_t bits = 0;
+        const double q = toCore.x + 3.0 * toCore.y + 7.0 * toCore.z;
+        std::memcpy(&bits, &q, sizeof bits);
+        out.push_back({int(s.fill), bits});
+      };
+    };
+    refined.forEachSampleInShell(a, b, 0.9, 1.5, nullptr, open, record(plain));
+    refined.forEachSampleInShell(a, b, 0.9, 1.5, &cache, open, record(cached));
+    ASSERT_EQ(cached, plain) << "step " << step;
+    inShell += plain.size();
+    ++queries;
+    if (step % 50 == 49) refined.removeIn(CutVolume{a, a + 0.8 * axis, 1.0, false}, 1000);
+  }
+  EXPECT_GT(inShell, queries * 5);  // the shell met bone throughout
+  EXPECT_GT(cache.reuses(), 1000u);
 }
 
 TEST_F(RefinementTest, AFullPoolLeavesVoxelsUnrefinedAndSaysSo) {

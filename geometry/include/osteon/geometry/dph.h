@@ -74,6 +74,10 @@ class DphNearCache {
   std::uint64_t reuses() const { return reuses_; }        // queries answered from a kept answer
   std::uint64_t sliced() const { return sliced_; }        // answers gathered in slices
   std::uint64_t overflows() const { return overflows_; }
+  // How far the query's ends have moved in all, summed over its queries (max(|da|, |db|) per
+  // query): a bound on how far any point's distance to the query's segment has changed
+  // between two of them.
+  double travelMm() const { return travelMm_; }
   void clear() {
     kept_.reachMm = -1.0;
     next_.reachMm = -1.0;
@@ -110,6 +114,9 @@ class DphNearCache {
   std::vector<std::uint64_t> stack_;  // the slices' traversal
   std::size_t top_ = 0;
   std::uint64_t walks_ = 0, reuses_ = 0, sliced_ = 0, overflows_ = 0;
+  double travelMm_ = 0.0;
+  glm::dvec3 lastAMm_{0.0}, lastBMm_{0.0};
+  bool travelled_ = false;
 };
 
 class DynamicProximityHierarchy {

@@ -138,6 +138,13 @@ void DynamicProximityHierarchy::answerThroughCache(const glm::dvec3& a, const gl
                                                    DphQueryScratch& scratch, DphNearCache& cache,
                                                    WalkFrom&& walkFrom, Test&& test, Fn&& fn) const {
   using Answer = DphNearCache::Answer;
+  // The odometer first: a query's travel counts before anything is answered.
+  if (cache.travelled_) {
+    cache.travelMm_ += std::max(glm::length(a - cache.lastAMm_), glm::length(b - cache.lastBMm_));
+  }
+  cache.lastAMm_ = a;
+  cache.lastBMm_ = b;
+  cache.travelled_ = true;
   if (cache.owner_ != this || cache.generation_ != generation_) {
     cache.clear();
     cache.owner_ = this;

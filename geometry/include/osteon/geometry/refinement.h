@@ -201,6 +201,12 @@ class RefinedVoxels {
     std::array<Fill, kSubVoxels> fill;        // level -depth sub-voxels, x fastest
     std::array<Density, kSubVoxels> density;
     std::uint64_t occupied;                   // bit i: fill[i] > 0 (rows of bone at a glance)
+    // Around a segment: how far every sample with bone lay from the shell of the query site
+    // `slackSite` when it last tested them all, and the site's travel then. While the site
+    // has travelled less than that since, no sample can have entered the shell (a point's
+    // distance to a segment moves no more than the segment's ends do; bone only leaves).
+    const DphNearCache* slackSite;
+    double slackMm, slackTravelMm;
   };
   struct Mask {
     std::uint64_t key;      // grid linear index + 1 (0: empty slot)
@@ -221,13 +227,17 @@ class RefinedVoxels {
   struct ShellTerms {
     glm::dvec3 a, ab;
     double invLen2, inner2, outer2;  // inner2 < 0: no inner bound
+    double innerMm, outerMm;         // innerMm < 0: no inner bound
   };
   struct ShellHits {
     int count;
     std::array<std::uint8_t, kSubVoxels> index;
     std::array<glm::dvec3, kSubVoxels> toCore;
   };
-  void shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms, ShellHits& hits) const;
+  // With wantSlack, returns the least distance from a sample with bone to the shell (0 when
+  // one lies in it; ShellTerms innerMm/outerMm); else 0.
+  double shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms, ShellHits& hits,
+                        bool wantSlack = false) const;
   // Per axis, over the voxels within reach of a point p (one more each side): voxel centres
   // c = origin + (i + 0.5) vs, toCore = p - c and its square, as voxelCentreMm and the shell
   // test compute them.
@@ -283,6 +293,8 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
   terms.invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
   terms.inner2 = innerMm < 0.0 ? -1.0 : innerMm * innerMm;
   terms.outer2 = outerMm * outerMm;
+  terms.innerMm = innerMm;
+  terms.outerMm = outerMm;
   ShellHits hits;
   // Around a point (a sphere, the drill's tip) an unrefined voxel's centre and toCore come from
   // per-axis tables over the query's window, the same values the formulas below give: every
@@ -319,8 +331,17 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
     if (!openVoxel(c, halfDiagonal)) return;
     Cell& cl = cells_[cell];
     cl.lastNearS = std::max(cl.lastNearS, lastRefineS_);
+    // Around a segment through a cache: skip the voxel while the site has not travelled its
+    // slack (a margin far above the rounding of distances and travel).
+    const bool slackable = cache && len2 > 0.0;
+    if (slackable && cl.slackSite == cache && cl.slackMm - (cache->travelMm() - cl.slackTravelMm) > 1e-9) return;
     const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
-    shellSamplesOf(cl, corner, terms, hits);
+    const double slack = shellSamplesOf(cl, corner, terms, hits, slackable);
+    if (slackable) {
+      cl.slackSite = cache;
+      cl.slackMm = slack;
+      cl.slackTravelMm = cache->travelMm();
+    }
     const int n = 1 << depth_;
     const double sub = vs / n;
     for (int h = 0; h < hits.count; ++h) {
