@@ -285,8 +285,91 @@ bool DynamicProximityHierarchy::removeVoxel(const glm::ivec3& voxel) {
   return true;
 }
 
+namespace {
+std::uint64_t newCacheId() {
+  static std::atomic<std::uint64_t> ids{0};
+  return ++ids;
+}
+}  // namespace
+
+DphNearCache::DphNearCache() : id_(newCacheId()) {}
+
+DphNearCache::DphNearCache(DphNearCache&& other) noexcept
+    : owner_(other.owner_),
+      generation_(other.generation_),
+      skinMm_(other.skinMm_),
+      sliceNodes_(other.sliceNodes_),
+      kept_(std::move(other.kept_)),
+      next_(std::move(other.next_)),
+      slicing_(other.slicing_),
+      nextFits_(other.nextFits_),
+      stack_(std::move(other.stack_)),
+      top_(other.top_),
+      walks_(other.walks_),
+      reuses_(other.reuses_),
+      sliced_(other.sliced_),
+      overflows_(other.overflows_),
+      id_(other.id_),
+      travelNm_(other.travelNm_),
+      lastAMm_(other.lastAMm_),
+      lastBMm_(other.lastBMm_),
+      travelled_(other.travelled_),
+      nextKind_(other.nextKind_) {
+  other = DphNearCache();
+}
+
+DphNearCache& DphNearCache::operator=(DphNearCache&& other) noexcept {
+  if (this == &other) return *this;
+  owner_ = other.owner_;
+  generation_ = other.generation_;
+  skinMm_ = other.skinMm_;
+  sliceNodes_ = other.sliceNodes_;
+  kept_ = std::move(other.kept_);
+  next_ = std::move(other.next_);
+  slicing_ = other.slicing_;
+  nextFits_ = other.nextFits_;
+  stack_ = std::move(other.stack_);
+  top_ = other.top_;
+  walks_ = other.walks_;
+  reuses_ = other.reuses_;
+  sliced_ = other.sliced_;
+  overflows_ = other.overflows_;
+  id_ = other.id_;
+  travelNm_ = other.travelNm_;
+  lastAMm_ = other.lastAMm_;
+  lastBMm_ = other.lastBMm_;
+  travelled_ = other.travelled_;
+  nextKind_ = other.nextKind_;
+  // The moved-from cache starts over under a new id: stamps made with the old id now belong
+  // to this cache, whose odometer they were read from.
+  other.owner_ = nullptr;
+  other.kept_ = Answer();
+  other.next_ = Answer();
+  other.slicing_ = false;
+  other.stack_.clear();
+  other.top_ = 0;
+  other.id_ = newCacheId();
+  other.travelNm_ = 0;
+  other.travelled_ = false;
+  return *this;
+}
+
+void DphNearCache::recordTravel(const glm::dvec3& a, const glm::dvec3& b) {
+  if (travelled_) {
+    const double moved = std::max(glm::length(a - lastAMm_), glm::length(b - lastBMm_));
+    if (!(moved < 1e6)) {
+      travelNm_ += std::uint64_t(1) << 40;  // a jump (or a non-finite pose): beyond any slack
+    } else if (moved > 0.0) {
+      travelNm_ += std::uint64_t(std::ceil(moved * 1e6)) + 1;  // rounded up, and a nanometre for the rounding
+    }
+  }
+  lastAMm_ = a;
+  lastBMm_ = b;
+  travelled_ = true;
+}
+
 DphNearCache::DphNearCache(double skinMm, std::size_t capacity, std::size_t sliceNodes)
-    : skinMm_(skinMm), sliceNodes_(sliceNodes) {
+    : skinMm_(skinMm), sliceNodes_(sliceNodes), id_(newCacheId()) {
   if (!(skinMm >= 0.0) || !std::isfinite(skinMm)) {
     throw InputError("query cache skin " + std::to_string(skinMm) + " mm: must be a finite length >= 0");
   }

@@ -189,7 +189,7 @@ void RefinedVoxels::createCell(const glm::ivec3& voxel, double nowS) {
         }
   }
   c.occupied = 0;
-  c.slackSite = nullptr;
+  c.slackSite = 0;
   for (int i = 0; i < n * n * n; ++i) {
     c.density[std::size_t(i)] = c.fill[std::size_t(i)] > 0 ? parentDensity : Density(0);
     if (c.fill[std::size_t(i)] > 0) c.occupied |= std::uint64_t(1) << i;
@@ -498,8 +498,10 @@ RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, Dp
   RemovalResult total;
   const double vs = grid_->voxelSizeMm();
   // The voxels whose centre lies within the cut's radius of its segment (a sphere's of its
-  // centre), widened by half a voxel diagonal where voxels may be refined.
-  const double reach = volume.radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0);
+  // centre), widened by half a voxel diagonal where voxels may be refined, and by a hair:
+  // the query measures in grid units and contains() in millimetres, and a centre exactly on
+  // the cut's surface must not be lost to the two roundings disagreeing.
+  const double reach = volume.radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0) + 1e-6 * vs;
   // Collect first: removal edits the hierarchy the query walks.
   found_.clear();
   bool overflowed = false;

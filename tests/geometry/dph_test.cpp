@@ -221,6 +221,52 @@ TEST(Dph, CachedQueriesWithSlicesEqualTheWalkInTheSameOrder) {
   for (const std::size_t slice : {7u, 64u, 100000u}) expectCachedQueriesEqualTheWalk(slice);
 }
 
+// One cache asked in turn for spheres and capsules: a next answer gathered in slices for one
+// kind is never continued or used for the other, so every answer is still the walk's.
+TEST(Dph, ACacheAskedForSpheresAndCapsulesInTurnStillGivesTheWalksAnswers) {
+  std::mt19937 rng(99);
+  const std::vector<glm::ivec3> voxels = randomVoxels(rng, 28, 0.7);
+  auto h = DynamicProximityHierarchy::build(voxels, DphBuildOptions{}, glm::dvec3(0.0), 0.5);
+  DphQueryScratch scratch;
+  DphNearCache cache(0.5, DphNearCache::capacityFor(6.0, 2.0 + 0.5, 0.5), 200);
+  cache.reserveFor(h);
+  std::uniform_real_distribution<double> step(-0.03, 0.03);
+  glm::dvec3 tip(7.0, 7.0, 7.0);
+  const glm::dvec3 axis(0.0, 0.6, 0.8);
+  for (int q = 0; q < 800; ++q) {
+    tip += glm::dvec3(step(rng), step(rng), step(rng));
+    std::vector<glm::ivec3> walked, cached;
+    if ((q / 25) % 2 == 0) {
+      h.forEachVoxelInSphere(tip, 2.0, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
+      h.forEachVoxelInSphere(tip, 2.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+    } else {
+      h.forEachVoxelInCapsule(tip, tip + 6.0 * axis, 2.0, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
+      h.forEachVoxelInCapsule(tip, tip + 6.0 * axis, 2.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+    }
+    ASSERT_EQ(cached, walked) << "query " << q;
+  }
+  EXPECT_GT(cache.sliced(), 0u);  // next answers gathered in slices did take over
+
+  // The case that needs the rule: a short capsule starts a slice, point queries it covers
+  // would finish it as a sphere around one end, and the capsule then asks again.
+  DphNearCache mixed(1.0, DphNearCache::capacityFor(1.5, 1.0 + 1.0, 0.5), 8);
+  mixed.reserveFor(h);
+  const glm::dvec3 a0(7.0, 7.0, 7.0), u(0.0, 0.9, 1.2), v(1.0, 0.0, 0.0);  // a capsule 1.5 mm long
+  std::vector<glm::ivec3> walked, cached;
+  const auto capsule = [&](const glm::dvec3& a, DphNearCache* c) {
+    std::vector<glm::ivec3> out;
+    h.forEachVoxelInCapsule(a, a + u, 1.0, scratch, c, [&](const glm::ivec3& w) { out.push_back(w); });
+    return out;
+  };
+  capsule(a0, &mixed);                    // walks
+  capsule(a0 + 0.4 * v, &mixed);          // from the cache; a slice starts for the capsule
+  for (int q = 0; q < 300 && mixed.sliced() == 0; ++q) {  // covered point queries until a slice takes over
+    h.forEachVoxelInSphere(a0 + 0.4 * v, 0.3, scratch, &mixed, [](const glm::ivec3&) {});
+  }
+  ASSERT_EQ(mixed.sliced(), 1u);
+  EXPECT_EQ(capsule(a0 + 0.4 * v, &mixed), capsule(a0 + 0.4 * v, nullptr));
+}
+
 // A cache too small for an answer walks at the query's own radius (counted), and a cache kept
 // from one hierarchy never answers for another, however alike.
 TEST(Dph, CacheOverflowsAndOtherHierarchiesStillGetTheWalksAnswer) {

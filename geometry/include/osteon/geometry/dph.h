@@ -59,10 +59,17 @@ class DynamicProximityHierarchy;
 // whose answer would not fit is answered directly and counted.
 class DphNearCache {
  public:
-  DphNearCache() = default;
+  DphNearCache();
   // skinMm >= 0; capacity: voxels kept at most; sliceNodes: nodes per query for the next
   // answer (0: no slices, walk when the kept answer no longer covers).
   DphNearCache(double skinMm, std::size_t capacity, std::size_t sliceNodes = 0);
+  // Move-only: a cache's id stands for its odometer (see travelNm), which a copy would fork.
+  // The moved-from cache gets a new id and a zero odometer.
+  DphNearCache(const DphNearCache&) = delete;
+  DphNearCache& operator=(const DphNearCache&) = delete;
+  DphNearCache(DphNearCache&& other) noexcept;
+  DphNearCache& operator=(DphNearCache&& other) noexcept;
+  ~DphNearCache() = default;
   // Room for every voxel of a capsule (a sphere at lengthMm 0) of radiusMm, skin included,
   // in a grid of voxelMm: the capacity a query site needs so that its answers always fit.
   static std::size_t capacityFor(double lengthMm, double radiusMm, double voxelMm);
@@ -74,10 +81,13 @@ class DphNearCache {
   std::uint64_t reuses() const { return reuses_; }        // queries answered from a kept answer
   std::uint64_t sliced() const { return sliced_; }        // answers gathered in slices
   std::uint64_t overflows() const { return overflows_; }
-  // How far the query's ends have moved in all, summed over its queries (max(|da|, |db|) per
-  // query): a bound on how far any point's distance to the query's segment has changed
-  // between two of them.
-  double travelMm() const { return travelMm_; }
+  // How far the query's ends have moved in all, in whole nanometres: per query max(|da|,
+  // |db|) rounded up (and a non-finite move as a jump beyond any slack), summed exactly in
+  // integers. Between two queries of this cache no point's distance to the query's segment
+  // has changed by more than the difference of their readings.
+  std::uint64_t travelNm() const { return travelNm_; }
+  // Unique to this cache (never reused, also not by a moved-into cache at the same address).
+  std::uint64_t id() const { return id_; }
   void clear() {
     kept_.reachMm = -1.0;
     next_.reachMm = -1.0;
@@ -114,9 +124,12 @@ class DphNearCache {
   std::vector<std::uint64_t> stack_;  // the slices' traversal
   std::size_t top_ = 0;
   std::uint64_t walks_ = 0, reuses_ = 0, sliced_ = 0, overflows_ = 0;
-  double travelMm_ = 0.0;
+  std::uint64_t id_ = 0;
+  std::uint64_t travelNm_ = 0;
   glm::dvec3 lastAMm_{0.0}, lastBMm_{0.0};
   bool travelled_ = false;
+  int nextKind_ = 0;  // the query kind gathering next_ (slices continue only for the same kind)
+  void recordTravel(const glm::dvec3& a, const glm::dvec3& b);
 };
 
 class DynamicProximityHierarchy {
@@ -237,9 +250,11 @@ class DynamicProximityHierarchy {
   // A query through a cache. walkFrom(a, b, radiusMm, stack, top, budget, leaf) walks for the
   // query of those ends and radius (see traverseFrom); test(centre) is the walk's own leaf
   // test for this query.
+  // kind: 1 sphere, 2 capsule (a slice started by one is not continued by the other).
   template <typename WalkFrom, typename Test, typename Fn>
-  void answerThroughCache(const glm::dvec3& a, const glm::dvec3& b, double radiusMm, DphQueryScratch& scratch,
-                          DphNearCache& cache, WalkFrom&& walkFrom, Test&& test, Fn&& fn) const;
+  void answerThroughCache(int kind, const glm::dvec3& a, const glm::dvec3& b, double radiusMm,
+                          DphQueryScratch& scratch, DphNearCache& cache, WalkFrom&& walkFrom, Test&& test,
+                          Fn&& fn) const;
 
   int xi_ = 3;
   glm::dvec3 originMm_{0.0};

@@ -134,17 +134,12 @@ bool DynamicProximityHierarchy::traverseFrom(std::uint64_t* stack, std::size_t& 
 }
 
 template <typename WalkFrom, typename Test, typename Fn>
-void DynamicProximityHierarchy::answerThroughCache(const glm::dvec3& a, const glm::dvec3& b, double radiusMm,
-                                                   DphQueryScratch& scratch, DphNearCache& cache,
-                                                   WalkFrom&& walkFrom, Test&& test, Fn&& fn) const {
+void DynamicProximityHierarchy::answerThroughCache(int kind, const glm::dvec3& a, const glm::dvec3& b,
+                                                   double radiusMm, DphQueryScratch& scratch,
+                                                   DphNearCache& cache, WalkFrom&& walkFrom, Test&& test,
+                                                   Fn&& fn) const {
   using Answer = DphNearCache::Answer;
-  // The odometer first: a query's travel counts before anything is answered.
-  if (cache.travelled_) {
-    cache.travelMm_ += std::max(glm::length(a - cache.lastAMm_), glm::length(b - cache.lastBMm_));
-  }
-  cache.lastAMm_ = a;
-  cache.lastBMm_ = b;
-  cache.travelled_ = true;
+  cache.recordTravel(a, b);  // the odometer first: a query's travel counts before its answer
   if (cache.owner_ != this || cache.generation_ != generation_) {
     cache.clear();
     cache.owner_ = this;
@@ -158,7 +153,7 @@ void DynamicProximityHierarchy::answerThroughCache(const glm::dvec3& a, const gl
   };
   // A complete next answer takes over when it covers the query.
   if (!cache.slicing_ && cache.next_.reachMm >= 0.0) {
-    if (cache.nextFits_ && cache.covers(*this, cache.next_, a, b, radiusMm)) {
+    if (cache.nextFits_ && cache.nextKind_ == kind && cache.covers(*this, cache.next_, a, b, radiusMm)) {
       std::swap(cache.kept_, cache.next_);
       ++cache.sliced_;
     }
@@ -196,7 +191,12 @@ void DynamicProximityHierarchy::answerThroughCache(const glm::dvec3& a, const gl
   // The next answer, a slice per query, once a third of the skin is used.
   if (cache.sliceNodes_ == 0 || cache.stack_.size() < traversalStackSize()) return;
   Answer& next = cache.next_;
+  if (cache.slicing_ && cache.nextKind_ != kind) {  // gathered for another kind of query
+    cache.slicing_ = false;
+    next.reachMm = -1.0;
+  }
   if (!cache.slicing_ && next.reachMm < 0.0 && DphNearCache::moved(kept, a, b) > cache.skinMm_ / 3.0) {
+    cache.nextKind_ = kind;
     next.nodes.clear();
     next.centres.clear();
     next.aMm = a;
@@ -268,7 +268,7 @@ void DynamicProximityHierarchy::forEachVoxelInSphere(const glm::dvec3& centreMm,
     const glm::dvec3 d = glm::dvec3(v) - g;
     return glm::dot(d, d) <= r2;
   };
-  answerThroughCache(centreMm, centreMm, radiusMm, scratch, *cache, walkFrom, test, fn);
+  answerThroughCache(1, centreMm, centreMm, radiusMm, scratch, *cache, walkFrom, test, fn);
 }
 
 template <typename Fn>
@@ -305,7 +305,7 @@ void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, con
   const dph_detail::Segment segment((aMm - originMm_) / voxelSizeMm_ - 0.5, (bMm - originMm_) / voxelSizeMm_ - 0.5);
   const double r = radiusMm / voxelSizeMm_;
   const double r2 = r * r;
-  answerThroughCache(aMm, bMm, radiusMm, scratch, *cache, walkFrom,
+  answerThroughCache(2, aMm, bMm, radiusMm, scratch, *cache, walkFrom,
                      [&](const glm::ivec3& v) { return segment.distanceSq(glm::dvec3(v)) <= r2; }, fn);
 }
 

@@ -201,12 +201,14 @@ class RefinedVoxels {
     std::array<Fill, kSubVoxels> fill;        // level -depth sub-voxels, x fastest
     std::array<Density, kSubVoxels> density;
     std::uint64_t occupied;                   // bit i: fill[i] > 0 (rows of bone at a glance)
-    // Around a segment: how far every sample with bone lay from the shell of the query site
-    // `slackSite` when it last tested them all, and the site's travel then. While the site
-    // has travelled less than that since, no sample can have entered the shell (a point's
-    // distance to a segment moves no more than the segment's ends do; bone only leaves).
-    const DphNearCache* slackSite;
-    double slackMm, slackTravelMm;
+    // Around a segment: how far every sample with bone lay from the shell (of radii
+    // slackInnerMm..slackOuterMm) of the query site whose cache has id slackSite, when it
+    // last tested them all, and the site's odometer then. While the site has travelled less
+    // than that since, no sample can have entered that shell (a point's distance to a
+    // segment moves no more than the segment's ends do; bone only leaves). 0: no stamp.
+    std::uint64_t slackSite;
+    std::uint64_t slackNm, slackTravelNm;
+    double slackInnerMm, slackOuterMm;
   };
   struct Mask {
     std::uint64_t key;      // grid linear index + 1 (0: empty slot)
@@ -334,13 +336,21 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
     // Around a segment through a cache: skip the voxel while the site has not travelled its
     // slack (a margin far above the rounding of distances and travel).
     const bool slackable = cache && len2 > 0.0;
-    if (slackable && cl.slackSite == cache && cl.slackMm - (cache->travelMm() - cl.slackTravelMm) > 1e-9) return;
+    if (slackable && cl.slackSite == cache->id() && cl.slackInnerMm == innerMm && cl.slackOuterMm == outerMm &&
+        cache->travelNm() - cl.slackTravelNm < cl.slackNm) {
+      return;
+    }
     const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
     const double slack = shellSamplesOf(cl, corner, terms, hits, slackable);
     if (slackable) {
-      cl.slackSite = cache;
-      cl.slackMm = slack;
-      cl.slackTravelMm = cache->travelMm();
+      // In whole nanometres, rounded down and one less for the rounding of the distances.
+      cl.slackSite = cache->id();
+      cl.slackNm = !(slack >= 0.0) ? 0
+                   : slack < 1e6    ? std::uint64_t(std::max(std::floor(slack * 1e6) - 1.0, 0.0))
+                                    : std::uint64_t(1) << 39;
+      cl.slackTravelNm = cache->travelNm();
+      cl.slackInnerMm = innerMm;
+      cl.slackOuterMm = outerMm;
     }
     const int n = 1 << depth_;
     const double sub = vs / n;
