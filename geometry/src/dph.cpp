@@ -294,29 +294,7 @@ std::uint64_t newCacheId() {
 
 DphNearCache::DphNearCache() : id_(newCacheId()) {}
 
-DphNearCache::DphNearCache(DphNearCache&& other) noexcept
-    : owner_(other.owner_),
-      generation_(other.generation_),
-      skinMm_(other.skinMm_),
-      sliceNodes_(other.sliceNodes_),
-      kept_(std::move(other.kept_)),
-      next_(std::move(other.next_)),
-      slicing_(other.slicing_),
-      nextFits_(other.nextFits_),
-      stack_(std::move(other.stack_)),
-      top_(other.top_),
-      walks_(other.walks_),
-      reuses_(other.reuses_),
-      sliced_(other.sliced_),
-      overflows_(other.overflows_),
-      id_(other.id_),
-      travelNm_(other.travelNm_),
-      lastAMm_(other.lastAMm_),
-      lastBMm_(other.lastBMm_),
-      travelled_(other.travelled_),
-      nextKind_(other.nextKind_) {
-  other = DphNearCache();
-}
+DphNearCache::DphNearCache(DphNearCache&& other) noexcept : DphNearCache() { *this = std::move(other); }
 
 DphNearCache& DphNearCache::operator=(DphNearCache&& other) noexcept {
   if (this == &other) return *this;

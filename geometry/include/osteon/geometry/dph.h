@@ -250,6 +250,10 @@ class DynamicProximityHierarchy {
   // A query through a cache. walkFrom(a, b, radiusMm, stack, top, budget, leaf) walks for the
   // query of those ends and radius (see traverseFrom); test(centre) is the walk's own leaf
   // test for this query.
+  // A whole walk from the root through walkFrom (see answerThroughCache), in scratch.
+  template <typename WalkFrom, typename Leaf>
+  void walkWhole(DphQueryScratch& scratch, WalkFrom&& walkFrom, const glm::dvec3& a, const glm::dvec3& b,
+                 double radiusMm, Leaf&& leaf) const;
   // kind: 1 sphere, 2 capsule (a slice started by one is not continued by the other).
   template <typename WalkFrom, typename Test, typename Fn>
   void answerThroughCache(int kind, const glm::dvec3& a, const glm::dvec3& b, double radiusMm,

@@ -133,6 +133,15 @@ bool DynamicProximityHierarchy::traverseFrom(std::uint64_t* stack, std::size_t& 
   return true;
 }
 
+template <typename WalkFrom, typename Leaf>
+void DynamicProximityHierarchy::walkWhole(DphQueryScratch& scratch, WalkFrom&& walkFrom, const glm::dvec3& a,
+                                          const glm::dvec3& b, double radiusMm, Leaf&& leaf) const {
+  reserveScratch(scratch);
+  std::size_t top = 0;
+  startTraversal(scratch.stack.data(), top);
+  walkFrom(a, b, radiusMm, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(), leaf);
+}
+
 template <typename WalkFrom, typename Test, typename Fn>
 void DynamicProximityHierarchy::answerThroughCache(int kind, const glm::dvec3& a, const glm::dvec3& b,
                                                    double radiusMm, DphQueryScratch& scratch,
@@ -145,12 +154,7 @@ void DynamicProximityHierarchy::answerThroughCache(int kind, const glm::dvec3& a
     cache.owner_ = this;
     cache.generation_ = generation_;
   }
-  const auto walkNow = [&](double radius, auto&& leaf) {
-    reserveScratch(scratch);
-    std::size_t top = 0;
-    startTraversal(scratch.stack.data(), top);
-    walkFrom(a, b, radius, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(), leaf);
-  };
+  const auto walkNow = [&](double radius, auto&& leaf) { walkWhole(scratch, walkFrom, a, b, radius, leaf); };
   // A complete next answer takes over when it covers the query.
   if (!cache.slicing_ && cache.next_.reachMm >= 0.0) {
     if (cache.nextFits_ && cache.nextKind_ == kind && cache.covers(*this, cache.next_, a, b, radiusMm)) {
@@ -250,11 +254,7 @@ void DynamicProximityHierarchy::forEachVoxelInSphere(const glm::dvec3& centreMm,
     });
   };
   if (!cache) {
-    reserveScratch(scratch);
-    std::size_t top = 0;
-    startTraversal(scratch.stack.data(), top);
-    walkFrom(centreMm, centreMm, radiusMm, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(),
-             [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
+    walkWhole(scratch, walkFrom, centreMm, centreMm, radiusMm, [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
     return;
   }
   // The walk's leaf test at the query's radius, for the kept voxels.
@@ -295,11 +295,7 @@ void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, con
     });
   };
   if (!cache) {
-    reserveScratch(scratch);
-    std::size_t top = 0;
-    startTraversal(scratch.stack.data(), top);
-    walkFrom(aMm, bMm, radiusMm, scratch.stack.data(), top, std::numeric_limits<std::size_t>::max(),
-             [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
+    walkWhole(scratch, walkFrom, aMm, bMm, radiusMm, [&](const glm::ivec3& v, std::uint32_t) { fn(v); });
     return;
   }
   const dph_detail::Segment segment((aMm - originMm_) / voxelSizeMm_ - 0.5, (bMm - originMm_) / voxelSizeMm_ - 0.5);
