@@ -132,6 +132,8 @@ int runDrill(const DrillCommandOptions& options) {
                         {"non_finite_forces", s.nonFiniteForces},
                         {"brick_allocations", s.brickAllocations},
                         {"cut_overflows", s.cutOverflows},
+                        {"refine_pool_exhausted", s.refinePoolExhausted},
+                        {"mask_overflows", s.maskOverflows},
                         {"mode", options.threaded ? "threaded" : "deterministic"},
                         {"mesh", options.mesh},
                         {"tool", sim::toolKindName(kind)},

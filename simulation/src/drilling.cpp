@@ -126,6 +126,8 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
   totals_.nonFiniteForces += out.contact.nonFinite ? 1 : 0;
   totals_.brickAllocations = grid_->spareMisses() - spareMissesAtStart_;
   totals_.cutOverflows = voxels_->cutOverflows();
+  totals_.refinePoolExhausted = voxels_->poolExhausted();
+  totals_.maskOverflows = voxels_->maskOverflows();
   return out;
 }
 

@@ -95,6 +95,8 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
   s.nonFiniteForces = sim.totals().nonFiniteForces;
   s.brickAllocations = sim.totals().brickAllocations;
   s.cutOverflows = sim.totals().cutOverflows;
+  s.refinePoolExhausted = sim.totals().refinePoolExhausted;
+  s.maskOverflows = sim.totals().maskOverflows;
   return result;
 }
 

@@ -215,6 +215,8 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   s.nonFiniteForces = sim.totals().nonFiniteForces;
   s.brickAllocations = sim.totals().brickAllocations;
   s.cutOverflows = sim.totals().cutOverflows;
+  s.refinePoolExhausted = sim.totals().refinePoolExhausted;
+  s.maskOverflows = sim.totals().maskOverflows;
   if (finalSurface) *finalSurface = updater.mesh();
   return result;
 }

@@ -219,6 +219,11 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
     EXPECT_TRUE(j["remesh_ms"].contains(key)) << key;
   }
   EXPECT_EQ(j["steps"].get<int>(), 7001);
+  // Nothing ran out of room: every cut, refinement and removal mask fitted.
+  for (const char* key : {"cut_overflows", "refine_pool_exhausted", "mask_overflows", "brick_allocations"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j[key].get<int>(), 0) << key;
+  }
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 10.0);
   EXPECT_LE(j["max_force_n"].get<double>(), 3.3);
   EXPECT_EQ(nlohmann::json::parse(test::readBytes(path("a/summary.json")))["steps"], j["steps"]);

@@ -54,6 +54,8 @@ struct DrillingTotals {
   std::uint64_t nonFiniteForces = 0;
   std::uint64_t brickAllocations = 0;  // bricks a step had to allocate (the spare pool ran out)
   std::uint64_t cutOverflows = 0;      // cuts that found more voxels than reserved (the rest left)
+  std::uint64_t refinePoolExhausted = 0;  // voxels left coarse because the refinement pool was full
+  std::uint64_t maskOverflows = 0;        // removal masks the table had no room for
   // Hierarchy queries (contact shells and cuts): walked, or answered from their caches.
   std::uint64_t queryWalks = 0, queryReuses = 0;
   std::uint64_t stepsThatWalked = 0;

@@ -42,6 +42,8 @@ struct RunSummary {
   std::uint64_t steps = 0;
   std::uint64_t nonFiniteForces = 0;
   std::uint64_t cutOverflows = 0;      // cuts that found more voxels than reserved room (0: none)
+  std::uint64_t refinePoolExhausted = 0;  // voxels left unrefined near the tool: the pool was full (0: none)
+  std::uint64_t maskOverflows = 0;        // removal masks not kept: their table was full (0: none)
   std::uint64_t brickAllocations = 0;  // heap allocations in the drilling steps (0: the pool sufficed)
 };
 
