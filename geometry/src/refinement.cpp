@@ -494,14 +494,25 @@ bool RefinedVoxels::SphereAxes::build(const VoxelGrid& grid, const glm::dvec3& p
   return true;
 }
 
-RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, DphNearCache* cache) {
-  RemovalResult total;
-  const double vs = grid_->voxelSizeMm();
+double RefinedVoxels::cutReachMm(double radiusMm) const {
   // The voxels whose centre lies within the cut's radius of its segment (a sphere's of its
   // centre), widened by half a voxel diagonal where voxels may be refined, and by a hair:
   // the query measures in grid units and contains() in millimetres, and a centre exactly on
   // the cut's surface must not be lost to the two roundings disagreeing.
-  const double reach = volume.radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0) + 1e-6 * vs;
+  const double vs = grid_->voxelSizeMm();
+  return radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0) + 1e-6 * vs;
+}
+
+DphNearCache RefinedVoxels::makeNearCache(double lengthMm, double reachMm, double skinMm, std::size_t sliceNodes) const {
+  DphNearCache cache(skinMm, DphNearCache::capacityFor(lengthMm, reachMm + skinMm, grid_->voxelSizeMm()), sliceNodes);
+  cache.reserveFor(*hierarchy_);
+  return cache;
+}
+
+RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, DphNearCache* cache) {
+  RemovalResult total;
+  const double vs = grid_->voxelSizeMm();
+  const double reach = cutReachMm(volume.radiusMm);
   // Collect first: removal edits the hierarchy the query walks.
   found_.clear();
   bool overflowed = false;

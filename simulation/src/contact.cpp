@@ -44,7 +44,7 @@ void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, c
 }  // namespace
 
 ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm)
-    : tool_(tool), finestVoxelMm_(finestVoxelMm), baseVoxelMm_(baseVoxelMm) {
+    : tool_(tool), finestVoxelMm_(finestVoxelMm) {
   const double ratio = baseVoxelMm / finestVoxelMm;
   weightPerFill_ = ratio * ratio * ratio / double(geometry::kFillFull);
   const double cube = finestVoxelMm * finestVoxelMm * finestVoxelMm;
@@ -55,17 +55,12 @@ ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelM
 }
 
 ContactCaches ForceModel::makeCaches(double skinMm, std::size_t sliceNodes,
-                                     const geometry::DynamicProximityHierarchy& hierarchy) const {
+                                     const geometry::RefinedVoxels& voxels) const {
   ContactCaches caches;
-  // The shell query reaches half a voxel diagonal further where voxels may be refined.
-  const double refinedReach = baseVoxelMm_ > finestVoxelMm_ ? 0.5 * std::sqrt(3.0) * baseVoxelMm_ : 0.0;
   for (int p = 0; p < tool_.partCount; ++p) {
     const ToolPart& part = tool_.parts[std::size_t(p)];
-    const double reach = part.outerRadiusMm + refinedReach + skinMm;
-    geometry::DphNearCache& cache = caches.shell[std::size_t(p)];
-    cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach, baseVoxelMm_),
-                                   sliceNodes);
-    cache.reserveFor(hierarchy);
+    caches.shell[std::size_t(p)] =
+        voxels.makeNearCache(part.lengthMm(), voxels.shellReachMm(part.outerRadiusMm), skinMm, sliceNodes);
   }
   return caches;
 }

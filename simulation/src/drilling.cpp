@@ -49,28 +49,21 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
   cached_ = options.querySkinVoxels > 0.0;
   const double vs = grid.voxelSizeMm();
   const double skinMm = options.querySkinVoxels * vs;
-  if (cached_) contactCaches_ = model_.makeCaches(skinMm, options.querySliceNodes, hierarchy);
-  // removeIn walks the capsule around each cutting part's core (a sphere for a tip), plus half
-  // a voxel diagonal where voxels may be refined. Room for every voxel it can reach, and a cache.
+  if (cached_) contactCaches_ = model_.makeCaches(skinMm, options.querySliceNodes, *voxels_);
+  // Each cutting part: room for every voxel its cut can reach, and caches for its cut and for
+  // the refinement around it.
   const Tool& tool = model_.tool();
-  const double refinedReach = options.levels > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0;
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
-    const double reach = part.innerRadiusMm + refinedReach;
-    voxels_->reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), reach, vs));
+    const double cutReach = voxels_->cutReachMm(part.innerRadiusMm);
+    voxels_->reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), cutReach, vs));
     if (!cached_) continue;
+    cutCaches_[std::size_t(p)] = voxels_->makeNearCache(part.lengthMm(), cutReach, skinMm, options.querySliceNodes);
     if (options.levels > 0) {
-      geometry::DphNearCache& near = refineCaches_[std::size_t(p)];
       const double refineReach = voxels_->refineReachMm(0.5 * part.lengthMm() + part.outerRadiusMm);
-      near = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(0.0, refineReach + skinMm, vs),
-                                    options.querySliceNodes);
-      near.reserveFor(hierarchy);
+      refineCaches_[std::size_t(p)] = voxels_->makeNearCache(0.0, refineReach, skinMm, options.querySliceNodes);
     }
-    geometry::DphNearCache& cache = cutCaches_[std::size_t(p)];
-    cache = geometry::DphNearCache(skinMm, geometry::DphNearCache::capacityFor(part.lengthMm(), reach + skinMm, vs),
-                                   options.querySliceNodes);
-    cache.reserveFor(hierarchy);
   }
 }
 

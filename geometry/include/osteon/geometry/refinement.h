@@ -127,10 +127,17 @@ class RefinedVoxels {
   // Returns the number of voxels newly refined.
   // `cache` (may be null): the hierarchy query's cache for this call site (dph.h).
   int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS, DphNearCache* cache = nullptr);
-  // The radius refineAround's query reaches for a tool of outerRadiusMm (for a cache's size).
+  // The radii the hierarchy queries reach: refineAround's for a tool of outerRadiusMm,
+  // forEachSampleInShell's for a shell of outerMm (refined voxels hold samples half their
+  // samples' diagonal from their centre), removeIn's for a cut of radiusMm.
   double refineReachMm(double outerRadiusMm) const {
     return outerRadiusMm + marginMm_ + 0.5 * std::sqrt(3.0) * grid_->voxelSizeMm();
   }
+  double shellReachMm(double outerMm) const { return outerMm + (depth_ > 0 ? sampleHalfDiagonalMm() : 0.0); }
+  double cutReachMm(double radiusMm) const;
+  // A cache for one query site whose core is lengthMm long (0: a point) and whose queries
+  // reach reachMm: sized so that its answers always fit, ready for this hierarchy. Allocates.
+  DphNearCache makeNearCache(double lengthMm, double reachMm, double skinMm, std::size_t sliceNodes) const;
   // Expires refined voxels not touched since nowS - timeoutS; returns how many.
   int expire(double nowS);
   int expireAll();
@@ -223,6 +230,12 @@ class RefinedVoxels {
   Mask* findMask(std::uint64_t key);
   Mask* insertMask(std::uint64_t key, Fill firstFill);
   void createCell(const glm::ivec3& voxel, double nowS);
+  // Half the diagonal of the cube a refined voxel's sample centres fill (one sample narrower
+  // than the voxel): the farthest a sample lies from its voxel's centre.
+  double sampleHalfDiagonalMm() const {
+    const double vs = grid_->voxelSizeMm();
+    return 0.5 * std::sqrt(3.0) * (vs - vs / double(1 << depth_));
+  }
   void releaseCell(std::uint32_t cell);
   // The samples of one refined voxel in a shell around a segment (see forEachSampleInShell),
   // tested two at a time with SSE2 where it is there: their indices and toCore vectors.
@@ -286,8 +299,8 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
   // A refined voxel may hold samples in reach although its centre is not.
   // Its samples' centres lie within a cube one sample narrower than the voxel: half that
   // cube's diagonal from the voxel's centre.
-  const double halfDiagonal = 0.5 * std::sqrt(3.0) * (vs - vs / double(1 << depth_));
-  const double reach = outerMm + (depth_ > 0 ? halfDiagonal : 0.0);
+  const double halfDiagonal = sampleHalfDiagonalMm();
+  const double reach = shellReachMm(outerMm);
   ShellTerms terms;
   terms.a = aMm;
   terms.ab = bMm - aMm;

@@ -60,9 +60,8 @@ class ForceModel {
   ContactForce compute(geometry::RefinedVoxels& voxels, const ToolPose& pose,
                        ContactCaches* caches = nullptr) const;
   // Caches for this model's parts with the given skin and slices (geometry::DphNearCache),
-  // sized so that answers always fit and ready for `hierarchy`.
-  ContactCaches makeCaches(double skinMm, std::size_t sliceNodes,
-                           const geometry::DynamicProximityHierarchy& hierarchy) const;
+  // sized so that answers always fit and ready for `voxels`' hierarchy.
+  ContactCaches makeCaches(double skinMm, std::size_t sliceNodes, const geometry::RefinedVoxels& voxels) const;
   // The samples in part `part`'s shell, exactly those compute() counts, for checks that hold
   // the voxels' contact against something else (the surface). Allocates: not for the loop.
   std::vector<geometry::VoxelSample> shellSamples(geometry::RefinedVoxels& voxels,
@@ -71,7 +70,6 @@ class ForceModel {
  private:
   Tool tool_;
   double finestVoxelMm_;
-  double baseVoxelMm_;
   double weightPerFill_;  // (VS / v_min)^3 / kFillFull
   std::array<double, kMaxToolParts> maxCount_{};
 };
