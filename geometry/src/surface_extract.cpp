@@ -32,6 +32,26 @@ constexpr int kB = kCellBrick;
 // fill > this <=> fill > kIso (fills are integers, kIso sits halfway between two).
 constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 
+// Pass 3 gathers the ids of every edge its brick's cells can use into one table in L1 cache:
+// the brick's own edges and those its cells share on its upper faces with the bricks above,
+// slot ((z * 9 + y) * 3 + axis) * 9 + x for the edge from block voxel (x, y, z) along axis.
+// A cell's edge e is then at a fixed offset from the cell's own slot, so a case's triangles
+// read their ids straight from the table.
+constexpr int kSlotsPerRow = 3 * kBlock;
+constexpr int kIdSlots = kBlock * kBlock * kSlotsPerRow;
+using EdgeIds = std::array<std::uint32_t, kIdSlots>;
+constexpr int idSlot(int x, int y, int z, int axis) { return ((z * kBlock + y) * 3 + axis) * kBlock + x; }
+
+// For cube edge e of a cell, its slot's offset from the cell's slot (axis 0).
+constexpr std::array<std::uint16_t, 12> kEdgeSlot = [] {
+  std::array<std::uint16_t, 12> t{};
+  for (int e = 0; e < 12; ++e) {
+    const auto& o = kEdgeStartOffset[std::size_t(e)];
+    t[std::size_t(e)] = std::uint16_t(idSlot(o[0], o[1], o[2], e / 4));
+  }
+  return t;
+}();
+
 // What each case adds: triangles, loop-centre vertices, centre-loop entries, loop corners.
 struct CaseCounts {
   std::array<std::uint8_t, 256> triangles, centres, loopEntries, corners;
@@ -68,6 +88,8 @@ struct FlatCase {
   std::uint8_t triangleCount = 0;
   std::uint8_t longLoops = 0;
   std::array<std::array<std::uint8_t, 3>, 12> triangles{};
+  // Cases without a long loop: each triangle's corners as slot offsets in the id table.
+  std::array<std::array<std::uint16_t, 3>, 12> slots{};
 };
 
 const std::array<FlatCase, 256>& flatCases() {
@@ -93,6 +115,10 @@ const std::array<FlatCase, 256>& flatCases() {
           const int centre = 12 + f.longLoops++;
           for (int i = 0; i < k; ++i) add(centre, edge(i), edge(i + 1));
         }
+      }
+      if (f.longLoops == 0) {
+        for (int i = 0; i < f.triangleCount; ++i)
+          for (int c = 0; c < 3; ++c) f.slots[std::size_t(i)][std::size_t(c)] = kEdgeSlot[f.triangles[std::size_t(i)][std::size_t(c)]];
       }
     }
     return t;
@@ -172,17 +198,6 @@ constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
   std::array<std::uint8_t, 256> t{};
   for (int v = 0; v < 256; ++v) t[std::size_t(v)] = std::uint8_t((v & 1) + ((v >> 1) & 1) + ((v >> 2) & 1) + ((v >> 3) & 1) +
                                                                    ((v >> 4) & 1) + ((v >> 5) & 1) + ((v >> 6) & 1) + ((v >> 7) & 1));
-  return t;
-}();
-
-// For cube edge e of a cell, the offset of its (row, axis) byte in the EdgeIndex of the cell's
-// brick from the cell's row's first byte.
-constexpr std::array<int, 12> kEdgeByte = [] {
-  std::array<int, 12> t{};
-  for (int e = 0; e < 12; ++e) {
-    const auto& o = kEdgeStartOffset[std::size_t(e)];
-    t[std::size_t(e)] = 3 * (o[1] + kCellBrick * o[2]) + e / 4;
-  }
   return t;
 }();
 
@@ -441,10 +456,9 @@ struct Builder {
     });
   }
 
-  // Pass 3: triangles of one brick's cells, and their loop centres; each cube edge's vertex
-  // read from the owning brick (this one, or one of the seven above it for cells on its upper
-  // faces) without any search. A cell looks up each edge its case uses once, then writes the
-  // case's triangles from a flat list.
+  // Pass 3: triangles of one brick's cells, and their loop centres. The ids of the edges its
+  // cells use are first laid out in a table (gatherEdgeIds); a case without a long loop then
+  // writes its triangles from fixed offsets into it, with no search and no count.
   void writeTriangles(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions,
                       std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
     if (!shared) {
@@ -453,72 +467,52 @@ struct Builder {
     }
     const auto& table = mcTable();
     const auto& flat = flatCases();
-    const glm::ivec3 cb = active[s];
     const BrickOut& o = out[s];
-    const EdgeIndex* owners[8] = {};
-    for (int d = 0; d < 8; ++d) {
-      const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
-      const std::int32_t slot = slotOfBrick[cellBrickIndex(nb)];
-      if (slot >= 0) owners[d] = &index[std::size_t(slot)];
-    }
-    const EdgeIndex& own = *owners[0];
+    EdgeIds edgeIds;  // only the slots of crossed edges are written, and only they are read
+    gatherEdgeIds(s, edgeIds);
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
       std::uint32_t r[4];
       std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r);
-      if (bits == 0) return;
-      const bool rowInterior = ly < kB - 1 && lz < kB - 1;
-      const int rowByte = 3 * (ly + kB * lz);
       const std::uint64_t configs = rowConfigs(r);
+      const std::uint32_t* rowIds = edgeIds.data() + idSlot(0, ly, lz, 0);
       for (; bits != 0; bits &= bits - 1) {
         const int lx = __builtin_ctz(bits);
         const auto config = int((configs >> (8 * lx)) & 0xffu);
         const FlatCase& fc = flat[std::size_t(config)];
-        std::uint32_t ids[12 + 2];
-        if (rowInterior && lx < kB - 1) {
-          // Off the brick's upper faces every edge is this brick's: byte and bit by table.
-          for (std::uint32_t m = fc.edgeMask; m != 0; m &= m - 1) {
-            const auto e = std::size_t(__builtin_ctz(m));
-            const auto byte = std::size_t(rowByte + kEdgeByte[e]);
-            ids[e] = own.firstEdgeVertex + own.crossingsBefore[byte] +
-                     kBitsInByte[own.crossings[byte] & ((1u << (lx + kEdgeStartOffset[e][0])) - 1u)];
+        const std::uint32_t* cellIds = rowIds + lx;
+        if (fc.longLoops == 0) {
+          for (int t = 0; t < fc.triangleCount; ++t) {
+            const auto& tri = fc.slots[std::size_t(t)];
+            triangles[nextTri++] = {cellIds[tri[0]], cellIds[tri[1]], cellIds[tri[2]]};
           }
-        } else {
-          const glm::ivec3 l(lx, ly, lz);
-          for (std::uint32_t m = fc.edgeMask; m != 0; m &= m - 1) {
-            const int e = __builtin_ctz(m);
-            const glm::ivec3 start = edgeStart(l, e);
-            const int d = (start.x >> 3) | ((start.y >> 3) << 1) | ((start.z >> 3) << 2);
-            const glm::ivec3 local = start & (kB - 1);
-            const EdgeIndex& owner = *owners[d];
-            const auto byte = std::size_t(3 * (local.y + kB * local.z) + e / 4);
-            ids[e] = owner.firstEdgeVertex + owner.crossingsBefore[byte] +
-                     kBitsInByte[owner.crossings[byte] & ((1u << local.x) - 1u)];
-          }
+          continue;
         }
-        if (fc.longLoops != 0) {
-          // Loops of five or more edges fan from a centre, which smoothing keeps at the
-          // loop's mean (every edge vertex is written by pass 2).
-          const McCase& mc = table[std::size_t(config)];
-          int centre = 0;
-          for (int loop = 0; loop < mc.loopCount; ++loop) {
-            const int first = mc.loopBegin[std::size_t(loop)];
-            const int count = mc.loopBegin[std::size_t(loop) + 1] - first;
-            if (count < 5) continue;
-            if (direct) {
-              glm::dvec3 sum(0.0);
-              for (int i = 0; i < count; ++i) sum += positions[ids[mc.edges[std::size_t(first + i)]]];
-              positions[nextExtra] = sum / double(count);
-            } else {
-              for (int i = 0; i < count; ++i) loopVertices[nextEntry + std::uint32_t(i)] = ids[mc.edges[std::size_t(first + i)]];
-              vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
-              nextEntry += std::uint32_t(count);
-            }
-            ids[12 + centre++] = nextExtra++;
+        // Loops of five or more edges fan from a centre, which smoothing keeps at the loop's
+        // mean (every edge vertex is written by pass 2).
+        std::uint32_t ids[12 + 2];
+        for (std::uint32_t m = fc.edgeMask; m != 0; m &= m - 1) {
+          const auto e = std::size_t(__builtin_ctz(m));
+          ids[e] = cellIds[kEdgeSlot[e]];
+        }
+        const McCase& mc = table[std::size_t(config)];
+        int centre = 0;
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          const int first = mc.loopBegin[std::size_t(loop)];
+          const int count = mc.loopBegin[std::size_t(loop) + 1] - first;
+          if (count < 5) continue;
+          if (direct) {
+            glm::dvec3 sum(0.0);
+            for (int i = 0; i < count; ++i) sum += positions[ids[mc.edges[std::size_t(first + i)]]];
+            positions[nextExtra] = sum / double(count);
+          } else {
+            for (int i = 0; i < count; ++i) loopVertices[nextEntry + std::uint32_t(i)] = ids[mc.edges[std::size_t(first + i)]];
+            vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
+            nextEntry += std::uint32_t(count);
           }
+          ids[12 + centre++] = nextExtra++;
         }
         for (int t = 0; t < fc.triangleCount; ++t) {
           const auto& tri = fc.triangles[std::size_t(t)];
@@ -526,6 +520,42 @@ struct Builder {
         }
       }
     });
+  }
+
+  // The ids of the crossed edges brick s's cells use, into their table slots: its own edges
+  // (numbered row by row, axis by axis, x by x from the brick's first id), then those on its
+  // upper faces, owned by the bricks above (octant d: +x if d & 1, +y if d & 2, +z if d & 4).
+  // An edge there lies in a row of the owner's cells with a mixed cell, which pass 1 recorded.
+  void gatherEdgeIds(std::size_t s, EdgeIds& edgeIds) const {
+    // Rows of the owner that hold edges on our faces, and which of their x bits do: +x gives
+    // cell x = 0 of every row, +y the rows y = 0, +z the rows z = 0, and so on.
+    constexpr std::uint64_t kAllRows = ~std::uint64_t(0);
+    constexpr std::uint64_t kRowsY0 = 0x0101010101010101ull;
+    constexpr std::uint64_t kRowsZ0 = 0xffull;
+    constexpr std::uint64_t kRowsOf[7] = {kAllRows, kAllRows, kRowsY0, kRowsY0, kRowsZ0, kRowsZ0, 1};
+    constexpr std::uint32_t kXOf[7] = {0xff, 1, 0xff, 1, 0xff, 1, 0xff};
+    const glm::ivec3 cb = active[s];
+    for (int d = 0; d < 7; ++d) {  // no cell uses an edge of the brick diagonally above
+      const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
+      const std::int32_t slot = d == 0 ? std::int32_t(s) : slotOfBrick[cellBrickIndex(nb)];
+      if (slot < 0) continue;
+      const EdgeIndex& owner = index[std::size_t(slot)];
+      const std::uint32_t xTaken = kXOf[d];
+      std::uint32_t* shifted = edgeIds.data() + idSlot(kB * (d & 1), kB * ((d >> 1) & 1), kB * ((d >> 2) & 1), 0);
+      for (std::uint64_t rows = out[std::size_t(slot)].surfaceRows & kRowsOf[d]; rows != 0; rows &= rows - 1) {
+        const int row = __builtin_ctzll(rows);
+        const int ly = row & (kB - 1), lz = row >> 3;
+        for (int axis = 0; axis < 3; ++axis) {
+          const auto byte = std::size_t(3 * row + axis);
+          std::uint32_t id = owner.firstEdgeVertex + owner.crossingsBefore[byte];
+          std::uint32_t* ids = shifted + idSlot(0, ly, lz, axis);
+          for (std::uint32_t bits = owner.crossings[byte] & xTaken; bits != 0; bits &= bits - 1) {
+            ids[__builtin_ctz(bits)] = id++;
+          }
+        }
+      }
+    }
   }
 
   // The naive baseline: every cube makes its own vertex on each of its crossed edges.
