@@ -526,36 +526,74 @@ struct Builder {
   // (numbered row by row, axis by axis, x by x from the brick's first id), then those on its
   // upper faces, owned by the bricks above (octant d: +x if d & 1, +y if d & 2, +z if d & 4).
   // An edge there lies in a row of the owner's cells with a mixed cell, which pass 1 recorded.
+  // A row's eight slots are written whether crossed or not (no branch per edge): only crossed
+  // edges' slots are ever read.
   void gatherEdgeIds(std::size_t s, EdgeIds& edgeIds) const {
-    // Rows of the owner that hold edges on our faces, and which of their x bits do: +x gives
-    // cell x = 0 of every row, +y the rows y = 0, +z the rows z = 0, and so on.
-    constexpr std::uint64_t kAllRows = ~std::uint64_t(0);
-    constexpr std::uint64_t kRowsY0 = 0x0101010101010101ull;
-    constexpr std::uint64_t kRowsZ0 = 0xffull;
-    constexpr std::uint64_t kRowsOf[7] = {kAllRows, kAllRows, kRowsY0, kRowsY0, kRowsZ0, kRowsZ0, 1};
-    constexpr std::uint32_t kXOf[7] = {0xff, 1, 0xff, 1, 0xff, 1, 0xff};
     const glm::ivec3 cb = active[s];
-    for (int d = 0; d < 7; ++d) {  // no cell uses an edge of the brick diagonally above
+    const auto owner = [&](int d) -> std::int32_t {
       const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) continue;
-      const std::int32_t slot = d == 0 ? std::int32_t(s) : slotOfBrick[cellBrickIndex(nb)];
-      if (slot < 0) continue;
-      const EdgeIndex& owner = index[std::size_t(slot)];
-      const std::uint32_t xTaken = kXOf[d];
+      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) return -1;
+      return slotOfBrick[cellBrickIndex(nb)];
+    };
+    // Which rows of the owner hold edges on our faces, along which axes, and whether all
+    // eight x of a row (the brick itself, those above along y and z) or only x = 0 (those
+    // along +x). No cell uses an edge of the brick diagonally above (d = 7).
+    constexpr std::uint64_t kAllRows = ~std::uint64_t(0);
+    constexpr std::uint64_t kRowsY0 = 0x0101010101010101ull;  // y = 0
+    constexpr std::uint64_t kRowsZ0 = 0xffull;                // z = 0
+    const auto face = [&](auto dTag, std::uint64_t rowsTaken, auto axesTag) {
+      constexpr int d = decltype(dTag)::value;
+      constexpr int axes = decltype(axesTag)::value;
+      const std::int32_t slot = d == 0 ? std::int32_t(s) : owner(d);
+      if (slot < 0) return;
+      const EdgeIndex& from = index[std::size_t(slot)];
       std::uint32_t* shifted = edgeIds.data() + idSlot(kB * (d & 1), kB * ((d >> 1) & 1), kB * ((d >> 2) & 1), 0);
-      for (std::uint64_t rows = out[std::size_t(slot)].surfaceRows & kRowsOf[d]; rows != 0; rows &= rows - 1) {
+      for (std::uint64_t rows = out[std::size_t(slot)].surfaceRows & rowsTaken; rows != 0; rows &= rows - 1) {
         const int row = __builtin_ctzll(rows);
-        const int ly = row & (kB - 1), lz = row >> 3;
-        for (int axis = 0; axis < 3; ++axis) {
-          const auto byte = std::size_t(3 * row + axis);
-          std::uint32_t id = owner.firstEdgeVertex + owner.crossingsBefore[byte];
-          std::uint32_t* ids = shifted + idSlot(0, ly, lz, axis);
-          for (std::uint32_t bits = owner.crossings[byte] & xTaken; bits != 0; bits &= bits - 1) {
-            ids[__builtin_ctz(bits)] = id++;
+        std::uint32_t* rowIds = shifted + idSlot(0, row & (kB - 1), row >> 3, 0);
+        const auto axis = [&](auto axisTag) {
+          constexpr int a = decltype(axisTag)::value;
+          if constexpr (((axes >> a) & 1) != 0) {
+            const auto byte = std::size_t(3 * row + a);
+            const std::uint32_t first = from.firstEdgeVertex + from.crossingsBefore[byte];
+            if constexpr ((d & 1) == 0) {
+              rowOfIds(first, from.crossings[byte], rowIds + a * kBlock);
+            } else {
+              rowIds[a * kBlock] = first;
+            }
           }
-        }
+        };
+        axis(std::integral_constant<int, 0>{});
+        axis(std::integral_constant<int, 1>{});
+        axis(std::integral_constant<int, 2>{});
       }
-    }
+    };
+    face(std::integral_constant<int, 0>{}, kAllRows, std::integral_constant<int, 7>{});
+    face(std::integral_constant<int, 1>{}, kAllRows, std::integral_constant<int, 6>{});
+    face(std::integral_constant<int, 2>{}, kRowsY0, std::integral_constant<int, 5>{});
+    face(std::integral_constant<int, 3>{}, kRowsY0, std::integral_constant<int, 4>{});
+    face(std::integral_constant<int, 4>{}, kRowsZ0, std::integral_constant<int, 3>{});
+    face(std::integral_constant<int, 5>{}, kRowsZ0, std::integral_constant<int, 2>{});
+    face(std::integral_constant<int, 6>{}, 1, std::integral_constant<int, 1>{});
+  }
+
+  // ids[x] = first + the crossings below x in a row's byte, for x = 0..7.
+  static void rowOfIds(std::uint32_t first, std::uint8_t crossings, std::uint32_t* ids) {
+    static const std::array<std::uint64_t, 256> kBelow = [] {
+      std::array<std::uint64_t, 256> t{};
+      for (std::uint32_t b = 0; b < 256; ++b)
+        for (int x = 0, n = 0; x < kCellBrick; n += int((b >> x) & 1u), ++x) t[b] |= std::uint64_t(n) << (8 * x);
+      return t;
+    }();
+#if defined(__SSE2__)
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i below = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&kBelow[crossings])), zero);
+    const __m128i base = _mm_set1_epi32(std::int32_t(first));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids), _mm_add_epi32(base, _mm_unpacklo_epi16(below, zero)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids + 4), _mm_add_epi32(base, _mm_unpackhi_epi16(below, zero)));
+#else
+    for (int x = 0; x < kCellBrick; ++x) ids[x] = first + std::uint32_t((kBelow[crossings] >> (8 * x)) & 0xffu);
+#endif
   }
 
   // The naive baseline: every cube makes its own vertex on each of its crossed edges.
