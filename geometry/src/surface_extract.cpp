@@ -211,14 +211,19 @@ struct BrickOut {
   RowMasks rows;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
   std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
-  std::uint32_t rowCells;     // the cells of every row that lie in the grid, as x bits
+  std::array<std::uint8_t, kB * kB> mixed;  // the row's mixed cells as x bits (surface rows)
 };
 
 // Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
 // vertex of an owned edge is firstEdgeVertex + the crossings before its (row, axis) byte +
-// those of lower x in it: 580 bytes per brick, kept apart from the bulky BrickOut so that the
+// those of lower x in it. Bytes are kept layer by layer (edgeByte), so pass 1 writes a layer's
+// eight rows at once: 580 bytes per brick, kept apart from the bulky BrickOut so that the
 // neighbours' indices pass 3 reads stay in cache (a table of every edge's id took 3-6 KiB per
 // brick, and fetching it from memory was a third of the extraction's time).
+constexpr std::size_t edgeByte(int row, int axis) {  // row = ly + 8 lz
+  return std::size_t(3 * kB * (row >> 3) + kB * axis + (row & (kB - 1)));
+}
+
 struct EdgeIndex {
   EdgeIndex() {}  // NOLINT: left uninitialised, as BrickOut
   std::uint32_t firstEdgeVertex;                          // global id of the brick's first
@@ -292,62 +297,21 @@ struct Builder {
            std::size_t(cellBricks.x) * (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
   }
 
-  // The brick's rows of cells in the grid, in byte order, less whole z layers that can hold no
-  // mixed cell (every voxel of the two slices they read inside, or every one outside).
-  template <typename Fn>
-  void forEachRow(std::size_t s, Fn&& fn) const {
-    glm::ivec3 lo, hi;
-    cellRange(grid, active[s], lo, hi);
-    const glm::ivec3 l0 = lo - active[s] * kB;
-    const glm::ivec3 l1 = hi - active[s] * kB;
-    const std::uint32_t cells = xRange(l0.x, l1.x);
-    const RowMasks& rows = out[s].rows;
-    std::array<std::uint32_t, kBlock> sliceAny, sliceAll;
-    for (int z = 0; z < kBlock; ++z) {
-      std::uint32_t any = 0, all = 0x1ffu;
-      for (int y = 0; y < kBlock; ++y) {
-        any |= rows[std::size_t(y + kBlock * z)];
-        all &= rows[std::size_t(y + kBlock * z)];
-      }
-      sliceAny[std::size_t(z)] = any;
-      sliceAll[std::size_t(z)] = all;
-    }
-    for (int lz = l0.z; lz < l1.z; ++lz) {
-      // As rowMixed, over both slices at once: a mixed cell in the layer sets its bit here.
-      const std::uint32_t any = sliceAny[std::size_t(lz)] | sliceAny[std::size_t(lz) + 1];
-      const std::uint32_t all = sliceAll[std::size_t(lz)] & sliceAll[std::size_t(lz) + 1];
-      if ((((any | (any >> 1)) & ~(all & (all >> 1))) & cells) == 0) continue;
-      for (int ly = l0.y; ly < l1.y; ++ly) fn(ly, lz, cells);
-    }
-  }
-
-  // The rows pass 1 found mixed cells in, in the same order: later passes skip the rest.
+  // The rows pass 1 found mixed cells in, in byte order: later passes skip the rest.
   template <typename Fn>
   void forEachSurfaceRow(std::size_t s, Fn&& fn) const {
-    const BrickOut& o = out[s];
-    for (std::uint64_t rows = o.surfaceRows; rows != 0; rows &= rows - 1) {
+    for (std::uint64_t rows = out[s].surfaceRows; rows != 0; rows &= rows - 1) {
       const int row = __builtin_ctzll(rows);
-      fn(row & (kB - 1), row >> 3, o.rowCells);
+      fn(row, row & (kB - 1), row >> 3);
     }
   }
 
-  // Crossed edges along x, y and z of a row of cells, by cell x, as bits.
-  static void rowCrossings(const RowMasks& rows, int ly, int lz, std::uint32_t cells, std::uint32_t (&crossing)[3]) {
-    const std::uint32_t r = rows[std::size_t(ly + kBlock * lz)];
-    crossing[0] = (r ^ (r >> 1)) & cells;
-    crossing[1] = (r ^ rows[std::size_t(ly + 1 + kBlock * lz)]) & cells;
-    crossing[2] = (r ^ rows[std::size_t(ly + kBlock * (lz + 1))]) & cells;
-  }
-
-  // Mixed cells of a row (corners not all inside or all outside), and the four corner rows.
-  static std::uint32_t rowMixed(const RowMasks& rows, int ly, int lz, std::uint32_t cells, std::uint32_t (&r)[4]) {
+  // The four corner rows of a row of cells (inside bits by x): its own, +y, +z, +y+z.
+  static void rowCorners(const RowMasks& rows, int ly, int lz, std::uint32_t (&r)[4]) {
     r[0] = rows[std::size_t(ly + kBlock * lz)];
     r[1] = rows[std::size_t(ly + 1 + kBlock * lz)];
     r[2] = rows[std::size_t(ly + kBlock * (lz + 1))];
     r[3] = rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
-    const std::uint32_t any = r[0] | r[1] | r[2] | r[3];
-    const std::uint32_t all = r[0] & r[1] & r[2] & r[3];
-    return ((any | (any >> 1)) & ~(all & (all >> 1))) & cells;
   }
 
   static int configOf(const std::uint32_t (&r)[4], int lx) {
@@ -372,46 +336,111 @@ struct Builder {
     BrickOut& o = out[s];
     o.source.init(grid, active[s]);
     insideRows(o.source, o.rows);
+    glm::ivec3 lo, hi;
+    cellRange(grid, active[s], lo, hi);
+    const glm::ivec3 l0 = lo - active[s] * kB;
+    const glm::ivec3 l1 = hi - active[s] * kB;
+    const std::uint32_t cells = xRange(l0.x, l1.x);    // cells in the grid along x, as bits
+    const std::uint32_t rowsIn = xRange(l0.y, l1.y);   // and along y
     const auto& packed = packedCaseCounts();
     std::uint32_t edges = 0;
     std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
     std::uint64_t surfaceRows = 0;
-    std::uint32_t rowCells = 0;
     EdgeIndex& edgeIndex = index[s];
-    if (shared) edgeIndex.crossings.fill(0);  // rows outside the grid: no crossings
-    forEachRow(s, [&](int ly, int lz, std::uint32_t cells) {
-      std::uint32_t r[4];
-      const std::uint32_t mixed = rowMixed(o.rows, ly, lz, cells, r);
-      // A row of cells none of which is mixed has no crossed edge either (each edge a row's
-      // cells own lies on one of them): nothing to count, its bytes stay 0.
-      if (mixed == 0) return;
-      surfaceRows |= std::uint64_t(1) << (ly + kB * lz);
-      rowCells = cells;
-      if (shared) {
-        // Rows come in byte order, so the prefix counts are made here too.
-        std::uint32_t crossing[3];
-        rowCrossings(o.rows, ly, lz, cells, crossing);
-        const auto byte = std::size_t(3 * (ly + kB * lz));
-        for (std::size_t axis = 0; axis < 3; ++axis) {
-          edgeIndex.crossings[byte + axis] = std::uint8_t(crossing[axis]);
-          edgeIndex.crossingsBefore[byte + axis] = std::uint16_t(edges);
-          edges += kBitsInByte[crossing[axis]];
+    edgeIndex.crossings.fill(0);  // layers without a mixed cell: no crossings
+    for (int lz = l0.z; lz < l1.z; ++lz) {
+      std::uint8_t* mixed = o.mixed.data() + kB * lz;
+      const std::uint32_t layerRows = classifyLayer(o.rows, lz, cells, rowsIn, mixed, edgeIndex, edges);
+      surfaceRows |= std::uint64_t(layerRows) << (kB * lz);
+      for (std::uint32_t rows = layerRows; rows != 0; rows &= rows - 1) {
+        const int ly = __builtin_ctz(rows);
+        std::uint32_t r[4];
+        rowCorners(o.rows, ly, lz, r);
+        const std::uint64_t configs = rowConfigs(r);
+        for (std::uint32_t bits = mixed[ly]; bits != 0; bits &= bits - 1) {
+          sums += packed[std::size_t((configs >> (8 * __builtin_ctz(bits))) & 0xffu)];
         }
       }
-      const std::uint64_t configs = rowConfigs(r);
-      for (std::uint32_t bits = mixed; bits != 0; bits &= bits - 1) {
-        sums += packed[std::size_t((configs >> (8 * __builtin_ctz(bits))) & 0xffu)];
-      }
-    });
+    }
     const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
-    const std::uint32_t tris = lane(0), entries = lane(2);
-    const std::uint32_t extras = lane(1) + (shared ? 0u : lane(3));
     o.surfaceRows = surfaceRows;
-    o.rowCells = rowCells;
-    o.edges = edges;
-    o.extras = extras;
-    o.triangles = tris;
-    o.loopEntries = entries;
+    o.edges = shared ? edges : 0u;
+    o.extras = lane(1) + (shared ? 0u : lane(3));
+    o.triangles = lane(0);
+    o.loopEntries = lane(2);
+  }
+
+  // The eight rows of cells of layer lz at once: their mixed cells (corners not all inside or
+  // all outside) into mixed[ly], and, for the edges they own, the crossings and their prefix
+  // counts in vertex order (row by row, axis by axis), numbered on from `edges`. Returns the
+  // rows with a mixed cell as bits. A row without one has no crossed edge either (each edge
+  // a row's cells own lies on one of them). Rows and cells outside the grid are left out.
+  static std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, std::uint32_t rowsIn,
+                                     std::uint8_t* mixed, EdgeIndex& edgeIndex, std::uint32_t& edges) {
+    const std::uint16_t* r = rows.data() + kBlock * lz;
+    std::uint8_t* crossings = edgeIndex.crossings.data() + edgeByte(kB * lz, 0);
+    std::uint16_t* before = edgeIndex.crossingsBefore.data() + edgeByte(kB * lz, 0);
+#if defined(__SSE2__)
+    // One 16-bit lane per row: its own inside bits (a), +y (b), +z (c), +y+z (d).
+    const auto load = [](const std::uint16_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); };
+    const __m128i a = load(r), b = load(r + 1), c = load(r + kBlock), d = load(r + kBlock + 1);
+    const __m128i laneBit = _mm_set_epi16(128, 64, 32, 16, 8, 4, 2, 1);
+    const __m128i rowIn = _mm_cmpeq_epi16(_mm_and_si128(_mm_set1_epi16(std::int16_t(rowsIn)), laneBit), laneBit);
+    const __m128i in = _mm_and_si128(_mm_set1_epi16(std::int16_t(cells)), rowIn);
+    const __m128i any = _mm_or_si128(_mm_or_si128(a, b), _mm_or_si128(c, d));
+    const __m128i all = _mm_and_si128(_mm_and_si128(a, b), _mm_and_si128(c, d));
+    const __m128i mixedCells = _mm_and_si128(
+        _mm_andnot_si128(_mm_and_si128(all, _mm_srli_epi16(all, 1)), _mm_or_si128(any, _mm_srli_epi16(any, 1))), in);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i mixedBytes = _mm_packus_epi16(mixedCells, zero);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(mixed), mixedBytes);
+    const auto layerRows = std::uint32_t(~_mm_movemask_epi8(_mm_cmpeq_epi8(mixedBytes, zero)) & 0xff);
+    if (layerRows == 0) return 0;
+    const __m128i cx = _mm_and_si128(_mm_xor_si128(a, _mm_srli_epi16(a, 1)), in);
+    const __m128i cy = _mm_and_si128(_mm_xor_si128(a, b), in);
+    const __m128i cz = _mm_and_si128(_mm_xor_si128(a, c), in);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(crossings), _mm_packus_epi16(cx, cy));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(crossings + 2 * kB), _mm_packus_epi16(cz, zero));
+    // Set bits of each lane (at most eight).
+    const auto bitCount8 = [](__m128i v) {
+      v = _mm_sub_epi16(v, _mm_and_si128(_mm_srli_epi16(v, 1), _mm_set1_epi16(0x55)));
+      v = _mm_add_epi16(_mm_and_si128(v, _mm_set1_epi16(0x33)), _mm_and_si128(_mm_srli_epi16(v, 2), _mm_set1_epi16(0x33)));
+      return _mm_and_si128(_mm_add_epi16(v, _mm_srli_epi16(v, 4)), _mm_set1_epi16(0x0f));
+    };
+    const __m128i nx = bitCount8(cx), ny = bitCount8(cy);
+    const __m128i perRow = _mm_add_epi16(_mm_add_epi16(nx, ny), bitCount8(cz));
+    __m128i upTo = _mm_add_epi16(perRow, _mm_slli_si128(perRow, 2));  // inclusive prefix over rows
+    upTo = _mm_add_epi16(upTo, _mm_slli_si128(upTo, 4));
+    upTo = _mm_add_epi16(upTo, _mm_slli_si128(upTo, 8));
+    const __m128i before0 = _mm_add_epi16(_mm_sub_epi16(upTo, perRow), _mm_set1_epi16(std::int16_t(edges)));
+    const __m128i before1 = _mm_add_epi16(before0, nx);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(before), before0);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(before + kB), before1);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(before + 2 * kB), _mm_add_epi16(before1, ny));
+    edges += std::uint32_t(_mm_extract_epi16(upTo, 7));
+    return layerRows;
+#else
+    std::uint32_t layerRows = 0;
+    for (int ly = 0; ly < kB; ++ly) {
+      const std::uint32_t in = (rowsIn >> ly) & 1u ? cells : 0u;
+      const std::uint32_t a = r[ly], b = r[ly + 1], c = r[ly + kBlock], d = r[ly + kBlock + 1];
+      const std::uint32_t any = a | b | c | d, all = a & b & c & d;
+      mixed[ly] = std::uint8_t(((any | (any >> 1)) & ~(all & (all >> 1))) & in);
+      if (mixed[ly] != 0) layerRows |= 1u << ly;
+    }
+    if (layerRows == 0) return 0;
+    for (int ly = 0; ly < kB; ++ly) {
+      const std::uint32_t in = (rowsIn >> ly) & 1u ? cells : 0u;
+      const std::uint32_t a = r[ly];
+      const std::uint32_t crossing[3] = {(a ^ (a >> 1)) & in, (a ^ r[ly + 1]) & in, (a ^ r[ly + kBlock]) & in};
+      for (int axis = 0; axis < 3; ++axis) {
+        crossings[kB * axis + ly] = std::uint8_t(crossing[axis]);
+        before[kB * axis + ly] = std::uint16_t(edges);
+        edges += kBitsInByte[crossing[axis]];
+      }
+    }
+    return layerRows;
+#endif
   }
 
   // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it. A row's
@@ -424,9 +453,10 @@ struct Builder {
     std::array<double, kCellBrick> centreX;
     for (int x = 0; x < kCellBrick; ++x) centreX[std::size_t(x)] = grid.voxelCentreMm(cb * kB + glm::ivec3(x, 0, 0)).x;
     std::uint32_t next = index[s].firstEdgeVertex;
-    forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
-      std::uint32_t crossing[3];
-      rowCrossings(o.rows, ly, lz, cells, crossing);
+    const EdgeIndex& own = index[s];
+    forEachSurfaceRow(s, [&](int row, int ly, int lz) {
+      const std::uint32_t crossing[3] = {own.crossings[edgeByte(row, 0)], own.crossings[edgeByte(row, 1)],
+                                         own.crossings[edgeByte(row, 2)]};
       if ((crossing[0] | crossing[1] | crossing[2]) == 0) return;
       Fill fills[3][kBlock + 1];  // this row; the next along y; along z
       o.source.row(ly, lz, fills[0]);
@@ -473,9 +503,10 @@ struct Builder {
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
-    forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
+    forEachSurfaceRow(s, [&](int row, int ly, int lz) {
       std::uint32_t r[4];
-      std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r);
+      rowCorners(o.rows, ly, lz, r);
+      std::uint32_t bits = o.mixed[std::size_t(row)];
       const std::uint64_t configs = rowConfigs(r);
       const std::uint32_t* rowIds = edgeIds.data() + idSlot(0, ly, lz, 0);
       for (; bits != 0; bits &= bits - 1) {
@@ -554,7 +585,7 @@ struct Builder {
         const auto axis = [&](auto axisTag) {
           constexpr int a = decltype(axisTag)::value;
           if constexpr (((axes >> a) & 1) != 0) {
-            const auto byte = std::size_t(3 * row + a);
+            const std::size_t byte = edgeByte(row, a);
             const std::uint32_t first = from.firstEdgeVertex + from.crossingsBefore[byte];
             if constexpr ((d & 1) == 0) {
               rowOfIds(first, from.crossings[byte], rowIds + a * kBlock);
@@ -605,9 +636,10 @@ struct Builder {
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
-    forEachSurfaceRow(s, [&](int ly, int lz, std::uint32_t cells) {
+    forEachSurfaceRow(s, [&](int row, int ly, int lz) {
       std::uint32_t r[4];
-      for (std::uint32_t bits = rowMixed(o.rows, ly, lz, cells, r); bits != 0; bits &= bits - 1) {
+      rowCorners(o.rows, ly, lz, r);
+      for (std::uint32_t bits = o.mixed[std::size_t(row)]; bits != 0; bits &= bits - 1) {
         const glm::ivec3 l(__builtin_ctz(bits), ly, lz);
         const McCase& mc = table[std::size_t(configOf(r, l.x))];
         std::uint32_t ids[13];
