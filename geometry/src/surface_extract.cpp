@@ -498,7 +498,7 @@ struct Builder {
     const auto& table = mcTable();
     const auto& flat = flatCases();
     const BrickOut& o = out[s];
-    EdgeIds edgeIds;  // only the slots of crossed edges are written, and only they are read
+    EdgeIds edgeIds;  // only crossed edges' slots are read, and each of those is written first
     gatherEdgeIds(s, edgeIds);
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
