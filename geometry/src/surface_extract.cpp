@@ -217,7 +217,8 @@ struct BrickOut {
 // Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
 // vertex of an owned edge is firstEdgeVertex + the crossings before its (row, axis) byte +
 // those of lower x in it. Bytes are kept layer by layer (edgeByte), so pass 1 writes a layer's
-// eight rows at once: 580 bytes per brick, kept apart from the bulky BrickOut so that the
+// eight rows at once, and only for layers with a mixed cell (later passes read no other):
+// 580 bytes per brick, kept apart from the bulky BrickOut so that the
 // neighbours' indices pass 3 reads stay in cache (a table of every edge's id took 3-6 KiB per
 // brick, and fetching it from memory was a third of the extraction's time).
 constexpr std::size_t edgeByte(int row, int axis) {  // row = ly + 8 lz
@@ -347,7 +348,6 @@ struct Builder {
     std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
     std::uint64_t surfaceRows = 0;
     EdgeIndex& edgeIndex = index[s];
-    edgeIndex.crossings.fill(0);  // layers without a mixed cell: no crossings
     for (int lz = l0.z; lz < l1.z; ++lz) {
       std::uint8_t* mixed = o.mixed.data() + kB * lz;
       const std::uint32_t layerRows = classifyLayer(o.rows, lz, cells, rowsIn, mixed, edgeIndex, edges);
