@@ -691,12 +691,13 @@ struct Builder {
     out.resize(active.size());
     index.resize(active.size());
     const std::size_t n = active.size();
-    const auto forEachBrick = [&](auto&& work) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4),
+    const auto forEachBrickIn = [&](std::size_t first, std::size_t last, auto&& work) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 4),
                         [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
       });
     };
+    const auto forEachBrick = [&](auto&& work) { forEachBrickIn(0, n, work); };
     forEachBrick([&](std::size_t s) { count(s); });
     edgeOffset.assign(n + 1, 0);
     triOffset.assign(n + 1, 0);
@@ -718,8 +719,29 @@ struct Builder {
     }
     triangles.resize(triOffset[n]);
     if (!direct) loopVertices.resize(loopOffset[n]);
-    if (shared) forEachBrick([&](std::size_t s) { writeEdgeVertices(s, vertices, positions); });
-    forEachBrick([&](std::size_t s) { writeTriangles(s, vertices, positions, loopVertices, triangles); });
+    const auto edgeVertices = [&](std::size_t s) { writeEdgeVertices(s, vertices, positions); };
+    const auto cellTriangles = [&](std::size_t s) { writeTriangles(s, vertices, positions, loopVertices, triangles); };
+    if (shared) {
+      // Passes 2 and 3 slab by slab (a z layer of cell bricks), the vertices one slab ahead:
+      // a slab's triangles use vertices of its own slab and the next (a loop centre reads
+      // them), which were just made and are still in cache. Run as two whole passes, every
+      // pass 3 read of a brick's state and of the vertices came from memory again.
+      std::size_t verticesDone = 0;
+      for (std::size_t first = 0; first < n;) {
+        std::size_t last = first;
+        while (last < n && active[last].z == active[first].z) ++last;
+        std::size_t ahead = last;  // through the next slab
+        while (ahead < n && active[ahead].z == active[last].z) ++ahead;
+        if (ahead > verticesDone) {
+          forEachBrickIn(verticesDone, ahead, edgeVertices);
+          verticesDone = ahead;
+        }
+        forEachBrickIn(first, last, cellTriangles);
+        first = last;
+      }
+    } else {
+      forEachBrick(cellTriangles);
+    }
     for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
         ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],
