@@ -115,8 +115,8 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-void placeCentres(const std::vector<VertexInfo>& info, const std::vector<std::uint32_t>& loops,
-                  std::vector<glm::dvec3>& positions) {
+void placeCentres(const Buffer<VertexInfo>& info, const Buffer<std::uint32_t>& loops,
+                  Buffer<glm::dvec3>& positions) {
   for (std::size_t i = 0; i < info.size(); ++i) {
     if (info[i].axis != 3) continue;
     glm::dvec3 sum(0.0);
@@ -126,7 +126,7 @@ void placeCentres(const std::vector<VertexInfo>& info, const std::vector<std::ui
 }
 
 // Neighbours of every vertex through the triangles (compressed rows, duplicates removed).
-void buildAdjacency(std::size_t n, const std::vector<glm::u32vec3>& triangles,
+void buildAdjacency(std::size_t n, const Buffer<glm::u32vec3>& triangles,
                     std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& neighbours) {
   std::vector<std::uint32_t> degree(n + 1, 0);
   for (const glm::u32vec3& t : triangles) {
@@ -159,8 +159,8 @@ void buildAdjacency(std::size_t n, const std::vector<glm::u32vec3>& triangles,
 
 }  // namespace
 
-void areaWeightedNormals(const std::vector<glm::dvec3>& positions, const std::vector<glm::u32vec3>& triangles,
-                         std::vector<glm::dvec3>& normals) {
+void areaWeightedNormals(const Buffer<glm::dvec3>& positions, const Buffer<glm::u32vec3>& triangles,
+                         Buffer<glm::dvec3>& normals) {
   normals.assign(positions.size(), glm::dvec3(0.0));
   for (const glm::u32vec3& t : triangles) {
     const glm::dvec3& a = positions[t.x];
@@ -176,9 +176,9 @@ void areaWeightedNormals(const std::vector<glm::dvec3>& positions, const std::ve
   }
 }
 
-void finishSurface(std::vector<VertexInfo>& vertices, const std::vector<std::uint32_t>& loopVertices,
-                   std::vector<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
-                   std::vector<glm::dvec3>& positions, std::vector<glm::dvec3>& normals,
+void finishSurface(Buffer<VertexInfo>& vertices, const Buffer<std::uint32_t>& loopVertices,
+                   Buffer<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
+                   Buffer<glm::dvec3>& positions, Buffer<glm::dvec3>& normals,
                    double& otherMs, double& smoothMs, double& normalsMs) {
   Clock::time_point phase = Clock::now();
   const std::size_t n = vertices.size();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "mc_table.h"
+#include "osteon/geometry/buffer.h"
 #include "osteon/geometry/voxel_grid.h"
 
 #include <glm/vec3.hpp>
@@ -65,14 +66,14 @@ struct SurfaceOptionsView {
   double mu;
   bool computeNormals;
 };
-void finishSurface(std::vector<VertexInfo>& vertices, const std::vector<std::uint32_t>& loopVertices,
-                   std::vector<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
-                   std::vector<glm::dvec3>& positions, std::vector<glm::dvec3>& normals,
+void finishSurface(Buffer<VertexInfo>& vertices, const Buffer<std::uint32_t>& loopVertices,
+                   Buffer<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
+                   Buffer<glm::dvec3>& positions, Buffer<glm::dvec3>& normals,
                    double& otherMs, double& smoothMs, double& normalsMs);
 
 // Unit normals, each the sum of its triangles' area-weighted normals.
-void areaWeightedNormals(const std::vector<glm::dvec3>& positions, const std::vector<glm::u32vec3>& triangles,
-                         std::vector<glm::dvec3>& normals);
+void areaWeightedNormals(const Buffer<glm::dvec3>& positions, const Buffer<glm::u32vec3>& triangles,
+                         Buffer<glm::dvec3>& normals);
 
 // Where a cell brick's 9^3 block of fills comes from, read in place: the up to eight grid
 // bricks it overlaps (octant d: +x if d & 1, +y if d & 2, +z if d & 4), each an array or one

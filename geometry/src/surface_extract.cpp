@@ -446,7 +446,7 @@ struct Builder {
   // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it. A row's
   // edges read their fills from three block rows copied once (its own, the next along y and
   // along z) rather than through the block's bounds and brick choice per fill.
-  void writeEdgeVertices(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions) {
+  void writeEdgeVertices(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions) {
     const BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
     const double vs = grid.voxelSizeMm();
@@ -489,8 +489,8 @@ struct Builder {
   // Pass 3: triangles of one brick's cells, and their loop centres. The ids of the edges its
   // cells use are first laid out in a table (gatherEdgeIds); a case without a long loop then
   // writes its triangles from fixed offsets into it, with no search and no count.
-  void writeTriangles(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions,
-                      std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
+  void writeTriangles(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions,
+                      Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles) {
     if (!shared) {
       writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
       return;
@@ -628,8 +628,8 @@ struct Builder {
   }
 
   // The naive baseline: every cube makes its own vertex on each of its crossed edges.
-  void writeTrianglesNaive(std::size_t s, std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions,
-                           std::vector<std::uint32_t>& loopVertices, std::vector<glm::u32vec3>& triangles) {
+  void writeTrianglesNaive(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions,
+                           Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles) {
     const auto& table = mcTable();
     const glm::ivec3 cb = active[s];
     const BrickOut& o = out[s];
@@ -683,8 +683,8 @@ struct Builder {
     });
   }
 
-  void run(std::vector<VertexInfo>& vertices, std::vector<glm::dvec3>& positions, std::vector<std::uint32_t>& loopVertices,
-           std::vector<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
+  void run(Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions, Buffer<std::uint32_t>& loopVertices,
+           Buffer<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
     activeCellBricks(grid, brickStates, active);
     slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
     for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
@@ -770,9 +770,9 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
   validateSurfaceOptions(options);
   SurfaceTimings local;
   const Clock::time_point start = Clock::now();
-  std::vector<VertexInfo> vertices;
-  std::vector<std::uint32_t> loopVertices;
-  std::vector<glm::u32vec3> triangles;
+  Buffer<VertexInfo> vertices;
+  Buffer<std::uint32_t> loopVertices;
+  Buffer<glm::u32vec3> triangles;
   std::vector<SurfaceMesh::BrickRange> ranges;
   SurfaceMesh mesh;
   bool direct = false;

@@ -75,9 +75,9 @@ struct MultiRes {
   std::unordered_set<std::uint64_t> fineCells;
   std::unordered_map<std::uint64_t, std::uint32_t> coarseVertex;
   std::unordered_map<std::uint64_t, std::uint32_t> fineVertex;
-  std::vector<VertexInfo> vertices;
-  std::vector<std::uint32_t> loopVertices;
-  std::vector<glm::u32vec3> triangles;
+  Buffer<VertexInfo> vertices;
+  Buffer<std::uint32_t> loopVertices;
+  Buffer<glm::u32vec3> triangles;
   double subFull;
 
   MultiRes(const VoxelGrid& g, const RefinedVoxels& refined)

@@ -6,6 +6,7 @@
 // smoothing: that is what opens cracks.
 #pragma once
 
+#include "osteon/geometry/buffer.h"
 #include "osteon/geometry/mesh.h"
 #include "osteon/geometry/voxel_grid.h"
 
@@ -28,9 +29,9 @@ struct SurfaceOptions {
 // A surface ready for validation and rendering: positions, unit normals, outward CCW
 // triangles grouped by the grid brick their cells belong to.
 struct SurfaceMesh {
-  std::vector<glm::dvec3> positionsMm;
-  std::vector<glm::dvec3> normals;        // area-weighted, unit length (empty if not asked)
-  std::vector<glm::u32vec3> triangles;
+  Buffer<glm::dvec3> positionsMm;
+  Buffer<glm::dvec3> normals;        // area-weighted, unit length (empty if not asked)
+  Buffer<glm::u32vec3> triangles;
   // Triangles of the cells of one cell brick. Cells are numbered by their first voxel, from
   // -1 (the layer outside the grid that closes the surface) to dims - 1, and cell brick cb
   // holds cells 8 cb .. 8 cb + 7, so cb runs from -1 to brickDims - 1 on each axis.
@@ -46,7 +47,9 @@ struct SurfaceMesh {
 
   std::size_t vertexCount() const { return positionsMm.size(); }
   std::size_t triangleCount() const { return triangles.size(); }
-  TriangleMesh toTriangleMesh() const { return TriangleMesh{positionsMm, triangles}; }
+  TriangleMesh toTriangleMesh() const {
+    return TriangleMesh{{positionsMm.begin(), positionsMm.end()}, {triangles.begin(), triangles.end()}};
+  }
 };
 
 // Where the time went, as the seed's Table 2.
