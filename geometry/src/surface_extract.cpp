@@ -177,19 +177,18 @@ void insideRows(const BlockSource& src, RowMasks& rows) {
       }
     return;
   }
+  // At the grid's border (a block there often holds a single layer of the grid): only the
+  // rows inside it are read, clipped along x; the rest stay 0.
+  rows.fill(0);
   const std::uint32_t xValid = xRange(src.lo.x, src.hi.x);
-  for (int z = 0; z < kBlock; ++z)
-    for (int y = 0; y < kBlock; ++y) {
-      std::uint32_t m = 0;
-      if (y >= src.lo.y && y < src.hi.y && z >= src.lo.z && z < src.hi.z) {
-        const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-        const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-        m = src.data[d] ? insideOf8(src.data[d] + row) : (src.uniform[d] > kInsideAbove ? 0xffu : 0u);
-        const Fill next = src.data[d | 1] ? src.data[d | 1][row] : src.uniform[d | 1];
-        m |= (next > kInsideAbove ? 1u : 0u) << 8;
-        m &= xValid;
-      }
-      rows[std::size_t(y + kBlock * z)] = std::uint16_t(m);
+  for (int z = src.lo.z; z < src.hi.z; ++z)
+    for (int y = src.lo.y; y < src.hi.y; ++y) {
+      const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+      const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+      std::uint32_t m = src.data[d] ? insideOf8(src.data[d] + row) : (src.uniform[d] > kInsideAbove ? 0xffu : 0u);
+      const Fill next = src.data[d | 1] ? src.data[d | 1][row] : src.uniform[d | 1];
+      m |= (next > kInsideAbove ? 1u : 0u) << 8;
+      rows[std::size_t(y + kBlock * z)] = std::uint16_t(m & xValid);
     }
 }
 
@@ -491,6 +490,7 @@ struct Builder {
   // writes its triangles from fixed offsets into it, with no search and no count.
   void writeTriangles(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions,
                       Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles) {
+    if (out[s].surfaceRows == 0) return;  // e.g. a border brick whose one layer of cells is all outside
     if (!shared) {
       writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
       return;
