@@ -81,7 +81,14 @@ void BlockSource::init(const VoxelGrid& grid, const glm::ivec3& cb) {
     b.fill(kFillFull);
     return b;
   }();
-  dense = lo == glm::ivec3(0) && hi == glm::ivec3(kBlock);
+  // Reads outside the grid come from bricks wholly outside it (the empty array), so they need
+  // no clipping: below the grid always (brick -1), above it when the grid's size along that
+  // axis is a whole number of bricks (else the last brick's voxels past the end would be read).
+  const glm::ivec3 dims = grid.dims();
+  dense = true;
+  for (int k = 0; k < 3; ++k) {
+    if (hi[k] < kBlock && dims[k] % kCellBrick != 0) dense = false;
+  }
   for (std::size_t d = 0; d < 8; ++d) {
     if (data[d]) continue;
     if (uniform[d] == 0) {

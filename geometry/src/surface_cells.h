@@ -84,7 +84,7 @@ struct BlockSource {
   std::array<const Fill*, 8> data;  // uniform empty and full bricks point at constant arrays
   std::array<Fill, 8> uniform;
   glm::ivec3 lo, hi;
-  bool dense;  // wholly inside the grid, every brick an array: rows read without checks
+  bool dense;  // every brick an array, nothing to clip: rows read without checks
 
   void init(const VoxelGrid& grid, const glm::ivec3& cellBrick);
   // Fills of block row (y, z), x = 0..8, into out[0..8]: the first eight one brick row (a
