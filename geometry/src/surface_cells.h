@@ -131,7 +131,7 @@ void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& l
 // Where the iso level crosses an edge whose ends hold fills a and b, as a fraction of the edge.
 inline double edgeParameter(Fill a, Fill b) {
   const double t = (kIso - double(a)) / (double(b) - double(a));
-  return t < kEdgeMargin ? kEdgeMargin : (t > 1.0 - kEdgeMargin ? 1.0 - kEdgeMargin : t);
+  return std::max(kEdgeMargin, std::min(t, 1.0 - kEdgeMargin));  // never NaN: a != b
 }
 
 inline VertexInfo edgeVertexInfo(const VoxelGrid& grid, const glm::ivec3& voxel, int axis, Fill a, Fill b) {
