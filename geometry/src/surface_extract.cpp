@@ -200,17 +200,17 @@ constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
   return t;
 }();
 
-// Per active cell brick: its fills, their inside bits, how much it adds, and the vertex of
-// each edge its cells own.
+// Per active cell brick: where its fills are, how much it adds, and its rows of cells with
+// surface, each row's mixed cells and their cases.
 struct BrickOut {
   // Left uninitialised: every brick fills its arrays before reading them, and zeroing some
   // 8 KiB per active brick up front was a tenth of the extraction time.
   BrickOut() {}  // NOLINT: deliberately not = default (that would zero the arrays)
   BlockSource source;
-  RowMasks rows;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
   std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
   std::array<std::uint8_t, kB * kB> mixed;  // the row's mixed cells as x bits (surface rows)
+  std::array<std::uint64_t, kB * kB> configs;  // byte x: cell x's case (surface rows)
 };
 
 // Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
@@ -314,13 +314,8 @@ struct Builder {
     r[3] = rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
   }
 
-  static int configOf(const std::uint32_t (&r)[4], int lx) {
-    return int(((r[0] >> lx) & 3u) | (((r[1] >> lx) & 3u) << 2) | (((r[2] >> lx) & 3u) << 4) |
-               (((r[3] >> lx) & 3u) << 6));
-  }
-
-  // Every cell's case in a row at once: byte x is configOf(r, x). A row's inside bits spread
-  // by table into one bit pair per byte, four rows shifted into place.
+  // Every cell's case in a row at once (byte x: cell x's, bit c set if corner c is inside).
+  // A row's inside bits spread by table into one bit pair per byte, four rows shifted in.
   static std::uint64_t rowConfigs(const std::uint32_t (&r)[4]) {
     static const std::array<std::uint64_t, 512> spread = [] {
       std::array<std::uint64_t, 512> t{};
@@ -335,7 +330,8 @@ struct Builder {
   void count(std::size_t s) {
     BrickOut& o = out[s];
     o.source.init(grid, active[s]);
-    insideRows(o.source, o.rows);
+    RowMasks inside;
+    insideRows(o.source, inside);
     glm::ivec3 lo, hi;
     cellRange(grid, active[s], lo, hi);
     const glm::ivec3 l0 = lo - active[s] * kB;
@@ -349,13 +345,14 @@ struct Builder {
     EdgeIndex& edgeIndex = index[s];
     for (int lz = l0.z; lz < l1.z; ++lz) {
       std::uint8_t* mixed = o.mixed.data() + kB * lz;
-      const std::uint32_t layerRows = classifyLayer(o.rows, lz, cells, rowsIn, mixed, edgeIndex, edges);
+      const std::uint32_t layerRows = classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
       surfaceRows |= std::uint64_t(layerRows) << (kB * lz);
       for (std::uint32_t rows = layerRows; rows != 0; rows &= rows - 1) {
         const int ly = __builtin_ctz(rows);
         std::uint32_t r[4];
-        rowCorners(o.rows, ly, lz, r);
+        rowCorners(inside, ly, lz, r);
         const std::uint64_t configs = rowConfigs(r);
+        o.configs[std::size_t(ly + kB * lz)] = configs;
         for (std::uint32_t bits = mixed[ly]; bits != 0; bits &= bits - 1) {
           sums += packed[std::size_t((configs >> (8 * __builtin_ctz(bits))) & 0xffu)];
         }
@@ -504,10 +501,8 @@ struct Builder {
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
-      std::uint32_t r[4];
-      rowCorners(o.rows, ly, lz, r);
       std::uint32_t bits = o.mixed[std::size_t(row)];
-      const std::uint64_t configs = rowConfigs(r);
+      const std::uint64_t configs = o.configs[std::size_t(row)];
       const std::uint32_t* rowIds = edgeIds.data() + idSlot(0, ly, lz, 0);
       for (; bits != 0; bits &= bits - 1) {
         const int lx = __builtin_ctz(bits);
@@ -637,11 +632,10 @@ struct Builder {
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
-      std::uint32_t r[4];
-      rowCorners(o.rows, ly, lz, r);
+      const std::uint64_t configs = o.configs[std::size_t(row)];
       for (std::uint32_t bits = o.mixed[std::size_t(row)]; bits != 0; bits &= bits - 1) {
         const glm::ivec3 l(__builtin_ctz(bits), ly, lz);
-        const McCase& mc = table[std::size_t(configOf(r, l.x))];
+        const McCase& mc = table[std::size_t((configs >> (8 * l.x)) & 0xffu)];
         std::uint32_t ids[13];
         for (int loop = 0; loop < mc.loopCount; ++loop) {
           int count = 0;
