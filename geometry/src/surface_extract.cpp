@@ -80,16 +80,16 @@ const CaseCounts& caseCounts() {
   return counts;
 }
 
-// A case's triangles as references to its edges' vertices (0-11) and its long loops' centres
-// (12 + i), in the order its loops give them (a triangle, a quad split from its first corner,
-// a fan around the centre), and the edges it uses as bits.
+// A case as pass 3 writes it, its edges as slot offsets in the id table (kEdgeSlot). Without
+// a long loop: its triangles' corners, three per triangle (a triangle; a quad split from its
+// first corner). With one: its loops' edges in order and their lengths, since a loop of five
+// or more edges fans around a centre vertex made with it.
 struct FlatCase {
-  std::uint16_t edgeMask = 0;
   std::uint8_t triangleCount = 0;
   std::uint8_t longLoops = 0;
-  std::array<std::array<std::uint8_t, 3>, 12> triangles{};
-  // Cases without a long loop: each triangle's corners as slot offsets in the id table.
-  std::array<std::array<std::uint16_t, 3>, 12> slots{};
+  std::uint8_t loopCount = 0;
+  std::array<std::uint8_t, 4> loopLength{};
+  std::array<std::uint16_t, 36> slots{};
 };
 
 const std::array<FlatCase, 256>& flatCases() {
@@ -98,27 +98,27 @@ const std::array<FlatCase, 256>& flatCases() {
     for (int config = 0; config < 256; ++config) {
       const McCase& mc = mcTable()[std::size_t(config)];
       FlatCase& f = t[std::size_t(config)];
-      const auto add = [&f](int a, int b, int c) {
-        f.triangles[f.triangleCount++] = {std::uint8_t(a), std::uint8_t(b), std::uint8_t(c)};
-      };
+      f.loopCount = std::uint8_t(mc.loopCount);
+      for (int loop = 0; loop < mc.loopCount; ++loop) {
+        const int k = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
+        f.loopLength[std::size_t(loop)] = std::uint8_t(k);
+        f.triangleCount = std::uint8_t(f.triangleCount + (k == 3 ? 1 : (k == 4 ? 2 : k)));
+        f.longLoops = std::uint8_t(f.longLoops + (k >= 5 ? 1 : 0));
+      }
+      const auto slot = [&](int i) { return kEdgeSlot[mc.edges[std::size_t(i)]]; };
+      std::size_t n = 0;
       for (int loop = 0; loop < mc.loopCount; ++loop) {
         const int first = mc.loopBegin[std::size_t(loop)];
         const int k = mc.loopBegin[std::size_t(loop) + 1] - first;
-        const auto edge = [&](int i) { return int(mc.edges[std::size_t(first + i % k)]); };
-        for (int i = 0; i < k; ++i) f.edgeMask = std::uint16_t(f.edgeMask | (1u << edge(i)));
-        if (k == 3) {
-          add(edge(0), edge(1), edge(2));
-        } else if (k == 4) {
-          add(edge(0), edge(1), edge(2));
-          add(edge(0), edge(2), edge(3));
+        if (f.longLoops != 0) {
+          for (int i = 0; i < k; ++i) f.slots[n++] = slot(first + i);
         } else {
-          const int centre = 12 + f.longLoops++;
-          for (int i = 0; i < k; ++i) add(centre, edge(i), edge(i + 1));
+          for (int i = 1; i + 1 < k; ++i) {
+            f.slots[n++] = slot(first);
+            f.slots[n++] = slot(first + i);
+            f.slots[n++] = slot(first + i + 1);
+          }
         }
-      }
-      if (f.longLoops == 0) {
-        for (int i = 0; i < f.triangleCount; ++i)
-          for (int c = 0; c < 3; ++c) f.slots[std::size_t(i)][std::size_t(c)] = kEdgeSlot[f.triangles[std::size_t(i)][std::size_t(c)]];
       }
     }
     return t;
@@ -492,7 +492,6 @@ struct Builder {
       writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
       return;
     }
-    const auto& table = mcTable();
     const auto& flat = flatCases();
     const BrickOut& o = out[s];
     EdgeIds edgeIds;  // only crossed edges' slots are read, and each of those is written first
@@ -511,38 +510,42 @@ struct Builder {
         const std::uint32_t* cellIds = rowIds + lx;
         if (fc.longLoops == 0) {
           for (int t = 0; t < fc.triangleCount; ++t) {
-            const auto& tri = fc.slots[std::size_t(t)];
+            const std::uint16_t* tri = fc.slots.data() + 3 * t;
             triangles[nextTri++] = {cellIds[tri[0]], cellIds[tri[1]], cellIds[tri[2]]};
           }
           continue;
         }
-        // Loops of five or more edges fan from a centre, which smoothing keeps at the loop's
-        // mean (every edge vertex is written by pass 2).
-        std::uint32_t ids[12 + 2];
-        for (std::uint32_t m = fc.edgeMask; m != 0; m &= m - 1) {
-          const auto e = std::size_t(__builtin_ctz(m));
-          ids[e] = cellIds[kEdgeSlot[e]];
-        }
-        const McCase& mc = table[std::size_t(config)];
-        int centre = 0;
-        for (int loop = 0; loop < mc.loopCount; ++loop) {
-          const int first = mc.loopBegin[std::size_t(loop)];
-          const int count = mc.loopBegin[std::size_t(loop) + 1] - first;
-          if (count < 5) continue;
-          if (direct) {
-            glm::dvec3 sum(0.0);
-            for (int i = 0; i < count; ++i) sum += positions[ids[mc.edges[std::size_t(first + i)]]];
-            positions[nextExtra] = sum / double(count);
-          } else {
-            for (int i = 0; i < count; ++i) loopVertices[nextEntry + std::uint32_t(i)] = ids[mc.edges[std::size_t(first + i)]];
-            vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
-            nextEntry += std::uint32_t(count);
+        // Loop by loop, in the table's order; a loop of five or more edges fans around its
+        // centre, which smoothing keeps at the loop's mean (every edge vertex is written by
+        // pass 2, this slab's and the next).
+        const std::uint16_t* slot = fc.slots.data();
+        for (int loop = 0; loop < fc.loopCount; slot += fc.loopLength[std::size_t(loop)], ++loop) {
+          const std::uint32_t k = fc.loopLength[std::size_t(loop)];
+          if (k < 5) {
+            const std::uint32_t a = cellIds[slot[0]];
+            for (std::uint32_t i = 1; i + 1 < k; ++i) triangles[nextTri++] = {a, cellIds[slot[i]], cellIds[slot[i + 1]]};
+            continue;
           }
-          ids[12 + centre++] = nextExtra++;
-        }
-        for (int t = 0; t < fc.triangleCount; ++t) {
-          const auto& tri = fc.triangles[std::size_t(t)];
-          triangles[nextTri++] = {ids[tri[0]], ids[tri[1]], ids[tri[2]]};
+          const std::uint32_t centre = nextExtra++;
+          const std::uint32_t firstId = cellIds[slot[0]];
+          glm::dvec3 sum(0.0);
+          std::uint32_t id = firstId;
+          for (std::uint32_t i = 0; i < k; ++i) {
+            const std::uint32_t nextId = i + 1 < k ? cellIds[slot[i + 1]] : firstId;
+            triangles[nextTri++] = {centre, id, nextId};
+            if (direct) {
+              sum += positions[id];
+            } else {
+              loopVertices[nextEntry + i] = id;
+            }
+            id = nextId;
+          }
+          if (direct) {
+            positions[centre] = sum / double(k);
+          } else {
+            vertices[centre] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, k, glm::ivec3(0)};
+            nextEntry += k;
+          }
         }
       }
     });
