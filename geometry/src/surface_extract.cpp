@@ -496,7 +496,10 @@ struct Builder {
     const BrickOut& o = out[s];
     EdgeIds edgeIds;  // only crossed edges' slots are read, and each of those is written first
     gatherEdgeIds(s, edgeIds);
-    std::uint32_t nextTri = triOffset[s];
+    // Raw pointers, and counts read once: the writes go through types that may alias the
+    // tables (bytes), so the compiler would otherwise reload them after every store.
+    glm::u32vec3* tri = triangles.data() + triOffset[s];
+    glm::dvec3* const position = positions.data();
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
@@ -509,21 +512,23 @@ struct Builder {
         const FlatCase& fc = flat[std::size_t(config)];
         const std::uint32_t* cellIds = rowIds + lx;
         if (fc.longLoops == 0) {
-          for (int t = 0; t < fc.triangleCount; ++t) {
-            const std::uint16_t* tri = fc.slots.data() + 3 * t;
-            triangles[nextTri++] = {cellIds[tri[0]], cellIds[tri[1]], cellIds[tri[2]]};
-          }
+          const std::uint16_t* corner = fc.slots.data();
+          const int n = fc.triangleCount;
+          for (int t = 0; t < n; ++t, corner += 3) tri[t] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
+          tri += n;
           continue;
         }
         // Loop by loop, in the table's order; a loop of five or more edges fans around its
         // centre, which smoothing keeps at the loop's mean (every edge vertex is written by
         // pass 2, this slab's and the next).
         const std::uint16_t* slot = fc.slots.data();
-        for (int loop = 0; loop < fc.loopCount; slot += fc.loopLength[std::size_t(loop)], ++loop) {
-          const std::uint32_t k = fc.loopLength[std::size_t(loop)];
+        const int loops = fc.loopCount;
+        const auto lengths = fc.loopLength;
+        for (int loop = 0; loop < loops; slot += lengths[std::size_t(loop)], ++loop) {
+          const std::uint32_t k = lengths[std::size_t(loop)];
           if (k < 5) {
             const std::uint32_t a = cellIds[slot[0]];
-            for (std::uint32_t i = 1; i + 1 < k; ++i) triangles[nextTri++] = {a, cellIds[slot[i]], cellIds[slot[i + 1]]};
+            for (std::uint32_t i = 1; i + 1 < k; ++i) *tri++ = {a, cellIds[slot[i]], cellIds[slot[i + 1]]};
             continue;
           }
           const std::uint32_t centre = nextExtra++;
@@ -532,16 +537,16 @@ struct Builder {
           std::uint32_t id = firstId;
           for (std::uint32_t i = 0; i < k; ++i) {
             const std::uint32_t nextId = i + 1 < k ? cellIds[slot[i + 1]] : firstId;
-            triangles[nextTri++] = {centre, id, nextId};
+            *tri++ = {centre, id, nextId};
             if (direct) {
-              sum += positions[id];
+              sum += position[id];
             } else {
               loopVertices[nextEntry + i] = id;
             }
             id = nextId;
           }
           if (direct) {
-            positions[centre] = sum / double(k);
+            position[centre] = sum / double(k);
           } else {
             vertices[centre] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, k, glm::ivec3(0)};
             nextEntry += k;
