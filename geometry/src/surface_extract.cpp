@@ -442,14 +442,17 @@ struct Builder {
   // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it. A row's
   // edges read their fills from three block rows copied once (its own, the next along y and
   // along z) rather than through the block's bounds and brick choice per fill.
-  void writeEdgeVertices(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions) {
+  // kDirect: positions straight away (no smoothing to follow), else edge records.
+  template <bool kDirect>
+  void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions) const {
     const BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
     const double vs = grid.voxelSizeMm();
     std::array<double, kCellBrick> centreX;
     for (int x = 0; x < kCellBrick; ++x) centreX[std::size_t(x)] = grid.voxelCentreMm(cb * kB + glm::ivec3(x, 0, 0)).x;
-    std::uint32_t next = index[s].firstEdgeVertex;
     const EdgeIndex& own = index[s];
+    VertexInfo* info = vertices + own.firstEdgeVertex;
+    glm::dvec3* position = positions + own.firstEdgeVertex;
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
       const std::uint32_t crossing[3] = {own.crossings[edgeByte(row, 0)], own.crossings[edgeByte(row, 1)],
                                          own.crossings[edgeByte(row, 2)]};
@@ -468,11 +471,11 @@ struct Builder {
           const int lx = __builtin_ctz(bits);
           const double t = edgeParameter(fills[0][lx], far[lx]);
           glm::dvec3 p(centreX[std::size_t(lx)], rowCentre.y, rowCentre.z);
-          if (direct) {
+          if constexpr (kDirect) {
             p[axis] += t * vs;
-            positions[next++] = p;
+            *position++ = p;
           } else {
-            vertices[next++] = {p, axis, t, vs, 0, 0, rowStart + glm::ivec3(lx, 0, 0)};
+            *info++ = {p, axis, t, vs, 0, 0, rowStart + glm::ivec3(lx, 0, 0)};
           }
         }
       };
@@ -721,7 +724,13 @@ struct Builder {
     }
     triangles.resize(triOffset[n]);
     if (!direct) loopVertices.resize(loopOffset[n]);
-    const auto edgeVertices = [&](std::size_t s) { writeEdgeVertices(s, vertices, positions); };
+    const auto edgeVertices = [&](std::size_t s) {
+      if (direct) {
+        writeEdgeVertices<true>(s, nullptr, positions.data());
+      } else {
+        writeEdgeVertices<false>(s, vertices.data(), nullptr);
+      }
+    };
     const auto cellTriangles = [&](std::size_t s) { writeTriangles(s, vertices, positions, loopVertices, triangles); };
     if (shared) {
       // Passes 2 and 3 slab by slab (a z layer of cell bricks), the vertices one slab ahead:
