@@ -448,8 +448,10 @@ struct Builder {
     const BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
     const double vs = grid.voxelSizeMm();
-    std::array<double, kCellBrick> centreX;
-    for (int x = 0; x < kCellBrick; ++x) centreX[std::size_t(x)] = grid.voxelCentreMm(cb * kB + glm::ivec3(x, 0, 0)).x;
+    // Voxel centres as grid.voxelCentreMm makes them (so every extractor agrees to the bit),
+    // each axis's once per brick.
+    std::array<glm::dvec3, kCellBrick> centre;
+    for (int i = 0; i < kCellBrick; ++i) centre[std::size_t(i)] = grid.voxelCentreMm(cb * kB + glm::ivec3(i));
     const EdgeIndex& own = index[s];
     VertexInfo* info = vertices + own.firstEdgeVertex;
     glm::dvec3* position = positions + own.firstEdgeVertex;
@@ -462,15 +464,13 @@ struct Builder {
       if (crossing[1]) o.source.row(ly + 1, lz, fills[1]);
       if (crossing[2]) o.source.row(ly, lz + 1, fills[2]);
       const glm::ivec3 rowStart = cb * kB + glm::ivec3(0, ly, lz);
-      // Voxel centres as grid.voxelCentreMm makes them (so every extractor agrees to the
-      // bit), the row's y and z once.
-      const glm::dvec3 rowCentre = grid.voxelCentreMm(rowStart);
+      const glm::dvec3 rowCentre(0.0, centre[std::size_t(ly)].y, centre[std::size_t(lz)].z);
       const auto edges = [&](auto axisTag, const Fill* far) {
         constexpr int axis = decltype(axisTag)::value;
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
           const double t = edgeParameter(fills[0][lx], far[lx]);
-          glm::dvec3 p(centreX[std::size_t(lx)], rowCentre.y, rowCentre.z);
+          glm::dvec3 p(centre[std::size_t(lx)].x, rowCentre.y, rowCentre.z);
           if constexpr (kDirect) {
             p[axis] += t * vs;
             *position++ = p;
