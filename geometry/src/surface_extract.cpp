@@ -166,14 +166,32 @@ std::uint32_t insideOf8(const Fill* f) {
 
 // Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
 // bricks (a row's first eight voxels are one brick row: one vector compare).
-void insideRows(const BlockSource& src, RowMasks& rows) {
+// Inside bits of one row of a dense block; kNinthOnly: only the voxel at x = 8 (the first
+// eight lie below the grid's start, all outside).
+template <bool kNinthOnly>
+std::uint16_t denseRow(const BlockSource& src, int y, int z) {
+  const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
+  const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+  const std::uint32_t ninth = src.data[d | 1][row] > kInsideAbove ? 0x100u : 0u;
+  if constexpr (kNinthOnly) return std::uint16_t(ninth);
+  return std::uint16_t(insideOf8(src.data[d] + row) | ninth);
+}
+
+// Inside bits of the rows the cells [cellLo, cellHi) (block-local) read: planes and rows
+// cellLo .. cellHi. A block below the grid's start along an axis has one layer of cells.
+void insideRows(const BlockSource& src, const glm::ivec3& cellLo, const glm::ivec3& cellHi, RowMasks& rows) {
   if (src.dense) {  // nearly every block: one compare per row, no branch
-    for (int z = 0; z < kBlock; ++z)
-      for (int y = 0; y < kBlock; ++y) {
-        const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
-        const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
+    if (cellLo.x == 0 && cellLo.y == 0) {
+      for (int z = cellLo.z; z <= cellHi.z; ++z)
+        for (int y = 0; y < kBlock; ++y) rows[std::size_t(y + kBlock * z)] = denseRow<false>(src, y, z);
+      return;
+    }
+    // Layers read whole (masked by row), so rows not read from the grid must be 0.
+    rows.fill(0);
+    for (int z = cellLo.z; z <= cellHi.z; ++z)
+      for (int y = cellLo.y; y <= cellHi.y; ++y) {
         rows[std::size_t(y + kBlock * z)] =
-            std::uint16_t(insideOf8(src.data[d] + row) | (src.data[d | 1][row] > kInsideAbove ? 0x100u : 0u));
+            cellLo.x == kCellBrick - 1 ? denseRow<true>(src, y, z) : denseRow<false>(src, y, z);
       }
     return;
   }
@@ -330,12 +348,12 @@ struct Builder {
   void count(std::size_t s) {
     BrickOut& o = out[s];
     o.source.init(grid, active[s]);
-    RowMasks inside;
-    insideRows(o.source, inside);
     glm::ivec3 lo, hi;
     cellRange(grid, active[s], lo, hi);
     const glm::ivec3 l0 = lo - active[s] * kB;
     const glm::ivec3 l1 = hi - active[s] * kB;
+    RowMasks inside;
+    insideRows(o.source, l0, l1, inside);
     const std::uint32_t cells = xRange(l0.x, l1.x);    // cells in the grid along x, as bits
     const std::uint32_t rowsIn = xRange(l0.y, l1.y);   // and along y
     const auto& packed = packedCaseCounts();
