@@ -15,6 +15,10 @@
 #include <cstring>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace osteon::geometry::detail {
 
 inline constexpr int kCellBrick = VoxelGrid::kBrickSize;  // cells per cell-brick edge
@@ -34,6 +38,23 @@ inline std::uint32_t bitCount(std::uint32_t v) {
   v = v - ((v >> 1) & 0x55555555u);
   v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
   return (((v + (v >> 4)) & 0x0f0f0f0fu) * 0x01010101u) >> 24;
+}
+
+// fill > this <=> fill > kIso (fills are integers, kIso sits halfway between two).
+inline constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
+
+// Inside bits of eight fills in a row.
+inline std::uint32_t insideOf8(const Fill* f) {
+#if defined(__SSE2__)
+  // Fills are at most 16320, so the signed 16-bit compare is exact.
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(f));
+  const __m128i inside = _mm_cmpgt_epi16(v, _mm_set1_epi16(std::int16_t(kInsideAbove)));
+  return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(inside, _mm_setzero_si128()))) & 0xffu;
+#else
+  std::uint32_t m = 0;
+  for (int x = 0; x < kCellBrick; ++x) m |= (f[x] > kInsideAbove ? 1u : 0u) << x;
+  return m;
+#endif
 }
 
 inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -124,7 +145,7 @@ struct BlockSource {
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
 // Every cell brick's activity at once: each grid brick's state looked up once (the per-brick
 // test looks each up eight times). Appends the active cell bricks in z, y, x order.
-void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint8_t>& states, std::vector<glm::ivec3>& active);
+void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint16_t>& states, std::vector<glm::ivec3>& active);
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& lo, glm::ivec3& hi);
 

@@ -29,8 +29,6 @@ double msSince(Clock::time_point start) {
 
 using namespace detail;
 constexpr int kB = kCellBrick;
-// fill > this <=> fill > kIso (fills are integers, kIso sits halfway between two).
-constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 
 // Pass 3 gathers the ids of every edge its brick's cells can use into one table in L1 cache:
 // the brick's own edges and those its cells share on its upper faces with the bricks above,
@@ -150,22 +148,6 @@ inline std::uint32_t xRange(int xLo, int xHi) {
   return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
 }
 
-// Inside bits of eight fills in a row.
-std::uint32_t insideOf8(const Fill* f) {
-#if defined(__SSE2__)
-  // Fills are at most 16320, so the signed 16-bit compare is exact.
-  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(f));
-  const __m128i inside = _mm_cmpgt_epi16(v, _mm_set1_epi16(std::int16_t(kInsideAbove)));
-  return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(inside, _mm_setzero_si128()))) & 0xffu;
-#else
-  std::uint32_t m = 0;
-  for (int x = 0; x < kCellBrick; ++x) m |= (f[x] > kInsideAbove ? 1u : 0u) << x;
-  return m;
-#endif
-}
-
-// Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
-// bricks (a row's first eight voxels are one brick row: one vector compare).
 // Inside bits of one row of a dense block; kNinthOnly: only the voxel at x = 8 (the first
 // eight lie below the grid's start, all outside).
 template <bool kNinthOnly>
@@ -177,8 +159,10 @@ std::uint16_t denseRow(const BlockSource& src, int y, int z) {
   return std::uint16_t(insideOf8(src.data[d] + row) | ninth);
 }
 
-// Inside bits of the rows the cells [cellLo, cellHi) (block-local) read: planes and rows
-// cellLo .. cellHi. A block below the grid's start along an axis has one layer of cells.
+// Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
+// bricks (a row's first eight voxels are one brick row: one vector compare): the rows the
+// cells [cellLo, cellHi) (block-local) read, planes and rows cellLo .. cellHi. A block below
+// the grid's start along an axis has one layer of cells.
 void insideRows(const BlockSource& src, const glm::ivec3& cellLo, const glm::ivec3& cellHi, RowMasks& rows) {
   if (src.dense) {  // nearly every block: one compare per row, no branch
     if (cellLo.x == 0 && cellLo.y == 0) {
@@ -259,7 +243,7 @@ struct EdgeIndex {
 // time of repeated extractions.
 struct Scratch {
   std::vector<glm::ivec3> active;
-  std::vector<std::uint8_t> brickStates;
+  std::vector<std::uint16_t> brickStates;
   std::vector<std::int32_t> slotOfBrick;
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
@@ -276,7 +260,7 @@ struct Builder {
   // positions straight away and the per-vertex edge record (VertexInfo) is never made.
   bool direct;
   std::vector<glm::ivec3> active;
-  std::vector<std::uint8_t> brickStates;  // grid bricks' uniform states (scratch)
+  std::vector<std::uint16_t> brickStates;  // grid bricks' uniform states (scratch)
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
