@@ -202,6 +202,15 @@ constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
   return t;
 }();
 
+// For each byte of crossings, the crossings below each bit x (8 KiB, read as two vectors).
+struct alignas(16) BelowRow : std::array<std::uint32_t, kCellBrick> {};
+constexpr std::array<BelowRow, 256> kCrossingsBelow = [] {
+  std::array<BelowRow, 256> t{};
+  for (std::uint32_t b = 0; b < 256; ++b)
+    for (std::uint32_t x = 0, n = 0; x < std::uint32_t(kCellBrick); n += (b >> x) & 1u, ++x) t[b][x] = n;
+  return t;
+}();
+
 // Per active cell brick: where its fills are, how much it adds, and its rows of cells with
 // surface, each row's mixed cells and their cases.
 struct BrickOut {
@@ -618,20 +627,14 @@ struct Builder {
 
   // ids[x] = first + the crossings below x in a row's byte, for x = 0..7.
   static void rowOfIds(std::uint32_t first, std::uint8_t crossings, std::uint32_t* ids) {
-    static const std::array<std::uint64_t, 256> kBelow = [] {
-      std::array<std::uint64_t, 256> t{};
-      for (std::uint32_t b = 0; b < 256; ++b)
-        for (int x = 0, n = 0; x < kCellBrick; n += int((b >> x) & 1u), ++x) t[b] |= std::uint64_t(n) << (8 * x);
-      return t;
-    }();
+    const std::uint32_t* below = kCrossingsBelow[crossings].data();
 #if defined(__SSE2__)
-    const __m128i zero = _mm_setzero_si128();
-    const __m128i below = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&kBelow[crossings])), zero);
     const __m128i base = _mm_set1_epi32(std::int32_t(first));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids), _mm_add_epi32(base, _mm_unpacklo_epi16(below, zero)));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids + 4), _mm_add_epi32(base, _mm_unpackhi_epi16(below, zero)));
+    const auto* b = reinterpret_cast<const __m128i*>(below);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids), _mm_add_epi32(base, _mm_load_si128(b)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids + 4), _mm_add_epi32(base, _mm_load_si128(b + 1)));
 #else
-    for (int x = 0; x < kCellBrick; ++x) ids[x] = first + std::uint32_t((kBelow[crossings] >> (8 * x)) & 0xffu);
+    for (int x = 0; x < kCellBrick; ++x) ids[x] = first + below[x];
 #endif
   }
 
