@@ -257,6 +257,7 @@ struct Scratch {
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
   std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
+  Buffer<std::uint32_t> centreEntry;
 };
 
 struct Builder {
@@ -274,6 +275,7 @@ struct Builder {
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
   std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
+  Buffer<std::uint32_t> centreEntry;  // without smoothing: where each loop centre's loop starts
 
   // Borrows this thread's scratch for its lifetime (contents are overwritten, capacity kept).
   void swapScratch(Scratch& w) {
@@ -286,6 +288,7 @@ struct Builder {
     extraOffset.swap(w.extraOffset);
     triOffset.swap(w.triOffset);
     loopOffset.swap(w.loopOffset);
+    centreEntry.swap(w.centreEntry);
   }
   static Scratch& threadScratch() {
     static thread_local Scratch scratch;
@@ -454,8 +457,9 @@ struct Builder {
   // edges read their fills from three block rows copied once (its own, the next along y and
   // along z) rather than through the block's bounds and brick choice per fill.
   // kDirect: positions straight away (no smoothing to follow), else edge records.
+  // Each vertex's id also goes into the brick's edge-id table (ownIds) for its triangles.
   template <bool kDirect>
-  void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions) const {
+  void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* ownIds) const {
     const BrickOut& o = out[s];
     const glm::ivec3 cb = active[s];
     const double vs = grid.voxelSizeMm();
@@ -464,8 +468,9 @@ struct Builder {
     std::array<glm::dvec3, kCellBrick> centre;
     for (int i = 0; i < kCellBrick; ++i) centre[std::size_t(i)] = grid.voxelCentreMm(cb * kB + glm::ivec3(i));
     const EdgeIndex& own = index[s];
-    VertexInfo* info = vertices + own.firstEdgeVertex;
-    glm::dvec3* position = positions + own.firstEdgeVertex;
+    std::uint32_t id = own.firstEdgeVertex;
+    VertexInfo* info = vertices + id;
+    glm::dvec3* position = positions + id;
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
       const std::uint32_t crossing[3] = {own.crossings[edgeByte(row, 0)], own.crossings[edgeByte(row, 1)],
                                          own.crossings[edgeByte(row, 2)]};
@@ -478,8 +483,10 @@ struct Builder {
       const glm::dvec3 rowCentre(0.0, centre[std::size_t(ly)].y, centre[std::size_t(lz)].z);
       const auto edges = [&](auto axisTag, const Fill* far) {
         constexpr int axis = decltype(axisTag)::value;
+        std::uint32_t* rowIds = ownIds + idSlot(0, ly, lz, axis);
         for (std::uint32_t bits = crossing[axis]; bits != 0; bits &= bits - 1) {
           const int lx = __builtin_ctz(bits);
+          rowIds[lx] = id++;
           const double t = edgeParameter(fills[0][lx], far[lx]);
           glm::dvec3 p(centre[std::size_t(lx)].x, rowCentre.y, rowCentre.z);
           if constexpr (kDirect) {
@@ -496,24 +503,24 @@ struct Builder {
     });
   }
 
-  // Pass 3: triangles of one brick's cells, and their loop centres. The ids of the edges its
-  // cells use are first laid out in a table (gatherEdgeIds); a case without a long loop then
-  // writes its triangles from fixed offsets into it, with no search and no count.
-  void writeTriangles(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions,
-                      Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles) {
+  // Passes 2 and 3 of one brick (crack-free): its edge vertices, whose ids go straight into
+  // the brick's edge-id table, then the ids its cells share with the bricks above (numbered
+  // in pass 1), then its triangles and loop centres. A case without a long loop writes its
+  // triangles from fixed offsets into the table, with no search and no count. Positions of
+  // loop centres need vertices of bricks not yet made, so here a centre gets its loop's ids
+  // (loopStart: where they start) and placeCentres makes it later.
+  template <bool kDirect>
+  void writeBrick(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* loopVertices,
+                  std::uint32_t* loopStart, glm::u32vec3* triangles) const {
     if (out[s].surfaceRows == 0) return;  // e.g. a border brick whose one layer of cells is all outside
-    if (!shared) {
-      writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
-      return;
-    }
     const auto& flat = flatCases();
     const BrickOut& o = out[s];
     EdgeIds edgeIds;  // only crossed edges' slots are read, and each of those is written first
-    gatherEdgeIds(s, edgeIds);
+    writeEdgeVertices<kDirect>(s, vertices, positions, edgeIds.data());
+    gatherFaceIds(s, edgeIds);
     // Raw pointers, and counts read once: the writes go through types that may alias the
     // tables (bytes), so the compiler would otherwise reload them after every store.
-    glm::u32vec3* tri = triangles.data() + triOffset[s];
-    glm::dvec3* const position = positions.data();
+    glm::u32vec3* tri = triangles + triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
@@ -533,8 +540,7 @@ struct Builder {
           continue;
         }
         // Loop by loop, in the table's order; a loop of five or more edges fans around its
-        // centre, which smoothing keeps at the loop's mean (every edge vertex is written by
-        // pass 2, this slab's and the next).
+        // centre, which smoothing keeps at the loop's mean.
         const std::uint16_t* slot = fc.slots.data();
         const int loops = fc.loopCount;
         const auto lengths = fc.loopLength;
@@ -547,36 +553,45 @@ struct Builder {
           }
           const std::uint32_t centre = nextExtra++;
           const std::uint32_t firstId = cellIds[slot[0]];
-          glm::dvec3 sum(0.0);
           std::uint32_t id = firstId;
           for (std::uint32_t i = 0; i < k; ++i) {
             const std::uint32_t nextId = i + 1 < k ? cellIds[slot[i + 1]] : firstId;
             *tri++ = {centre, id, nextId};
-            if (direct) {
-              sum += position[id];
-            } else {
-              loopVertices[nextEntry + i] = id;
-            }
+            loopVertices[nextEntry + i] = id;
             id = nextId;
           }
-          if (direct) {
-            position[centre] = sum / double(k);
+          if constexpr (kDirect) {
+            loopStart[centre - extraOffset[0]] = nextEntry;
           } else {
             vertices[centre] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, k, glm::ivec3(0)};
-            nextEntry += k;
           }
+          nextEntry += k;
         }
       }
     });
   }
 
-  // The ids of the crossed edges brick s's cells use, into their table slots: its own edges
-  // (numbered row by row, axis by axis, x by x from the brick's first id), then those on its
-  // upper faces, owned by the bricks above (octant d: +x if d & 1, +y if d & 2, +z if d & 4).
-  // An edge there lies in a row of the owner's cells with a mixed cell, which pass 1 recorded.
-  // A row's eight slots are written whether crossed or not (no branch per edge): only crossed
-  // edges' slots are ever read.
-  void gatherEdgeIds(std::size_t s, EdgeIds& edgeIds) const {
+  // Without smoothing: brick s's loop centres at their loops' means, once the bricks above it
+  // have made their vertices.
+  void placeCentres(std::size_t s, glm::dvec3* positions, const std::uint32_t* loopVertices,
+                    const std::uint32_t* loopStart) const {
+    const std::uint32_t base = extraOffset[0];
+    for (std::uint32_t c = extraOffset[s]; c < extraOffset[s + 1]; ++c) {
+      const std::uint32_t first = loopStart[c - base];
+      const std::uint32_t last = c + 1 < extraOffset[s + 1] ? loopStart[c + 1 - base] : loopOffset[s + 1];
+      glm::dvec3 sum(0.0);
+      for (std::uint32_t e = first; e < last; ++e) sum += positions[loopVertices[e]];
+      positions[c] = sum / double(last - first);
+    }
+  }
+
+  // The ids of the crossed edges brick s's cells share with the bricks above (octant d: +x if
+  // d & 1, +y if d & 2, +z if d & 4), on its upper faces, into their table slots, from each
+  // owner's pass 1 counts (its first id plus the crossings before the edge's row). An edge
+  // there lies in a row of the owner's cells with a mixed cell, which pass 1 recorded. A row's
+  // eight slots are written whether crossed or not (no branch per edge): only crossed edges'
+  // slots are ever read.
+  void gatherFaceIds(std::size_t s, EdgeIds& edgeIds) const {
     const glm::ivec3 cb = active[s];
     const auto owner = [&](int d) -> std::int32_t {
       const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
@@ -592,7 +607,7 @@ struct Builder {
     const auto face = [&](auto dTag, std::uint64_t rowsTaken, auto axesTag) {
       constexpr int d = decltype(dTag)::value;
       constexpr int axes = decltype(axesTag)::value;
-      const std::int32_t slot = d == 0 ? std::int32_t(s) : owner(d);
+      const std::int32_t slot = owner(d);
       if (slot < 0) return;
       const EdgeIndex& from = index[std::size_t(slot)];
       std::uint32_t* shifted = edgeIds.data() + idSlot(kB * (d & 1), kB * ((d >> 1) & 1), kB * ((d >> 2) & 1), 0);
@@ -616,7 +631,6 @@ struct Builder {
         axis(std::integral_constant<int, 2>{});
       }
     };
-    face(std::integral_constant<int, 0>{}, kAllRows, std::integral_constant<int, 7>{});
     face(std::integral_constant<int, 1>{}, kAllRows, std::integral_constant<int, 6>{});
     face(std::integral_constant<int, 2>{}, kRowsY0, std::integral_constant<int, 5>{});
     face(std::integral_constant<int, 3>{}, kRowsY0, std::integral_constant<int, 4>{});
@@ -728,35 +742,33 @@ struct Builder {
       vertices.resize(extraOffset[n]);
     }
     triangles.resize(triOffset[n]);
-    if (!direct) loopVertices.resize(loopOffset[n]);
-    const auto edgeVertices = [&](std::size_t s) {
-      if (direct) {
-        writeEdgeVertices<true>(s, nullptr, positions.data());
-      } else {
-        writeEdgeVertices<false>(s, vertices.data(), nullptr);
-      }
-    };
-    const auto cellTriangles = [&](std::size_t s) { writeTriangles(s, vertices, positions, loopVertices, triangles); };
-    if (shared) {
-      // Passes 2 and 3 slab by slab (a z layer of cell bricks), the vertices one slab ahead:
-      // a slab's triangles use vertices of its own slab and the next (a loop centre reads
-      // them), which were just made and are still in cache. Run as two whole passes, every
-      // pass 3 read of a brick's state and of the vertices came from memory again.
-      std::size_t verticesDone = 0;
+    if (!shared) {
+      if (!direct) loopVertices.resize(loopOffset[n]);
+      forEachBrick([&](std::size_t s) { writeTrianglesNaive(s, vertices, positions, loopVertices, triangles); });
+    } else {
+      // Slab by slab (a z layer of cell bricks): vertices, ids and triangles brick by brick,
+      // then, a slab behind, the loop centres, whose loops reach into the slab above. What
+      // each step reads was made a moment before and is still in cache.
+      loopVertices.resize(loopOffset[n]);
+      centreEntry.resize(direct ? extraOffset[n] - extraOffset[0] : 0);
+      const auto brick = [&](std::size_t s) {
+        if (direct) {
+          writeBrick<true>(s, nullptr, positions.data(), loopVertices.data(), centreEntry.data(), triangles.data());
+        } else {
+          writeBrick<false>(s, vertices.data(), nullptr, loopVertices.data(), nullptr, triangles.data());
+        }
+      };
+      const auto centres = [&](std::size_t s) { placeCentres(s, positions.data(), loopVertices.data(), centreEntry.data()); };
+      std::size_t behind = 0;  // first brick of the slab whose centres are still to place
       for (std::size_t first = 0; first < n;) {
         std::size_t last = first;
         while (last < n && active[last].z == active[first].z) ++last;
-        std::size_t ahead = last;  // through the next slab
-        while (ahead < n && active[ahead].z == active[last].z) ++ahead;
-        if (ahead > verticesDone) {
-          forEachBrickIn(verticesDone, ahead, edgeVertices);
-          verticesDone = ahead;
-        }
-        forEachBrickIn(first, last, cellTriangles);
+        forEachBrickIn(first, last, brick);
+        if (direct && first > behind) forEachBrickIn(behind, first, centres);
+        behind = first;
         first = last;
       }
-    } else {
-      forEachBrick(cellTriangles);
+      if (direct) forEachBrickIn(behind, n, centres);
     }
     for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
