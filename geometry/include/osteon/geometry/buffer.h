@@ -2,9 +2,12 @@
 // integers) uninitialised, as new T does, instead of zeroing them. The surface extractor sizes
 // its output arrays and then writes every element, in parallel and out of order; zeroing them
 // first cost a sixteenth of the extraction and a second trip of every output cache line
-// through memory. Everything else behaves as std::vector<T>.
+// through memory. Large arrays (8 MiB and up) are asked of the kernel in 2 MiB pages where it
+// offers them: a fresh 22 MiB mesh otherwise takes some 5,600 page faults, 40 % of a 256^3
+// extraction. Everything else behaves as std::vector<T>.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <new>
 #include <type_traits>
@@ -12,6 +15,12 @@
 #include <vector>
 
 namespace osteon::geometry {
+
+namespace detail {
+inline constexpr std::size_t kLargeBufferBytes = std::size_t(8) << 20;
+void* allocateLarge(std::size_t bytes);  // aligned to 2 MiB, huge pages advised; throws bad_alloc
+void freeLarge(void* p) noexcept;
+}  // namespace detail
 
 template <typename T>
 struct DefaultInitAllocator : std::allocator<T> {
@@ -23,7 +32,19 @@ struct DefaultInitAllocator : std::allocator<T> {
   struct rebind {
     using other = DefaultInitAllocator<U>;
   };
-  // Without arguments: default-initialise (the one difference from std::allocator).
+  T* allocate(std::size_t n) {
+    if (n > std::size_t(-1) / sizeof(T)) throw std::bad_alloc();
+    if (n * sizeof(T) >= detail::kLargeBufferBytes) return static_cast<T*>(detail::allocateLarge(n * sizeof(T)));
+    return std::allocator<T>::allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) >= detail::kLargeBufferBytes) {
+      detail::freeLarge(p);
+    } else {
+      std::allocator<T>::deallocate(p, n);
+    }
+  }
+  // Without arguments: default-initialise (std::allocator value-initialises).
   template <typename U>
   void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value) {
     ::new (static_cast<void*>(p)) U;
