@@ -148,35 +148,21 @@ inline std::uint32_t xRange(int xLo, int xHi) {
   return xHi <= xLo ? 0u : ((1u << xHi) - 1u) & ~((1u << xLo) - 1u);
 }
 
-// Inside bits of one row of a dense block; kNinthOnly: only the voxel at x = 8 (the first
-// eight lie below the grid's start, all outside).
-template <bool kNinthOnly>
+// Inside bits of one row of a dense block.
 std::uint16_t denseRow(const BlockSource& src, int y, int z) {
   const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
   const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-  const std::uint32_t ninth = src.data[d | 1][row] > kInsideAbove ? 0x100u : 0u;
-  if constexpr (kNinthOnly) return std::uint16_t(ninth);
-  return std::uint16_t(insideOf8(src.data[d] + row) | ninth);
+  return std::uint16_t(insideOf8(src.data[d] + row) | (src.data[d | 1][row] > kInsideAbove ? 0x100u : 0u));
 }
 
 // Inside bits of a block's rows, one 9-bit word per (y, z) row, straight from the grid's
-// bricks (a row's first eight voxels are one brick row: one vector compare): the rows the
-// cells [cellLo, cellHi) (block-local) read, planes and rows cellLo .. cellHi. A block below
-// the grid's start along an axis has one layer of cells.
+// bricks (a row's first eight voxels are one brick row: one vector compare): the planes the
+// cells [cellLo, cellHi) (block-local) read, cellLo.z .. cellHi.z (one layer of cells in a
+// block below the grid's start).
 void insideRows(const BlockSource& src, const glm::ivec3& cellLo, const glm::ivec3& cellHi, RowMasks& rows) {
   if (src.dense) {  // nearly every block: one compare per row, no branch
-    if (cellLo.x == 0 && cellLo.y == 0) {
-      for (int z = cellLo.z; z <= cellHi.z; ++z)
-        for (int y = 0; y < kBlock; ++y) rows[std::size_t(y + kBlock * z)] = denseRow<false>(src, y, z);
-      return;
-    }
-    // Layers read whole (masked by row), so rows not read from the grid must be 0.
-    rows.fill(0);
     for (int z = cellLo.z; z <= cellHi.z; ++z)
-      for (int y = cellLo.y; y <= cellHi.y; ++y) {
-        rows[std::size_t(y + kBlock * z)] =
-            cellLo.x == kCellBrick - 1 ? denseRow<true>(src, y, z) : denseRow<false>(src, y, z);
-      }
+      for (int y = 0; y < kBlock; ++y) rows[std::size_t(y + kBlock * z)] = denseRow(src, y, z);
     return;
   }
   // At the grid's border (a block there often holds a single layer of the grid): only the
