@@ -1,5 +1,6 @@
 #include "osteon/geometry/surface.h"
 
+#include "surface_cases.h"
 #include "surface_cells.h"
 #include "osteon/geometry/error.h"
 
@@ -29,115 +30,6 @@ double msSince(Clock::time_point start) {
 
 using namespace detail;
 constexpr int kB = kCellBrick;
-
-// Pass 3 gathers the ids of every edge its brick's cells can use into one table in L1 cache:
-// the brick's own edges and those its cells share on its upper faces with the bricks above,
-// slot ((z * 9 + y) * 3 + axis) * 9 + x for the edge from block voxel (x, y, z) along axis.
-// A cell's edge e is then at a fixed offset from the cell's own slot, so a case's triangles
-// read their ids straight from the table.
-constexpr int kSlotsPerRow = 3 * kBlock;
-constexpr int kIdSlots = kBlock * kBlock * kSlotsPerRow;
-using EdgeIds = std::array<std::uint32_t, kIdSlots>;
-constexpr int idSlot(int x, int y, int z, int axis) { return ((z * kBlock + y) * 3 + axis) * kBlock + x; }
-
-// For cube edge e of a cell, its slot's offset from the cell's slot (axis 0).
-constexpr std::array<std::uint16_t, 12> kEdgeSlot = [] {
-  std::array<std::uint16_t, 12> t{};
-  for (int e = 0; e < 12; ++e) {
-    const auto& o = kEdgeStartOffset[std::size_t(e)];
-    t[std::size_t(e)] = std::uint16_t(idSlot(o[0], o[1], o[2], e / 4));
-  }
-  return t;
-}();
-
-// What each case adds: triangles, loop-centre vertices, centre-loop entries, loop corners.
-struct CaseCounts {
-  std::array<std::uint8_t, 256> triangles, centres, loopEntries, corners;
-};
-
-const CaseCounts& caseCounts() {
-  static const CaseCounts counts = [] {
-    CaseCounts c{};
-    for (int config = 0; config < 256; ++config) {
-      const McCase& mc = mcTable()[std::size_t(config)];
-      int tris = 0, centres = 0, entries = 0, corners = 0;
-      for (int loop = 0; loop < mc.loopCount; ++loop) {
-        const int k = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
-        tris += k == 3 ? 1 : (k == 4 ? 2 : k);
-        centres += k >= 5 ? 1 : 0;
-        entries += k >= 5 ? k : 0;
-        corners += k;
-      }
-      c.triangles[std::size_t(config)] = std::uint8_t(tris);
-      c.centres[std::size_t(config)] = std::uint8_t(centres);
-      c.loopEntries[std::size_t(config)] = std::uint8_t(entries);
-      c.corners[std::size_t(config)] = std::uint8_t(corners);
-    }
-    return c;
-  }();
-  return counts;
-}
-
-// A case as pass 3 writes it, its edges as slot offsets in the id table (kEdgeSlot). Without
-// a long loop: its triangles' corners, three per triangle (a triangle; a quad split from its
-// first corner). With one: its loops' edges in order and their lengths, since a loop of five
-// or more edges fans around a centre vertex made with it.
-struct FlatCase {
-  std::uint8_t triangleCount = 0;
-  std::uint8_t longLoops = 0;
-  std::uint8_t loopCount = 0;
-  std::array<std::uint8_t, 4> loopLength{};
-  std::array<std::uint16_t, 36> slots{};
-};
-
-const std::array<FlatCase, 256>& flatCases() {
-  static const std::array<FlatCase, 256> cases = [] {
-    std::array<FlatCase, 256> t{};
-    for (int config = 0; config < 256; ++config) {
-      const McCase& mc = mcTable()[std::size_t(config)];
-      FlatCase& f = t[std::size_t(config)];
-      f.loopCount = std::uint8_t(mc.loopCount);
-      for (int loop = 0; loop < mc.loopCount; ++loop) {
-        const int k = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
-        f.loopLength[std::size_t(loop)] = std::uint8_t(k);
-        f.triangleCount = std::uint8_t(f.triangleCount + (k == 3 ? 1 : (k == 4 ? 2 : k)));
-        f.longLoops = std::uint8_t(f.longLoops + (k >= 5 ? 1 : 0));
-      }
-      const auto slot = [&](int i) { return kEdgeSlot[mc.edges[std::size_t(i)]]; };
-      std::size_t n = 0;
-      for (int loop = 0; loop < mc.loopCount; ++loop) {
-        const int first = mc.loopBegin[std::size_t(loop)];
-        const int k = mc.loopBegin[std::size_t(loop) + 1] - first;
-        if (f.longLoops != 0) {
-          for (int i = 0; i < k; ++i) f.slots[n++] = slot(first + i);
-        } else {
-          for (int i = 1; i + 1 < k; ++i) {
-            f.slots[n++] = slot(first);
-            f.slots[n++] = slot(first + i);
-            f.slots[n++] = slot(first + i + 1);
-          }
-        }
-      }
-    }
-    return t;
-  }();
-  return cases;
-}
-
-// The same four counts in the 16-bit lanes of one word (triangles, centres, loop entries,
-// corners), so a cell adds them with one addition: a brick's 512 cells add at most 12 each.
-const std::array<std::uint64_t, 256>& packedCaseCounts() {
-  static const std::array<std::uint64_t, 256> packed = [] {
-    const CaseCounts& c = caseCounts();
-    std::array<std::uint64_t, 256> p{};
-    for (std::size_t i = 0; i < 256; ++i) {
-      p[i] = std::uint64_t(c.triangles[i]) | (std::uint64_t(c.centres[i]) << 16) |
-             (std::uint64_t(c.loopEntries[i]) << 32) | (std::uint64_t(c.corners[i]) << 48);
-    }
-    return p;
-  }();
-  return packed;
-}
 
 // Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
 // rows of cells with no crossing are skipped with a few word operations.
@@ -180,23 +72,6 @@ void insideRows(const BlockSource& src, const glm::ivec3& cellLo, const glm::ive
     }
 }
 
-// Set bits of each byte value.
-constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
-  std::array<std::uint8_t, 256> t{};
-  for (int v = 0; v < 256; ++v) t[std::size_t(v)] = std::uint8_t((v & 1) + ((v >> 1) & 1) + ((v >> 2) & 1) + ((v >> 3) & 1) +
-                                                                   ((v >> 4) & 1) + ((v >> 5) & 1) + ((v >> 6) & 1) + ((v >> 7) & 1));
-  return t;
-}();
-
-// For each byte of crossings, the crossings below each bit x (8 KiB, read as two vectors).
-struct alignas(16) BelowRow : std::array<std::uint32_t, kCellBrick> {};
-constexpr std::array<BelowRow, 256> kCrossingsBelow = [] {
-  std::array<BelowRow, 256> t{};
-  for (std::uint32_t b = 0; b < 256; ++b)
-    for (std::uint32_t x = 0, n = 0; x < std::uint32_t(kCellBrick); n += (b >> x) & 1u, ++x) t[b][x] = n;
-  return t;
-}();
-
 // Per active cell brick: where its fills are, how much it adds, and its rows of cells with
 // surface, each row's mixed cells and their cases.
 struct BrickOut {
@@ -228,10 +103,10 @@ struct EdgeIndex {
   std::array<std::uint16_t, 3 * kB * kB> crossingsBefore;
 };
 
-// Extraction in three parallel passes over the active cell bricks: count (edges, triangles,
-// centres), then, with every brick's place in the output known, write edge vertices, then
-// triangles and loop centres, straight into the output arrays. Numbering follows brick order,
-// so the result does not depend on scheduling.
+// Extraction in parallel passes over the active cell bricks: count (edges, triangles,
+// centres); then, with every brick's place in the output known, slab by slab, each brick's
+// edge vertices and triangles, and a slab behind, loop centres, straight into the output
+// arrays. Numbering follows brick order, so the result does not depend on scheduling.
 // The extraction's scratch (per brick state, indices, offsets), kept per thread between calls:
 // sized by the largest extraction the thread has run (under 1 KiB per cell brick with
 // surface), it spares later calls the page faults of fresh arrays, which took a fifth of the
