@@ -44,6 +44,36 @@ constexpr std::uint16_t kAllOutside = 0x5555, kAllInside = 0xaaaa;
 std::uint16_t partSides(const Fill* fill) {
   // Rows of eight inside bits (x), 64 of them (y + 8 z); the sides of each part from the
   // rows' union and intersection over the rows the part lies in.
+#if defined(__SSE2__)
+  // The union and intersection taken over the rows' compare masks (one 16-bit lane per x),
+  // turned into bits once per part rather than once per row.
+  const __m128i threshold = _mm_set1_epi16(std::int16_t(kInsideAbove));
+  const auto inside = [&](int row) {
+    return _mm_cmpgt_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(fill + kCellBrick * row)), threshold);
+  };
+  const auto bits = [](__m128i m) {
+    return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(m, _mm_setzero_si128()))) & 0xffu;
+  };
+  __m128i anyZ = _mm_setzero_si128(), allZ = _mm_set1_epi16(-1);
+  for (int row = 0; row < kCellBrick; ++row) {  // z = 0
+    const __m128i m = inside(row);
+    anyZ = _mm_or_si128(anyZ, m);
+    allZ = _mm_and_si128(allZ, m);
+  }
+  __m128i anyB = anyZ, allB = allZ, anyY = _mm_setzero_si128(), allY = _mm_set1_epi16(-1);
+  for (int z = 0; z < kCellBrick; ++z) {
+    const __m128i m = inside(kCellBrick * z);  // y = 0
+    anyY = _mm_or_si128(anyY, m);
+    allY = _mm_and_si128(allY, m);
+  }
+  for (int row = kCellBrick; row < kCellBrick * kCellBrick; ++row) {
+    const __m128i m = inside(row);
+    anyB = _mm_or_si128(anyB, m);
+    allB = _mm_and_si128(allB, m);
+  }
+  const std::uint32_t anyAll = bits(anyB), allAll = bits(allB), anyZ0 = bits(anyZ), allZ0 = bits(allZ);
+  const std::uint32_t anyY0 = bits(anyY), allY0 = bits(allY), row0 = bits(inside(0));
+#else
   std::uint32_t anyAll = 0, allAll = 0xff, anyZ0 = 0, allZ0 = 0xff, anyY0 = 0, allY0 = 0xff;
   for (int z = 0; z < kCellBrick; ++z)
     for (int y = 0; y < kCellBrick; ++y) {
@@ -60,6 +90,7 @@ std::uint16_t partSides(const Fill* fill) {
       }
     }
   const std::uint32_t row0 = insideOf8(fill);
+#endif
   // Sides of a set of voxels whose inside bits are `any` (union) and `all` (intersection)
   // over the bits in `mask`.
   const auto sides = [](std::uint32_t any, std::uint32_t all, std::uint32_t mask) {
