@@ -121,6 +121,9 @@ struct Scratch {
   Buffer<std::uint32_t> centreEntry;
 };
 
+// Marks a loop centre writeBrick placed itself (loopStart's top bit; loop entries stay below).
+constexpr std::uint32_t kCentrePlaced = 0x80000000u;
+
 struct Builder {
   const VoxelGrid& grid;
   const SurfaceOptions& options;
@@ -422,7 +425,16 @@ struct Builder {
             id = nextId;
           }
           if constexpr (kDirect) {
-            loopStart[centre - extraOffset[0]] = nextEntry;
+            // A cell off the brick's upper faces uses only the brick's own edges, whose
+            // vertices were just made: its centre is placed now, while they are in cache.
+            std::uint32_t start = nextEntry;
+            if (lx < kB - 1 && ly < kB - 1 && lz < kB - 1) {
+              glm::dvec3 sum(0.0);
+              for (std::uint32_t i = 0; i < k; ++i) sum += positions[loopVertices[nextEntry + i]];
+              positions[centre] = sum / double(k);
+              start |= kCentrePlaced;
+            }
+            loopStart[centre - extraOffset[0]] = start;
           } else {
             vertices[centre] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, k, glm::ivec3(0)};
           }
@@ -433,13 +445,15 @@ struct Builder {
   }
 
   // Without smoothing: brick s's loop centres at their loops' means, once the bricks above it
-  // have made their vertices.
+  // have made their vertices (those writeBrick placed itself are marked in loopStart).
   void placeCentres(std::size_t s, glm::dvec3* positions, const std::uint32_t* loopVertices,
                     const std::uint32_t* loopStart) const {
     const std::uint32_t base = extraOffset[0];
     for (std::uint32_t c = extraOffset[s]; c < extraOffset[s + 1]; ++c) {
       const std::uint32_t first = loopStart[c - base];
-      const std::uint32_t last = c + 1 < extraOffset[s + 1] ? loopStart[c + 1 - base] : loopOffset[s + 1];
+      if ((first & kCentrePlaced) != 0) continue;
+      const std::uint32_t last =
+          c + 1 < extraOffset[s + 1] ? loopStart[c + 1 - base] & ~kCentrePlaced : loopOffset[s + 1];
       glm::dvec3 sum(0.0);
       for (std::uint32_t e = first; e < last; ++e) sum += positions[loopVertices[e]];
       positions[c] = sum / double(last - first);
