@@ -31,10 +31,6 @@ bool readsSurface(StateOf&& stateOf) {
   return false;
 }
 
-}  // namespace
-
-namespace {
-
 // Which sides (bit 0 outside, bit 1 inside) the parts of a grid brick a cell brick can read
 // hold, two bits per part, part d read by the cell brick below it at octant d: the whole
 // brick (d = 0), its x = 0 face (1), y = 0 face (2), x = y = 0 line (3), z = 0 face (4),

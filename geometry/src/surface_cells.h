@@ -32,14 +32,6 @@ inline constexpr std::uint32_t kNoVertex = 0xffffffffu;
 
 using FillBlock = std::array<Fill, kBlock * kBlock * kBlock>;
 
-// Set bits of a word. Debian builds for baseline x86-64, which has no POPCNT instruction, so
-// __builtin_popcount would be a library call in the extraction's innermost loop.
-inline std::uint32_t bitCount(std::uint32_t v) {
-  v = v - ((v >> 1) & 0x55555555u);
-  v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
-  return (((v + (v >> 4)) & 0x0f0f0f0fu) * 0x01010101u) >> 24;
-}
-
 // fill > this <=> fill > kIso (fills are integers, kIso sits halfway between two).
 inline constexpr Fill kInsideAbove = Fill(kFillHalf - 1);
 
@@ -142,9 +134,13 @@ struct BlockSource {
 
 // Cells are numbered by their first voxel, from -1 (the border layer outside the grid) to
 // dims - 1; cell brick cb holds cells cb * 8 .. cb * 8 + 7.
+// Two tests, each admitting every cell brick with a mixed cell. cellBrickActive, for one brick
+// (the incremental updater, the multi-resolution extractor): its eight grid bricks are not all
+// uniform alike; it reads no fills.
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
-// Every cell brick's activity at once: each grid brick's state looked up once (the per-brick
-// test looks each up eight times). Appends the active cell bricks in z, y, x order.
+// activeCellBricks, for the whole grid (the full extractor): tighter, each stored grid brick's
+// fills read once for the sides the parts a cell brick reads of it hold (states: scratch).
+// Appends the active cell bricks in z, y, x order.
 void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint16_t>& states, std::vector<glm::ivec3>& active);
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& lo, glm::ivec3& hi);
