@@ -28,6 +28,8 @@
 #include <map>
 #include <memory>
 
+#include <sys/resource.h>
+
 namespace {
 
 using namespace osteon::geometry;
@@ -168,6 +170,13 @@ void BM_ExtractFlyingEdges(benchmark::State& state, const std::string& name) {
   state.counters["voxels"] = double(g.voxelCount());
 }
 
+// Minor page faults of this thread so far.
+long minorFaults() {
+  rusage usage{};
+  getrusage(RUSAGE_THREAD, &usage);
+  return usage.ru_minflt;
+}
+
 // osteon and FlyingEdges alternately, one extraction each per iteration, single-threaded: on a
 // shared machine whose speed drifts from minute to minute the two see the same drift, so the
 // median of the per-iteration ratios is steadier than a ratio of two separate runs.
@@ -180,14 +189,19 @@ void BM_ExtractSideBySide(benchmark::State& state, const std::string& name) {
   options.smoothIterations = 0;
   options.computeNormals = false;
   std::vector<double> osteonMs, peerMs, ratio;
+  long osteonFaults = 0, peerFaults = 0;
   for (auto _ : state) {
+    long faults = minorFaults();
     Clock::time_point t0 = Clock::now();
     const SurfaceMesh m = extractSurface(g, options);
     benchmark::DoNotOptimize(m.triangles.data());
     const double ours = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    osteonFaults += minorFaults() - faults;
+    faults = minorFaults();
     t0 = Clock::now();
     benchmark::DoNotOptimize(flyingEdges(image));
     const double peer = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    peerFaults += minorFaults() - faults;
     osteonMs.push_back(ours);
     peerMs.push_back(peer);
     ratio.push_back(peer / ours);
@@ -199,6 +213,10 @@ void BM_ExtractSideBySide(benchmark::State& state, const std::string& name) {
   state.counters["osteon_ms"] = median(osteonMs);
   state.counters["flyingedges_ms"] = median(peerMs);
   state.counters["fe_over_osteon"] = median(ratio);
+  // Page faults per extraction (fresh output pages the kernel zeroes), each side's own.
+  const double calls = double(std::max<std::size_t>(osteonMs.size(), 1));
+  state.counters["osteon_faults"] = double(osteonFaults) / calls;
+  state.counters["flyingedges_faults"] = double(peerFaults) / calls;
 }
 #endif
 
