@@ -417,6 +417,23 @@ struct Builder {
           }
           const std::uint32_t centre = nextExtra++;
           const std::uint32_t firstId = cellIds[slot[0]];
+          // A cell off the brick's upper faces uses only the brick's own edges, whose vertices
+          // were just made: without smoothing its centre is placed now, from their positions
+          // while they are in cache, and its loop needs no entries for later.
+          if (kDirect && lx < kB - 1 && ly < kB - 1 && lz < kB - 1) {
+            glm::dvec3 sum(0.0);
+            std::uint32_t id = firstId;
+            for (std::uint32_t i = 0; i < k; ++i) {
+              const std::uint32_t nextId = i + 1 < k ? cellIds[slot[i + 1]] : firstId;
+              *tri++ = {centre, id, nextId};
+              sum += positions[id];
+              id = nextId;
+            }
+            positions[centre] = sum / double(k);
+            loopStart[centre - extraOffset[0]] = nextEntry | kCentrePlaced;
+            nextEntry += k;
+            continue;
+          }
           std::uint32_t id = firstId;
           for (std::uint32_t i = 0; i < k; ++i) {
             const std::uint32_t nextId = i + 1 < k ? cellIds[slot[i + 1]] : firstId;
@@ -425,16 +442,7 @@ struct Builder {
             id = nextId;
           }
           if constexpr (kDirect) {
-            // A cell off the brick's upper faces uses only the brick's own edges, whose
-            // vertices were just made: its centre is placed now, while they are in cache.
-            std::uint32_t start = nextEntry;
-            if (lx < kB - 1 && ly < kB - 1 && lz < kB - 1) {
-              glm::dvec3 sum(0.0);
-              for (std::uint32_t i = 0; i < k; ++i) sum += positions[loopVertices[nextEntry + i]];
-              positions[centre] = sum / double(k);
-              start |= kCentrePlaced;
-            }
-            loopStart[centre - extraOffset[0]] = start;
+            loopStart[centre - extraOffset[0]] = nextEntry;
           } else {
             vertices[centre] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, k, glm::ivec3(0)};
           }
