@@ -102,42 +102,52 @@ std::uint16_t partSides(const Fill* fill) {
 
 }  // namespace
 
-void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint16_t>& states, std::vector<glm::ivec3>& active) {
-  // What the parts of bricks -1 .. nb hold (the border reads as empty), each brick read once.
+ActiveBrickScan::ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states)
+    : grid_(grid), states_(states), e_(grid.brickDims() + 2) {
+  // Two layers of grid-brick states, bricks -1 .. nb along x and y; layer z + 1 at
+  // ((z + 1) & 1). Layer -1 lies wholly outside the grid.
+  states_.resize(2 * layerSize());
+  std::fill_n(states_.begin(), layerSize(), kAllOutside);
+}
+
+void ActiveBrickScan::computeLayer(int z) {
+  // What the parts of the layer's bricks hold (the border reads as empty), each brick read
+  // once, as the slab of cell bricks that reads it last is about to be scanned.
+  const glm::ivec3 nb = grid_.brickDims();
+  std::uint16_t* layer = states_.data() + std::size_t((z + 1) & 1) * layerSize();
+  for (int y = -1; y <= nb.y; ++y)
+    for (int x = -1; x <= nb.x; ++x) {
+      std::uint16_t state = kAllOutside;
+      if (x >= 0 && y >= 0 && z >= 0 && x < nb.x && y < nb.y && z < nb.z) {
+        const std::size_t i = grid_.brickIndex({x, y, z});
+        if (const VoxelGrid::Brick* brick = grid_.brickData(i)) {
+          state = partSides(brick->fill.data());
+        } else if (double(grid_.brickUniformFill(i)) > kIso) {
+          state = kAllInside;
+        }
+      }
+      layer[std::size_t(x + 1) + std::size_t(e_.x) * std::size_t(y + 1)] = state;
+    }
+}
+
+void ActiveBrickScan::slab(int z, std::vector<glm::ivec3>& active) {
   // A cell brick reads all of its own brick and only a face, line or voxel of the seven above
   // it, so it can hold surface only if those hold both sides: tighter than "not all eight
   // uniform alike", which let in many bricks without a mixed cell (nearly half at 128^3 on a
   // voxelized sphere: a brick with any fill between empty and full is stored as an array).
-  const glm::ivec3 e = grid.brickDims() + 2;
-  const glm::ivec3 nb = grid.brickDims();
-  states.resize(std::size_t(e.x) * std::size_t(e.y) * std::size_t(e.z));
-  const auto at = [&](int x, int y, int z) {  // brick coordinates + 1
-    return std::size_t(x) + std::size_t(e.x) * (std::size_t(y) + std::size_t(e.y) * std::size_t(z));
-  };
-  for (int z = 0; z < e.z; ++z)
-    for (int y = 0; y < e.y; ++y)
-      for (int x = 0; x < e.x; ++x) {
-        const glm::ivec3 b(x - 1, y - 1, z - 1);
-        std::uint16_t state = kAllOutside;
-        if (b.x >= 0 && b.y >= 0 && b.z >= 0 && b.x < nb.x && b.y < nb.y && b.z < nb.z) {
-          const std::size_t i = grid.brickIndex(b);
-          if (const VoxelGrid::Brick* brick = grid.brickData(i)) {
-            state = partSides(brick->fill.data());
-          } else if (double(grid.brickUniformFill(i)) > kIso) {
-            state = kAllInside;
-          }
-        }
-        states[at(x, y, z)] = state;
+  computeLayer(z + 1);
+  const std::uint16_t* layers[2] = {states_.data() + std::size_t((z + 1) & 1) * layerSize(),
+                                    states_.data() + std::size_t((z + 2) & 1) * layerSize()};
+  for (int y = 0; y + 1 < e_.y; ++y)
+    for (int x = 0; x + 1 < e_.x; ++x) {
+      std::uint32_t sides = 0;
+      for (int d = 0; d < 8; ++d) {
+        const std::uint16_t* layer = layers[(d >> 2) & 1];
+        const std::size_t at = std::size_t(x + (d & 1)) + std::size_t(e_.x) * std::size_t(y + ((d >> 1) & 1));
+        sides |= std::uint32_t(layer[at] >> (2 * d)) & 3u;
       }
-  for (int z = 0; z + 1 < e.z; ++z)
-    for (int y = 0; y + 1 < e.y; ++y)
-      for (int x = 0; x + 1 < e.x; ++x) {
-        std::uint32_t sides = 0;
-        for (int d = 0; d < 8; ++d) {
-          sides |= std::uint32_t(states[at(x + (d & 1), y + ((d >> 1) & 1), z + ((d >> 2) & 1))] >> (2 * d)) & 3u;
-        }
-        if (sides == 3) active.push_back({x - 1, y - 1, z - 1});
-      }
+      if (sides == 3) active.push_back({x - 1, y - 1, z});
+    }
 }
 
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cb) {

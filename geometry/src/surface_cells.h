@@ -138,10 +138,24 @@ struct BlockSource {
 // (the incremental updater, the multi-resolution extractor): its eight grid bricks are not all
 // uniform alike; it reads no fills.
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
-// activeCellBricks, for the whole grid (the full extractor): tighter, each stored grid brick's
-// fills read once for the sides the parts a cell brick reads of it hold (states: scratch).
-// Appends the active cell bricks in z, y, x order.
-void activeCellBricks(const VoxelGrid& grid, std::vector<std::uint16_t>& states, std::vector<glm::ivec3>& active);
+// ActiveBrickScan, for the whole grid (the full extractor): tighter, each stored grid brick's
+// fills read once for the sides the parts a cell brick reads of it hold, slab by slab (a z
+// layer of cell bricks), so a caller can work on a slab while its bricks are in cache.
+class ActiveBrickScan {
+ public:
+  // states: scratch (two layers of grid-brick states).
+  ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states);
+  // Appends the active cell bricks of slab z (-1 .. brickDims().z - 1) in y, x order; slabs
+  // are scanned in increasing z, each once.
+  void slab(int z, std::vector<glm::ivec3>& active);
+
+ private:
+  std::size_t layerSize() const { return std::size_t(e_.x) * std::size_t(e_.y); }
+  void computeLayer(int z);
+  const VoxelGrid& grid_;
+  std::vector<std::uint16_t>& states_;
+  glm::ivec3 e_;  // grid bricks -1 .. nb per axis
+};
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
 void cellRange(const VoxelGrid& grid, const glm::ivec3& cellBrick, glm::ivec3& lo, glm::ivec3& hi);
 

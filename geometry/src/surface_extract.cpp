@@ -592,20 +592,26 @@ struct Builder {
 
   void run(Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions, Buffer<std::uint32_t>& loopVertices,
            Buffer<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
-    activeCellBricks(grid, brickStates, active);
-    slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
-    for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
-    out.resize(active.size());
-    index.resize(active.size());
-    const std::size_t n = active.size();
     const auto forEachBrickIn = [&](std::size_t first, std::size_t last, auto&& work) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 4),
                         [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
       });
     };
+    // Slab by slab, which cell bricks hold surface and pass 1 on them, so pass 1 reads the
+    // grid bricks the scan has just read.
+    ActiveBrickScan scan(grid, brickStates);
+    for (int z = -1; z + 1 < cellBricks.z; ++z) {
+      const std::size_t first = active.size();
+      scan.slab(z, active);
+      out.resize(active.size());
+      index.resize(active.size());
+      forEachBrickIn(first, active.size(), [&](std::size_t s) { count(s); });
+    }
+    slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
+    for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
+    const std::size_t n = active.size();
     const auto forEachBrick = [&](auto&& work) { forEachBrickIn(0, n, work); };
-    forEachBrick([&](std::size_t s) { count(s); });
     edgeOffset.assign(n + 1, 0);
     triOffset.assign(n + 1, 0);
     loopOffset.assign(n + 1, 0);
