@@ -229,11 +229,13 @@ struct Builder {
         const int ly = __builtin_ctz(rows);
         std::uint32_t r[4];
         rowCorners(inside, ly, lz, r);
-        const std::uint64_t configs = rowConfigs(r);
-        o.configs[std::size_t(ly + kB * lz)] = configs;
-        for (std::uint32_t bits = mixed[ly]; bits != 0; bits &= bits - 1) {
-          sums += packed[std::size_t((configs >> (8 * __builtin_ctz(bits))) & 0xffu)];
-        }
+        std::uint64_t& configs = o.configs[std::size_t(ly + kB * lz)];
+        configs = rowConfigs(r);
+        // All eight cells, without a branch per mixed one: a cell that is not mixed (or lies
+        // outside the grid, all its corners outside) has case 0 or 255, which add nothing.
+        const auto* c = reinterpret_cast<const std::uint8_t*>(&configs);
+        sums += (packed[c[0]] + packed[c[1]]) + (packed[c[2]] + packed[c[3]]) + (packed[c[4]] + packed[c[5]]) +
+                (packed[c[6]] + packed[c[7]]);
       }
     }
     const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
