@@ -102,6 +102,19 @@ std::uint16_t partSides(const Fill* fill) {
 
 }  // namespace
 
+namespace {
+
+// Asks for a stored brick's fills two bricks ahead of reading them: bricks are separate
+// allocations, so the hardware's stream prefetch would start afresh at each after a miss or two
+// (3-4 % of a 64^3-128^3 extraction from cold caches, measured interleaved).
+void prefetchFills(const VoxelGrid::Brick* brick) {
+  if (!brick) return;
+  const char* p = reinterpret_cast<const char*>(brick->fill.data());
+  for (std::size_t off = 0; off < sizeof(brick->fill); off += 64) __builtin_prefetch(p + off);
+}
+
+}  // namespace
+
 ActiveBrickScan::ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states)
     : grid_(grid), states_(states), e_(grid.brickDims() + 2) {
   // Two layers of grid-brick states, bricks -1 .. nb along x and y; layer z + 1 at
@@ -120,6 +133,7 @@ void ActiveBrickScan::computeLayer(int z) {
       std::uint16_t state = kAllOutside;
       if (x >= 0 && y >= 0 && z >= 0 && x < nb.x && y < nb.y && z < nb.z) {
         const std::size_t i = grid_.brickIndex({x, y, z});
+        if (x + 2 < nb.x) prefetchFills(grid_.brickData(i + 2));
         if (const VoxelGrid::Brick* brick = grid_.brickData(i)) {
           state = partSides(brick->fill.data());
         } else if (double(grid_.brickUniformFill(i)) > kIso) {
