@@ -103,10 +103,12 @@ struct EdgeIndex {
   std::array<std::uint16_t, 3 * kB * kB> crossingsBefore;
 };
 
-// Extraction in parallel passes over the active cell bricks: count (edges, triangles,
-// centres); then, with every brick's place in the output known, slab by slab, each brick's
-// edge vertices and triangles, and a slab behind, loop centres, straight into the output
-// arrays. Numbering follows brick order, so the result does not depend on scheduling.
+// Extraction slab by slab (a z layer of cell bricks), each step in parallel over a slab's
+// bricks: find the slab's active bricks and count what each adds (edges, triangles, centres),
+// which places them in the output; then the slab below's edge vertices and triangles; then, a
+// slab further behind, loop centres; all straight into the output arrays, which grow slab by
+// slab. A brick's vertices are its edge vertices, then its loop centres; numbering follows
+// brick order, so the result does not depend on scheduling.
 // The extraction's scratch (per brick state, indices, offsets), kept per thread between calls:
 // sized by the largest extraction the thread has run (under 1 KiB per cell brick with
 // surface), it spares later calls the page faults of fresh arrays, which took a fifth of the
@@ -117,8 +119,9 @@ struct Scratch {
   std::vector<std::int32_t> slotOfBrick;
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
-  std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
+  std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
   Buffer<std::uint32_t> centreEntry;
+  std::array<std::size_t, 4> lastTotals{};
 };
 
 // Marks a loop centre writeBrick placed itself (loopStart's top bit; loop entries stay below).
@@ -138,8 +141,11 @@ struct Builder {
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
-  std::vector<std::uint32_t> edgeOffset, extraOffset, triOffset, loopOffset;
+  // Per brick (and one past the last): its first vertex, first loop centre (vertex id), the
+  // centre's ordinal among all centres, first triangle, first loop entry.
+  std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
   Buffer<std::uint32_t> centreEntry;  // without smoothing: where each loop centre's loop starts
+  std::array<std::size_t, 4> lastTotals{};  // vertices, triangles, loop entries, centres made last time
 
   // Borrows this thread's scratch for its lifetime (contents are overwritten, capacity kept).
   void swapScratch(Scratch& w) {
@@ -148,11 +154,13 @@ struct Builder {
     slotOfBrick.swap(w.slotOfBrick);
     out.swap(w.out);
     index.swap(w.index);
-    edgeOffset.swap(w.edgeOffset);
+    vertexOffset.swap(w.vertexOffset);
     extraOffset.swap(w.extraOffset);
+    centreOffset.swap(w.centreOffset);
     triOffset.swap(w.triOffset);
     loopOffset.swap(w.loopOffset);
     centreEntry.swap(w.centreEntry);
+    std::swap(lastTotals, w.lastTotals);
   }
   static Scratch& threadScratch() {
     static thread_local Scratch scratch;
@@ -389,6 +397,7 @@ struct Builder {
     glm::u32vec3* tri = triangles + triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
+    std::uint32_t* centreStart = kDirect ? loopStart + centreOffset[s] : nullptr;  // by centre - extraOffset[s]
     forEachSurfaceRow(s, [&](int row, int ly, int lz) {
       std::uint32_t bits = o.mixed[std::size_t(row)];
       const std::uint64_t configs = o.configs[std::size_t(row)];
@@ -432,7 +441,7 @@ struct Builder {
               id = nextId;
             }
             positions[centre] = sum / double(k);
-            loopStart[centre - extraOffset[0]] = nextEntry | kCentrePlaced;
+            centreStart[centre - extraOffset[s]] = nextEntry | kCentrePlaced;
             nextEntry += k;
             continue;
           }
@@ -444,7 +453,7 @@ struct Builder {
             id = nextId;
           }
           if constexpr (kDirect) {
-            loopStart[centre - extraOffset[0]] = nextEntry;
+            centreStart[centre - extraOffset[s]] = nextEntry;
           } else {
             vertices[centre] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, k, glm::ivec3(0)};
           }
@@ -458,15 +467,15 @@ struct Builder {
   // have made their vertices (those writeBrick placed itself are marked in loopStart).
   void placeCentres(std::size_t s, glm::dvec3* positions, const std::uint32_t* loopVertices,
                     const std::uint32_t* loopStart) const {
-    const std::uint32_t base = extraOffset[0];
-    for (std::uint32_t c = extraOffset[s]; c < extraOffset[s + 1]; ++c) {
-      const std::uint32_t first = loopStart[c - base];
+    const std::uint32_t* starts = loopStart + centreOffset[s];
+    const std::uint32_t count = out[s].extras;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::uint32_t first = starts[k];
       if ((first & kCentrePlaced) != 0) continue;
-      const std::uint32_t last =
-          c + 1 < extraOffset[s + 1] ? loopStart[c + 1 - base] & ~kCentrePlaced : loopOffset[s + 1];
+      const std::uint32_t last = k + 1 < count ? starts[k + 1] & ~kCentrePlaced : loopOffset[s + 1];
       glm::dvec3 sum(0.0);
       for (std::uint32_t e = first; e < last; ++e) sum += positions[loopVertices[e]];
-      positions[c] = sum / double(last - first);
+      positions[extraOffset[s] + k] = sum / double(last - first);
     }
   }
 
@@ -600,67 +609,77 @@ struct Builder {
         for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
       });
     };
-    // Slab by slab, which cell bricks hold surface and pass 1 on them, so pass 1 reads the
-    // grid bricks the scan has just read.
+    // Slab by slab (a z layer of cell bricks): which cell bricks hold surface and pass 1 on
+    // them, their places in the output, then the slab below's vertices, ids and triangles
+    // (its cells share edges with this slab, numbered just now), then the loop centres of the
+    // slab below that (their loops reach into the slab above them). What each step reads
+    // was made a moment before and is still in cache. Numbering follows brick order (a
+    // brick's edge vertices, then its loop centres), so it does not depend on scheduling.
+    slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
+    vertexOffset.assign(1, 0);
+    centreOffset.assign(1, 0);
+    triOffset.assign(1, 0);
+    loopOffset.assign(1, 0);
+    extraOffset.clear();
+    // Outputs grow slab by slab; room for as much as this thread's last extraction made
+    // spares repeated extractions of a changing grid any regrowth.
+    if (direct) {
+      positions.reserve(lastTotals[0]);
+    } else {
+      vertices.reserve(lastTotals[0]);
+    }
+    triangles.reserve(lastTotals[1]);
+    loopVertices.reserve(lastTotals[2]);
+    if (direct && shared) centreEntry.reserve(lastTotals[3]);
+    const auto brick = [&](std::size_t s) {
+      if (!shared) {
+        writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
+      } else if (direct) {
+        writeBrick<true>(s, nullptr, positions.data(), loopVertices.data(), centreEntry.data(), triangles.data());
+      } else {
+        writeBrick<false>(s, vertices.data(), nullptr, loopVertices.data(), nullptr, triangles.data());
+      }
+    };
+    const auto centres = [&](std::size_t s) { placeCentres(s, positions.data(), loopVertices.data(), centreEntry.data()); };
+    const bool placeLater = direct && shared;
     ActiveBrickScan scan(grid, brickStates);
+    std::size_t written = 0, placed = 0;  // bricks before these are written, have their centres
     for (int z = -1; z + 1 < cellBricks.z; ++z) {
       const std::size_t first = active.size();
       scan.slab(z, active);
-      out.resize(active.size());
-      index.resize(active.size());
-      forEachBrickIn(first, active.size(), [&](std::size_t s) { count(s); });
-    }
-    slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
-    for (std::size_t s = 0; s < active.size(); ++s) slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
-    const std::size_t n = active.size();
-    const auto forEachBrick = [&](auto&& work) { forEachBrickIn(0, n, work); };
-    edgeOffset.assign(n + 1, 0);
-    triOffset.assign(n + 1, 0);
-    loopOffset.assign(n + 1, 0);
-    for (std::size_t s = 0; s < n; ++s) {
-      edgeOffset[s + 1] = edgeOffset[s] + out[s].edges;
-      triOffset[s + 1] = triOffset[s] + out[s].triangles;
-      loopOffset[s + 1] = loopOffset[s] + out[s].loopEntries;
-    }
-    if (shared) {
-      for (std::size_t s = 0; s < n; ++s) index[s].firstEdgeVertex = edgeOffset[s];
-    }
-    extraOffset.assign(n + 1, edgeOffset[n]);
-    for (std::size_t s = 0; s < n; ++s) extraOffset[s + 1] = extraOffset[s] + out[s].extras;
-    if (direct) {
-      positions.resize(extraOffset[n]);
-    } else {
-      vertices.resize(extraOffset[n]);
-    }
-    triangles.resize(triOffset[n]);
-    if (!shared) {
-      if (!direct) loopVertices.resize(loopOffset[n]);
-      forEachBrick([&](std::size_t s) { writeTrianglesNaive(s, vertices, positions, loopVertices, triangles); });
-    } else {
-      // Slab by slab (a z layer of cell bricks): vertices, ids and triangles brick by brick,
-      // then, a slab behind, the loop centres, whose loops reach into the slab above. What
-      // each step reads was made a moment before and is still in cache.
-      loopVertices.resize(loopOffset[n]);
-      centreEntry.resize(direct ? extraOffset[n] - extraOffset[0] : 0);
-      const auto brick = [&](std::size_t s) {
-        if (direct) {
-          writeBrick<true>(s, nullptr, positions.data(), loopVertices.data(), centreEntry.data(), triangles.data());
-        } else {
-          writeBrick<false>(s, vertices.data(), nullptr, loopVertices.data(), nullptr, triangles.data());
-        }
-      };
-      const auto centres = [&](std::size_t s) { placeCentres(s, positions.data(), loopVertices.data(), centreEntry.data()); };
-      std::size_t behind = 0;  // first brick of the slab whose centres are still to place
-      for (std::size_t first = 0; first < n;) {
-        std::size_t last = first;
-        while (last < n && active[last].z == active[first].z) ++last;
-        forEachBrickIn(first, last, brick);
-        if (direct && first > behind) forEachBrickIn(behind, first, centres);
-        behind = first;
-        first = last;
+      const std::size_t last = active.size();
+      out.resize(last);
+      index.resize(last);
+      forEachBrickIn(first, last, [&](std::size_t s) { count(s); });
+      for (std::size_t s = first; s < last; ++s) {
+        slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
+        index[s].firstEdgeVertex = vertexOffset[s];
+        extraOffset.push_back(vertexOffset[s] + out[s].edges);
+        vertexOffset.push_back(extraOffset[s] + out[s].extras);
+        centreOffset.push_back(centreOffset[s] + out[s].extras);
+        triOffset.push_back(triOffset[s] + out[s].triangles);
+        loopOffset.push_back(loopOffset[s] + out[s].loopEntries);
       }
-      if (direct) forEachBrickIn(behind, n, centres);
+      if (direct) {
+        positions.resize(vertexOffset[last]);
+      } else {
+        vertices.resize(vertexOffset[last]);
+      }
+      triangles.resize(triOffset[last]);
+      loopVertices.resize(loopOffset[last]);
+      if (placeLater) centreEntry.resize(centreOffset[last]);
+      forEachBrickIn(written, first, brick);
+      if (placeLater) forEachBrickIn(placed, written, centres);
+      placed = written;
+      written = first;
     }
+    const std::size_t n = active.size();
+    forEachBrickIn(written, n, brick);
+    if (placeLater) {
+      forEachBrickIn(placed, written, centres);
+      forEachBrickIn(written, n, centres);
+    }
+    lastTotals = {vertexOffset[n], triOffset[n], loopOffset[n], centreOffset[n]};
     for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
         ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],
