@@ -680,6 +680,13 @@ struct Builder {
       forEachBrickIn(written, n, centres);
     }
     lastTotals = {vertexOffset[n], triOffset[n], loopOffset[n], centreOffset[n]};
+    // A mesh far smaller than the last does not keep the last one's room.
+    const auto fit = [](auto& buffer) {
+      if (buffer.capacity() > 2 * buffer.size() + 4096) buffer.shrink_to_fit();
+    };
+    fit(positions);
+    fit(vertices);
+    fit(triangles);
     for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
         ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -323,6 +324,38 @@ TEST(SurfaceHardVolumes, ExtractionIsDeterministic) {
     ASSERT_EQ(a.positionsMm, b.positionsMm);
     ASSERT_EQ(a.normals, b.normals);
     ASSERT_EQ(a.brickRanges.size(), b.brickRanges.size());
+  }
+}
+
+// Outputs grow slab by slab, with room for as much as the thread's last extraction made: the
+// result is the same on one thread or many, after a larger or a smaller extraction, and a
+// small mesh does not keep a large one's room.
+TEST(SurfaceHardVolumes, ExtractionDependsOnNeitherThreadsNorTheLastExtraction) {
+  std::mt19937 rng(7u);
+  const auto noise = [&](int n) {
+    VoxelGrid g = emptyGrid({n, n, n});
+    std::uniform_int_distribution<int> fill(0, kFillFull);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) g.set({x, y, z}, Fill(fill(rng)), 1);
+    return g;
+  };
+  const VoxelGrid large = noise(40), small = noise(9);
+  SurfaceOptions direct;
+  direct.smoothIterations = 0;
+  for (const SurfaceOptions& options : {SurfaceOptions{}, direct}) {
+    const SurfaceMesh smallFirst = extractSurface(small, options);
+    const SurfaceMesh largeMany = extractSurface(large, options);
+    const SurfaceMesh smallAfter = extractSurface(small, options);
+    EXPECT_EQ(smallFirst.triangles, smallAfter.triangles);
+    EXPECT_EQ(smallFirst.positionsMm, smallAfter.positionsMm);
+    EXPECT_LE(smallAfter.positionsMm.capacity(), 2 * smallAfter.positionsMm.size() + 4096);
+    EXPECT_LE(smallAfter.triangles.capacity(), 2 * smallAfter.triangles.size() + 4096);
+    tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
+    const SurfaceMesh largeOne = extractSurface(large, options);
+    EXPECT_EQ(largeMany.triangles, largeOne.triangles);
+    EXPECT_EQ(largeMany.positionsMm, largeOne.positionsMm);
+    EXPECT_EQ(largeMany.brickRanges.size(), largeOne.brickRanges.size());
   }
 }
 
