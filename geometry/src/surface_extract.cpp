@@ -119,6 +119,7 @@ struct Scratch {
   std::vector<std::int32_t> slotOfBrick;
   std::vector<BrickOut> out;
   std::vector<EdgeIndex> index;
+  std::vector<std::uint32_t> ring;
   std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
   Buffer<std::uint32_t> centreEntry;
   std::array<std::size_t, 4> lastTotals{};
@@ -138,9 +139,10 @@ struct Builder {
   bool direct;
   std::vector<glm::ivec3> active;
   std::vector<std::uint16_t> brickStates;  // grid bricks' uniform states (scratch)
-  std::vector<std::int32_t> slotOfBrick;  // cell brick -> index in active, or -1
-  std::vector<BrickOut> out;
+  std::vector<std::int32_t> slotOfBrick;  // cell brick -> its place in out and index (ring), or -1
+  std::vector<BrickOut> out;    // per brick state, at ring[s]
   std::vector<EdgeIndex> index;
+  std::vector<std::uint32_t> ring;  // brick s's place in out and index
   // Per brick (and one past the last): its first vertex, first loop centre (vertex id), the
   // centre's ordinal among all centres, first triangle, first loop entry.
   std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
@@ -154,6 +156,7 @@ struct Builder {
     slotOfBrick.swap(w.slotOfBrick);
     out.swap(w.out);
     index.swap(w.index);
+    ring.swap(w.ring);
     vertexOffset.swap(w.vertexOffset);
     extraOffset.swap(w.extraOffset);
     centreOffset.swap(w.centreOffset);
@@ -185,8 +188,8 @@ struct Builder {
 
   // The rows pass 1 found mixed cells in, in byte order: later passes skip the rest.
   template <typename Fn>
-  void forEachSurfaceRow(std::size_t s, Fn&& fn) const {
-    for (std::uint64_t rows = out[s].surfaceRows; rows != 0; rows &= rows - 1) {
+  static void forEachSurfaceRow(const BrickOut& o, Fn&& fn) {
+    for (std::uint64_t rows = o.surfaceRows; rows != 0; rows &= rows - 1) {
       const int row = __builtin_ctzll(rows);
       fn(row, row & (kB - 1), row >> 3);
     }
@@ -214,7 +217,7 @@ struct Builder {
 
   // Pass 1: fills, inside bits, counts.
   void count(std::size_t s) {
-    BrickOut& o = out[s];
+    BrickOut& o = out[ring[s]];
     o.source.init(grid, active[s]);
     glm::ivec3 lo, hi;
     cellRange(grid, active[s], lo, hi);
@@ -228,7 +231,7 @@ struct Builder {
     std::uint32_t edges = 0;
     std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
     std::uint64_t surfaceRows = 0;
-    EdgeIndex& edgeIndex = index[s];
+    EdgeIndex& edgeIndex = index[ring[s]];
     for (int lz = l0.z; lz < l1.z; ++lz) {
       std::uint8_t* mixed = o.mixed.data() + kB * lz;
       const std::uint32_t layerRows = classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
@@ -334,18 +337,18 @@ struct Builder {
   // Each vertex's id also goes into the brick's edge-id table (ownIds) for its triangles.
   template <bool kDirect>
   void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* ownIds) const {
-    const BrickOut& o = out[s];
+    const BrickOut& o = out[ring[s]];
     const glm::ivec3 cb = active[s];
     const double vs = grid.voxelSizeMm();
     // Voxel centres as grid.voxelCentreMm makes them (so every extractor agrees to the bit),
     // each axis's once per brick.
     std::array<glm::dvec3, kCellBrick> centre;
     for (int i = 0; i < kCellBrick; ++i) centre[std::size_t(i)] = grid.voxelCentreMm(cb * kB + glm::ivec3(i));
-    const EdgeIndex& own = index[s];
+    const EdgeIndex& own = index[ring[s]];
     std::uint32_t id = own.firstEdgeVertex;
     VertexInfo* info = vertices + id;
     glm::dvec3* position = positions + id;
-    forEachSurfaceRow(s, [&](int row, int ly, int lz) {
+    forEachSurfaceRow(o, [&](int row, int ly, int lz) {
       const std::uint32_t crossing[3] = {own.crossings[edgeByte(row, 0)], own.crossings[edgeByte(row, 1)],
                                          own.crossings[edgeByte(row, 2)]};
       if ((crossing[0] | crossing[1] | crossing[2]) == 0) return;
@@ -386,9 +389,9 @@ struct Builder {
   template <bool kDirect>
   void writeBrick(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* loopVertices,
                   std::uint32_t* loopStart, glm::u32vec3* triangles) const {
-    if (out[s].surfaceRows == 0) return;  // e.g. a border brick whose one layer of cells is all outside
+    const BrickOut& o = out[ring[s]];
+    if (o.surfaceRows == 0) return;  // e.g. a border brick whose one layer of cells is all outside
     const auto& flat = flatCases();
-    const BrickOut& o = out[s];
     EdgeIds edgeIds;  // only crossed edges' slots are read, and each of those is written first
     writeEdgeVertices<kDirect>(s, vertices, positions, edgeIds.data());
     gatherFaceIds(s, edgeIds);
@@ -398,7 +401,7 @@ struct Builder {
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     std::uint32_t* centreStart = kDirect ? loopStart + centreOffset[s] : nullptr;  // by centre - extraOffset[s]
-    forEachSurfaceRow(s, [&](int row, int ly, int lz) {
+    forEachSurfaceRow(o, [&](int row, int ly, int lz) {
       std::uint32_t bits = o.mixed[std::size_t(row)];
       const std::uint64_t configs = o.configs[std::size_t(row)];
       const std::uint32_t* rowIds = edgeIds.data() + idSlot(0, ly, lz, 0);
@@ -468,7 +471,7 @@ struct Builder {
   void placeCentres(std::size_t s, glm::dvec3* positions, const std::uint32_t* loopVertices,
                     const std::uint32_t* loopStart) const {
     const std::uint32_t* starts = loopStart + centreOffset[s];
-    const std::uint32_t count = out[s].extras;
+    const std::uint32_t count = centreOffset[s + 1] - centreOffset[s];
     for (std::uint32_t k = 0; k < count; ++k) {
       const std::uint32_t first = starts[k];
       if ((first & kCentrePlaced) != 0) continue;
@@ -551,11 +554,11 @@ struct Builder {
                            Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles) {
     const auto& table = mcTable();
     const glm::ivec3 cb = active[s];
-    const BrickOut& o = out[s];
+    const BrickOut& o = out[ring[s]];
     std::uint32_t nextTri = triOffset[s];
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
-    forEachSurfaceRow(s, [&](int row, int ly, int lz) {
+    forEachSurfaceRow(o, [&](int row, int ly, int lz) {
       const std::uint64_t configs = o.configs[std::size_t(row)];
       for (std::uint32_t bits = o.mixed[std::size_t(row)]; bits != 0; bits &= bits - 1) {
         const glm::ivec3 l(__builtin_ctz(bits), ly, lz);
@@ -621,6 +624,12 @@ struct Builder {
     triOffset.assign(1, 0);
     loopOffset.assign(1, 0);
     extraOffset.clear();
+    // Per brick state for two slabs at a time (pass 1 on one while the brick pass reads the
+    // slab below and its own), a half for each: the same few hundred KiB, in cache, all along.
+    const std::size_t slabBricks = std::size_t(cellBricks.x) * std::size_t(cellBricks.y);
+    out.resize(2 * slabBricks);
+    index.resize(2 * slabBricks);
+    ring.clear();
     // Outputs grow slab by slab; room for as much as this thread's last extraction made
     // spares repeated extractions of a changing grid any regrowth.
     if (direct) {
@@ -648,17 +657,17 @@ struct Builder {
       const std::size_t first = active.size();
       scan.slab(z, active);
       const std::size_t last = active.size();
-      out.resize(last);
-      index.resize(last);
+      for (std::size_t s = first; s < last; ++s) ring.push_back(std::uint32_t(((z + 1) & 1) * slabBricks + (s - first)));
       forEachBrickIn(first, last, [&](std::size_t s) { count(s); });
       for (std::size_t s = first; s < last; ++s) {
-        slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(s);
-        index[s].firstEdgeVertex = vertexOffset[s];
-        extraOffset.push_back(vertexOffset[s] + out[s].edges);
-        vertexOffset.push_back(extraOffset[s] + out[s].extras);
-        centreOffset.push_back(centreOffset[s] + out[s].extras);
-        triOffset.push_back(triOffset[s] + out[s].triangles);
-        loopOffset.push_back(loopOffset[s] + out[s].loopEntries);
+        const BrickOut& o = out[ring[s]];
+        slotOfBrick[cellBrickIndex(active[s])] = std::int32_t(ring[s]);
+        index[ring[s]].firstEdgeVertex = vertexOffset[s];
+        extraOffset.push_back(vertexOffset[s] + o.edges);
+        vertexOffset.push_back(extraOffset[s] + o.extras);
+        centreOffset.push_back(centreOffset[s] + o.extras);
+        triOffset.push_back(triOffset[s] + o.triangles);
+        loopOffset.push_back(loopOffset[s] + o.loopEntries);
       }
       if (direct) {
         positions.resize(vertexOffset[last]);
