@@ -53,12 +53,12 @@ const std::array<FlatCase, 256>& flatCases() {
         const int first = mc.loopBegin[std::size_t(loop)];
         const int k = mc.loopBegin[std::size_t(loop) + 1] - first;
         if (f.longLoops != 0) {
-          for (int i = 0; i < k; ++i) f.slots[n++] = slot(first + i);
+          for (int i = 0; i < k; ++i) f.slots.at(n++) = slot(first + i);
         } else {
           for (int i = 1; i + 1 < k; ++i) {
-            f.slots[n++] = slot(first);
-            f.slots[n++] = slot(first + i);
-            f.slots[n++] = slot(first + i + 1);
+            f.slots.at(n++) = slot(first);
+            f.slots.at(n++) = slot(first + i);
+            f.slots.at(n++) = slot(first + i + 1);
           }
         }
       }
