@@ -109,10 +109,10 @@ struct EdgeIndex {
 // slab further behind, loop centres; all straight into the output arrays, which grow slab by
 // slab. A brick's vertices are its edge vertices, then its loop centres; numbering follows
 // brick order, so the result does not depend on scheduling.
-// The extraction's scratch (per brick state, indices, offsets), kept per thread between calls:
-// sized by the largest extraction the thread has run (under 1 KiB per cell brick with
-// surface), it spares later calls the page faults of fresh arrays, which took a fifth of the
-// time of repeated extractions.
+// The extraction's scratch (per brick state for two slabs, 1.3 KiB per cell brick of a slab;
+// offsets for every active brick), kept per thread between calls: sized by the largest
+// extraction the thread has run, it spares later calls the page faults of fresh arrays, which
+// took a fifth of the time of repeated extractions.
 struct Scratch {
   std::vector<glm::ivec3> active;
   std::vector<std::uint16_t> brickStates;
