@@ -678,10 +678,10 @@ struct Builder {
         triOffset.push_back(triOffset[s] + o.triangles);
         loopOffset.push_back(loopOffset[s] + o.loopEntries);
       }
-      // Past the room reserved, regrow once for the whole grid, projected from the slabs done
-      // (a volume of noise, some 1,000 vertices per stored brick, shows on its first slabs):
-      // growing by doubling, each step a fresh allocation and a copy, made a first extraction
-      // of 64^3 noise three to five times slower.
+      // Past the room reserved, regrow once for the whole grid, projected from the cell layers
+      // done (a volume of noise, some 1,000 vertices per stored brick, shows on its first
+      // slabs): growing by doubling, each step a fresh allocation and a copy, made a first
+      // extraction of 40^3 noise two to five times slower.
       const double layersDone = std::min(kB * (z + 1) + 1, dims.z + 1);  // cell layers -1 .. 8 z + 7
       const auto grow = [&](auto& buffer, std::size_t size) {
         if (size > buffer.capacity()) {
