@@ -100,10 +100,6 @@ std::uint16_t partSides(const Fill* fill) {
   return packed;
 }
 
-}  // namespace
-
-namespace {
-
 // Asks for a stored brick's fills two bricks ahead of reading them: bricks are separate
 // allocations, so the hardware's stream prefetch would start afresh at each after a miss or two
 // (3-4 % of a 64^3-128^3 extraction from cold caches, measured interleaved).
