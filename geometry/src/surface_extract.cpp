@@ -14,6 +14,7 @@
 #include <cmath>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -115,30 +116,7 @@ struct EdgeIndex {
 // took a fifth of the time of repeated extractions.
 struct Scratch {
   std::vector<glm::ivec3> active;
-  std::vector<std::uint16_t> brickStates;
-  std::vector<std::int32_t> slotOfBrick;
-  std::vector<BrickOut> out;
-  std::vector<EdgeIndex> index;
-  std::vector<std::uint32_t> ring;
-  std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
-  Buffer<std::uint32_t> centreEntry;
-  std::array<std::size_t, 4> lastTotals{};
-};
-
-// Marks a loop centre writeBrick placed itself (loopStart's top bit; loop entries stay below).
-constexpr std::uint32_t kCentrePlaced = 0x80000000u;
-
-struct Builder {
-  const VoxelGrid& grid;
-  const SurfaceOptions& options;
-  glm::ivec3 dims;
-  glm::ivec3 cellBricks;  // cell bricks per axis, including the -1 border layer
-  bool shared;
-  // Without smoothing nothing slides along its edge afterwards, so vertices are written as
-  // positions straight away and the per-vertex edge record (VertexInfo) is never made.
-  bool direct;
-  std::vector<glm::ivec3> active;
-  std::vector<std::uint16_t> brickStates;  // grid bricks' uniform states (scratch)
+  std::vector<std::uint16_t> brickStates;  // what the parts of two layers of grid bricks hold
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> its place in out and index (ring), or -1
   std::vector<BrickOut> out;    // per brick state, at ring[s]
   std::vector<EdgeIndex> index;
@@ -148,28 +126,28 @@ struct Builder {
   std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
   Buffer<std::uint32_t> centreEntry;  // without smoothing: where each loop centre's loop starts
   std::array<std::size_t, 4> lastTotals{};  // vertices, triangles, loop entries, centres made last time
+};
 
-  // Borrows this thread's scratch for its lifetime (contents are overwritten, capacity kept).
-  void swapScratch(Scratch& w) {
-    active.swap(w.active);
-    brickStates.swap(w.brickStates);
-    slotOfBrick.swap(w.slotOfBrick);
-    out.swap(w.out);
-    index.swap(w.index);
-    ring.swap(w.ring);
-    vertexOffset.swap(w.vertexOffset);
-    extraOffset.swap(w.extraOffset);
-    centreOffset.swap(w.centreOffset);
-    triOffset.swap(w.triOffset);
-    loopOffset.swap(w.loopOffset);
-    centreEntry.swap(w.centreEntry);
-    std::swap(lastTotals, w.lastTotals);
-  }
+// Marks a loop centre writeBrick placed itself (loopStart's top bit; loop entries stay below).
+constexpr std::uint32_t kCentrePlaced = 0x80000000u;
+
+// Works in this thread's scratch, borrowed for its lifetime (contents are overwritten,
+// capacity kept).
+struct Builder : Scratch {
+  const VoxelGrid& grid;
+  const SurfaceOptions& options;
+  glm::ivec3 dims;
+  glm::ivec3 cellBricks;  // cell bricks per axis, including the -1 border layer
+  bool shared;
+  // Without smoothing nothing slides along its edge afterwards, so vertices are written as
+  // positions straight away and the per-vertex edge record (VertexInfo) is never made.
+  bool direct;
+
   static Scratch& threadScratch() {
     static thread_local Scratch scratch;
     return scratch;
   }
-  ~Builder() { swapScratch(threadScratch()); }
+  ~Builder() { std::swap(static_cast<Scratch&>(*this), threadScratch()); }
   Builder(const Builder&) = delete;
   Builder& operator=(const Builder&) = delete;
 
@@ -177,7 +155,7 @@ struct Builder {
       : grid(g), options(o), dims(g.dims()), shared(o.method == SurfaceMethod::CrackFree),
         direct(o.smoothIterations == 0) {
     cellBricks = g.brickDims() + 1;
-    swapScratch(threadScratch());
+    std::swap(static_cast<Scratch&>(*this), threadScratch());
     active.clear();
   }
 
