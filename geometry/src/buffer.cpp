@@ -1,29 +1,126 @@
 #include "osteon/geometry/buffer.h"
 
+#include <cstdint>
 #include <cstdlib>
+#include <mutex>
 #include <new>
 
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
 
-namespace osteon::geometry::detail {
+namespace osteon::geometry {
 
 namespace {
-constexpr std::size_t kHugePage = std::size_t(2) << 20;
-}
 
-void* allocateLarge(std::size_t bytes) {
-  const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-  void* p = std::aligned_alloc(kHugePage, rounded);
-  if (p == nullptr) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+
+std::size_t roundedBytes(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+
+// A fresh block of `bytes` (a multiple of 2 MiB) on a 2 MiB boundary.
+void* mapBlock(std::size_t bytes) {
+#if defined(__linux__)
+  // Mapped directly, not through malloc: the C library would give a freed block back to the
+  // kernel or keep it at its own discretion, which is what the cache below decides instead.
+  const std::size_t span = bytes + kHugePage;
+  void* raw = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (raw == MAP_FAILED) throw std::bad_alloc();
+  const auto start = reinterpret_cast<std::uintptr_t>(raw);
+  const std::uintptr_t aligned = (start + kHugePage - 1) & ~(kHugePage - 1);
+  if (aligned > start) munmap(raw, aligned - start);
+  if (start + span > aligned + bytes) munmap(reinterpret_cast<void*>(aligned + bytes), start + span - (aligned + bytes));
+  void* p = reinterpret_cast<void*>(aligned);
+#if defined(MADV_HUGEPAGE)
   // Advice only: where transparent huge pages are off, this fails and nothing changes.
-  (void)madvise(p, rounded, MADV_HUGEPAGE);
+  (void)madvise(p, bytes, MADV_HUGEPAGE);
 #endif
   return p;
+#else
+  void* p = std::aligned_alloc(kHugePage, bytes);
+  if (p == nullptr) throw std::bad_alloc();
+  return p;
+#endif
 }
 
-void freeLarge(void* p) noexcept { std::free(p); }
+void unmapBlock(void* p, std::size_t bytes) noexcept {
+#if defined(__linux__)
+  munmap(p, bytes);
+#else
+  (void)bytes;
+  std::free(p);
+#endif
+}
 
-}  // namespace osteon::geometry::detail
+// Freed blocks, oldest first. A fixed array: no allocation while the lock is held.
+struct BlockCache {
+  std::mutex mutex;
+  struct Block {
+    void* p = nullptr;
+    std::size_t bytes = 0;
+  };
+  Block blocks[kCachedBufferBlocks];
+  std::size_t count = 0;
+  std::size_t bytes = 0;
+
+  void dropOldest() {  // with the lock held
+    unmapBlock(blocks[0].p, blocks[0].bytes);
+    bytes -= blocks[0].bytes;
+    for (std::size_t i = 1; i < count; ++i) blocks[i - 1] = blocks[i];
+    --count;
+  }
+};
+
+BlockCache& cache() {
+  static BlockCache* c = new BlockCache;  // never destroyed: blocks may be freed during exit
+  return *c;
+}
+
+}  // namespace
+
+std::size_t cachedBufferBytes() {
+  BlockCache& c = cache();
+  const std::lock_guard<std::mutex> lock(c.mutex);
+  return c.bytes;
+}
+
+void releaseCachedBuffers() {
+  BlockCache& c = cache();
+  const std::lock_guard<std::mutex> lock(c.mutex);
+  while (c.count > 0) c.dropOldest();
+}
+
+namespace detail {
+
+void* allocateLarge(std::size_t bytes) {
+  const std::size_t rounded = roundedBytes(bytes);
+  {
+    BlockCache& c = cache();
+    const std::lock_guard<std::mutex> lock(c.mutex);
+    for (std::size_t i = c.count; i-- > 0;) {  // the newest first: its lines may still be cached
+      if (c.blocks[i].bytes != rounded) continue;
+      void* p = c.blocks[i].p;
+      for (std::size_t j = i + 1; j < c.count; ++j) c.blocks[j - 1] = c.blocks[j];
+      --c.count;
+      c.bytes -= rounded;
+      return p;
+    }
+  }
+  return mapBlock(rounded);
+}
+
+void freeLarge(void* p, std::size_t bytes) noexcept {
+  const std::size_t rounded = roundedBytes(bytes);
+  if (rounded <= kCachedBufferBytes) {
+    BlockCache& c = cache();
+    const std::lock_guard<std::mutex> lock(c.mutex);
+    while (c.count > 0 && (c.count == kCachedBufferBlocks || c.bytes + rounded > kCachedBufferBytes)) c.dropOldest();
+    c.blocks[c.count++] = {p, rounded};
+    c.bytes += rounded;
+    return;
+  }
+  unmapBlock(p, rounded);
+}
+
+}  // namespace detail
+
+}  // namespace osteon::geometry
