@@ -3,13 +3,13 @@
 // its output arrays and then writes every element, in parallel and out of order; zeroing them
 // first cost a sixteenth of the extraction and a second trip of every output cache line
 // through memory.
-// Large arrays (1 MiB and up) are mapped on 2 MiB boundaries with huge pages advised, and a
-// freed one is kept for reuse by the next array of the same size in 2 MiB steps (at most
-// kCachedBufferBlocks arrays, kCachedBufferBytes in all, the oldest given back first).
-// A fresh 22 MiB mesh otherwise takes some 5,600 page faults, 40 % of a 256^3 extraction,
-// and repeated extractions of 128^3 took fresh pages on every call whenever the C library
-// gave the freed arrays back to the kernel (2.3 times slower). Everything else behaves as
-// std::vector<T>.
+// Large arrays (1 MiB and up) are mapped directly on 2 MiB boundaries, and a freed one is
+// kept for reuse by the next array of its size in 2 MiB steps (at most kCachedBufferBlocks
+// arrays, kCachedBufferBytes in all, the oldest given back first): repeated extractions of
+// 128^3 took fresh pages on every call whenever the C library gave the freed arrays back to
+// the kernel (2.3 times slower). From 8 MiB, huge pages are advised: a fresh 22 MiB mesh
+// otherwise takes some 5,600 page faults, 40 % of a 256^3 extraction. Everything else
+// behaves as std::vector<T>.
 #pragma once
 
 #include <cstddef>
