@@ -5,8 +5,11 @@
 #include <glm/vec3.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 namespace osteon::geometry {
@@ -39,7 +42,6 @@ TEST(Buffer, ValueArgumentsStillInitialise) {
   EXPECT_EQ(copy, b);
 }
 
-
 TEST(Buffer, AFreedLargeArrayServesTheNextOfItsSizeUntilReleased) {
   releaseCachedBuffers();
   ASSERT_EQ(cachedBufferBytes(), 0u);
@@ -65,22 +67,69 @@ TEST(Buffer, AFreedLargeArrayServesTheNextOfItsSizeUntilReleased) {
 }
 
 TEST(Buffer, TheCacheKeepsItsBoundsAndGivesBackTheOldestFirst) {
+  constexpr std::size_t kMiB = std::size_t(1) << 20;
   releaseCachedBuffers();
   {
-    // Nine 2 MiB arrays freed: one more than the cache holds.
+    // A 4 MiB array freed first, then eight of 2 MiB: the ninth block pushes out the oldest.
+    Buffer<std::uint8_t> first(3 * kMiB);
+    first.clear();
+    first.shrink_to_fit();  // freed now, before the others
     std::vector<Buffer<std::uint8_t>> arrays;
-    for (std::size_t i = 0; i < kCachedBufferBlocks + 1; ++i) arrays.emplace_back(std::size_t(3) << 19);
+    for (std::size_t i = 0; i < kCachedBufferBlocks; ++i) arrays.emplace_back(kMiB + 1);
   }
-  EXPECT_EQ(cachedBufferBytes(), kCachedBufferBlocks * (std::size_t(2) << 20));
+  EXPECT_EQ(cachedBufferBytes(), kCachedBufferBlocks * 2 * kMiB);  // the 4 MiB block went
   {
-    // Past the byte bound: a 40 MiB and a 30 MiB array (70 MiB) cannot both stay.
-    Buffer<std::uint8_t> big(std::size_t(40) << 20), bigger(std::size_t(30) << 20);
+    // A 40 MiB and a 30 MiB array cannot both stay (70 MiB). Freed in reverse order, the
+    // 30 MiB one goes in first (the oldest 2 MiB block gives way to it, for the count); the
+    // 40 MiB one then pushes out every older block, the 30 MiB one included.
+    Buffer<std::uint8_t> big(40 * kMiB), bigger(30 * kMiB);
   }
-  EXPECT_LE(cachedBufferBytes(), kCachedBufferBytes);
-  EXPECT_GE(cachedBufferBytes(), std::size_t(30) << 20);
+  EXPECT_EQ(cachedBufferBytes(), 40 * kMiB);
   {
-    Buffer<std::uint8_t> huge(kCachedBufferBytes + 1);  // larger than the cache: given back at once
+    Buffer<std::uint8_t> again(39 * kMiB + 1);  // rounds to 40 MiB: taken from the cache
+    EXPECT_EQ(cachedBufferBytes(), 0u);
+    std::fill(again.begin(), again.end(), std::uint8_t(0xab));  // the whole block is writable
+    EXPECT_EQ(again[12345], 0xab);
   }
+  {
+    Buffer<std::uint8_t> largest(kCachedBufferBytes);  // 64 MiB: the largest block kept
+  }
+  EXPECT_EQ(cachedBufferBytes(), kCachedBufferBytes);
+  {
+    Buffer<std::uint8_t> huge(kCachedBufferBytes + 1);  // rounds to 66 MiB: given back at once
+  }
+  EXPECT_EQ(cachedBufferBytes(), kCachedBufferBytes);
+  releaseCachedBuffers();
+  EXPECT_EQ(cachedBufferBytes(), 0u);
+}
+
+TEST(Buffer, TheLargeSizeCountsBytesNotElements) {
+  releaseCachedBuffers();
+  // 24-byte elements: 43,690 of them are just under 1 MiB, 43,691 just over.
+  const std::size_t below = (std::size_t(1) << 20) / sizeof(glm::dvec3);
+  { Buffer<glm::dvec3> b(below); }
+  EXPECT_EQ(cachedBufferBytes(), 0u);
+  { Buffer<glm::dvec3> b(below + 1); }
+  EXPECT_EQ(cachedBufferBytes(), std::size_t(2) << 20);
+  releaseCachedBuffers();
+}
+
+TEST(Buffer, ThreadsTakeAndGiveBackLargeArraysTogether) {
+  releaseCachedBuffers();
+  std::vector<std::thread> threads;
+  std::atomic<int> wrong{0};
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([t, &wrong] {
+      for (int i = 0; i < 200; ++i) {
+        Buffer<std::uint32_t> b((std::size_t(1 + (i + t) % 5) << 18) + 7);  // 1-5 MiB
+        std::fill(b.begin(), b.end(), std::uint32_t(t * 1000 + i));
+        if (b.front() != std::uint32_t(t * 1000 + i) || b.back() != std::uint32_t(t * 1000 + i)) ++wrong;
+        if (i % 50 == 49) releaseCachedBuffers();
+      }
+    });
+  }
+  for (std::thread& th : threads) th.join();
+  EXPECT_EQ(wrong.load(), 0);
   EXPECT_LE(cachedBufferBytes(), kCachedBufferBytes);
   releaseCachedBuffers();
   EXPECT_EQ(cachedBufferBytes(), 0u);

@@ -31,7 +31,7 @@ void releaseCachedBuffers();
 
 namespace detail {
 inline constexpr std::size_t kLargeBufferBytes = std::size_t(1) << 20;
-void* allocateLarge(std::size_t bytes);  // aligned to 2 MiB, huge pages advised; throws bad_alloc
+void* allocateLarge(std::size_t bytes);  // aligned to 2 MiB (huge pages advised from 8 MiB); throws bad_alloc
 void freeLarge(void* p, std::size_t bytes) noexcept;  // bytes as allocated
 }  // namespace detail
 
