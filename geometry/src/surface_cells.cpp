@@ -19,17 +19,6 @@ int brickState(const VoxelGrid& grid, const glm::ivec3& b) {
   return double(grid.brickUniformFill(i)) > kIso ? 1 : 0;
 }
 
-// A cell brick can hold surface when the eight bricks its cells read (octant d: +x if d & 1,
-// +y if d & 2, +z if d & 4) are not one uniform state.
-template <typename StateOf>
-bool readsSurface(StateOf&& stateOf) {
-  const int first = stateOf(0);
-  if (first == 2) return true;
-  for (int d = 1; d < 8; ++d) {
-    if (stateOf(d) != first) return true;
-  }
-  return false;
-}
 
 // Which sides (bit 0 outside, bit 1 inside) the parts of a grid brick a cell brick can read
 // hold, two bits per part, part d read by the cell brick below it at octant d: the whole
@@ -160,8 +149,15 @@ void ActiveBrickScan::slab(int z, std::vector<glm::ivec3>& active) {
     }
 }
 
+// A cell brick can hold surface when the eight bricks its cells read (octant d: +x if d & 1,
+// +y if d & 2, +z if d & 4) are not one uniform state.
 bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cb) {
-  return readsSurface([&](int d) { return brickState(grid, cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1)); });
+  const int first = brickState(grid, cb);
+  if (first == 2) return true;
+  for (int d = 1; d < 8; ++d) {
+    if (brickState(grid, cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1)) != first) return true;
+  }
+  return false;
 }
 
 void BlockSource::init(const VoxelGrid& grid, const glm::ivec3& cb) {
