@@ -62,6 +62,11 @@ const std::array<FlatCase, 256>& flatCases() {
           }
         }
       }
+      // Unused triangle slots repeat the first triangle: pass 3 writes two triangles whatever
+      // the count, and their ids must be ones the case's cell has made.
+      if (f.longLoops == 0 && n > 0) {
+        for (std::size_t i = n; i < f.slots.size(); ++i) f.slots[i] = f.slots[i % 3];
+      }
     }
     return t;
   }();

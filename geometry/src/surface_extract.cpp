@@ -378,6 +378,7 @@ struct Builder : Scratch {
     // Raw pointers, and counts read once: the writes go through types that may alias the
     // tables (bytes), so the compiler would otherwise reload them after every store.
     glm::u32vec3* tri = triangles + triOffset[s];
+    glm::u32vec3* const triEnd = triangles + triOffset[s + 1];  // the brick's range: never written past
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
     std::uint32_t* centreStart = kDirect ? loopStart + centreOffset[s] : nullptr;  // by centre - extraOffset[s]
@@ -393,7 +394,21 @@ struct Builder : Scratch {
         if (fc.longLoops == 0) {
           const std::uint16_t* corner = fc.slots.data();
           const int n = fc.triangleCount;
-          for (int t = 0; t < n; ++t, corner += 3) tri[t] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
+          // With room for four triangles in the brick's range (all but its last cells), two
+          // are written whatever the count (a case's unused slots repeat its first triangle,
+          // and the next cell writes over them) and two more for three or four: the common
+          // counts, one and two, take no branch on the count, whose loop exit the predictor
+          // could not foresee cell by cell (2-3 % of an extraction, measured interleaved).
+          if (tri + 4 <= triEnd) {
+            tri[0] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
+            tri[1] = {cellIds[corner[3]], cellIds[corner[4]], cellIds[corner[5]]};
+            if (n > 2) {
+              tri[2] = {cellIds[corner[6]], cellIds[corner[7]], cellIds[corner[8]]};
+              tri[3] = {cellIds[corner[9]], cellIds[corner[10]], cellIds[corner[11]]};
+            }
+          } else {
+            for (int t = 0; t < n; ++t, corner += 3) tri[t] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
+          }
           tri += n;
           continue;
         }
