@@ -26,9 +26,9 @@ int brickState(const VoxelGrid& grid, const glm::ivec3& b) {
 // x = z = 0 line (5), y = z = 0 line (6), its first voxel (7).
 constexpr std::uint16_t kAllOutside = 0x5555, kAllInside = 0xaaaa;
 
-std::uint16_t partSides(const Fill* fill) {
-  // Rows of eight inside bits (x), 64 of them (y + 8 z); the sides of each part from the
-  // rows' union and intersection over the rows the part lies in.
+std::uint16_t partSides(const Fill* fill, std::uint8_t* rowBits) {
+  // Rows of eight inside bits (x), 64 of them (y + 8 z), kept in rowBits for pass 1; the
+  // sides of each part from the rows' union and intersection over the rows the part lies in.
 #if defined(__SSE2__)
   // The union and intersection taken over the rows' compare masks (one 16-bit lane per x),
   // turned into bits once per part rather than once per row.
@@ -39,11 +39,17 @@ std::uint16_t partSides(const Fill* fill) {
   const auto bits = [](__m128i m) {
     return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(m, _mm_setzero_si128()))) & 0xffu;
   };
+  // Each row's inside bits, two rows at a time, for pass 1's cell cases.
+  const auto twoRows = [&](int row, __m128i m0, __m128i m1) {
+    const auto bits16 = std::uint16_t(_mm_movemask_epi8(_mm_packs_epi16(m0, m1)));
+    std::memcpy(rowBits + row, &bits16, 2);
+  };
   __m128i anyZ = _mm_setzero_si128(), allZ = _mm_set1_epi16(-1);
-  for (int row = 0; row < kCellBrick; ++row) {  // z = 0
-    const __m128i m = inside(row);
-    anyZ = _mm_or_si128(anyZ, m);
-    allZ = _mm_and_si128(allZ, m);
+  for (int row = 0; row < kCellBrick; row += 2) {  // z = 0
+    const __m128i m0 = inside(row), m1 = inside(row + 1);
+    anyZ = _mm_or_si128(anyZ, _mm_or_si128(m0, m1));
+    allZ = _mm_and_si128(allZ, _mm_and_si128(m0, m1));
+    twoRows(row, m0, m1);
   }
   __m128i anyB = anyZ, allB = allZ, anyY = _mm_setzero_si128(), allY = _mm_set1_epi16(-1);
   for (int z = 0; z < kCellBrick; ++z) {
@@ -51,10 +57,11 @@ std::uint16_t partSides(const Fill* fill) {
     anyY = _mm_or_si128(anyY, m);
     allY = _mm_and_si128(allY, m);
   }
-  for (int row = kCellBrick; row < kCellBrick * kCellBrick; ++row) {
-    const __m128i m = inside(row);
-    anyB = _mm_or_si128(anyB, m);
-    allB = _mm_and_si128(allB, m);
+  for (int row = kCellBrick; row < kCellBrick * kCellBrick; row += 2) {
+    const __m128i m0 = inside(row), m1 = inside(row + 1);
+    anyB = _mm_or_si128(anyB, _mm_or_si128(m0, m1));
+    allB = _mm_and_si128(allB, _mm_and_si128(m0, m1));
+    twoRows(row, m0, m1);
   }
   const std::uint32_t anyAll = bits(anyB), allAll = bits(allB), anyZ0 = bits(anyZ), allZ0 = bits(allZ);
   const std::uint32_t anyY0 = bits(anyY), allY0 = bits(allY), row0 = bits(inside(0));
@@ -63,6 +70,7 @@ std::uint16_t partSides(const Fill* fill) {
   for (int z = 0; z < kCellBrick; ++z)
     for (int y = 0; y < kCellBrick; ++y) {
       const std::uint32_t row = insideOf8(fill + kCellBrick * (y + kCellBrick * z));
+      rowBits[y + kCellBrick * z] = std::uint8_t(row);
       anyAll |= row;
       allAll &= row;
       if (z == 0) {
@@ -100,12 +108,15 @@ void prefetchFills(const VoxelGrid::Brick* brick) {
 
 }  // namespace
 
-ActiveBrickScan::ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states)
-    : grid_(grid), states_(states), e_(grid.brickDims() + 2) {
+ActiveBrickScan::ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states,
+                                 std::vector<RowBits>& rowBits)
+    : grid_(grid), states_(states), rowBits_(rowBits), e_(grid.brickDims() + 2) {
   // Two layers of grid-brick states, bricks -1 .. nb along x and y; layer z + 1 at
   // ((z + 1) & 1). Layer -1 lies wholly outside the grid.
   states_.resize(2 * layerSize());
   std::fill_n(states_.begin(), layerSize(), kAllOutside);
+  rowBits_.resize(2 * layerSize());
+  std::fill_n(rowBits_.begin(), layerSize(), RowBits{});
 }
 
 void ActiveBrickScan::computeLayer(int z) {
@@ -113,19 +124,23 @@ void ActiveBrickScan::computeLayer(int z) {
   // once, as the slab of cell bricks that reads it last is about to be scanned.
   const glm::ivec3 nb = grid_.brickDims();
   std::uint16_t* layer = states_.data() + std::size_t((z + 1) & 1) * layerSize();
+  RowBits* bitsLayer = rowBits_.data() + std::size_t((z + 1) & 1) * layerSize();
   for (int y = -1; y <= nb.y; ++y)
     for (int x = -1; x <= nb.x; ++x) {
       std::uint16_t state = kAllOutside;
+      const std::size_t at = std::size_t(x + 1) + std::size_t(e_.x) * std::size_t(y + 1);
+      RowBits& bits = bitsLayer[at];
       if (x >= 0 && y >= 0 && z >= 0 && x < nb.x && y < nb.y && z < nb.z) {
         const std::size_t i = grid_.brickIndex({x, y, z});
         if (x + 2 < nb.x) prefetchFills(grid_.brickData(i + 2));
         if (const VoxelGrid::Brick* brick = grid_.brickData(i)) {
-          state = partSides(brick->fill.data());
+          state = partSides(brick->fill.data(), bits.data());
         } else if (double(grid_.brickUniformFill(i)) > kIso) {
           state = kAllInside;
         }
       }
-      layer[std::size_t(x + 1) + std::size_t(e_.x) * std::size_t(y + 1)] = state;
+      if (state == kAllOutside || state == kAllInside) bits.fill(state == kAllInside ? 0xff : 0);
+      layer[at] = state;
     }
 }
 

@@ -143,17 +143,25 @@ bool cellBrickActive(const VoxelGrid& grid, const glm::ivec3& cellBrick);
 // layer of cell bricks), so a caller can work on a slab while its bricks are in cache.
 class ActiveBrickScan {
  public:
-  // states: scratch (two layers of grid-brick states).
-  ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states);
+  // Rows of inside bits of a grid brick: byte y + 8 z, bit x.
+  using RowBits = std::array<std::uint8_t, VoxelGrid::kBrickSize * VoxelGrid::kBrickSize>;
+  // states, rowBits: scratch (two layers of grid-brick states and their rows' inside bits).
+  ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states, std::vector<RowBits>& rowBits);
   // Appends the active cell bricks of slab z (-1 .. brickDims().z - 1) in y, x order; slabs
   // are scanned in increasing z, each once.
   void slab(int z, std::vector<glm::ivec3>& active);
+  // The inside bits of grid brick b's rows (zero outside the grid, every bit set in a full
+  // brick), for the bricks the last slab's cell bricks read (layers z and z + 1).
+  const RowBits& rowBits(const glm::ivec3& b) const {
+    return rowBits_[std::size_t((b.z + 1) & 1) * layerSize() + std::size_t(b.x + 1) + std::size_t(e_.x) * std::size_t(b.y + 1)];
+  }
 
  private:
   std::size_t layerSize() const { return std::size_t(e_.x) * std::size_t(e_.y); }
   void computeLayer(int z);
   const VoxelGrid& grid_;
   std::vector<std::uint16_t>& states_;
+  std::vector<RowBits>& rowBits_;
   glm::ivec3 e_;  // grid bricks -1 .. nb per axis
 };
 void loadBlock(const VoxelGrid& grid, const glm::ivec3& cellBrick, FillBlock& block);
