@@ -132,7 +132,7 @@ void ActiveBrickScan::computeLayer(int z) {
       RowBits& bits = bitsLayer[at];
       if (x >= 0 && y >= 0 && z >= 0 && x < nb.x && y < nb.y && z < nb.z) {
         const std::size_t i = grid_.brickIndex({x, y, z});
-        if (x + 2 < nb.x) prefetchFills(grid_.brickData(i + 2));
+        if (i + 2 < grid_.brickCount()) prefetchFills(grid_.brickData(i + 2));  // across row ends too
         if (const VoxelGrid::Brick* brick = grid_.brickData(i)) {
           state = partSides(brick->fill.data(), bits.data());
         } else if (double(grid_.brickUniformFill(i)) > kIso) {

@@ -125,6 +125,33 @@ TEST(SurfaceUpdater, DrillingThroughAThinWallAndEmptyingBricks) {
   drillAndCompare(grid, plate, 1, SurfaceOptions{}, 40, 13);
 }
 
+TEST(SurfaceUpdater, FullExtractionAgreesOnGridsOfSizesAroundABrick) {
+  // The full extractor reads most blocks through the scan's bricks and rows (dense ones) and
+  // clips the rest at the grid's end; the updater reads every block its own way. Grids of 1,
+  // 7, 8, 9 and 17 voxels per axis put every kind of block at the border: noise, a full
+  // brick, and a uniform brick of a fill between empty and full (whose block is not dense).
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<int> noise(0, int(kFillFull));
+  const int sizes[] = {1, 7, 8, 9, 17};
+  for (int sx : sizes)
+    for (int sy : sizes)
+      for (int sz : sizes) {
+        VoxelGrid grid({sx, sy, sz}, glm::dvec3(0.0), 1.0);
+        for (int z = 0; z < sz; ++z)
+          for (int y = 0; y < sy; ++y)
+            for (int x = 0; x < sx; ++x) {
+              if (x < 8 && y < 8 && z < 8 && sx >= 16) continue;  // left to the uniform values below
+              grid.set({x, y, z}, Fill(noise(rng) < int(kFillFull) / 2 ? 0 : noise(rng)), 5);
+            }
+        if (sx >= 16) grid.setBrickUniform(grid.brickIndex({0, 0, 0}), sy >= 16 ? kFillFull : Fill(kFillHalf + 7), 5);
+        SurfaceOptions options;
+        options.smoothIterations = (sx + sy + sz) % 3;
+        SurfaceUpdater updater(grid, options);
+        ASSERT_EQ(compareSurfaces(extractSurface(grid, options), updater.mesh()), "")
+            << sx << " x " << sy << " x " << sz;
+      }
+}
+
 TEST(SurfaceUpdater, NothingChangedNothingDone) {
   const TriangleMesh sphere = test::makeSphere(5.0, 64, 32);
   VoxelizeOptions options;
