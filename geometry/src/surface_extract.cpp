@@ -70,6 +70,7 @@ struct BrickOut {
   BlockSource source;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
   std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
+  std::uint64_t lastCellRows;  // and its last cell (x = 7) is mixed: it uses the +x brick's edges
   std::array<std::uint8_t, kB * kB> mixed;  // the row's mixed cells as x bits (surface rows)
   std::array<std::uint64_t, kB * kB> configs;  // byte x: cell x's case (surface rows)
 };
@@ -230,12 +231,19 @@ struct Builder : Scratch {
     const auto& packed = packedCaseCounts();
     std::uint32_t edges = 0;
     std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
-    std::uint64_t surfaceRows = 0;
+    std::uint64_t surfaceRows = 0, lastCellRows = 0;
     EdgeIndex& edgeIndex = index[ring[s]];
     for (int lz = l0.z; lz < l1.z; ++lz) {
       std::uint8_t* mixed = o.mixed.data() + kB * lz;
       const std::uint32_t layerRows = classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
       surfaceRows |= std::uint64_t(layerRows) << (kB * lz);
+#if defined(__SSE2__)
+      const auto last = std::uint32_t(_mm_movemask_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(mixed)))) & 0xffu;
+#else
+      std::uint32_t last = 0;
+      for (int ly = 0; ly < kB; ++ly) last |= std::uint32_t(mixed[ly] >> 7) << ly;
+#endif
+      lastCellRows |= std::uint64_t(last) << (kB * lz);
       for (std::uint32_t rows = layerRows; rows != 0; rows &= rows - 1) {
         const int ly = __builtin_ctz(rows);
         std::uint32_t r[4];
@@ -251,6 +259,7 @@ struct Builder : Scratch {
     }
     const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
     o.surfaceRows = surfaceRows;
+    o.lastCellRows = lastCellRows;
     o.edges = shared ? edges : 0u;
     o.extras = lane(1) + (shared ? 0u : lane(3));
     o.triangles = lane(0);
@@ -500,25 +509,41 @@ struct Builder : Scratch {
   // The ids of the crossed edges brick s's cells share with the bricks above (octant d: +x if
   // d & 1, +y if d & 2, +z if d & 4), on its upper faces, into their table slots, from each
   // owner's pass 1 counts (its first id plus the crossings before the edge's row). An edge
-  // there lies in a row of the owner's cells with a mixed cell, which pass 1 recorded. A row's
-  // eight slots are written whether crossed or not (no branch per edge): only crossed edges'
-  // slots are ever read.
+  // there lies in a row of the owner's cells with a mixed cell, which pass 1 recorded; only
+  // the owner's rows next to our cells with surface on the face are read. A row's eight slots
+  // are written whether crossed or not (no branch per edge): only crossed edges' slots are
+  // ever read.
   void gatherFaceIds(std::size_t s, EdgeIds& edgeIds) const {
     const glm::ivec3 cb = active[s];
+    // Rows (bit y + 8 z) of each owner that our cells use: a cell (7, y, z) uses the +x
+    // brick's edges in its rows (y, z), (y + 1, z), (y, z + 1); (x, 7, z) the +y brick's in
+    // (0, z), (0, z + 1); (x, y, 7) the +z brick's in (y, 0), (y + 1, 0); and so on along the
+    // lines where two faces meet.
+    constexpr std::uint64_t kRowsY0 = 0x0101010101010101ull;  // y = 0
+    const BrickOut& o = out[ring[s]];
+    const std::uint64_t lastX = o.lastCellRows;
+    const std::uint64_t lastY = (o.surfaceRows >> 7) & kRowsY0;  // our rows (7, z), as (0, z)
+    const std::uint64_t lastZ = o.surfaceRows >> 56;              // our rows (y, 7), as (y, 0)
+    const std::uint64_t rowsOf[7] = {0,
+                                     lastX | ((lastX << 1) & ~kRowsY0) | (lastX << 8),
+                                     lastY | (lastY << 8),
+                                     (lastX >> 7) & kRowsY0,
+                                     lastZ | ((lastZ << 1) & 0xffu),
+                                     lastX >> 56,
+                                     o.surfaceRows >> 63};
     const auto owner = [&](int d) -> std::int32_t {
       const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
       if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) return -1;
       return slotOfBrick[cellBrickIndex(nb)];
     };
-    // Which rows of the owner hold edges on our faces, along which axes, and whether all
-    // eight x of a row (the brick itself, those above along y and z) or only x = 0 (those
-    // along +x). No cell uses an edge of the brick diagonally above (d = 7).
-    constexpr std::uint64_t kAllRows = ~std::uint64_t(0);
-    constexpr std::uint64_t kRowsY0 = 0x0101010101010101ull;  // y = 0
-    constexpr std::uint64_t kRowsZ0 = 0xffull;                // z = 0
-    const auto face = [&](auto dTag, std::uint64_t rowsTaken, auto axesTag) {
+    // Along which axes the owner's edges lie on our faces, and whether all eight x of a row
+    // (those above along y and z) or only x = 0 (those along +x). No cell uses an edge of the
+    // brick diagonally above (d = 7).
+    const auto face = [&](auto dTag, auto axesTag) {
       constexpr int d = decltype(dTag)::value;
       constexpr int axes = decltype(axesTag)::value;
+      const std::uint64_t rowsTaken = rowsOf[d];
+      if (rowsTaken == 0) return;
       const std::int32_t slot = owner(d);
       if (slot < 0) return;
       const EdgeIndex& from = index[std::size_t(slot)];
@@ -543,12 +568,12 @@ struct Builder : Scratch {
         axis(std::integral_constant<int, 2>{});
       }
     };
-    face(std::integral_constant<int, 1>{}, kAllRows, std::integral_constant<int, 6>{});
-    face(std::integral_constant<int, 2>{}, kRowsY0, std::integral_constant<int, 5>{});
-    face(std::integral_constant<int, 3>{}, kRowsY0, std::integral_constant<int, 4>{});
-    face(std::integral_constant<int, 4>{}, kRowsZ0, std::integral_constant<int, 3>{});
-    face(std::integral_constant<int, 5>{}, kRowsZ0, std::integral_constant<int, 2>{});
-    face(std::integral_constant<int, 6>{}, 1, std::integral_constant<int, 1>{});
+    face(std::integral_constant<int, 1>{}, std::integral_constant<int, 6>{});
+    face(std::integral_constant<int, 2>{}, std::integral_constant<int, 5>{});
+    face(std::integral_constant<int, 3>{}, std::integral_constant<int, 4>{});
+    face(std::integral_constant<int, 4>{}, std::integral_constant<int, 3>{});
+    face(std::integral_constant<int, 5>{}, std::integral_constant<int, 2>{});
+    face(std::integral_constant<int, 6>{}, std::integral_constant<int, 1>{});
   }
 
   // ids[x] = first + the crossings below x in a row's byte, for x = 0..7.
