@@ -32,10 +32,11 @@ inline constexpr std::array<std::uint16_t, 12> kEdgeSlot = [] {
 
 // A case as pass 3 writes it, its edges as slot offsets in the id table (kEdgeSlot). Without
 // a long loop: its triangles' corners, three per triangle (a triangle; a quad split from its
-// first corner; slots past the last triangle repeat the first). With one: its loops' edges in order and their lengths, since a loop of five
-// or more edges fans around a centre vertex made with it. Twelve slots hold either (at most
-// four triangles without a long loop; at most twelve crossed edges), so a case is 32 bytes:
-// the table (8 KiB) stays in L1 cache and a case is found with a shift.
+// first corner; slots past the last triangle repeat the first). With one: its loops' edges in
+// order and their lengths, since a loop of five or more edges fans around a centre vertex
+// made with it. Twelve slots hold either (at most four triangles without a long loop; at most
+// twelve crossed edges), so a case is 32 bytes: the table (8 KiB) stays in L1 cache and a
+// case is found with a shift.
 struct FlatCase {
   std::uint8_t triangleCount = 0;
   std::uint8_t longLoops = 0;
