@@ -1,0 +1,53 @@
+// What pass 1 of the full extractor (surface_extract.cpp) finds per active cell brick and the
+// later passes read: where its fills are, its counts, its rows of cells with surface and their
+// cases, and the crossings of the edges it owns, numbered.
+#pragma once
+
+#include "surface_cells.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+namespace osteon::geometry::detail {
+
+// Per active cell brick: where its fills are, how much it adds, and its rows of cells with
+// surface, each row's mixed cells and their cases.
+struct BrickOut {
+  // Left uninitialised: every brick fills its arrays before reading them, and zeroing some
+  // 8 KiB per active brick up front was a tenth of the extraction time.
+  BrickOut() {}  // NOLINT: deliberately not = default (that would zero the arrays)
+  BlockSource source;
+  std::uint32_t edges, extras, triangles, loopEntries;  // counts
+  std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
+  std::uint64_t lastCellRows;  // and its last cell (x = 7) is mixed: it uses the +x brick's edges
+  std::array<std::uint8_t, kCellBrick * kCellBrick> mixed;  // the row's mixed cells as x bits (surface rows)
+  std::array<std::uint64_t, kCellBrick * kCellBrick> configs;  // byte x: cell x's case (surface rows)
+};
+
+// Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
+// vertex of an owned edge is firstEdgeVertex + the crossings before its (row, axis) byte +
+// those of lower x in it. Bytes are kept layer by layer (edgeByte), so pass 1 writes a layer's
+// eight rows at once, and only for layers with a mixed cell (later passes read no other):
+// 580 bytes per brick, kept apart from the bulky BrickOut so that the
+// neighbours' indices pass 3 reads stay in cache (a table of every edge's id took 3-6 KiB per
+// brick, and fetching it from memory was a third of the extraction's time).
+constexpr std::size_t edgeByte(int row, int axis) {  // row = ly + 8 lz
+  return std::size_t(3 * kCellBrick * (row >> 3) + kCellBrick * axis + (row & (kCellBrick - 1)));
+}
+
+struct EdgeIndex {
+  EdgeIndex() {}  // NOLINT: left uninitialised, as BrickOut
+  std::uint32_t firstEdgeVertex;                          // global id of the brick's first
+  std::array<std::uint8_t, 3 * kCellBrick * kCellBrick> crossings;        // bit x: the edge of cell x crosses
+  std::array<std::uint16_t, 3 * kCellBrick * kCellBrick> crossingsBefore;
+};
+
+// Pass 1 on one active cell brick (surface_count.cpp): its block's inside bits (from the scan
+// for a dense block), its mixed cells and their cases, its owned edges' crossings and their
+// prefix counts, and what it adds to the output (shared: one vertex per crossed edge, the
+// crack-free method; else every cell's own).
+void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::ivec3& cellBrick, bool shared,
+                BrickOut& out, EdgeIndex& index);
+
+}  // namespace osteon::geometry::detail
