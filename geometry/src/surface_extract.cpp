@@ -535,6 +535,7 @@ struct Builder : Scratch {
     fit(positions);
     fit(vertices);
     fit(triangles);
+    ranges.reserve(ranges.size() + n);  // one allocation, not a dozen regrowths
     for (std::size_t s = 0; s < n; ++s) {
       if (triOffset[s + 1] > triOffset[s]) {
         ranges.push_back({std::int64_t(cellBrickIndex(active[s])), active[s], triOffset[s],
