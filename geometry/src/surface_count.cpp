@@ -99,7 +99,7 @@ void insideRowsFromScan(const ActiveBrickScan& scan, const glm::ivec3& cb, RowMa
 // rows with a mixed cell as bits. A row without one has no crossed edge either (each edge
 // a row's cells own lies on one of them). Rows and cells outside the grid are left out.
 std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, std::uint32_t rowsIn,
-                                   std::uint8_t* mixed, EdgeIndex& edgeIndex, std::uint32_t& edges) {
+                            std::uint8_t* mixed, EdgeIndex& edgeIndex, std::uint32_t& edges) {
   const std::uint16_t* r = rows.data() + kBlock * lz;
   std::uint8_t* crossings = edgeIndex.crossings.data() + edgeByte(kB * lz, 0);
   std::uint16_t* before = edgeIndex.crossingsBefore.data() + edgeByte(kB * lz, 0);
