@@ -19,7 +19,6 @@ int brickState(const VoxelGrid& grid, const glm::ivec3& b) {
   return double(grid.brickUniformFill(i)) > kIso ? 1 : 0;
 }
 
-
 // Which sides (bit 0 outside, bit 1 inside) the parts of a grid brick a cell brick can read
 // hold, two bits per part, part d read by the cell brick below it at octant d: the whole
 // brick (d = 0), its x = 0 face (1), y = 0 face (2), x = y = 0 line (3), z = 0 face (4),
@@ -232,7 +231,6 @@ void cellRange(const VoxelGrid& grid, const glm::ivec3& cb, glm::ivec3& lo, glm:
   lo = glm::max(cb * kCellBrick, glm::ivec3(-1));
   hi = glm::min(cb * kCellBrick + kCellBrick, grid.dims());  // cells -1 .. dims-1
 }
-
 
 namespace {
 

@@ -4,7 +4,6 @@
 #include "surface_bricks.h"
 #include "surface_cases.h"
 
-#include <algorithm>
 #include <array>
 #include <cstdint>
 
