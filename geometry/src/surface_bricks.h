@@ -20,18 +20,22 @@ struct BrickOut {
   BlockSource source;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
   std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
+  std::uint32_t surfaceLayers;  // bit lz: the layer has one
   std::uint64_t lastCellRows;  // and its last cell (x = 7) is mixed: it uses the +x brick's edges
-  std::array<std::uint8_t, kCellBrick * kCellBrick> mixed;  // the row's mixed cells as x bits (surface rows)
+  // Byte ly + 8 lz: the row's mixed cells as x bits (all eight rows of a surface layer, so a
+  // layer reads as one 64-bit word, bit x + 8 y).
+  std::array<std::uint8_t, kCellBrick * kCellBrick> mixed;
   std::array<std::uint64_t, kCellBrick * kCellBrick> configs;  // byte x: cell x's case (surface rows)
 };
 
-// Edge vertices are numbered row by row ((y, z) rows of cells), axis by axis, x by x. So the
-// vertex of an owned edge is firstEdgeVertex + the crossings before its (row, axis) byte +
-// those of lower x in it. Bytes are kept layer by layer (edgeByte), so pass 1 writes a layer's
-// eight rows at once, and only for layers with a mixed cell (later passes read no other):
-// 580 bytes per brick, kept apart from the bulky BrickOut so that the
-// neighbours' indices pass 3 reads stay in cache (a table of every edge's id took 3-6 KiB per
-// brick, and fetching it from memory was a third of the extraction's time).
+// Edge vertices are numbered layer by layer (z), axis by axis, row by row (y), x by x: the
+// order of the bits of a layer's three 64-bit words of crossings (edgeByte), which pass 2
+// walks one word at a time. So the vertex of an owned edge is firstEdgeVertex + the crossings
+// before its (row, axis) byte + those of lower x in it. Pass 1 writes a layer's bytes at once,
+// and only for layers with a mixed cell (later passes read no other): 580 bytes per brick,
+// kept apart from the bulky BrickOut so that the neighbours' indices pass 3 reads stay in
+// cache (a table of every edge's id took 3-6 KiB per brick, and fetching it from memory was a
+// third of the extraction's time).
 constexpr std::size_t edgeByte(int row, int axis) {  // row = ly + 8 lz
   return std::size_t(3 * kCellBrick * (row >> 3) + kCellBrick * axis + (row & (kCellBrick - 1)));
 }

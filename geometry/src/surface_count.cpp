@@ -94,7 +94,7 @@ void insideRowsFromScan(const ActiveBrickScan& scan, const glm::ivec3& cb, RowMa
 
 // The eight rows of cells of layer lz at once: their mixed cells (corners not all inside or
 // all outside) into mixed[ly], and, for the edges they own, the crossings and their prefix
-// counts in vertex order (row by row, axis by axis), numbered on from `edges`. Returns the
+// counts in vertex order (axis by axis, row by row), numbered on from `edges`. Returns the
 // rows with a mixed cell as bits. A row without one has no crossed edge either (each edge
 // a row's cells own lies on one of them). Rows and cells outside the grid are left out.
 std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, std::uint32_t rowsIn,
@@ -129,17 +129,27 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
     v = _mm_add_epi16(_mm_and_si128(v, _mm_set1_epi16(0x33)), _mm_and_si128(_mm_srli_epi16(v, 2), _mm_set1_epi16(0x33)));
     return _mm_and_si128(_mm_add_epi16(v, _mm_srli_epi16(v, 4)), _mm_set1_epi16(0x0f));
   };
-  const __m128i nx = bitCount8(cx), ny = bitCount8(cy);
-  const __m128i perRow = _mm_add_epi16(_mm_add_epi16(nx, ny), bitCount8(cz));
-  __m128i upTo = _mm_add_epi16(perRow, _mm_slli_si128(perRow, 2));  // inclusive prefix over rows
-  upTo = _mm_add_epi16(upTo, _mm_slli_si128(upTo, 4));
-  upTo = _mm_add_epi16(upTo, _mm_slli_si128(upTo, 8));
-  const __m128i before0 = _mm_add_epi16(_mm_sub_epi16(upTo, perRow), _mm_set1_epi16(std::int16_t(edges)));
-  const __m128i before1 = _mm_add_epi16(before0, nx);
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(before), before0);
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(before + kB), before1);
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(before + 2 * kB), _mm_add_epi16(before1, ny));
-  edges += std::uint32_t(_mm_extract_epi16(upTo, 7));
+  const __m128i nx = bitCount8(cx), ny = bitCount8(cy), nz = bitCount8(cz);
+  const auto upTo = [](__m128i v) {  // inclusive prefix over rows
+    v = _mm_add_epi16(v, _mm_slli_si128(v, 2));
+    v = _mm_add_epi16(v, _mm_slli_si128(v, 4));
+    return _mm_add_epi16(v, _mm_slli_si128(v, 8));
+  };
+  const auto total = [](__m128i prefix) {  // the last row's prefix (the layer's sum), in every lane
+    const __m128i high = _mm_shufflehi_epi16(prefix, 0xff);
+    return _mm_unpackhi_epi64(high, high);
+  };
+  const __m128i ux = upTo(nx), uy = upTo(ny), uz = upTo(nz);
+  const __m128i firstX = _mm_set1_epi16(std::int16_t(edges));  // each axis's first id, in every lane
+  const __m128i firstY = _mm_add_epi16(firstX, total(ux));
+  const __m128i firstZ = _mm_add_epi16(firstY, total(uy));
+  const __m128i beforeX = _mm_add_epi16(_mm_sub_epi16(ux, nx), firstX);
+  const __m128i beforeY = _mm_add_epi16(_mm_sub_epi16(uy, ny), firstY);
+  const __m128i beforeZ = _mm_add_epi16(_mm_sub_epi16(uz, nz), firstZ);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(before), beforeX);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(before + kB), beforeY);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(before + 2 * kB), beforeZ);
+  edges += std::uint32_t(_mm_extract_epi16(ux, 7) + _mm_extract_epi16(uy, 7) + _mm_extract_epi16(uz, 7));
   return layerRows;
 #else
   std::uint32_t layerRows = 0;
@@ -151,16 +161,16 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
     if (mixed[ly] != 0) layerRows |= 1u << ly;
   }
   if (layerRows == 0) return 0;
-  for (int ly = 0; ly < kB; ++ly) {
-    const std::uint32_t in = (rowsIn >> ly) & 1u ? cells : 0u;
-    const std::uint32_t a = r[ly];
-    const std::uint32_t crossing[3] = {(a ^ (a >> 1)) & in, (a ^ r[ly + 1]) & in, (a ^ r[ly + kBlock]) & in};
-    for (int axis = 0; axis < 3; ++axis) {
-      crossings[kB * axis + ly] = std::uint8_t(crossing[axis]);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int ly = 0; ly < kB; ++ly) {
+      const std::uint32_t in = (rowsIn >> ly) & 1u ? cells : 0u;
+      const std::uint32_t a = r[ly];
+      const std::uint32_t far = axis == 0 ? a >> 1 : (axis == 1 ? r[ly + 1] : r[ly + kBlock]);
+      const std::uint32_t crossing = (a ^ far) & in;
+      crossings[kB * axis + ly] = std::uint8_t(crossing);
       before[kB * axis + ly] = std::uint16_t(edges);
-      edges += kBitsInByte[crossing[axis]];
+      edges += kBitsInByte[crossing];
     }
-  }
   return layerRows;
 #endif
 }
@@ -188,10 +198,12 @@ void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::i
   std::uint32_t edges = 0;
   std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
   std::uint64_t surfaceRows = 0, lastCellRows = 0;
+  std::uint32_t surfaceLayers = 0;
   for (int lz = l0.z; lz < l1.z; ++lz) {
     std::uint8_t* mixed = o.mixed.data() + kB * lz;
     const std::uint32_t layerRows = classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
     surfaceRows |= std::uint64_t(layerRows) << (kB * lz);
+    surfaceLayers |= (layerRows != 0 ? 1u : 0u) << lz;
 #if defined(__SSE2__)
     const auto last = std::uint32_t(_mm_movemask_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(mixed)))) & 0xffu;
 #else
@@ -214,6 +226,7 @@ void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::i
   }
   const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
   o.surfaceRows = surfaceRows;
+  o.surfaceLayers = surfaceLayers;
   o.lastCellRows = lastCellRows;
   o.edges = shared ? edges : 0u;
   o.extras = lane(1) + (shared ? 0u : lane(3));
