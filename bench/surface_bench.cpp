@@ -220,8 +220,9 @@ void BM_ExtractFlyingEdgesCold(benchmark::State& state, const std::string& name)
 
 // osteon and FlyingEdges alternately, one extraction each per iteration, single-threaded: on a
 // shared machine whose speed drifts from minute to minute the two see the same drift, so the
-// median of the per-iteration ratios is steadier than a ratio of two separate runs.
-void BM_ExtractSideBySide(benchmark::State& state, const std::string& name) {
+// median of the per-iteration ratios is steadier than a ratio of two separate runs. cold:
+// every cache evicted (untimed) before each extraction, both sides.
+void BM_ExtractSideBySide(benchmark::State& state, const std::string& name, bool cold) {
   const VoxelGrid& g = volume(name, int(state.range(0)));
   const vtkSmartPointer<vtkImageData> image = imageOf(g);
   vtkSMPTools::Initialize(1);
@@ -232,12 +233,14 @@ void BM_ExtractSideBySide(benchmark::State& state, const std::string& name) {
   std::vector<double> osteonMs, peerMs, ratio;
   long osteonFaults = 0, peerFaults = 0;
   for (auto _ : state) {
+    if (cold) evictCaches(state);
     long faults = minorFaults();
     Clock::time_point t0 = Clock::now();
     const SurfaceMesh m = extractSurface(g, options);
     benchmark::DoNotOptimize(m.triangles.data());
     const double ours = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     osteonFaults += minorFaults() - faults;
+    if (cold) evictCaches(state);
     faults = minorFaults();
     t0 = Clock::now();
     benchmark::DoNotOptimize(flyingEdges(image));
@@ -281,7 +284,10 @@ void registerExtraction() {
                                  [n](benchmark::State& s) { BM_ExtractFlyingEdgesCold(s, n); })
         ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
     benchmark::RegisterBenchmark(("extract/side_by_side_1thread/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractSideBySide(s, n); })
+                                 [n](benchmark::State& s) { BM_ExtractSideBySide(s, n, false); })
+        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+    benchmark::RegisterBenchmark(("extract/side_by_side_1thread_cold/" + n).c_str(),
+                                 [n](benchmark::State& s) { BM_ExtractSideBySide(s, n, true); })
         ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 #endif
   }
