@@ -320,7 +320,7 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
       dz2[std::size_t(k)] = dz * dz;
     }
   }
-  const auto rowOutside = [&](int y, int z) {
+  [[maybe_unused]] const auto rowOutside = [&](int y, int z) {  // the vector path's row skip
     if (!point) return false;
     const double lo = (minX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)];
     const double hi = (maxX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)];
