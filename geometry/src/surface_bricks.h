@@ -11,6 +11,10 @@
 
 namespace osteon::geometry::detail {
 
+// A layer's eight rows of bytes (mixed cells, crossings) are read as one 64-bit word, bit
+// x + 8 y, and a row's cases as bytes of its word: little-endian byte order.
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "bricks' bytes are read as little-endian words");
+
 // Per active cell brick: where its fills are, how much it adds, and its rows of cells with
 // surface, each row's mixed cells and their cases.
 struct BrickOut {

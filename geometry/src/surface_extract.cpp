@@ -159,8 +159,8 @@ struct Builder : Scratch {
           return;
         }
         // Voxel (x, y) of the layer is layer[cell], cell = x + 8 y, in the block's first grid
-        // brick; the next along the axis is in the same brick (inner), but for the last along
-        // the axis, whose next is the first of the brick above (outer, `shift` fewer along).
+        // brick. The next along the axis is inner[cell], in the same brick, but for the last
+        // voxel along the axis: its next is the first of the brick above, outer[cell - shift].
         const Fill* layer = src.data[0] + kB * kB * lz;
         const Fill* inner = layer + (axis == 0 ? 1 : axis == 1 ? kB : kB * kB);
         const Fill* outer = axis == 0 ? src.data[1] + kB * kB * lz
