@@ -320,13 +320,13 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
       dz2[std::size_t(k)] = dz * dz;
     }
   }
-  [[maybe_unused]] const auto rowOutside = [&](int y, int z) {  // the vector path's row skip
+#if defined(__SSE2__)
+  const auto rowOutside = [&](int y, int z) {
     if (!point) return false;
     const double lo = (minX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)];
     const double hi = (maxX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)];
     return lo > terms.outer2 || hi <= terms.inner2;
   };
-#if defined(__SSE2__)
   if (n >= 2) {
     const __m128d ax = _mm_set1_pd(terms.a.x), ay = _mm_set1_pd(terms.a.y), az = _mm_set1_pd(terms.a.z);
     const __m128d bx = _mm_set1_pd(terms.ab.x), by = _mm_set1_pd(terms.ab.y), bz = _mm_set1_pd(terms.ab.z);

@@ -24,12 +24,20 @@ struct BrickOut {
   BlockSource source;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
   std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
-  std::uint32_t surfaceLayers;  // bit lz: the layer has one
   std::uint64_t lastCellRows;  // and its last cell (x = 7) is mixed: it uses the +x brick's edges
   // Byte ly + 8 lz: the row's mixed cells as x bits (all eight rows of a surface layer, so a
   // layer reads as one 64-bit word, bit x + 8 y).
   std::array<std::uint8_t, kCellBrick * kCellBrick> mixed;
   std::array<std::uint64_t, kCellBrick * kCellBrick> configs;  // byte x: cell x's case (surface rows)
+
+  // Bit lz: layer lz has a surface row (a nonzero byte of surfaceRows).
+  std::uint32_t surfaceLayers() const {
+    std::uint64_t t = surfaceRows;
+    t |= t >> 4;
+    t |= t >> 2;
+    t |= t >> 1;  // bit 8 lz: any bit of byte lz
+    return std::uint32_t(((t & 0x0101010101010101ull) * 0x0102040810204080ull) >> 56);
+  }
 };
 
 // Edge vertices are numbered layer by layer (z), axis by axis, row by row (y), x by x: the

@@ -198,12 +198,10 @@ void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::i
   std::uint32_t edges = 0;
   std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
   std::uint64_t surfaceRows = 0, lastCellRows = 0;
-  std::uint32_t surfaceLayers = 0;
   for (int lz = l0.z; lz < l1.z; ++lz) {
     std::uint8_t* mixed = o.mixed.data() + kB * lz;
     const std::uint32_t layerRows = classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
     surfaceRows |= std::uint64_t(layerRows) << (kB * lz);
-    surfaceLayers |= (layerRows != 0 ? 1u : 0u) << lz;
 #if defined(__SSE2__)
     const auto last = std::uint32_t(_mm_movemask_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(mixed)))) & 0xffu;
 #else
@@ -226,7 +224,6 @@ void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::i
   }
   const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };
   o.surfaceRows = surfaceRows;
-  o.surfaceLayers = surfaceLayers;
   o.lastCellRows = lastCellRows;
   o.edges = shared ? edges : 0u;
   o.extras = lane(1) + (shared ? 0u : lane(3));

@@ -132,7 +132,7 @@ struct Builder : Scratch {
     std::uint32_t id = own.firstEdgeVertex;
     VertexInfo* info = vertices + id;
     glm::dvec3* position = positions + id;
-    for (std::uint32_t layers = o.surfaceLayers; layers != 0; layers &= layers - 1) {
+    for (std::uint32_t layers = o.surfaceLayers(); layers != 0; layers &= layers - 1) {
       const int lz = __builtin_ctz(layers);
       const auto edges = [&](auto axisTag) {
         constexpr int axis = decltype(axisTag)::value;
@@ -204,7 +204,7 @@ struct Builder : Scratch {
     std::uint32_t nextEntry = loopOffset[s];
     std::uint32_t* centreStart = kDirect ? loopStart + centreOffset[s] : nullptr;  // by centre - extraOffset[s]
     // Cell by cell, a layer's mixed cells as one 64-bit word (bit x + 8 y), as in pass 2.
-    for (std::uint32_t layers = o.surfaceLayers; layers != 0; layers &= layers - 1) {
+    for (std::uint32_t layers = o.surfaceLayers(); layers != 0; layers &= layers - 1) {
       const int lz = __builtin_ctz(layers);
       std::uint64_t bits;
       std::memcpy(&bits, o.mixed.data() + kB * lz, sizeof bits);
