@@ -3,6 +3,7 @@
 
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/output_file.h"
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"
 
@@ -22,6 +23,11 @@ int runCheck(const CheckCommandOptions& options) {
   if (options.cracks < 16 || options.cracks > 4096) {
     throw InputError("--cracks " + std::to_string(options.cracks) + ": pixels per side must be 16..4096");
   }
+  if (!options.images.empty()) {
+    std::vector<std::string> views;
+    for (const char* v : {"+x", "-x", "+y", "-y", "+z", "-z"}) views.push_back(options.images + "/cracks_" + v + ".png");
+    geometry::refuseOverwritingInputs(views, {inputFile(options.mesh), inputFile(options.reference)});
+  }
   const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
   geometry::TriangleMesh reference;
   if (!options.reference.empty()) reference = geometry::loadMeshArgument(options.reference, scale);
@@ -39,7 +45,19 @@ int runCheck(const CheckCommandOptions& options) {
   std::vector<std::string> images;
   if (co.keepImages) images = val::writeCrackImages(cracks, options.images);
 
-  const bool pass = r.watertight() && r.selfIntersections == 0;
+  // Why a surface is not a valid bone surface, one reason each; none means PASS.
+  std::vector<std::string> failures;
+  if (!r.topology.closed()) failures.push_back("open: " + std::to_string(r.topology.borderEdges) + " border edges");
+  if (!r.topology.manifold()) failures.push_back("non-manifold edges or vertices");
+  if (r.selfIntersections > 0) failures.push_back("self-intersecting triangles");
+  if (!r.topology.consistentlyOriented()) {
+    failures.push_back("inconsistently oriented: " + std::to_string(r.topology.misorientedEdges) +
+                       " edges with neighbours facing opposite ways");
+  } else if (r.watertight() && r.selfIntersections == 0 && !r.outwardOriented) {
+    failures.push_back("inside-out: the closed surface faces inward (negative volume), so its "
+                       "outside is drawn as a crack");
+  }
+  const bool pass = failures.empty();
   json j = {{"mesh", options.mesh},
             {"verdict", pass ? "PASS" : "FAIL"},
             {"vertices", mesh.vertexCount()},
@@ -59,7 +77,8 @@ int runCheck(const CheckCommandOptions& options) {
             {"volume_mm3", r.volumeMm3},
             {"crack_percent", cracks.crackPercent()},
             {"crack_pixels", {{"red", cracks.red}, {"white", cracks.white}, {"per_side", cracks.pixels}}},
-            {"crack_images", images}};
+            {"crack_images", images},
+            {"failures", failures}};
   if (!options.reference.empty()) {
     try {
       const val::Accuracy a = val::compareMeshes(mesh, reference);
@@ -83,6 +102,7 @@ int runCheck(const CheckCommandOptions& options) {
               << r.selfIntersections << (r.selfIntersectionsCapped ? "+" : "") << ", cracks "
               << cracks.crackPercent() << " % of " << cracks.red + cracks.white << " pixels";
     if (j.contains("hausdorff_mm")) std::cout << ", Hausdorff " << j["hausdorff_mm"].get<double>() << " mm";
+    for (const std::string& f : failures) std::cout << "; " << f;
     std::cout << "\n";
   }
   return pass ? kExitOk : kExitCheckFailed;

@@ -8,6 +8,7 @@
 #include "osteon/geometry/mesh_io.h"
 #include "osteon/geometry/mesh_source.h"
 #include "osteon/geometry/nrrd_io.h"
+#include "osteon/geometry/output_file.h"
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/units.h"
 #include "osteon/geometry/voxelizer.h"
@@ -19,12 +20,14 @@
 #include <cstdio>
 #include <iostream>
 #include <filesystem>
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
 namespace osteon::cli {
 
 namespace geo = osteon::geometry;
+namespace fs = std::filesystem;
 using nlohmann::json;
 
 double scaleToMm(const MeshUnits& units) {
@@ -37,6 +40,10 @@ double scaleToMm(const MeshUnits& units) {
     return *units.scale;
   }
   return geo::millimetresPer(geo::parseLengthUnit(units.units));
+}
+
+std::string inputFile(const std::string& meshArgument) {
+  return meshArgument == geo::kDefaultModelArgument ? std::string() : meshArgument;
 }
 
 namespace {
@@ -135,9 +142,14 @@ int runInfo(const InfoOptions& options) {
 }
 
 int runVoxelize(const VoxelizeCommandOptions& options) {
+  if (!options.out.empty()) {
+    geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)}, {inputFile(options.mesh)});
+  }
   const LoadedMesh loaded = load(options.mesh, options.units);
   geo::VoxelizeOptions vo;
   vo.voxelSizeMm = options.voxelSizeMm;
+  vo.meshName = options.mesh;
+  vo.loadScaleToMm = loaded.scale;
   vo.raysPerAxis = options.raysPerAxis;
   vo.robust = options.robust;
   vo.density.corticalThicknessMm = options.corticalMm;
@@ -281,6 +293,33 @@ bool isNrrdPath(const std::string& path) {
   return ext == ".nrrd";
 }
 
+}  // namespace
+
+// Refuses inputs inside a folder the run fills with files of its own naming.
+void refuseInputsInside(const std::string& folder, const std::vector<std::string>& inputs) {
+  std::error_code ec;
+  const fs::path dir = fs::weakly_canonical(folder, ec);
+  if (ec) return;
+  for (const std::string& in : inputs) {
+    if (in.empty() || !fs::exists(in, ec)) continue;
+    const fs::path file = fs::canonical(in, ec);
+    if (ec) continue;
+    const auto mismatch = std::mismatch(dir.begin(), dir.end(), file.begin(), file.end());
+    if (mismatch.first == dir.end()) {
+      throw InputError(in + ": is inside " + folder + ", which this run fills with its own files "
+                       "(refusing to risk overwriting an input; choose another --out-dir)");
+    }
+  }
+}
+
+namespace {
+
+// The files a grid argument reads: a mesh file, or a grid and its density beside it.
+std::vector<std::string> gridInputFiles(const std::string& input) {
+  if (isNrrdPath(input)) return {input, geo::densityPathFor(input)};
+  return {inputFile(input)};
+}
+
 // The grid a command works on: a GRID.nrrd as saved, or a mesh voxelized at --voxel-size.
 geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
                         const std::optional<double>& voxelSizeMm, double& voxelizeMs) {
@@ -299,6 +338,8 @@ geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
   const LoadedMesh loaded = load(input, units);
   geo::VoxelizeOptions options;
   options.voxelSizeMm = *voxelSizeMm;
+  options.meshName = input;
+  options.loadScaleToMm = loaded.scale;
   geo::VoxelizeStats stats;
   geo::VoxelGrid grid = geo::voxelize(loaded.mesh, options, &stats);
   voxelizeMs = stats.totalMs;
@@ -308,6 +349,7 @@ geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
 }  // namespace
 
 int runHierarchy(const HierarchyOptions& options) {
+  if (!options.svg.empty()) geo::refuseOverwritingInputs({options.svg}, gridInputFiles(options.input));
   double voxelizeMs = 0.0;
   const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs);
   geo::DphBuildOptions build;
@@ -383,7 +425,10 @@ int runMesh(const MeshCommandOptions& options) {
   }
   so.smoothIterations = options.smooth;
   so.taubin = options.taubin;
-  if (!options.out.empty()) geo::meshFormatFromPath(options.out);  // fail before the work
+  if (!options.out.empty()) {
+    geo::meshFormatFromPath(options.out);  // fail before the work
+    geo::refuseOverwritingInputs({options.out}, gridInputFiles(options.input));
+  }
   double voxelizeMs = 0.0;
   const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs);
   geo::SurfaceTimings t;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace osteon::cli {
 
@@ -90,6 +91,7 @@ struct ValidateCommandOptions {
   std::string models = "default";      // comma-separated: default or mesh paths
   MeshUnits units;
   std::string voxelSizes = "1.2,0.9,0.72,0.54";
+  bool voxelSizesGiven = false;        // --voxel-sizes on the command line (overrides --quick's)
   bool quick = false;
   std::string outDir = "validation-report";
   std::string compare;                 // a previous report.json
@@ -105,6 +107,13 @@ struct ExperimentCommandOptions {
 
 // Millimetres per file unit from --units or --scale; throws InputError for bad values.
 double scaleToMm(const MeshUnits& units);
+
+// The file a mesh argument reads: itself, or nothing for `default`.
+std::string inputFile(const std::string& meshArgument);
+
+// Refuses (InputError) any existing input inside `folder`, which a command fills with files of
+// its own naming (run logs, images).
+void refuseInputsInside(const std::string& folder, const std::vector<std::string>& inputs);
 
 int runInfo(const InfoOptions& options);
 int runVoxelize(const VoxelizeCommandOptions& options);

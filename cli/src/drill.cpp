@@ -7,6 +7,7 @@
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/mesh_io.h"
 #include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/output_file.h"
 #include "osteon/geometry/voxelizer.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
@@ -65,10 +66,19 @@ int runDrill(const DrillCommandOptions& options) {
     throw InputError(s.str());
   }
   makeOutDir(options.outDir);
+  const std::string forcesPath = options.outDir + "/forces.csv";
+  const std::string summaryPath = options.outDir + "/summary.json";
+  const std::string surfacePath = options.outDir + "/surface.ply";
+  geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath},
+                               {inputFile(options.mesh), csvPath ? options.path : std::string()});
 
-  const geo::TriangleMesh mesh = geo::loadMeshArgument(options.mesh, scaleToMm(options.units));
+  const double scale = scaleToMm(options.units);
+  const geo::TriangleMesh mesh = geo::loadMeshArgument(options.mesh, scale);
   geo::VoxelizeOptions vo;
   vo.voxelSizeMm = options.voxelSizeMm;
+  vo.requireInside = true;
+  vo.meshName = options.mesh;
+  vo.loadScaleToMm = scale;
   geo::VoxelGrid grid = geo::voxelize(mesh, vo);
   geo::DynamicProximityHierarchy hierarchy = geo::DynamicProximityHierarchy::build(grid, geo::DphBuildOptions{});
   std::unique_ptr<geo::EmbreeScene> scene;
@@ -92,12 +102,17 @@ int runDrill(const DrillCommandOptions& options) {
   }
   pathJson["duration_s"] = path.durationS();
 
+  // Streamed as the run goes (memory does not grow with the path), put in place when complete.
+  sim::ForceLogWriter forces(forcesPath);
+  const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunResult run;
   json runtimeJson;
   if (options.threaded) {
     sim::PathPoseSource device(path);
     sim::RuntimeOptions ro;
     ro.durationS = path.durationS();
+    ro.onRow = logRow;
+    ro.keepLog = false;
     const sim::RuntimeResult r = sim::runThreaded(simulation, grid, device, nullptr, geo::SurfaceOptions{}, ro);
     run = r.run;
     const sim::RuntimeStats& st = r.stats;
@@ -109,13 +124,13 @@ int runDrill(const DrillCommandOptions& options) {
                    {"realtime_priority", st.realtimeGranted}};
   } else {
     geo::SurfaceUpdater updater(grid, geo::SurfaceOptions{});
-    run = sim::runDeterministic(simulation, grid, path, &updater);
+    sim::DeterministicOptions deterministic;
+    deterministic.onRow = logRow;
+    deterministic.keepLog = false;
+    run = sim::runDeterministic(simulation, grid, path, &updater, deterministic);
   }
 
-  const std::string forcesPath = options.outDir + "/forces.csv";
-  const std::string summaryPath = options.outDir + "/summary.json";
-  const std::string surfacePath = options.outDir + "/surface.ply";
-  sim::writeForceLog(run.log, forcesPath);
+  forces.commit();
   // The drilled bone with its refined regions, crack-free and smoothed.
   const geo::SurfaceMesh surface = geo::extractSurface(grid, simulation.voxels(), geo::SurfaceOptions{});
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
@@ -144,11 +159,7 @@ int runDrill(const DrillCommandOptions& options) {
                         {"surface_triangles", surface.triangleCount()},
                         {"files", {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}}}};
   if (options.threaded) summary["runtime"] = runtimeJson;
-  {
-    std::ofstream out(summaryPath);
-    out << summary.dump(2) << "\n";
-    if (!out) throw InputError(summaryPath + ": cannot write the summary");
-  }
+  geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   if (options.json) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {

@@ -5,6 +5,7 @@
 
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/output_file.h"
 #include "osteon/simulation/experiment.h"
 
 #include <nlohmann/json.hpp>
@@ -67,20 +68,42 @@ std::vector<ForceFigure> figuresOf(const std::string& dir, const std::vector<sim
 
 int runExperiment(const ExperimentCommandOptions& options) {
   if (options.name != "seed") throw InputError("experiment " + options.name + ": unknown (expected seed)");
+  const std::vector<sim::ExperimentCase> cases = sim::seedExperimentCases();
+  // Every file the run will write, checked against the mesh before any work.
+  std::vector<sim::ExperimentRun> planned;
+  for (const sim::ExperimentCase& c : cases) {
+    for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
+      planned.push_back({c.voxelSizeMm, portal, 0, {}});
+      for (const int l : c.dynamicLevels) planned.push_back({c.voxelSizeMm, portal, l, {}});
+    }
+  }
+  std::vector<std::string> outputs = {options.outDir + "/experiment.json", options.outDir + "/jitter.md",
+                                      options.outDir + "/plots.gp"};
+  std::vector<std::string> plannedImages;
+  figuresOf(options.outDir, planned, plannedImages);
+  for (const std::string& image : plannedImages) outputs.push_back(options.outDir + "/" + image);
+  geometry::refuseOverwritingInputs(outputs, {inputFile(options.mesh)});
+  refuseInputsInside(options.outDir + "/runs", {inputFile(options.mesh)});
+
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/runs", ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
-  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scaleToMm(options.units));
+  const double scale = scaleToMm(options.units);
+  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
+  geometry::VoxelizeOptions voxelizing;
+  voxelizing.meshName = options.mesh;
+  voxelizing.loadScaleToMm = scale;
 
   const std::vector<sim::ExperimentRun> runs = sim::runSeedExperiment(
-      mesh, sim::seedExperimentCases(), [&](const sim::ExperimentRun& r) {
+      mesh, cases, [&](const sim::ExperimentRun& r) {
         const std::string dir = options.outDir + "/runs/" + r.name();
         std::filesystem::create_directories(dir);
         sim::writeForceLog(r.result.log, dir + "/forces.csv");
         if (!options.json) {
           std::cerr << "  " << r.name() << ": jitter " << r.result.summary.jitterN << " N\n";
         }
-      });
+      },
+      voxelizing);
 
   // The table: jitter per run, as the seed compares its figures.
   json rows = json::array();
@@ -104,8 +127,8 @@ int runExperiment(const ExperimentCommandOptions& options) {
   std::vector<std::string> images;
   const std::vector<ForceFigure> figures = figuresOf(options.outDir, runs, images);
   const json table = {{"experiment", "seed"}, {"mesh", options.mesh}, {"runs", rows}, {"plots", images}};
-  std::ofstream(options.outDir + "/experiment.json") << table.dump(2) << "\n";
-  std::ofstream(options.outDir + "/jitter.md") << md.str();
+  geometry::writeFileAtomically(options.outDir + "/experiment.json", table.dump(2) + "\n");
+  geometry::writeFileAtomically(options.outDir + "/jitter.md", md.str());
   // The logs and the table are on disk before the plotting can fail.
   drawForcePlots(figures, options.outDir + "/plots.gp");
   if (options.json) {

@@ -1,6 +1,7 @@
 #include "hierarchy_svg.h"
 
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/output_file.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -82,9 +83,7 @@ void writeHierarchySvg(const geometry::DynamicProximityHierarchy& hierarchy,
   }
   svg << "</svg>\n";
 
-  std::ofstream out(path, std::ios::trunc);
-  out << svg.str();
-  if (!out) throw InputError(path + ": cannot write the SVG");
+  geometry::writeFileAtomically(path, svg.str());
 }
 
 }  // namespace osteon::cli

@@ -87,7 +87,17 @@ int main(int argc, char** argv) {
       "hierarchy", "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)");
   addGridInput(*dphCmd, dph.input, dph.units, dph.voxelSizeMm);
   dphCmd->add_option("--xi", dph.xi, "Expansion ratio (odd, 3..15)")->default_val(3);
-  dphCmd->add_option("--seed", dph.seed, "Seed of the insertion order")->default_val(1);
+  // CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed is refused rather than wrapped.
+  dphCmd->add_option("--seed", dph.seed, "Seed of the insertion order (0 .. 2^64-1)")
+      ->default_val(1)
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const std::size_t first = text.find_first_not_of(" \t");
+            return first != std::string::npos && text[first] == '-'
+                       ? std::string("must be a non-negative integer, not ") + text
+                       : std::string();
+          },
+          "SEED"));
   dphCmd->add_option("--svg", dph.svg, "Draw a z-slice of the hierarchy into this SVG file");
   dphCmd->add_option("--slice-z", dph.sliceZMm, "Height of the --svg slice in mm (default: middle)");
   dphCmd->add_flag("--json", dph.json, "Print one JSON object on stdout");
@@ -141,7 +151,8 @@ int main(int argc, char** argv) {
   addUnits(*validateCmd, validate.units);
   validateCmd->add_option("--voxel-sizes", validate.voxelSizes, "Comma-separated voxel sizes in mm")
       ->default_val("1.2,0.9,0.72,0.54");
-  validateCmd->add_flag("--quick", validate.quick, "1.2 mm only, coarser checks: about a minute");
+  validateCmd->add_flag("--quick", validate.quick,
+                        "1.2 mm only (unless --voxel-sizes is given), coarser checks: about a minute");
   validateCmd->add_option("--out-dir", validate.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   validateCmd->add_option("--compare", validate.compare, "A previous report.json: mark regressions");
@@ -193,6 +204,7 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
 
+  validate.voxelSizesGiven = validateCmd->count("--voxel-sizes") > 0;
   try {
     if (*infoCmd) return osteon::cli::runInfo(info);
     if (*voxCmd) return osteon::cli::runVoxelize(vox);

@@ -6,6 +6,7 @@
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/library_versions.h"
 #include "osteon/geometry/mesh_source.h"
+#include "osteon/geometry/output_file.h"
 #include "osteon/geometry/surface.h"
 #include "osteon/geometry/voxelizer.h"
 #include "osteon/simulation/runner.h"
@@ -63,6 +64,29 @@ std::vector<double> parseVoxelSizes(const std::string& text) {
   }
   if (sizes.empty()) throw InputError("--voxel-sizes " + text + ": no voxel size given");
   return sizes;
+}
+
+// A report to compare with must have the shape `validate` writes, checked before the run:
+// the comparison is made only after it, and a bad file would then lose the whole run.
+void checkComparable(const std::string& path, const json& old) {
+  const auto bad = [&](const std::string& why) { return InputError("--compare " + path + ": " + why); };
+  if (!old.is_object()) throw bad(std::string("not a validate report (a JSON ") + old.type_name() + ", not an object)");
+  if (!old.contains("schema") || old["schema"] != "osteon-validate/1") {
+    throw bad("not a validate report (no \"schema\": \"osteon-validate/1\")");
+  }
+  if (!old.contains("cases") || !old["cases"].is_array()) throw bad("\"cases\" is missing or not an array");
+  std::size_t i = 0;
+  for (const json& c : old["cases"]) {
+    const std::string where = "case " + std::to_string(i++);
+    if (!c.is_object()) throw bad(where + " is not an object");
+    for (const char* k : {"model", "method", "mode"}) {
+      if (c.contains(k) && !c[k].is_string()) throw bad(where + ": \"" + k + "\" is not a string");
+    }
+    if (c.contains("pass") && !c["pass"].is_boolean()) throw bad(where + ": \"pass\" is not true or false");
+    for (const char* k : {"voxel_size_mm", "border_edges", "non_manifold", "self_intersections", "collision_misses"}) {
+      if (c.contains(k) && !c[k].is_number()) throw bad(where + ": \"" + k + "\" is not a number");
+    }
+  }
 }
 
 json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
@@ -283,15 +307,16 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   h << "\n<h2>Forces (as the seed's Figs. 6-8)</h2>\n";
   for (const json& p : report["plots"]) h << "<img style='width:550px' src='" << htmlEscape(p.get<std::string>()) << "'>";
   h << "\n<h2>Environment</h2><pre>" << htmlEscape(report["environment"].dump(2)) << "</pre></body></html>\n";
-  std::ofstream out(path);
-  out << h.str();
-  if (!out) throw InputError(path + ": cannot write the report");
+  geometry::writeFileAtomically(path, h.str());
 }
 
 }  // namespace
 
 int runValidate(const ValidateCommandOptions& options) {
-  const std::vector<double> sizes = options.quick ? std::vector<double>{1.2} : parseVoxelSizes(options.voxelSizes);
+  // Sizes given with --quick replace its 1.2 mm; given or not, they are checked.
+  const std::vector<double> parsedSizes = parseVoxelSizes(options.voxelSizes);
+  const std::vector<double> sizes =
+      options.quick && !options.voxelSizesGiven ? std::vector<double>{1.2} : parsedSizes;
   const std::vector<std::string> names = splitList(options.models);
   if (names.empty()) throw InputError("--models " + options.models + ": no model given");
   json old;
@@ -303,18 +328,29 @@ int runValidate(const ValidateCommandOptions& options) {
     } catch (const std::exception&) {
       throw InputError("--compare " + options.compare + ": not a JSON report");
     }
+    checkComparable(options.compare, old);
   }
+  std::vector<std::string> inputs;
+  for (const std::string& name : names) inputs.push_back(inputFile(name));
+  inputs.push_back(options.compare);
+  const std::string reportJsonPath = options.outDir + "/report.json";
+  const std::string reportHtmlPath = options.outDir + "/report.html";
+  const std::string logPath = options.outDir + "/validate.log";
+  geometry::refuseOverwritingInputs({reportJsonPath, reportHtmlPath, logPath}, inputs);
+  for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/images", ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
   std::vector<val::ValidationModel> models;
-  for (const std::string& name : names) models.push_back({name, geometry::loadMeshArgument(name, scaleToMm(options.units))});
+  const double scale = scaleToMm(options.units);
+  for (const std::string& name : names) models.push_back({name, geometry::loadMeshArgument(name, scale), scale});
 
   val::ValidationOptions vo;
   vo.voxelSizesMm = sizes;
   vo.crackPixels = options.quick ? 256 : 512;
   vo.checkEverySteps = options.quick ? 25 : 10;
-  std::ofstream log(options.outDir + "/validate.log");
+  geometry::OutputFile logFile(logPath);
+  std::ofstream log(logFile.tempPath());
   const auto started = std::chrono::system_clock::now();
   const std::time_t startedT = std::chrono::system_clock::to_time_t(started);
   char startedText[32];
@@ -356,6 +392,9 @@ int runValidate(const ValidateCommandOptions& options) {
   for (const val::ValidationModel& m : models) {
     geometry::VoxelizeOptions gv;
     gv.voxelSizeMm = sizes.front();
+    gv.requireInside = true;
+    gv.meshName = m.name;
+    gv.loadScaleToMm = m.loadScaleToMm;
     const geometry::VoxelGrid grid = geometry::voxelize(m.mesh, gv);
     for (const char* method : {"crackfree", "naive"}) {
       geometry::SurfaceOptions so;
@@ -404,12 +443,11 @@ int runValidate(const ValidateCommandOptions& options) {
     j["compared_with"] = options.compare;
     j["regressions"] = compareReports(j, old);
   }
-  {
-    std::ofstream out(options.outDir + "/report.json");
-    out << j.dump(2) << "\n";
-    if (!out) throw InputError(options.outDir + "/report.json: cannot write the report");
-  }
-  writeHtml(options.outDir + "/report.html", j, images);
+  geometry::writeFileAtomically(reportJsonPath, j.dump(2) + "\n");
+  writeHtml(reportHtmlPath, j, images);
+  log.close();
+  if (!log) throw InputError(logPath + ": writing failed (disk full or not writable?)");
+  logFile.commit();
   std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << report.cases.size() << " cases, "
             << j["regressions"].size() << " regressions, " << seconds << " s); report: " << options.outDir
             << "/report.html\n";

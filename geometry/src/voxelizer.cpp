@@ -2,6 +2,7 @@
 
 #include "osteon/geometry/embree_scene.h"
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/units.h"
 #include "column_ray.h"
 
 #include <tbb/blocked_range.h>
@@ -231,6 +232,45 @@ std::uint64_t combineAxes(const VoxelGrid (&axes)[3],
   return disagreeing.load();
 }
 
+// "<mesh>: a 1 x 2 x 3 mm mesh at <voxel> mm voxels": the start of every size complaint.
+std::string meshAtVoxelSize(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+  const glm::dvec3 e = bounds(mesh).extentMm();
+  std::ostringstream s;
+  s << (options.meshName.empty() ? std::string("mesh") : options.meshName) << ": a " << e.x << " x "
+    << e.y << " x " << e.z << " mm mesh at " << (options.voxelSizeGiven ? "--voxel-size " : "voxels of ")
+    << options.voxelSizeMm << " mm";
+  return s.str();
+}
+
+std::string adviceFor(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+  const glm::dvec3 e = bounds(mesh).extentMm();
+  const std::string advice = unitsAdvice(std::max({e.x, e.y, e.z}), options.loadScaleToMm);
+  return advice.empty() ? "" : "; " + advice;
+}
+
+// Before any ray is cast: a voxel larger than the whole mesh cannot sample it (and huge
+// coordinates along the rays would leave Embree's valid range), and a grid past the voxel
+// limit cannot be held.
+void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+  const double vs = options.voxelSizeMm;
+  if (!std::isfinite(vs) || vs <= 0.0) return;  // makeGridFor names the value
+  const glm::dvec3 e = bounds(mesh).extentMm();
+  const double largest = std::max({e.x, e.y, e.z});
+  if (vs > largest) {
+    throw InputError(meshAtVoxelSize(mesh, options) + ": the voxel is larger than the mesh (a voxel size below " +
+                     numberText(largest) + " mm is needed)" + adviceFor(mesh, options));
+  }
+  const glm::dvec3 cells = glm::ceil(e / vs) + 3.0;
+  const double voxels = cells.x * cells.y * cells.z;
+  if (!(voxels <= double(VoxelGrid::kMaxVoxels))) {
+    std::ostringstream s;
+    s << meshAtVoxelSize(mesh, options) << " would need " << voxels << " voxels (limit 2^32)"
+      << adviceFor(mesh, options);
+    if (options.voxelSizeGiven) s << "; use a larger --voxel-size";
+    throw InputError(s.str());
+  }
+}
+
 }  // namespace
 
 VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingVoxels) {
@@ -269,6 +309,7 @@ VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
                      ": rays per column axis must be 1..16");
   }
   validateDensityRule(options.density);
+  checkVoxelSizeFits(mesh, options);
   VoxelGrid grid = makeGridFor(mesh, options.voxelSizeMm, options.paddingVoxels);
   VoxelizeStats local;
 
@@ -316,6 +357,10 @@ VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
     phase = Clock::now();
     local.disagreeingVoxels = combineAxes(axes, known, grid);
     local.combineMs = msSince(phase);
+  }
+  if (options.requireInside && grid.countVoxels(kFillHalf) == 0) {
+    throw InputError(meshAtVoxelSize(mesh, options) + " has no voxel inside it (an open, flat or "
+                     "inside-out mesh, or voxels too coarse for it)" + adviceFor(mesh, options));
   }
 
   phase = Clock::now();

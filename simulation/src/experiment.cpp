@@ -23,13 +23,16 @@ std::vector<ExperimentCase> seedExperimentCases() {
 
 std::vector<ExperimentRun> runSeedExperiment(const geometry::TriangleMesh& mesh,
                                              const std::vector<ExperimentCase>& cases,
-                                             const std::function<void(const ExperimentRun&)>& progress) {
+                                             const std::function<void(const ExperimentRun&)>& progress,
+                                             const geometry::VoxelizeOptions& voxelizing) {
   const HumeralHead head = fitHumeralHead(mesh);
   const geometry::EmbreeScene scene(mesh);
   std::vector<ExperimentRun> runs;
   for (const ExperimentCase& c : cases) {
-    geometry::VoxelizeOptions vo;
+    geometry::VoxelizeOptions vo = voxelizing;
     vo.voxelSizeMm = c.voxelSizeMm;
+    vo.voxelSizeGiven = false;
+    vo.requireInside = true;
     const geometry::VoxelGrid original = geometry::voxelize(mesh, vo);
     // Sampled once per voxel size: every dynamic run refines from the same fine fills.
     const geometry::FineFillSource source = geometry::FineFillSource::sample(original, mesh, scene);

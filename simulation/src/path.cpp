@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -297,11 +298,30 @@ void DrillPath::sample(double tS, ToolPose& pose, bool& drillOn) const {
   drillOn = a.drillOn;
 }
 
+namespace {
+
+// False for the zero quaternion. Far from 1 the components are divided by the largest first,
+// so the sum of squares neither overflows nor underflows; near 1 the plain sum is kept (the
+// same bits as before for ordinary paths).
+bool unitQuaternion(const glm::dquat& q, glm::dquat& unit) {
+  const double largest = std::max({std::abs(q.w), std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+  if (!(largest > 0.0)) return false;
+  if (largest >= 1e-100 && largest <= 1e100) {
+    unit = glm::normalize(q);
+  } else {
+    unit = glm::normalize(glm::dquat(q.w / largest, q.x / largest, q.y / largest, q.z / largest));
+  }
+  return true;
+}
+
+}  // namespace
+
 DrillPath loadPathCsv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the path file");
   std::string line;
   if (!std::getline(in, line)) throw InputError(path + ": empty path file (expected a header row t,x,y,z,drill_on)");
+  if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // a UTF-8 byte order mark
   const auto split = [](const std::string& text) {
     std::vector<std::string> cells;
     std::stringstream s(text);
@@ -344,14 +364,19 @@ DrillPath loadPathCsv(const std::string& path) {
     if (v[4] != 0.0 && v[4] != 1.0) throw InputError(where + "drill_on must be 0 or 1");
     if (!points.empty() && !(v[0] > points.back().tS)) throw InputError(where + "times must increase");
     if (v[0] < 0.0) throw InputError(where + "time must not be negative");
+    if (v[0] > kMaxPathDurationS) {
+      char limit[32];
+      std::snprintf(limit, sizeof limit, "%g", kMaxPathDurationS);
+      throw InputError(where + "t = " + cells[0] + " s is past the longest path allowed (" + limit + " s)");
+    }
     Waypoint w;
     w.tS = v[0];
     w.tipMm = {v[1], v[2], v[3]};
     w.drillOn = v[4] == 1.0;
     if (withQuat) {
-      const glm::dquat q(v[5], v[6], v[7], v[8]);
-      if (!(glm::length(q) > 1e-9)) throw InputError(where + "the orientation quaternion is zero");
-      w.orientation = glm::normalize(q);
+      if (!unitQuaternion(glm::dquat(v[5], v[6], v[7], v[8]), w.orientation)) {
+        throw InputError(where + "the orientation quaternion is zero");
+      }
     }
     points.push_back(w);
   }

@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
+#include <limits>
+
+#include <stdio_ext.h>
 
 namespace osteon::simulation {
 
@@ -20,6 +22,26 @@ Percentiles percentilesOf(std::vector<double> values) {
   p.p50 = at(0.5);
   p.p99 = at(0.99);
   p.max = values.back();
+  return p;
+}
+
+void Durations::add(std::int64_t ns) {
+  maxNs_ = std::max(maxNs_, ns);
+  ns_.push_back(std::uint32_t(std::clamp<std::int64_t>(ns, 0, std::numeric_limits<std::uint32_t>::max())));
+}
+
+void Durations::addMs(double ms) { add(std::int64_t(std::llround(ms * 1e6))); }
+
+Percentiles Durations::percentiles(double nsPerUnit) {
+  Percentiles p;
+  if (ns_.empty()) return p;
+  std::sort(ns_.begin(), ns_.end());
+  const auto at = [&](double q) {
+    return double(ns_[std::min(ns_.size() - 1, std::size_t(q * double(ns_.size())))]) / nsPerUnit;
+  };
+  p.p50 = at(0.5);
+  p.p99 = at(0.99);
+  p.max = double(maxNs_) / nsPerUnit;
   return p;
 }
 
@@ -49,14 +71,58 @@ double maxStepChangeN(const std::vector<ForceLogRow>& log) {
   return m;
 }
 
+// The bounds are forceJitterN's window tests at t = fromS and t = toS, written the same way so
+// that rounding keeps every row a window reaches.
+ForceMetrics::ForceMetrics(double fromS, double toS, double windowS)
+    : fromS_(fromS), toS_(toS), windowS_(windowS), keepFromS_(fromS - 0.5 * windowS - 1e-9),
+      keepToS_(toS + 0.5 * windowS + 1e-9) {}
+
+void ForceMetrics::reserveForStep(double stepS) {
+  const double rows = (keepToS_ - keepFromS_) / stepS + 3.0;
+  if (rows > 0.0 && rows < 1e7) kept_.reserve(std::size_t(rows));
+}
+
+void ForceMetrics::add(double tS, double magnitudeN) {
+  if (!(tS < keepFromS_) && tS <= keepToS_) {
+    kept_.push_back({tS, magnitudeN, sum_});
+    sumAfterKept_ = sum_ + magnitudeN;
+  }
+  sum_ += magnitudeN;
+  if (any_) maxStepChangeN_ = std::max(maxStepChangeN_, std::abs(magnitudeN - lastN_));
+  lastN_ = magnitudeN;
+  any_ = true;
+  maxForceN_ = std::max(maxForceN_, magnitudeN);
+}
+
+double ForceMetrics::jitterN() const {
+  // forceJitterN's loop on the kept rows; the running sums are those of the whole log.
+  const std::size_t n = kept_.size();
+  const auto sumBefore = [&](std::size_t k) { return k < n ? kept_[k].sumBefore : sumAfterKept_; };
+  double sum2 = 0.0;
+  std::size_t count = 0, lo = 0, hi = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = kept_[i].tS;
+    if (t < fromS_ || t > toS_) continue;
+    while (lo < n && kept_[lo].tS < t - 0.5 * windowS_ - 1e-9) ++lo;
+    while (hi < n && kept_[hi].tS <= t + 0.5 * windowS_ + 1e-9) ++hi;
+    const double mean = (sumBefore(hi) - sumBefore(lo)) / double(hi - lo);
+    const double e = kept_[i].magnitudeN - mean;
+    sum2 += e * e;
+    ++count;
+  }
+  return count > 0 ? std::sqrt(sum2 / double(count)) : 0.0;
+}
+
 RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, const DrillPath& path,
                            geometry::SurfaceUpdater* surface, const DeterministicOptions& options) {
   using Clock = std::chrono::steady_clock;
   RunResult result;
   const auto steps = std::size_t(std::llround(path.durationS() / options.stepS)) + 1;
-  result.log.reserve(steps);
-  std::vector<double> stepUs, remeshMs;
-  stepUs.reserve(steps);
+  if (options.keepLog) result.log.reserve(steps);
+  ForceMetrics metrics;
+  metrics.reserveForStep(options.stepS);
+  Durations stepNs, remeshNs;
+  stepNs.reserve(steps);
   grid.clearDirty();
   for (std::size_t i = 0; i < steps; ++i) {
     const double t = double(i) * options.stepS;
@@ -65,7 +131,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
     path.sample(t, input.pose, input.drillOn);  // haptic: the device (here the path) gives the pose
     const Clock::time_point start = Clock::now();
     const StepOutput out = sim.step(input);    // collision, force, removal
-    stepUs.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+    stepNs.add(std::chrono::nanoseconds(Clock::now() - start).count());
     ForceLogRow row;
     row.tS = t;
     row.tipMm = input.pose.tipMm;
@@ -74,23 +140,25 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
     row.contactVoxels = out.contact.contactVoxels;
     row.removedVoxels = sim.totals().samplesRemoved;
     row.level = out.contact.level;
-    result.log.push_back(row);
+    metrics.add(row.tS, row.magnitudeN);
+    if (options.onRow) options.onRow(row);
+    if (options.keepLog) result.log.push_back(row);
     if (surface && options.remeshEverySteps > 0 && i % std::size_t(options.remeshEverySteps) == 0) {
       const std::vector<std::size_t> dirty = grid.dirtyBricks();  // visual: the surface follows
       if (!dirty.empty()) {
-        remeshMs.push_back(surface->update(dirty).ms);
+        remeshNs.addMs(surface->update(dirty).ms);
         grid.clearDirty();
       }
     }
     if (options.afterStep) options.afterStep(i, input, out);
   }
   RunSummary& s = result.summary;
-  s.jitterN = forceJitterN(result.log);
-  s.maxStepChangeN = maxStepChangeN(result.log);
-  for (const ForceLogRow& r : result.log) s.maxForceN = std::max(s.maxForceN, r.magnitudeN);
+  s.jitterN = metrics.jitterN();
+  s.maxStepChangeN = metrics.maxStepChangeN();
+  s.maxForceN = metrics.maxForceN();
   s.removedVolumeMm3 = sim.removedVolumeMm3();
-  s.hapticStepUs = percentilesOf(stepUs);
-  s.remeshMs = percentilesOf(remeshMs);
+  s.hapticStepUs = stepNs.percentiles(1e3);
+  s.remeshMs = remeshNs.percentiles(1e6);
   s.steps = steps;
   s.nonFiniteForces = sim.totals().nonFiniteForces;
   s.brickAllocations = sim.totals().brickAllocations;
@@ -101,15 +169,37 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
 }
 
 void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "w"), &std::fclose);
-  if (!f) throw InputError(path + ": cannot write the force log");
-  std::fputs("t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n", f.get());
-  for (const ForceLogRow& r : log) {
-    std::fprintf(f.get(), "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x,
-                 r.tipMm.y, r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
-                 static_cast<unsigned long long>(r.removedVoxels), r.level);
-  }
-  if (std::ferror(f.get())) throw InputError(path + ": write failed (disk full?)");
+  ForceLogWriter writer(path);
+  for (const ForceLogRow& r : log) writer.write(r);
+  writer.commit();
+}
+
+ForceLogWriter::ForceLogWriter(const std::string& path) : file_(path), buffer_(std::size_t(1) << 16) {
+  out_ = std::fopen(file_.tempPath().c_str(), "w");
+  if (!out_) throw InputError(path + ": cannot write the force log");
+  std::setvbuf(out_, buffer_.data(), _IOFBF, buffer_.size());
+  __fsetlocking(out_, FSETLOCKING_BYCALLER);  // one writer: no stream lock per row
+  std::fputs("t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n", out_);
+}
+
+ForceLogWriter::~ForceLogWriter() {
+  if (out_) std::fclose(out_);
+}
+
+void ForceLogWriter::write(const ForceLogRow& r) noexcept {
+  if (!out_) return;
+  std::fprintf(out_, "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x, r.tipMm.y,
+               r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
+               static_cast<unsigned long long>(r.removedVoxels), r.level);
+}
+
+void ForceLogWriter::commit() {
+  if (!out_) return;
+  const bool failed = std::ferror(out_) != 0;
+  const bool closed = std::fclose(out_) == 0;
+  out_ = nullptr;
+  if (failed || !closed) throw InputError(path() + ": write failed (disk full?)");
+  file_.commit();
 }
 
 }  // namespace osteon::simulation

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -62,14 +63,14 @@ void snapshot(const VoxelGrid& grid, std::size_t brick, BrickMessage& msg) {
 // periods it has missed entirely rather than running them late.
 template <typename Work>
 void periodic(std::int64_t startNs, std::int64_t periodNs, std::uint64_t periods, std::uint64_t& steps,
-              std::uint64_t& overruns, std::vector<double>& stepUs, Work&& work) {
+              std::uint64_t& overruns, Durations& stepNs, Work&& work) {
   for (std::uint64_t k = 0; k < periods;) {
     const std::int64_t deadline = startNs + std::int64_t(k) * periodNs;
     sleepUntilNs(deadline);
     const std::int64_t begin = nowNs();
     work(k, double(k) * double(periodNs) * 1e-9);
     const std::int64_t end = nowNs();
-    if (stepUs.size() < stepUs.capacity()) stepUs.push_back(double(end - begin) * 1e-3);
+    if (!stepNs.full()) stepNs.add(end - begin);
     ++steps;
     if (end > deadline + periodNs) {
       ++overruns;
@@ -94,12 +95,16 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   TripleBuffer<PoseMessage> poses;
   TripleBuffer<ContactForce> forces;
   SpscRing<BrickMessage> bricks(options.brickRingCapacity);
+  // Rows go to the logging thread, which writes and summarises them: nothing per period is
+  // kept unless asked for.
+  SpscRing<ForceLogRow> logRows(options.logRingCapacity);
   std::vector<ForceLogRow>& log = result.run.log;
-  log.reserve(periods + 1);
-  std::vector<double> hapticUs, collisionUs, remeshMs;
-  hapticUs.reserve(periods + 1);
-  collisionUs.reserve(periods + 1);
-  remeshMs.reserve(periods + 1);
+  if (options.keepLog) log.reserve(periods + 1);
+  ForceMetrics metrics;
+  metrics.reserveForStep(options.periodS);
+  Durations hapticNs, collisionNs, remeshNs;
+  hapticNs.reserve(periods + 1);
+  collisionNs.reserve(periods + 1);
 
   // The visual thread owns a copy of the grid: the collision thread never waits for it and it
   // never reads a brick mid-write.
@@ -107,12 +112,13 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   VoxelGrid visualGrid = grid;
   geometry::SurfaceUpdater updater(visualGrid, surfaceOptions);
   std::atomic<bool> stop{false};
+  std::atomic<bool> collisionDone{false};
   std::atomic<int> granted{0};
   const std::int64_t startNs = nowNs() + 5000000;  // 5 ms for the threads to start
 
   std::thread haptic([&] {
     if (options.realtimePriority && askRealtime(80)) granted.fetch_add(1);
-    periodic(startNs, periodNs, periods, stats.hapticSteps, stats.hapticOverruns, hapticUs,
+    periodic(startNs, periodNs, periods, stats.hapticSteps, stats.hapticOverruns, hapticNs,
              [&](std::uint64_t, double tS) {
                PoseMessage m;
                m.tS = tS;
@@ -125,15 +131,13 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
     if (options.realtimePriority && askRealtime(79)) granted.fetch_add(1);
     BrickMessage handover;  // 1 KiB: kept off the loop's stack frame churn
     periodic(startNs + periodNs / 2, periodNs, periods, stats.collisionSteps, stats.collisionOverruns,
-             collisionUs, [&](std::uint64_t, double) {
+             collisionNs, [&](std::uint64_t, double) {
                const PoseMessage& m = poses.read();
                if (m.tS < 0.0) return;
                const StepOutput out = sim.step({m.tS, m.pose, m.drillOn});
                forces.write(out.contact);
-               if (log.size() < log.capacity()) {
-                 log.push_back({m.tS, m.pose.tipMm, out.contact.forceN, out.contact.magnitudeN,
-                                out.contact.contactVoxels, sim.totals().samplesRemoved, out.contact.level});
-               } else {
+               if (!logRows.push({m.tS, m.pose.tipMm, out.contact.forceN, out.contact.magnitudeN,
+                                  out.contact.contactVoxels, sim.totals().samplesRemoved, out.contact.level})) {
                  ++stats.logDropped;
                }
                if (out.removal.removedFill == 0) return;
@@ -177,7 +181,7 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
       if (changed.empty()) return false;
       std::sort(changed.begin(), changed.end());
       changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-      remeshMs.push_back(updater.update(changed).ms);
+      remeshNs.addMs(updater.update(changed).ms);
       visualGrid.clearDirty();
       ++stats.visualUpdates;
       return true;
@@ -187,8 +191,27 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
     }
     drain();
   });
+  std::thread logger([&] {
+    ForceLogRow row;
+    const auto drain = [&] {
+      bool any = false;
+      while (logRows.pop(row)) {
+        any = true;
+        metrics.add(row.tS, row.magnitudeN);
+        if (options.onRow) options.onRow(row);
+        if (options.keepLog) log.push_back(row);
+      }
+      return any;
+    };
+    while (!collisionDone.load(std::memory_order_acquire)) {
+      if (!drain()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    drain();
+  });
   haptic.join();
   collision.join();
+  collisionDone.store(true, std::memory_order_release);
+  logger.join();
   // Bricks the ring had no room for are still dirty: hand them over now (no period to keep).
   for (const std::size_t brick : grid.dirtyBricks()) {
     BrickMessage msg;
@@ -200,13 +223,13 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   visual.join();
 
   stats.realtimeGranted = granted.load() == 2;
-  stats.hapticStepUs = percentilesOf(hapticUs);
-  stats.collisionStepUs = percentilesOf(collisionUs);
-  stats.remeshMs = percentilesOf(remeshMs);
+  stats.hapticStepUs = hapticNs.percentiles(1e3);
+  stats.collisionStepUs = collisionNs.percentiles(1e3);
+  stats.remeshMs = remeshNs.percentiles(1e6);
   RunSummary& s = result.run.summary;
-  s.jitterN = forceJitterN(log);
-  s.maxStepChangeN = maxStepChangeN(log);
-  for (const ForceLogRow& r : log) s.maxForceN = std::max(s.maxForceN, r.magnitudeN);
+  s.jitterN = metrics.jitterN();
+  s.maxStepChangeN = metrics.maxStepChangeN();
+  s.maxForceN = metrics.maxForceN();
   s.removedVolumeMm3 = sim.removedVolumeMm3();
   s.hapticStepUs = stats.collisionStepUs;  // the step the haptic target is about: collision + force + removal
   s.remeshMs = stats.remeshMs;

@@ -1,6 +1,7 @@
 // The command line as users and scripts meet it: exit codes, one-line errors naming the file
 // or value, JSON on stdout.
 #include "osteon/geometry/mesh_io.h"
+#include "support/cli_fixture.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -16,42 +17,6 @@
 
 namespace osteon {
 namespace {
-
-struct CliRun {
-  int exitCode = -1;
-  std::string out;
-  std::string err;
-};
-
-class CliTest : public ::testing::Test {
- protected:
-  std::string dir_ = test::makeTempDir("cli");
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-
-  CliRun osteon(const std::string& args) const {
-    const std::string command = std::string("'") + OSTEON_CLI + "' " + args + " >'" +
-                                path("stdout") + "' 2>'" + path("stderr") + "' </dev/null";
-    const int status = std::system(command.c_str());
-    CliRun run;
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    run.out = test::readBytes(path("stdout"));
-    run.err = test::readBytes(path("stderr"));
-    return run;
-  }
-
-  // Bad input: exit 2, nothing on stdout, one line on stderr that names `needle`.
-  void expectBadInput(const std::string& args, const std::string& needle,
-                      const std::string& reason) const {
-    const CliRun run = osteon(args);
-    EXPECT_EQ(run.exitCode, 2) << args << "\n" << run.err;
-    EXPECT_TRUE(run.out.empty()) << args << "\n" << run.out;
-    ASSERT_FALSE(run.err.empty()) << args;
-    EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << "one line: " << run.err;
-    EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
-    EXPECT_NE(run.err.find(reason), std::string::npos) << run.err;
-  }
-};
 
 std::string binaryStlHeader(std::uint32_t count) {
   std::string bytes(80, '\0');

@@ -1,4 +1,5 @@
 #include "osteon/geometry/dph.h"
+#include "osteon/geometry/embree_scene.h"
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/humerus_model.h"
 #include "osteon/geometry/voxelizer.h"
@@ -293,6 +294,27 @@ TEST_F(HumerusDrilling, ForcesStayBoundedAndFiniteOnRandomPoses) {
       ASSERT_FALSE(out.contact.nonFinite);
     }
     EXPECT_EQ(sim.totals().nonFiniteForces, 0u) << toolKindName(kind);
+  }
+}
+
+// A hierarchy with no root (an empty grid) answers every query with nothing: no force, no
+// removal, no crash, at every level of refinement.
+TEST(Drilling, AnEmptyGridGivesNoForceAndNoCrash) {
+  const geometry::TriangleMesh box = test::makeBox({0, 0, 0}, {10, 10, 10});
+  VoxelGrid grid = geometry::makeGridFor(box, 1.0);
+  DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  ASSERT_EQ(hierarchy.voxelCount(), 0u);
+  const geometry::EmbreeScene scene(box);
+  const geometry::FineFillSource source = geometry::FineFillSource::sample(grid, box, scene);
+  for (const int levels : {0, 1, 2}) {
+    DrillingOptions options;
+    options.levels = levels;
+    DrillingSimulation sim(grid, hierarchy, levels > 0 ? &source : nullptr, ToolKind::Drill, ToolOptions{}, options);
+    for (int i = 0; i < 50; ++i) {
+      const StepOutput out = sim.step({0.001 * i, ToolPose::pointing({5, 5, 12.0 - 0.2 * i}, {0, 0, -1}), true});
+      EXPECT_EQ(out.contact.magnitudeN, 0.0);
+    }
+    EXPECT_EQ(sim.totals().samplesRemoved, 0u) << "levels " << levels;
   }
 }
 

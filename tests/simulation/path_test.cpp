@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 namespace osteon::simulation {
@@ -104,6 +105,65 @@ TEST(PathCsv, ReadsPathsAndRejectsBadRowsNamingTheLine) {
   expectError("t,x,y,z,drill_on\n0,0,0,0,1\n", "two rows");
   expectError("t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1,0,0,0,0\n1,0,0,0,1,1,0,0,0\n", "zero");
   EXPECT_THROW(loadPathCsv(dir + "/missing.csv"), InputError);
+}
+
+// A path's end time sizes the run: an hour at most, refused naming the row and the limit.
+TEST(PathCsv, RefusesPathsLongerThanTheLimitNamingTheRowAndTheLimit) {
+  const std::string dir = test::makeTempDir("path_csv_duration");
+  const std::string file = dir + "/long.csv";
+  for (const char* end : {"1e300", "1e12", "100000", "3600.001"}) {
+    test::writeBytes(file, std::string("t,x,y,z,drill_on\n0,0,0,0,1\n1,0,0,1,1\n") + end + ",0,0,2,1\n");
+    try {
+      loadPathCsv(file);
+      ADD_FAILURE() << "accepted a path ending at t = " << end;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file + ":4:"), std::string::npos) << what;
+      EXPECT_NE(what.find("3600 s"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos);
+    }
+  }
+  test::writeBytes(file, "t,x,y,z,drill_on\n0,0,0,0,1\n3600,0,0,1,1\n");
+  EXPECT_EQ(loadPathCsv(file).durationS(), kMaxPathDurationS);
+}
+
+// Quaternions are scaled by their largest component first: huge or tiny ones give the same
+// orientation as their unit multiple.
+TEST(PathCsv, NormalisesHugeAndTinyQuaternionsWithoutOverflow) {
+  const std::string dir = test::makeTempDir("path_csv_quat");
+  const auto orientationOf = [&](const std::string& q) {
+    const std::string file = dir + "/q.csv";
+    test::writeBytes(file, "t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1," + q + "\n1,1,0,0,1," + q + "\n");
+    return loadPathCsv(file).points().front().orientation;
+  };
+  const glm::dquat unit = orientationOf("1,1,0,0");
+  EXPECT_NEAR(unit.w, std::sqrt(0.5), 1e-15);
+  for (const char* q : {"1e300,1e300,0,0", "-1e308,-1e308,0,0", "1e-300,1e-300,0,0", "3e-308,3e-308,0,0"}) {
+    const glm::dquat o = orientationOf(q);
+    EXPECT_EQ(std::abs(o.w), unit.w) << q;
+    EXPECT_EQ(std::abs(o.x), unit.x) << q;
+    EXPECT_EQ(o.y, 0.0) << q;
+    EXPECT_EQ(o.z, 0.0) << q;
+  }
+  const std::string zero = dir + "/zero.csv";
+  test::writeBytes(zero, "t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1,1,0,0,0\n1,0,0,0,1,0,0,0,0\n");
+  try {
+    loadPathCsv(zero);
+    ADD_FAILURE() << "accepted a zero quaternion";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(zero + ":3:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("zero"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PathCsv, AcceptsAUtf8ByteOrderMark) {
+  const std::string dir = test::makeTempDir("path_csv_bom");
+  const std::string file = dir + "/bom.csv";
+  test::writeBytes(file, "\xEF\xBB\xBFt,x,y,z,drill_on\n0,0,0,0,1\n1,0,0,1,1\n");
+  EXPECT_EQ(loadPathCsv(file).points().size(), 2u);
+  // Only at the start of the file: elsewhere it is not part of a number.
+  test::writeBytes(file, "t,x,y,z,drill_on\n0,0,0,0,1\n\xEF\xBB\xBF" "1,0,0,1,1\n");
+  EXPECT_THROW(loadPathCsv(file), InputError);
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <malloc.h>
 #include <fstream>
 #include <memory>
 
@@ -103,6 +105,82 @@ TEST_F(PortalRuns, DynamicTwoLevelsIsNoRougherThanStaticAtTheSubVoxelSize) {
   }
 }
 
+// Streamed (no log kept) and collected runs give the same rows and the same summary, and the
+// streaming summary equals the metrics of the whole log.
+TEST_F(PortalRuns, StreamedRunsKeepNoLogAndGiveTheSameRowsAndSummary) {
+  const auto make = [&](bool keepLog, std::vector<ForceLogRow>* rows) {
+    geometry::VoxelizeOptions o;
+    o.voxelSizeMm = 1.2;
+    geometry::VoxelGrid grid = geometry::voxelize(model_->mesh, o);
+    auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+    DrillingOptions drilling;
+    drilling.levels = 1;
+    DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, drilling);
+    const PortalPlan plan = makePortalPath(Portal::SevenOClock, fitHumeralHead(model_->mesh), model_->mesh,
+                                           sim.tool().parts[0].outerRadiusMm);
+    DeterministicOptions options;
+    options.keepLog = keepLog;
+    if (rows) options.onRow = [rows](const ForceLogRow& r) { rows->push_back(r); };
+    return runDeterministic(sim, grid, plan.path, nullptr, options);
+  };
+  std::vector<ForceLogRow> streamed;
+  const RunResult kept = make(true, nullptr);
+  const RunResult stream = make(false, &streamed);
+  EXPECT_TRUE(stream.log.empty());
+  EXPECT_EQ(stream.log.capacity(), 0u);
+  ASSERT_EQ(streamed.size(), kept.log.size());
+  for (std::size_t i = 0; i < streamed.size(); ++i) {
+    ASSERT_EQ(streamed[i].tS, kept.log[i].tS);
+    ASSERT_EQ(streamed[i].magnitudeN, kept.log[i].magnitudeN);
+    ASSERT_EQ(streamed[i].removedVoxels, kept.log[i].removedVoxels);
+  }
+  for (const RunResult* r : {&kept, &stream}) {
+    EXPECT_GT(r->summary.jitterN, 0.0);
+    EXPECT_EQ(r->summary.jitterN, forceJitterN(kept.log));  // bit for bit
+    EXPECT_EQ(r->summary.maxStepChangeN, maxStepChangeN(kept.log));
+    double maxForce = 0.0;
+    for (const ForceLogRow& row : kept.log) maxForce = std::max(maxForce, row.magnitudeN);
+    EXPECT_EQ(r->summary.maxForceN, maxForce);
+    EXPECT_EQ(r->summary.removedVolumeMm3, kept.summary.removedVolumeMm3);
+    EXPECT_EQ(r->summary.steps, 7001u);
+    EXPECT_GT(r->summary.hapticStepUs.max, 0.0);
+    EXPECT_LE(r->summary.hapticStepUs.p50, r->summary.hapticStepUs.p99);
+    EXPECT_LE(r->summary.hapticStepUs.p99, r->summary.hapticStepUs.max);
+  }
+}
+
+// A long path must not cost memory per step beyond a few bytes: the heap in use at the last
+// step of a 600 s run (600001 steps, the tool in the air) stays within a few MB.
+TEST(Deterministic, AStreamedLongPathKeepsMemoryBounded) {
+  geometry::VoxelizeOptions o;
+  o.voxelSizeMm = 1.0;
+  geometry::VoxelGrid grid = geometry::voxelize(test::makeBox({-8, -8, -8}, {8, 8, 0}), o);
+  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
+  const glm::dquat q = ToolPose::pointing({0, 0, 50}, {0, 0, -1}).orientation;
+  const DrillPath path({Waypoint{0.0, {0, 0, 50}, q, true}, Waypoint{600.0, {0, 0, 40}, q, true}});
+  DeterministicOptions options;
+  options.keepLog = false;
+  std::size_t rows = 0;
+  options.onRow = [&](const ForceLogRow&) { ++rows; };
+  const auto heapInUse = [] {
+    const struct mallinfo2 m = mallinfo2();
+    return m.uordblks + m.hblkhd;  // large blocks are mmapped and counted apart
+  };
+  const std::size_t before = heapInUse();
+  std::size_t atEnd = 0;
+  options.afterStep = [&](std::size_t step, const StepInput&, const StepOutput&) {
+    if (step == 600000) atEnd = heapInUse();
+  };
+  const RunResult r = runDeterministic(sim, grid, path, nullptr, options);
+  EXPECT_EQ(rows, 600001u);
+  EXPECT_EQ(r.summary.steps, 600001u);
+  EXPECT_TRUE(r.log.empty());
+  ASSERT_GT(atEnd, 0u);
+  // One float-sized step time per step is allowed (2.4 MB); rows of 88 bytes are not.
+  EXPECT_LT(double(atEnd) - double(before), 8e6);
+}
+
 TEST(ForceLog, HasTheHeaderAndOneRowPerStep) {
   std::vector<ForceLogRow> log(3);
   log[1].tS = 0.001;
@@ -118,6 +196,46 @@ TEST(ForceLog, HasTheHeaderAndOneRowPerStep) {
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 3);
   EXPECT_THROW(writeForceLog(log, "/nonexistent-dir/forces.csv"), InputError);
+}
+
+// The writer gives writeForceLog's bytes, and nothing at the path until commit(): a run that
+// fails leaves no half file and no temporary one.
+TEST(ForceLog, TheWriterStreamsTheSameBytesAndLeavesNothingUntilCommitted) {
+  std::vector<ForceLogRow> log(5);
+  for (std::size_t i = 0; i < log.size(); ++i) {
+    log[i].tS = 0.001 * double(i);
+    log[i].tipMm = {1.0 / 3.0, -2.5, 1e-7 * double(i)};
+    log[i].forceN = {0.1 * double(i), -1.0 / 7.0, 2.0};
+    log[i].magnitudeN = std::sqrt(double(i));
+    log[i].contactVoxels = 12.5 * double(i);
+    log[i].removedVoxels = 1000 * i;
+    log[i].level = -int(i % 3);
+  }
+  const std::string dir = test::makeTempDir("force_log_writer");
+  writeForceLog(log, dir + "/whole.csv");
+  {
+    ForceLogWriter writer(dir + "/streamed.csv");
+    for (const ForceLogRow& r : log) writer.write(r);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/streamed.csv"));
+    writer.commit();
+  }
+  EXPECT_EQ(test::readBytes(dir + "/streamed.csv"), test::readBytes(dir + "/whole.csv"));
+  {
+    ForceLogWriter abandoned(dir + "/abandoned.csv");
+    abandoned.write(log[0]);
+  }
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    ++files;
+    EXPECT_NE(entry.path().filename().string().find(".csv"), std::string::npos);
+  }
+  EXPECT_EQ(files, 2u);  // whole.csv and streamed.csv only
+  try {
+    ForceLogWriter nowhere("/nonexistent-dir/forces.csv");
+    ADD_FAILURE() << "opened a log in a missing folder";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/forces.csv"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

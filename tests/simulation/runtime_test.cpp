@@ -95,5 +95,42 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
               1e-6 * std::abs(geometry::signedVolumeMm3(full.toTriangleMesh())));
 }
 
+// The collision thread hands rows to a logging thread: with keepLog off nothing is collected,
+// every row reaches onRow in order, and the summary is the metrics of those rows.
+TEST(Runtime, StreamsTheForceLogWithoutKeepingIt) {
+  const geometry::HumerusModel model = geometry::buildHumerusModel();
+  geometry::VoxelizeOptions vo;
+  vo.voxelSizeMm = 1.2;
+  geometry::VoxelGrid grid = geometry::voxelize(model.mesh, vo);
+  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
+  PortalPathOptions po;
+  po.durationS = 1.5;
+  const PortalPlan plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
+                                         sim.tool().parts[0].outerRadiusMm, po);
+  PathPoseSource source(plan.path);
+  RuntimeOptions options;
+  options.durationS = 2.2;  // past 2 s, so the jitter window has rows
+  options.realtimePriority = false;
+  options.keepLog = false;
+  std::vector<ForceLogRow> rows;
+  rows.reserve(3000);
+  options.onRow = [&](const ForceLogRow& r) { rows.push_back(r); };
+  const RuntimeResult r = runThreaded(sim, grid, source, nullptr, geometry::SurfaceOptions{}, options);
+  EXPECT_TRUE(r.run.log.empty());
+  EXPECT_EQ(r.run.log.capacity(), 0u);
+  EXPECT_EQ(r.stats.logDropped, 0u);
+  ASSERT_GT(rows.size(), 1000u);
+  EXPECT_LE(rows.size(), r.stats.collisionSteps);
+  for (std::size_t i = 1; i < rows.size(); ++i) ASSERT_GE(rows[i].tS, rows[i - 1].tS);
+  double maxForce = 0.0;
+  for (const ForceLogRow& row : rows) maxForce = std::max(maxForce, row.magnitudeN);
+  EXPECT_GT(maxForce, 0.1);
+  EXPECT_EQ(r.run.summary.maxForceN, maxForce);
+  EXPECT_EQ(r.run.summary.jitterN, forceJitterN(rows));
+  EXPECT_EQ(r.run.summary.maxStepChangeN, maxStepChangeN(rows));
+  EXPECT_GT(r.run.summary.hapticStepUs.max, 0.0);
+}
+
 }  // namespace
 }  // namespace osteon::simulation

@@ -2,6 +2,7 @@
 
 #include "osteon/geometry/embree_scene.h"
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/output_file.h"
 
 #include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
@@ -96,12 +97,14 @@ std::vector<std::string> writeCrackImages(const CrackMetric& metric, const std::
   for (const CrackView& view : metric.views) {
     if (view.rgb.empty()) throw std::logic_error("writeCrackImages: measureCracks kept no images");
     const std::string path = dir + "/cracks_" + view.name + ".png";
-    auto out = OIIO::ImageOutput::create(path);
+    geometry::OutputFile file(path);
+    auto out = OIIO::ImageOutput::create(file.tempPath());
     const OIIO::ImageSpec spec(metric.pixels, metric.pixels, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, view.rgb.data()) ||
-        !out->close()) {
+    if (!out || !out->open(file.tempPath(), spec) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, view.rgb.data()) || !out->close()) {
       throw InputError(path + ": cannot write the crack image");
     }
+    file.commit();
     paths.push_back(path);
   }
   return paths;

@@ -62,6 +62,9 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
     for (const double voxelMm : options.voxelSizesMm) {
       geometry::VoxelizeOptions vo;
       vo.voxelSizeMm = voxelMm;
+      vo.requireInside = true;
+      vo.meshName = model.name;
+      vo.loadScaleToMm = model.loadScaleToMm;
       const geometry::VoxelGrid original = geometry::voxelize(model.mesh, vo);
       const geometry::FineFillSource source = geometry::FineFillSource::sample(original, model.mesh, scene);
       for (const char* method : {"crackfree", "naive"}) {

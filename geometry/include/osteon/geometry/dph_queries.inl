@@ -223,6 +223,7 @@ template <typename Fn>
 void DynamicProximityHierarchy::forEachVoxelInSphere(const glm::dvec3& centreMm, double radiusMm,
                                                      DphQueryScratch& scratch, DphNearCache* cache,
                                                      Fn&& fn) const {
+  if (root() == kNone) return;  // no voxel (an empty grid, or every voxel removed)
   // Walks for the voxels within radius of a centre, from a saved stack: leaf(centre, node).
   const auto walkFrom = [&](const glm::dvec3& cMm, const glm::dvec3&, double radius, std::uint64_t* stack,
                             std::size_t& top, std::size_t budget, auto&& leaf) {
@@ -275,6 +276,7 @@ template <typename Fn>
 void DynamicProximityHierarchy::forEachVoxelInCapsule(const glm::dvec3& aMm, const glm::dvec3& bMm,
                                                       double radiusMm, DphQueryScratch& scratch,
                                                       DphNearCache* cache, Fn&& fn) const {
+  if (root() == kNone) return;  // no voxel (an empty grid, or every voxel removed)
   const auto walkFrom = [&](const glm::dvec3& fromMm, const glm::dvec3& toMm, double radius, std::uint64_t* stack,
                             std::size_t& top, std::size_t budget, auto&& leaf) {
     const dph_detail::Segment segment((fromMm - originMm_) / voxelSizeMm_ - 0.5, (toMm - originMm_) / voxelSizeMm_ - 0.5);

@@ -9,6 +9,7 @@
 #include "osteon/geometry/voxel_grid.h"
 
 #include <cstdint>
+#include <string>
 
 namespace osteon::geometry {
 
@@ -18,6 +19,13 @@ struct VoxelizeOptions {
   bool robust = false;   // all three axes, majority (median) vote, for damaged meshes
   int paddingVoxels = 1;  // empty voxels around the mesh's bounding box on every side
   DensityRule density;
+  // Refuse a grid with no voxel at least half inside (InputError): drilling needs bone.
+  bool requireInside = false;
+  // For error messages only: the mesh's name (its file, or `default`), the factor it was
+  // scaled by on loading (to suggest --units), whether the voxel size came from --voxel-size.
+  std::string meshName;
+  double loadScaleToMm = 1.0;
+  bool voxelSizeGiven = true;
 };
 
 struct VoxelizeStats {
@@ -42,7 +50,11 @@ struct VoxelizeStats {
 // the voxel size is not positive and finite or the grid would exceed VoxelGrid::kMaxVoxels.
 VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingVoxels = 1);
 
-// Throws InputError for bad options (voxel size, rays per axis outside 1..16, density rule).
+// Throws InputError for bad options (voxel size not positive and finite, or larger than the
+// mesh's largest extent; rays per axis outside 1..16; density rule), for a grid past
+// VoxelGrid::kMaxVoxels, and with requireInside for a grid with no voxel inside; the messages
+// name the mesh, its extent and the voxel size, and suggest --units when the extent looks
+// like another unit read as millimetres.
 VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
                    VoxelizeStats* stats = nullptr);
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "osteon/geometry/mesh.h"
+#include "osteon/geometry/voxelizer.h"
 #include "osteon/simulation/runner.h"
 
 #include <functional>
@@ -29,10 +30,13 @@ struct ExperimentCase {
 std::vector<ExperimentCase> seedExperimentCases();
 
 // Runs every case on both portals, static first. `progress` (may be empty) hears each run as it
-// finishes. Throws InputError when the mesh has no humeral head to drill.
+// finishes. `voxelizing` gives the voxelization's options but the voxel size (the mesh's name
+// and load scale for messages, the density rule). Throws InputError when the mesh has no
+// humeral head to drill, or no voxel inside it at a case's voxel size.
 std::vector<ExperimentRun> runSeedExperiment(const geometry::TriangleMesh& mesh,
                                              const std::vector<ExperimentCase>& cases,
-                                             const std::function<void(const ExperimentRun&)>& progress = {});
+                                             const std::function<void(const ExperimentRun&)>& progress = {},
+                                             const geometry::VoxelizeOptions& voxelizing = {});
 
 const char* portalName(Portal portal);
 

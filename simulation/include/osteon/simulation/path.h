@@ -39,6 +39,10 @@ struct HumeralHead {
 // Throws InputError when the mesh has too few points or no end fits a sphere.
 HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide = true);
 
+// The longest drill path accepted from user data (an hour): the run's length, and so its
+// time and its logs, follow from the path's end time.
+inline constexpr double kMaxPathDurationS = 3600.0;
+
 enum class Portal { FiveOClock, SevenOClock };
 
 struct Waypoint {
@@ -89,8 +93,9 @@ PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry
                           double toolOuterRadiusMm, const PortalPathOptions& options = {});
 
 // CSV with a header row: t, x, y, z, drill_on [, qw, qx, qy, qz] (seconds, millimetres, 0/1,
-// the tool's orientation; without it the tool points along the direction of travel). Throws
-// InputError naming the file and line for anything else.
+// the tool's orientation, any non-zero scale; without it the tool points along the direction
+// of travel), optionally after a UTF-8 byte order mark. Times from 0 to kMaxPathDurationS.
+// Throws InputError naming the file and line for anything else.
 DrillPath loadPathCsv(const std::string& path);
 
 }  // namespace osteon::simulation

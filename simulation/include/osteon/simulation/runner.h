@@ -3,11 +3,13 @@
 // log bit for bit. Also the force log, and the metrics of design.md.
 #pragma once
 
+#include "osteon/geometry/output_file.h"
 #include "osteon/geometry/surface_updater.h"
 #include "osteon/simulation/drilling.h"
 #include "osteon/simulation/path.h"
 
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -31,6 +33,23 @@ struct Percentiles {
 };
 Percentiles percentilesOf(std::vector<double> values);
 
+// Durations in whole nanoseconds, 4 bytes each: exact percentiles of a long run in little
+// memory. add() allocates only past the reserved capacity.
+class Durations {
+ public:
+  void reserve(std::size_t n) { ns_.reserve(n); }
+  bool full() const { return ns_.size() >= ns_.capacity(); }
+  void add(std::int64_t ns);
+  // A duration chrono gave in milliseconds from whole nanoseconds: kept exactly.
+  void addMs(double ms);
+  // As percentilesOf() on ns / nsPerUnit (1e3: microseconds, 1e6: milliseconds). Sorts.
+  Percentiles percentiles(double nsPerUnit);
+
+ private:
+  std::vector<std::uint32_t> ns_;  // saturated at 4.29 s; the max is kept apart
+  std::int64_t maxNs_ = 0;
+};
+
 struct RunSummary {
   double jitterN = 0.0;           // design.md: RMS of |F| minus its 50 ms centred moving average, t in [2, 5] s
   double maxStepChangeN = 0.0;    // largest |F| change between consecutive samples
@@ -52,11 +71,42 @@ double forceJitterN(const std::vector<ForceLogRow>& log, double fromS = 2.0, dou
                     double windowS = 0.05);
 double maxStepChangeN(const std::vector<ForceLogRow>& log);
 
+// The summary's force metrics from rows given one at a time in time order, bit for bit those
+// of forceJitterN, maxStepChangeN and the largest |F| on the whole log, keeping only the rows
+// the jitter's windows reach (t in [fromS - windowS / 2, toS + windowS / 2]).
+class ForceMetrics {
+ public:
+  explicit ForceMetrics(double fromS = 2.0, double toS = 5.0, double windowS = 0.05);
+  // Room for the kept rows at this step, so that add() does not allocate.
+  void reserveForStep(double stepS);
+  void add(double tS, double magnitudeN);
+  double jitterN() const;
+  double maxStepChangeN() const { return maxStepChangeN_; }
+  double maxForceN() const { return maxForceN_; }
+
+ private:
+  struct Kept {
+    double tS, magnitudeN, sumBefore;  // sumBefore: of |F| over every earlier row
+  };
+  double fromS_, toS_, windowS_, keepFromS_, keepToS_;
+  std::vector<Kept> kept_;
+  double sum_ = 0.0;           // of |F| over every row so far
+  double sumAfterKept_ = 0.0;  // ... up to and including the last kept row
+  double lastN_ = 0.0;
+  bool any_ = false;
+  double maxStepChangeN_ = 0.0, maxForceN_ = 0.0;
+};
+
 struct DeterministicOptions {
   double stepS = 0.001;
   int remeshEverySteps = 1;  // the visual work: incremental surface update every N steps
   // Called after each step (and its surface update), for checks that follow a run.
   std::function<void(std::size_t step, const StepInput& input, const StepOutput& output)> afterStep;
+  // Rows as they come (e.g. ForceLogWriter::write); must not throw.
+  std::function<void(const ForceLogRow& row)> onRow;
+  // Also collects every row in RunResult::log: for short paths (tests, experiments); the CLI
+  // streams through onRow instead, so memory does not grow with the path.
+  bool keepLog = true;
 };
 
 struct RunResult {
@@ -71,5 +121,25 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
 // CSV with a header row: t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level.
 // Throws InputError naming the file when it cannot be written.
 void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path);
+
+// The same CSV row by row as a run goes: written to a temporary file beside `path` and put in
+// place by commit(), so a run that fails leaves no half log. write() neither allocates, locks
+// nor throws; a failed write is reported by commit().
+class ForceLogWriter {
+ public:
+  explicit ForceLogWriter(const std::string& path);  // throws InputError naming path
+  ~ForceLogWriter();
+  ForceLogWriter(const ForceLogWriter&) = delete;
+  ForceLogWriter& operator=(const ForceLogWriter&) = delete;
+
+  const std::string& path() const { return file_.path(); }
+  void write(const ForceLogRow& row) noexcept;
+  void commit();  // throws InputError naming path (disk full, rename failed)
+
+ private:
+  geometry::OutputFile file_;
+  std::vector<char> buffer_;
+  std::FILE* out_ = nullptr;
+};
 
 }  // namespace osteon::simulation

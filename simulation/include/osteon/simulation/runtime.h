@@ -5,8 +5,10 @@
 //              and every changed brick handed on
 //   visual     as fast as it can: changed bricks into its own copy of the grid, the surface
 //              updated incrementally
-// The 1 kHz loops never allocate, lock or throw: hand-offs are triple buffers and a bounded
-// ring (runtime/handoff.h), logs and timings go to arrays sized before the start. Periods are
+//   logging    every few ms: the collision thread's force log rows to RuntimeOptions::onRow and
+//              the summary's metrics, so the log is streamed, not kept
+// The 1 kHz loops never allocate, lock or throw: hand-offs are triple buffers and bounded
+// rings (runtime/handoff.h), timings go to arrays sized before the start. Periods are
 // kept with clock_nanosleep on CLOCK_MONOTONIC to absolute deadlines; a period whose work ends
 // after its deadline is an overrun, and missed periods are skipped, not run late.
 #pragma once
@@ -16,6 +18,7 @@
 #include "osteon/simulation/runner.h"
 
 #include <cstdint>
+#include <functional>
 
 namespace osteon::simulation {
 
@@ -48,6 +51,10 @@ struct RuntimeOptions {
   double periodS = 0.001;
   bool realtimePriority = true;  // ask for SCHED_FIFO (granted only with the privilege)
   std::size_t brickRingCapacity = 4096;
+  std::size_t logRingCapacity = 65536;  // force log rows on their way to the logging thread
+  // Rows as they come, on the logging thread (not a 1 kHz loop); must not throw.
+  std::function<void(const ForceLogRow& row)> onRow;
+  bool keepLog = true;  // also collect every row in RuntimeResult::run.log
 };
 
 struct RuntimeStats {
@@ -56,7 +63,7 @@ struct RuntimeStats {
   std::uint64_t visualUpdates = 0;
   std::uint64_t bricksHandedOver = 0;
   std::uint64_t ringFull = 0;       // changed bricks the visual thread could not be given
-  std::uint64_t logDropped = 0;
+  std::uint64_t logDropped = 0;    // force log rows the logging thread's ring had no room for
   Percentiles hapticStepUs, collisionStepUs, remeshMs;
   bool realtimeGranted = false;
 };

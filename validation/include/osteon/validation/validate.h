@@ -20,6 +20,7 @@ namespace osteon::validation {
 struct ValidationModel {
   std::string name;                // as given: "default" or a path
   geometry::TriangleMesh mesh;     // in mm
+  double loadScaleToMm = 1.0;      // how the file was scaled to mm (for messages)
 };
 
 struct ValidationOptions {
