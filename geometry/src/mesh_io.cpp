@@ -6,6 +6,7 @@
 
 #include "openmesh_soup.h"
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/output_file.h"
 #include "preflight.h"
 
 #include <algorithm>
@@ -64,6 +65,19 @@ std::string describeCoordinate(const glm::dvec3& p) {
 
 }  // namespace
 
+void checkScaledCoordinates(const TriangleMesh& mesh, const std::string& name, double scaleToMm) {
+  for (std::size_t v = 0; v < mesh.positionsMm.size(); ++v) {
+    for (int a = 0; a < 3; ++a) {
+      const double c = mesh.positionsMm[v][a];
+      if (std::abs(c) <= kMaxCoordinateMm) continue;  // also false for NaN
+      std::ostringstream s;
+      s << name << ": vertex " << v << " coordinate " << c << " mm after scaling by " << scaleToMm
+        << " is beyond +-1e9 mm (1000 km); check --units/--scale";
+      throw InputError(s.str());
+    }
+  }
+}
+
 TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* info) {
   if (!std::isfinite(scaleToMm) || scaleToMm <= 0.0) {
     std::ostringstream s;
@@ -92,9 +106,8 @@ TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* i
     case MeshFormat::Obj: break;
   }
   if (format == MeshFormat::Stl && local.binary) detail::checkBinaryStlFinite(path);
-  if (format == MeshFormat::Obj || (format == MeshFormat::Stl && !local.binary)) {
-    detail::checkObjOrAsciiStl(path, meshFormatName(format));
-  }
+  if (format == MeshFormat::Obj) detail::checkObj(path);
+  if (format == MeshFormat::Stl && !local.binary) detail::checkAsciiStl(path);
 
   silenceOpenMesh();
   detail::SoupImporter importer(fileBytes);
@@ -122,6 +135,7 @@ TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* i
     }
   }
   if (scaleToMm != 1.0) scaleInPlace(mesh, scaleToMm);
+  checkScaledCoordinates(mesh, path, scaleToMm);
   if (info) *info = local;
   return mesh;
 }
@@ -134,12 +148,16 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, bool asciiStl)
   }
   detail::SoupExporter exporter(mesh);
   silenceOpenMesh();
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path + ": cannot open for writing");
-  const bool ok = OpenMesh::IO::IOManager().write(out, openMeshExtension(format), exporter,
-                                                  options, 17);
-  out.flush();
-  if (!ok || !out) throw InputError(path + ": writing failed (disk full or not writable?)");
+  OutputFile file(path);
+  {
+    std::ofstream out(file.tempPath(), std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path + ": cannot open for writing");
+    const bool ok = OpenMesh::IO::IOManager().write(out, openMeshExtension(format), exporter,
+                                                    options, 17);
+    out.close();
+    if (!ok || !out) throw InputError(path + ": writing failed (disk full or not writable?)");
+  }
+  file.commit();
 }
 
 }  // namespace osteon::geometry

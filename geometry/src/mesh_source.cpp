@@ -18,6 +18,7 @@ TriangleMesh loadMeshArgument(const std::string& argument, double scaleToMm,
   }
   TriangleMesh mesh = buildHumerusModel().mesh;
   if (scaleToMm != 1.0) scaleInPlace(mesh, scaleToMm);
+  checkScaledCoordinates(mesh, argument, scaleToMm);
   return mesh;
 }
 

@@ -9,12 +9,15 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
 #include <vector>
 
 #include "osteon/geometry/error.h"
+#include "osteon/geometry/mesh_io.h"
+#include "osteon/geometry/output_file.h"
 
 namespace osteon::geometry {
 
@@ -106,10 +109,11 @@ void encodeLittle(const std::vector<T>& values, std::vector<unsigned char>& byte
 
 // Writes values of type T as type Out (each divided by `divisor`).
 template <typename T, typename Out, typename BrickValues, typename UniformValue>
-void writeVolume(const VoxelGrid& grid, const std::string& path, const char* type,
+void writeVolume(const VoxelGrid& grid, const OutputFile& file, const char* type,
                  const char* content, T divisor, BrickValues brickValues,
                  UniformValue uniformValue) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  const std::string& path = file.path();
+  std::ofstream out(file.tempPath(), std::ios::binary | std::ios::trunc);
   if (!out) {
     throw InputError(path + ": cannot open for writing (" + std::strerror(errno) + ")");
   }
@@ -200,14 +204,25 @@ std::string excerpt(const std::string& s) {
   return out + (s.size() > 60 ? "...'" : "'");
 }
 
-bool readLine(std::istream& in, std::string& line) {
+enum class LineRead { Line, End, TooLong };
+
+constexpr std::size_t kMaxHeaderLine = 65536;
+
+LineRead readLine(std::istream& in, std::string& line) {
   line.clear();
   for (int c; (c = in.get()) != EOF;) {
-    if (c == '\n') return true;
+    if (c == '\n') return LineRead::Line;
     line += static_cast<char>(c);
-    if (line.size() > 65536) return false;  // not a text header
+    if (line.size() > kMaxHeaderLine) return LineRead::TooLong;  // not a text header
   }
-  return false;
+  return LineRead::End;
+}
+
+// Shortest form for messages ("3e+300", "1.2e+09").
+std::string shortNum(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
 bool nearlyEqual(double a, double b, double scale) {
@@ -230,13 +245,17 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
   char magic[8] = {};
   in.read(magic, sizeof(magic));
   if (!in || std::memcmp(magic, "NRRD000", 7) != 0 || magic[7] < '1' || magic[7] > '9' ||
-      !readLine(in, line) || !trim(line).empty()) {
+      readLine(in, line) != LineRead::Line || !trim(line).empty()) {
     fail("not a NRRD file (no NRRD000x magic)");
   }
   std::map<std::string, std::string> fields;  // names lowercase without spaces
   std::map<std::string, std::string> keys;
-  for (;;) {
-    if (!readLine(in, line)) fail("header is not ended by a blank line (no data?)");
+  for (std::size_t lineNo = 2;; ++lineNo) {
+    const LineRead read = readLine(in, line);
+    if (read == LineRead::TooLong) {
+      fail("header line " + std::to_string(lineNo) + " is longer than 64 KiB (not a text header?)");
+    }
+    if (read == LineRead::End) fail("header is not ended by a blank line (no data?)");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) break;
     if (line[0] == '#') continue;
@@ -322,6 +341,9 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
   // Spacing and origin from the standard fields.
   bool haveSpacing = false;
   bool haveOrigin = false;
+  const char* spacingField = "";
+  const char* originField = "";
+  glm::dvec3 originAsGiven(0.0);  // the field's value: voxel (0,0,0)'s centre or corner
   if (const std::string* space = field("space")) {
     const std::string s = normaliseWords(*space);
     if (s != "left-posterior-superior" && s != "lps") {
@@ -350,6 +372,7 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     }
     h.voxelSizeMm = (m[0] + m[4] + m[8]) / 3.0;
     haveSpacing = true;
+    spacingField = "space directions";
     if (const std::string* origin = field("spaceorigin")) {
       std::vector<double> o;
       if (!parseNumbers(*origin, o) || o.size() != 3) {
@@ -357,6 +380,8 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
       }
       h.originMm = glm::dvec3(o[0], o[1], o[2]) - 0.5 * h.voxelSizeMm;
       haveOrigin = true;
+      originField = "space origin";
+      originAsGiven = glm::dvec3(o[0], o[1], o[2]);
     }
   } else if (const std::string* spacings = field("spacings")) {
     std::vector<double> s;
@@ -369,6 +394,7 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     }
     h.voxelSizeMm = (s[0] + s[1] + s[2]) / 3.0;
     haveSpacing = true;
+    spacingField = "spacings";
   }
 
   // osteon's own keys carry the exact doubles; the standard fields, when present, must agree.
@@ -382,6 +408,7 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     }
     h.voxelSizeMm = vs;
     haveSpacing = true;
+    spacingField = "osteon_voxel_size_mm";
   }
   if (const auto it = keys.find("osteon_origin_mm"); it != keys.end()) {
     std::vector<double> o;
@@ -395,8 +422,33 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
       }
     }
     h.originMm = origin;
+    originField = "osteon_origin_mm";
+    originAsGiven = origin;
   }
   if (!haveSpacing) fail("no spacing ('space directions' or 'spacings' field)");
+  // Checked once combined: each field alone can be finite while the grid reaches infinity.
+  const std::string spacingFrom = std::string("from '") + spacingField + "'";
+  if (!std::isfinite(h.voxelSizeMm) || !(h.voxelSizeMm > 0.0)) {
+    fail("voxel size " + spacingFrom + " is not a positive finite number");
+  }
+  constexpr const char* kAxis[] = {"x", "y", "z"};
+  const std::string beyond = " mm, beyond +-1e9 mm (1000 km)";
+  for (int a = 0; a < 3; ++a) {
+    if (!(std::abs(originAsGiven[a]) <= kMaxCoordinateMm)) {
+      fail(std::string("origin from '") + originField + "' is at " + kAxis[a] + " = " +
+           shortNum(originAsGiven[a]) + beyond);
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    const double nearCorner = h.originMm[a];
+    const double farCorner = h.originMm[a] + double(h.sizes[a]) * h.voxelSizeMm;
+    const bool farOut = !(std::abs(farCorner) <= kMaxCoordinateMm);
+    if (farOut || !(std::abs(nearCorner) <= kMaxCoordinateMm)) {
+      fail("voxel size " + shortNum(h.voxelSizeMm) + " mm " + spacingFrom + " puts the " +
+           (farOut ? "far" : "near") + " corner at " + kAxis[a] + " = " +
+           shortNum(farOut ? farCorner : nearCorner) + beyond);
+    }
+  }
   h.valueBytes = valueBytes;
 
   // Before anything is allocated: the data must be exactly as long as the sizes say.
@@ -461,20 +513,26 @@ bool fillFitsInSteps(const VoxelGrid& grid) {
 void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDensity) {
   const auto brickFill = [](const VoxelGrid::Brick& b) { return b.fill.data(); };
   const auto uniformFill = [&grid](std::size_t brick) { return grid.brickUniformFill(brick); };
+  // Both files are complete before either replaces what was there: a pair is never mixed.
+  OutputFile fillFile(fillPath);
   if (fillFitsInSteps(grid)) {
-    writeVolume<Fill, std::uint8_t>(grid, fillPath, "uint8", "fill, 0 empty .. 255 full",
+    writeVolume<Fill, std::uint8_t>(grid, fillFile, "uint8", "fill, 0 empty .. 255 full",
                                     kFillPerStep, brickFill, uniformFill);
   } else {
-    writeVolume<Fill, std::uint16_t>(grid, fillPath, "uint16", "fill, 0 empty .. 16320 full",
+    writeVolume<Fill, std::uint16_t>(grid, fillFile, "uint16", "fill, 0 empty .. 16320 full",
                                      Fill(1), brickFill, uniformFill);
   }
   const std::string densityPath = densityPathFor(fillPath);
   if (withDensity) {
+    OutputFile densityFile(densityPath);
     writeVolume<Density, Density>(
-        grid, densityPath, "int16", "density (drilling difficulty)", Density(1),
+        grid, densityFile, "int16", "density (drilling difficulty)", Density(1),
         [](const VoxelGrid::Brick& b) { return b.density.data(); },
         [&grid](std::size_t brick) { return grid.brickUniformDensity(brick); });
+    fillFile.commit();
+    densityFile.commit();
   } else {
+    fillFile.commit();
     // A stale density file beside the new fill would be paired with it on reading.
     std::error_code ec;
     fs::remove(densityPath, ec);

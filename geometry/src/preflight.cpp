@@ -1,6 +1,7 @@
 #include "preflight.h"
 
 #include "osteon/geometry/error.h"
+#include "text_scan.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include <iterator>
 #include <limits>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace osteon::geometry::detail {
@@ -53,8 +55,11 @@ bool startsWithNoCase(const std::string& s, const char* prefix) {
 StlKind preflightStl(const std::string& path, std::uint64_t fileBytes) {
   const std::string head = readPrefix(path, 4096);
   const bool solidPrefix = startsWithNoCase(skipLead(head), "solid");
+  // Text that breaks the rules (a control byte, no "solid", NUL padding) is still text: the
+  // ASCII check then names the flaw instead of a binary count read from its characters.
+  const bool text = (solidPrefix && looksLikeText(head)) || looksLikeAsciiStl(head);
   if (fileBytes < 84) {
-    if (solidPrefix && looksLikeText(head)) return StlKind::Ascii;
+    if (text) return StlKind::Ascii;
     throw InputError(path + ": too short for a binary STL (" + std::to_string(fileBytes) +
                      " bytes, the header alone is 84)");
   }
@@ -64,7 +69,7 @@ StlKind preflightStl(const std::string& path, std::uint64_t fileBytes) {
   // The size law wins over the "solid" prefix: CAD exporters write "solid" into binary
   // headers, and an ASCII file matching the law byte for byte would be a remarkable accident.
   if (expected == fileBytes && !(solidPrefix && looksLikeText(head))) return StlKind::Binary;
-  if (solidPrefix && looksLikeText(head)) return StlKind::Ascii;
+  if (text) return StlKind::Ascii;
 
   constexpr std::uint64_t kMaxCount = (std::numeric_limits<std::uint32_t>::max() - 84) / 50;
   if (count > kMaxCount) {
@@ -82,21 +87,6 @@ StlKind preflightStl(const std::string& path, std::uint64_t fileBytes) {
 namespace {
 
 constexpr long long kMaxCorners = 1024;  // corners of one polygon; more is a corrupt count
-
-// A coordinate token: finite and within single precision (OpenMesh parses floats).
-bool coordinateOk(const std::string& token) {
-  char* end = nullptr;
-  const double value = std::strtod(token.c_str(), &end);
-  if (end == token.c_str()) return true;  // not a number: the parser will say so
-  return std::isfinite(value) && std::abs(value) <= double(std::numeric_limits<float>::max());
-}
-
-void checkCoordinate(const std::string& path, std::size_t lineNo, const std::string& token) {
-  if (!coordinateOk(token)) {
-    throw InputError(path + ": line " + std::to_string(lineNo) + " has a non-finite coordinate '" +
-                     token + "' (NaN, Inf or beyond single precision)");
-  }
-}
 
 bool isInteger(const std::string& token) {
   std::size_t i = token[0] == '-' || token[0] == '+' ? 1 : 0;
@@ -156,9 +146,9 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
     const std::vector<std::string> tokens = tokensOf(line);
     if (tokens.empty() || tokens[0][0] == '#') continue;
     if (seenVertices < vertices) {
-      for (std::size_t k = 0; k < std::min<std::size_t>(3, tokens.size()); ++k) {
-        checkCoordinate(path, lineNo, tokens[k]);
-      }
+      // x y z first; normals, colours or texture coordinates may follow.
+      const std::vector<std::string_view> views(tokens.begin(), tokens.end());
+      checkVertexLine(path, lineNo, views, 0, false);
       ++seenVertices;
       continue;
     }
@@ -166,6 +156,14 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
         std::stoll(tokens[0]) > kMaxCorners || std::stoll(tokens[0]) + 1 > (long long)tokens.size()) {
       throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner count '" +
                        tokens[0] + "' does not match the indices on the line");
+    }
+    // The reader extracts unsigned indices; anything else fails its stream for all that follows.
+    for (long long k = 1; k <= std::stoll(tokens[0]); ++k) {
+      if (classifyInteger(tokens[std::size_t(k)], 0, std::numeric_limits<std::uint32_t>::max()) !=
+          IntegerToken::Integer) {
+        throw InputError(path + ": line " + std::to_string(lineNo) + ": face index '" +
+                         lineExcerpt(tokens[std::size_t(k)]) + "' is not a vertex index");
+      }
     }
     ++seenFaces;
   }
@@ -184,7 +182,19 @@ int plyTypeBytes(const std::string& type) {
   return -1;
 }
 
+bool plyTypeIsFloat(const std::string& type) {
+  return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
+std::pair<long long, long long> plyIntegerRange(const std::string& type) {
+  const bool isUnsigned = type[0] == 'u';
+  const int bits = 8 * plyTypeBytes(type);
+  if (isUnsigned) return {0, (1LL << bits) - 1};
+  return {-(1LL << (bits - 1)), (1LL << (bits - 1)) - 1};
+}
+
 struct PlyProperty {
+  std::string name;
   bool list = false;
   bool coordinate = false;  // vertex x, y or z
   std::string countType;    // list only
@@ -211,9 +221,9 @@ std::uint64_t readCount(const unsigned char* p, const std::string& type, bool bi
 
 // Walks the body record by record as the header describes it, so no list count can send the
 // parser past the end of the file: binary counts must fit the bytes left, ASCII counts the
-// tokens left; float values must be finite.
-void checkPlyBody(const std::string& path, std::ifstream& in, bool binary, bool bigEndian,
-                  const std::vector<PlyElement>& elements) {
+// tokens left; ASCII values must be numbers of their declared type, floats finite.
+void checkPlyBody(const std::string& path, std::ifstream& in, std::size_t headerLines, bool binary,
+                  bool bigEndian, const std::vector<PlyElement>& elements) {
   if (binary) {
     const std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const auto* bytes = reinterpret_cast<const unsigned char*>(body.data());
@@ -243,35 +253,72 @@ void checkPlyBody(const std::string& path, std::ifstream& in, bool binary, bool 
     }
     return;
   }
-  std::string token;
-  std::size_t tokensRead = 0;
-  const auto next = [&](const PlyElement& e) -> const std::string& {
-    if (!(in >> token)) {
-      throw InputError(path + ": truncated PLY: element '" + e.name + "' runs past the end");
-    }
-    ++tokensRead;
-    return token;
-  };
+  // ASCII: once a token fails OpenMesh's stream extraction, its reader loops over every count
+  // and list length that follows unread; so each value must be a number of its declared type.
+  TokenReader tokens(in, headerLines);
+  std::string_view token;
   for (const PlyElement& e : elements) {
     for (long long r = 0; r < e.count; ++r) {
-      for (const PlyProperty& p : e.properties) {
-        if (!p.list) {
-          const std::string& t = next(e);
-          if ((p.type == "float" || p.type == "float32" || p.type == "double" || p.type == "float64") &&
-              !coordinateOk(t)) {
-            throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
-                             " has a non-finite value '" + t + "' (NaN, Inf or beyond single precision)");
+      const auto where = [&] {
+        return path + ": line " + std::to_string(tokens.lineNo()) + ": element '" + e.name +
+               "' record " + std::to_string(r);
+      };
+      const auto next = [&] {
+        if (!tokens.next(token)) {
+          throw InputError(where() + ": truncated PLY: the element runs past the end of the file");
+        }
+      };
+      const auto checkValue = [&](const PlyProperty& p) {
+        const std::string& type = p.type;  // a list's item type
+        if (plyTypeIsFloat(type)) {
+          const FloatToken kind = classifyFloat(token);
+          if (kind == FloatToken::NotNumber) {
+            throw InputError(where() + ": value '" + lineExcerpt(token) +
+                             "' is not a number (property " + p.name + " is " + type + ")");
           }
+          if (kind == FloatToken::NonFinite) {
+            throw InputError(where() + " has a non-finite value '" + lineExcerpt(token) +
+                             "' (NaN, Inf or beyond single precision)");
+          }
+          return;
+        }
+        const auto [lo, hi] = plyIntegerRange(type);
+        const IntegerToken kind = classifyInteger(token, lo, hi);
+        if (kind != IntegerToken::Integer) {
+          throw InputError(where() + ": value '" + lineExcerpt(token) + "' is " +
+                           (kind == IntegerToken::NotInteger ? "not an integer" : "out of range") +
+                           " (property " + p.name + " is " + type + ")");
+        }
+      };
+      for (const PlyProperty& p : e.properties) {
+        next();
+        if (!p.list) {
+          checkValue(p);
           continue;
         }
-        const std::string& t = next(e);
-        if (!isInteger(t) || t[0] == '-' || t.size() > 6 || std::stoll(t) > kMaxCorners) {
-          throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
-                           " has a list count '" + t + "' (corrupt count?)");
+        const auto [lo, hi] = plyIntegerRange(p.countType);
+        if (classifyInteger(token, std::max(lo, 0LL), std::min(hi, kMaxCorners)) !=
+            IntegerToken::Integer) {
+          throw InputError(where() + " has a list count '" + lineExcerpt(token) +
+                           "' (corrupt count?)");
         }
-        for (long long k = std::stoll(t); k > 0; --k) next(e);
+        for (long long k = std::stoll(std::string(token)); k > 0; --k) {
+          next();
+          checkValue(p);
+        }
+      }
+      // One record per line, as the format writes it: a record that ends mid-line means the
+      // header and the body disagree on the properties.
+      if (tokens.moreOnLine()) {
+        tokens.next(token);
+        throw InputError(where() + " ends before the line does (extra value '" +
+                         lineExcerpt(token) + "')");
       }
     }
+  }
+  if (tokens.next(token)) {
+    throw InputError(path + ": line " + std::to_string(tokens.lineNo()) + ": extra value '" +
+                     lineExcerpt(token) + "' after the last element");
   }
 }
 
@@ -341,6 +388,7 @@ bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
           throw bad(lineNo, "bad property '" + line + "'");
         }
       }
+      p.name = name;
       p.coordinate = elements.back().name == "vertex" && !p.list &&
                      (name == "x" || name == "y" || name == "z");
       elements.back().properties.push_back(p);
@@ -365,7 +413,7 @@ bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
         throw InputError(path + ": PLY header promises more elements than its " +
                          std::to_string(fileBytes) + " bytes can hold (truncated file?)");
       }
-      checkPlyBody(path, in, binary, bigEndian, elements);
+      checkPlyBody(path, in, lineNo, binary, bigEndian, elements);
       return binary;
     } else {
       throw bad(lineNo, "unknown keyword '" + keyword + "'");
@@ -386,36 +434,6 @@ void checkBinaryStlFinite(const std::string& path) {
       if (!std::isfinite(coords[k])) {
         throw InputError(path + ": triangle " + std::to_string(tri) +
                          " has a non-finite vertex coordinate (" + std::to_string(coords[k]) + ")");
-      }
-    }
-  }
-}
-
-void checkObjOrAsciiStl(const std::string& path, const std::string& format) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open for reading");
-  const bool obj = format == "obj";
-  std::string line;
-  std::size_t lineNo = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    const std::vector<std::string> tokens = tokensOf(line);
-    if (tokens.empty()) continue;
-    if ((obj && tokens[0] == "v") || (!obj && tokens[0] == "vertex")) {
-      for (std::size_t k = 1; k < std::min<std::size_t>(4, tokens.size()); ++k) {
-        checkCoordinate(path, lineNo, tokens[k]);
-      }
-    } else if (obj && tokens[0] == "f") {
-      // OpenMesh's OBJ reader asserts on a face without a usable corner.
-      if (tokens.size() < 4) {
-        throw InputError(path + ": line " + std::to_string(lineNo) + ": a face needs 3 corners");
-      }
-      for (std::size_t k = 1; k < tokens.size(); ++k) {
-        const char c = tokens[k][0];
-        if (!std::isdigit(static_cast<unsigned char>(c)) && c != '-' && c != '+') {
-          throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner '" +
-                           tokens[k] + "' is not a vertex index");
-        }
       }
     }
   }

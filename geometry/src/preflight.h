@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace osteon::geometry::detail {
 
@@ -19,15 +21,30 @@ StlKind preflightStl(const std::string& path, std::uint64_t fileBytes);
 // would otherwise drop such triangles without a word).
 void checkBinaryStlFinite(const std::string& path);
 
-// OBJ and ASCII STL ("obj" or "stl"): rejects NaN, Inf and beyond-float coordinates (text
-// parsers stop at "nan" and go on with the next record, silently losing a vertex) and OBJ
-// faces without three usable corners (OpenMesh's reader asserts on them).
-void checkObjOrAsciiStl(const std::string& path, const std::string& format);
+// True for a head (the file's first bytes) that reads as ASCII STL with a flaw: its keywords
+// and hardly a control byte once trailing NUL padding is set aside.
+bool looksLikeAsciiStl(const std::string& head);
+
+// ASCII STL, strictly: solid / facet normal nx ny nz / outer loop / three vertex x y z lines /
+// endloop / endfacet / endsolid, coordinates finite within single precision (OpenMesh's reader
+// would silently read a bad token as 0 or take any three lines as corners). NUL padding after
+// the last line is accepted. Errors name the line.
+void checkAsciiStl(const std::string& path);
+
+// OBJ: v lines with three finite numbers (a trailing w or colour is allowed), f lines with
+// three usable corners (OpenMesh's reader asserts on fewer). Errors name the line.
+void checkObj(const std::string& path);
+
+// A vertex record's coordinates tokens[first .. first + 2]: each a finite number within single
+// precision; exactlyThree forbids further tokens.
+void checkVertexLine(const std::string& path, std::size_t lineNo,
+                     const std::vector<std::string_view>& tokens, std::size_t first,
+                     bool exactlyThree);
 
 // Rejects OFF and PLY files whose headers or records the parsers would trust to a crash, a
 // loop or a huge allocation: counts that cannot fit in fileBytes, corner counts the record
-// does not hold, non-finite coordinates, binary OFF (unsupported). Return whether the body
-// is binary.
+// does not hold, vertex lines without three finite numbers, ASCII PLY values that are not
+// numbers of their declared type, binary OFF (unsupported). Return whether the body is binary.
 bool preflightOff(const std::string& path, std::uint64_t fileBytes);
 bool preflightPly(const std::string& path, std::uint64_t fileBytes);
 

@@ -160,5 +160,74 @@ TEST_F(HostileInputTest, CheckFailsAnInsideOutSurfaceAndSaysWhy) {
   EXPECT_EQ(good.exitCode, 0) << good.out;
 }
 
+TEST_F(HostileInputTest, MalformedTextIsRefusedNamingTheLineWithinBoundedMemory) {
+  const std::string plyHead =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  test::writeBytes(path("abc.ply"), plyHead + "0 0 0\n0 1 abc\n1 0 0\n3 0 1 2\n");
+  expectBadInput("info " + quoted(path("abc.ply")), "line 11", "'abc' is not a number");
+  const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  test::writeBytes(path("banana.stl"), "solid x\nfacet normal 0 0 1\nouter loop\nvertex 1 2 banana\nvertex 1 0 0\n"
+                                       "vertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
+  expectBadInput("info " + quoted(path("banana.stl")), "line 4", "'banana' is not a number");
+  test::writeBytes(path("1x.stl"), "solid x\nfacet normal 0 0 1\nouter loop\nvertex 1x 0 0\nvertex 1 0 0\n"
+                                   "vertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
+  expectBadInput("info " + quoted(path("1x.stl")), "line 4", "'1x' is not a number");
+  test::writeBytes(path("four.stl"), "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                     "vertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid x\n");
+  expectBadInput("info " + quoted(path("four.stl")), "line 7", "expected 'endloop'");
+  // Text STL faults are told as such, not as a binary STL's triangle count.
+  test::writeBytes(path("nosolid.stl"), facet + "endsolid x\n");
+  expectBadInput("info " + quoted(path("nosolid.stl")), "line 1", "must begin with 'solid'");
+  test::writeBytes(path("control.stl"), "solid x\n" + facet.substr(0, 20) + "\x01" + facet.substr(20) + "endsolid x\n");
+  expectBadInput("info " + quoted(path("control.stl")), "line 3", "control byte 0x01");
+  test::writeBytes(path("nul.stl"), "solid x\n" + facet + "endsolid x\n" + std::string(3, '\0'));
+  const CliRun padded = osteon("info " + quoted(path("nul.stl")));
+  EXPECT_EQ(padded.exitCode, 0) << padded.err;  // trailing NUL padding is read as the text it ends
+  test::writeBytes(path("abc.obj"), "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n");
+  expectBadInput("info " + quoted(path("abc.obj")), "line 2", "'abc' is not a number");
+  test::writeBytes(path("two.off"), "OFF\n3 1 0\n0 0 0\n1 2\n0 1 0\n3 0 1 2\n");
+  expectBadInput("info " + quoted(path("two.off")), "line 4", "needs 3 coordinates");
+  // A 10 MB comment line in a grid header.
+  test::writeBytes(path("long.nrrd"), "NRRD0004\n# " + std::string(10 << 20, 'c') + "\ntype: uint8\n");
+  expectBadInput("mesh " + quoted(path("long.nrrd")), "line 2", "longer than");
+}
+
+TEST_F(HostileInputTest, NumbersThatOverflowAfterScalingAreRefused) {
+  expectBadInput("info " + quoted(path("cube.stl")) + " --scale 1e308", path("cube.stl"), "beyond +-1e9 mm");
+  expectBadInput("voxelize " + quoted(path("cube.stl")) + " --scale 1e300 --voxel-size 1e299", path("cube.stl"),
+                 "beyond +-1e9 mm");
+  // A grid from another tool, its spacing beyond any bone.
+  test::writeBytes(path("huge.nrrd"), "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+                                      "spacings: 1e300 1e300 1e300\nencoding: raw\n\n" + std::string(8, '\xff'));
+  expectBadInput("mesh " + quoted(path("huge.nrrd")) + " --out " + quoted(path("huge.stl")), path("huge.nrrd"),
+                 "1000 km");
+  EXPECT_FALSE(fs::exists(path("huge.stl")));
+}
+
+TEST_F(HostileInputTest, PathsAreBoundedNormalisedAndMayStartWithAByteOrderMark) {
+  for (const char* end : {"1e300", "10000", "1e12"}) {
+    expectBadInput("drill " + quoted(path("cube.stl")) + " --voxel-size 1 --path " +
+                       quoted(writePath("long.csv", std::string(end) + ",10,10,5,1\n")) + " --out-dir " +
+                       quoted(path("d")),
+                   "long.csv:3", "3600 s");
+  }
+  test::writeBytes(path("bom.csv"), "\xEF\xBB\xBFt,x,y,z,drill_on\n0,10,10,30,1\n0.1,10,10,15,1\n");
+  const CliRun bom = osteon("drill " + quoted(path("cube.stl")) + " --voxel-size 1 --levels 0 --path " +
+                            quoted(path("bom.csv")) + " --out-dir " + quoted(path("bom")));
+  EXPECT_EQ(bom.exitCode, 0) << bom.err;
+  // A quaternion of huge components is the same orientation as its small multiple.
+  const std::string head = "t,x,y,z,drill_on,qw,qx,qy,qz\n";
+  test::writeBytes(path("q1.csv"), head + "0,10,10,30,1,1,1,0,0\n0.2,10,10,15,1,1,1,0,0\n");
+  test::writeBytes(path("q2.csv"), head + "0,10,10,30,1,1e300,1e300,0,0\n0.2,10,10,15,1,1e300,1e300,0,0\n");
+  for (const char* q : {"q1", "q2"}) {
+    ASSERT_EQ(osteon("drill " + quoted(path("cube.stl")) + " --voxel-size 1 --levels 0 --path " +
+                     quoted(path(std::string(q) + ".csv")) + " --out-dir " + quoted(path(q)))
+                  .exitCode,
+              0);
+  }
+  EXPECT_EQ(test::readBytes(path("q1/forces.csv")), test::readBytes(path("q2/forces.csv")));
+}
+
 }  // namespace
 }  // namespace osteon

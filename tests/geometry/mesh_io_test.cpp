@@ -1,5 +1,6 @@
 #include "osteon/geometry/error.h"
 #include "osteon/geometry/mesh_io.h"
+#include "osteon/geometry/mesh_source.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -263,6 +264,179 @@ TEST_F(MeshIoTest, MutatedFilesNeverCrashOrHang) {
   }
   EXPECT_GT(accepted, 0);
   EXPECT_GT(rejected, 0);
+}
+
+// ASCII PLY bodies are walked token by token before OpenMesh reads them: its reader loops
+// and allocates without bound once a token fails to parse.
+TEST_F(MeshIoTest, AsciiPlyValuesMustBeNumbersOfTheirType) {
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nproperty uchar red\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const struct {
+    const char* body;
+    const char* reason;
+  } cases[] = {
+      {"0 0 0 1\n0 1 abc 1\n0 1 0 1\n3 0 1 2\n",
+       "line 12: element 'vertex' record 1: value 'abc' is not a number (property z is float)"},
+      {"0 0 0 1\n1x 0 0 1\n0 1 0 1\n3 0 1 2\n",
+       "line 12: element 'vertex' record 1: value '1x' is not a number"},
+      {"0 0 0 1\n1 0 0 1.5\n0 1 0 1\n3 0 1 2\n",
+       "line 12: element 'vertex' record 1: value '1.5' is not an integer (property red is uchar)"},
+      {"0 0 0 1\n1 0 0 300\n0 1 0 1\n3 0 1 2\n",
+       "line 12: element 'vertex' record 1: value '300' is out of range (property red is uchar)"},
+      {"0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 x 2\n",
+       "line 14: element 'face' record 0: value 'x' is not an integer (property vertex_indices is "
+       "int)"},
+      {"0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2.0\n",
+       "line 14: element 'face' record 0: value '2.0' is not an integer"},
+      {"0 0 0 1 7\n1 0 0 1\n0 1 0 1\n3 0 1 2\n",
+       "line 11: element 'vertex' record 0 ends before the line does (extra value '7')"},
+      {"0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n\n1 2 3\n",
+       "line 16: extra value '1' after the last element"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.body);
+    test::writeBytes(path("bad.ply"), head + c.body);
+    expectInputError(path("bad.ply"), c.reason);
+  }
+  // Records may span lines; CRLF, blank lines and trailing blanks are fine.
+  test::writeBytes(path("ok.ply"), head + "0 0 0 1 \r\n1 0\n 0 1\r\n\r\n0 1 0 255\n3 0 1 2  \n\n");
+  EXPECT_EQ(readMesh(path("ok.ply")).triangleCount(), 1u);
+}
+
+TEST_F(MeshIoTest, ScaledCoordinatesMustStayWithinAThousandKilometres) {
+  writeMesh(test::makeBox({0, 0, 0}, {1, 2, 3}), path("box.stl"));
+  for (const double scale : {1e308, 1e300, 1e9}) {
+    SCOPED_TRACE(scale);
+    try {
+      readMesh(path("box.stl"), scale);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(path("box.stl") + ": vertex "), std::string::npos) << what;
+      EXPECT_NE(what.find("beyond +-1e9 mm (1000 km); check --units/--scale"), std::string::npos)
+          << what;
+    }
+  }
+  EXPECT_NO_THROW(readMesh(path("box.stl"), 1e8));  // 300 km: large but representable
+  test::writeBytes(path("far.obj"), "v 0 0 0\nv 2e9 0 0\nv 0 1 0\nf 1 2 3\n");
+  expectInputError(path("far.obj"), "vertex 1 coordinate 2e+09 mm after scaling by 1 is beyond");
+  try {
+    loadMeshArgument(kDefaultModelArgument, 1e300);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("default: vertex ", 0), 0u) << what;
+    EXPECT_NE(what.find("check --units/--scale"), std::string::npos) << what;
+  }
+  EXPECT_GT(signedVolumeMm3(loadMeshArgument(kDefaultModelArgument, 1000.0)), 0.0);
+}
+
+TEST_F(MeshIoTest, AsciiStlStructureIsStrict) {
+  const auto facet = [](const std::string& a, const std::string& b, const std::string& c) {
+    return "facet normal 0 0 1\nouter loop\nvertex " + a + "\nvertex " + b + "\nvertex " + c +
+           "\nendloop\nendfacet\n";
+  };
+  const std::string ok = facet("0 0 0", "1 0 0", "0 1 0");
+  const struct {
+    std::string text;
+    const char* reason;
+  } cases[] = {
+      {"solid t\n" + facet("0 0 0", "1 0 0", "0 1 banana") + "endsolid t\n",
+       "line 6: vertex coordinate 'banana' is not a number"},
+      {"solid t\n" + facet("1x 0 0", "1 0 0", "0 1 0") + "endsolid t\n",
+       "line 4: vertex coordinate '1x' is not a number"},
+      {"solid t\n" + facet("0 0 0", "1 0", "0 1 0") + "endsolid t\n",
+       "line 5: a vertex needs exactly 3 coordinates"},
+      {"solid t\n" + facet("0 0 0", "1 0 0 1", "0 1 0") + "endsolid t\n",
+       "line 5: a vertex needs exactly 3 coordinates"},
+      {"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+       "vertex 1 1 0\nendloop\nendfacet\nendsolid t\n",
+       "line 7: expected 'endloop', found 'vertex 1 1 0'"},
+      {"solid t\nfacet normal 0 0 1\nouter loop\n\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+       "endloop\nendfacet\nendsolid t\n",
+       "line 4: expected 'vertex x y z', found ''"},
+      {"solid t\nfacet normal 0 0\n" + ok.substr(ok.find("outer")) + "endsolid t\n",
+       "line 2: expected 'facet normal nx ny nz', found 'facet normal 0 0'"},
+      {"solid t\n" + ok + "endsolid t\nvertex 1 2 3\n",
+       "line 10: expected 'solid' or the end of the file, found 'vertex 1 2 3'"},
+      {"solid t\n" + ok + ok, "line 15: the file ends without 'endsolid' (truncated?)"},
+      {"solid t\n" + ok.substr(0, ok.find("endloop")),
+       "line 6: the file ends inside a facet (truncated?)"},
+      {"solid outer_shell\n" + ok + "endsolid\n", "line 1: the solid name contains 'outer'"},
+      {"solid t\nfacet normal 0 0 1\nOuter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+       "endloop\nendfacet\nendsolid t\n",
+       "line 3: expected 'outer loop' (lower or upper case), found 'Outer loop'"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.reason);
+    test::writeBytes(path("bad.stl"), c.text);
+    expectInputError(path("bad.stl"), c.reason);
+  }
+  // Several solids, NaN normals (the reader ignores normals), CRLF, upper case and indents.
+  test::writeBytes(path("two.stl"),
+                   "solid a\r\n" + ok +
+                       "endsolid a\r\n\r\nSOLID B\r\n"
+                       "  FACET NORMAL nan -nan NaN\r\n    OUTER LOOP\r\n"
+                       "      VERTEX 0 0 1\r\n      VERTEX 1 0 1\r\n      VERTEX 0 1 1\r\n"
+                       "    ENDLOOP\r\n  ENDFACET\r\nENDSOLID B\r\n");
+  EXPECT_EQ(readMesh(path("two.stl")).triangleCount(), 2u);
+}
+
+TEST_F(MeshIoTest, ObjAndOffVertexLinesNeedThreeNumbers) {
+  const struct {
+    const char* name;
+    const char* text;
+    const char* reason;
+  } cases[] = {
+      {"abc.obj", "v 0 0 0\nv 0 abc 0\nv 0 1 0\nf 1 2 3\n",
+       "line 2: vertex coordinate 'abc' is not a number"},
+      {"two.obj", "v 0 0 0\nv 1 2\nv 0 1 0\nf 1 2 3\n", "line 2: a vertex needs 3 coordinates"},
+      {"hex.obj", "v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n",
+       "line 2: vertex coordinate '0x10' is not a number"},
+      {"abc.off", "OFF\n3 1 0\n0 0 0\n1 abc 0\n0 1 0\n3 0 1 2\n",
+       "line 4: vertex coordinate 'abc' is not a number"},
+      {"two.off", "OFF\n3 1 0\n0 0 0\n1 2\n0 1 0\n3 0 1 2\n",
+       "line 4: a vertex needs 3 coordinates"},
+      {"index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 x 2\n",
+       "line 6: face index 'x' is not a vertex index"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    test::writeBytes(path(c.name), c.text);
+    expectInputError(path(c.name), c.reason);
+  }
+  // A trailing w or colour values after x y z are fine.
+  test::writeBytes(path("extra.obj"), "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(readMesh(path("extra.obj")).triangleCount(), 1u);
+  test::writeBytes(path("colour.off"),
+                   "OFF\n3 1 0\n0 0 0 255 0 0\n1 0 0\n0 1 0\n3 0 1 2 0 0 255\n");
+  EXPECT_EQ(readMesh(path("colour.off")).triangleCount(), 1u);
+}
+
+// A text STL that breaks the rules is reported as text, not as a binary file with a wild count.
+TEST_F(MeshIoTest, TextStlProblemsAreNotReportedAsBinary) {
+  const std::string body =
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+      "vertex 0 1 0\nendloop\nendfacet\n";
+  test::writeBytes(path("control.stl"),
+                   "solid t\n" + body.substr(0, 50) + "\x01" + body.substr(50) + "endsolid t\n");
+  expectInputError(path("control.stl"), "line 5: control byte 0x01 in an ASCII STL");
+  test::writeBytes(path("nosolid.stl"), body + "endsolid t\n");
+  expectInputError(path("nosolid.stl"), "line 1: an ASCII STL must begin with 'solid'");
+  test::writeBytes(path("nul.stl"), "solid t\n" + body.substr(0, 30) + std::string(1, '\0') +
+                                        body.substr(30) + "endsolid t\n");
+  expectInputError(path("nul.stl"), "line 4: control byte 0x00 in an ASCII STL");
+  // NUL padding after the last line, as some exporters write to fill a block, is accepted.
+  test::writeBytes(path("padded.stl"),
+                   "solid t\n" + body + "endsolid t\n" + std::string(300, '\0'));
+  MeshFileInfo info;
+  EXPECT_EQ(readMesh(path("padded.stl"), 1.0, &info).triangleCount(), 1u);
+  EXPECT_FALSE(info.binary);
+  test::writeBytes(path("padded2.stl"),
+                   "solid t\n" + body + "endsolid t" + std::string(5000, '\0'));
+  EXPECT_EQ(readMesh(path("padded2.stl")).triangleCount(), 1u);
 }
 
 TEST(SharedData, RealBonesLoadInTheirUnits) {

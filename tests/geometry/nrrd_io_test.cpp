@@ -337,6 +337,52 @@ TEST(NrrdIo, RejectsBadFiles) {
   }
 }
 
+// Spacing and origin are checked after they are combined: a grid beyond 1000 km would mesh to
+// infinite coordinates.
+TEST(NrrdIo, GridMustLieWithinAThousandKilometres) {
+  TempDir dir;
+  const std::string path = dir.file("far.nrrd");
+  const std::string data(12, '\x01');
+  const struct {
+    std::string fields;
+    std::string reason;
+  } cases[] = {
+      {"spacings: 1e300 1e300 1e300\n",
+       "voxel size 1e+300 mm from 'spacings' puts the far corner at x = 3e+300 mm, beyond +-1e9 mm "
+       "(1000 km)"},
+      {"space directions: (1e300,0,0) (0,1e300,0) (0,0,1e300)\n",
+       "from 'space directions' puts the far corner"},
+      {"space directions: (1e308,0,0) (0,1e308,0) (0,0,1e308)\n",
+       "voxel size from 'space directions' is not a positive finite number"},
+      {"osteon_voxel_size_mm:=4e8\n",
+       "from 'osteon_voxel_size_mm' puts the far corner at x = 1.2e+09 mm"},
+      {"space directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,-2e9)\n",
+       "origin from 'space origin' is at z = -2e+09 mm, beyond +-1e9 mm (1000 km)"},
+      {"spacings: 1 1 1\nosteon_origin_mm:=0 5e9 0\n",
+       "origin from 'osteon_origin_mm' is at y = 5e+09 mm"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.reason);
+    writeBytes(path, handHeader("uint8", c.fields) + data);
+    expectInputError(path, c.reason);
+  }
+  writeBytes(path, handHeader("uint8", "spacings: 1e8 1e8 1e8\n") + data);  // 300 km: fine
+  EXPECT_DOUBLE_EQ(readNrrd(path).grid.voxelSizeMm(), 1e8);
+}
+
+TEST(NrrdIo, OverlongHeaderLineIsNamed) {
+  TempDir dir;
+  const std::string path = dir.file("long.nrrd");
+  const auto start = std::chrono::steady_clock::now();
+  writeBytes(path, "NRRD0004\ntype: uint8\n# " + std::string(10 << 20, 'x') +
+                       "\ndimension: 3\nsizes: 3 2 2\nencoding: raw\nspacings: 1 1 1\n\n" +
+                       std::string(12, '\0'));
+  expectInputError(path, "header line 3 is longer than 64 KiB");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 1.0);
+}
+
 TEST(NrrdIo, LyingHeaderFailsFastWithoutAllocating) {
   TempDir dir;
   const std::string path = dir.file("liar.nrrd");

@@ -24,10 +24,20 @@ struct MeshFileInfo {
   std::size_t degenerateDropped = 0;    // faces that repeat a corner (no area, no topology)
 };
 
+// Coordinates beyond +-1e9 mm (1000 km) are a units mistake: no bone is that large, and volume
+// and voxel arithmetic would overflow.
+inline constexpr double kMaxCoordinateMm = 1e9;
+
+// Throws InputError "<name>: vertex V coordinate C mm after scaling by S is beyond +-1e9 mm
+// (1000 km); check --units/--scale" for the first coordinate that is not finite or beyond
+// kMaxCoordinateMm.
+void checkScaledCoordinates(const TriangleMesh& mesh, const std::string& name, double scaleToMm);
+
 // Reads a mesh and multiplies positions by scaleToMm (1 for files in millimetres).
 // Throws InputError for: a missing or unreadable file, an unknown extension, an empty mesh,
-// zero triangles, NaN or Inf coordinates, a truncated binary STL, a binary STL triangle count
-// that overflows 32-bit size arithmetic, face indices out of range, and headers that promise
+// zero triangles, NaN or Inf coordinates (also after scaling, or beyond kMaxCoordinateMm),
+// malformed text records (errors name the line), a truncated binary STL, a binary STL triangle
+// count that overflows 32-bit size arithmetic, face indices out of range, and headers that promise
 // more data than the file holds.
 TriangleMesh readMesh(const std::string& path, double scaleToMm = 1.0,
                       MeshFileInfo* info = nullptr);

@@ -29,8 +29,10 @@ void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDens
 // Throws InputError "<file>: <reason>" for anything it cannot honour: a missing file, magic
 // or field, a fill type other than uint8/uint16 or a density type other than int16, a
 // dimension other than 3, gzip or other non-raw encodings, detached data, a space other than LPS, non-axis-aligned or non-isotropic
-// spacing, more than 2^32 voxels, data shorter or longer than the sizes say (checked before
-// anything is allocated), a density file whose sizes or geometry differ from the fill's.
+// spacing, a voxel size that is not positive and finite, an origin or far corner beyond
+// +-1e9 mm (kMaxCoordinateMm), a header line longer than 64 KiB (named by its number), more
+// than 2^32 voxels, data shorter or longer than the sizes say (checked before anything is
+// allocated), a density file whose sizes or geometry differ from the fill's.
 struct NrrdReadResult {
   VoxelGrid grid;
   bool densityLoaded = false;
