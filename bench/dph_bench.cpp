@@ -1,10 +1,10 @@
 // Dynamic Proximity Hierarchy (seed 3.3) and refinement (seed 3.5) on the built-in humerus:
 // build time against voxel count, sphere-query latency and refinement create/expire latency
 // as p50/p99 in microseconds (the 1 kHz haptic step has 1000 us for everything).
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/refinement.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 #include <benchmark/benchmark.h>
 

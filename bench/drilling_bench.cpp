@@ -9,10 +9,10 @@
 //      so the visual thread is always remeshing: the share of 1 ms periods that overran, the
 //      CPU time the hypervisor stole meanwhile, and the machine's floor: the same loops with no
 //      work for S seconds.
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/embree_scene.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/runtime.h"
 

@@ -1,13 +1,13 @@
 // Surface extraction (seed 3.4): full extraction against VTK's vtkFlyingEdges3D on the same
 // uint8 volumes, the incremental update after one drilling step at 0.25 mm, and the seed's
 // Tables 1 and 2 for the built-in and the shared humerus. Figures go to docs/performance.md.
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/mesh_io.h"
-#include "osteon/geometry/refinement.h"
-#include "osteon/geometry/surface.h"
-#include "osteon/geometry/surface_updater.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>

@@ -1,8 +1,8 @@
 // Voxelization (seed 3.2) of the built-in humerus and the shared fibula at 1.0 / 0.5 /
 // 0.25 mm, single-axis and robust. Figures go into docs/performance.md.
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/mesh_io.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,9 +1,9 @@
 // `osteon check`: the crack-free guarantees of one surface as numbers (issue: validation).
 #include "commands.h"
 
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/mesh_source.h"
-#include "osteon/geometry/output_file.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_file.h"
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"
 

@@ -1,17 +1,18 @@
 // The work behind each `osteon` command, and its JSON (nlohmann/json lives in this file only).
 #include "commands.h"
+#include "osteon/core/timing.h"
 
 #include "hierarchy_svg.h"
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/mesh_io.h"
-#include "osteon/geometry/mesh_source.h"
-#include "osteon/geometry/nrrd_io.h"
-#include "osteon/geometry/output_file.h"
-#include "osteon/geometry/surface.h"
-#include "osteon/geometry/units.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/io/units.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -48,10 +49,6 @@ std::string inputFile(const std::string& meshArgument) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 json vec3(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 json ivec3(const glm::ivec3& v) { return json::array({v.x, v.y, v.z}); }

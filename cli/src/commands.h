@@ -2,6 +2,8 @@
 // Each returns the process exit code: 0 success, 1 a check failed, 2 bad input or usage.
 #pragma once
 
+#include "osteon/core/error.h"
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -9,10 +11,6 @@
 
 namespace osteon::cli {
 
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitCheckFailed = 1;
-inline constexpr int kExitBadInput = 2;
-inline constexpr int kExitInternal = 3;  // a bug: an error that is not the input's fault
 
 // How a mesh argument's coordinates become millimetres: --units or --scale, never both.
 struct MeshUnits {

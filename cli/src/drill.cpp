@@ -2,13 +2,13 @@
 // summary.json and the drilled surface.
 #include "commands.h"
 
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/embree_scene.h"
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/mesh_io.h"
-#include "osteon/geometry/mesh_source.h"
-#include "osteon/geometry/output_file.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 

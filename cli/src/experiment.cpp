@@ -3,9 +3,9 @@
 #include "commands.h"
 #include "force_plots.h"
 
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/mesh_source.h"
-#include "osteon/geometry/output_file.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_file.h"
 #include "osteon/simulation/experiment.h"
 
 #include <nlohmann/json.hpp>

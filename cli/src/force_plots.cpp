@@ -1,7 +1,7 @@
 #include "force_plots.h"
 
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/output_file.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
 
 #include <cstdlib>
 #include <sstream>

@@ -1,7 +1,7 @@
 #include "hierarchy_svg.h"
 
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/output_file.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
 
 #include <algorithm>
 #include <cstdio>

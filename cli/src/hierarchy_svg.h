@@ -2,8 +2,8 @@
 // Fig. 4 (level 0 red, 1 yellow, 2 green, 3 blue, 4 purple).
 #pragma once
 
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/voxel_grid.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 #include <string>
 

@@ -1,7 +1,7 @@
 // `osteon`: the command-line front end. This file only parses (CLI11 is slow to compile, so
 // it lives here alone); commands.cpp does the work. Errors are one line on stderr.
 #include "commands.h"
-#include "osteon/geometry/error.h"
+#include "osteon/core/error.h"
 
 #include <CLI/CLI.hpp>
 
@@ -12,9 +12,9 @@
 
 namespace {
 
-using osteon::cli::kExitBadInput;
-using osteon::cli::kExitInternal;
-using osteon::cli::kExitOk;
+using osteon::kExitBadInput;
+using osteon::kExitInternal;
+using osteon::kExitOk;
 
 void addUnits(CLI::App& cmd, osteon::cli::MeshUnits& units) {
   CLI::Option* u = cmd.add_option("--units", units.units,

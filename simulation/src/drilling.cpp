@@ -1,6 +1,6 @@
 #include "osteon/simulation/drilling.h"
 
-#include "osteon/geometry/error.h"
+#include "osteon/core/error.h"
 
 #include <cmath>
 #include <string>

@@ -1,8 +1,8 @@
 #include "osteon/simulation/experiment.h"
 
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/embree_scene.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 #include <cstdio>
 #include <memory>

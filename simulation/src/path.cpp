@@ -1,6 +1,6 @@
 #include "osteon/simulation/path.h"
 
-#include "osteon/geometry/error.h"
+#include "osteon/core/error.h"
 
 #include <glm/geometric.hpp>
 

@@ -1,6 +1,6 @@
 #include "osteon/simulation/runner.h"
 
-#include "osteon/geometry/error.h"
+#include "osteon/core/error.h"
 
 #include <algorithm>
 #include <chrono>

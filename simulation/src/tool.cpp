@@ -1,6 +1,6 @@
 #include "osteon/simulation/tool.h"
 
-#include "osteon/geometry/error.h"
+#include "osteon/core/error.h"
 
 #include <glm/geometric.hpp>
 

@@ -3,7 +3,7 @@
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 
-#include "osteon/geometry/mesh_io.h"
+#include "osteon/geometry/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

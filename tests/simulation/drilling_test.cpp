@@ -1,8 +1,8 @@
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/embree_scene.h"
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/drilling.h"
 #include "support/shapes.h"
 

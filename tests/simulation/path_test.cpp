@@ -1,6 +1,6 @@
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/mesh_io.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
 #include "osteon/simulation/path.h"
 #include "support/shapes.h"
 

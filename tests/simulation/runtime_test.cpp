@@ -1,7 +1,7 @@
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/mesh.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/handoff.h"
 #include "osteon/simulation/runtime.h"
 

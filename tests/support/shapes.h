@@ -1,7 +1,7 @@
 // Analytic test shapes as closed, outward triangle meshes, and small file helpers.
 #pragma once
 
-#include "osteon/geometry/mesh.h"
+#include "osteon/geometry/io/mesh.h"
 
 #include <string>
 

@@ -1,6 +1,6 @@
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/validation/collision_check.h"
 
 #include <gtest/gtest.h>

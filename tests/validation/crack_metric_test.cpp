@@ -1,7 +1,7 @@
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/humerus_model.h"
-#include "osteon/geometry/surface.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/validation/crack_metric.h"
 #include "support/shapes.h"
 

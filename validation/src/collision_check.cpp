@@ -1,6 +1,6 @@
 #include "osteon/validation/collision_check.h"
 
-#include "osteon/geometry/embree_scene.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 
 #include <glm/common.hpp>
 

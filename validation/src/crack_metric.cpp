@@ -1,8 +1,8 @@
 #include "osteon/validation/crack_metric.h"
 
-#include "osteon/geometry/embree_scene.h"
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/output_file.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
 
 #include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>

@@ -1,10 +1,11 @@
 #include "osteon/validation/validate.h"
+#include "osteon/core/timing.h"
 
-#include "osteon/geometry/dph.h"
-#include "osteon/geometry/embree_scene.h"
-#include "osteon/geometry/error.h"
-#include "osteon/geometry/surface.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/experiment.h"
 
 #include <chrono>
@@ -19,7 +20,6 @@ namespace sim = osteon::simulation;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 // The guarantees a surface must keep, in words when broken.
 void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when, std::vector<std::string>& out) {
@@ -73,7 +73,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
         const Clock::time_point start = Clock::now();
         geometry::SurfaceTimings timings;
         const geometry::TriangleMesh surface = geometry::extractSurface(original, so, &timings).toTriangleMesh();
-        const double extractMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        const double extractMs = msSince(start);
         ValidationCase base;
         base.timings = timings;
         base.voxels = original.countVoxels(geometry::kFillHalf);

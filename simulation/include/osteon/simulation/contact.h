@@ -20,7 +20,7 @@
 // N_max. A non-finite result becomes zero force and is counted.
 #pragma once
 
-#include "osteon/geometry/refinement.h"
+#include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/simulation/tool.h"
 
 #include <array>

@@ -7,7 +7,7 @@
 // compute at VS/2 or VS/4 (dynamic).
 #pragma once
 
-#include "osteon/geometry/refinement.h"
+#include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/simulation/contact.h"
 #include "osteon/simulation/tool.h"
 

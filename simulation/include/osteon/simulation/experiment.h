@@ -3,8 +3,8 @@
 // the deterministic mode.
 #pragma once
 
-#include "osteon/geometry/mesh.h"
-#include "osteon/geometry/voxelizer.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
 
 #include <functional>

@@ -17,7 +17,7 @@
 // depth of a suture-anchor hole, which is what the seed's drilling prepares.
 #pragma once
 
-#include "osteon/geometry/mesh.h"
+#include "osteon/geometry/io/mesh.h"
 #include "osteon/simulation/tool.h"
 
 #include <string>

@@ -3,8 +3,8 @@
 // log bit for bit. Also the force log, and the metrics of design.md.
 #pragma once
 
-#include "osteon/geometry/output_file.h"
-#include "osteon/geometry/surface_updater.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/simulation/drilling.h"
 #include "osteon/simulation/path.h"
 

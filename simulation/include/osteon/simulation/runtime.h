@@ -13,7 +13,7 @@
 // after its deadline is an overrun, and missed periods are skipped, not run late.
 #pragma once
 
-#include "osteon/geometry/surface_updater.h"
+#include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/simulation/drilling.h"
 #include "osteon/simulation/runner.h"
 

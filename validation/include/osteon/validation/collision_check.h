@@ -19,7 +19,7 @@
 // than r_o - tolerance (Embree point query).
 #pragma once
 
-#include "osteon/geometry/surface.h"
+#include "osteon/geometry/surface/surface.h"
 #include "osteon/simulation/runner.h"
 
 #include <cstdint>

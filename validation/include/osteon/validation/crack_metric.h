@@ -5,7 +5,7 @@
 // number is the same on every machine.
 #pragma once
 
-#include "osteon/geometry/mesh.h"
+#include "osteon/geometry/io/mesh.h"
 
 #include <array>
 #include <cstdint>

@@ -3,7 +3,7 @@
 // OpenImageIO's is the runtime library's own.
 #pragma once
 
-#include "osteon/geometry/library_versions.h"
+#include "osteon/geometry/io/library_versions.h"
 
 namespace osteon::validation {
 

@@ -5,7 +5,7 @@
 // translation unit (CGAL is slow to compile and spreads its flags).
 #pragma once
 
-#include "osteon/geometry/mesh.h"
+#include "osteon/geometry/io/mesh.h"
 
 #include <cstddef>
 

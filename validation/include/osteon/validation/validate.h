@@ -6,7 +6,7 @@
 // is measured beside it, expected to break them.
 #pragma once
 
-#include "osteon/geometry/surface.h"
+#include "osteon/geometry/surface/surface.h"
 #include "osteon/validation/collision_check.h"
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"

@@ -1,0 +1,508 @@
+#include "osteon/geometry/hierarchy/dph.h"
+
+#include "osteon/core/error.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <unordered_map>
+
+namespace osteon::geometry {
+
+namespace {
+
+constexpr int kCoordBits = 21;
+constexpr long long kCoordOffset = 1LL << (kCoordBits - 1);
+
+bool packable(const glm::ivec3& v) {
+  for (int c = 0; c < 3; ++c) {
+    if (v[c] < -kCoordOffset || v[c] >= kCoordOffset) return false;
+  }
+  return true;
+}
+
+std::uint64_t packVoxel(const glm::ivec3& v) {
+  return (std::uint64_t(v.x + kCoordOffset) << (2 * kCoordBits)) |
+         (std::uint64_t(v.y + kCoordOffset) << kCoordBits) | std::uint64_t(v.z + kCoordOffset);
+}
+
+long long floorDiv(long long a, long long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+long long chebyshev(const glm::ivec3& a, const glm::ivec3& b) {
+  const glm::ivec3 d = glm::abs(a - b);
+  return std::max({d.x, d.y, d.z});
+}
+
+// A permutation applied to a node array: out[i] = in[order[i]].
+template <typename T>
+void permute(std::vector<T>& values, const std::vector<std::uint32_t>& order) {
+  if (values.empty()) return;
+  std::vector<T> out(values.size());
+  for (std::size_t i = 0; i < order.size(); ++i) out[i] = values[order[i]];
+  values.swap(out);
+}
+
+}  // namespace
+
+DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm::ivec3>& voxels,
+                                                           const DphBuildOptions& options,
+                                                           glm::dvec3 originMm,
+                                                           double voxelSizeMm) {
+  const int xi = options.expansionRatio;
+  if (xi < 3 || xi > 15 || xi % 2 == 0) {
+    throw InputError("--xi " + std::to_string(xi) +
+                     ": the expansion ratio must be odd, from 3 to 15 (cells centred on a voxel)");
+  }
+  DynamicProximityHierarchy h;
+  static std::atomic<std::uint64_t> builds{0};
+  h.generation_ = ++builds;
+  h.xi_ = xi;
+  h.originMm_ = originMm;
+  h.voxelSizeMm_ = voxelSizeMm;
+  const std::size_t n = voxels.size();
+  if (n >= kNone) throw InputError("hierarchy: more than 2^32 - 1 voxels");
+  for (const glm::ivec3& v : voxels) {
+    if (!packable(v)) throw InputError("hierarchy: voxel coordinate beyond +-2^20");
+  }
+  if (n == 0) return h;
+
+  // Level 0: one node per voxel, in the given order.
+  {
+    Level level0;
+    level0.centre = voxels;
+    level0.parent.assign(n, kNone);
+    level0.alive.assign(n, 1);
+    level0.aliveCount = n;
+    h.levels_.push_back(std::move(level0));
+    h.halfWidth_.push_back(0);
+  }
+
+  std::mt19937_64 rng(options.seed);
+  long long cellEdge = 1;  // xi^L
+  for (int L = 0; h.levels_[std::size_t(L)].centre.size() > 1; ++L) {
+    cellEdge *= xi;
+    const long long half = (cellEdge - 1) / 2;
+    Level& below = h.levels_[std::size_t(L)];
+    const std::size_t count = below.centre.size();
+
+    // Insertion order: seeded Fisher-Yates (spelled out so every platform agrees).
+    std::vector<std::uint32_t> order(count);
+    std::iota(order.begin(), order.end(), 0u);
+    if (options.shuffle) {
+      for (std::size_t i = count; i > 1; --i) {
+        std::swap(order[i - 1], order[std::size_t(rng() % i)]);
+      }
+    }
+
+    // Parent centres bucketed on a lattice of the cell edge: the cells that can hold a centre
+    // c have their centres within `half` of it, so they sit in the (at most 2 x 2 x 2) lattice
+    // cells overlapping [c - half, c + half]; a lattice cell holds at most 8 parent centres,
+    // since parent centres are more than `half` apart. Dense heads while the lattice is small
+    // against the node count, a hash map for sparse inputs.
+    glm::ivec3 minCentre(std::numeric_limits<int>::max());
+    glm::ivec3 maxCentre(std::numeric_limits<int>::min());
+    for (const glm::ivec3& c : below.centre) {
+      minCentre = glm::min(minCentre, c);
+      maxCentre = glm::max(maxCentre, c);
+    }
+    long long latticeLo[3], latticeDims[3];
+    for (int a = 0; a < 3; ++a) {
+      latticeLo[a] = floorDiv(minCentre[a], cellEdge);
+      latticeDims[a] = floorDiv(maxCentre[a], cellEdge) - latticeLo[a] + 1;
+    }
+    const long long latticeCells = latticeDims[0] * latticeDims[1] * latticeDims[2];
+    const bool dense = latticeCells <= 4 * (long long)count + (1LL << 20);
+    std::vector<std::uint32_t> denseHead(dense ? std::size_t(latticeCells) : 0, kNone);
+    std::unordered_map<std::uint64_t, std::uint32_t> sparseHead;
+    const auto latticeIndex = [&](long long lx, long long ly, long long lz) {
+      return std::uint64_t((lx - latticeLo[0]) +
+                           latticeDims[0] * ((ly - latticeLo[1]) + latticeDims[1] * (lz - latticeLo[2])));
+    };
+    const auto headOf = [&](std::uint64_t cell) {
+      if (dense) return denseHead[cell];
+      const auto it = sparseHead.find(cell);
+      return it == sparseHead.end() ? kNone : it->second;
+    };
+    const auto setHead = [&](std::uint64_t cell, std::uint32_t parent) {
+      if (dense) {
+        denseHead[cell] = parent;
+      } else {
+        sparseHead[cell] = parent;
+      }
+    };
+
+    Level above;
+    std::vector<std::uint32_t> nextInCell;
+    for (const std::uint32_t node : order) {
+      const glm::ivec3 c = below.centre[node];
+      long long from[3], to[3];
+      for (int a = 0; a < 3; ++a) {
+        from[a] = std::max(floorDiv(c[a] - half, cellEdge), latticeLo[a]);
+        to[a] = std::min(floorDiv(c[a] + half, cellEdge), latticeLo[a] + latticeDims[a] - 1);
+      }
+      std::uint32_t chosen = kNone;
+      for (long long lz = from[2]; lz <= to[2]; ++lz)
+        for (long long ly = from[1]; ly <= to[1]; ++ly)
+          for (long long lx = from[0]; lx <= to[0]; ++lx) {
+            for (std::uint32_t p = headOf(latticeIndex(lx, ly, lz)); p != kNone; p = nextInCell[p]) {
+              if (p < chosen && chebyshev(above.centre[p], c) <= half) chosen = p;
+            }
+          }
+      if (chosen == kNone) {  // not covered: a new parent at this node's centre
+        chosen = std::uint32_t(above.centre.size());
+        above.centre.push_back(c);
+        const std::uint64_t cell =
+            latticeIndex(floorDiv(c.x, cellEdge), floorDiv(c.y, cellEdge), floorDiv(c.z, cellEdge));
+        nextInCell.push_back(headOf(cell));
+        setHead(cell, chosen);
+      }
+      below.parent[node] = chosen;
+    }
+
+    // Regroup this level so each parent's children are contiguous (stable counting sort).
+    const std::size_t parents = above.centre.size();
+    std::vector<std::uint32_t> firstSlot(parents + 1, 0);
+    for (std::size_t i = 0; i < count; ++i) ++firstSlot[below.parent[i] + 1];
+    std::partial_sum(firstSlot.begin(), firstSlot.end(), firstSlot.begin());
+    std::vector<std::uint32_t> regroup(count);  // new position -> old index
+    std::vector<std::uint32_t> newIndex(count);
+    {
+      std::vector<std::uint32_t> fillPos(firstSlot.begin(), firstSlot.end() - 1);
+      for (std::uint32_t i = 0; i < count; ++i) {
+        const std::uint32_t slot = fillPos[below.parent[i]]++;
+        regroup[slot] = i;
+        newIndex[i] = slot;
+      }
+    }
+    permute(below.centre, regroup);
+    permute(below.parent, regroup);
+    permute(below.alive, regroup);
+    permute(below.childBegin, regroup);
+    permute(below.childEnd, regroup);
+    permute(below.aliveChildren, regroup);
+    permute(below.boxMin, regroup);
+    permute(below.boxMax, regroup);
+    if (L > 0) {
+      for (std::uint32_t& p : h.levels_[std::size_t(L) - 1].parent) p = newIndex[p];
+    }
+
+    above.parent.assign(parents, kNone);
+    above.alive.assign(parents, 1);
+    above.aliveCount = parents;
+    above.childBegin.assign(firstSlot.begin(), firstSlot.end() - 1);
+    above.childEnd.assign(firstSlot.begin() + 1, firstSlot.end());
+    above.aliveChildren.resize(parents);
+    above.boxMin.assign(parents, glm::ivec3(std::numeric_limits<int>::max()));
+    above.boxMax.assign(parents, glm::ivec3(std::numeric_limits<int>::min()));
+    for (std::uint32_t p = 0; p < parents; ++p) {
+      above.aliveChildren[p] = above.childEnd[p] - above.childBegin[p];
+      h.maxChildren_ = std::max<std::size_t>(h.maxChildren_, above.aliveChildren[p]);
+      for (std::uint32_t c = above.childBegin[p]; c < above.childEnd[p]; ++c) {
+        const glm::ivec3 lo = L == 0 ? below.centre[c] : below.boxMin[c];
+        const glm::ivec3 hi = L == 0 ? below.centre[c] : below.boxMax[c];
+        above.boxMin[p] = glm::min(above.boxMin[p], lo);
+        above.boxMax[p] = glm::max(above.boxMax[p], hi);
+      }
+    }
+    h.levels_.push_back(std::move(above));
+    h.halfWidth_.push_back(half);
+  }
+
+  // Voxel -> level-0 node, by binary search over packed coordinates.
+  const Level& level0 = h.levels_[0];
+  std::vector<std::uint32_t> byKey(n);
+  std::iota(byKey.begin(), byKey.end(), 0u);
+  std::vector<std::uint64_t> keys(n);
+  for (std::size_t i = 0; i < n; ++i) keys[i] = packVoxel(level0.centre[i]);
+  std::sort(byKey.begin(), byKey.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  h.voxelKeys_.resize(n);
+  h.voxelNodes_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    h.voxelKeys_[i] = keys[byKey[i]];
+    h.voxelNodes_[i] = byKey[i];
+    if (i > 0 && h.voxelKeys_[i] == h.voxelKeys_[i - 1]) {
+      const glm::ivec3 v = level0.centre[byKey[i]];
+      throw InputError("hierarchy: voxel (" + std::to_string(v.x) + ", " + std::to_string(v.y) +
+                       ", " + std::to_string(v.z) + ") given twice");
+    }
+  }
+  return h;
+}
+
+DynamicProximityHierarchy DynamicProximityHierarchy::build(const VoxelGrid& grid,
+                                                           const DphBuildOptions& options) {
+  std::vector<glm::ivec3> occupied;
+  occupied.reserve(std::size_t(grid.countVoxels(1)));
+  const glm::ivec3 dims = grid.dims();
+  constexpr int B = VoxelGrid::kBrickSize;
+  for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
+    const VoxelGrid::Brick* b = grid.brickData(brick);
+    if (!b && grid.brickUniformFill(brick) == 0) continue;
+    const glm::ivec3 lo = grid.brickCoord(brick) * B;
+    const glm::ivec3 hi = glm::min(lo + B, dims);
+    for (int z = lo.z; z < hi.z; ++z)
+      for (int y = lo.y; y < hi.y; ++y)
+        for (int x = lo.x; x < hi.x; ++x) {
+          const glm::ivec3 v(x, y, z);
+          if (!b || b->fill[std::size_t(VoxelGrid::voxelInBrick(v - lo))] > 0) occupied.push_back(v);
+        }
+  }
+  return build(occupied, options, grid.originMm(), grid.voxelSizeMm());
+}
+
+std::uint32_t DynamicProximityHierarchy::root() const {
+  if (levels_.empty()) return kNone;
+  const Level& top = levels_.back();
+  return top.aliveCount > 0 && top.alive[0] ? 0u : kNone;
+}
+
+std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel) const {
+  if (!packable(voxel)) return kNone;
+  const std::uint64_t key = packVoxel(voxel);
+  const auto it = std::lower_bound(voxelKeys_.begin(), voxelKeys_.end(), key);
+  if (it == voxelKeys_.end() || *it != key) return kNone;
+  const std::uint32_t node = voxelNodes_[std::size_t(it - voxelKeys_.begin())];
+  return levels_[0].alive[node] ? node : kNone;
+}
+
+bool DynamicProximityHierarchy::removeVoxel(const glm::ivec3& voxel) {
+  std::uint32_t node = findVoxel(voxel);
+  if (node == kNone) return false;
+  levels_[0].alive[node] = 0;
+  --levels_[0].aliveCount;
+  // Walk up while parents are left without children.
+  for (std::size_t L = 1; L < levels_.size(); ++L) {
+    Level& lv = levels_[L];
+    node = levels_[L - 1].parent[node];
+    if (--lv.aliveChildren[node] > 0) break;
+    lv.alive[node] = 0;
+    --lv.aliveCount;
+  }
+  return true;
+}
+
+namespace {
+std::uint64_t newCacheId() {
+  static std::atomic<std::uint64_t> ids{0};
+  return ++ids;
+}
+}  // namespace
+
+DphNearCache::DphNearCache() : id_(newCacheId()) {}
+
+DphNearCache::DphNearCache(DphNearCache&& other) noexcept : DphNearCache() { *this = std::move(other); }
+
+DphNearCache& DphNearCache::operator=(DphNearCache&& other) noexcept {
+  if (this == &other) return *this;
+  owner_ = other.owner_;
+  generation_ = other.generation_;
+  skinMm_ = other.skinMm_;
+  sliceNodes_ = other.sliceNodes_;
+  kept_ = std::move(other.kept_);
+  next_ = std::move(other.next_);
+  slicing_ = other.slicing_;
+  nextFits_ = other.nextFits_;
+  stack_ = std::move(other.stack_);
+  top_ = other.top_;
+  walks_ = other.walks_;
+  reuses_ = other.reuses_;
+  sliced_ = other.sliced_;
+  overflows_ = other.overflows_;
+  id_ = other.id_;
+  travelNm_ = other.travelNm_;
+  lastAMm_ = other.lastAMm_;
+  lastBMm_ = other.lastBMm_;
+  travelled_ = other.travelled_;
+  nextKind_ = other.nextKind_;
+  // The moved-from cache starts over under a new id: stamps made with the old id now belong
+  // to this cache, whose odometer they were read from.
+  other.owner_ = nullptr;
+  other.kept_ = Answer();
+  other.next_ = Answer();
+  other.slicing_ = false;
+  other.stack_.clear();
+  other.top_ = 0;
+  other.id_ = newCacheId();
+  other.travelNm_ = 0;
+  other.travelled_ = false;
+  return *this;
+}
+
+void DphNearCache::recordTravel(const glm::dvec3& a, const glm::dvec3& b) {
+  if (travelled_) {
+    const double moved = std::max(glm::length(a - lastAMm_), glm::length(b - lastBMm_));
+    if (!(moved < 1e6)) {
+      travelNm_ += std::uint64_t(1) << 40;  // a jump (or a non-finite pose): beyond any slack
+    } else if (moved > 0.0) {
+      travelNm_ += std::uint64_t(std::ceil(moved * 1e6)) + 1;  // rounded up, and a nanometre for the rounding
+    }
+  }
+  lastAMm_ = a;
+  lastBMm_ = b;
+  travelled_ = true;
+}
+
+DphNearCache::DphNearCache(double skinMm, std::size_t capacity, std::size_t sliceNodes)
+    : skinMm_(skinMm), sliceNodes_(sliceNodes), id_(newCacheId()) {
+  if (!(skinMm >= 0.0) || !std::isfinite(skinMm)) {
+    throw InputError("query cache skin " + std::to_string(skinMm) + " mm: must be a finite length >= 0");
+  }
+  kept_.reserve(capacity);
+  if (sliceNodes_ > 0) next_.reserve(capacity);
+}
+
+void DphNearCache::Answer::reserve(std::size_t capacity) {
+  // Sized and written now, so that no page of it is first touched inside a query.
+  nodes.resize(capacity);
+  centres.resize(capacity);
+  nodes.clear();
+  centres.clear();
+}
+
+void DphNearCache::reserveFor(const DynamicProximityHierarchy& h) {
+  if (sliceNodes_ > 0) stack_.assign(h.traversalStackSize(), 0);
+}
+
+std::size_t DphNearCache::capacityFor(double lengthMm, double radiusMm, double voxelMm) {
+  // Voxel centres within r of the core fill at most the core's volume inflated by half a
+  // voxel diagonal (each voxel's cube lies inside it): bound by one voxel.
+  const double r = radiusMm / voxelMm + 1.0, len = lengthMm / voxelMm;
+  const double count = M_PI * r * r * len + 4.0 / 3.0 * M_PI * r * r * r;
+  return std::size_t(std::ceil(count)) + 64;
+}
+
+double DphNearCache::moved(const Answer& answer, const glm::dvec3& a, const glm::dvec3& b) {
+  return std::max(glm::length(a - answer.aMm), glm::length(b - answer.bMm));
+}
+
+bool DphNearCache::covers(const DynamicProximityHierarchy& h, const Answer& answer, const glm::dvec3& a,
+                          const glm::dvec3& b, double radiusMm) const {
+  if (answer.reachMm < 0.0) return false;
+  // Every point of the new segment lies within max(|a - a0|, |b - b0|) of the kept one's
+  // (the same interpolation parameter), so the new capsule lies inside the kept one inflated
+  // by that much. A relative margin covers the rounding of the walk's distances.
+  return moved(answer, a, b) + radiusMm <= answer.reachMm * (1.0 - 1e-9) - 1e-9 * h.voxelSizeMm();
+}
+
+std::size_t DynamicProximityHierarchy::traversalStackSize() const {
+  // Depth first: at most every child of one node per level waits on the stack.
+  return std::size_t(levelCount()) * (maxChildren_ + 1) + 1;
+}
+
+void DynamicProximityHierarchy::reserveScratch(DphQueryScratch& scratch) const {
+  const std::size_t need = traversalStackSize();
+  if (scratch.stack.size() < need) scratch.stack.resize(need);
+}
+
+std::string DynamicProximityHierarchy::validate() const {
+  std::ostringstream err;
+  if (levels_.empty()) return "";
+  long long edge = 1;
+  for (std::size_t L = 0; L < levels_.size(); ++L) {
+    const Level& lv = levels_[L];
+    if (halfWidth_[L] != (edge - 1) / 2) {
+      err << "level " << L << ": half width " << halfWidth_[L] << ", expected " << (edge - 1) / 2;
+      return err.str();
+    }
+    edge *= xi_;
+    const std::size_t alive = std::size_t(std::count(lv.alive.begin(), lv.alive.end(), 1));
+    if (alive != lv.aliveCount) {
+      err << "level " << L << ": " << alive << " alive nodes but a count of " << lv.aliveCount;
+      return err.str();
+    }
+    for (std::uint32_t i = 0; i < lv.centre.size(); ++i) {
+      if (!lv.alive[i]) continue;
+      if (L + 1 < levels_.size()) {
+        const Level& up = levels_[L + 1];
+        const std::uint32_t p = lv.parent[i];
+        if (p >= up.centre.size() || !up.alive[p]) {
+          err << "level " << L << " node " << i << ": no alive parent";
+          return err.str();
+        }
+        if (i < up.childBegin[p] || i >= up.childEnd[p]) {
+          err << "level " << L << " node " << i << ": outside its parent's child range";
+          return err.str();
+        }
+        if (chebyshev(lv.centre[i], up.centre[p]) > halfWidth_[L + 1]) {
+          err << "level " << L << " node " << i << ": centre outside its parent's cell";
+          return err.str();
+        }
+        const glm::ivec3 lo = L == 0 ? lv.centre[i] : lv.boxMin[i];
+        const glm::ivec3 hi = L == 0 ? lv.centre[i] : lv.boxMax[i];
+        if (glm::any(glm::lessThan(lo, up.boxMin[p])) || glm::any(glm::greaterThan(hi, up.boxMax[p]))) {
+          err << "level " << L << " node " << i << ": not inside its parent's box";
+          return err.str();
+        }
+      } else if (lv.parent[i] != kNone) {
+        err << "top level node " << i << " has a parent";
+        return err.str();
+      }
+      if (L > 0) {
+        std::uint32_t children = 0;
+        for (std::uint32_t c = lv.childBegin[i]; c < lv.childEnd[i]; ++c) {
+          if (levels_[L - 1].parent[c] != i) {
+            err << "level " << L << " node " << i << ": child " << c << " names another parent";
+            return err.str();
+          }
+          children += levels_[L - 1].alive[c];
+        }
+        if (children != lv.aliveChildren[i] || children == 0) {
+          err << "level " << L << " node " << i << ": " << children << " alive children, count "
+              << lv.aliveChildren[i];
+          return err.str();
+        }
+      }
+    }
+  }
+  const Level& top = levels_.back();
+  if (top.centre.size() != 1) return "top level has " + std::to_string(top.centre.size()) + " nodes";
+  if (top.aliveCount != (levels_[0].aliveCount > 0 ? 1u : 0u)) {
+    return "root is " + std::string(top.aliveCount ? "alive" : "gone") + " with " +
+           std::to_string(levels_[0].aliveCount) + " voxels left";
+  }
+  for (std::size_t i = 1; i < voxelKeys_.size(); ++i) {
+    if (voxelKeys_[i - 1] >= voxelKeys_[i]) return "voxel index is not sorted";
+  }
+  return "";
+}
+
+std::string DynamicProximityHierarchy::validateAgainst(const VoxelGrid& grid) const {
+  std::string err = validate();
+  if (!err.empty()) return err;
+  if (levels_.empty()) {
+    return grid.countVoxels(1) == 0 ? "" : "empty hierarchy over a grid with bone";
+  }
+  const Level& level0 = levels_[0];
+  for (std::uint32_t i = 0; i < level0.centre.size(); ++i) {
+    if (level0.alive[i] && grid.fill(level0.centre[i]) == 0) {
+      const glm::ivec3 v = level0.centre[i];
+      return "voxel (" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " +
+             std::to_string(v.z) + ") is in the hierarchy but empty in the grid";
+    }
+  }
+  const std::uint64_t occupied = grid.countVoxels(1);
+  if (occupied != level0.aliveCount) {
+    return "grid has " + std::to_string(occupied) + " occupied voxels, hierarchy " +
+           std::to_string(level0.aliveCount);
+  }
+  return "";
+}
+
+std::size_t DynamicProximityHierarchy::memoryBytes() const {
+  std::size_t bytes = sizeof(*this) + voxelKeys_.capacity() * sizeof(std::uint64_t) +
+                      voxelNodes_.capacity() * sizeof(std::uint32_t);
+  for (const Level& lv : levels_) {
+    bytes += lv.centre.capacity() * sizeof(glm::ivec3) +
+             (lv.parent.capacity() + lv.childBegin.capacity() + lv.childEnd.capacity() +
+              lv.aliveChildren.capacity()) * sizeof(std::uint32_t) +
+             (lv.boxMin.capacity() + lv.boxMax.capacity()) * sizeof(glm::ivec3) +
+             lv.alive.capacity();
+  }
+  return bytes;
+}
+
+}  // namespace osteon::geometry

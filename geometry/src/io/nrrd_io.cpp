@@ -1,0 +1,647 @@
+#include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/core/constants.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <type_traits>
+#include <vector>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/output_file.h"
+
+namespace osteon::geometry {
+
+namespace fs = std::filesystem;
+
+std::string densityPathFor(const std::string& fillPath) {
+  const std::string ext = ".nrrd";
+  if (fillPath.size() > ext.size()) {
+    std::string tail = fillPath.substr(fillPath.size() - ext.size());
+    std::transform(tail.begin(), tail.end(), tail.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (tail == ext) {
+      return fillPath.substr(0, fillPath.size() - ext.size()) + ".density" +
+             fillPath.substr(fillPath.size() - ext.size());
+    }
+  }
+  return fillPath + ".density.nrrd";
+}
+
+namespace {
+
+
+// %.17g without the C locale's say over the decimal point: reads back to the same double.
+std::string num(double v) {
+  char buf[40];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::general, 17);
+  return std::string(buf, r.ptr);
+}
+
+std::string header(const VoxelGrid& grid, const char* type, const char* content) {
+  const glm::ivec3 n = grid.dims();
+  const double vs = grid.voxelSizeMm();
+  const glm::dvec3 o = grid.originMm();
+  const glm::dvec3 c = grid.voxelCentreMm(glm::ivec3(0));  // NRRD's origin: a voxel centre
+  const std::string v = num(vs);
+  std::string h = "NRRD0004\n# osteon voxel grid: " + std::string(content) + "\n";
+  h += "type: " + std::string(type) + "\n";
+  h += "dimension: 3\nspace: left-posterior-superior\n";
+  h += "sizes: " + std::to_string(n.x) + " " + std::to_string(n.y) + " " + std::to_string(n.z) +
+       "\n";
+  h += "space directions: (" + v + ",0,0) (0," + v + ",0) (0,0," + v + ")\n";
+  h += "kinds: domain domain domain\nendian: little\nencoding: raw\n";
+  h += "space units: \"mm\" \"mm\" \"mm\"\n";
+  h += "space origin: (" + num(c.x) + "," + num(c.y) + "," + num(c.z) + ")\n";
+  h += "osteon_voxel_size_mm:=" + v + "\n";
+  h += "osteon_origin_mm:=" + num(o.x) + " " + num(o.y) + " " + num(o.z) + "\n\n";
+  return h;
+}
+
+// One z-slice of a grid's values (x fastest), gathered brick row by brick row.
+template <typename T, typename BrickValues, typename UniformValue>
+void gatherSlice(const VoxelGrid& grid, int z, std::vector<T>& slice, BrickValues brickValues,
+                 UniformValue uniformValue) {
+  const glm::ivec3 n = grid.dims();
+  const glm::ivec3 nb = grid.brickDims();
+  const int bz = z / kBrickEdge;
+  const int lz = z % kBrickEdge;
+  for (int by = 0; by < nb.y; ++by) {
+    const int y0 = by * kBrickEdge;
+    const int h = std::min(kBrickEdge, n.y - y0);
+    for (int bx = 0; bx < nb.x; ++bx) {
+      const int x0 = bx * kBrickEdge;
+      const int w = std::min(kBrickEdge, n.x - x0);
+      const std::size_t brick = grid.brickIndex({bx, by, bz});
+      T* dst = slice.data() + std::size_t(y0) * std::size_t(n.x) + std::size_t(x0);
+      if (const VoxelGrid::Brick* b = grid.brickData(brick)) {
+        const T* src = brickValues(*b) + VoxelGrid::voxelInBrick({0, 0, lz});
+        for (int y = 0; y < h; ++y) std::copy_n(src + y * kBrickEdge, w, dst + std::size_t(y) * n.x);
+      } else {
+        const T value = uniformValue(brick);
+        for (int y = 0; y < h; ++y) std::fill_n(dst + std::size_t(y) * n.x, w, value);
+      }
+    }
+  }
+}
+
+// Byte order is spelt out rather than taken from the host.
+template <typename T>
+void encodeLittle(const std::vector<T>& values, std::vector<unsigned char>& bytes) {
+  using U = std::make_unsigned_t<T>;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const U u = static_cast<U>(values[i]);
+    for (std::size_t b = 0; b < sizeof(T); ++b) {
+      bytes[i * sizeof(T) + b] = static_cast<unsigned char>((u >> (8 * b)) & 0xffu);
+    }
+  }
+}
+
+// Writes values of type T as type Out (each divided by `divisor`).
+template <typename T, typename Out, typename BrickValues, typename UniformValue>
+void writeVolume(const VoxelGrid& grid, const OutputFile& file, const char* type,
+                 const char* content, T divisor, BrickValues brickValues,
+                 UniformValue uniformValue) {
+  const std::string& path = file.path();
+  std::ofstream out(file.tempPath(), std::ios::binary | std::ios::trunc);
+  if (!out) {
+    throw InputError(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+  }
+  out << header(grid, type, content);
+  const glm::ivec3 n = grid.dims();
+  std::vector<T> slice(std::size_t(n.x) * std::size_t(n.y));
+  std::vector<Out> converted(slice.size());
+  std::vector<unsigned char> bytes(slice.size() * sizeof(Out));
+  for (int z = 0; z < n.z && out; ++z) {
+    gatherSlice(grid, z, slice, brickValues, uniformValue);
+    for (std::size_t i = 0; i < slice.size(); ++i) converted[i] = Out(slice[i] / divisor);
+    encodeLittle(converted, bytes);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  }
+  out.close();
+  if (!out) throw InputError(path + ": write failed (disk full or not writable?)");
+}
+
+// ---- Reading ----
+
+enum class ValueType { Fill, Int16 };
+
+struct Header {
+  glm::ivec3 sizes{0};
+  bool bigEndian = false;
+  double voxelSizeMm = 0.0;
+  glm::dvec3 originMm{0.0};
+  std::uint64_t dataOffset = 0;
+  std::size_t valueBytes = 1;  // bytes per stored value
+};
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+std::string lowerNoSpace(const std::string& s) {
+  std::string out;
+  for (unsigned char c : s) {
+    if (!std::isspace(c)) out += static_cast<char>(std::tolower(c));
+  }
+  return out;
+}
+
+// Lowercase, runs of blanks made one space: "Unsigned  Char" -> "unsigned char".
+std::string normaliseWords(const std::string& s) {
+  std::string out;
+  for (unsigned char c : trim(s)) {
+    if (std::isspace(c)) {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+    } else {
+      out += static_cast<char>(std::tolower(c));
+    }
+  }
+  return out;
+}
+
+bool parseDouble(const std::string& token, double& v) {
+  const char* first = token.data();
+  const char* last = first + token.size();
+  if (first != last && *first == '+') ++first;
+  const auto r = std::from_chars(first, last, v);
+  return r.ec == std::errc() && r.ptr == last && first != last && std::isfinite(v);
+}
+
+// Whitespace- and/or comma-separated numbers, parentheses dropped: "(1, 2,3)" -> 1 2 3.
+bool parseNumbers(std::string text, std::vector<double>& values) {
+  for (char& c : text) {
+    if (c == '(' || c == ')' || c == ',') c = ' ';
+  }
+  values.clear();
+  std::size_t pos = 0;
+  while ((pos = text.find_first_not_of(" \t", pos)) != std::string::npos) {
+    const std::size_t end = std::min(text.find_first_of(" \t", pos), text.size());
+    double v;
+    if (!parseDouble(text.substr(pos, end - pos), v)) return false;
+    values.push_back(v);
+    pos = end;
+  }
+  return true;
+}
+
+// File text echoed in a message: one short printable line, whatever the file holds.
+std::string excerpt(const std::string& s) {
+  std::string out = "'";
+  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
+  return out + (s.size() > 60 ? "...'" : "'");
+}
+
+enum class LineRead { Line, End, TooLong };
+
+constexpr std::size_t kMaxHeaderLine = 65536;
+
+LineRead readLine(std::istream& in, std::string& line) {
+  line.clear();
+  for (int c; (c = in.get()) != EOF;) {
+    if (c == '\n') return LineRead::Line;
+    line += static_cast<char>(c);
+    if (line.size() > kMaxHeaderLine) return LineRead::TooLong;  // not a text header
+  }
+  return LineRead::End;
+}
+
+// Shortest form for messages ("3e+300", "1.2e+09").
+std::string shortNum(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+bool nearlyEqual(double a, double b, double scale) {
+  return std::abs(a - b) <= 1e-6 * scale;
+}
+
+// Parses and checks a header; leaves `in` at the first data byte.
+Header readHeader(const std::string& path, std::ifstream& in, ValueType expected) {
+  const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) fail("no such file");
+  if (!fs::is_regular_file(status)) fail("not a regular file");
+  const std::uint64_t fileBytes = fs::file_size(path, ec);
+  if (ec) fail("cannot read its size (" + ec.message() + ")");
+  in.open(path, std::ios::binary);
+  if (!in) fail("cannot open (" + std::string(std::strerror(errno)) + ")");
+
+  std::string line;
+  char magic[8] = {};
+  in.read(magic, sizeof(magic));
+  if (!in || std::memcmp(magic, "NRRD000", 7) != 0 || magic[7] < '1' || magic[7] > '9' ||
+      readLine(in, line) != LineRead::Line || !trim(line).empty()) {
+    fail("not a NRRD file (no NRRD000x magic)");
+  }
+  std::map<std::string, std::string> fields;  // names lowercase without spaces
+  std::map<std::string, std::string> keys;
+  for (std::size_t lineNo = 2;; ++lineNo) {
+    const LineRead read = readLine(in, line);
+    if (read == LineRead::TooLong) {
+      fail("header line " + std::to_string(lineNo) + " is longer than 64 KiB (not a text header?)");
+    }
+    if (read == LineRead::End) fail("header is not ended by a blank line (no data?)");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) break;
+    if (line[0] == '#') continue;
+    const std::size_t kv = line.find(":=");
+    const std::size_t colon = line.find(": ");
+    if (kv != std::string::npos && (colon == std::string::npos || kv < colon)) {
+      keys[line.substr(0, kv)] = line.substr(kv + 2);
+    } else if (colon != std::string::npos) {
+      const std::string name = lowerNoSpace(line.substr(0, colon));
+      if (!fields.emplace(name, trim(line.substr(colon + 2))).second) {
+        fail("field " + excerpt(trim(line.substr(0, colon))) + " given twice");
+      }
+    } else {
+      fail("malformed header line " + excerpt(line));
+    }
+  }
+  const auto field = [&](const char* name) -> const std::string* {
+    const auto it = fields.find(name);
+    return it == fields.end() ? nullptr : &it->second;
+  };
+  const auto require = [&](const char* name, const char* shown) -> const std::string& {
+    const std::string* v = field(name);
+    if (!v) fail(std::string("missing '") + shown + "' field");
+    return *v;
+  };
+
+  if (field("datafile")) fail("detached data ('data file:') is not supported; attach the data");
+  for (const char* skip : {"lineskip", "byteskip"}) {
+    if (const std::string* v = field(skip); v && *v != "0") fail("line/byte skip not supported");
+  }
+  const std::string& dimension = require("dimension", "dimension");
+  if (trim(dimension) != "3")
+    fail("dimension " + excerpt(dimension) + " is not supported (need 3)");
+
+  const std::string type = normaliseWords(require("type", "type"));
+  std::size_t valueBytes = 1;
+  if (expected == ValueType::Fill) {
+    // uint8 holds the voxelizer's 1/255 steps; uint16 the full fill units (1/16320).
+    const bool u8 = type == "uchar" || type == "unsigned char" || type == "uint8" ||
+                    type == "uint8_t";
+    const bool u16 = type == "ushort" || type == "unsigned short" ||
+                     type == "unsigned short int" || type == "uint16" || type == "uint16_t";
+    if (!u8 && !u16) fail("type " + excerpt(type) + " is not supported (fill must be uint8 or uint16)");
+    valueBytes = u8 ? 1 : 2;
+  } else {
+    if (type != "short" && type != "short int" && type != "signed short" &&
+        type != "signed short int" && type != "int16" && type != "int16_t") {
+      fail("type " + excerpt(type) + " is not supported (density must be int16)");
+    }
+    valueBytes = 2;
+  }
+
+  const std::string encoding = normaliseWords(require("encoding", "encoding"));
+  if (encoding == "gzip" || encoding == "gz") {
+    fail("gzip encoding is not supported; save the volume uncompressed (raw)");
+  }
+  if (encoding != "raw") fail("encoding " + excerpt(encoding) + " is not supported (only raw)");
+
+  Header h;
+  if (const std::string* endian = field("endian")) {
+    const std::string e = normaliseWords(*endian);
+    if (e != "little" && e != "big") fail("endian " + excerpt(e) + " is not little or big");
+    h.bigEndian = e == "big";
+  } else if (valueBytes > 1) {
+    fail("missing 'endian' field (required for multi-byte raw data)");
+  }
+
+  std::vector<double> sizes;
+  const std::string& sizesText = require("sizes", "sizes");
+  if (!parseNumbers(sizesText, sizes) || sizes.size() != 3) {
+    fail("sizes " + excerpt(sizesText) + " are not three integers");
+  }
+  std::uint64_t voxels = 1;
+  for (int a = 0; a < 3; ++a) {
+    if (sizes[a] < 1 || sizes[a] > double(1 << 30) || sizes[a] != std::floor(sizes[a])) {
+      fail("sizes " + excerpt(sizesText) + " are not three integers from 1 to 2^30");
+    }
+    h.sizes[a] = int(sizes[a]);
+    voxels *= std::uint64_t(h.sizes[a]);
+    if (voxels > VoxelGrid::kMaxVoxels) fail("sizes " + excerpt(sizesText) + " exceed 2^32 voxels");
+  }
+
+  // Spacing and origin from the standard fields.
+  bool haveSpacing = false;
+  bool haveOrigin = false;
+  const char* spacingField = "";
+  const char* originField = "";
+  glm::dvec3 originAsGiven(0.0);  // the field's value: voxel (0,0,0)'s centre or corner
+  if (const std::string* space = field("space")) {
+    const std::string s = normaliseWords(*space);
+    if (s != "left-posterior-superior" && s != "lps") {
+      fail("space " + excerpt(s) + " is not supported (need left-posterior-superior)");
+    }
+  }
+  if (const std::string* dirs = field("spacedirections")) {
+    std::vector<double> m;
+    if (!parseNumbers(*dirs, m) || m.size() != 9) {
+      fail("space directions " + excerpt(*dirs) + " are not three 3-vectors");
+    }
+    const double scale = std::max({std::abs(m[0]), std::abs(m[4]), std::abs(m[8])});
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        if (r != c && !nearlyEqual(m[r * 3 + c], 0.0, scale)) {
+          fail("space directions " + excerpt(*dirs) +
+               " are not axis-aligned (rotated grids are not supported)");
+        }
+      }
+      if (!(m[r * 4] > 0.0)) {
+        fail("space directions " + excerpt(*dirs) + " have a non-positive axis");
+      }
+    }
+    if (!nearlyEqual(m[0], m[4], scale) || !nearlyEqual(m[0], m[8], scale)) {
+      fail("anisotropic spacing " + excerpt(*dirs) + " is not supported (voxels must be cubes)");
+    }
+    h.voxelSizeMm = (m[0] + m[4] + m[8]) / 3.0;
+    haveSpacing = true;
+    spacingField = "space directions";
+    if (const std::string* origin = field("spaceorigin")) {
+      std::vector<double> o;
+      if (!parseNumbers(*origin, o) || o.size() != 3) {
+        fail("space origin " + excerpt(*origin) + " is not a 3-vector");
+      }
+      h.originMm = glm::dvec3(o[0], o[1], o[2]) - 0.5 * h.voxelSizeMm;
+      haveOrigin = true;
+      originField = "space origin";
+      originAsGiven = glm::dvec3(o[0], o[1], o[2]);
+    }
+  } else if (const std::string* spacings = field("spacings")) {
+    std::vector<double> s;
+    if (!parseNumbers(*spacings, s) || s.size() != 3 || !(s[0] > 0) || !(s[1] > 0) || !(s[2] > 0)) {
+      fail("spacings " + excerpt(*spacings) + " are not three positive numbers");
+    }
+    if (!nearlyEqual(s[0], s[1], s[0]) || !nearlyEqual(s[0], s[2], s[0])) {
+      fail("anisotropic spacing " + excerpt(*spacings) +
+           " is not supported (voxels must be cubes)");
+    }
+    h.voxelSizeMm = (s[0] + s[1] + s[2]) / 3.0;
+    haveSpacing = true;
+    spacingField = "spacings";
+  }
+
+  // osteon's own keys carry the exact doubles; the standard fields, when present, must agree.
+  if (const auto it = keys.find("osteon_voxel_size_mm"); it != keys.end()) {
+    double vs;
+    if (!parseDouble(trim(it->second), vs) || vs <= 0.0) {
+      fail("osteon_voxel_size_mm is not a positive number");
+    }
+    if (haveSpacing && !nearlyEqual(vs, h.voxelSizeMm, vs)) {
+      fail("osteon_voxel_size_mm disagrees with the spacing fields");
+    }
+    h.voxelSizeMm = vs;
+    haveSpacing = true;
+    spacingField = "osteon_voxel_size_mm";
+  }
+  if (const auto it = keys.find("osteon_origin_mm"); it != keys.end()) {
+    std::vector<double> o;
+    if (!parseNumbers(it->second, o) || o.size() != 3) {
+      fail("osteon_origin_mm is not three numbers");
+    }
+    const glm::dvec3 origin(o[0], o[1], o[2]);
+    for (int a = 0; a < 3; ++a) {
+      if (haveOrigin && !nearlyEqual(origin[a], h.originMm[a], h.voxelSizeMm)) {
+        fail("osteon_origin_mm disagrees with the space origin field");
+      }
+    }
+    h.originMm = origin;
+    originField = "osteon_origin_mm";
+    originAsGiven = origin;
+  }
+  if (!haveSpacing) fail("no spacing ('space directions' or 'spacings' field)");
+  // Checked once combined: each field alone can be finite while the grid reaches infinity.
+  const std::string spacingFrom = std::string("from '") + spacingField + "'";
+  if (!std::isfinite(h.voxelSizeMm) || !(h.voxelSizeMm > 0.0)) {
+    fail("voxel size " + spacingFrom + " is not a positive finite number");
+  }
+  constexpr const char* kAxis[] = {"x", "y", "z"};
+  const std::string beyond = " mm, beyond +-1e9 mm (1000 km)";
+  for (int a = 0; a < 3; ++a) {
+    if (!(std::abs(originAsGiven[a]) <= kMaxCoordinateMm)) {
+      fail(std::string("origin from '") + originField + "' is at " + kAxis[a] + " = " +
+           shortNum(originAsGiven[a]) + beyond);
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    const double nearCorner = h.originMm[a];
+    const double farCorner = h.originMm[a] + double(h.sizes[a]) * h.voxelSizeMm;
+    const bool farOut = !(std::abs(farCorner) <= kMaxCoordinateMm);
+    if (farOut || !(std::abs(nearCorner) <= kMaxCoordinateMm)) {
+      fail("voxel size " + shortNum(h.voxelSizeMm) + " mm " + spacingFrom + " puts the " +
+           (farOut ? "far" : "near") + " corner at " + kAxis[a] + " = " +
+           shortNum(farOut ? farCorner : nearCorner) + beyond);
+    }
+  }
+  h.valueBytes = valueBytes;
+
+  // Before anything is allocated: the data must be exactly as long as the sizes say.
+  h.dataOffset = std::uint64_t(in.tellg());
+  const std::uint64_t expectedBytes = voxels * valueBytes;
+  const std::uint64_t dataBytes = fileBytes - std::min(fileBytes, h.dataOffset);
+  if (dataBytes < expectedBytes) {
+    fail("truncated: " + std::to_string(dataBytes) + " bytes of data, sizes need " +
+         std::to_string(expectedBytes));
+  }
+  if (dataBytes > expectedBytes) {
+    fail(std::to_string(dataBytes) + " bytes of data disagree with sizes, which need " +
+         std::to_string(expectedBytes));
+  }
+  return h;
+}
+
+// Reads `count` values into `values`, converting from the file's byte order.
+// Reads `count` values of `width` bytes each into `values` (times `scale`), converting from
+// the file's byte order.
+template <typename T>
+void readValues(const std::string& path, std::ifstream& in, bool bigEndian, std::size_t width,
+                T scale, std::size_t count, std::vector<unsigned char>& bytes,
+                std::vector<T>& values) {
+  bytes.resize(count * width);
+  values.resize(count);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
+    throw InputError(path + ": read failed in the data");
+  }
+  using U = std::make_unsigned_t<T>;
+  for (std::size_t i = 0; i < count; ++i) {
+    U u = 0;
+    for (std::size_t b = 0; b < width; ++b) {
+      const std::size_t shift = 8 * (bigEndian ? width - 1 - b : b);
+      u = static_cast<U>(u | (U(bytes[i * width + b]) << shift));
+    }
+    values[i] = static_cast<T>(u * scale);
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// True when every fill is a whole number of the voxelizer's 1/255 steps (a grid fresh from
+// voxelization): then uint8 holds it exactly and every viewer reads it.
+bool fillFitsInSteps(const VoxelGrid& grid) {
+  for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
+    if (const VoxelGrid::Brick* b = grid.brickData(brick)) {
+      for (Fill f : b->fill) {
+        if (f % kFillPerStep != 0) return false;
+      }
+    } else if (grid.brickUniformFill(brick) % kFillPerStep != 0) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDensity) {
+  const auto brickFill = [](const VoxelGrid::Brick& b) { return b.fill.data(); };
+  const auto uniformFill = [&grid](std::size_t brick) { return grid.brickUniformFill(brick); };
+  // Both files are complete before either replaces what was there: a pair is never mixed.
+  OutputFile fillFile(fillPath);
+  if (fillFitsInSteps(grid)) {
+    writeVolume<Fill, std::uint8_t>(grid, fillFile, "uint8", "fill, 0 empty .. 255 full",
+                                    kFillPerStep, brickFill, uniformFill);
+  } else {
+    writeVolume<Fill, std::uint16_t>(grid, fillFile, "uint16", "fill, 0 empty .. 16320 full",
+                                     Fill(1), brickFill, uniformFill);
+  }
+  const std::string densityPath = densityPathFor(fillPath);
+  if (withDensity) {
+    OutputFile densityFile(densityPath);
+    writeVolume<Density, Density>(
+        grid, densityFile, "int16", "density (drilling difficulty)", Density(1),
+        [](const VoxelGrid::Brick& b) { return b.density.data(); },
+        [&grid](std::size_t brick) { return grid.brickUniformDensity(brick); });
+    fillFile.commit();
+    densityFile.commit();
+  } else {
+    fillFile.commit();
+    // A stale density file beside the new fill would be paired with it on reading.
+    std::error_code ec;
+    fs::remove(densityPath, ec);
+  }
+}
+
+NrrdReadResult readNrrd(const std::string& fillPath) {
+  std::ifstream fillIn;
+  const Header fillHeader = readHeader(fillPath, fillIn, ValueType::Fill);
+
+  const std::string densityPath = densityPathFor(fillPath);
+  std::error_code ec;
+  const bool densityLoaded = fs::exists(densityPath, ec);
+  std::ifstream densityIn;
+  Header densityHeader;
+  if (densityLoaded) {
+    densityHeader = readHeader(densityPath, densityIn, ValueType::Int16);
+    const glm::ivec3 a = fillHeader.sizes;
+    const glm::ivec3 b = densityHeader.sizes;
+    if (a != b) {
+      throw InputError(densityPath + ": sizes " + std::to_string(b.x) + " " + std::to_string(b.y) +
+                       " " + std::to_string(b.z) + " do not match the fill file's " +
+                       std::to_string(a.x) + " " + std::to_string(a.y) + " " + std::to_string(a.z));
+    }
+    const double vs = fillHeader.voxelSizeMm;
+    const glm::dvec3 d = glm::abs(densityHeader.originMm - fillHeader.originMm);
+    if (!nearlyEqual(densityHeader.voxelSizeMm, vs, vs) || std::max({d.x, d.y, d.z}) > 1e-6 * vs) {
+      throw InputError(densityPath + ": spacing or origin does not match the fill file's");
+    }
+  }
+
+  NrrdReadResult result;
+  try {
+    result.grid = VoxelGrid(fillHeader.sizes, fillHeader.originMm, fillHeader.voxelSizeMm);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fillPath + ": " + e.what());
+  }
+  result.densityLoaded = densityLoaded;
+  VoxelGrid& grid = result.grid;
+  const glm::ivec3 n = grid.dims();
+  const glm::ivec3 nb = grid.brickDims();
+  const std::size_t sliceVoxels = std::size_t(n.x) * std::size_t(n.y);
+
+  // One brick layer of z-slices at a time: bounded memory, and each brick is seen whole.
+  std::vector<unsigned char> bytes;
+  std::vector<Fill> fills;
+  std::vector<Density> densities;
+  for (int bz = 0; bz < nb.z; ++bz) {
+    const int z0 = bz * kBrickEdge;
+    const int depth = std::min(kBrickEdge, n.z - z0);
+    const std::size_t count = sliceVoxels * std::size_t(depth);
+    const bool steps = fillHeader.valueBytes == 1;
+    readValues(fillPath, fillIn, fillHeader.bigEndian, fillHeader.valueBytes,
+               Fill(steps ? kFillPerStep : 1), count, bytes, fills);
+    if (const auto over = std::find_if(fills.begin(), fills.end(), [](Fill f) { return f > kFillFull; });
+        over != fills.end()) {
+      throw InputError(fillPath + ": fill value " + std::to_string(*over) + " exceeds full (" +
+                       std::to_string(kFillFull) + ")");
+    }
+    if (densityLoaded) {
+      readValues(densityPath, densityIn, densityHeader.bigEndian, std::size_t(2), Density(1), count,
+                 bytes, densities);
+    } else {
+      densities.assign(count, 0);
+    }
+    const auto at = [&](int x, int y, int lz) {
+      return std::size_t(lz) * sliceVoxels + std::size_t(y) * std::size_t(n.x) + std::size_t(x);
+    };
+    for (int by = 0; by < nb.y; ++by) {
+      const int y0 = by * kBrickEdge;
+      const int h = std::min(kBrickEdge, n.y - y0);
+      for (int bx = 0; bx < nb.x; ++bx) {
+        const int x0 = bx * kBrickEdge;
+        const int w = std::min(kBrickEdge, n.x - x0);
+        const std::size_t brick = grid.brickIndex({bx, by, bz});
+        const Fill f0 = fills[at(x0, y0, 0)];
+        const Density d0 = densities[at(x0, y0, 0)];
+        bool uniform = true;
+        for (int lz = 0; lz < depth && uniform; ++lz) {
+          for (int y = 0; y < h && uniform; ++y) {
+            const std::size_t row = at(x0, y0 + y, lz);
+            for (int x = 0; x < w; ++x) {
+              if (fills[row + x] != f0 || densities[row + x] != d0) {
+                uniform = false;
+                break;
+              }
+            }
+          }
+        }
+        if (uniform) {
+          grid.setBrickUniform(brick, f0, d0);
+          continue;
+        }
+        VoxelGrid::Brick& b = grid.materialiseBrick(brick);
+        for (int lz = 0; lz < depth; ++lz) {
+          for (int y = 0; y < h; ++y) {
+            const std::size_t row = at(x0, y0 + y, lz);
+            const std::size_t local = std::size_t(VoxelGrid::voxelInBrick({0, y, lz}));
+            std::copy_n(fills.begin() + std::ptrdiff_t(row), w,
+                        b.fill.begin() + std::ptrdiff_t(local));
+            std::copy_n(densities.begin() + std::ptrdiff_t(row), w,
+                        b.density.begin() + std::ptrdiff_t(local));
+          }
+        }
+      }
+    }
+  }
+  grid.clearDirty();  // freshly loaded: nothing to re-mesh yet
+  return result;
+}
+
+}  // namespace osteon::geometry

@@ -1,0 +1,548 @@
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/core/constants.h"
+#include "osteon/core/timing.h"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "osteon/core/error.h"
+#include "surface_cells.h"
+
+namespace osteon::geometry {
+
+using namespace detail;
+
+namespace {
+
+constexpr int kCells = kBrickEdge * kBrickEdge * kBrickEdge;
+
+int cellIndex(const glm::ivec3& l) {
+  return l.x + kBrickEdge * (l.y + kBrickEdge * l.z);
+}
+
+}  // namespace
+
+struct SurfaceUpdater::Impl {
+  struct CellBrick {
+    FillBlock fills;                                  // the voxels read at the last extraction
+    FillBlock next;                                   // the voxels read by this update
+    std::array<std::uint8_t, kCells> changed;         // cells reading a voxel that changed
+    bool fillsValid = false;                          // owned and triangles follow `fills`
+    std::array<std::uint32_t, 3 * kCells> owned;      // owned edge -> vertex slot
+    std::vector<glm::u32vec3> triangles;              // grouped by cell, cells in order
+    std::array<std::uint32_t, kCells + 1> cellBegin;  // triangles of cell i: [begin[i], begin[i+1])
+  };
+
+  const VoxelGrid* grid;
+  SurfaceOptions options;
+  glm::ivec3 cellBricks;
+  double vs;
+  std::vector<std::unique_ptr<CellBrick>> bricks;  // dense over cell bricks (from -1)
+
+  // Vertex slots: stable while the vertex lives; freed slots are reused.
+  std::vector<VertexInfo> info;
+  std::vector<std::vector<std::uint32_t>> centreLoop;  // loop vertices of centre slots
+  std::vector<glm::dvec3> position;                    // smoothed
+  std::vector<glm::dvec3> normal;
+  std::vector<std::uint8_t> alive;
+  std::vector<std::uint32_t> freeSlots;
+  std::vector<std::uint32_t> pendingFree;
+
+  // Scratch for updates (kept to avoid reallocating).
+  std::vector<std::uint32_t> mark;  // per slot: epoch of the last visit
+  std::uint32_t epoch = 0;
+
+  std::size_t brickIndex(const glm::ivec3& cb) const {
+    return std::size_t(cb.x + 1) +
+           std::size_t(cellBricks.x) *
+               (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
+  }
+  bool validBrick(const glm::ivec3& cb) const {
+    return cb.x >= -1 && cb.y >= -1 && cb.z >= -1 && cb.x < cellBricks.x - 1 &&
+           cb.y < cellBricks.y - 1 && cb.z < cellBricks.z - 1;
+  }
+  static glm::ivec3 brickOfCell(const glm::ivec3& c) {
+    return {floorDiv(c.x, kBrickEdge), floorDiv(c.y, kBrickEdge), floorDiv(c.z, kBrickEdge)};
+  }
+  const CellBrick* brickOf(const glm::ivec3& cell) const {
+    const glm::ivec3 cb = brickOfCell(cell);
+    return validBrick(cb) ? bricks[brickIndex(cb)].get() : nullptr;
+  }
+
+  std::uint32_t allocate(const VertexInfo& v) {
+    std::uint32_t slot;
+    if (!freeSlots.empty()) {
+      slot = freeSlots.back();
+      freeSlots.pop_back();
+      info[slot] = v;
+      alive[slot] = 1;
+    } else {
+      slot = std::uint32_t(info.size());
+      info.push_back(v);
+      centreLoop.emplace_back();
+      position.emplace_back(0.0);
+      normal.emplace_back(0.0);
+      alive.push_back(1);
+      mark.push_back(0);
+      local.push_back(0);
+    }
+    return slot;
+  }
+  // A freed slot is reused only after the update that freed it: until then, old triangle
+  // lists still name it and must not be mistaken for whatever would take its place.
+  void release(std::uint32_t slot) {
+    alive[slot] = 0;
+    centreLoop[slot].clear();
+    pendingFree.push_back(slot);
+  }
+
+  // Crossed edges owned by a cell brick's cells, diffed against what it had.
+  void rebuildEdges(const glm::ivec3& cb, std::vector<std::uint32_t>& touched) {
+    std::unique_ptr<CellBrick>& slot = bricks[brickIndex(cb)];
+    const bool active = cellBrickActive(*grid, cb);
+    if (!active && !slot) return;
+    if (!slot) {
+      slot = std::make_unique<CellBrick>();
+      slot->owned.fill(kNoVertex);
+      slot->cellBegin.fill(0);
+    }
+    CellBrick& b = *slot;
+    const bool fresh = !b.fillsValid;
+    if (!active) {
+      for (std::uint32_t& s : b.owned) {
+        if (s != kNoVertex) release(s);
+        s = kNoVertex;
+      }
+      b.fillsValid = false;
+      return;
+    }
+    loadBlock(*grid, cb, b.next);
+    const FillBlock& block = b.next;
+    // Which cells read a changed voxel (every cell when there is nothing to compare with).
+    b.changed.fill(fresh ? 1 : 0);
+    bool any = fresh;
+    if (!fresh) {
+      for (int z = 0; z < kBlock; ++z)
+        for (int y = 0; y < kBlock; ++y)
+          for (int x = 0; x < kBlock; ++x) {
+            if (blockFill(block, x, y, z) == blockFill(b.fills, x, y, z)) continue;
+            any = true;
+            for (int d = 0; d < 8; ++d) {
+              const glm::ivec3 c(x - (d & 1), y - ((d >> 1) & 1), z - ((d >> 2) & 1));
+              if (c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < kBrickEdge && c.y < kBrickEdge && c.z < kBrickEdge) {
+                b.changed[std::size_t(cellIndex(c))] = 1;
+              }
+            }
+          }
+    }
+    if (!any) return;
+    glm::ivec3 lo, hi;
+    cellRange(*grid, cb, lo, hi);
+    for (int ci = 0; ci < kCells; ++ci) {
+      if (!b.changed[std::size_t(ci)]) continue;
+      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
+      const glm::ivec3 g = cb * kBrickEdge + l;
+      const bool inRange = glm::all(glm::greaterThanEqual(g, lo)) && glm::all(glm::lessThan(g, hi));
+      const Fill f0 = blockFill(block, l.x, l.y, l.z);
+      for (int axis = 0; axis < 3; ++axis) {
+        std::uint32_t& s = b.owned[std::size_t(3 * ci + axis)];
+        glm::ivec3 n = l;
+        ++n[axis];
+        const Fill f1 = blockFill(block, n.x, n.y, n.z);
+        if (!fresh && blockFill(b.fills, l.x, l.y, l.z) == f0 &&
+            blockFill(b.fills, n.x, n.y, n.z) == f1) {
+          continue;  // edge unchanged
+        }
+        const bool crosses = inRange && ((double(f0) > kIso) != (double(f1) > kIso));
+        if (!crosses) {
+          if (s != kNoVertex) release(s);
+          s = kNoVertex;
+          continue;
+        }
+        const VertexInfo v = edgeVertexInfo(*grid, g, axis, f0, f1);
+        if (s == kNoVertex) {
+          s = allocate(v);
+          touched.push_back(s);
+        } else if (info[s].t != v.t) {
+          info[s].t = v.t;
+          touched.push_back(s);
+        }
+      }
+    }
+  }
+
+  std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
+    const glm::ivec3 owner = edgeStart(cell, e);
+    const glm::ivec3 cb = brickOfCell(owner);
+    return bricks[brickIndex(cb)]->owned[std::size_t(3 * cellIndex(owner - cb * kBrickEdge) + e / 4)];
+  }
+
+  // Triangles of a cell brick's cells: a cell whose eight voxels kept their fill keeps its
+  // triangles (and loop centres) as they were; the others are made again, and every vertex of
+  // their old and new triangles is touched (its neighbourhood may have changed).
+  void rebuildTriangles(const glm::ivec3& cb, std::vector<std::uint32_t>& touched) {
+    CellBrick* b = bricks[brickIndex(cb)].get();
+    if (!b) return;
+    const bool active = cellBrickActive(*grid, cb);
+    const FillBlock& block = b->next;  // loaded by rebuildEdges when active
+    if (active && b->fillsValid && block == b->fills) return;
+    const bool hadOld = !b->triangles.empty() && b->fillsValid;
+    oldTriangles.swap(b->triangles);  // keeps both buffers' capacity between updates
+    b->triangles.clear();
+    const std::array<std::uint32_t, kCells + 1> oldBegin = b->cellBegin;
+    const std::vector<glm::u32vec3>& old = oldTriangles;
+    b->cellBegin.fill(0);
+    const auto& table = mcTable();
+    glm::ivec3 lo, hi;
+    cellRange(*grid, cb, lo, hi);
+    for (int ci = 0; ci < kCells; ++ci) {
+      b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
+      const std::uint32_t oldFirst = hadOld ? oldBegin[std::size_t(ci)] : 0;
+      const std::uint32_t oldEnd = hadOld ? oldBegin[std::size_t(ci) + 1] : 0;
+      if (hadOld && active && !b->changed[std::size_t(ci)]) {
+        // Unchanged cells keep their triangles: copy the whole run of them at once.
+        int last = ci;
+        while (last + 1 < kCells && !b->changed[std::size_t(last + 1)]) ++last;
+        const std::uint32_t runEnd = oldBegin[std::size_t(last) + 1];
+        const std::uint32_t shift = std::uint32_t(b->triangles.size()) - oldFirst;
+        for (int k = ci + 1; k <= last; ++k)
+          b->cellBegin[std::size_t(k)] = oldBegin[std::size_t(k)] + shift;
+        b->triangles.insert(b->triangles.end(), old.begin() + oldFirst, old.begin() + runEnd);
+        ci = last;
+        continue;
+      }
+      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
+      const int x = cb.x * kBrickEdge + l.x;
+      const int y = cb.y * kBrickEdge + l.y;
+      const int z = cb.z * kBrickEdge + l.z;
+      {
+        // Changed: its old triangles' vertices are touched, its old centres go.
+        for (std::uint32_t k = oldFirst; k < oldEnd; ++k) {
+          for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = old[k][c];
+            if (!alive[v]) continue;
+            if (info[v].axis == 3) {
+              if (c == 0 && (k == oldFirst || old[k - 1].x != v)) release(v);
+            } else {
+              touched.push_back(v);
+            }
+          }
+        }
+        if (!active || x < lo.x || y < lo.y || z < lo.z || x >= hi.x || y >= hi.y || z >= hi.z)
+          continue;
+        Fill corner[8];
+        const int config = cellConfig(block, l, corner);
+        if (config == 0 || config == 255) continue;
+        const McCase& mc = table[std::size_t(config)];
+        std::uint32_t ids[13];
+        const auto firstNew = b->triangles.size();
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          int count = 0;
+          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1];
+               ++k) {
+            ids[count++] = sharedVertex({x, y, z}, mc.edges[std::size_t(k)]);
+          }
+          if (count == 3) {
+            b->triangles.push_back({ids[0], ids[1], ids[2]});
+          } else if (count == 4) {
+            b->triangles.push_back({ids[0], ids[1], ids[2]});
+            b->triangles.push_back({ids[0], ids[2], ids[3]});
+          } else {
+            const std::uint32_t centre =
+                allocate({glm::dvec3(0.0), 3, 0.0, 0.0, 0, 0, glm::ivec3(x, y, z)});
+            centreLoop[centre].assign(ids, ids + count);
+            for (int i = 0; i < count; ++i)
+              b->triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
+          }
+        }
+        for (auto k = firstNew; k < b->triangles.size(); ++k) {
+          for (int c = 0; c < 3; ++c) touched.push_back(b->triangles[k][c]);
+        }
+      }
+    }
+    b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
+    if (active) b->fills = block;
+    b->fillsValid = active;
+  }
+
+  // Triangles around a vertex: in the four cells around its edge, or its own cell.
+  template <typename Fn>
+  void forEachIncident(std::uint32_t v, Fn&& fn) const {
+    const VertexInfo& vi = info[v];
+    const auto scanCell = [&](const glm::ivec3& cell) {
+      const CellBrick* b = brickOf(cell);
+      if (!b) return;
+      const int i = cellIndex(cell - brickOfCell(cell) * kBrickEdge);
+      for (std::uint32_t k = b->cellBegin[std::size_t(i)]; k < b->cellBegin[std::size_t(i) + 1];
+           ++k) {
+        const glm::u32vec3& t = b->triangles[k];
+        if (t.x == v || t.y == v || t.z == v) fn(t);
+      }
+    };
+    if (vi.axis == 3) {
+      scanCell(vi.voxel);
+      return;
+    }
+    const int u = (vi.axis + 1) % 3;
+    const int w = (vi.axis + 2) % 3;
+    for (int du = 0; du < 2; ++du)
+      for (int dw = 0; dw < 2; ++dw) {
+        glm::ivec3 cell = vi.voxel;
+        cell[u] -= du;
+        cell[w] -= dw;
+        scanCell(cell);
+      }
+  }
+
+  void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    forEachIncident(v, [&](const glm::u32vec3& t) {
+      for (int c = 0; c < 3; ++c) {
+        if (t[c] != v) out.push_back(t[c]);
+      }
+    });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+  // Smoothing and normals for the vertices within reach of `touched`. One Jacobi pass moves a
+  // vertex by its neighbours' positions, and a loop centre is its loop's mean, so a vertex's
+  // pass-j position depends on pass-(j-1) positions of its neighbours and of the loops of
+  // neighbouring centres: one step of this dependency graph per pass. Over p passes a change
+  // reaches p steps (those positions are kept), and they come out exact when computed on
+  // 2p - 1 steps (farther vertices are read raw, which only spoils the discarded rim).
+  std::size_t resmooth(const std::vector<std::uint32_t>& touched) {
+    const int passes = options.smoothIterations;
+    const int keep = passes;
+    const int reach = std::max(2 * passes - 1, passes);
+    ++epoch;
+    region.clear();
+    depthOf.clear();
+    for (std::uint32_t v : touched) {
+      if (!alive[v] || mark[v] == epoch) continue;
+      mark[v] = epoch;
+      local[v] = std::uint32_t(region.size());
+      region.push_back(v);
+      depthOf.push_back(0);
+    }
+    rowStart.assign(1, 0);
+    rows.clear();
+    for (std::size_t i = 0; i < region.size(); ++i) {
+      neighbours(region[i], nb);
+      rows.insert(rows.end(), nb.begin(), nb.end());
+      rowStart.push_back(std::uint32_t(rows.size()));
+      if (depthOf[i] >= reach) continue;
+      for (std::uint32_t n : nb) {
+        const auto visit = [&](std::uint32_t w) {
+          if (mark[w] == epoch) return;
+          mark[w] = epoch;
+          local[w] = std::uint32_t(region.size());
+          region.push_back(w);
+          depthOf.push_back(depthOf[i] + 1);
+        };
+        visit(n);
+        if (info[n].axis == 3) {
+          for (std::uint32_t l : centreLoop[n]) visit(l);
+        }
+      }
+    }
+    const auto raw = [&](std::uint32_t slot) {
+      if (info[slot].axis != 3) return positionOf(info[slot]);
+      glm::dvec3 sum(0.0);
+      for (std::uint32_t l : centreLoop[slot]) sum += positionOf(info[l]);
+      return sum / double(centreLoop[slot].size());
+    };
+    const std::size_t n = region.size();
+    cur.resize(n);
+    curT.resize(n);
+    nextT.resize(n);
+    const auto now = [&](std::uint32_t slot) {
+      return mark[slot] == epoch ? cur[local[slot]] : raw(slot);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      curT[i] = info[region[i]].t;
+      cur[i] = raw(region[i]);
+    }
+    for (int pass = 0; pass < passes; ++pass) {
+      const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
+      for (std::size_t i = 0; i < n; ++i) {
+        const VertexInfo& v = info[region[i]];
+        if (v.axis == 3) continue;
+        double mean = 0.0;
+        for (std::uint32_t k = rowStart[i]; k < rowStart[i + 1]; ++k) mean += now(rows[k])[v.axis];
+        mean /= double(rowStart[i + 1] - rowStart[i]);
+        nextT[i] = std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / v.lengthMm, kEdgeMargin,
+                              1.0 - kEdgeMargin);
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        VertexInfo v = info[region[i]];
+        if (v.axis == 3) continue;
+        curT[i] = nextT[i];
+        v.t = curT[i];
+        cur[i] = positionOf(v);
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t slot = region[i];
+        if (info[slot].axis != 3) continue;
+        glm::dvec3 sum(0.0);
+        for (std::uint32_t l : centreLoop[slot]) sum += now(l);
+        cur[i] = sum / double(centreLoop[slot].size());
+      }
+    }
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (depthOf[i] <= keep) {
+        position[region[i]] = cur[i];
+        ++kept;
+      }
+    }
+    // Normals of every kept vertex and its neighbours, from the triangles around them.
+    for (std::size_t i = 0; i < n; ++i) {
+      if (depthOf[i] > keep + 1) continue;
+      const std::uint32_t v = region[i];
+      glm::dvec3 sum(0.0);
+      forEachIncident(v, [&](const glm::u32vec3& t) {
+        sum += glm::cross(position[t.y] - position[t.x], position[t.z] - position[t.x]);
+      });
+      const double len = glm::length(sum);
+      normal[v] = len > 0.0 ? sum / len : glm::dvec3(0.0);
+    }
+    return kept;
+  }
+
+  // Scratch of resmooth, kept between updates.
+  std::vector<std::uint32_t> region, rowStart, rows, nb, local;
+  std::vector<glm::u32vec3> oldTriangles;
+  std::vector<int> depthOf;
+  std::vector<glm::dvec3> cur;
+  std::vector<double> curT, nextT;
+};
+
+SurfaceUpdater::SurfaceUpdater(const VoxelGrid& grid, const SurfaceOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  validateSurfaceOptions(options);
+  SurfaceOptions check = options;
+  check.method = SurfaceMethod::CrackFree;
+  Impl& m = *impl_;
+  m.grid = &grid;
+  m.options = check;
+  m.cellBricks = grid.brickDims() + 1;
+  m.vs = grid.voxelSizeMm();
+  m.bricks.resize(std::size_t(m.cellBricks.x) * std::size_t(m.cellBricks.y) *
+                  std::size_t(m.cellBricks.z));
+  // Everything is new: extract every cell brick, then smooth all vertices.
+  std::vector<std::size_t> all(grid.brickCount());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  update(all);
+}
+
+SurfaceUpdater::~SurfaceUpdater() = default;
+
+SurfaceUpdater::UpdateStats SurfaceUpdater::update(
+    const std::vector<std::size_t>& changedGridBricks) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  UpdateStats stats;
+  // Cells read voxels of their own grid brick and of the next one up on each axis, so a
+  // changed brick G concerns cell bricks G - d, d in {0, 1}^3.
+  std::vector<glm::ivec3> cells;
+  std::vector<std::uint8_t> seen(m.bricks.size(), 0);
+  for (const std::size_t g : changedGridBricks) {
+    const glm::ivec3 gb = m.grid->brickCoord(g);
+    for (int d = 0; d < 8; ++d) {
+      const glm::ivec3 cb = gb - glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+      if (!m.validBrick(cb) || seen[m.brickIndex(cb)]) continue;
+      seen[m.brickIndex(cb)] = 1;
+      cells.push_back(cb);
+    }
+  }
+  std::sort(cells.begin(), cells.end(), [&](const glm::ivec3& a, const glm::ivec3& b) {
+    return m.brickIndex(a) < m.brickIndex(b);
+  });
+  std::vector<std::uint32_t> touched;
+  // Edges first (triangles refer to vertices of neighbouring bricks), then triangles.
+  for (const glm::ivec3& cb : cells) m.rebuildEdges(cb, touched);
+  for (const glm::ivec3& cb : cells) m.rebuildTriangles(cb, touched);
+  // A cell brick with no surface left gives its memory back.
+  for (const glm::ivec3& cb : cells) {
+    std::unique_ptr<Impl::CellBrick>& b = m.bricks[m.brickIndex(cb)];
+    if (b && b->triangles.empty() &&
+        std::all_of(b->owned.begin(), b->owned.end(),
+                    [](std::uint32_t s) { return s == kNoVertex; })) {
+      b.reset();
+    }
+  }
+  m.freeSlots.insert(m.freeSlots.end(), m.pendingFree.begin(), m.pendingFree.end());
+  m.pendingFree.clear();
+  stats.cellBricks = cells.size();
+  stats.verticesTouched = touched.size();
+  const auto smoothStart = Clock::now();
+  stats.extractMs = std::chrono::duration<double, std::milli>(smoothStart - start).count();
+  stats.verticesSmoothed = m.resmooth(touched);
+  stats.smoothMs =
+      msSince(smoothStart);
+  stats.ms =
+      msSince(start);
+  return stats;
+}
+
+SurfaceMesh SurfaceUpdater::mesh() const {
+  const Impl& m = *impl_;
+  SurfaceMesh out;
+  std::vector<std::uint32_t> index(m.info.size(), kNoVertex);
+  for (std::size_t s = 0; s < m.info.size(); ++s) {
+    if (!m.alive[s]) continue;
+    index[s] = std::uint32_t(out.positionsMm.size());
+    out.positionsMm.push_back(m.position[s]);
+    out.normals.push_back(m.normal[s]);
+  }
+  for (std::size_t bi = 0; bi < m.bricks.size(); ++bi) {
+    const Impl::CellBrick* b = m.bricks[bi].get();
+    if (!b || b->triangles.empty()) continue;
+    const auto first = std::uint32_t(out.triangles.size());
+    for (const glm::u32vec3& t : b->triangles)
+      out.triangles.push_back({index[t.x], index[t.y], index[t.z]});
+    const glm::ivec3 cb(int(bi % std::size_t(m.cellBricks.x)) - 1,
+                        int(bi / std::size_t(m.cellBricks.x) % std::size_t(m.cellBricks.y)) - 1,
+                        int(bi / (std::size_t(m.cellBricks.x) * std::size_t(m.cellBricks.y))) - 1);
+    out.brickRanges.push_back({std::int64_t(bi), cb, first, std::uint32_t(b->triangles.size())});
+  }
+  return out;
+}
+
+std::string SurfaceUpdater::validate() const {
+  const Impl& m = *impl_;
+  for (std::size_t bi = 0; bi < m.bricks.size(); ++bi) {
+    const Impl::CellBrick* b = m.bricks[bi].get();
+    if (!b) continue;
+    for (std::size_t k = 0; k < b->triangles.size(); ++k) {
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t v = b->triangles[k][c];
+        if (v >= m.alive.size() || !m.alive[v]) {
+          return "cell brick " + std::to_string(bi) + " triangle " + std::to_string(k) +
+                 " uses freed vertex slot " + std::to_string(v);
+        }
+      }
+    }
+    for (std::uint32_t v : b->owned) {
+      if (v != kNoVertex && !m.alive[v])
+        return "cell brick " + std::to_string(bi) + " owns a freed slot";
+    }
+  }
+  return "";
+}
+
+std::size_t SurfaceUpdater::vertexCount() const {
+  return std::size_t(std::count(impl_->alive.begin(), impl_->alive.end(), 1));
+}
+
+std::size_t SurfaceUpdater::triangleCount() const {
+  std::size_t n = 0;
+  for (const auto& b : impl_->bricks) n += b ? b->triangles.size() : 0;
+  return n;
+}
+
+}  // namespace osteon::geometry

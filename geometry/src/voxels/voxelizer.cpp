@@ -1,0 +1,372 @@
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/core/constants.h"
+#include "osteon/core/timing.h"
+
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/units.h"
+#include "column_ray.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace osteon::geometry {
+
+// Brick edge in voxels.
+
+namespace {
+
+
+std::string numberText(double value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+// One axis of ray projection: fills `out` (fill only) and marks columns where no ray could
+// be classified (robust mode abstains there).
+struct AxisPass {
+  const EmbreeScene* scene;
+  const VoxelGrid* layout;
+  int axis;
+  int raysPerAxis;
+  bool abstain;              // robust: unresolved rays do not vote
+  int outwardSign;           // +1 outward mesh, -1 inward, 0 when orientation is unknown
+  VoxelGrid* out;
+  std::vector<std::uint8_t>* columnKnown;  // (u, v) bitmap, u fastest
+  std::atomic<std::uint64_t> raysCast{0}, raysRetried{0}, raysUnresolved{0}, raysWinding{0};
+  std::atomic<std::uint64_t> abstainedColumns{0};
+};
+
+void runAxisPass(AxisPass& pass) {
+  const int a = pass.axis;
+  const int u = (a + 1) % 3;
+  const int v = (a + 2) % 3;
+  const VoxelGrid& grid = *pass.layout;
+  const glm::ivec3 dims = grid.dims();
+  const glm::ivec3 brickDims = grid.brickDims();
+  const double vs = grid.voxelSizeMm();
+  const glm::dvec3 origin = grid.originMm();
+  const int R = pass.raysPerAxis;
+  const double rayStart = origin[a] - vs;             // one voxel outside the grid
+  const double rayLength = (dims[a] + 2) * vs;
+  const std::size_t brickColumns = std::size_t(brickDims[u]) * std::size_t(brickDims[v]);
+
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, brickColumns),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<detail::Interval> intervals;
+    std::vector<float> acc(static_cast<std::size_t>(dims[a]));
+    std::vector<Fill> column(std::size_t(kBrickEdge * kBrickEdge) * std::size_t(dims[a]), 0);
+    std::uint64_t cast = 0, retried = 0, unresolved = 0, winding = 0, abstained = 0;
+    // Coincident hits: far below a voxel, and no more than 0.1 um on any grid.
+    detail::ColumnRay ray(*pass.scene, a, pass.outwardSign, rayStart, rayLength,
+                          std::min(1e-4, 1e-3 * vs));
+
+    for (std::size_t bcol = range.begin(); bcol != range.end(); ++bcol) {
+      const int bu = int(bcol % std::size_t(brickDims[u]));
+      const int bv = int(bcol / std::size_t(brickDims[u]));
+      std::fill(column.begin(), column.end(), Fill(0));
+      for (int lv = 0; lv < kBrickEdge; ++lv) {
+        const int iv = bv * kBrickEdge + lv;
+        if (iv >= dims[v]) break;
+        for (int lu = 0; lu < kBrickEdge; ++lu) {
+          const int iu = bu * kBrickEdge + lu;
+          if (iu >= dims[u]) break;
+          std::fill(acc.begin(), acc.end(), 0.f);
+          int votes = 0;
+          for (int sv = 0; sv < R; ++sv) {
+            for (int su = 0; su < R; ++su) {
+              // Stratified samples, nudged off rational positions so rays do not run
+              // exactly along the edges and faces of axis-aligned meshes.
+              const double fu = (su + 0.5 + 0.0061803) / R;
+              const double fv = (sv + 0.5 + 0.0041421) / R;
+              int attempts = 0;
+              const detail::RayOutcome outcome =
+                  ray.cast(origin[u] + (iu + fu) * vs, origin[v] + (iv + fv) * vs, 2e-3 * vs / R,
+                           intervals, attempts);
+              ++cast;
+              retried += std::uint64_t(attempts - 1);
+              if (outcome == detail::RayOutcome::Winding) ++winding;
+              if (outcome == detail::RayOutcome::Unresolved) {
+                ++unresolved;
+                if (pass.abstain) continue;
+                detail::pairByParity(ray.hits(), intervals);  // best effort: drop the odd hit out
+              }
+              ++votes;
+              // Exact overlap of each inside interval with the voxels of the column.
+              for (const detail::Interval& iv01 : intervals) {
+                const double s0 = std::max(0.0, (iv01.t0 - vs) / vs);
+                const double s1 = std::min(double(dims[a]), (iv01.t1 - vs) / vs);
+                if (s1 <= s0) continue;
+                const int k0 = int(s0);
+                const int k1 = std::min(int(s1), dims[a] - 1);
+                for (int k = k0; k <= k1; ++k) {
+                  const double overlap = std::min(s1, k + 1.0) - std::max(s0, double(k));
+                  if (overlap > 0.0) acc[std::size_t(k)] += float(overlap);
+                }
+              }
+            }
+          }
+          const std::size_t colIndex = std::size_t(lu + kBrickEdge * lv);
+          if (votes == 0) {
+            ++abstained;
+            continue;  // column stays unknown
+          }
+          (*pass.columnKnown)[std::size_t(iu) + std::size_t(dims[u]) * std::size_t(iv)] = 1;
+          Fill* dst = column.data() + colIndex * std::size_t(dims[a]);
+          // Fill in 1/255 steps (what 4 x 4 rays resolve), stored in fill units.
+          const float scale = float(kFillSteps) / float(votes);
+          for (int k = 0; k < dims[a]; ++k) {
+            const long steps = std::clamp(std::lround(acc[std::size_t(k)] * scale), 0L, long(kFillSteps));
+            dst[k] = Fill(steps * kFillPerStep);
+          }
+        }
+      }
+      // Store the column of bricks: uniform where every voxel agrees, arrays otherwise.
+      for (int ba = 0; ba < brickDims[a]; ++ba) {
+        glm::ivec3 bc;
+        bc[a] = ba;
+        bc[u] = bu;
+        bc[v] = bv;
+        const std::size_t brick = grid.brickIndex(bc);
+        const glm::ivec3 lo = bc * kBrickEdge;
+        const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
+        const auto valueAt = [&](const glm::ivec3& ijk) {
+          const std::size_t colIndex = std::size_t((ijk[u] - lo[u]) + kBrickEdge * (ijk[v] - lo[v]));
+          return column[colIndex * std::size_t(dims[a]) + std::size_t(ijk[a])];
+        };
+        const Fill first = valueAt(lo);
+        bool uniform = true;
+        for (int z = lo.z; z < hi.z && uniform; ++z)
+          for (int y = lo.y; y < hi.y && uniform; ++y)
+            for (int x = lo.x; x < hi.x && uniform; ++x) uniform = valueAt({x, y, z}) == first;
+        if (uniform) {
+          pass.out->setBrickUniform(brick, first, 0);
+          continue;
+        }
+        VoxelGrid::Brick& b = pass.out->materialiseBrick(brick);
+        for (int z = lo.z; z < hi.z; ++z)
+          for (int y = lo.y; y < hi.y; ++y)
+            for (int x = lo.x; x < hi.x; ++x)
+              b.fill[std::size_t(VoxelGrid::voxelInBrick(glm::ivec3(x, y, z) - lo))] =
+                  valueAt({x, y, z});
+      }
+    }
+    pass.raysCast += cast;
+    pass.raysRetried += retried;
+    pass.raysUnresolved += unresolved;
+    pass.raysWinding += winding;
+    pass.abstainedColumns += abstained;
+  });
+}
+
+}  // namespace
+
+namespace {
+
+Fill median3(Fill a, Fill b, Fill c) {
+  return std::max(std::min(a, b), std::min(std::max(a, b), c));
+}
+
+// Robust mode: each voxel takes the median of the axes that could see it (the mean of two,
+// or the single one), and voxels whose votes differ by more than half a voxel are counted.
+std::uint64_t combineAxes(const VoxelGrid (&axes)[3],
+                          const std::vector<std::uint8_t> (&known)[3], VoxelGrid& out) {
+  const glm::ivec3 dims = out.dims();
+  std::atomic<std::uint64_t> disagreeing{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.brickCount()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    std::uint64_t localDisagree = 0;
+    for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
+      const glm::ivec3 lo = out.brickCoord(brick) * kBrickEdge;
+      const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
+      Fill values[VoxelGrid::kBrickVoxels] = {};
+      bool uniform = true;
+      for (int z = lo.z; z < hi.z; ++z)
+        for (int y = lo.y; y < hi.y; ++y)
+          for (int x = lo.x; x < hi.x; ++x) {
+            const glm::ivec3 ijk(x, y, z);
+            Fill vote[3];
+            int n = 0;
+            for (int a = 0; a < 3; ++a) {
+              const int u = (a + 1) % 3;
+              const int v = (a + 2) % 3;
+              if (known[a][std::size_t(ijk[u]) + std::size_t(dims[u]) * std::size_t(ijk[v])]) {
+                vote[n++] = axes[a].fill(ijk);
+              }
+            }
+            Fill value = 0;
+            if (n == 3) value = median3(vote[0], vote[1], vote[2]);
+            if (n == 2) {  // mean of two, kept on the 1/255 steps
+              value = Fill((int(vote[0] / kFillPerStep) + int(vote[1] / kFillPerStep) + 1) / 2 *
+                           kFillPerStep);
+            }
+            if (n == 1) value = vote[0];
+            if (n >= 2) {
+              const Fill lowest = *std::min_element(vote, vote + n);
+              const Fill highest = *std::max_element(vote, vote + n);
+              if (highest - lowest > kFillHalf) ++localDisagree;
+            }
+            const int local = VoxelGrid::voxelInBrick(ijk - lo);
+            values[local] = value;
+            if (value != values[VoxelGrid::voxelInBrick({0, 0, 0})]) uniform = false;
+          }
+      if (uniform) {
+        out.setBrickUniform(brick, values[0], 0);
+      } else {
+        VoxelGrid::Brick& b = out.materialiseBrick(brick);
+        std::copy(std::begin(values), std::end(values), b.fill.begin());
+      }
+    }
+    disagreeing += localDisagree;
+  });
+  return disagreeing.load();
+}
+
+// "<mesh>: a 1 x 2 x 3 mm mesh at <voxel> mm voxels": the start of every size complaint.
+std::string meshAtVoxelSize(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+  const glm::dvec3 e = bounds(mesh).extentMm();
+  std::ostringstream s;
+  s << (options.meshName.empty() ? std::string("mesh") : options.meshName) << ": a " << e.x << " x "
+    << e.y << " x " << e.z << " mm mesh at " << (options.voxelSizeGiven ? "--voxel-size " : "voxels of ")
+    << options.voxelSizeMm << " mm";
+  return s.str();
+}
+
+std::string adviceFor(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+  const glm::dvec3 e = bounds(mesh).extentMm();
+  const std::string advice = unitsAdvice(std::max({e.x, e.y, e.z}), options.loadScaleToMm);
+  return advice.empty() ? "" : "; " + advice;
+}
+
+// Before any ray is cast: a voxel larger than the whole mesh cannot sample it (and huge
+// coordinates along the rays would leave Embree's valid range), and a grid past the voxel
+// limit cannot be held.
+void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+  const double vs = options.voxelSizeMm;
+  if (!std::isfinite(vs) || vs <= 0.0) return;  // makeGridFor names the value
+  const glm::dvec3 e = bounds(mesh).extentMm();
+  const double largest = std::max({e.x, e.y, e.z});
+  if (vs > largest) {
+    throw InputError(meshAtVoxelSize(mesh, options) + ": the voxel is larger than the mesh (a voxel size below " +
+                     numberText(largest) + " mm is needed)" + adviceFor(mesh, options));
+  }
+  const glm::dvec3 cells = glm::ceil(e / vs) + 3.0;
+  const double voxels = cells.x * cells.y * cells.z;
+  if (!(voxels <= double(VoxelGrid::kMaxVoxels))) {
+    std::ostringstream s;
+    s << meshAtVoxelSize(mesh, options) << " would need " << voxels << " voxels (limit 2^32)"
+      << adviceFor(mesh, options);
+    if (options.voxelSizeGiven) s << "; use a larger --voxel-size";
+    throw InputError(s.str());
+  }
+}
+
+}  // namespace
+
+VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingVoxels) {
+  if (!std::isfinite(voxelSizeMm) || voxelSizeMm <= 0.0) {
+    throw InputError("--voxel-size " + numberText(voxelSizeMm) +
+                     ": must be a positive finite number of millimetres");
+  }
+  if (paddingVoxels < 1) throw InputError("padding: at least one voxel is needed");
+  const Aabb box = bounds(mesh);
+  // Voxel faces lie on the world lattice of this voxel size (multiples of it from the mesh's
+  // own origin), so grids of sizes VS and VS / 2^k nest: a refined voxel's sub-voxels are the
+  // finer grid's voxels, and forces at one sample size sample the same points in static and
+  // dynamic mode, whatever the bounding box.
+  const glm::dvec3 first = glm::floor(box.minMm / voxelSizeMm) - double(paddingVoxels);
+  const glm::dvec3 cells = glm::ceil(box.maxMm / voxelSizeMm) + double(paddingVoxels) - first;
+  const double voxels = cells.x * cells.y * cells.z;
+  const glm::dvec3 bricks = glm::ceil(cells / double(VoxelGrid::kBrickSize));
+  const double brickVoxels = bricks.x * bricks.y * bricks.z * VoxelGrid::kBrickVoxels;
+  if (!(voxels <= double(VoxelGrid::kMaxVoxels)) ||
+      !(brickVoxels <= double(VoxelGrid::kMaxVoxels))) {
+    std::ostringstream s;
+    s << "--voxel-size " << voxelSizeMm << ": a " << box.extentMm().x << " x "
+      << box.extentMm().y << " x " << box.extentMm().z << " mm mesh would need " << voxels
+      << " voxels (limit 2^32); use a larger voxel size";
+    throw InputError(s.str());
+  }
+  const glm::ivec3 dims(cells);
+  return VoxelGrid(dims, first * voxelSizeMm, voxelSizeMm);
+}
+
+VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
+                   VoxelizeStats* stats) {
+  const Clock::time_point start = Clock::now();
+  if (options.raysPerAxis < 1 || options.raysPerAxis > 16) {
+    throw InputError("--rays " + std::to_string(options.raysPerAxis) +
+                     ": rays per column axis must be 1..16");
+  }
+  validateDensityRule(options.density);
+  checkVoxelSizeFits(mesh, options);
+  VoxelGrid grid = makeGridFor(mesh, options.voxelSizeMm, options.paddingVoxels);
+  VoxelizeStats local;
+
+  const int outwardSign = detail::outwardSignOf(mesh);
+  local.orientedMesh = outwardSign != 0;
+
+  Clock::time_point phase = Clock::now();
+  const EmbreeScene scene(mesh);
+  local.bvhMs = msSince(phase);
+
+  phase = Clock::now();
+  const glm::ivec3 dims = grid.dims();
+  const auto runAxis = [&](int axis, VoxelGrid& target, std::vector<std::uint8_t>& known) {
+    const int u = (axis + 1) % 3;
+    const int v = (axis + 2) % 3;
+    known.assign(std::size_t(dims[u]) * std::size_t(dims[v]), 0);
+    AxisPass pass;
+    pass.scene = &scene;
+    pass.layout = &grid;
+    pass.axis = axis;
+    pass.raysPerAxis = options.raysPerAxis;
+    pass.abstain = options.robust;
+    pass.outwardSign = outwardSign;
+    pass.out = &target;
+    pass.columnKnown = &known;
+    runAxisPass(pass);
+    local.raysCast += pass.raysCast;
+    local.raysRetried += pass.raysRetried;
+    local.raysUnresolved += pass.raysUnresolved;
+    local.raysWinding += pass.raysWinding;
+    local.abstainedColumns += pass.abstainedColumns;
+  };
+
+  if (!options.robust) {
+    std::vector<std::uint8_t> known;
+    runAxis(2, grid, known);  // columns along z, as the seed projects
+    local.raysMs = msSince(phase);
+  } else {
+    VoxelGrid axes[3] = {VoxelGrid(dims, grid.originMm(), grid.voxelSizeMm()),
+                         VoxelGrid(dims, grid.originMm(), grid.voxelSizeMm()),
+                         VoxelGrid(dims, grid.originMm(), grid.voxelSizeMm())};
+    std::vector<std::uint8_t> known[3];
+    for (int a = 0; a < 3; ++a) runAxis(a, axes[a], known[a]);
+    local.raysMs = msSince(phase);
+    phase = Clock::now();
+    local.disagreeingVoxels = combineAxes(axes, known, grid);
+    local.combineMs = msSince(phase);
+  }
+  if (options.requireInside && grid.countVoxels(kFillHalf) == 0) {
+    throw InputError(meshAtVoxelSize(mesh, options) + " has no voxel inside it (an open, flat or "
+                     "inside-out mesh, or voxels too coarse for it)" + adviceFor(mesh, options));
+  }
+
+  phase = Clock::now();
+  local.density = assignDensity(grid, scene, options.density);
+  local.densityMs = msSince(phase);
+  grid.clearDirty();  // a fresh volume has no pending surface updates
+  local.totalMs = msSince(start);
+  if (stats) *stats = local;
+  return grid;
+}
+
+}  // namespace osteon::geometry

@@ -1,0 +1,799 @@
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/validation/mesh_checks.h"
+#include "support/shapes.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace osteon::geometry {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+SurfaceOptions smoothing(int passes, bool taubin = false) {
+  SurfaceOptions o;
+  o.smoothIterations = passes;
+  o.taubin = taubin;
+  return o;
+}
+
+// The smoothing settings every watertightness check runs: none, the seed's 2 passes, many
+// passes, and Taubin (whose negative steps push vertices the other way).
+const std::vector<std::pair<std::string, SurfaceOptions>>& smoothingVariants() {
+  static const std::vector<std::pair<std::string, SurfaceOptions>> variants = {
+      {"0 passes", smoothing(0)},
+      {"2 passes", smoothing(2)},
+      {"10 passes", smoothing(10)},
+      {"Taubin 10 passes", smoothing(10, true)}};
+  return variants;
+}
+
+// Everything wrong with a surface that should be a closed, oriented 2-manifold enclosing a
+// positive volume, in one line ("" when nothing). `cgal` adds the exact self-intersection
+// test (it also reports collinear triangles as pairs).
+std::string surfaceProblems(const SurfaceMesh& s, bool cgal = true) {
+  std::ostringstream out;
+  for (const glm::u32vec3& t : s.triangles) {
+    if (t.x >= s.vertexCount() || t.y >= s.vertexCount() || t.z >= s.vertexCount()) {
+      out << " index out of range;";
+      return out.str();
+    }
+  }
+  for (const glm::dvec3& p : s.positionsMm) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      out << " non-finite position;";
+      break;
+    }
+  }
+  const TriangleMesh mesh = s.toTriangleMesh();
+  const MeshTopology topo = analyzeTopology(mesh);
+  if (topo.borderEdges) out << " borderEdges " << topo.borderEdges << ";";
+  if (topo.nonManifoldEdges) out << " nonManifoldEdges " << topo.nonManifoldEdges << ";";
+  if (topo.nonManifoldVertices) out << " nonManifoldVertices " << topo.nonManifoldVertices << ";";
+  if (topo.misorientedEdges) out << " misorientedEdges " << topo.misorientedEdges << ";";
+  if (topo.degenerateTriangles) out << " degenerateTriangles " << topo.degenerateTriangles << ";";
+  if (s.triangleCount() > 0) {
+    const double volume = signedVolumeMm3(mesh);
+    if (!(volume > 0.0)) out << " signed volume " << volume << ";";
+  }
+  if (cgal) {
+    const std::size_t pairs = validation::selfIntersectingPairs(mesh, 10);
+    if (pairs) out << " CGAL self-intersecting pairs " << pairs << ";";
+  }
+  return out.str();
+}
+
+// Runs every smoothing variant on the grid and returns the failures, one line each.
+std::vector<std::string> watertightFailures(const VoxelGrid& grid, const std::string& what) {
+  std::vector<std::string> failures;
+  for (const auto& [name, options] : smoothingVariants()) {
+    const SurfaceMesh s = extractSurface(grid, options);
+    const std::string problems = surfaceProblems(s);
+    if (!problems.empty()) failures.push_back(what + ", " + name + ":" + problems);
+  }
+  return failures;
+}
+
+std::string joinFirst(const std::vector<std::string>& lines, std::size_t n = 12) {
+  std::string out;
+  for (std::size_t i = 0; i < std::min(n, lines.size()); ++i) out += "\n  " + lines[i];
+  if (lines.size() > n) out += "\n  ... " + std::to_string(lines.size() - n) + " more";
+  return out;
+}
+
+MeshTopology topologyOf(const SurfaceMesh& s) { return analyzeTopology(s.toTriangleMesh()); }
+
+VoxelGrid emptyGrid(glm::ivec3 dims, double voxelSizeMm = 1.0) {
+  return VoxelGrid(dims, glm::dvec3(0.0), voxelSizeMm);
+}
+
+void setFull(VoxelGrid& g, const glm::ivec3& v) { g.set(v, kFillFull, 1); }
+
+// Fill values for the single-cube cases: plain full/empty (vertices at mid-edge), random on
+// each side of the iso level, and the extremes next to it (kFillHalf - 1, kFillHalf) mixed with
+// 0 and full, which drive vertices into the clamp margin at either end of their edge.
+enum class CornerFills { Binary, Random, Extreme };
+
+Fill cornerFill(bool inside, CornerFills mode, std::mt19937& rng) {
+  switch (mode) {
+    case CornerFills::Binary:
+      return inside ? kFillFull : Fill(0);
+    case CornerFills::Random:
+      return inside ? Fill(std::uniform_int_distribution<int>(kFillHalf, kFillFull)(rng))
+                    : Fill(std::uniform_int_distribution<int>(0, kFillHalf - 1)(rng));
+    case CornerFills::Extreme: {
+      const bool far = std::uniform_int_distribution<int>(0, 1)(rng) == 1;
+      return inside ? (far ? kFillFull : kFillHalf) : (far ? Fill(0) : Fill(kFillHalf - 1));
+    }
+  }
+  return 0;
+}
+
+// A 4^3 grid whose central 2x2x2 voxels are the corners of one cube, corner c at (1, 1, 1) +
+// (c & 1, c >> 1 & 1, c >> 2 & 1) inside when bit c of `config` is set; the other voxels are
+// `background` (empty, or full so the cube sits in a cavity's wall).
+VoxelGrid singleCubeGrid(int config, Fill background, CornerFills mode, std::mt19937& rng) {
+  VoxelGrid g = emptyGrid({4, 4, 4});
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) g.set({x, y, z}, background, 1);
+  for (int c = 0; c < 8; ++c) {
+    const glm::ivec3 v(1 + (c & 1), 1 + ((c >> 1) & 1), 1 + ((c >> 2) & 1));
+    g.set(v, cornerFill(((config >> c) & 1) != 0, mode, rng), 1);
+  }
+  return g;
+}
+
+VoxelGrid voxelizeAt(const TriangleMesh& mesh, double voxelSizeMm) {
+  VoxelizeOptions options;
+  options.voxelSizeMm = voxelSizeMm;
+  return voxelize(mesh, options);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks themselves: they must see what they are meant to see.
+
+TriangleMesh tetrahedron(glm::dvec3 o, double size) {
+  return {{o, o + glm::dvec3(size, 0, 0), o + glm::dvec3(0, size, 0), o + glm::dvec3(0, 0, size)},
+          {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
+}
+
+TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
+  TriangleMesh m = a;
+  const auto offset = std::uint32_t(a.vertexCount());
+  m.positionsMm.insert(m.positionsMm.end(), b.positionsMm.begin(), b.positionsMm.end());
+  for (const glm::u32vec3& t : b.triangles) m.triangles.push_back(t + offset);
+  return m;
+}
+
+TEST(SurfaceChecks, CgalFindsCrossingsInPolygonMeshes) {
+  const TriangleMesh one = tetrahedron(glm::dvec3(0.0), 1.0);
+  EXPECT_EQ(validation::selfIntersectingPairs(one), 0u);
+  EXPECT_FALSE(validation::doesSelfIntersect(one));
+  // Two closed tetrahedra overlapping: a polygon mesh of two components.
+  const TriangleMesh crossing = merged(one, tetrahedron(glm::dvec3(0.3), 1.0));
+  EXPECT_GT(validation::selfIntersectingPairs(crossing), 0u);
+  EXPECT_EQ(validation::selfIntersectingPairs(crossing, 1), 1u);
+  EXPECT_TRUE(validation::doesSelfIntersect(crossing));
+  // Disjoint: none.
+  EXPECT_FALSE(validation::doesSelfIntersect(merged(one, tetrahedron(glm::dvec3(2.0), 1.0))));
+  // A face folded onto its neighbour across their shared edge.
+  const TriangleMesh fold{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {1, 0, 3}}};
+  EXPECT_EQ(validation::selfIntersectingPairs(fold), 1u);
+}
+
+// Soups that are no polygon mesh (pinched vertex, edge used twice the same way) take the
+// pairwise fallback, which must neither miss crossings nor count shared vertices and edges.
+TEST(SurfaceChecks, CgalFallbackHandlesSoupsThatAreNoPolygonMesh) {
+  TriangleMesh pinched = tetrahedron(glm::dvec3(0.0), 1.0);
+  pinched.positionsMm.insert(pinched.positionsMm.end(), {{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}});
+  pinched.triangles.insert(pinched.triangles.end(), {{0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}});
+  ASSERT_EQ(analyzeTopology(pinched).nonManifoldVertices, 1u);
+  EXPECT_EQ(validation::selfIntersectingPairs(pinched), 0u);  // they touch at vertex 0 only
+  EXPECT_FALSE(validation::doesSelfIntersect(pinched));
+
+  TriangleMesh piercing = tetrahedron(glm::dvec3(0.0), 1.0);  // shares vertex 0, crosses face 123
+  piercing.positionsMm.insert(piercing.positionsMm.end(), {{2, 0.1, 0.1}, {0.1, 2, 0.1}, {0.1, 0.1, 2}});
+  piercing.triangles.insert(piercing.triangles.end(), {{0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}});
+  EXPECT_GT(validation::selfIntersectingPairs(piercing), 0u);
+  EXPECT_TRUE(validation::doesSelfIntersect(piercing));
+
+  // Edge 0 -> 1 used twice in the same direction; overlapping, then not.
+  const TriangleMesh folded{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
+  EXPECT_EQ(validation::selfIntersectingPairs(folded), 1u);
+  const TriangleMesh flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, -0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
+  EXPECT_EQ(validation::selfIntersectingPairs(flat), 0u);
+  // Sharing vertex 0 at an angle without crossing.
+  const TriangleMesh fan{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0.2, 0.3}},
+                         {{0, 1, 2}, {0, 3, 4}, {0, 1, 3}, {0, 1, 4}}};
+  EXPECT_EQ(validation::selfIntersectingPairs(fan), 0u);
+}
+
+TEST(SurfaceChecks, ProblemListCatchesBrokenSurfaces) {
+  VoxelGrid g = emptyGrid({4, 4, 4});
+  setFull(g, {1, 1, 1});
+  setFull(g, {2, 1, 1});
+  const SurfaceMesh good = extractSurface(g);
+  ASSERT_EQ(surfaceProblems(good), "");
+  SurfaceMesh holed = good;
+  holed.triangles.pop_back();
+  EXPECT_NE(surfaceProblems(holed).find("borderEdges"), std::string::npos);
+  SurfaceMesh flipped = good;
+  std::swap(flipped.triangles[0].y, flipped.triangles[0].z);
+  EXPECT_NE(surfaceProblems(flipped).find("misorientedEdges"), std::string::npos);
+  SurfaceMesh inverted = good;
+  for (glm::u32vec3& t : inverted.triangles) std::swap(t.y, t.z);
+  EXPECT_NE(surfaceProblems(inverted).find("signed volume"), std::string::npos);
+  SurfaceMesh dented = good;  // one vertex pushed through the opposite side
+  const glm::dvec3 c = g.voxelCentreMm({1, 1, 1});
+  dented.positionsMm[0] = c + 3.0 * (c - dented.positionsMm[0]);
+  EXPECT_NE(surfaceProblems(dented).find("CGAL"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The 256 cases, exhaustively.
+
+TEST(SurfaceCases, All256SingleCubeConfigurationsAreWatertightWithAndWithoutSmoothing) {
+  std::vector<std::string> failures;
+  int nonEmpty = 0;
+  for (const Fill background : {Fill(0), kFillFull}) {
+    for (const CornerFills mode : {CornerFills::Binary, CornerFills::Random, CornerFills::Extreme}) {
+      for (int config = 0; config < 256; ++config) {
+        std::mt19937 rng(std::uint32_t(1000 + config));  // fixed seed per case
+        const VoxelGrid g = singleCubeGrid(config, background, mode, rng);
+        std::ostringstream what;
+        what << "config " << config << " background " << background << " fills "
+             << (mode == CornerFills::Binary ? "binary" : mode == CornerFills::Random ? "random" : "extreme");
+        const auto f = watertightFailures(g, what.str());
+        failures.insert(failures.end(), f.begin(), f.end());
+        if (extractSurface(g, smoothing(0)).triangleCount() > 0) ++nonEmpty;
+      }
+    }
+  }
+  // Only the empty cube in an empty grid has no surface (3 fill modes).
+  EXPECT_EQ(nonEmpty, 2 * 3 * 256 - 3);
+  EXPECT_TRUE(failures.empty()) << failures.size() << " failures:" << joinFirst(failures);
+}
+
+// A cube alone in an empty grid: its surface is the boundary of the configuration's inside
+// corners, so the component count is the number of groups of inside corners joined through
+// cube edges or face diagonals (ambiguous faces keep inside corners joined); corners that
+// only share the body diagonal stay apart.
+TEST(SurfaceCases, ComponentsFollowEdgeAndFaceDiagonalConnectivityOfInsideCorners) {
+  std::vector<std::string> failures;
+  for (int config = 1; config < 256; ++config) {
+    int parent[8];
+    for (int c = 0; c < 8; ++c) parent[c] = c;
+    const auto find = [&parent](int c) {
+      while (parent[c] != c) c = parent[c];
+      return c;
+    };
+    for (int a = 0; a < 8; ++a)
+      for (int b = a + 1; b < 8; ++b) {
+        const bool bothInside = ((config >> a) & 1) && ((config >> b) & 1);
+        if (bothInside && (a ^ b) != 7) parent[find(a)] = find(b);  // all pairs but body diagonals
+      }
+    int expected = 0;
+    for (int c = 0; c < 8; ++c) {
+      if (((config >> c) & 1) && find(c) == c) ++expected;
+    }
+    std::mt19937 rng(7u);
+    const SurfaceMesh s = extractSurface(singleCubeGrid(config, 0, CornerFills::Binary, rng));
+    const MeshTopology topo = topologyOf(s);
+    if (int(topo.components) != expected || topo.eulerCharacteristic != 2 * expected) {
+      failures.push_back("config " + std::to_string(config) + ": components " +
+                         std::to_string(topo.components) + " chi " +
+                         std::to_string(topo.eulerCharacteristic) + ", expected " +
+                         std::to_string(expected) + " spheres");
+    }
+  }
+  EXPECT_TRUE(failures.empty()) << joinFirst(failures);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hard volumes: noise, checkerboards, single voxels, thin walls, tunnels.
+
+TEST(SurfaceHardVolumes, RandomNoiseIsWatertightAfterEverySmoothing) {
+  std::vector<std::string> failures;
+  // Sizes and seeds kept small: CGAL's check dominates the run time.
+  for (const auto& [n, seeds] : {std::pair<int, int>{12, 3}, {16, 2}, {20, 1}}) {
+    for (std::uint32_t seed = 1; seed <= std::uint32_t(seeds); ++seed) {
+      std::mt19937 rng(seed * 7919u + std::uint32_t(n));
+      VoxelGrid g = emptyGrid({n, n, n}, 0.7);
+      std::uniform_int_distribution<int> fill(0, kFillFull);
+      for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) g.set({x, y, z}, Fill(fill(rng)), 1);
+      const auto f = watertightFailures(g, "noise " + std::to_string(n) + "^3 seed " + std::to_string(seed));
+      failures.insert(failures.end(), f.begin(), f.end());
+    }
+  }
+  EXPECT_TRUE(failures.empty()) << failures.size() << " failures:" << joinFirst(failures);
+}
+
+// Bricks are extracted in parallel; numbering must not depend on the scheduling.
+TEST(SurfaceHardVolumes, ExtractionIsDeterministic) {
+  std::mt19937 rng(99u);
+  const int n = 30;
+  VoxelGrid g = emptyGrid({n, n, n});
+  std::uniform_int_distribution<int> fill(0, kFillFull);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) g.set({x, y, z}, Fill(fill(rng)), 1);
+  const SurfaceMesh a = extractSurface(g);
+  for (int run = 0; run < 3; ++run) {
+    const SurfaceMesh b = extractSurface(g);
+    ASSERT_EQ(a.triangles, b.triangles);
+    ASSERT_EQ(a.positionsMm, b.positionsMm);
+    ASSERT_EQ(a.normals, b.normals);
+    ASSERT_EQ(a.brickRanges.size(), b.brickRanges.size());
+  }
+}
+
+// Outputs grow slab by slab, with room for as much as the thread's last extraction made: the
+// result is the same on one thread or many, after a larger or a smaller extraction, and a
+// small mesh does not keep a large one's room.
+TEST(SurfaceHardVolumes, ExtractionDependsOnNeitherThreadsNorTheLastExtraction) {
+  std::mt19937 rng(7u);
+  const auto noise = [&](int n) {
+    VoxelGrid g = emptyGrid({n, n, n});
+    std::uniform_int_distribution<int> fill(0, kFillFull);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) g.set({x, y, z}, Fill(fill(rng)), 1);
+    return g;
+  };
+  const VoxelGrid large = noise(40), small = noise(9);
+  SurfaceOptions direct;
+  direct.smoothIterations = 0;
+  for (const SurfaceOptions& options : {SurfaceOptions{}, direct}) {
+    const SurfaceMesh smallFirst = extractSurface(small, options);
+    const SurfaceMesh largeMany = extractSurface(large, options);
+    const SurfaceMesh smallAfter = extractSurface(small, options);
+    EXPECT_EQ(smallFirst.triangles, smallAfter.triangles);
+    EXPECT_EQ(smallFirst.positionsMm, smallAfter.positionsMm);
+    EXPECT_LE(smallAfter.positionsMm.capacity(), 2 * smallAfter.positionsMm.size() + 4096);
+    EXPECT_LE(smallAfter.triangles.capacity(), 2 * smallAfter.triangles.size() + 4096);
+    tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
+    const SurfaceMesh largeOne = extractSurface(large, options);
+    EXPECT_EQ(largeMany.triangles, largeOne.triangles);
+    EXPECT_EQ(largeMany.positionsMm, largeOne.positionsMm);
+    EXPECT_EQ(largeMany.brickRanges.size(), largeOne.brickRanges.size());
+  }
+}
+
+// Fills only at the extremes next to the iso level and at 0/full: vertices pile into the
+// clamp margins at both ends of their edges, the hardest case for smoothing.
+TEST(SurfaceHardVolumes, ExtremeNoiseIsWatertightAfterEverySmoothing) {
+  std::vector<std::string> failures;
+  const Fill values[4] = {0, Fill(kFillHalf - 1), kFillHalf, kFillFull};
+  for (const std::uint32_t seed : {11u, 12u}) {
+    std::mt19937 rng(seed);
+    const int n = 14;
+    VoxelGrid g = emptyGrid({n, n, n});
+    std::uniform_int_distribution<int> pick(0, 3);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) g.set({x, y, z}, values[pick(rng)], 1);
+    const auto f = watertightFailures(g, "extreme noise seed " + std::to_string(seed));
+    failures.insert(failures.end(), f.begin(), f.end());
+  }
+  EXPECT_TRUE(failures.empty()) << failures.size() << " failures:" << joinFirst(failures);
+}
+
+TEST(SurfaceHardVolumes, CheckerboardIsWatertightWithACavityPerInteriorEmptyVoxel) {
+  for (const int parity : {0, 1}) {
+    const int n = 10;
+    VoxelGrid g = emptyGrid({n, n, n});
+    int interiorEmpty = 0;
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          if ((x + y + z) % 2 == parity) {
+            setFull(g, {x, y, z});
+          } else if (x > 0 && y > 0 && z > 0 && x < n - 1 && y < n - 1 && z < n - 1) {
+            ++interiorEmpty;
+          }
+        }
+    SCOPED_TRACE("parity " + std::to_string(parity));
+    EXPECT_EQ(joinFirst(watertightFailures(g, "checkerboard")), "");
+    // Ambiguous faces join the full voxels into one solid; each empty voxel not on the grid's
+    // border is sealed in as its own cavity (an octahedron).
+    const MeshTopology topo = topologyOf(extractSurface(g));
+    EXPECT_EQ(topo.components, std::size_t(1 + interiorEmpty));
+    EXPECT_EQ(topo.eulerCharacteristic, 2LL * (1 + interiorEmpty));
+  }
+}
+
+TEST(SurfaceHardVolumes, SingleVoxelIsAnOctahedronAnywhereInTheGrid) {
+  // In the middle, and at a grid corner (its cells are in the border layer outside the grid).
+  for (const glm::ivec3 v : {glm::ivec3(1, 1, 1), glm::ivec3(0, 0, 0), glm::ivec3(2, 0, 2)}) {
+    SCOPED_TRACE("voxel " + std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z));
+    for (const Fill f : {kFillHalf, Fill(12345), kFillFull}) {
+      VoxelGrid g = emptyGrid({3, 3, 3}, 0.5);
+      g.set(v, f, 1);
+      EXPECT_EQ(joinFirst(watertightFailures(g, "fill " + std::to_string(f))), "");
+      const SurfaceMesh s = extractSurface(g, smoothing(0));
+      EXPECT_EQ(s.triangleCount(), 8u);
+      EXPECT_EQ(s.vertexCount(), 6u);
+      EXPECT_EQ(topologyOf(s).eulerCharacteristic, 2);
+      // Each vertex sits on an axis through the voxel centre, at the interpolated distance.
+      const double t = (double(kFillHalf) - 0.5) / double(f);  // from the empty neighbour's centre
+      const double expectedOffset = std::max(1.0 - std::clamp(t, 1e-3, 1.0 - 1e-3), 0.0) * 0.5;
+      const glm::dvec3 centre = g.voxelCentreMm(v);
+      for (const glm::dvec3& p : s.positionsMm) {
+        EXPECT_NEAR(glm::length(p - centre), expectedOffset, 1e-12);
+      }
+    }
+  }
+}
+
+TEST(SurfaceHardVolumes, OneVoxelThinWallsAreWatertight) {
+  const int n = 12;
+  // Axis-aligned wall, with and without a one-voxel hole.
+  for (const bool holed : {false, true}) {
+    VoxelGrid g = emptyGrid({n, n, n});
+    for (int z = 2; z < 10; ++z)
+      for (int y = 2; y < 10; ++y) {
+        if (!(holed && y == 5 && z == 6)) setFull(g, {5, y, z});
+      }
+    SCOPED_TRACE(holed ? "holed wall" : "wall");
+    EXPECT_EQ(joinFirst(watertightFailures(g, "wall")), "");
+    const MeshTopology topo = topologyOf(extractSurface(g));
+    EXPECT_EQ(topo.components, 1u);
+    EXPECT_EQ(topo.eulerCharacteristic, holed ? 0 : 2);
+  }
+  // Diagonal wall: voxels (i, i, z) touch only along edges, so every cell across the wall
+  // has an ambiguous face; the face rule joins them into one slab.
+  {
+    VoxelGrid g = emptyGrid({n, n, n});
+    for (int z = 2; z < 10; ++z)
+      for (int i = 1; i < 11; ++i) setFull(g, {i, i, z});
+    SCOPED_TRACE("diagonal wall");
+    EXPECT_EQ(joinFirst(watertightFailures(g, "diagonal wall")), "");
+    const MeshTopology topo = topologyOf(extractSurface(g));
+    EXPECT_EQ(topo.components, 1u);
+    EXPECT_EQ(topo.eulerCharacteristic, 2);
+  }
+  // Body-diagonal chain: voxels (i, i, i) touch only at corners, which are not joined.
+  {
+    VoxelGrid g = emptyGrid({n, n, n});
+    for (int i = 1; i < 11; ++i) setFull(g, {i, i, i});
+    SCOPED_TRACE("corner chain");
+    EXPECT_EQ(joinFirst(watertightFailures(g, "corner chain")), "");
+    const MeshTopology topo = topologyOf(extractSurface(g));
+    EXPECT_EQ(topo.components, 10u);
+    EXPECT_EQ(topo.eulerCharacteristic, 20);
+  }
+}
+
+TEST(SurfaceHardVolumes, OneVoxelTunnelsAreWatertightAndOpen) {
+  const int n = 12;
+  // A block with a one-voxel straight tunnel along z, and one with a tunnel that turns (an L
+  // through two faces).
+  for (const bool bent : {false, true}) {
+    VoxelGrid g = emptyGrid({n, n, n});
+    for (int z = 2; z < 10; ++z)
+      for (int y = 2; y < 10; ++y)
+        for (int x = 2; x < 10; ++x) setFull(g, {x, y, z});
+    if (!bent) {
+      for (int z = 2; z < 10; ++z) g.set({5, 5, z}, 0, 0);
+    } else {
+      for (int z = 2; z <= 6; ++z) g.set({5, 5, z}, 0, 0);
+      for (int x = 5; x < 10; ++x) g.set({x, 5, 6}, 0, 0);
+    }
+    SCOPED_TRACE(bent ? "bent tunnel" : "straight tunnel");
+    EXPECT_EQ(joinFirst(watertightFailures(g, "tunnel")), "");
+    const MeshTopology topo = topologyOf(extractSurface(g));
+    EXPECT_EQ(topo.components, 1u);
+    EXPECT_EQ(topo.eulerCharacteristic, 0);  // genus 1: the tunnel stays open
+  }
+}
+
+TEST(SurfaceHardVolumes, EmptyAndFullGrids) {
+  const VoxelGrid empty = emptyGrid({9, 9, 9});
+  const SurfaceMesh none = extractSurface(empty);
+  EXPECT_EQ(none.triangleCount(), 0u);
+  EXPECT_EQ(none.vertexCount(), 0u);
+  EXPECT_TRUE(none.brickRanges.empty());
+
+  // A full grid closes at the grid border (outside reads as empty): one box.
+  VoxelGrid full = emptyGrid({9, 9, 9});
+  for (std::size_t b = 0; b < full.brickCount(); ++b) full.setBrickUniform(b, kFillFull, 1);
+  EXPECT_EQ(joinFirst(watertightFailures(full, "full grid")), "");
+  const SurfaceMesh box = extractSurface(full, smoothing(0));
+  EXPECT_EQ(topologyOf(box).eulerCharacteristic, 2);
+  // Faces at a = 1/2 (+ the iso level's 1/2 unit below half full) outside the outer voxel
+  // centres, the 12 edges bevelled (a^2 / 2 per unit length) and the 8 corners cut (5 a^3 / 6).
+  const double a = 1.0 - (double(kFillHalf) - 0.5) / double(kFillFull);
+  const double span = 8.0;  // between the outer voxel centres
+  const double expected = std::pow(span + 2.0 * a, 3) - 12.0 * span * a * a / 2.0 - 8.0 * 5.0 * a * a * a / 6.0;
+  EXPECT_NEAR(signedVolumeMm3(box.toTriangleMesh()) / expected, 1.0, 1e-12);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Topology of real shapes.
+
+TEST(SurfaceTopology, EulerCharacteristicOfSphereTorusAndTwoHolePlate) {
+  const VoxelGrid sphere = voxelizeAt(test::makeSphere(10.0, 128, 64), 1.0);
+  const MeshTopology s = topologyOf(extractSurface(sphere));
+  EXPECT_TRUE(s.closed() && s.manifold() && s.consistentlyOriented());
+  EXPECT_EQ(s.components, 1u);
+  EXPECT_EQ(s.eulerCharacteristic, 2);
+
+  const VoxelGrid torus = voxelizeAt(test::makeTorus(10.0, 4.0, 128, 64), 0.8);
+  const MeshTopology t = topologyOf(extractSurface(torus));
+  EXPECT_TRUE(t.closed() && t.manifold() && t.consistentlyOriented());
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.eulerCharacteristic, 0);
+
+  // A plate 12 x 8 x 3 voxels with two 2 x 2 through-holes: genus 2.
+  VoxelGrid plate = emptyGrid({16, 12, 7});
+  for (int z = 2; z < 5; ++z)
+    for (int y = 2; y < 10; ++y)
+      for (int x = 2; x < 14; ++x) {
+        const bool hole = y >= 5 && y < 7 && ((x >= 4 && x < 6) || (x >= 10 && x < 12));
+        if (!hole) setFull(plate, {x, y, z});
+      }
+  EXPECT_EQ(joinFirst(watertightFailures(plate, "two-hole plate")), "");
+  const MeshTopology p = topologyOf(extractSurface(plate));
+  EXPECT_EQ(p.components, 1u);
+  EXPECT_EQ(p.eulerCharacteristic, -2);
+}
+
+// Smoothing moves vertices only along their own grid edges; check that this really never
+// folds the surface on a real bone and a curved genus-1 shape.
+TEST(SurfaceTopology, SmoothingNeverCreatesSelfIntersectionsOnHumerusAndTorus) {
+  const VoxelGrid humerus = voxelizeAt(buildHumerusModel().mesh, 1.2);
+  const VoxelGrid torus = voxelizeAt(test::makeTorus(10.0, 4.0, 128, 64), 0.6);
+  for (const auto& [name, grid] : {std::pair<std::string, const VoxelGrid*>{"humerus", &humerus},
+                                   std::pair<std::string, const VoxelGrid*>{"torus", &torus}}) {
+    for (const int passes : {2, 10}) {
+      SCOPED_TRACE(name + ", " + std::to_string(passes) + " passes");
+      const SurfaceMesh s = extractSurface(*grid, smoothing(passes));
+      ASSERT_GT(s.triangleCount(), 1000u);
+      EXPECT_EQ(surfaceProblems(s, false), "");
+      EXPECT_FALSE(validation::doesSelfIntersect(s.toTriangleMesh()));
+      EXPECT_EQ(topologyOf(s).components, 1u);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The naive baseline.
+
+class SurfaceNaive : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { grid_ = new VoxelGrid(voxelizeAt(test::makeSphere(10.0, 128, 64), 1.0)); }
+  static void TearDownTestSuite() {
+    delete grid_;
+    grid_ = nullptr;
+  }
+  static SurfaceMesh extract(SurfaceMethod method, int passes) {
+    SurfaceOptions o = smoothing(passes);
+    o.method = method;
+    return extractSurface(*grid_, o);
+  }
+  static VoxelGrid* grid_;
+};
+VoxelGrid* SurfaceNaive::grid_ = nullptr;
+
+TEST_F(SurfaceNaive, PerCubeVerticesLeaveBorderEdgesWhereCrackFreeHasNone) {
+  for (const int passes : {0, 2}) {
+    SCOPED_TRACE(std::to_string(passes) + " passes");
+    const MeshTopology naive = topologyOf(extract(SurfaceMethod::Naive, passes));
+    const MeshTopology crackFree = topologyOf(extract(SurfaceMethod::CrackFree, passes));
+    EXPECT_GT(naive.borderEdges, 1000u);
+    EXPECT_EQ(crackFree.borderEdges, 0u);
+    EXPECT_TRUE(crackFree.closed() && crackFree.manifold());
+  }
+}
+
+TEST_F(SurfaceNaive, UnsmoothedNaiveIsTheSameGeometryWithoutSharing) {
+  const SurfaceMesh naive = extract(SurfaceMethod::Naive, 0);
+  const SurfaceMesh crackFree = extract(SurfaceMethod::CrackFree, 0);
+  ASSERT_EQ(naive.triangleCount(), crackFree.triangleCount());
+  EXPECT_GT(naive.vertexCount(), 2 * crackFree.vertexCount());  // each vertex in several cubes
+  // Same cells, same loops, same order: triangle for triangle the same corners.
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < naive.triangleCount(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const glm::dvec3 d = naive.positionsMm[naive.triangles[i][c]] - crackFree.positionsMm[crackFree.triangles[i][c]];
+      if (glm::length(d) > 1e-12) ++differing;
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  const double areaNaive = surfaceAreaMm2(naive.toTriangleMesh());
+  const double areaCrackFree = surfaceAreaMm2(crackFree.toTriangleMesh());
+  EXPECT_NEAR(areaNaive / areaCrackFree, 1.0, 1e-9);
+  EXPECT_NEAR(signedVolumeMm3(naive.toTriangleMesh()) / signedVolumeMm3(crackFree.toTriangleMesh()), 1.0, 1e-9);
+}
+
+// Smoothing the naive surface moves each cube's copy of an edge vertex differently: copies
+// that coincided drift apart, which is the crack.
+TEST_F(SurfaceNaive, SmoothingSplitsTheCopiesOfAnEdgeVertex) {
+  const auto distinct = [](const SurfaceMesh& s) {
+    std::set<std::tuple<double, double, double>> seen;
+    for (const glm::dvec3& p : s.positionsMm) seen.emplace(p.x, p.y, p.z);
+    return seen.size();
+  };
+  const std::size_t before = distinct(extract(SurfaceMethod::Naive, 0));
+  const std::size_t after = distinct(extract(SurfaceMethod::Naive, 2));
+  // Unsmoothed, the copies coincide: as many places as the crack-free mesh has vertices.
+  EXPECT_EQ(before, extract(SurfaceMethod::CrackFree, 0).vertexCount());
+  EXPECT_GT(after, before + before / 2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Accuracy and normals on a sphere.
+
+class SurfaceSphere : public ::testing::Test {
+ protected:
+  static constexpr double kRadius = 10.0;
+  static constexpr double kVoxel = 0.5;
+  static void SetUpTestSuite() {
+    grid_ = new VoxelGrid(voxelizeAt(test::makeSphere(kRadius, 512, 256), kVoxel));
+    surface_ = new SurfaceMesh(extractSurface(*grid_));  // default: 2 passes, normals
+  }
+  static void TearDownTestSuite() {
+    delete surface_;
+    delete grid_;
+    surface_ = nullptr;
+    grid_ = nullptr;
+  }
+  static VoxelGrid* grid_;
+  static SurfaceMesh* surface_;
+};
+VoxelGrid* SurfaceSphere::grid_ = nullptr;
+SurfaceMesh* SurfaceSphere::surface_ = nullptr;
+
+TEST_F(SurfaceSphere, EnclosedVolumeMatchesTheGridAndTheSphere) {
+  const double volume = signedVolumeMm3(surface_->toTriangleMesh());
+  const double exact = 4.0 / 3.0 * kPi * kRadius * kRadius * kRadius;
+  EXPECT_NEAR(volume / grid_->filledVolumeMm3(), 1.0, 0.01);
+  EXPECT_NEAR(volume / exact, 1.0, 0.015);
+  EXPECT_EQ(surfaceProblems(*surface_), "");
+}
+
+TEST_F(SurfaceSphere, EveryVertexLiesWithinOneVoxelOfTheSphere) {
+  double worst = 0.0;
+  for (const glm::dvec3& p : surface_->positionsMm) worst = std::max(worst, std::abs(glm::length(p) - kRadius));
+  EXPECT_LT(worst, kVoxel);
+}
+
+TEST_F(SurfaceSphere, NormalsAreUnitAndPointOutward) {
+  ASSERT_EQ(surface_->normals.size(), surface_->vertexCount());
+  double worstLength = 0.0;
+  double worstDot = 1.0;
+  for (std::size_t i = 0; i < surface_->vertexCount(); ++i) {
+    const glm::dvec3& n = surface_->normals[i];
+    worstLength = std::max(worstLength, std::abs(glm::length(n) - 1.0));
+    worstDot = std::min(worstDot, glm::dot(n, glm::normalize(surface_->positionsMm[i])));
+  }
+  EXPECT_LT(worstLength, 1e-12);
+  EXPECT_GT(worstDot, 0.9);
+}
+
+TEST_F(SurfaceSphere, NormalsAreLeftOutWhenNotAsked) {
+  SurfaceOptions o;
+  o.computeNormals = false;
+  const SurfaceMesh s = extractSurface(*grid_, o);
+  EXPECT_TRUE(s.normals.empty());
+  EXPECT_EQ(s.triangles, surface_->triangles);
+  EXPECT_EQ(s.positionsMm, surface_->positionsMm);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Brick ranges.
+
+TEST_F(SurfaceSphere, BrickRangesCoverEveryTriangleExactlyOnce) {
+  const auto& ranges = surface_->brickRanges;
+  ASSERT_GT(ranges.size(), 8u);
+  std::vector<int> covered(surface_->triangleCount(), 0);
+  std::uint64_t total = 0;
+  std::set<std::int64_t> bricks;
+  for (const auto& r : ranges) {
+    EXPECT_GT(r.count, 0u);
+    ASSERT_LE(std::uint64_t(r.first) + r.count, surface_->triangleCount());
+    for (std::uint32_t i = r.first; i < r.first + r.count; ++i) ++covered[i];
+    total += r.count;
+    if (r.brick >= 0) {
+      EXPECT_TRUE(bricks.insert(r.brick).second) << "brick " << r.brick << " twice";
+    }
+  }
+  EXPECT_EQ(total, surface_->triangleCount());
+  EXPECT_EQ(std::count(covered.begin(), covered.end(), 1), std::ptrdiff_t(covered.size()));
+}
+
+// Every range holds the triangles of the cells of one brick: cells (x, y, z) with x in
+// [8 bx, 8 bx + 7] (and likewise y, z), or the border layer's cells at -1, so its vertices lie
+// in that brick's cell box, one voxel wider than its cells. Cell coordinates here are grid
+// coordinates minus 1/2 (voxel centres at integers).
+glm::ivec3 cellBrickOfRange(const VoxelGrid& g, const SurfaceMesh& s, const SurfaceMesh::BrickRange& r,
+                            bool& inOneBrick) {
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (std::uint32_t i = r.first; i < r.first + r.count; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const glm::dvec3 cell = g.gridFromWorld(s.positionsMm[s.triangles[i][c]]) - 0.5;
+      lo = glm::min(lo, cell);
+      hi = glm::max(hi, cell);
+    }
+  }
+  const int kB = VoxelGrid::kBrickSize;
+  glm::ivec3 cb;
+  inOneBrick = true;
+  for (int a = 0; a < 3; ++a) {
+    cb[a] = int(std::floor(0.5 * (lo[a] + hi[a]) / kB));
+    const double first = cb[a] < 0 ? -1.0 : double(cb[a] * kB);
+    const double last = cb[a] < 0 ? 0.0 : double(cb[a] * kB + kB);
+    if (lo[a] < first - 1e-9 || hi[a] > last + 1e-9) inOneBrick = false;
+  }
+  return cb;
+}
+
+TEST_F(SurfaceSphere, EachBrickRangeHoldsTheCellsOfOneBrick) {
+  std::set<std::tuple<int, int, int>> seen;
+  for (const auto& r : surface_->brickRanges) {
+    bool inOne = false;
+    const glm::ivec3 cb = cellBrickOfRange(*grid_, *surface_, r, inOne);
+    EXPECT_TRUE(inOne) << "range of brick id " << r.brick;
+    EXPECT_TRUE(seen.emplace(cb.x, cb.y, cb.z).second) << "two ranges for one brick";
+  }
+}
+
+// Each range names its cell brick and the documented key of it.
+TEST_F(SurfaceSphere, BrickIdsAreTheDocumentedCellBrickKeys) {
+  const VoxelGrid& g = *grid_;
+  const glm::ivec3 nb = g.brickDims();
+  std::vector<std::string> failures;
+  for (const auto& r : surface_->brickRanges) {
+    bool inOne = false;
+    const glm::ivec3 cb = cellBrickOfRange(g, *surface_, r, inOne);
+    const std::int64_t documented =
+        (cb.x + 1) + std::int64_t(nb.x + 1) * ((cb.y + 1) + std::int64_t(nb.y + 1) * (cb.z + 1));
+    EXPECT_EQ(r.cellBrick, cb);
+    if (r.brick != documented) {
+      const std::int64_t cellTable = (cb.x + 1) + (nb.x + 1) * ((cb.y + 1) + std::int64_t(nb.y + 1) * (cb.z + 1));
+      failures.push_back("cells of brick (" + std::to_string(cb.x) + "," + std::to_string(cb.y) + "," +
+                         std::to_string(cb.z) + "): id " + std::to_string(r.brick) + ", documented " +
+                         std::to_string(documented) + ", cell-brick table index " + std::to_string(cellTable));
+    }
+  }
+  EXPECT_TRUE(failures.empty()) << failures.size() << " of " << surface_->brickRanges.size()
+                                << " ranges (grid brickDims " << nb.x << "x" << nb.y << "x" << nb.z
+                                << "):" << joinFirst(failures, 5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Options.
+
+TEST(SurfaceOptionsCheck, BadOptionsThrowInputError) {
+  VoxelGrid g = emptyGrid({3, 3, 3});
+  setFull(g, {1, 1, 1});
+  const auto with = [](auto change) {
+    SurfaceOptions o;
+    change(o);
+    return o;
+  };
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.smoothIterations = -1; })), InputError);
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = 0.0; })), InputError);
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = 1.5; })), InputError);
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = std::nan(""); })), InputError);
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.mu = 0.1; })), InputError);
+  // The limits themselves are fine.
+  EXPECT_NO_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.smoothIterations = 0; })));
+  EXPECT_NO_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = 1.0; })));
+}
+
+TEST(SurfaceOptionsCheck, TimingsAreReported) {
+  VoxelGrid g = emptyGrid({6, 6, 6});
+  setFull(g, {2, 2, 2});
+  setFull(g, {3, 2, 2});
+  SurfaceTimings t;
+  t.totalMs = -1.0;
+  extractSurface(g, {}, &t);
+  EXPECT_GE(t.extractMs, 0.0);
+  EXPECT_GE(t.smoothMs, 0.0);
+  EXPECT_GE(t.normalsMs, 0.0);
+  EXPECT_GE(t.totalMs, t.extractMs);
+}
+
+}  // namespace
+}  // namespace osteon::geometry

@@ -1,0 +1,170 @@
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+namespace osteon::geometry {
+namespace {
+
+// Compares two surfaces as sets: every vertex of `b` must sit within 1e-6 mm of one vertex
+// of `a` (one to one), and the triangles, as vertex triples up to rotation, must be the same.
+std::string compareSurfaces(const SurfaceMesh& a, const SurfaceMesh& b) {
+  if (a.vertexCount() != b.vertexCount()) {
+    return "vertices " + std::to_string(a.vertexCount()) + " vs " + std::to_string(b.vertexCount());
+  }
+  if (a.triangleCount() != b.triangleCount()) {
+    return "triangles " + std::to_string(a.triangleCount()) + " vs " + std::to_string(b.triangleCount());
+  }
+  const double cell = 1e-3;
+  std::map<std::array<long long, 3>, std::vector<std::uint32_t>> buckets;
+  const auto keyOf = [&](const glm::dvec3& p) {
+    return std::array<long long, 3>{(long long)std::floor(p.x / cell), (long long)std::floor(p.y / cell),
+                                    (long long)std::floor(p.z / cell)};
+  };
+  for (std::uint32_t i = 0; i < a.vertexCount(); ++i) buckets[keyOf(a.positionsMm[i])].push_back(i);
+  std::vector<std::uint32_t> toA(b.vertexCount());
+  std::vector<char> used(a.vertexCount(), 0);
+  for (std::uint32_t i = 0; i < b.vertexCount(); ++i) {
+    const glm::dvec3 p = b.positionsMm[i];
+    const auto k = keyOf(p);
+    std::int64_t found = -1;
+    for (int dz = -1; dz <= 1 && found < 0; ++dz)
+      for (int dy = -1; dy <= 1 && found < 0; ++dy)
+        for (int dx = -1; dx <= 1 && found < 0; ++dx) {
+          const auto it = buckets.find({k[0] + dx, k[1] + dy, k[2] + dz});
+          if (it == buckets.end()) continue;
+          for (std::uint32_t j : it->second) {
+            if (!used[j] && glm::length(a.positionsMm[j] - p) <= 1e-6) {
+              found = j;
+              break;
+            }
+          }
+        }
+    if (found < 0) return "vertex " + std::to_string(i) + " has no match within 1e-6 mm";
+    used[std::size_t(found)] = 1;
+    toA[i] = std::uint32_t(found);
+  }
+  const auto canonical = [](glm::u32vec3 t) {
+    while (t.x > t.y || t.x > t.z) t = {t.y, t.z, t.x};
+    return std::array<std::uint32_t, 3>{t.x, t.y, t.z};
+  };
+  std::vector<std::array<std::uint32_t, 3>> ta, tb;
+  for (const glm::u32vec3& t : a.triangles) ta.push_back(canonical(t));
+  for (const glm::u32vec3& t : b.triangles) tb.push_back(canonical({toA[t.x], toA[t.y], toA[t.z]}));
+  std::sort(ta.begin(), ta.end());
+  std::sort(tb.begin(), tb.end());
+  if (ta != tb) return "triangle sets differ";
+  for (std::uint32_t i = 0; i < b.vertexCount(); ++i) {
+    if (glm::length(a.normals[toA[i]] - b.normals[i]) > 1e-6) return "normal " + std::to_string(i) + " differs";
+  }
+  return "";
+}
+
+// Random drilling edits, each followed by an update that must equal a full extraction.
+void drillAndCompare(VoxelGrid& grid, const TriangleMesh& surface, int depth,
+                     const SurfaceOptions& options, int steps, std::uint32_t seed) {
+  auto hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+  RefinementOptions ro;
+  ro.depth = depth;
+  RefinedVoxels refined(grid, hierarchy, nullptr, ro);
+  grid.clearDirty();
+  SurfaceUpdater updater(grid, options);
+  ASSERT_EQ(compareSurfaces(extractSurface(grid, options), updater.mesh()), "");
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, surface.vertexCount() - 1);
+  std::uniform_int_distribution<int> strokes(1, 60);
+  for (int step = 0; step < steps; ++step) {
+    const glm::dvec3 at = surface.positionsMm[pick(rng)];
+    refined.refineAround(at, 1.46 + 0.6, double(step));
+    const int n = strokes(rng);  // sometimes a scratch, sometimes a hole
+    for (int k = 0; k < n; ++k) refined.removeInSphere(at, 1.46);
+    if (step % 3 == 2) refined.expire(double(step) + 10.0);
+    const SurfaceUpdater::UpdateStats stats = updater.update(grid.dirtyBricks());
+    grid.clearDirty();
+    ASSERT_EQ(updater.validate(), "") << "step " << step;
+    ASSERT_EQ(compareSurfaces(extractSurface(grid, options), updater.mesh()), "")
+        << "step " << step << " (" << stats.cellBricks << " cell bricks)";
+  }
+}
+
+TEST(SurfaceUpdater, DrillingEditsEqualAFullExtractionAfterEveryStep) {
+  const HumerusModel model = buildHumerusModel();
+  VoxelizeOptions options;
+  options.voxelSizeMm = 1.2;
+  VoxelGrid grid = voxelize(model.mesh, options);
+  drillAndCompare(grid, model.mesh, 0, SurfaceOptions{}, 40, 11);
+}
+
+TEST(SurfaceUpdater, SubVoxelRemovalAndTaubinSmoothingAlsoMatch) {
+  // Level -2 removal changes parent fills a little at a time; Taubin and more passes widen
+  // the smoothing's reach.
+  const TriangleMesh sphere = test::makeSphere(10.0, 128, 64);
+  VoxelizeOptions options;
+  options.voxelSizeMm = 0.9;
+  VoxelGrid grid = voxelize(sphere, options);
+  SurfaceOptions taubin;
+  taubin.taubin = true;
+  taubin.smoothIterations = 6;
+  drillAndCompare(grid, sphere, 2, taubin, 30, 12);
+}
+
+TEST(SurfaceUpdater, DrillingThroughAThinWallAndEmptyingBricks) {
+  // A 3 mm plate drilled through repeatedly: surfaces vanish and appear, bricks empty.
+  const TriangleMesh plate = test::makeBox({-12, -12, -1.5}, {12, 12, 1.5});
+  VoxelizeOptions options;
+  options.voxelSizeMm = 0.5;
+  VoxelGrid grid = voxelize(plate, options);
+  drillAndCompare(grid, plate, 1, SurfaceOptions{}, 40, 13);
+}
+
+TEST(SurfaceUpdater, FullExtractionAgreesOnGridsOfSizesAroundABrick) {
+  // The full extractor reads most blocks through the scan's bricks and rows (dense ones) and
+  // clips the rest at the grid's end; the updater reads every block its own way. Grids of 1,
+  // 7, 8, 9 and 17 voxels per axis put every kind of block at the border: noise, a full
+  // brick, and a uniform brick of a fill between empty and full (whose block is not dense).
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<int> noise(0, int(kFillFull));
+  const int sizes[] = {1, 7, 8, 9, 17};
+  for (int sx : sizes)
+    for (int sy : sizes)
+      for (int sz : sizes) {
+        VoxelGrid grid({sx, sy, sz}, glm::dvec3(0.0), 1.0);
+        for (int z = 0; z < sz; ++z)
+          for (int y = 0; y < sy; ++y)
+            for (int x = 0; x < sx; ++x) {
+              if (x < 8 && y < 8 && z < 8 && sx >= 16) continue;  // left to the uniform values below
+              grid.set({x, y, z}, Fill(noise(rng) < int(kFillFull) / 2 ? 0 : noise(rng)), 5);
+            }
+        if (sx >= 16) grid.setBrickUniform(grid.brickIndex({0, 0, 0}), sy >= 16 ? kFillFull : Fill(kFillHalf + 7), 5);
+        SurfaceOptions options;
+        options.smoothIterations = (sx + sy + sz) % 3;
+        SurfaceUpdater updater(grid, options);
+        ASSERT_EQ(compareSurfaces(extractSurface(grid, options), updater.mesh()), "")
+            << sx << " x " << sy << " x " << sz;
+      }
+}
+
+TEST(SurfaceUpdater, NothingChangedNothingDone) {
+  const TriangleMesh sphere = test::makeSphere(5.0, 64, 32);
+  VoxelizeOptions options;
+  options.voxelSizeMm = 0.5;
+  VoxelGrid grid = voxelize(sphere, options);
+  SurfaceUpdater updater(grid);
+  const SurfaceUpdater::UpdateStats stats = updater.update({0, 1, 2});
+  EXPECT_EQ(stats.verticesTouched, 0u);
+  EXPECT_EQ(compareSurfaces(extractSurface(grid), updater.mesh()), "");
+  SurfaceOptions bad;
+  bad.smoothIterations = -2;
+  EXPECT_THROW(SurfaceUpdater(grid, bad), InputError);
+}
+
+}  // namespace
+}  // namespace osteon::geometry
