@@ -4,6 +4,7 @@
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 
 #include <benchmark/benchmark.h>

@@ -9,12 +9,10 @@
 //      so the visual thread is always remeshing: the share of 1 ms periods that overran, the
 //      CPU time the hypervisor stole meanwhile, and the machine's floor: the same loops with no
 //      work for S seconds.
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -39,29 +37,16 @@ using namespace osteon::simulation;
 
 namespace {
 
-struct Scene {
-  geometry::VoxelGrid grid;
-  geometry::DynamicProximityHierarchy hierarchy;
-  geometry::FineFillSource source;
-  std::unique_ptr<DrillingSimulation> sim;
-};
-
-std::unique_ptr<Scene> makeScene(const geometry::HumerusModel& model, const geometry::EmbreeScene& embree,
-                                 double voxelMm, int levels, double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
-                                 std::size_t querySliceNodes = DrillingOptions{}.querySliceNodes) {
-  auto s = std::make_unique<Scene>();
-  geometry::VoxelizeOptions vo;
-  vo.voxelSizeMm = voxelMm;
-  s->grid = geometry::voxelize(model.mesh, vo);
-  s->hierarchy = geometry::DynamicProximityHierarchy::build(s->grid, geometry::DphBuildOptions{});
-  if (levels > 0) s->source = geometry::FineFillSource::sample(s->grid, model.mesh, embree);
-  DrillingOptions options;
+// A session on the built-in humerus; sessions of one voxel size share their bone.
+Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
+                    double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
+                    std::size_t querySliceNodes = DrillingOptions{}.querySliceNodes) {
+  SessionOptions options;
   options.levels = levels;
-  options.querySkinVoxels = querySkinVoxels;
-  options.querySliceNodes = querySliceNodes;
-  s->sim = std::make_unique<DrillingSimulation>(s->grid, s->hierarchy, levels > 0 ? &s->source : nullptr,
-                                                ToolKind::Drill, ToolOptions{}, options);
-  return s;
+  options.drilling.querySkinVoxels = querySkinVoxels;
+  options.drilling.querySliceNodes = querySliceNodes;
+  options.keepSurface = false;  // the haptic step alone; the runtime keeps its own surface
+  return Session(bone, options);
 }
 
 // The machine's own timing noise: a fixed workload, the same every time (about a haptic step's
@@ -155,8 +140,9 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
   }
   const geometry::HumerusModel model = geometry::buildHumerusModel();
-  const geometry::EmbreeScene embree(model.mesh);
-  const HumeralHead head = fitHumeralHead(model.mesh);
+  const std::shared_ptr<const BoneModel> bone12 = BoneModel::fromMesh(model.mesh, 1.2, "default");
+  const std::shared_ptr<const BoneModel> bone03 = BoneModel::fromMesh(model.mesh, 0.3, "default", 1.0, {}, false);
+  const HumeralHead head = bone12->humeralHead();
 
   if (haptic) std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
   if (haptic) std::printf("query caches: skin %g base voxels, %zu nodes per slice\n", skin, slices);
@@ -165,14 +151,13 @@ int main(int argc, char** argv) {
   for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
     if (!haptic) break;
     for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
-      auto scene = makeScene(model, embree, voxelMm, levels, skin, slices);
-      const PortalPlan plan = makePortalPath(portal, head, model.mesh, scene->sim->tool().parts[0].outerRadiusMm);
-      const RunResult r = runDeterministic(*scene->sim, scene->grid, plan.path, nullptr);
+      Session session = makeSession(voxelMm == 1.2 ? bone12 : bone03, levels, skin, slices);
+      const RunResult r = session.run(session.portalPath(portal).path);
       const RunSummary& s = r.summary;
       std::printf("| %g mm | %d | %g mm | %s | %.1f | %.1f | %.1f | %.4f | %.4f | %llu |\n", voxelMm, levels,
-                  scene->sim->finestVoxelMm(), portalName(portal), s.hapticStepUs.p50, s.hapticStepUs.p99,
+                  session.simulation().finestVoxelMm(), portalName(portal), s.hapticStepUs.p50, s.hapticStepUs.p99,
                   s.hapticStepUs.max, s.jitterN, s.maxStepChangeN,
-                  (unsigned long long)scene->sim->totals().stepsThatWalked);
+                  (unsigned long long)session.totals().stepsThatWalked);
       std::fflush(stdout);
     }
   }
@@ -184,7 +169,7 @@ int main(int argc, char** argv) {
 
   // A helix inside the head, its turns 3.4 mm apart along the head axis: every turn cuts new
   // bone, so removal and remeshing never stop.
-  auto scene = makeScene(model, embree, 1.2, 2);
+  Session threaded = makeSession(bone12, 2);
   std::vector<Waypoint> points;
   const glm::dvec3 w = glm::normalize(model.headAxis);
   const glm::dvec3 u = glm::normalize(glm::cross(w, std::abs(w.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
@@ -202,8 +187,8 @@ int main(int argc, char** argv) {
   {
     // The same path in the deterministic mode (one thread, no visual thread): the step's own
     // cost on this path, against which the threaded figures below compare.
-    auto alone = makeScene(model, embree, 1.2, 2);
-    const RunSummary s = runDeterministic(*alone->sim, alone->grid, path, nullptr).summary;
+    Session alone = makeSession(bone12, 2);
+    const RunSummary s = alone.run(path).summary;
     std::printf("\nhelix path, deterministic: step p50 %.1f p99 %.1f max %.1f us\n", s.hapticStepUs.p50,
                 s.hapticStepUs.p99, s.hapticStepUs.max);
   }
@@ -214,7 +199,7 @@ int main(int argc, char** argv) {
   const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
   const double steal0 = stealSeconds();
-  const RuntimeResult r = runThreaded(*scene->sim, scene->grid, device, nullptr, geometry::SurfaceOptions{}, ro);
+  const RuntimeResult r = threaded.runThreaded(device, nullptr, ro);
   const double stealS = stealSeconds() - steal0;
   const RuntimeStats& st = r.stats;
   std::printf("\nthreaded runtime, %g s at 1.2 mm / 2 levels, helix through the head (started %s)\n", runtimeS,

@@ -5,6 +5,7 @@
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/simulation/removal.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/voxelizer.h"
@@ -308,7 +309,8 @@ void report(benchmark::State& state, std::vector<double>& ms, const std::string&
 struct DrillScene {
   VoxelGrid grid;
   DynamicProximityHierarchy hierarchy;
-  std::unique_ptr<RefinedVoxels> drill;
+  std::unique_ptr<RefinedVoxels> refined;
+  std::unique_ptr<osteon::simulation::MaterialRemoval> drill;
   std::unique_ptr<SurfaceUpdater> updater;
 
   explicit DrillScene(double voxelSizeMm) {
@@ -318,7 +320,8 @@ struct DrillScene {
     hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
     RefinementOptions ro;
     ro.depth = 0;
-    drill = std::make_unique<RefinedVoxels>(grid, hierarchy, nullptr, ro);
+    refined = std::make_unique<RefinedVoxels>(grid, hierarchy, nullptr, ro);
+    drill = std::make_unique<osteon::simulation::MaterialRemoval>(*refined);
     updater = std::make_unique<SurfaceUpdater>(grid);
     grid.clearDirty();
   }

@@ -2,15 +2,12 @@
 // summary.json and the drilled surface.
 #include "commands.h"
 
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
-#include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/output_file.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
 
 #include <nlohmann/json.hpp>
 
@@ -72,27 +69,16 @@ int runDrill(const DrillCommandOptions& options) {
   geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath},
                                {inputFile(options.mesh), csvPath ? options.path : std::string()});
 
-  const double scale = scaleToMm(options.units);
-  const geo::TriangleMesh mesh = geo::loadMeshArgument(options.mesh, scale);
-  geo::VoxelizeOptions vo;
-  vo.voxelSizeMm = options.voxelSizeMm;
-  vo.requireInside = true;
-  vo.meshName = options.mesh;
-  vo.loadScaleToMm = scale;
-  geo::VoxelGrid grid = geo::voxelize(mesh, vo);
-  geo::DynamicProximityHierarchy hierarchy = geo::DynamicProximityHierarchy::build(grid, geo::DphBuildOptions{});
-  std::unique_ptr<geo::EmbreeScene> scene;
-  geo::FineFillSource source;
-  if (options.levels > 0) {
-    scene = std::make_unique<geo::EmbreeScene>(mesh);
-    source = geo::FineFillSource::sample(grid, mesh, *scene);
-  }
-  sim::DrillingSimulation simulation(grid, hierarchy, options.levels > 0 ? &source : nullptr, kind,
-                                     sim::ToolOptions{}, drilling);
+  sim::SessionOptions so;
+  so.voxelSizeMm = options.voxelSizeMm;
+  so.levels = options.levels;
+  so.tool = kind;
+  so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
+  sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units), so);
   json pathJson = {{"name", options.path}};
   if (!csvPath) {
-    const sim::HumeralHead head = sim::fitHumeralHead(mesh);
-    const sim::PortalPlan plan = sim::makePortalPath(portal, head, mesh, simulation.tool().parts[0].outerRadiusMm);
+    const sim::HumeralHead& head = session.humeralHead();
+    const sim::PortalPlan plan = session.portalPath(portal);
     path = plan.path;
     pathJson["head_centre_mm"] = {head.centreMm.x, head.centreMm.y, head.centreMm.z};
     pathJson["head_radius_mm"] = head.radiusMm;
@@ -113,7 +99,7 @@ int runDrill(const DrillCommandOptions& options) {
     ro.durationS = path.durationS();
     ro.onRow = logRow;
     ro.keepLog = false;
-    const sim::RuntimeResult r = sim::runThreaded(simulation, grid, device, nullptr, geo::SurfaceOptions{}, ro);
+    const sim::RuntimeResult r = session.runThreaded(device, nullptr, ro);
     run = r.run;
     const sim::RuntimeStats& st = r.stats;
     runtimeJson = {{"haptic_steps", st.hapticSteps}, {"collision_steps", st.collisionSteps},
@@ -123,16 +109,15 @@ int runDrill(const DrillCommandOptions& options) {
                    {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
                    {"realtime_priority", st.realtimeGranted}};
   } else {
-    geo::SurfaceUpdater updater(grid, geo::SurfaceOptions{});
     sim::DeterministicOptions deterministic;
     deterministic.onRow = logRow;
     deterministic.keepLog = false;
-    run = sim::runDeterministic(simulation, grid, path, &updater, deterministic);
+    run = session.run(path, deterministic);
   }
 
   forces.commit();
   // The drilled bone with its refined regions, crack-free and smoothed.
-  const geo::SurfaceMesh surface = geo::extractSurface(grid, simulation.voxels(), geo::SurfaceOptions{});
+  const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
 
   const sim::RunSummary& s = run.summary;
@@ -154,7 +139,7 @@ int runDrill(const DrillCommandOptions& options) {
                         {"tool", sim::toolKindName(kind)},
                         {"voxel_size_mm", options.voxelSizeMm},
                         {"levels", options.levels},
-                        {"finest_voxel_mm", simulation.finestVoxelMm()},
+                        {"finest_voxel_mm", session.simulation().finestVoxelMm()},
                         {"path", pathJson},
                         {"surface_triangles", surface.triangleCount()},
                         {"files", {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}}}};

@@ -2,6 +2,7 @@
 
 #include "osteon/core/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -40,6 +41,7 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
       finestVoxelMm_(finestOf(grid, options)),
       voxels_(std::make_unique<geometry::RefinedVoxels>(grid, hierarchy, source,
                                                         withDepth(options.refinement, options.levels))),
+      removal_(*voxels_, std::max<std::size_t>(options.refinement.capacity, 4096)),
       model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()) {
   grid.reserveSpareBricks(options.spareBricks);
   spareMissesAtStart_ = grid.spareMisses();
@@ -57,7 +59,7 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
     const double cutReach = voxels_->cutReachMm(part.innerRadiusMm);
-    voxels_->reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), cutReach, vs));
+    removal_.reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), cutReach, vs));
     if (!cached_) continue;
     cutCaches_[std::size_t(p)] = voxels_->makeNearCache(part.lengthMm(), cutReach, skinMm, options.querySliceNodes);
     if (options.levels > 0) {
@@ -93,9 +95,9 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     for (int p = 0; p < tool.partCount; ++p) {
       const ToolPart& part = tool.parts[std::size_t(p)];
       if (!part.cuts) continue;
-      const geometry::CutVolume cut{input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm),
-                                    part.innerRadiusMm, part.cutsOnSideOnly};
-      const geometry::RemovalResult r = voxels_->removeIn(cut, decrement_, cached_ ? &cutCaches_[std::size_t(p)] : nullptr);
+      const CutVolume cut{input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm), part.innerRadiusMm,
+                          part.cutsOnSideOnly};
+      const RemovalResult r = removal_.removeIn(cut, decrement_, cached_ ? &cutCaches_[std::size_t(p)] : nullptr);
       out.removal.removedFill += r.removedFill;
       out.removal.samplesRemoved += r.samplesRemoved;
       out.removal.samplesDecremented += r.samplesDecremented;
@@ -118,7 +120,7 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
   totals_.voxelsEmptied += out.removal.voxelsEmptied;
   totals_.nonFiniteForces += out.contact.nonFinite ? 1 : 0;
   totals_.brickAllocations = grid_->spareMisses() - spareMissesAtStart_;
-  totals_.cutOverflows = voxels_->cutOverflows();
+  totals_.cutOverflows = removal_.cutOverflows();
   totals_.refinePoolExhausted = voxels_->poolExhausted();
   totals_.maskOverflows = voxels_->maskOverflows();
   return out;

@@ -1,8 +1,6 @@
 #include "osteon/simulation/experiment.h"
 
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/session.h"
 
 #include <cstdio>
 #include <memory>
@@ -25,32 +23,26 @@ std::vector<ExperimentRun> runSeedExperiment(const geometry::TriangleMesh& mesh,
                                              const std::vector<ExperimentCase>& cases,
                                              const std::function<void(const ExperimentRun&)>& progress,
                                              const geometry::VoxelizeOptions& voxelizing) {
-  const HumeralHead head = fitHumeralHead(mesh);
-  const geometry::EmbreeScene scene(mesh);
   std::vector<ExperimentRun> runs;
   for (const ExperimentCase& c : cases) {
+    // One bone per voxel size, its fine fills sampled once: every run drills a fresh copy.
     geometry::VoxelizeOptions vo = voxelizing;
-    vo.voxelSizeMm = c.voxelSizeMm;
     vo.voxelSizeGiven = false;
-    vo.requireInside = true;
-    const geometry::VoxelGrid original = geometry::voxelize(mesh, vo);
-    // Sampled once per voxel size: every dynamic run refines from the same fine fills.
-    const geometry::FineFillSource source = geometry::FineFillSource::sample(original, mesh, scene);
+    const std::shared_ptr<const BoneModel> bone = BoneModel::fromMesh(
+        mesh, c.voxelSizeMm, voxelizing.meshName.empty() ? "mesh" : voxelizing.meshName, voxelizing.loadScaleToMm, vo);
     std::vector<int> levels = {0};
     levels.insert(levels.end(), c.dynamicLevels.begin(), c.dynamicLevels.end());
     for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
       for (const int l : levels) {
-        geometry::VoxelGrid grid = original;  // every run drills fresh bone
-        auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-        DrillingOptions options;
+        SessionOptions options;
         options.levels = l;
-        DrillingSimulation sim(grid, hierarchy, l > 0 ? &source : nullptr, ToolKind::Drill, ToolOptions{}, options);
-        const PortalPlan plan = makePortalPath(portal, head, mesh, sim.tool().parts[0].outerRadiusMm);
+        options.keepSurface = false;  // forces only: no visual work
+        Session session(bone, options);
         ExperimentRun run;
         run.voxelSizeMm = c.voxelSizeMm;
         run.portal = portal;
         run.levels = l;
-        run.result = runDeterministic(sim, grid, plan.path, nullptr);
+        run.result = session.run(session.portalPath(portal).path);
         if (progress) progress(run);
         runs.push_back(std::move(run));
       }

@@ -184,7 +184,7 @@ TEST(Removal, AShaverInsideBoneAtFineVoxelsRemovesEveryVoxelInItsCut) {
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
-    const geometry::CutVolume cut{pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.innerRadiusMm, part.cutsOnSideOnly};
+    const CutVolume cut{pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.innerRadiusMm, part.cutsOnSideOnly};
     const glm::ivec3 dims = slab.grid.dims();
     for (int z = 0; z < dims.z; ++z)
       for (int y = 0; y < dims.y; ++y)

@@ -1,6 +1,5 @@
-#include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/session.h"
 #include "osteon/validation/collision_check.h"
 
 #include <gtest/gtest.h>
@@ -12,21 +11,16 @@ using namespace osteon::simulation;
 
 CollisionCheckResult drill(int levels, bool updateSurface,
                            geometry::SurfaceMethod method = geometry::SurfaceMethod::CrackFree) {
-  const geometry::HumerusModel model = geometry::buildHumerusModel();
-  geometry::VoxelizeOptions vo;
-  vo.voxelSizeMm = 1.2;
-  geometry::VoxelGrid grid = geometry::voxelize(model.mesh, vo);
-  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-  DrillingOptions options;
+  SessionOptions options;
   options.levels = levels;
-  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, options);
-  const PortalPlan plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                                         sim.tool().parts[0].outerRadiusMm);
+  // Refined voxels split their fill evenly here (no fine fills): the check holds either way.
+  Session session(BoneModel::fromMesh(geometry::buildHumerusModel().mesh, 1.2, "default", 1.0, {}, false), options);
+  const PortalPlan plan = session.portalPath(Portal::FiveOClock);
   CollisionCheckOptions check;
   check.everySteps = 25;
   check.updateSurface = updateSurface;
   check.method = method;
-  return crossCheckCollisions(sim, grid, plan.path, check);
+  return crossCheckCollisions(session, plan.path, check);
 }
 
 // The crack-free surface, kept up to date, shields every bone sample the rays test, at every

@@ -76,10 +76,12 @@ struct Ray {
 
 }  // namespace
 
-CollisionCheckResult crossCheckCollisions(simulation::DrillingSimulation& sim, geometry::VoxelGrid& grid,
-                                          const simulation::DrillPath& path, const CollisionCheckOptions& options) {
+CollisionCheckResult crossCheckCollisions(simulation::Session& session, const simulation::DrillPath& path,
+                                          const CollisionCheckOptions& options) {
   CollisionCheckResult result;
-  geometry::SurfaceUpdater surface(grid, geometry::SurfaceOptions{});
+  session.resetSurface();
+  simulation::DrillingSimulation& sim = session.simulation();
+  const geometry::VoxelGrid& grid = session.grid();
   const simulation::ToolPart& tip = sim.tool().parts[0];  // the cutting part
   const double tolerance = options.toleranceVoxels * grid.voxelSizeMm();
   std::vector<Ray> rays;
@@ -90,7 +92,7 @@ CollisionCheckResult crossCheckCollisions(simulation::DrillingSimulation& sim, g
     naive.method = geometry::SurfaceMethod::Naive;
     const geometry::TriangleMesh mesh = options.method == geometry::SurfaceMethod::Naive
                                             ? geometry::extractSurface(grid, naive).toTriangleMesh()
-                                            : surface.mesh().toTriangleMesh();
+                                            : session.surface().toTriangleMesh();
     if (mesh.triangles.empty()) return;
     const geometry::EmbreeScene scene(mesh);
     ++result.checked;
@@ -155,7 +157,7 @@ CollisionCheckResult crossCheckCollisions(simulation::DrillingSimulation& sim, g
     }
   };
   if (!options.updateSurface) run.remeshEverySteps = 0;
-  result.run = simulation::runDeterministic(sim, grid, path, &surface, run);
+  result.run = session.run(path, run);
   result.steps = result.run.summary.steps;
   return result;
 }

@@ -1,8 +1,9 @@
 #include "osteon/validation/validate.h"
+
+#include "osteon/simulation/session.h"
 #include "osteon/core/timing.h"
 
 #include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/core/error.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxelizer.h"
@@ -58,15 +59,10 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
         head.reset();
       }
     }
-    const geometry::EmbreeScene scene(model.mesh);
     for (const double voxelMm : options.voxelSizesMm) {
-      geometry::VoxelizeOptions vo;
-      vo.voxelSizeMm = voxelMm;
-      vo.requireInside = true;
-      vo.meshName = model.name;
-      vo.loadScaleToMm = model.loadScaleToMm;
-      const geometry::VoxelGrid original = geometry::voxelize(model.mesh, vo);
-      const geometry::FineFillSource source = geometry::FineFillSource::sample(original, model.mesh, scene);
+      const std::shared_ptr<const sim::BoneModel> bone =
+          sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
+      const geometry::VoxelGrid& original = bone->grid();
       for (const char* method : {"crackfree", "naive"}) {
         geometry::SurfaceOptions so;
         so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;
@@ -96,21 +92,18 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
           ValidationCase c = base;
           c.mode = levels == 0 ? "static" : "dynamic";
           if (head) {
-            geometry::VoxelGrid grid = original;
-            auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-            sim::DrillingOptions drilling;
+            sim::SessionOptions drilling;
             drilling.levels = levels;
-            sim::DrillingSimulation simulation(grid, hierarchy, levels > 0 ? &source : nullptr, sim::ToolKind::Drill,
-                                               sim::ToolOptions{}, drilling);
+            sim::Session session(bone, drilling);
+            const sim::DrillingSimulation& simulation = session.simulation();
             for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
-              const sim::PortalPlan plan =
-                  sim::makePortalPath(portal, *head, model.mesh, simulation.tool().parts[0].outerRadiusMm);
+              const sim::PortalPlan plan = session.portalPath(portal);
               PortalRun run;
               run.portal = sim::portalName(portal);
               CollisionCheckOptions check;
               check.everySteps = options.checkEverySteps;
               check.method = so.method;  // naive: its surface re-extracted whole at each check
-              run.collisions = crossCheckCollisions(simulation, grid, plan.path, check);
+              run.collisions = crossCheckCollisions(session, plan.path, check);
               const sim::RunSummary& s = run.collisions.run.summary;
               run.maxForceN = s.maxForceN;
               run.jitterN = s.jitterN;
@@ -123,12 +116,12 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
               c.portals.push_back(std::move(run));
               // The next path starts its own clock; after the last, the refined voxels stay
               // so the drilled surface below includes them.
-              if (portal == sim::Portal::FiveOClock) simulation.voxels().expireAll();
+              if (portal == sim::Portal::FiveOClock) session.simulation().voxels().expireAll();
             }
             const geometry::TriangleMesh drilled =
                 so.method == geometry::SurfaceMethod::CrackFree
-                    ? geometry::extractSurface(grid, simulation.voxels(), so).toTriangleMesh()
-                    : geometry::extractSurface(grid, so).toTriangleMesh();
+                    ? geometry::extractSurface(session.grid(), simulation.voxels(), so).toTriangleMesh()
+                    : geometry::extractSurface(session.grid(), so).toTriangleMesh();
             c.after = checkMesh(drilled);
             c.afterCracks = measureCracks(drilled, crackOptions);
             surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);

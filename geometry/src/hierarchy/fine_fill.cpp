@@ -1,5 +1,6 @@
 // Level -2 fill of the voxels the surface passes through, from the mesh (FineFillSource).
-#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/hierarchy/fine_fill.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 
 #include "voxels/column_ray.h"
 #include "sub_fill.h"

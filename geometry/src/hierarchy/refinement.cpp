@@ -59,7 +59,6 @@ RefinedVoxels::RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarc
   tableCells_.assign(tableSize, kNoCell);
   masks_.assign(powerOfTwoAtLeast(2 * std::max<std::size_t>(options.maskCapacity, 1)),
                 Mask{0, 0, 0});
-  found_.reserve(std::max<std::size_t>(options.capacity, 4096));
   // Grow the traversal stack now, not in the loop.
   hierarchy.forEachVoxelInSphere(glm::dvec3(0.0), 0.0, scratch_, [](const glm::ivec3&) {});
 }
@@ -399,77 +398,76 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
   return slack();
 }
 
-RemovalResult RefinedVoxels::removeFromCell(std::uint32_t cell, const CutVolume& volume,
-                                            int decrement) {
-  RemovalResult result;
+bool RefinedVoxels::openBlock(const glm::ivec3& voxel, SampleBlock& block) {
+  const std::uint32_t cell = active_ == 0 ? kNoCell : findCell(voxel);
+  if (cell == kNoCell) return false;
   Cell& c = cells_[cell];
-  const int n = 1 << depth_;
-  const double sub = grid_->voxelSizeMm() / n;
-  const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(c.voxel));
-  std::uint64_t removedBits = 0;
-  // A sphere (the drill's tip, the burr): contains() measures p - a, whose squared length
-  // splits into per-axis terms summed in glm::dot's order, so this is the same test to the
-  // bit at two additions per sample.
-  const glm::dvec3 ab = volume.bMm - volume.aMm;
-  const bool sphere = !(glm::dot(ab, ab) > 0.0);
-  std::array<double, 4> dx2{}, dy2{}, dz2{};
-  for (int k = 0; sphere && k < n; ++k) {
-    const glm::dvec3 d = corner + (double(k) + 0.5) * sub - volume.aMm;
-    dx2[std::size_t(k)] = d.x * d.x;
-    dy2[std::size_t(k)] = d.y * d.y;
-    dz2[std::size_t(k)] = d.z * d.z;
-  }
-  const double r2 = volume.radiusMm * volume.radiusMm;
-  // A row whose nearest sample is beyond the sphere has none inside (rounded addition is
-  // monotonic, so the bound is exact).
-  const double minX2 = *std::min_element(dx2.begin(), dx2.begin() + n);
-  for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y) {
-      if (sphere && (minX2 + dy2[std::size_t(y)]) + dz2[std::size_t(z)] > r2) continue;
-      if (((c.occupied >> (n * (y + n * z))) & ((std::uint64_t(1) << n) - 1)) == 0) continue;
-      for (int x = 0; x < n; ++x) {
-        const std::size_t i = std::size_t(x + n * (y + n * z));
-        if (c.fill[i] == 0) continue;
-        if (sphere ? !((dx2[std::size_t(x)] + dy2[std::size_t(y)]) + dz2[std::size_t(z)] <= r2)
-                   : !volume.contains(corner + (glm::dvec3(x, y, z) + 0.5) * sub)) {
-          continue;
-        }
-        c.density[i] = Density(std::max(int(c.density[i]) - decrement, 0));
-        if (c.density[i] > 0) {
-          ++result.samplesDecremented;
-          continue;
-        }
-        result.removedFill += c.fill[i];
-        ++result.samplesRemoved;
-        c.fill[i] = 0;
-        c.occupied &= ~(std::uint64_t(1) << i);
-        // The level -2 sub-voxels this sample covers.
-        const int merge = kSubPerEdge / n;
-        for (int fz = z * merge; fz < (z + 1) * merge; ++fz)
-          for (int fy = y * merge; fy < (y + 1) * merge; ++fy)
-            for (int fx = x * merge; fx < (x + 1) * merge; ++fx) {
-              removedBits |= std::uint64_t(1) << (fx + kSubPerEdge * (fy + kSubPerEdge * fz));
-            }
-      }
-    }
-  if (removedBits == 0) return result;
+  block.voxel = voxel;
+  block.cornerMm = grid_->worldFromGrid(glm::dvec3(voxel));
+  block.perEdge = 1 << depth_;
+  block.sampleMm = grid_->voxelSizeMm() / block.perEdge;
+  block.fill = c.fill.data();
+  block.density = c.density.data();
+  block.occupied = &c.occupied;
+  block.cell = cell;
+  return true;
+}
 
-  // The grid's parent stays the exact sum of its sub-voxels.
-  const Fill before = grid_->fill(c.voxel);
-  const Fill after = Fill(before - result.removedFill);
-  const std::uint64_t key = keyOf(c.voxel);
-  if (after == 0) {
-    grid_->set(c.voxel, 0, 0);
-    hierarchy_->removeVoxel(c.voxel);
-    ++result.voxelsEmptied;
-    releaseCell(cell);
-    return result;
+bool RefinedVoxels::settleBlock(const SampleBlock& block, std::uint64_t removed, std::uint64_t removedFill) {
+  if (removed == 0) return false;
+  // The level -2 sub-voxels the removed samples cover.
+  const int n = block.perEdge, merge = kSubPerEdge / n;
+  std::uint64_t removedBits = 0;
+  for (int i = 0; i < n * n * n; ++i) {
+    if (!((removed >> i) & 1)) continue;
+    const int x = i % n, y = (i / n) % n, z = i / (n * n);
+    for (int fz = z * merge; fz < (z + 1) * merge; ++fz)
+      for (int fy = y * merge; fy < (y + 1) * merge; ++fy)
+        for (int fx = x * merge; fx < (x + 1) * merge; ++fx) {
+          removedBits |= std::uint64_t(1) << (fx + kSubPerEdge * (fy + kSubPerEdge * fz));
+        }
   }
-  grid_->set(c.voxel, after, grid_->density(c.voxel));
+  // The grid's parent stays the exact sum of its sub-voxels.
+  const Fill before = grid_->fill(block.voxel);
+  const Fill after = Fill(before - removedFill);
+  if (after == 0) {
+    grid_->set(block.voxel, 0, 0);
+    hierarchy_->removeVoxel(block.voxel);
+    releaseCell(block.cell);
+    return true;
+  }
+  grid_->set(block.voxel, after, grid_->density(block.voxel));
   // Remember what went, so a later refinement of this voxel cannot bring it back. At the
   // first removal ever in a voxel, `before` is the fill its sub-voxels were built from.
-  if (Mask* mask = insertMask(key, before)) mask->removed |= removedBits;
-  return result;
+  if (Mask* mask = insertMask(keyOf(block.voxel), before)) mask->removed |= removedBits;
+  return false;
+}
+
+void RefinedVoxels::setDensity(const glm::ivec3& voxel, Density density) {
+  grid_->set(voxel, grid_->fill(voxel), density);
+}
+
+void RefinedVoxels::removeVoxel(const glm::ivec3& voxel) {
+  grid_->set(voxel, 0, 0);
+  hierarchy_->removeVoxel(voxel);
+}
+
+bool RefinedVoxels::collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, double reachMm, DphNearCache* cache,
+                                  std::vector<glm::ivec3>& out) {
+  bool overflowed = false;
+  const auto collect = [&](const glm::ivec3& v) {
+    if (out.size() < out.capacity()) {
+      out.push_back(v);
+    } else {
+      overflowed = true;
+    }
+  };
+  if (aMm == bMm) {
+    hierarchy_->forEachVoxelInSphere(aMm, reachMm, scratch_, cache, collect);
+  } else {
+    hierarchy_->forEachVoxelInCapsule(aMm, bMm, reachMm, scratch_, cache, collect);
+  }
+  return !overflowed;
 }
 
 bool RefinedVoxels::SphereAxes::build(const VoxelGrid& grid, const glm::dvec3& pointMm, double reachMm) {
@@ -509,56 +507,6 @@ DphNearCache RefinedVoxels::makeNearCache(double lengthMm, double reachMm, doubl
   return cache;
 }
 
-RemovalResult RefinedVoxels::removeIn(const CutVolume& volume, int decrement, DphNearCache* cache) {
-  RemovalResult total;
-  const double vs = grid_->voxelSizeMm();
-  const double reach = cutReachMm(volume.radiusMm);
-  // Collect first: removal edits the hierarchy the query walks.
-  found_.clear();
-  bool overflowed = false;
-  const auto collect = [&](const glm::ivec3& v) {
-    if (found_.size() < found_.capacity()) {
-      found_.push_back(v);
-    } else {
-      overflowed = true;
-    }
-  };
-  if (volume.aMm == volume.bMm) {
-    hierarchy_->forEachVoxelInSphere(volume.aMm, reach, scratch_, cache, collect);
-  } else {
-    hierarchy_->forEachVoxelInCapsule(volume.aMm, volume.bMm, reach, scratch_, cache, collect);
-  }
-  cutOverflows_ += overflowed ? 1 : 0;
-  // A refined voxel whose centre lies beyond the cut by more than half its diagonal has no
-  // sample inside: it is not opened (64 failing tests).
-  const CutVolume widened{volume.aMm, volume.bMm, volume.radiusMm + 0.5 * std::sqrt(3.0) * vs, false};
-  for (const glm::ivec3& v : found_) {
-    const std::uint32_t cell = findCell(v);
-    if (cell != kNoCell) {
-      if (!widened.contains(grid_->voxelCentreMm(v))) continue;
-      const RemovalResult r = removeFromCell(cell, volume, decrement);
-      total.removedFill += r.removedFill;
-      total.samplesRemoved += r.samplesRemoved;
-      total.samplesDecremented += r.samplesDecremented;
-      total.voxelsEmptied += r.voxelsEmptied;
-      continue;
-    }
-    if (!volume.contains(grid_->voxelCentreMm(v))) continue;
-    const int density = std::max(int(grid_->density(v)) - decrement, 0);
-    if (density > 0) {
-      grid_->set(v, grid_->fill(v), Density(density));
-      ++total.samplesDecremented;
-      continue;
-    }
-    total.removedFill += grid_->fill(v);
-    ++total.samplesRemoved;
-    ++total.voxelsEmptied;
-    grid_->set(v, 0, 0);
-    hierarchy_->removeVoxel(v);
-  }
-  return total;
-}
-
 std::vector<glm::ivec3> RefinedVoxels::refinedVoxels() const {
   std::vector<glm::ivec3> out;
   out.reserve(active_);
@@ -579,12 +527,5 @@ std::size_t RefinedVoxels::bytesInUse() const {
   return active_ * sizeof(Cell) + masksUsed_ * sizeof(Mask);
 }
 
-std::size_t RefinedVoxels::bytesReserved() const {
-  return sizeof(*this) + cells_.capacity() * sizeof(Cell) +
-         (freeCells_.capacity() + activeList_.capacity() + activeSlot_.capacity() +
-          tableCells_.capacity()) * sizeof(std::uint32_t) +
-         tableKeys_.capacity() * sizeof(std::uint64_t) + masks_.capacity() * sizeof(Mask) +
-         found_.capacity() * sizeof(glm::ivec3) + scratch_.stack.capacity() * sizeof(std::uint64_t);
-}
 
 }  // namespace osteon::geometry

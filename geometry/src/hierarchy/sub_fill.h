@@ -1,7 +1,7 @@
 // Exact splitting of a voxel's fill over its 64 level -2 sub-voxels (refinement, seed 3.5).
 #pragma once
 
-#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/hierarchy/fine_fill.h"
 
 #include <array>
 #include <cstdint>

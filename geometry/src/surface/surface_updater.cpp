@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -51,6 +52,22 @@ struct SurfaceUpdater::Impl {
   std::vector<std::uint32_t> freeSlots;
   std::vector<std::uint32_t> pendingFree;
 
+  // Changes since the last takeChanges(): per slot and per cell brick a flag, and their lists.
+  bool everything = true;
+  std::vector<std::uint8_t> slotChanged, brickChanged;
+  std::vector<std::uint32_t> changedSlots;
+  std::vector<std::uint32_t> changedBricks;
+  void noteSlot(std::uint32_t s) {
+    if (everything) return;
+    if (slotChanged.size() <= s) slotChanged.resize(std::size_t(s) + 1, 0);
+    if (!slotChanged[s]) slotChanged[s] = 1, changedSlots.push_back(s);
+  }
+  void noteBrick(std::size_t b) {
+    if (everything) return;
+    if (brickChanged.size() < bricks.size()) brickChanged.resize(bricks.size(), 0);
+    if (!brickChanged[b]) brickChanged[b] = 1, changedBricks.push_back(std::uint32_t(b));
+  }
+
   // Scratch for updates (kept to avoid reallocating).
   std::vector<std::uint32_t> mark;  // per slot: epoch of the last visit
   std::uint32_t epoch = 0;
@@ -94,6 +111,7 @@ struct SurfaceUpdater::Impl {
   // A freed slot is reused only after the update that freed it: until then, old triangle
   // lists still name it and must not be mistaken for whatever would take its place.
   void release(std::uint32_t slot) {
+    noteSlot(slot);
     alive[slot] = 0;
     centreLoop[slot].clear();
     pendingFree.push_back(slot);
@@ -190,6 +208,7 @@ struct SurfaceUpdater::Impl {
     const FillBlock& block = b->next;  // loaded by rebuildEdges when active
     if (active && b->fillsValid && block == b->fills) return;
     const bool hadOld = !b->triangles.empty() && b->fillsValid;
+    noteBrick(brickIndex(cb));
     oldTriangles.swap(b->triangles);  // keeps both buffers' capacity between updates
     b->triangles.clear();
     const std::array<std::uint32_t, kCells + 1> oldBegin = b->cellBegin;
@@ -396,6 +415,7 @@ struct SurfaceUpdater::Impl {
     for (std::size_t i = 0; i < n; ++i) {
       if (depthOf[i] <= keep) {
         position[region[i]] = cur[i];
+        noteSlot(region[i]);
         ++kept;
       }
     }
@@ -409,6 +429,7 @@ struct SurfaceUpdater::Impl {
       });
       const double len = glm::length(sum);
       normal[v] = len > 0.0 ? sum / len : glm::dvec3(0.0);
+      noteSlot(v);
     }
     return kept;
   }
@@ -472,6 +493,7 @@ SurfaceUpdater::UpdateStats SurfaceUpdater::update(
     if (b && b->triangles.empty() &&
         std::all_of(b->owned.begin(), b->owned.end(),
                     [](std::uint32_t s) { return s == kNoVertex; })) {
+      m.noteBrick(m.brickIndex(cb));
       b.reset();
     }
   }
@@ -511,6 +533,41 @@ SurfaceMesh SurfaceUpdater::mesh() const {
     out.brickRanges.push_back({std::int64_t(bi), cb, first, std::uint32_t(b->triangles.size())});
   }
   return out;
+}
+
+SurfaceDelta SurfaceUpdater::takeChanges() {
+  Impl& m = *impl_;
+  SurfaceDelta d;
+  d.slotCount = m.info.size();
+  d.everything = m.everything;
+  std::vector<std::uint32_t> slots, bricks;
+  if (m.everything) {
+    for (std::uint32_t s = 0; s < m.info.size(); ++s) slots.push_back(s);
+    for (std::size_t b = 0; b < m.bricks.size(); ++b) {
+      if (m.bricks[b] && !m.bricks[b]->triangles.empty()) bricks.push_back(std::uint32_t(b));
+    }
+  } else {
+    slots.swap(m.changedSlots);
+    bricks.swap(m.changedBricks);
+    std::sort(slots.begin(), slots.end());
+    std::sort(bricks.begin(), bricks.end());
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const std::uint32_t s : slots) {
+    d.slots.push_back(s);
+    d.positionsMm.push_back(m.alive[s] ? m.position[s] : glm::dvec3(nan));
+    d.normals.push_back(m.alive[s] ? m.normal[s] : glm::dvec3(nan));
+  }
+  for (const std::uint32_t b : bricks) {
+    const Impl::CellBrick* brick = m.bricks[b].get();
+    d.bricks.push_back({std::int64_t(b), brick ? brick->triangles : std::vector<glm::u32vec3>{}});
+  }
+  m.everything = false;
+  m.slotChanged.assign(m.info.size(), 0);
+  m.brickChanged.assign(m.bricks.size(), 0);
+  m.changedSlots.clear();
+  m.changedBricks.clear();
+  return d;
 }
 
 std::string SurfaceUpdater::validate() const {

@@ -1,4 +1,5 @@
 #include "osteon/geometry/voxels/density.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/core/constants.h"
 
 #include "osteon/core/error.h"

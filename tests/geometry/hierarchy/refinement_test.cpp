@@ -1,6 +1,8 @@
 #include "osteon/core/error.h"
 #include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "support/carve.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -167,9 +169,9 @@ TEST_F(RefinementTest, RemovalAtTheFinestLevelConservesVolumeAndNeverResurrects)
   const std::uint64_t start = grid_.totalFill();
   const glm::dvec3 tip(9.5, 0.3, 0.2);
   refined.refineAround(tip, outerMm_, 0.0);
-  RemovalResult removed;
+  test::Carved removed;
   for (int step = 0; step < 60; ++step) {  // enough steps to wear d = 40 away
-    const RemovalResult r = refined.removeInSphere(tip, 1.46);
+    const test::Carved r = test::carveSphere(refined, tip, 1.46);
     removed.removedFill += r.removedFill;
     removed.samplesRemoved += r.samplesRemoved;
     removed.voxelsEmptied += r.voxelsEmptied;
@@ -202,98 +204,15 @@ TEST_F(RefinementTest, StaticRemovalActsOnWholeVoxels) {
   RefinedVoxels refined = make(0, &source_);
   EXPECT_EQ(refined.refineAround(surfacePoint_, outerMm_, 0.0), 0);
   const std::uint64_t start = grid_.totalFill();
-  RemovalResult total;
+  test::Carved total;
   for (int step = 0; step < 60; ++step) {
-    const RemovalResult r = refined.removeInSphere({9.0, 0.3, 0.2}, 1.46);
+    const test::Carved r = test::carveSphere(refined, {9.0, 0.3, 0.2}, 1.46);
     total.removedFill += r.removedFill;
     total.voxelsEmptied += r.voxelsEmptied;
   }
   EXPECT_GT(total.voxelsEmptied, 0u);
   EXPECT_EQ(grid_.totalFill(), start - total.removedFill);
   EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
-}
-
-// Cuts whose axis runs through voxel centres with a radius of whole voxels put centres exactly
-// on the cut's surface: every centre contains() takes goes, whatever the query's rounding.
-TEST_F(RefinementTest, StaticCutsTakeEveryVoxelCentreOnTheirSurface) {
-  RefinedVoxels refined = make(0, &source_);
-  const double vs = grid_.voxelSizeMm();
-  std::vector<glm::ivec3> bone;
-  for (int z = 0; z < grid_.dims().z; ++z)
-    for (int y = 0; y < grid_.dims().y; ++y)
-      for (int x = 0; x < grid_.dims().x; ++x)
-        if (grid_.fill({x, y, z}) == kFillFull) bone.push_back({x, y, z});
-  std::mt19937 rng(2718);
-  std::uniform_int_distribution<std::size_t> pick(0, bone.size() - 1);
-  const glm::dvec3 directions[] = {{0, 0, 4}, {3, 4, 0}, {0, 3, 4}, {1, 2, 2}, {2, -1, 2}, {4, 0, -3}};
-  std::size_t onSurface = 0;
-  for (int k = 0; k < 120; ++k) {
-    const glm::dvec3 a = grid_.voxelCentreMm(bone[pick(rng)]);
-    const glm::dvec3 b = a + vs * directions[k % 6];
-    const CutVolume cut{a, b, vs * double(1 + k % 3), false};
-    // The voxels of this cut before it, to check against after.
-    std::vector<glm::ivec3> inside;
-    for (int z = 0; z < grid_.dims().z; ++z)
-      for (int y = 0; y < grid_.dims().y; ++y)
-        for (int x = 0; x < grid_.dims().x; ++x) {
-          const glm::dvec3 c = grid_.voxelCentreMm({x, y, z});
-          if (grid_.fill({x, y, z}) == 0 || !cut.contains(c)) continue;
-          inside.push_back({x, y, z});
-          const glm::dvec3 ab = b - a;
-          const double t = std::clamp(glm::dot(c - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
-          if (std::abs(glm::length(c - (a + t * ab)) - cut.radiusMm) < 1e-9) ++onSurface;
-        }
-    refined.removeIn(cut, 1000);
-    for (const glm::ivec3& v : inside) {
-      ASSERT_EQ(grid_.fill(v), 0) << "cut " << k << " left voxel (" << v.x << ", " << v.y << ", " << v.z << ")";
-    }
-  }
-  EXPECT_GT(onSurface, 100u);  // the ties this is about did occur
-  EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
-}
-
-TEST(CutVolume, SphereCapsuleAndOpenCylinder) {
-  const CutVolume s = CutVolume::sphere({1, 2, 3}, 2.0);
-  EXPECT_TRUE(s.contains({1, 2, 4.99}));
-  EXPECT_FALSE(s.contains({1, 2, 5.01}));
-  EXPECT_DOUBLE_EQ(s.boundingRadiusMm(), 2.0);
-  CutVolume c{{0, 0, 0}, {10, 0, 0}, 1.0, false};
-  EXPECT_TRUE(c.contains({5, 0.99, 0}));
-  EXPECT_FALSE(c.contains({5, 1.01, 0}));
-  EXPECT_TRUE(c.contains({-0.9, 0, 0}));  // rounded end
-  EXPECT_DOUBLE_EQ(c.boundingRadiusMm(), 6.0);
-  c.sideOnly = true;                      // a shaver cuts with its side only
-  EXPECT_FALSE(c.contains({-0.1, 0, 0}));
-  EXPECT_FALSE(c.contains({10.1, 0.2, 0}));
-  EXPECT_TRUE(c.contains({9.9, 0.2, 0}));
-}
-
-TEST_F(RefinementTest, CylinderRemovalTakesExactlyTheSamplesInside) {
-  for (const int depth : {0, 2}) {
-    SetUp();
-    RefinedVoxels refined = make(depth, &source_);
-    const CutVolume cut{{-4, -1, 0.3}, {4, 1, 0.3}, 1.5, true};
-    refined.refineAround(cut.centreMm(), cut.boundingRadiusMm(), 0.0);
-    std::uint64_t inside = 0, samples = 0;
-    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
-      if (cut.contains(s.centreMm)) {
-        inside += s.fill;
-        ++samples;
-      }
-    });
-    ASSERT_GT(samples, 20u) << "depth " << depth;
-    const std::uint64_t before = grid_.totalFill();
-    // Decrement past every density: one call removes every sample inside, nothing else.
-    const RemovalResult r = refined.removeIn(cut, 1000);
-    EXPECT_EQ(r.removedFill, inside) << "depth " << depth;
-    EXPECT_EQ(r.samplesRemoved, samples) << "depth " << depth;
-    EXPECT_EQ(grid_.totalFill(), before - inside) << "depth " << depth;
-    std::uint64_t left = 0;
-    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
-      if (cut.contains(s.centreMm)) ++left;
-    });
-    EXPECT_EQ(left, 0u) << "depth " << depth;
-  }
 }
 
 TEST_F(RefinementTest, SampleQueryEqualsABruteForceScan) {
@@ -385,7 +304,7 @@ TEST_F(RefinementTest, ShellQueriesThroughACacheSkipNoSample) {
     ASSERT_EQ(cached, plain) << "step " << step;
     inShell += plain.size();
     ++queries;
-    if (step % 50 == 49) refined.removeIn(CutVolume{a, a + 0.8 * axis, 1.0, false}, 1000);
+    if (step % 50 == 49) test::carve(refined, test::Cut{a, a + 0.8 * axis, 1.0, false}, 1000);
   }
   EXPECT_GT(inShell, queries * 5);  // the shell met bone throughout
   EXPECT_GT(cache.reuses(), 600u);

@@ -2,9 +2,11 @@
 // level-0 surface without cracks (issue item 6).
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/validation/mesh_checks.h"
+#include "support/carve.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -79,7 +81,7 @@ TEST_F(MultiResolution, DrilledAtTheFinestLevelTheHoleIsFineAndTheSurfaceClosed)
   for (int step = 0; step < 400; ++step) {
     const glm::dvec3 tip = start - model_.headAxis * (0.02 * step);
     refined.refineAround(tip, 1.46 + 0.6, step * 1e-3);
-    refined.removeInSphere(tip, 1.46);
+    test::carveSphere(refined, tip, 1.46);
   }
   const SurfaceMesh multi = extractSurface(grid_, refined);
   expectSoundSurface(multi, 2, "drilled");
@@ -116,7 +118,7 @@ TEST(MultiResolutionNoise, RandomRefinementOfNoiseVolumesStaysSound) {
       RefinedVoxels refined(grid, hierarchy, nullptr, ro);
       std::uniform_real_distribution<double> at(1.0, 11.0);
       for (int k = 0; k < 4; ++k) refined.refineAround({at(rng), at(rng), at(rng)}, 1.2, 0.0);
-      for (int k = 0; k < 3; ++k) refined.removeInSphere({at(rng), at(rng), at(rng)}, 0.8, 10);
+      for (int k = 0; k < 3; ++k) test::carveSphere(refined, {at(rng), at(rng), at(rng)}, 0.8, 10);
       const SurfaceMesh multi = extractSurface(grid, refined);
       const TriangleMesh mesh = multi.toTriangleMesh();
       const MeshTopology t = analyzeTopology(mesh);

@@ -3,6 +3,7 @@
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "support/carve.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -85,7 +86,7 @@ void drillAndCompare(VoxelGrid& grid, const TriangleMesh& surface, int depth,
     const glm::dvec3 at = surface.positionsMm[pick(rng)];
     refined.refineAround(at, 1.46 + 0.6, double(step));
     const int n = strokes(rng);  // sometimes a scratch, sometimes a hole
-    for (int k = 0; k < n; ++k) refined.removeInSphere(at, 1.46);
+    for (int k = 0; k < n; ++k) test::carveSphere(refined, at, 1.46);
     if (step % 3 == 2) refined.expire(double(step) + 10.0);
     const SurfaceUpdater::UpdateStats stats = updater.update(grid.dirtyBricks());
     grid.clearDirty();

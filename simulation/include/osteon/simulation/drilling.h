@@ -9,6 +9,7 @@
 
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/simulation/contact.h"
+#include "osteon/simulation/removal.h"
 #include "osteon/simulation/tool.h"
 
 #include <cstdint>
@@ -42,7 +43,7 @@ struct StepInput {
 
 struct StepOutput {
   ContactForce contact;            // from the bone before this step's removal
-  geometry::RemovalResult removal;
+  RemovalResult removal;
   int refined = 0;                 // voxels newly refined this step
 };
 
@@ -78,6 +79,7 @@ class DrillingSimulation {
   const DrillingTotals& totals() const { return totals_; }
   double removedVolumeMm3() const;
   geometry::RefinedVoxels& voxels() { return *voxels_; }
+  const geometry::RefinedVoxels& voxels() const { return *voxels_; }
   const geometry::VoxelGrid& grid() const { return *grid_; }
 
  private:
@@ -86,6 +88,7 @@ class DrillingSimulation {
   int decrement_;
   double finestVoxelMm_;
   std::unique_ptr<geometry::RefinedVoxels> voxels_;
+  MaterialRemoval removal_;
   ForceModel model_;
   ContactCaches contactCaches_;
   std::array<geometry::DphNearCache, kMaxToolParts> cutCaches_;

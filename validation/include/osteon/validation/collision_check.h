@@ -21,6 +21,7 @@
 
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/simulation/runner.h"
+#include "osteon/simulation/session.h"
 
 #include <cstdint>
 
@@ -53,10 +54,10 @@ struct CollisionCheckResult {
   simulation::RunResult run;          // the run itself (force log and summary)
 };
 
-// Runs the path in the deterministic mode (as simulation::runDeterministic, surface updated
-// every step) and checks the tool's cutting part against the surface as it goes.
-CollisionCheckResult crossCheckCollisions(simulation::DrillingSimulation& sim, geometry::VoxelGrid& grid,
-                                          const simulation::DrillPath& path,
+// Runs the path in the deterministic mode (Session::run, the surface extracted afresh from the
+// grid as it is at the start, then updated every step) and checks the tool's cutting part
+// against the surface as it goes. The session must keep its surface (keepSurface).
+CollisionCheckResult crossCheckCollisions(simulation::Session& session, const simulation::DrillPath& path,
                                           const CollisionCheckOptions& options = {});
 
 }  // namespace osteon::validation

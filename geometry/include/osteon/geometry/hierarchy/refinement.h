@@ -24,7 +24,7 @@
 #pragma once
 
 #include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/hierarchy/fine_fill.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 
 #include <glm/geometric.hpp>
@@ -36,33 +36,6 @@
 #include <vector>
 
 namespace osteon::geometry {
-
-inline constexpr int kMaxRefineDepth = 2;
-inline constexpr int kSubPerEdge = 1 << kMaxRefineDepth;  // level -2 sub-voxels per edge
-inline constexpr int kSubVoxels = kSubPerEdge * kSubPerEdge * kSubPerEdge;  // 64
-
-// Level -2 fill of every voxel the surface passes through (0 < fill < full), sampled from the
-// mesh once and fitted to sum exactly to the voxel's fill, so refining at run time casts no
-// rays and only copies. In fill units: a full level -2 sub-voxel holds 255.
-class FineFillSource {
- public:
-  FineFillSource() = default;
-  // raysPerSubAxis^2 rays along z through each level -2 sub-column of every partial voxel.
-  static FineFillSource sample(const VoxelGrid& grid, const TriangleMesh& mesh,
-                               const EmbreeScene& surface, int raysPerSubAxis = 2);
-  // The 64 sub-voxel fills of voxel v (x fastest) and v's fill when sampled; false for a
-  // voxel that was empty or full then.
-  bool find(const glm::ivec3& v, std::array<std::uint8_t, kSubVoxels>& subFill,
-            Fill& sampledFill) const;
-  std::size_t voxelCount() const { return keys_.size(); }
-  std::size_t memoryBytes() const;
-
- private:
-  glm::ivec3 dims_{0};
-  std::vector<std::uint64_t> keys_;  // sorted grid linear indices
-  std::vector<std::array<std::uint8_t, kSubVoxels>> subFill_;
-  std::vector<Fill> sampledFill_;
-};
 
 struct RefinementOptions {
   int depth = 2;              // 0 (off), 1 (level -1, 8 sub-voxels) or 2 (level -2, 64)
@@ -81,41 +54,6 @@ struct VoxelSample {
   Density density;
 };
 
-// A tool's cutting volume: the points within radiusMm of the segment a-b, a sphere when
-// a == b. sideOnly keeps only points whose projection falls on the segment: a cylinder
-// without end caps, for a shaver that cuts with its side.
-struct CutVolume {
-  glm::dvec3 aMm{0.0};
-  glm::dvec3 bMm{0.0};
-  double radiusMm = 0.0;
-  bool sideOnly = false;
-
-  static CutVolume sphere(const glm::dvec3& centreMm, double radiusMm) {
-    return CutVolume{centreMm, centreMm, radiusMm, false};
-  }
-  glm::dvec3 centreMm() const { return 0.5 * (aMm + bMm); }
-  double boundingRadiusMm() const { return 0.5 * glm::length(bMm - aMm) + radiusMm; }
-  bool contains(const glm::dvec3& pMm) const {
-    const glm::dvec3 ab = bMm - aMm;
-    const double len2 = glm::dot(ab, ab);
-    double t = len2 > 0.0 ? glm::dot(pMm - aMm, ab) / len2 : 0.0;
-    if (sideOnly && (t < 0.0 || t > 1.0)) return false;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    const glm::dvec3 d = pMm - (aMm + t * ab);
-    return glm::dot(d, d) <= radiusMm * radiusMm;
-  }
-};
-
-struct RemovalResult {
-  std::uint64_t removedFill = 0;   // fill units taken out of the grid (exact volume)
-  std::uint32_t samplesRemoved = 0;
-  std::uint32_t samplesDecremented = 0;
-  std::uint32_t voxelsEmptied = 0;  // level-0 voxels that left grid and hierarchy
-  double removedVolumeMm3(double voxelVolumeMm3) const {
-    return double(removedFill) / double(kFillFull) * voxelVolumeMm3;
-  }
-};
-
 class RefinedVoxels {
  public:
   // grid and hierarchy must outlive this object and describe the same voxels; source may be
@@ -129,7 +67,8 @@ class RefinedVoxels {
   int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS, DphNearCache* cache = nullptr);
   // The radii the hierarchy queries reach: refineAround's for a tool of outerRadiusMm,
   // forEachSampleInShell's for a shell of outerMm (refined voxels hold samples half their
-  // samples' diagonal from their centre), removeIn's for a cut of radiusMm.
+  // samples' diagonal from their centre), a cut's of radiusMm (every voxel that may hold a
+  // sample whose centre lies in it).
   double refineReachMm(double outerRadiusMm) const {
     return outerRadiusMm + marginMm_ + 0.5 * std::sqrt(3.0) * grid_->voxelSizeMm();
   }
@@ -168,14 +107,35 @@ class RefinedVoxels {
   void forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm, double outerMm,
                             DphNearCache* cache, Open&& openVoxel, Fn&& fn);
 
-  // Drilling step (seed 3.5): every sample whose centre lies within radiusMm of centreMm
-  // loses `decrement` density; a sample at d <= 0 is removed (its fill leaves the grid).
-  RemovalResult removeInSphere(const glm::dvec3& centreMm, double radiusMm, int decrement = 1) {
-    return removeIn(CutVolume::sphere(centreMm, radiusMm), decrement);
-  }
-  // The same for any cutting volume (a shaver's cylinder).
-  // `cache` as for forEachSampleInShell.
-  RemovalResult removeIn(const CutVolume& volume, int decrement = 1, DphNearCache* cache = nullptr);
+  // ---- Sample mutation: the interface material removal (osteon::simulation) works through ----
+  // A refined voxel's samples, edited in place: perEdge^3 of them, x fastest.
+  struct SampleBlock {
+    glm::ivec3 voxel{0};
+    glm::dvec3 cornerMm{0.0};  // the voxel's lowest corner
+    double sampleMm = 0.0;     // a sample's edge
+    int perEdge = 0;           // 2^depth
+    Fill* fill = nullptr;      // per sample (0: no bone)
+    Density* density = nullptr;
+    std::uint64_t* occupied = nullptr;  // bit i set while fill[i] > 0
+    std::uint32_t cell = 0;
+  };
+  // Opens a refined voxel's samples; false when the voxel is not refined.
+  bool openBlock(const glm::ivec3& voxel, SampleBlock& block);
+  // After the samples in `removed` (bit i: sample i) of an open block lost all their fill
+  // (removedFill in total, the caller having set their fill to 0 and cleared their occupied
+  // bits): the parent's fill in the grid drops by as much; a voxel left empty leaves the grid
+  // and the hierarchy and its block closes (returns true); otherwise the removal is
+  // remembered, so that a later refinement of the voxel cannot bring the bone back.
+  bool settleBlock(const SampleBlock& block, std::uint64_t removed, std::uint64_t removedFill);
+  // An unrefined voxel: a new density (> 0), or its removal from the grid and the hierarchy.
+  void setDensity(const glm::ivec3& voxel, Density density);
+  void removeVoxel(const glm::ivec3& voxel);
+  // The level-0 voxels whose centre lies within reachMm of the segment a-b (a point when
+  // a == b), appended to `out` up to its capacity; false when some did not fit. Collect before
+  // editing: removal changes the hierarchy the query walks. `cache` as for forEachSampleInShell.
+  bool collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, double reachMm, DphNearCache* cache,
+                     std::vector<glm::ivec3>& out);
+  const VoxelGrid& grid() const { return *grid_; }
 
   bool isRefined(const glm::ivec3& voxel) const { return findCell(voxel) != kNoCell; }
   // The refined level-0 voxels now, in no particular order.
@@ -188,17 +148,8 @@ class RefinedVoxels {
   std::size_t refinedCount() const { return active_; }
   std::uint64_t poolExhausted() const { return poolExhausted_; }
   std::uint64_t maskOverflows() const { return maskOverflows_; }
-  // Room for a removal's voxels (its bounding sphere's): reserve the most a cut can reach
-  // before the loop starts (allocates). A cut that still finds more is counted here and
-  // leaves the rest for the next step.
-  void reserveCutVoxels(std::size_t voxels) {
-    if (voxels > found_.capacity()) found_.reserve(voxels);
-  }
-  std::uint64_t cutOverflows() const { return cutOverflows_; }
   // Bytes held by refined voxels and removal masks now (0 when nothing is refined or drilled).
   std::size_t bytesInUse() const;
-  // Bytes reserved up front (pool and tables).
-  std::size_t bytesReserved() const;
 
  private:
   static constexpr std::uint32_t kNoCell = 0xffffffffu;
@@ -266,7 +217,6 @@ class RefinedVoxels {
   };
   // The level -2 fills of a voxel as first refined, summing exactly to firstFill.
   void baseSubFill(const glm::ivec3& voxel, Fill firstFill, std::array<Fill, kSubVoxels>& out) const;
-  RemovalResult removeFromCell(std::uint32_t cell, const CutVolume& volume, int decrement);
 
   VoxelGrid* grid_;
   DynamicProximityHierarchy* hierarchy_;
@@ -287,9 +237,7 @@ class RefinedVoxels {
   std::size_t masksUsed_ = 0;
   std::uint64_t poolExhausted_ = 0;
   std::uint64_t maskOverflows_ = 0;
-  std::uint64_t cutOverflows_ = 0;
   DphQueryScratch scratch_;
-  std::vector<glm::ivec3> found_;          // voxels of the current query (reserved)
 };
 
 template <typename Open, typename Fn>

@@ -14,6 +14,23 @@
 
 namespace osteon::geometry {
 
+// What changed in an updater's surface since the last SurfaceUpdater::takeChanges(), in its
+// stable numbering: a vertex slot keeps its index while the vertex lives, and a cell brick's
+// triangles (in slot indices) are replaced whole when the brick changes. A front end keeps a
+// vertex buffer indexed by slot and one triangle range per brick, and uploads only these.
+struct SurfaceDelta {
+  std::size_t slotCount = 0;             // slots in use or free: vertex buffer size
+  std::vector<std::uint32_t> slots;      // slots whose position or normal changed, or that died
+  std::vector<glm::dvec3> positionsMm;   // per listed slot (NaN for a dead slot)
+  std::vector<glm::dvec3> normals;
+  struct Brick {
+    std::int64_t key;                    // SurfaceMesh::BrickRange::brick
+    std::vector<glm::u32vec3> triangles;  // the brick's triangles now (empty: none left)
+  };
+  std::vector<Brick> bricks;
+  bool everything = false;               // the first read: every slot and brick is listed
+};
+
 class SurfaceUpdater {
  public:
   struct UpdateStats {
@@ -38,6 +55,8 @@ class SurfaceUpdater {
 
   // The current surface as compact arrays, triangles grouped by cell brick.
   SurfaceMesh mesh() const;
+  // The changes since the last call (everything on the first), and forget them.
+  SurfaceDelta takeChanges();
   std::size_t vertexCount() const;
   // "" or the first broken internal invariant (a triangle on a freed vertex slot, ...).
   std::string validate() const;

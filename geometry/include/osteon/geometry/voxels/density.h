@@ -2,12 +2,13 @@
 // bone within a shell under the surface, cancellous bone deeper inside.
 #pragma once
 
-#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 
 #include <cstdint>
 
 namespace osteon::geometry {
+
+class EmbreeScene;
 
 struct DensityRule {
   double corticalThicknessMm = 2.0;  // voxel centres this close to the surface are cortical

@@ -1,0 +1,167 @@
+// One drilling session: the object every front end (the CLI, the viewer, an integrator's
+// trainer) drives. It owns the bone and everything built on it (MuJoCo's model/data split in
+// spirit: what does not change, the mesh and the options, beside what drilling changes, the
+// grid, the hierarchy, the refined voxels and the surface), so no lifetime rule is left to the
+// caller. Move-only; moving keeps every internal reference valid.
+//
+//   Session s = Session::open("default", 1.0, SessionOptions{});   // 1.2 mm, 2 levels, drill
+//   (or: auto bone = BoneModel::open(...); Session a(bone, options), b(bone, options);)
+//   const DrillPath path = s.portalPath(Portal::FiveOClock).path;
+//   RunResult r = s.run(path);                                     // deterministic, 1 kHz
+//   const geometry::SurfaceMesh& bone = s.surface();
+#pragma once
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/drilling.h"
+#include "osteon/simulation/path.h"
+#include "osteon/simulation/runner.h"
+#include "osteon/simulation/runtime.h"
+#include "osteon/simulation/tool.h"
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace osteon::geometry {
+class DynamicProximityHierarchy;
+class FineFillSource;
+}  // namespace osteon::geometry
+
+namespace osteon::simulation {
+
+struct SessionOptions {
+  // The bone (used by the convenience constructors, which build a BoneModel).
+  double voxelSizeMm = 1.2;
+  // Voxelization of a mesh (density rule, rays); the voxel size and the names for messages
+  // are set from the session's. A mesh whose grid has no voxel inside is refused (InputError).
+  geometry::VoxelizeOptions voxelizing;
+  // The drilling.
+  int levels = 2;                      // 0 static, 1 or 2 dynamic (refined near the tool)
+  ToolKind tool = ToolKind::Drill;
+  ToolOptions toolOptions;
+  DrillingOptions drilling;            // its `levels` is replaced by `levels` above
+  geometry::SurfaceOptions surface;    // the incremental surface kept by step() and run()
+  bool keepSurface = true;             // false: no visual work (faster batch runs)
+};
+
+// What does not change while drilling: the mesh (when there is one), the grid as voxelized,
+// and the level -2 fills sampled from the mesh for refinement. Immutable and shared: many
+// sessions (every run of an experiment) drill fresh copies of one bone.
+class BoneModel {
+ public:
+  // From a mesh in millimetres. `name` names it in messages (a file, or "default");
+  // loadScaleToMm is how it was scaled on loading (to suggest --units in messages).
+  // sampleFineFills: sample the level -2 fills (needed for refinement from the mesh).
+  static std::shared_ptr<const BoneModel> fromMesh(geometry::TriangleMesh meshMm, double voxelSizeMm,
+                                                   const std::string& name = "mesh", double loadScaleToMm = 1.0,
+                                                   const geometry::VoxelizeOptions& voxelizing = {},
+                                                   bool sampleFineFills = true);
+  // From a mesh argument as commands take it: a mesh file or `default`, scaled to mm.
+  static std::shared_ptr<const BoneModel> open(const std::string& meshArgument, double scaleToMm, double voxelSizeMm,
+                                               const geometry::VoxelizeOptions& voxelizing = {},
+                                               bool sampleFineFills = true);
+  // From a saved grid: no mesh, so refined voxels split their fill evenly.
+  static std::shared_ptr<const BoneModel> fromGrid(geometry::VoxelGrid grid, const std::string& name = "grid");
+
+  ~BoneModel();
+
+  const std::string& name() const { return name_; }
+  const geometry::TriangleMesh* mesh() const { return mesh_ ? &*mesh_ : nullptr; }
+  const geometry::VoxelGrid& grid() const { return grid_; }
+  const geometry::FineFillSource* fineFills() const { return fineFills_.get(); }
+  // The humeral head fitted to the mesh (seed 4's portals), fitted once on first use (safe from
+  // any thread). Throws InputError without a mesh or a head.
+  const HumeralHead& humeralHead() const;
+
+ private:
+  BoneModel() = default;
+  std::string name_;
+  std::optional<geometry::TriangleMesh> mesh_;
+  geometry::VoxelGrid grid_;
+  std::unique_ptr<geometry::FineFillSource> fineFills_;
+  mutable std::once_flag headOnce_;
+  mutable std::optional<HumeralHead> head_;
+};
+
+// What changed in the surface since the last Session::takeSurfaceChanges() (surface_updater.h).
+using SurfaceChanges = geometry::SurfaceDelta;
+
+class Session {
+ public:
+  // Drills a fresh copy of `bone` (options.voxelSizeMm and voxelizing are the bone's own).
+  Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options);
+  // Convenience: the bone made from a mesh, a mesh argument or a grid, then the session.
+  static Session fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options,
+                          const std::string& name = "mesh", double loadScaleToMm = 1.0);
+  static Session open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options);
+  static Session fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name = "grid");
+
+  Session(Session&&) noexcept;
+  Session& operator=(Session&&) noexcept;
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // ---- each 1 ms step (deterministic mode) ----
+  // Refine, force, removal (drilling.h); then the surface follows the changed bricks when
+  // keepSurface (the visual work, done here every surfaceEverySteps steps).
+  StepOutput step(const StepInput& input);
+  int surfaceEverySteps = 1;
+
+  // A whole path in the deterministic mode (runner.h): the same input, the same log bit for bit.
+  RunResult run(const DrillPath& path, DeterministicOptions options = {});
+  // The haptic, collision and visual threads in real time for options.durationS (runtime.h);
+  // afterwards the session's surface is the visual thread's.
+  RuntimeResult runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options);
+
+  // ---- each frame ----
+  // The surface as the visual work left it (the level-0 crack-free surface).
+  const geometry::SurfaceMesh& surface();
+  // What changed since the last call (everything on the first). Throws InputError when the
+  // session keeps no surface.
+  SurfaceChanges takeSurfaceChanges();
+  // Extracts the surface again from the grid as it is now (a full extraction; the changes
+  // start over with everything). keepSurface sessions only.
+  void resetSurface();
+  // The drilled bone with its refined regions at their own resolution (for export).
+  geometry::SurfaceMesh multiResolutionSurface() const;
+  // Tool pose and contact force of the latest step.
+  const ToolPose& toolPose() const { return lastPose_; }
+  const ContactForce& contact() const { return lastContact_; }
+  // Per-voxel display values: the finest level present (0, -1, -2; 1 where there is no bone)
+  // and the drilling density.
+  int levelAt(const glm::ivec3& voxel) const;
+  geometry::Density densityAt(const glm::ivec3& voxel) const;
+
+  // ---- what it is built on ----
+  const BoneModel& bone() const;
+  const std::string& name() const { return bone().name(); }
+  const geometry::VoxelGrid& grid() const;
+  const geometry::DynamicProximityHierarchy& hierarchy() const;
+  DrillingSimulation& simulation();
+  const DrillingSimulation& simulation() const;
+  const SessionOptions& options() const;
+  const DrillingTotals& totals() const { return simulation().totals(); }
+  double removedVolumeMm3() const { return simulation().removedVolumeMm3(); }
+  // The bone's humeral head (fitted once). Throws InputError for a bone without a mesh or a head.
+  const HumeralHead& humeralHead() const;
+  // The seed's portal paths (section 4) on this bone's humeral head, for this session's tool.
+  // Throws InputError for a bone without a mesh or without a head.
+  PortalPlan portalPath(Portal portal, const PortalPathOptions& options = {}) const;
+
+ private:
+  struct State;
+  explicit Session(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+  ToolPose lastPose_;
+  ContactForce lastContact_;
+};
+
+}  // namespace osteon::simulation

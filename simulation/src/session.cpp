@@ -1,0 +1,211 @@
+#include "osteon/simulation/session.h"
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/hierarchy/fine_fill.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+
+#include <optional>
+#include <utility>
+
+namespace osteon::simulation {
+
+BoneModel::~BoneModel() = default;
+
+std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh meshMm, double voxelSizeMm,
+                                                     const std::string& name, double loadScaleToMm,
+                                                     const geometry::VoxelizeOptions& voxelizing,
+                                                     bool sampleFineFills) {
+  std::shared_ptr<BoneModel> bone(new BoneModel());
+  bone->name_ = name;
+  bone->mesh_ = std::move(meshMm);
+  geometry::VoxelizeOptions vo = voxelizing;
+  vo.voxelSizeMm = voxelSizeMm;
+  vo.requireInside = true;
+  vo.meshName = name;
+  vo.loadScaleToMm = loadScaleToMm;
+  bone->grid_ = geometry::voxelize(*bone->mesh_, vo);
+  if (sampleFineFills) {
+    // Level -2 fills sampled from the mesh once; the ray scene is needed only for that.
+    const geometry::EmbreeScene scene(*bone->mesh_);
+    bone->fineFills_ = std::make_unique<geometry::FineFillSource>(
+        geometry::FineFillSource::sample(bone->grid_, *bone->mesh_, scene));
+  }
+  return bone;
+}
+
+std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
+                                                 double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
+                                                 bool sampleFineFills) {
+  return fromMesh(geometry::loadMeshArgument(meshArgument, scaleToMm), voxelSizeMm, meshArgument, scaleToMm,
+                  voxelizing, sampleFineFills);
+}
+
+std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, const std::string& name) {
+  if (grid.countVoxels(geometry::kFillHalf) == 0) {
+    throw InputError(name + ": the grid has no voxel inside (nothing to drill)");
+  }
+  std::shared_ptr<BoneModel> bone(new BoneModel());
+  bone->name_ = name;
+  bone->grid_ = std::move(grid);
+  bone->grid_.clearDirty();
+  return bone;
+}
+
+const HumeralHead& BoneModel::humeralHead() const {
+  if (!mesh_) throw InputError(name_ + ": portal paths need the bone's mesh (a grid has no humeral head to fit)");
+  // A failed fit throws out of call_once, which leaves the flag unset: the next call tries again.
+  std::call_once(headOnce_, [this] { head_ = fitHumeralHead(*mesh_); });
+  return *head_;
+}
+
+// What drilling changes, on the heap so that moving the session moves one pointer and the
+// references between the parts (simulation -> grid, hierarchy, fine fills) stay valid.
+struct Session::State {
+  std::shared_ptr<const BoneModel> bone;
+  SessionOptions options;
+  geometry::VoxelGrid grid;
+  geometry::DynamicProximityHierarchy hierarchy;
+  std::optional<DrillingSimulation> simulation;
+  std::unique_ptr<geometry::SurfaceUpdater> updater;
+  geometry::SurfaceMesh surface;
+  bool surfaceStale = true;
+  std::uint64_t steps = 0;
+};
+
+Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options)
+    : state_(std::make_unique<State>()) {
+  if (!bone) throw InputError("session: no bone");
+  DrillingOptions drilling = options.drilling;
+  drilling.levels = options.levels;
+  validateDrillingOptions(drilling);
+  if (options.keepSurface) geometry::validateSurfaceOptions(options.surface);
+  State& s = *state_;
+  s.bone = std::move(bone);
+  s.options = options;
+  s.options.voxelSizeMm = s.bone->grid().voxelSizeMm();
+  s.grid = s.bone->grid();  // every session drills fresh bone
+  s.hierarchy = geometry::DynamicProximityHierarchy::build(s.grid, geometry::DphBuildOptions{});
+  s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr, options.tool,
+                       options.toolOptions, drilling);
+  if (options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
+  s.grid.clearDirty();
+}
+
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+Session::~Session() = default;
+
+Session Session::fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options, const std::string& name,
+                          double loadScaleToMm) {
+  return Session(BoneModel::fromMesh(std::move(meshMm), options.voxelSizeMm, name, loadScaleToMm, options.voxelizing,
+                                     options.levels > 0),
+                 options);
+}
+
+Session Session::open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options) {
+  return Session(BoneModel::open(meshArgument, scaleToMm, options.voxelSizeMm, options.voxelizing, options.levels > 0),
+                 options);
+}
+
+Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name) {
+  return Session(BoneModel::fromGrid(std::move(grid), name), options);
+}
+
+StepOutput Session::step(const StepInput& input) {
+  State& s = *state_;
+  const StepOutput out = s.simulation->step(input);
+  lastPose_ = input.pose;
+  lastContact_ = out.contact;
+  ++s.steps;
+  if (s.updater && surfaceEverySteps > 0 && s.steps % std::uint64_t(surfaceEverySteps) == 0) {
+    const std::vector<std::size_t> dirty = s.grid.dirtyBricks();
+    if (!dirty.empty()) {
+      s.updater->update(dirty);
+      s.grid.clearDirty();
+      s.surfaceStale = true;
+    }
+  }
+  return out;
+}
+
+RunResult Session::run(const DrillPath& path, DeterministicOptions options) {
+  State& s = *state_;
+  // The last step's pose and force, for a front end that reads them after the run.
+  std::function<void(std::size_t, const StepInput&, const StepOutput&)> after = std::move(options.afterStep);
+  options.afterStep = [&](std::size_t i, const StepInput& in, const StepOutput& out) {
+    lastPose_ = in.pose;
+    lastContact_ = out.contact;
+    s.surfaceStale = true;
+    if (after) after(i, in, out);
+  };
+  RunResult r = runDeterministic(*s.simulation, s.grid, path, s.updater.get(), options);
+  s.surfaceStale = true;
+  return r;
+}
+
+RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options) {
+  State& s = *state_;
+  geometry::SurfaceMesh visual;
+  RuntimeResult r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, options, &visual);
+  // The visual thread kept its own surface; the session's updater starts again from the grid.
+  if (s.options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
+  s.grid.clearDirty();
+  s.surface = std::move(visual);
+  s.surfaceStale = !s.options.keepSurface;
+  return r;
+}
+
+const geometry::SurfaceMesh& Session::surface() {
+  State& s = *state_;
+  if (s.surfaceStale) {
+    s.surface = s.updater ? s.updater->mesh() : geometry::extractSurface(s.grid, s.options.surface);
+    s.surfaceStale = false;
+  }
+  return s.surface;
+}
+
+void Session::resetSurface() {
+  State& s = *state_;
+  if (!s.options.keepSurface) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  s.grid.clearDirty();
+  s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
+  s.surfaceStale = true;
+}
+
+SurfaceChanges Session::takeSurfaceChanges() {
+  State& s = *state_;
+  if (!s.updater) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  return s.updater->takeChanges();
+}
+
+geometry::SurfaceMesh Session::multiResolutionSurface() const {
+  const State& s = *state_;
+  return geometry::extractSurface(s.grid, s.simulation->voxels(), s.options.surface);
+}
+
+int Session::levelAt(const glm::ivec3& voxel) const {
+  const State& s = *state_;
+  if (s.grid.fill(voxel) == 0) return 1;
+  return s.simulation->voxels().isRefined(voxel) ? -s.simulation->voxels().depth() : 0;
+}
+
+geometry::Density Session::densityAt(const glm::ivec3& voxel) const { return state_->grid.density(voxel); }
+
+const BoneModel& Session::bone() const { return *state_->bone; }
+const geometry::VoxelGrid& Session::grid() const { return state_->grid; }
+const geometry::DynamicProximityHierarchy& Session::hierarchy() const { return state_->hierarchy; }
+DrillingSimulation& Session::simulation() { return *state_->simulation; }
+const DrillingSimulation& Session::simulation() const { return *state_->simulation; }
+const SessionOptions& Session::options() const { return state_->options; }
+
+const HumeralHead& Session::humeralHead() const { return state_->bone->humeralHead(); }
+
+PortalPlan Session::portalPath(Portal portal, const PortalPathOptions& options) const {
+  return makePortalPath(portal, humeralHead(), *state_->bone->mesh(), state_->simulation->tool().parts[0].outerRadiusMm,
+                        options);
+}
+
+}  // namespace osteon::simulation

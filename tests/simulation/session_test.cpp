@@ -1,0 +1,167 @@
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/simulation/session.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+#include <array>
+#include <type_traits>
+#include <utility>
+
+namespace osteon::simulation {
+namespace {
+
+static_assert(!std::is_copy_constructible_v<Session>, "a session owns its bone: move-only");
+static_assert(std::is_nothrow_move_constructible_v<Session>);
+
+const geometry::TriangleMesh& humerus() {
+  static const geometry::TriangleMesh mesh = geometry::buildHumerusModel().mesh;
+  return mesh;
+}
+
+PortalPathOptions shortPath() {
+  PortalPathOptions o;
+  o.durationS = 1.5;
+  return o;
+}
+
+// The session gives the forces of the parts wired by hand, bit for bit.
+TEST(Session, RunsAsTheHandWiredPartsDo) {
+  for (const int levels : {0, 2}) {
+    SessionOptions options;
+    options.levels = levels;
+    Session session = Session::fromMesh(humerus(), options, "default");
+    const DrillPath path = session.portalPath(Portal::FiveOClock, shortPath()).path;
+    const RunResult a = session.run(path);
+
+    geometry::VoxelizeOptions vo;
+    vo.voxelSizeMm = 1.2;
+    geometry::VoxelGrid grid = geometry::voxelize(humerus(), vo);
+    auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+    const geometry::EmbreeScene scene(humerus());
+    const geometry::FineFillSource source = geometry::FineFillSource::sample(grid, humerus(), scene);
+    DrillingOptions drilling;
+    drilling.levels = levels;
+    DrillingSimulation sim(grid, hierarchy, levels > 0 ? &source : nullptr, ToolKind::Drill, ToolOptions{}, drilling);
+    const RunResult b = runDeterministic(sim, grid, path, nullptr);
+
+    ASSERT_EQ(a.log.size(), b.log.size());
+    for (std::size_t i = 0; i < a.log.size(); ++i) {
+      ASSERT_EQ(std::memcmp(&a.log[i].forceN, &b.log[i].forceN, sizeof(glm::dvec3)), 0) << "step " << i;
+    }
+    EXPECT_EQ(a.summary.removedVolumeMm3, b.summary.removedVolumeMm3);
+    EXPECT_GT(a.summary.removedVolumeMm3, 0.0) << "levels " << levels;
+    EXPECT_EQ(session.toolPose().tipMm, a.log.back().tipMm);
+  }
+}
+
+// Moving a session moves its parts with it: the moved-to session drills on.
+TEST(Session, MovesWithItsParts) {
+  Session first = Session::fromMesh(humerus(), SessionOptions{}, "default");
+  const DrillPath path = first.portalPath(Portal::SevenOClock, shortPath()).path;
+  Session moved = std::move(first);
+  const RunResult r = moved.run(path);
+  EXPECT_GT(r.summary.maxForceN, 0.5);
+  EXPECT_EQ(moved.surface().toTriangleMesh().triangles.size(),
+            geometry::extractSurface(moved.grid(), geometry::SurfaceOptions{}).triangleCount());
+}
+
+// Sessions on one bone drill their own copies of it.
+TEST(Session, SessionsOnOneBoneDrillFreshCopies) {
+  const auto bone = BoneModel::fromMesh(humerus(), 1.2, "default");
+  SessionOptions options;
+  options.keepSurface = false;
+  Session a(bone, options), b(bone, options);
+  const DrillPath path = a.portalPath(Portal::FiveOClock, shortPath()).path;
+  const RunResult ra = a.run(path);
+  const RunResult rb = b.run(path);
+  EXPECT_EQ(ra.summary.removedVolumeMm3, rb.summary.removedVolumeMm3);
+  EXPECT_EQ(bone->grid().totalFill(), Session(bone, options).grid().totalFill());
+  EXPECT_LT(a.grid().totalFill(), bone->grid().totalFill());
+  EXPECT_THROW(a.takeSurfaceChanges(), InputError);
+}
+
+// The changes a front end reads, applied to its own copy, give the session's surface.
+TEST(Session, SurfaceChangesRebuildTheSurface) {
+  Session session = Session::fromMesh(humerus(), SessionOptions{}, "default");
+  std::vector<glm::dvec3> positions;
+  std::map<std::int64_t, std::vector<glm::u32vec3>> bricks;
+  const auto apply = [&](const SurfaceChanges& c) {
+    positions.resize(c.slotCount, glm::dvec3(NAN));
+    for (std::size_t k = 0; k < c.slots.size(); ++k) positions[c.slots[k]] = c.positionsMm[k];
+    if (c.everything) bricks.clear();
+    for (const SurfaceChanges::Brick& b : c.bricks) {
+      if (b.triangles.empty()) {
+        bricks.erase(b.key);
+      } else {
+        bricks[b.key] = b.triangles;
+      }
+    }
+  };
+  const auto compare = [&]() {
+    // The same triangles with the same corner positions as the session's surface.
+    const geometry::SurfaceMesh& s = session.surface();
+    std::multiset<std::array<double, 9>> mine, theirs;
+    for (const auto& [key, tris] : bricks) {
+      for (const glm::u32vec3& t : tris) {
+        const glm::dvec3 p[3] = {positions[t.x], positions[t.y], positions[t.z]};
+        mine.insert({p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z});
+      }
+    }
+    for (const glm::u32vec3& t : s.triangles) {
+      const glm::dvec3 p[3] = {s.positionsMm[t.x], s.positionsMm[t.y], s.positionsMm[t.z]};
+      theirs.insert({p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z});
+    }
+    return mine == theirs;
+  };
+  SurfaceChanges first = session.takeSurfaceChanges();
+  EXPECT_TRUE(first.everything);
+  apply(first);
+  EXPECT_TRUE(compare());
+  const DrillPath path = session.portalPath(Portal::FiveOClock, shortPath()).path;
+  std::size_t changedSlots = 0, reads = 0;
+  for (double t = 0.0; t <= path.durationS(); t += 0.001) {
+    StepInput in;
+    in.tS = t;
+    path.sample(t, in.pose, in.drillOn);
+    session.step(in);
+    if (std::fmod(t, 0.1) < 0.001) {  // a frame every 100 steps
+      const SurfaceChanges c = session.takeSurfaceChanges();
+      EXPECT_FALSE(c.everything);
+      changedSlots += c.slots.size();
+      ++reads;
+      apply(c);
+    }
+  }
+  apply(session.takeSurfaceChanges());
+  EXPECT_GT(changedSlots, 0u);
+  EXPECT_LT(changedSlots, reads * session.surface().vertexCount() / 4) << "only what changed is listed";
+  EXPECT_TRUE(compare());
+}
+
+TEST(Session, DisplayValuesAndBonesWithoutAMesh) {
+  Session session = Session::fromMesh(humerus(), SessionOptions{}, "default");
+  const glm::ivec3 centre(session.grid().gridFromWorld(session.humeralHead().centreMm));
+  EXPECT_EQ(session.levelAt(centre), 0);
+  EXPECT_GT(session.densityAt(centre), 0);
+  EXPECT_EQ(session.levelAt({0, 0, 0}), 1);  // the padding: no bone
+
+  Session fromGrid = Session::fromGrid(session.grid(), SessionOptions{}, "saved.nrrd");
+  EXPECT_EQ(fromGrid.bone().mesh(), nullptr);
+  EXPECT_THROW(fromGrid.portalPath(Portal::FiveOClock), InputError);
+  geometry::VoxelGrid empty = geometry::makeGridFor(test::makeBox({0, 0, 0}, {10, 10, 10}), 1.0);
+  EXPECT_THROW(Session::fromGrid(std::move(empty), SessionOptions{}, "empty.nrrd"), InputError);
+  SessionOptions bad;
+  bad.levels = 3;
+  EXPECT_THROW(Session::fromMesh(humerus(), bad), InputError);
+}
+
+}  // namespace
+}  // namespace osteon::simulation
