@@ -3,8 +3,8 @@
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/image/image_writer.h"
 
-#include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
 
 #include <atomic>
@@ -98,12 +98,8 @@ std::vector<std::string> writeCrackImages(const CrackMetric& metric, const std::
     if (view.rgb.empty()) throw std::logic_error("writeCrackImages: measureCracks kept no images");
     const std::string path = dir + "/cracks_" + view.name + ".png";
     geometry::OutputFile file(path);
-    auto out = OIIO::ImageOutput::create(file.tempPath());
-    const OIIO::ImageSpec spec(metric.pixels, metric.pixels, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(file.tempPath(), spec) ||
-        !out->write_image(OIIO::TypeDesc::UINT8, view.rgb.data()) || !out->close()) {
-      throw InputError(path + ": cannot write the crack image");
-    }
+    const std::string error = image::writeImageU8(file.tempPath(), metric.pixels, metric.pixels, 3, view.rgb.data());
+    if (!error.empty()) throw InputError(path + ": cannot write the crack image (" + error + ")");
     file.commit();
     paths.push_back(path);
   }

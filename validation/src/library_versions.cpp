@@ -1,18 +1,14 @@
 #include "osteon/validation/library_versions.h"
 
-#include <CGAL/version.h>
-#include <OpenImageIO/imageio.h>
+#include "osteon/image/image_writer.h"
 
-#include <string>
+#include <CGAL/version.h>
 
 namespace osteon::validation {
 
 geometry::LibraryVersions libraryVersions() {
-  // openimageio_version(): 10000 major + 100 minor + patch.
-  const int oiio = OIIO::openimageio_version();
-  return {{"cgal", CGAL_VERSION_STR},
-          {"openimageio", std::to_string(oiio / 10000) + "." + std::to_string(oiio / 100 % 100) + "." +
-                              std::to_string(oiio % 100)}};
+  // OpenImageIO's version is the plugin's runtime library's: asking loads the plugin.
+  return {{"cgal", CGAL_VERSION_STR}, {"openimageio", image::openImageIOVersion()}};
 }
 
 }  // namespace osteon::validation

@@ -37,8 +37,9 @@ struct CrackMetric {
 // Throws InputError for pixels outside 16..4096 or an empty mesh.
 CrackMetric measureCracks(const geometry::TriangleMesh& mesh, const CrackMetricOptions& options = {});
 
-// Writes each kept view as DIR/cracks_<name>.png (OpenImageIO); returns the paths. Throws
-// InputError naming the file when it cannot be written, std::logic_error when no images were kept.
+// Writes each kept view as DIR/cracks_<name>.png (OpenImageIO, through the osteon::image
+// plugin, loaded here on first use); returns the paths. Throws InputError naming the file when
+// it cannot be written or the plugin cannot be loaded, std::logic_error when no images were kept.
 std::vector<std::string> writeCrackImages(const CrackMetric& metric, const std::string& dir);
 
 }  // namespace osteon::validation

@@ -1,0 +1,36 @@
+// Embedding osteon: drill the 5 o'clock portal of the built-in humerus for one second in the
+// deterministic mode (1 kHz) and print the peak force and the bone removed.
+#include "osteon/core/error.h"
+#include "osteon/simulation/path.h"
+#include "osteon/simulation/session.h"
+
+#include <cstdio>
+#include <exception>
+
+int main() {
+  using namespace osteon::simulation;
+  try {
+    SessionOptions options;
+    options.voxelSizeMm = 1.2;  // base voxels
+    options.levels = 2;         // refined to 0.6 and 0.3 mm near the tool
+    options.tool = ToolKind::Drill;
+    // `default` is the built-in right proximal humerus, already in millimetres.
+    Session session = Session::open("default", 1.0, options);
+
+    PortalPathOptions pathOptions;
+    pathOptions.durationS = 1.0;
+    const PortalPlan plan = session.portalPath(Portal::FiveOClock, pathOptions);
+
+    const RunResult result = session.run(plan.path);  // the same input, the same log
+    std::printf("steps: %zu\n", result.log.size());
+    std::printf("peak force: %.3f N\n", result.summary.maxForceN);
+    std::printf("removed volume: %.3f mm^3\n", result.summary.removedVolumeMm3);
+    return 0;
+  } catch (const osteon::InputError& e) {
+    std::fprintf(stderr, "drill_minimal: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "drill_minimal: internal error: %s\n", e.what());
+    return 3;
+  }
+}
