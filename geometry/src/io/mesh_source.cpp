@@ -16,7 +16,7 @@ TriangleMesh loadMeshArgument(const std::string& argument, double scaleToMm,
     s << "--scale " << scaleToMm << ": must be a positive finite number";
     throw InputError(s.str());
   }
-  TriangleMesh mesh = buildHumerusModel().mesh;
+  TriangleMesh mesh = defaultHumerusModel().mesh;
   if (scaleToMm != 1.0) scaleInPlace(mesh, scaleToMm);
   checkScaledCoordinates(mesh, argument, scaleToMm);
   return mesh;

@@ -12,6 +12,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh.h"
 
@@ -294,6 +296,28 @@ TEST(HumerusModel, RejectsInvalidParameters) {
   p = {};
   p.retroversionDeg = nan;
   expectRejected(p, "retroversionDeg");
+}
+
+}  // namespace
+}  // namespace osteon::geometry
+
+namespace osteon::geometry {
+namespace {
+
+// What `default` loads is built into the library at compile time: the same model to the bit.
+TEST(HumerusModel, TheEmbeddedDefaultIsTheBuiltModelBitForBit) {
+  const HumerusModel built = buildHumerusModel();
+  const HumerusModel& embedded = defaultHumerusModel();
+  ASSERT_EQ(embedded.mesh.positionsMm.size(), built.mesh.positionsMm.size());
+  ASSERT_EQ(embedded.mesh.triangles.size(), built.mesh.triangles.size());
+  EXPECT_EQ(std::memcmp(embedded.mesh.positionsMm.data(), built.mesh.positionsMm.data(),
+                        built.mesh.positionsMm.size() * sizeof(glm::dvec3)),
+            0);
+  EXPECT_EQ(embedded.mesh.triangles, built.mesh.triangles);
+  EXPECT_EQ(embedded.headCentreMm, built.headCentreMm);
+  EXPECT_EQ(embedded.headRadiusMm, built.headRadiusMm);
+  EXPECT_EQ(embedded.headAxis, built.headAxis);
+  EXPECT_EQ(embedded.shaftAxis, built.shaftAxis);
 }
 
 }  // namespace

@@ -33,4 +33,8 @@ struct HumerusModel {
 // Deterministic: the same parameters give the same mesh bit for bit.
 HumerusModel buildHumerusModel(const HumerusModelParams& params = {});
 
+// The model of the default parameters, built at compile time into the library (the same
+// bits as buildHumerusModel()): what `default` means, ready without the build's 90 ms.
+const HumerusModel& defaultHumerusModel();
+
 }  // namespace osteon::geometry
