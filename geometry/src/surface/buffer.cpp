@@ -34,9 +34,8 @@ void* mapBlock(std::size_t bytes, bool hugePages) {
   void* p = reinterpret_cast<void*>(aligned);
 #if defined(MADV_HUGEPAGE)
   // Advice only: where transparent huge pages are off, this fails and nothing changes. Not
-  // below 8 MiB: a first 128^3 extraction's 3-4 MiB arrays in 2 MiB pages took 4.3-6.7 ms
-  // against 6.4-10.5 ms, but one run in ten waited 20 ms or more for the kernel to find
-  // huge pages.
+  // below 8 MiB: for smaller arrays the kernel's occasional long wait to find huge pages
+  // outweighs what they save.
   if (hugePages) (void)madvise(p, bytes, MADV_HUGEPAGE);
 #endif
   return p;
@@ -122,7 +121,7 @@ void* allocateLarge(std::size_t bytes) {
       return p;
     }
   }
-  // Huge pages by the size asked for, as before the cache (6-8 MiB arrays were not advised).
+  // Huge pages by the size asked for, not the rounded size: arrays under 8 MiB are not advised.
   const bool hugePages = bytes >= kHugeAdviceBytes;
   void* p = mapBlock(rounded, hugePages);
   if (p == nullptr) {  // out of memory: give back what the cache holds, then try once more

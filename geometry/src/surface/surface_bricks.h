@@ -18,8 +18,8 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "bricks' bytes are read
 // Per active cell brick: where its fills are, how much it adds, and its rows of cells with
 // surface, each row's mixed cells and their cases.
 struct BrickOut {
-  // Left uninitialised: every brick fills its arrays before reading them, and zeroing some
-  // 8 KiB per active brick up front was a tenth of the extraction time.
+  // Left uninitialised: every brick fills its arrays before reading them, so zeroing some
+  // 8 KiB per active brick up front would be pure cost.
   BrickOut() {}  // NOLINT: deliberately not = default (that would zero the arrays)
   BlockSource source;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
@@ -46,8 +46,7 @@ struct BrickOut {
 // before its (row, axis) byte + those of lower x in it. Pass 1 writes a layer's bytes at once,
 // and only for layers with a mixed cell (later passes read no other): 580 bytes per brick,
 // kept apart from the bulky BrickOut so that the neighbours' indices pass 3 reads stay in
-// cache (a table of every edge's id took 3-6 KiB per brick, and fetching it from memory was a
-// third of the extraction's time).
+// cache, where a table of every edge's id (3-6 KiB per brick) would not.
 constexpr std::size_t edgeByte(int row, int axis) {  // row = ly + 8 lz
   return std::size_t(3 * kCellBrick * (row >> 3) + kCellBrick * axis + (row & (kCellBrick - 1)));
 }

@@ -98,8 +98,7 @@ std::uint16_t partSides(const Fill* fill, std::uint8_t* rowBits) {
 }
 
 // Asks for a stored brick's fills two bricks ahead of reading them: bricks are separate
-// allocations, so the hardware's stream prefetch would start afresh at each after a miss or two
-// (3-4 % of a 64^3-128^3 extraction from cold caches, measured interleaved).
+// allocations, so the hardware's stream prefetch would start afresh at each after a miss or two.
 void prefetchFills(const VoxelGrid::Brick* brick) {
   if (!brick) return;
   const char* p = reinterpret_cast<const char*>(brick->fill.data());
@@ -147,8 +146,8 @@ void ActiveBrickScan::computeLayer(int z) {
 void ActiveBrickScan::slab(int z, std::vector<glm::ivec3>& active) {
   // A cell brick reads all of its own brick and only a face, line or voxel of the seven above
   // it, so it can hold surface only if those hold both sides: tighter than "not all eight
-  // uniform alike", which let in many bricks without a mixed cell (nearly half at 128^3 on a
-  // voxelized sphere: a brick with any fill between empty and full is stored as an array).
+  // uniform alike", which admits many bricks without a mixed cell (a brick with any fill
+  // between empty and full is stored as an array, as on a voxelized sphere).
   computeLayer(z + 1);
   const std::uint16_t* layers[2] = {states_.data() + std::size_t((z + 1) & 1) * layerSize(),
                                     states_.data() + std::size_t((z + 2) & 1) * layerSize()};

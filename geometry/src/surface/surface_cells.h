@@ -101,8 +101,8 @@ struct BlockSource {
 
   void init(const VoxelGrid& grid, const glm::ivec3& cellBrick);
   // Fills of block row (y, z), x = 0..8, into out[0..8]: the first eight one brick row (a
-  // fixed-size copy the compiler inlines; a library memmove call per row was a tenth of the
-  // extraction), the ninth the next brick's along x; 0 outside the grid.
+  // fixed-size copy the compiler inlines, not a library call per row), the ninth the next
+  // brick's along x; 0 outside the grid.
   void row(int y, int z, Fill* out) const {
     const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
     const int offset = kCellBrick * ((y & 7) + kCellBrick * (z & 7));

@@ -66,8 +66,8 @@ std::uint64_t rowConfigs(const std::uint32_t (&r)[4]) {
 
 // A dense block's rows of inside bits from those the scan kept for its eight grid bricks
 // (octant d: +x if d & 1, +y if d & 2, +z if d & 4): each row's first eight from its brick,
-// the ninth from the first of the brick along +x. A few vector steps per block instead of a
-// compare of fills per row (81 rows), which had been two fifths of pass 1.
+// the ninth from the first of the brick along +x: a few vector steps per block instead of a
+// compare of fills per row (81 rows), since the scan has already made those compares.
 void insideRowsFromScan(const ActiveBrickScan& scan, const glm::ivec3& cb, RowMasks& rows) {
   const ActiveBrickScan::RowBits* b[8];
   for (int d = 0; d < 8; ++d) b[d] = &scan.rowBits(cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1));

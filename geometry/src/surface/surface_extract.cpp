@@ -40,8 +40,7 @@ using namespace detail;
 // brick order, so the result does not depend on scheduling.
 // The extraction's scratch (per brick state for two slabs, 1.3 KiB per cell brick of a slab;
 // offsets for every active brick), kept per thread between calls: sized by the largest
-// extraction the thread has run, it spares later calls the page faults of fresh arrays, which
-// took a fifth of the time of repeated extractions.
+// extraction the thread has run, it spares later calls the page faults of fresh arrays.
 struct Scratch {
   std::vector<glm::ivec3> active;
   std::vector<std::uint16_t> brickStates;  // what the parts of two layers of grid bricks hold
@@ -110,11 +109,9 @@ struct Builder : Scratch {
   // Pass 2 (crack-free): one vertex per crossed edge, made by the cell that owns it, layer by
   // layer, axis by axis, one 64-bit word of a layer's crossings at a time (bit x + 8 y), its
   // fills read in place. A loop per layer and axis rather than per row and axis: a row has
-  // about one crossing per axis, so the predictor could not foresee where those loops ended
-  // (with the cells' loop by layer in writeBrick, 8-12 % of an extraction, measured
-  // interleaved). kDirect: positions straight away (no smoothing to follow), else edge
-  // records. Each vertex's id also goes into the brick's edge-id table (ownIds) for its
-  // triangles.
+  // about one crossing per axis, so the predictor cannot foresee where per-row loops end.
+  // kDirect: positions straight away (no smoothing to follow), else edge records. Each
+  // vertex's id also goes into the brick's edge-id table (ownIds) for its triangles.
   template <bool kDirect>
   void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* ownIds) const {
     const BrickOut& o = out[ring[s]];
@@ -219,7 +216,7 @@ struct Builder : Scratch {
           // are written whatever the count (a case's unused slots repeat its first triangle,
           // and the next cell writes over them) and two more for three or four: the common
           // counts, one and two, take no branch on the count, whose loop exit the predictor
-          // could not foresee cell by cell (2-3 % of an extraction, measured interleaved).
+          // cannot foresee cell by cell.
           if (tri + 4 <= triEnd) {
             tri[0] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
             tri[1] = {cellIds[corner[3]], cellIds[corner[4]], cellIds[corner[5]]};
@@ -439,7 +436,7 @@ struct Builder : Scratch {
   void run(Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions, Buffer<std::uint32_t>& loopVertices,
            Buffer<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
     // With one thread allowed, plain loops: TBB's tasks and partitioner cost a single thread
-    // a tenth of a 64^3 extraction (27 loops, three per slab).
+    // time and buy it nothing (a 64^3 extraction runs 27 loops, three per slab).
     const bool serial = std::min<std::size_t>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
                                               std::size_t(tbb::this_task_arena::max_concurrency())) <= 1;
     const auto forEachBrickIn = [&](std::size_t first, std::size_t last, auto&& work) {
@@ -474,8 +471,7 @@ struct Builder : Scratch {
     // repeated extractions of a changing grid any regrowth; a first one goes by the grid's
     // stored bricks: a smooth surface makes 50-90 vertices per stored brick (the humerus at
     // 0.25-1.2 mm, a voxelized sphere) and about two triangles per vertex, so 96 leave room for
-    // it (regrowing, each step a fresh allocation and a copy, made a first 128^3 extraction
-    // 40 % slower); noise makes ~1,000 and regrows.
+    // it without regrowing (a fresh allocation and a copy); noise makes ~1,000 and regrows.
     const std::size_t vertexGuess = 96 * grid.allocatedBrickCount();
     const std::array<std::size_t, 4> room = {std::max(lastTotals[0], vertexGuess),
                                              std::max(lastTotals[1], 2 * vertexGuess),
@@ -520,8 +516,7 @@ struct Builder : Scratch {
       }
       // Past the room reserved, regrow once for the whole grid, projected from the cell layers
       // done (a volume of noise, some 1,000 vertices per stored brick, shows on its first
-      // slabs): growing by doubling, each step a fresh allocation and a copy, made a first
-      // extraction of 40^3 noise two to five times slower.
+      // slabs), rather than by doubling, each step of which is a fresh allocation and a copy.
       const double layersDone = std::min(kBrickEdge * (z + 1) + 1, dims.z + 1);  // cell layers -1 .. 8 z + 7
       const auto grow = [&](auto& buffer, std::size_t size) {
         if (size > buffer.capacity()) {

@@ -4,8 +4,8 @@
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 #include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/validation/mesh_checks.h"
 #include "support/shapes.h"
+#include "support/surface_grids.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -25,30 +25,14 @@
 namespace osteon::geometry {
 namespace {
 
+using namespace osteon::test;
+
 constexpr double kPi = 3.14159265358979323846;
 
-SurfaceOptions smoothing(int passes, bool taubin = false) {
-  SurfaceOptions o;
-  o.smoothIterations = passes;
-  o.taubin = taubin;
-  return o;
-}
-
-// The smoothing settings every watertightness check runs: none, the seed's 2 passes, many
-// passes, and Taubin (whose negative steps push vertices the other way).
-const std::vector<std::pair<std::string, SurfaceOptions>>& smoothingVariants() {
-  static const std::vector<std::pair<std::string, SurfaceOptions>> variants = {
-      {"0 passes", smoothing(0)},
-      {"2 passes", smoothing(2)},
-      {"10 passes", smoothing(10)},
-      {"Taubin 10 passes", smoothing(10, true)}};
-  return variants;
-}
-
 // Everything wrong with a surface that should be a closed, oriented 2-manifold enclosing a
-// positive volume, in one line ("" when nothing). `cgal` adds the exact self-intersection
-// test (it also reports collinear triangles as pairs).
-std::string surfaceProblems(const SurfaceMesh& s, bool cgal = true) {
+// positive volume, in one line ("" when nothing). Self-intersection is checked exactly, on
+// the same grids, in tests/validation/surface_exact_test.cpp (CGAL stays out of geometry).
+std::string surfaceProblems(const SurfaceMesh& s) {
   std::ostringstream out;
   for (const glm::u32vec3& t : s.triangles) {
     if (t.x >= s.vertexCount() || t.y >= s.vertexCount() || t.z >= s.vertexCount()) {
@@ -73,10 +57,6 @@ std::string surfaceProblems(const SurfaceMesh& s, bool cgal = true) {
     const double volume = signedVolumeMm3(mesh);
     if (!(volume > 0.0)) out << " signed volume " << volume << ";";
   }
-  if (cgal) {
-    const std::size_t pairs = validation::selfIntersectingPairs(mesh, 10);
-    if (pairs) out << " CGAL self-intersecting pairs " << pairs << ";";
-  }
   return out.str();
 }
 
@@ -100,47 +80,6 @@ std::string joinFirst(const std::vector<std::string>& lines, std::size_t n = 12)
 
 MeshTopology topologyOf(const SurfaceMesh& s) { return analyzeTopology(s.toTriangleMesh()); }
 
-VoxelGrid emptyGrid(glm::ivec3 dims, double voxelSizeMm = 1.0) {
-  return VoxelGrid(dims, glm::dvec3(0.0), voxelSizeMm);
-}
-
-void setFull(VoxelGrid& g, const glm::ivec3& v) { g.set(v, kFillFull, 1); }
-
-// Fill values for the single-cube cases: plain full/empty (vertices at mid-edge), random on
-// each side of the iso level, and the extremes next to it (kFillHalf - 1, kFillHalf) mixed with
-// 0 and full, which drive vertices into the clamp margin at either end of their edge.
-enum class CornerFills { Binary, Random, Extreme };
-
-Fill cornerFill(bool inside, CornerFills mode, std::mt19937& rng) {
-  switch (mode) {
-    case CornerFills::Binary:
-      return inside ? kFillFull : Fill(0);
-    case CornerFills::Random:
-      return inside ? Fill(std::uniform_int_distribution<int>(kFillHalf, kFillFull)(rng))
-                    : Fill(std::uniform_int_distribution<int>(0, kFillHalf - 1)(rng));
-    case CornerFills::Extreme: {
-      const bool far = std::uniform_int_distribution<int>(0, 1)(rng) == 1;
-      return inside ? (far ? kFillFull : kFillHalf) : (far ? Fill(0) : Fill(kFillHalf - 1));
-    }
-  }
-  return 0;
-}
-
-// A 4^3 grid whose central 2x2x2 voxels are the corners of one cube, corner c at (1, 1, 1) +
-// (c & 1, c >> 1 & 1, c >> 2 & 1) inside when bit c of `config` is set; the other voxels are
-// `background` (empty, or full so the cube sits in a cavity's wall).
-VoxelGrid singleCubeGrid(int config, Fill background, CornerFills mode, std::mt19937& rng) {
-  VoxelGrid g = emptyGrid({4, 4, 4});
-  for (int z = 0; z < 4; ++z)
-    for (int y = 0; y < 4; ++y)
-      for (int x = 0; x < 4; ++x) g.set({x, y, z}, background, 1);
-  for (int c = 0; c < 8; ++c) {
-    const glm::ivec3 v(1 + (c & 1), 1 + ((c >> 1) & 1), 1 + ((c >> 2) & 1));
-    g.set(v, cornerFill(((config >> c) & 1) != 0, mode, rng), 1);
-  }
-  return g;
-}
-
 VoxelGrid voxelizeAt(const TriangleMesh& mesh, double voxelSizeMm) {
   VoxelizeOptions options;
   options.voxelSizeMm = voxelSizeMm;
@@ -149,62 +88,6 @@ VoxelGrid voxelizeAt(const TriangleMesh& mesh, double voxelSizeMm) {
 
 // ---------------------------------------------------------------------------------------------
 // The checks themselves: they must see what they are meant to see.
-
-TriangleMesh tetrahedron(glm::dvec3 o, double size) {
-  return {{o, o + glm::dvec3(size, 0, 0), o + glm::dvec3(0, size, 0), o + glm::dvec3(0, 0, size)},
-          {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
-}
-
-TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
-  TriangleMesh m = a;
-  const auto offset = std::uint32_t(a.vertexCount());
-  m.positionsMm.insert(m.positionsMm.end(), b.positionsMm.begin(), b.positionsMm.end());
-  for (const glm::u32vec3& t : b.triangles) m.triangles.push_back(t + offset);
-  return m;
-}
-
-TEST(SurfaceChecks, CgalFindsCrossingsInPolygonMeshes) {
-  const TriangleMesh one = tetrahedron(glm::dvec3(0.0), 1.0);
-  EXPECT_EQ(validation::selfIntersectingPairs(one), 0u);
-  EXPECT_FALSE(validation::doesSelfIntersect(one));
-  // Two closed tetrahedra overlapping: a polygon mesh of two components.
-  const TriangleMesh crossing = merged(one, tetrahedron(glm::dvec3(0.3), 1.0));
-  EXPECT_GT(validation::selfIntersectingPairs(crossing), 0u);
-  EXPECT_EQ(validation::selfIntersectingPairs(crossing, 1), 1u);
-  EXPECT_TRUE(validation::doesSelfIntersect(crossing));
-  // Disjoint: none.
-  EXPECT_FALSE(validation::doesSelfIntersect(merged(one, tetrahedron(glm::dvec3(2.0), 1.0))));
-  // A face folded onto its neighbour across their shared edge.
-  const TriangleMesh fold{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {1, 0, 3}}};
-  EXPECT_EQ(validation::selfIntersectingPairs(fold), 1u);
-}
-
-// Soups that are no polygon mesh (pinched vertex, edge used twice the same way) take the
-// pairwise fallback, which must neither miss crossings nor count shared vertices and edges.
-TEST(SurfaceChecks, CgalFallbackHandlesSoupsThatAreNoPolygonMesh) {
-  TriangleMesh pinched = tetrahedron(glm::dvec3(0.0), 1.0);
-  pinched.positionsMm.insert(pinched.positionsMm.end(), {{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}});
-  pinched.triangles.insert(pinched.triangles.end(), {{0, 4, 5}, {0, 6, 4}, {0, 5, 6}, {4, 6, 5}});
-  ASSERT_EQ(analyzeTopology(pinched).nonManifoldVertices, 1u);
-  EXPECT_EQ(validation::selfIntersectingPairs(pinched), 0u);  // they touch at vertex 0 only
-  EXPECT_FALSE(validation::doesSelfIntersect(pinched));
-
-  TriangleMesh piercing = tetrahedron(glm::dvec3(0.0), 1.0);  // shares vertex 0, crosses face 123
-  piercing.positionsMm.insert(piercing.positionsMm.end(), {{2, 0.1, 0.1}, {0.1, 2, 0.1}, {0.1, 0.1, 2}});
-  piercing.triangles.insert(piercing.triangles.end(), {{0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}});
-  EXPECT_GT(validation::selfIntersectingPairs(piercing), 0u);
-  EXPECT_TRUE(validation::doesSelfIntersect(piercing));
-
-  // Edge 0 -> 1 used twice in the same direction; overlapping, then not.
-  const TriangleMesh folded{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
-  EXPECT_EQ(validation::selfIntersectingPairs(folded), 1u);
-  const TriangleMesh flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, -0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
-  EXPECT_EQ(validation::selfIntersectingPairs(flat), 0u);
-  // Sharing vertex 0 at an angle without crossing.
-  const TriangleMesh fan{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0.2, 0.3}},
-                         {{0, 1, 2}, {0, 3, 4}, {0, 1, 3}, {0, 1, 4}}};
-  EXPECT_EQ(validation::selfIntersectingPairs(fan), 0u);
-}
 
 TEST(SurfaceChecks, ProblemListCatchesBrokenSurfaces) {
   VoxelGrid g = emptyGrid({4, 4, 4});
@@ -221,10 +104,6 @@ TEST(SurfaceChecks, ProblemListCatchesBrokenSurfaces) {
   SurfaceMesh inverted = good;
   for (glm::u32vec3& t : inverted.triangles) std::swap(t.y, t.z);
   EXPECT_NE(surfaceProblems(inverted).find("signed volume"), std::string::npos);
-  SurfaceMesh dented = good;  // one vertex pushed through the opposite side
-  const glm::dvec3 c = g.voxelCentreMm({1, 1, 1});
-  dented.positionsMm[0] = c + 3.0 * (c - dented.positionsMm[0]);
-  EXPECT_NE(surfaceProblems(dented).find("CGAL"), std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -292,15 +171,9 @@ TEST(SurfaceCases, ComponentsFollowEdgeAndFaceDiagonalConnectivityOfInsideCorner
 
 TEST(SurfaceHardVolumes, RandomNoiseIsWatertightAfterEverySmoothing) {
   std::vector<std::string> failures;
-  // Sizes and seeds kept small: CGAL's check dominates the run time.
   for (const auto& [n, seeds] : {std::pair<int, int>{12, 3}, {16, 2}, {20, 1}}) {
     for (std::uint32_t seed = 1; seed <= std::uint32_t(seeds); ++seed) {
-      std::mt19937 rng(seed * 7919u + std::uint32_t(n));
-      VoxelGrid g = emptyGrid({n, n, n}, 0.7);
-      std::uniform_int_distribution<int> fill(0, kFillFull);
-      for (int z = 0; z < n; ++z)
-        for (int y = 0; y < n; ++y)
-          for (int x = 0; x < n; ++x) g.set({x, y, z}, Fill(fill(rng)), 1);
+      const VoxelGrid g = test::noiseGrid(n, seed);
       const auto f = watertightFailures(g, "noise " + std::to_string(n) + "^3 seed " + std::to_string(seed));
       failures.insert(failures.end(), f.begin(), f.end());
     }
@@ -363,15 +236,8 @@ TEST(SurfaceHardVolumes, ExtractionDependsOnNeitherThreadsNorTheLastExtraction) 
 // clamp margins at both ends of their edges, the hardest case for smoothing.
 TEST(SurfaceHardVolumes, ExtremeNoiseIsWatertightAfterEverySmoothing) {
   std::vector<std::string> failures;
-  const Fill values[4] = {0, Fill(kFillHalf - 1), kFillHalf, kFillFull};
   for (const std::uint32_t seed : {11u, 12u}) {
-    std::mt19937 rng(seed);
-    const int n = 14;
-    VoxelGrid g = emptyGrid({n, n, n});
-    std::uniform_int_distribution<int> pick(0, 3);
-    for (int z = 0; z < n; ++z)
-      for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) g.set({x, y, z}, values[pick(rng)], 1);
+    const VoxelGrid g = test::extremeNoiseGrid(14, seed);
     const auto f = watertightFailures(g, "extreme noise seed " + std::to_string(seed));
     failures.insert(failures.end(), f.begin(), f.end());
   }
@@ -536,24 +402,6 @@ TEST(SurfaceTopology, EulerCharacteristicOfSphereTorusAndTwoHolePlate) {
   const MeshTopology p = topologyOf(extractSurface(plate));
   EXPECT_EQ(p.components, 1u);
   EXPECT_EQ(p.eulerCharacteristic, -2);
-}
-
-// Smoothing moves vertices only along their own grid edges; check that this really never
-// folds the surface on a real bone and a curved genus-1 shape.
-TEST(SurfaceTopology, SmoothingNeverCreatesSelfIntersectionsOnHumerusAndTorus) {
-  const VoxelGrid humerus = voxelizeAt(buildHumerusModel().mesh, 1.2);
-  const VoxelGrid torus = voxelizeAt(test::makeTorus(10.0, 4.0, 128, 64), 0.6);
-  for (const auto& [name, grid] : {std::pair<std::string, const VoxelGrid*>{"humerus", &humerus},
-                                   std::pair<std::string, const VoxelGrid*>{"torus", &torus}}) {
-    for (const int passes : {2, 10}) {
-      SCOPED_TRACE(name + ", " + std::to_string(passes) + " passes");
-      const SurfaceMesh s = extractSurface(*grid, smoothing(passes));
-      ASSERT_GT(s.triangleCount(), 1000u);
-      EXPECT_EQ(surfaceProblems(s, false), "");
-      EXPECT_FALSE(validation::doesSelfIntersect(s.toTriangleMesh()));
-      EXPECT_EQ(topologyOf(s).components, 1u);
-    }
-  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -34,7 +34,7 @@ struct HumerusModel {
 HumerusModel buildHumerusModel(const HumerusModelParams& params = {});
 
 // The model of the default parameters, built at compile time into the library (the same
-// bits as buildHumerusModel()): what `default` means, ready without the build's 90 ms.
+// bits as buildHumerusModel()): what `default` means, ready without running the build.
 const HumerusModel& defaultHumerusModel();
 
 }  // namespace osteon::geometry

@@ -1,15 +1,13 @@
 // Buffer<T>: a std::vector whose resize() leaves new elements of trivial types (glm vectors,
 // integers) uninitialised, as new T does, instead of zeroing them. The surface extractor sizes
 // its output arrays and then writes every element, in parallel and out of order; zeroing them
-// first cost a sixteenth of the extraction and a second trip of every output cache line
-// through memory.
+// first would send every output cache line through memory twice.
 // Large arrays (1 MiB and up) are mapped directly on 2 MiB boundaries, and a freed one is
 // kept for reuse by the next array of its size in 2 MiB steps (at most kCachedBufferBlocks
-// arrays, kCachedBufferBytes in all, the oldest given back first): repeated extractions of
-// 128^3 took fresh pages on every call whenever the C library gave the freed arrays back to
-// the kernel (2.3 times slower). From 8 MiB, huge pages are advised: a fresh 22 MiB mesh
-// otherwise takes some 5,600 page faults, 40 % of a 256^3 extraction. Everything else
-// behaves as std::vector<T>.
+// arrays, kCachedBufferBytes in all, the oldest given back first), so repeated extractions
+// do not take fresh pages whenever the C library would give freed arrays back to the kernel.
+// From 8 MiB, huge pages are advised, so a large fresh mesh takes few page faults.
+// Everything else behaves as std::vector<T>. Measurements: docs/performance.md.
 #pragma once
 
 #include <cstddef>

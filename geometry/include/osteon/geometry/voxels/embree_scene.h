@@ -1,7 +1,7 @@
 // An Embree 3 scene over a triangle mesh, owned RAII-style (style rule 7: C handles live in
 // unique_ptr with custom deleters). Used by the voxelizer (ray projection, seed 3.2), the
-// density rule (distance to the surface) and later by validation (pixel metric, collision
-// cross-checks).
+// density rule (distance to the surface) and validation (pixel crack metric, collision
+// cross-check).
 #pragma once
 
 #include "osteon/geometry/io/mesh.h"
