@@ -129,8 +129,8 @@ json caseJson(const val::ValidationCase& c) {
   }
   json j = {{"model", c.model},
             {"voxel_size_mm", c.voxelSizeMm},
-            {"method", c.method},
-            {"mode", c.mode},
+            {"method", geometry::surfaceMethodName(c.method)},
+            {"mode", val::forceModeName(c.mode)},
             {"pass", c.pass()},
             {"failures", c.failures},
             {"border_edges", c.before.topology.borderEdges},
@@ -361,23 +361,24 @@ int runValidate(const ValidateCommandOptions& options) {
   std::filesystem::create_directories(options.outDir + "/forces");
   std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
   const val::ValidationReport report = val::runValidation(models, vo, [&](const val::ValidationCase& c) {
-    if (c.method == "crackfree") {
+    if (c.method == geometry::SurfaceMethod::CrackFree) {
       for (const val::PortalRun& p : c.portals) {
         std::ostringstream stem, group;
-        stem << "forces/" << std::filesystem::path(c.model).stem().string() << "_" << c.voxelSizeMm << "mm_" << c.mode
+        stem << "forces/" << std::filesystem::path(c.model).stem().string() << "_" << c.voxelSizeMm << "mm_" << val::forceModeName(c.mode)
              << "_" << p.portal << ".csv";
         group << std::filesystem::path(c.model).stem().string() << ", VS = " << c.voxelSizeMm << " mm, " << p.portal;
         simulation::writeForceLog(p.collisions.run.log, options.outDir + "/" + stem.str());
         std::ostringstream label;
-        label << c.mode << (c.mode == "static" ? " " : " 2 levels, ") << c.voxelSizeMm / (c.mode == "static" ? 1.0 : 4.0)
+        const bool still = c.mode == val::ForceMode::Static;
+        label << val::forceModeName(c.mode) << (still ? " " : " 2 levels, ") << c.voxelSizeMm / (still ? 1.0 : 4.0)
               << " mm";
-        plotGroups[group.str()].push_back({options.outDir + "/" + stem.str(), label.str(), c.mode == "static" ? 1.2 : 1.6});
+        plotGroups[group.str()].push_back({options.outDir + "/" + stem.str(), label.str(), still ? 1.2 : 1.6});
       }
     }
     std::ostringstream line;
-    line << "[" << ++done << "/" << total << "] " << c.model << " " << c.voxelSizeMm << " mm " << c.method << " "
-         << c.mode << ": ";
-    if (c.method == "naive") {
+    line << "[" << ++done << "/" << total << "] " << c.model << " " << c.voxelSizeMm << " mm " << geometry::surfaceMethodName(c.method) << " "
+         << val::forceModeName(c.mode) << ": ";
+    if (c.method == geometry::SurfaceMethod::Naive) {
       line << (c.pass() ? "baseline keeps the guarantees (unexpected)" : "baseline breaks the guarantees, as expected");
     } else {
       line << (c.pass() ? "pass" : "FAIL");

@@ -160,11 +160,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
   s.hapticStepUs = stepNs.percentiles(1e3);
   s.remeshMs = remeshNs.percentiles(1e6);
   s.steps = steps;
-  s.nonFiniteForces = sim.totals().nonFiniteForces;
-  s.brickAllocations = sim.totals().brickAllocations;
-  s.cutOverflows = sim.totals().cutOverflows;
-  s.refinePoolExhausted = sim.totals().refinePoolExhausted;
-  s.maskOverflows = sim.totals().maskOverflows;
+  s.totals = sim.totals();
   return result;
 }
 

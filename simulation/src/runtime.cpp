@@ -235,11 +235,7 @@ RuntimeResult runThreaded(DrillingSimulation& sim, VoxelGrid& grid, PoseSource& 
   s.remeshMs = stats.remeshMs;
   s.overruns = stats.hapticOverruns + stats.collisionOverruns;
   s.steps = stats.collisionSteps;
-  s.nonFiniteForces = sim.totals().nonFiniteForces;
-  s.brickAllocations = sim.totals().brickAllocations;
-  s.cutOverflows = sim.totals().cutOverflows;
-  s.refinePoolExhausted = sim.totals().refinePoolExhausted;
-  s.maskOverflows = sim.totals().maskOverflows;
+  s.totals = sim.totals();
   if (finalSurface) *finalSurface = updater.mesh();
   return result;
 }

@@ -85,7 +85,7 @@ TEST_F(PortalRuns, DynamicTwoLevelsIsSmootherThanStaticOnBothPortals) {
     EXPECT_LT(fine.summary.jitterN, coarse.summary.jitterN);
     EXPECT_LT(fine.summary.maxStepChangeN, coarse.summary.maxStepChangeN);
     EXPECT_EQ(fine.log.back().level, -2);
-    EXPECT_EQ(fine.summary.nonFiniteForces, 0u);
+    EXPECT_EQ(fine.summary.totals.nonFiniteForces, 0u);
   }
 }
 

@@ -9,10 +9,10 @@ namespace {
 TEST(ValidationReport, VerdictFollowsTheCrackFreeCases) {
   ValidationReport report;
   ValidationCase naive;
-  naive.method = "naive";
+  naive.method = geometry::SurfaceMethod::Naive;
   naive.failures.push_back("before drilling: 12 border edges");
   ValidationCase crackFree;
-  crackFree.method = "crackfree";
+  crackFree.method = geometry::SurfaceMethod::CrackFree;
   report.cases = {naive, crackFree};
   EXPECT_TRUE(report.pass());
   report.cases[1].failures.push_back("portal-5: 1 collision misses");

@@ -39,7 +39,7 @@ void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when
 
 bool ValidationReport::pass() const {
   for (const ValidationCase& c : cases) {
-    if (c.method == "crackfree" && !c.pass()) return false;
+    if (c.method == geometry::SurfaceMethod::CrackFree && !c.pass()) return false;
   }
   return true;
 }
@@ -63,9 +63,9 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
       const std::shared_ptr<const sim::BoneModel> bone =
           sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
       const geometry::VoxelGrid& original = bone->grid();
-      for (const char* method : {"crackfree", "naive"}) {
+      for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
         geometry::SurfaceOptions so;
-        so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;
+        so.method = method;
         const Clock::time_point start = Clock::now();
         geometry::SurfaceTimings timings;
         const geometry::TriangleMesh surface = geometry::extractSurface(original, so, &timings).toTriangleMesh();
@@ -90,7 +90,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
         surfaceFailures(base.before, base.cracks, "before drilling", base.failures);
         for (const int levels : {0, 2}) {
           ValidationCase c = base;
-          c.mode = levels == 0 ? "static" : "dynamic";
+          c.mode = levels == 0 ? ForceMode::Static : ForceMode::Dynamic;
           if (head) {
             sim::SessionOptions drilling;
             drilling.levels = levels;
@@ -107,7 +107,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
               const sim::RunSummary& s = run.collisions.run.summary;
               run.maxForceN = s.maxForceN;
               run.jitterN = s.jitterN;
-              run.nonFiniteForces = s.nonFiniteForces;
+              run.nonFiniteForces = s.totals.nonFiniteForces;
               if (run.collisions.misses > 0) {
                 c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) + " collision misses");
               }

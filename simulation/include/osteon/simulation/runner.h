@@ -59,11 +59,7 @@ struct RunSummary {
   Percentiles remeshMs;           // incremental surface updates
   std::uint64_t overruns = 0;     // steps over their period (threaded runtime; 0 here)
   std::uint64_t steps = 0;
-  std::uint64_t nonFiniteForces = 0;
-  std::uint64_t cutOverflows = 0;      // cuts that found more voxels than reserved room (0: none)
-  std::uint64_t refinePoolExhausted = 0;  // voxels left unrefined near the tool: the pool was full (0: none)
-  std::uint64_t maskOverflows = 0;        // removal masks not kept: their table was full (0: none)
-  std::uint64_t brickAllocations = 0;  // heap allocations in the drilling steps (0: the pool sufficed)
+  DrillingTotals totals;  // the simulation's counters at the end of the run (drilling.h)
 };
 
 // Jitter as design.md defines it; 0 when no sample lies in [fromS, toS].

@@ -17,6 +17,10 @@
 
 namespace osteon::validation {
 
+// Forces at the base voxel size, or on voxels refined two levels near the tool.
+enum class ForceMode { Static, Dynamic };
+inline const char* forceModeName(ForceMode m) { return m == ForceMode::Static ? "static" : "dynamic"; }
+
 struct ValidationModel {
   std::string name;                // as given: "default" or a path
   geometry::TriangleMesh mesh;     // in mm
@@ -41,8 +45,8 @@ struct PortalRun {
 struct ValidationCase {
   std::string model;
   double voxelSizeMm = 0.0;
-  std::string method;   // "crackfree" | "naive"
-  std::string mode;     // "static" | "dynamic"
+  geometry::SurfaceMethod method = geometry::SurfaceMethod::CrackFree;
+  ForceMode mode = ForceMode::Static;
   MeshReport before;
   CrackMetric cracks;
   Accuracy accuracy;

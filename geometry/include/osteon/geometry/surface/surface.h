@@ -16,6 +16,8 @@
 namespace osteon::geometry {
 
 enum class SurfaceMethod { CrackFree, Naive };
+// "crackfree" or "naive", as the command line and reports name them.
+inline const char* surfaceMethodName(SurfaceMethod m) { return m == SurfaceMethod::Naive ? "naive" : "crackfree"; }
 
 struct SurfaceOptions {
   SurfaceMethod method = SurfaceMethod::CrackFree;
