@@ -195,6 +195,7 @@ int Session::levelAt(const glm::ivec3& voxel) const {
 geometry::Density Session::densityAt(const glm::ivec3& voxel) const { return state_->grid.density(voxel); }
 
 const BoneModel& Session::bone() const { return *state_->bone; }
+geometry::VoxelGrid& Session::mutableGrid() { return state_->grid; }
 const geometry::VoxelGrid& Session::grid() const { return state_->grid; }
 const geometry::DynamicProximityHierarchy& Session::hierarchy() const { return state_->hierarchy; }
 DrillingSimulation& Session::simulation() { return *state_->simulation; }

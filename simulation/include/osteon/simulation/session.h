@@ -157,6 +157,8 @@ class Session {
   PortalPlan portalPath(Portal portal, const PortalPathOptions& options = {}) const;
 
  private:
+  friend class LiveRuntime;  // drives the grid and simulation from its own threads
+  geometry::VoxelGrid& mutableGrid();
   struct State;
   explicit Session(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;

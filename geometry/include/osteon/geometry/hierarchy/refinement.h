@@ -140,6 +140,8 @@ class RefinedVoxels {
   bool isRefined(const glm::ivec3& voxel) const { return findCell(voxel) != kNoCell; }
   // The refined level-0 voxels now, in no particular order.
   std::vector<glm::ivec3> refinedVoxels() const;
+  // The i-th refined voxel, i < refinedCount(), in the same order (no allocation).
+  const glm::ivec3& refinedVoxelAt(std::size_t i) const { return cells_[activeList_[i]].voxel; }
   // A refined voxel's samples (the first 8^depth entries, x fastest); false if not refined.
   bool subFill(const glm::ivec3& voxel, std::array<Fill, kSubVoxels>& fill,
                std::array<Density, kSubVoxels>& density) const;

@@ -1,0 +1,85 @@
+// The threaded runtime kept running for an interactive front end (the viewer): the haptic and
+// collision loops run at 1 kHz in their own threads until stop(), as in `drill --threaded`
+// (runtime.h), and the visual work is the caller's, done on its own thread (a render loop)
+// through updateSurface(). Everything the render thread reads comes through hand-offs (a
+// triple buffer of display state, a ring of changed bricks into its own grid copy): it never
+// touches what the collision thread writes, and the 1 kHz loops never wait for it.
+#pragma once
+
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+namespace osteon::simulation {
+
+// What a frame shows of the simulation, published by the collision thread.
+struct DisplayState {
+  static constexpr std::size_t kMaxRefined = 4096;
+  double tS = -1.0;                  // < 0: no step yet
+  ToolPose pose;
+  bool drillOn = false;
+  ContactForce contact;
+  std::uint64_t removedFill = 0;     // grid fill units removed so far
+  double removedVolumeMm3 = 0.0;
+  std::uint64_t steps = 0;
+  // The voxels refined now and to which depth (refreshed every few steps).
+  int refinedDepth = 0;
+  std::size_t refinedCount = 0;
+  std::array<glm::ivec3, kMaxRefined> refined;
+};
+
+// Counters of the loops so far, readable from any thread.
+struct LiveStats {
+  std::uint64_t hapticSteps = 0, hapticOverruns = 0;
+  std::uint64_t collisionSteps = 0, collisionOverruns = 0;
+  std::uint64_t bricksHandedOver = 0, ringFull = 0;
+  double collisionStepUsLast = 0.0;  // the latest step's duration
+};
+
+class LiveRuntime {
+ public:
+  // The session must outlive the runtime and must not be stepped by anyone else while it runs.
+  // options.durationS is ignored: the loops run until stop().
+  LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options = {});
+  // The parts without a session (runThreaded): the loops stop by themselves after `periods`
+  // periods (0: at stop()).
+  LiveRuntime(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source, ForceSink* sink,
+              const geometry::SurfaceOptions& surfaceOptions, const RuntimeOptions& options, std::uint64_t periods);
+  ~LiveRuntime();  // stops
+  LiveRuntime(const LiveRuntime&) = delete;
+  LiveRuntime& operator=(const LiveRuntime&) = delete;
+
+  void start();
+  // Joins the loops; hands over what is left; the session's own surface starts again from its
+  // grid. Returns the run as runThreaded would (force log metrics, step percentiles).
+  RuntimeResult stop();
+  bool running() const;
+
+  // ---- the render thread ----
+  // Applies the bricks handed over since the last call to the visual grid and updates the
+  // visual surface. Returns the update's milliseconds (0 when nothing changed).
+  double updateSurface();
+  // The visual surface's changes since the last call (everything on the first).
+  SurfaceChanges takeSurfaceChanges();
+  const geometry::SurfaceUpdater& visualSurface() const;
+  // The visual thread's copy of the grid (fill and density), as of the last updateSurface().
+  const geometry::VoxelGrid& visualGrid() const;
+  // The latest display state (a reference valid until the next call).
+  const DisplayState& display();
+
+  // ---- any thread ----
+  LiveStats stats() const;
+  // True once the loops have run their periods (never for a session's runtime before stop()).
+  bool loopsDone() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace osteon::simulation

@@ -1,0 +1,408 @@
+#include "osteon/simulation/live.h"
+
+#include "osteon/simulation/handoff.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+#include <vector>
+
+namespace osteon::simulation {
+
+namespace {
+
+using geometry::VoxelGrid;
+
+std::int64_t nowNs() {
+  timespec t{};
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec;
+}
+
+void sleepUntilNs(std::int64_t deadline) {
+  timespec t{};
+  t.tv_sec = time_t(deadline / 1000000000);
+  t.tv_nsec = long(deadline % 1000000000);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &t, nullptr) == EINTR) {
+  }
+}
+
+bool askRealtime(int priority) {
+  sched_param p{};
+  p.sched_priority = priority;
+  return pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) == 0;
+}
+
+struct PoseMessage {
+  double tS = -1.0;  // < 0: no pose yet
+  ToolPose pose;
+  bool drillOn = false;
+};
+
+struct BrickMessage {
+  std::uint32_t brick = 0;
+  std::array<geometry::Fill, VoxelGrid::kBrickVoxels> fill{};
+  std::array<geometry::Density, VoxelGrid::kBrickVoxels> density{};
+};
+
+void snapshot(const VoxelGrid& grid, std::size_t brick, BrickMessage& msg) {
+  msg.brick = std::uint32_t(brick);
+  if (const VoxelGrid::Brick* data = grid.brickData(brick)) {
+    msg.fill = data->fill;
+    msg.density = data->density;
+  } else {
+    msg.fill.fill(grid.brickUniformFill(brick));
+    msg.density.fill(grid.brickUniformDensity(brick));
+  }
+}
+
+void apply(VoxelGrid& grid, const BrickMessage& msg) {
+  VoxelGrid::Brick& b = grid.materialiseBrick(msg.brick);
+  b.fill = msg.fill;
+  b.density = msg.density;
+  grid.markBrickDirty(msg.brick);
+}
+
+// The display state without the refined voxels (published every step).
+struct DisplayCore {
+  double tS = -1.0;
+  ToolPose pose;
+  bool drillOn = false;
+  ContactForce contact;
+  std::uint64_t removedFill = 0;
+  double removedVolumeMm3 = 0.0;
+  std::uint64_t steps = 0;
+};
+
+struct RefinedList {
+  int depth = 0;
+  std::size_t count = 0;
+  std::array<glm::ivec3, DisplayState::kMaxRefined> voxels;
+};
+
+// How many steps apart the refined voxels are published (a 48 KiB copy).
+constexpr std::uint64_t kRefinedEverySteps = 16;
+// Step timings kept for percentiles: ten minutes at 1 kHz, then only the latest is known.
+constexpr std::uint64_t kMaxTimedPeriods = 600000;
+
+}  // namespace
+
+struct LiveRuntime::Impl {
+  Session* session = nullptr;
+  DrillingSimulation* sim;
+  VoxelGrid* grid;
+  PoseSource* source;
+  ForceSink* sink;
+  RuntimeOptions options;
+  std::uint64_t periods;  // per loop; max: until stop()
+  std::int64_t periodNs;
+
+  TripleBuffer<PoseMessage> poses;
+  TripleBuffer<ContactForce> forces;
+  TripleBuffer<DisplayCore> displayCore;
+  TripleBuffer<RefinedList> refinedList;
+  SpscRing<BrickMessage> bricks;
+  SpscRing<ForceLogRow> logRows;
+  std::vector<ForceLogRow> log;
+  ForceMetrics metrics;
+  Durations hapticNs, collisionNs, remeshNs;
+
+  VoxelGrid visualGrid;
+  std::unique_ptr<geometry::SurfaceUpdater> updater;
+  std::vector<std::size_t> changed;
+  BrickMessage drainMsg;
+  DisplayState shown;
+  std::uint64_t visualUpdates = 0;
+
+  std::atomic<bool> stopFlag{false};
+  std::atomic<bool> collisionDone{false};
+  std::atomic<int> loopsFinished{0};
+  std::atomic<int> granted{0};
+  std::atomic<std::uint64_t> hapticSteps{0}, hapticOverruns{0}, collisionSteps{0}, collisionOverruns{0};
+  std::atomic<std::uint64_t> bricksHandedOver{0}, ringFull{0}, logDropped{0};
+  std::atomic<std::int64_t> lastStepNs{0};
+  std::thread haptic, collision, logger;
+  bool started = false, stopped = false;
+
+  Impl(DrillingSimulation& s, VoxelGrid& g, PoseSource& src, ForceSink* snk, const geometry::SurfaceOptions& so,
+       const RuntimeOptions& o, std::uint64_t n)
+      : sim(&s), grid(&g), source(&src), sink(snk), options(o),
+        periods(n == 0 ? std::numeric_limits<std::uint64_t>::max() : n),
+        periodNs(std::int64_t(std::llround(o.periodS * 1e9))), bricks(o.brickRingCapacity),
+        logRows(o.logRingCapacity) {
+    // Everything the 1 kHz loops touch is sized here.
+    const std::uint64_t timed = std::min<std::uint64_t>(periods, kMaxTimedPeriods) + 1;
+    if (options.keepLog) log.reserve(timed);
+    metrics.reserveForStep(options.periodS);
+    hapticNs.reserve(timed);
+    collisionNs.reserve(timed);
+    changed.reserve(1024);
+    // The visual side owns a copy of the grid: the collision thread never waits for it and it
+    // never reads a brick mid-write.
+    grid->clearDirty();
+    visualGrid = *grid;
+    updater = std::make_unique<geometry::SurfaceUpdater>(visualGrid, so);
+  }
+
+  // A fixed-period loop: runs work(k, tS) at each period k until `periods` or stop; counts
+  // overruns; skips periods it has missed entirely rather than running them late.
+  template <typename Work>
+  void periodic(std::int64_t startNs, std::atomic<std::uint64_t>& steps, std::atomic<std::uint64_t>& overruns,
+                Durations& stepNs, Work&& work) {
+    for (std::uint64_t k = 0; k < periods && !stopFlag.load(std::memory_order_relaxed);) {
+      const std::int64_t deadline = startNs + std::int64_t(k) * periodNs;
+      sleepUntilNs(deadline);
+      const std::int64_t begin = nowNs();
+      work(double(k) * double(periodNs) * 1e-9);
+      const std::int64_t end = nowNs();
+      if (!stepNs.full()) stepNs.add(end - begin);
+      steps.fetch_add(1, std::memory_order_relaxed);
+      if (end > deadline + periodNs) {
+        overruns.fetch_add(1, std::memory_order_relaxed);
+        k = std::uint64_t((end - startNs) / periodNs) + 1;  // the next period not yet begun
+      } else {
+        ++k;
+      }
+    }
+    loopsFinished.fetch_add(1, std::memory_order_release);
+  }
+
+  void hapticLoop(std::int64_t startNs) {
+    if (options.realtimePriority && askRealtime(80)) granted.fetch_add(1);
+    periodic(startNs, hapticSteps, hapticOverruns, hapticNs, [&](double tS) {
+      PoseMessage m;
+      m.tS = tS;
+      source->sample(tS, m.pose, m.drillOn);
+      poses.write(m);
+      if (sink) sink->apply(tS, forces.read().forceN);
+    });
+  }
+
+  void collisionLoop(std::int64_t startNs) {
+    if (options.realtimePriority && askRealtime(79)) granted.fetch_add(1);
+    BrickMessage handover;
+    RefinedList refined;
+    periodic(startNs, collisionSteps, collisionOverruns, collisionNs, [&](double) {
+      const std::int64_t begin = nowNs();
+      const PoseMessage& m = poses.read();
+      if (m.tS < 0.0) return;
+      const StepOutput out = sim->step({m.tS, m.pose, m.drillOn});
+      forces.write(out.contact);
+      const DrillingTotals& totals = sim->totals();
+      if (!logRows.push({m.tS, m.pose.tipMm, out.contact.forceN, out.contact.magnitudeN, out.contact.contactVoxels,
+                         totals.samplesRemoved, out.contact.level})) {
+        logDropped.fetch_add(1, std::memory_order_relaxed);
+      }
+      displayCore.write({m.tS, m.pose, m.drillOn, out.contact, totals.removedFill, sim->removedVolumeMm3(), totals.steps});
+      if (totals.steps % kRefinedEverySteps == 0) {
+        const geometry::RefinedVoxels& voxels = sim->voxels();
+        refined.depth = voxels.depth();
+        refined.count = std::min(voxels.refinedCount(), refined.voxels.size());
+        for (std::size_t i = 0; i < refined.count; ++i) refined.voxels[i] = voxels.refinedVoxelAt(i);
+        refinedList.write(refined);
+      }
+      if (out.removal.removedFill > 0) handOver(m, handover);
+      lastStepNs.store(nowNs() - begin, std::memory_order_relaxed);
+    });
+  }
+
+  // The changed bricks around the cutting parts, to the visual side.
+  void handOver(const PoseMessage& m, BrickMessage& handover) {
+    const Tool& tool = sim->tool();
+    for (int p = 0; p < tool.partCount; ++p) {
+      const ToolPart& part = tool.parts[std::size_t(p)];
+      if (!part.cuts) continue;
+      const glm::dvec3 a = m.pose.toWorld(part.aMm), b = m.pose.toWorld(part.bMm);
+      const double r = part.innerRadiusMm + grid->voxelSizeMm();
+      const glm::ivec3 lo = glm::max(grid->voxelFromWorld(glm::min(a, b) - r) / VoxelGrid::kBrickSize, glm::ivec3(0));
+      const glm::ivec3 hi =
+          glm::min(grid->voxelFromWorld(glm::max(a, b) + r) / VoxelGrid::kBrickSize, grid->brickDims() - 1);
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            const std::size_t brick = grid->brickIndex({x, y, z});
+            if (!grid->brickDirty(brick)) continue;
+            snapshot(*grid, brick, handover);
+            if (bricks.push(handover)) {
+              grid->clearBrickDirty(brick);
+              bricksHandedOver.fetch_add(1, std::memory_order_relaxed);
+            } else {
+              ringFull.fetch_add(1, std::memory_order_relaxed);  // stays dirty: handed over at a later step
+            }
+          }
+    }
+  }
+
+  void loggerLoop() {
+    ForceLogRow row;
+    const auto drain = [&] {
+      bool any = false;
+      while (logRows.pop(row)) {
+        any = true;
+        metrics.add(row.tS, row.magnitudeN);
+        if (options.onRow) options.onRow(row);
+        if (options.keepLog) log.push_back(row);
+      }
+      return any;
+    };
+    while (!collisionDone.load(std::memory_order_acquire)) {
+      if (!drain()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    drain();
+  }
+
+  // The visual side: handed-over bricks into its grid, the surface updated.
+  double drainVisual() {
+    changed.clear();
+    while (bricks.pop(drainMsg)) {
+      apply(visualGrid, drainMsg);
+      changed.push_back(drainMsg.brick);
+    }
+    return updateVisual();
+  }
+
+  double updateVisual() {
+    if (changed.empty()) return 0.0;
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    const double ms = updater->update(changed).ms;
+    remeshNs.addMs(ms);
+    visualGrid.clearDirty();
+    ++visualUpdates;
+    changed.clear();
+    return ms;
+  }
+};
+
+LiveRuntime::LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options)
+    : impl_(std::make_unique<Impl>(session.simulation(), session.mutableGrid(), source, sink,
+                                   session.options().surface, options, 0)) {
+  impl_->session = &session;
+}
+
+LiveRuntime::LiveRuntime(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source, ForceSink* sink,
+                         const geometry::SurfaceOptions& surfaceOptions, const RuntimeOptions& options,
+                         std::uint64_t periods)
+    : impl_(std::make_unique<Impl>(sim, grid, source, sink, surfaceOptions, options, periods)) {}
+
+LiveRuntime::~LiveRuntime() {
+  if (impl_ && impl_->started && !impl_->stopped) stop();
+}
+
+void LiveRuntime::start() {
+  Impl& m = *impl_;
+  if (m.started) return;
+  m.started = true;
+  const std::int64_t startNs = nowNs() + 5000000;  // 5 ms for the threads to start
+  m.haptic = std::thread([&m, startNs] { m.hapticLoop(startNs); });
+  m.collision = std::thread([&m, startNs] { m.collisionLoop(startNs + m.periodNs / 2); });
+  m.logger = std::thread([&m] { m.loggerLoop(); });
+}
+
+RuntimeResult LiveRuntime::stop() {
+  Impl& m = *impl_;
+  RuntimeResult result;
+  if (!m.started || m.stopped) return result;
+  m.stopped = true;
+  m.stopFlag.store(true, std::memory_order_release);
+  m.haptic.join();
+  m.collision.join();
+  m.collisionDone.store(true, std::memory_order_release);
+  m.logger.join();
+  // What the ring holds, then the bricks it had no room for, straight into the visual grid
+  // (the loops are done: nothing writes the grid now).
+  m.changed.clear();
+  while (m.bricks.pop(m.drainMsg)) {
+    apply(m.visualGrid, m.drainMsg);
+    m.changed.push_back(m.drainMsg.brick);
+  }
+  for (const std::size_t brick : m.grid->dirtyBricks()) {
+    snapshot(*m.grid, brick, m.drainMsg);
+    apply(m.visualGrid, m.drainMsg);
+    m.changed.push_back(brick);
+  }
+  m.grid->clearDirty();
+  m.updateVisual();
+  if (m.session && m.session->options().keepSurface) m.session->resetSurface();
+
+  RuntimeStats& stats = result.stats;
+  stats.hapticSteps = m.hapticSteps.load();
+  stats.hapticOverruns = m.hapticOverruns.load();
+  stats.collisionSteps = m.collisionSteps.load();
+  stats.collisionOverruns = m.collisionOverruns.load();
+  stats.visualUpdates = m.visualUpdates;
+  stats.bricksHandedOver = m.bricksHandedOver.load();
+  stats.ringFull = m.ringFull.load();
+  stats.logDropped = m.logDropped.load();
+  stats.realtimeGranted = m.granted.load() == 2;
+  stats.hapticStepUs = m.hapticNs.percentiles(1e3);
+  stats.collisionStepUs = m.collisionNs.percentiles(1e3);
+  stats.remeshMs = m.remeshNs.percentiles(1e6);
+  result.run.log = std::move(m.log);
+  RunSummary& s = result.run.summary;
+  s.jitterN = m.metrics.jitterN();
+  s.maxStepChangeN = m.metrics.maxStepChangeN();
+  s.maxForceN = m.metrics.maxForceN();
+  s.removedVolumeMm3 = m.sim->removedVolumeMm3();
+  s.hapticStepUs = stats.collisionStepUs;  // the step the haptic target is about: collision + force + removal
+  s.remeshMs = stats.remeshMs;
+  s.overruns = stats.hapticOverruns + stats.collisionOverruns;
+  s.steps = stats.collisionSteps;
+  s.totals = m.sim->totals();
+  return result;
+}
+
+bool LiveRuntime::running() const { return impl_->started && !impl_->stopped; }
+
+bool LiveRuntime::loopsDone() const { return impl_->loopsFinished.load(std::memory_order_acquire) >= 2; }
+
+double LiveRuntime::updateSurface() { return impl_->drainVisual(); }
+
+SurfaceChanges LiveRuntime::takeSurfaceChanges() { return impl_->updater->takeChanges(); }
+
+const geometry::SurfaceUpdater& LiveRuntime::visualSurface() const { return *impl_->updater; }
+
+const geometry::VoxelGrid& LiveRuntime::visualGrid() const { return impl_->visualGrid; }
+
+const DisplayState& LiveRuntime::display() {
+  Impl& m = *impl_;
+  const DisplayCore& core = m.displayCore.read();
+  DisplayState& d = m.shown;
+  d.tS = core.tS;
+  d.pose = core.pose;
+  d.drillOn = core.drillOn;
+  d.contact = core.contact;
+  d.removedFill = core.removedFill;
+  d.removedVolumeMm3 = core.removedVolumeMm3;
+  d.steps = core.steps;
+  bool fresh = false;
+  const RefinedList& refined = m.refinedList.read(&fresh);
+  if (fresh) {
+    d.refinedDepth = refined.depth;
+    d.refinedCount = refined.count;
+    std::copy(refined.voxels.begin(), refined.voxels.begin() + std::ptrdiff_t(refined.count), d.refined.begin());
+  }
+  return d;
+}
+
+LiveStats LiveRuntime::stats() const {
+  const Impl& m = *impl_;
+  LiveStats s;
+  s.hapticSteps = m.hapticSteps.load(std::memory_order_relaxed);
+  s.hapticOverruns = m.hapticOverruns.load(std::memory_order_relaxed);
+  s.collisionSteps = m.collisionSteps.load(std::memory_order_relaxed);
+  s.collisionOverruns = m.collisionOverruns.load(std::memory_order_relaxed);
+  s.bricksHandedOver = m.bricksHandedOver.load(std::memory_order_relaxed);
+  s.ringFull = m.ringFull.load(std::memory_order_relaxed);
+  s.collisionStepUsLast = double(m.lastStepNs.load(std::memory_order_relaxed)) * 1e-3;
+  return s;
+}
+
+}  // namespace osteon::simulation
