@@ -1,0 +1,344 @@
+#include "app.h"
+
+#include "gl_util.h"  // epoxy before GLFW
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include "osteon/core/error.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/image/image_writer.h"
+
+#include <chrono>
+#include <ctime>
+#include <thread>
+
+namespace osteon::viewer {
+
+namespace {
+
+constexpr double kArrowMmPerN = 6.0;
+constexpr int kLiveMetricEveryFrames = 10;
+// After a path's last pose, how long the loops keep going before a --frames run's last frame:
+// the last steps' bricks reach the visual side within a few milliseconds.
+constexpr double kPathSettleS = 0.25;
+
+std::string& glfwError() {
+  static std::string text = "unknown GLFW error";
+  return text;
+}
+
+void onGlfwError(int, const char* text) { glfwError() = text ? text : "unknown GLFW error"; }
+
+App* appOf(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
+
+std::string timestampedRecordName() {
+  const std::time_t t = std::time(nullptr);
+  char buf[64];
+  std::strftime(buf, sizeof buf, "osteon-path-%Y%m%d-%H%M%S.csv", std::localtime(&t));
+  return buf;
+}
+
+}  // namespace
+
+App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene) : options_(options) {
+  glfwSetErrorCallback(onGlfwError);
+  if (!glfwInit()) throw WindowError("cannot open a window: " + glfwError());
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_DEPTH_BITS, 24);
+  glfwWindowHint(GLFW_SAMPLES, 0);  // no multisampling: the crack metric counts exact colours
+  const std::string title = "osteon-viewer: " + scene->request().input;
+  window_ = glfwCreateWindow(options_.width, options_.height, title.c_str(), nullptr, nullptr);
+  if (!window_) {
+    glfwTerminate();
+    throw WindowError("cannot open a window: " + glfwError());
+  }
+  glfwMakeContextCurrent(window_);
+  glfwSwapInterval(options_.frames > 0 ? 0 : 1);  // a scripted run renders as fast as it can
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) { appOf(w)->onKey(key, action, mods); });
+  glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int b, int a, int m) { appOf(w)->onMouseButton(b, a, m); });
+  glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) { appOf(w)->onCursor(x, y); });
+  glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) { appOf(w)->onScroll(dy); });
+  glfwSetDropCallback(window_, [](GLFWwindow* w, int n, const char** paths) {
+    if (n > 0) appOf(w)->onDrop(paths[0]);
+  });
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window_, true);  // chains to the callbacks above
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  renderer_ = std::make_unique<BoneRenderer>();
+  overlay_ = std::make_unique<OverlayRenderer>();
+  panel_.view = options_.view;
+  panel_.method = options_.method;
+  panel_.showTool = options_.tool;
+  recordTarget_ = options_.record.empty() ? timestampedRecordName() : options_.record;
+  std::snprintf(panel_.recordPath, sizeof panel_.recordPath, "%s", recordTarget_.c_str());
+  std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().input.c_str());
+  panel_.openScaleToMm = scene->request().scaleToMm;
+  panel_.openVoxelMm = scene->request().voxelSizeMm.value_or(kDefaultVoxelSizeMm);
+  installScene(std::move(scene), !options_.record.empty());
+}
+
+App::~App() {
+  if (loading_.valid()) loading_.wait();
+  loading_ = {};
+  scene_.reset();
+  hierarchy_.clear();
+  renderer_.reset();
+  overlay_.reset();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window_);
+  glfwTerminate();
+}
+
+void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
+  if (scene_) {
+    scene_->stop();
+    finishRecording(false);
+    scene_.reset();
+  }
+  scene_ = std::move(scene);
+  panel_.texturesMessage = renderer_->resetScene(scene_->live().visualGrid());
+  hierarchy_.clear();
+  naiveStale_ = true;
+  force_.clear();
+  camera_.setAxisView(options_.camera);
+  camera_.frame(scene_->boundsMin(), scene_->boundsMax());
+  if (options_.focusTool) camera_.setTarget(scene_->initialPose().tipMm);
+  camera_.magnify(options_.zoom);
+  target_ = scene_->initialPose();
+  drillOn_ = false;
+  panel_.sceneName = scene_->request().input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
+  panel_.followsPath = scene_->path() != nullptr;
+  panel_.pathDurationS = scene_->pathDurationS();
+  if (recordFromStart) scene_->poseSource().recorder().start();
+  lastRateS_ = glfwGetTime();
+  lastRateSteps_ = 0;
+  scene_->start();
+}
+
+int App::run() {
+  while (!glfwWindowShouldClose(window_)) {
+    if (options_.frames > 0 && frame_ >= std::size_t(options_.frames)) break;
+    glfwPollEvents();
+    pollLoading();
+    handleRequests();
+    const bool last = options_.frames > 0 && frame_ + 1 == std::size_t(options_.frames);
+    if (last) waitForPath();
+    const Clock::time_point start = Clock::now();
+    frame(last);
+    const double ms = msSince(start) - report_.screenshotMs;  // writing the PNG is not rendering
+    frameMs_.add(ms);
+    lastFrameMs_ = ms;
+    ++frame_;
+  }
+  finishReport();
+  return kExitOk;
+}
+
+void App::waitForPath() {
+  if (!scene_->path()) return;
+  const double needS = scene_->pathDurationS() + kPathSettleS;
+  const double giveUpS = glfwGetTime() + needS + 30.0;
+  while (scene_->live().display().tS < needS && glfwGetTime() < giveUpS && !glfwWindowShouldClose(window_)) {
+    glfwPollEvents();
+    // Keeps the ring drained; the changes add up for the frame.
+    if (scene_->live().updateSurface() > 0.0) naiveStale_ = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  waitedForPath_ = true;
+}
+
+void App::frame(bool last) {
+  glfwGetFramebufferSize(window_, &width_, &height_);
+  simulation::LiveRuntime& live = scene_->live();
+  updateSurfaces();
+  const simulation::DisplayState& d = live.display();
+  if (panel_.view == View::Levels) renderer_->textures().updateLevels(d.refined.data(), d.refinedCount, d.refinedDepth);
+  force_.add(glfwGetTime(), float(d.contact.magnitudeN));
+  if (panel_.view == View::Hierarchy) {
+    try {
+      hierarchy_.poll();
+      hierarchy_.maybeRebuild(live.visualGrid(), glfwGetTime(), lastView_ != View::Hierarchy);
+    } catch (const std::exception& e) {
+      panel_.hierarchyMessage = e.what();
+    }
+  }
+  lastView_ = panel_.view;
+
+  FrameCamera camera;
+  const double aspect = double(std::max(width_, 1)) / double(std::max(height_, 1));
+  camera.viewProj = glm::mat4(camera_.projection(aspect) * camera_.view());
+  camera.eye = glm::vec3(camera_.eye());
+  camera.light = glm::vec3(glm::normalize(-camera_.forward() + 0.4 * camera_.up() - 0.3 * camera_.right()));
+  glViewport(0, 0, width_, height_);
+  if (panel_.view == View::Cracks) {
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+  } else {
+    glClearColor(0.13f, 0.14f, 0.16f, 1.0f);
+  }
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  renderer_->draw(camera, panel_.view, panel_.method, panel_.wire);
+  // The metric reads the bone alone, before the tool and the panels are drawn.
+  if (last || (panel_.view == View::Cracks && panel_.liveMetric && frame_ % kLiveMetricEveryFrames == 0)) readMetric();
+
+  if (panel_.view == View::Hierarchy && hierarchy_.ready()) {
+    std::vector<glm::vec3> lines;
+    const std::size_t drawn = hierarchy_.linesAround(panel_.hierarchyLevel, d.tS >= 0.0 ? d.pose.tipMm : target_.tipMm,
+                                                     panel_.hierarchyRadiusMm, 4000, lines);
+    const DphBoxes& b = *hierarchy_.boxes();
+    char text[160];
+    std::snprintf(text, sizeof text, "%zu boxes at level %d of %d; %zu voxels, built in %.0f ms", drawn,
+                  panel_.hierarchyLevel, hierarchy_.levelCount(), b.voxels, b.buildMs);
+    panel_.hierarchyMessage = text;
+    overlay_->drawLines(camera, lines, glm::vec4(0.3f, 0.9f, 1.0f, 0.8f));
+  }
+  const simulation::ToolPose pose = d.tS >= 0.0 ? d.pose : scene_->initialPose();
+  if (panel_.showTool) {
+    overlay_->drawTool(camera, scene_->tool(), pose, d.drillOn);
+    overlay_->drawArrow(camera, pose.tipMm, d.contact.forceN * kArrowMmPerN, glm::vec4(0.95f, 0.9f, 0.2f, 1.0f));
+  }
+
+  fillStatus(lastFrameMs_);
+  if (options_.ui) {
+    panel_.drillOn = drillOn_;
+    panel_.force = &force_;
+    panel_.hierarchyLevels = hierarchy_.levelCount();
+    PathRecorder& recorder = scene_->poseSource().recorder();
+    panel_.recording = recorder.recording();
+    panel_.recordedSamples = recorder.sampleCount();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    drawPanels(panel_);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  }
+  if (last && !options_.screenshot.empty()) writeScreenshot();
+  glfwSwapBuffers(window_);
+}
+
+// The visual side's update and the upload of what changed (the naive view extracts whole).
+void App::updateSurfaces() {
+  simulation::LiveRuntime& live = scene_->live();
+  const double remeshMs = live.updateSurface();
+  if (remeshMs > 0.0) {
+    panel_.status.remeshMs = remeshMs;
+    naiveStale_ = true;
+  }
+  const simulation::SurfaceChanges delta = live.takeSurfaceChanges();
+  const Clock::time_point start = Clock::now();
+  renderer_->applyChanges(delta);
+  renderer_->textures().updateDensity(live.visualGrid(), delta);
+  double uploadMs = msSince(start);
+  if (panel_.method == SurfaceChoice::Naive && naiveStale_) {
+    geometry::SurfaceOptions naive = scene_->session().options().surface;
+    naive.method = geometry::SurfaceMethod::Naive;
+    const Clock::time_point extract = Clock::now();
+    const geometry::SurfaceMesh mesh = geometry::extractSurface(live.visualGrid(), naive);
+    panel_.status.naiveExtractMs = msSince(extract);
+    const Clock::time_point upload = Clock::now();
+    renderer_->uploadWhole(mesh);
+    uploadMs += msSince(upload);
+    naiveStale_ = false;
+  }
+  panel_.status.uploadMs = uploadMs;
+  uploadMs_.add(uploadMs);
+}
+
+void App::readMetric() {
+  std::vector<std::uint8_t> pixels(std::size_t(width_) * std::size_t(height_) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  panel_.counts = countCrackPixels(pixels.data(), width_, height_);
+  panel_.countsValid = true;
+}
+
+void App::writeScreenshot() {
+  const Clock::time_point start = Clock::now();
+  std::vector<std::uint8_t> pixels(std::size_t(width_) * std::size_t(height_) * 3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
+  flipRows(pixels, width_, height_, 3);
+  const std::string error = image::writeImageU8(options_.screenshot, width_, height_, 3, pixels.data());
+  if (!error.empty()) throw InputError(options_.screenshot + ": " + error);
+  report_.screenshotMs = msSince(start);
+}
+
+void App::fillStatus(double frameMs) {
+  const simulation::LiveStats st = scene_->live().stats();
+  const double now = glfwGetTime();
+  StatusNumbers& s = panel_.status;
+  if (now - lastRateS_ >= 0.5) {
+    s.hapticRateHz = double(st.hapticSteps - std::min(st.hapticSteps, lastRateSteps_)) / (now - lastRateS_);
+    lastRateS_ = now;
+    lastRateSteps_ = st.hapticSteps;
+  }
+  stepUs_.add(st.collisionStepUsLast);
+  s.stepP99Us = stepUs_.recentP99();
+  s.overruns = st.hapticOverruns + st.collisionOverruns;
+  s.triangles = renderer_->triangles(panel_.method);
+  const simulation::DisplayState& d = scene_->live().display();
+  s.removedVolumeMm3 = d.removedVolumeMm3;
+  s.forceN = d.contact.magnitudeN;
+  s.level = d.contact.level;
+  s.simTimeS = d.tS;
+  s.frameMs = frameMs;
+  s.frameP99Ms = frameMs_.recentP99();
+}
+
+void App::finishReport() {
+  const simulation::RuntimeResult result = scene_->stop();
+  ViewerReport& r = report_;
+  r.recordedSamples = scene_->poseSource().recorder().sampleCount();
+  finishRecording(true);
+  r.input = scene_->request().input;
+  r.view = viewName(panel_.view);
+  r.method = surfaceChoiceName(panel_.method);
+  r.path = scene_->request().path;
+  r.width = width_;
+  r.height = height_;
+  r.frames = frame_;
+  r.frameMs = frameMs_.percentiles();
+  r.uploadMs = uploadMs_.percentiles();
+  r.remeshMs = result.stats.remeshMs;
+  r.triangles = renderer_->triangles(panel_.method);
+  r.redPixels = panel_.counts.red;
+  r.redSilhouettePixels = panel_.counts.redSilhouette;
+  r.whitePixels = panel_.counts.white;
+  r.bonePixels = panel_.counts.foreground();
+  r.boneCentroid[0] = panel_.counts.centroidX;
+  r.boneCentroid[1] = panel_.counts.centroidY;
+  r.levelMinus1Pixels = panel_.counts.levelMinus1;
+  r.levelMinus2Pixels = panel_.counts.levelMinus2;
+  r.hapticSteps = result.stats.hapticSteps;
+  r.hapticOverruns = result.stats.hapticOverruns;
+  r.collisionSteps = result.stats.collisionSteps;
+  r.collisionOverruns = result.stats.collisionOverruns;
+  r.realtimePriority = result.stats.realtimeGranted;
+  r.removedVolumeMm3 = result.run.summary.removedVolumeMm3;
+  r.maxForceN = result.run.summary.maxForceN;
+  r.pathDurationS = scene_->pathDurationS();
+  r.waitedForPath = waitedForPath_;
+  r.loadMs = scene_->loadMs();
+  r.screenshot = options_.screenshot;
+  r.record = options_.record;
+}
+
+}  // namespace osteon::viewer

@@ -1,0 +1,105 @@
+// The viewer's window and loop: GLFW (X11) with an OpenGL 3.3 core context, Dear ImGui, the
+// scene's live runtime, and one frame at a time: the visual side's surface update, the
+// incremental upload, the draw, the metric, the panels.
+#pragma once
+
+#include "camera.h"
+#include "hierarchy_view.h"
+#include "metrics.h"
+#include "options.h"
+#include "overlay.h"
+#include "panels.h"
+#include "renderer.h"
+#include "report.h"
+#include "scene.h"
+
+#include <future>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+struct GLFWwindow;
+
+namespace osteon::viewer {
+
+// A window that cannot open (no DISPLAY, no GL 3.3): exit 2 with this one line.
+class WindowError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class App {
+ public:
+  // Opens the window (throws WindowError); the scene is loaded and not yet started.
+  App(const ViewerOptions& options, std::unique_ptr<Scene> scene);
+  ~App();
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
+
+  // Runs until the window closes or --frames are drawn; returns the exit code. Fills report().
+  int run();
+  const ViewerReport& report() const { return report_; }
+
+  // ---- input (input.cpp), called from GLFW's callbacks ----
+  void onKey(int key, int action, int mods);
+  void onMouseButton(int button, int action, int mods);
+  void onCursor(double x, double y);
+  void onScroll(double dy);
+  void onDrop(const std::string& path);
+
+ private:
+  void installScene(std::unique_ptr<Scene> scene, bool recordFromStart);
+  void frame(bool last);
+  void updateSurfaces();
+  void readMetric();
+  void writeScreenshot();
+  void waitForPath();
+  void pollLoading();
+  void startLoading(const std::string& input);
+  void handleRequests();
+  void moveToolAlong(const glm::dvec3& direction, double mm);
+  void toggleRecording();
+  // Writes a finished recording; at exit a failure throws (exit 2), otherwise the panel says it.
+  void finishRecording(bool atExit);
+  void publishTarget();
+  void moveToolInView(double dxPixels, double dyPixels);
+  void turnTool(double dxPixels, double dyPixels);
+  void fillStatus(double frameMs);
+  void finishReport();
+
+  ViewerOptions options_;
+  GLFWwindow* window_ = nullptr;
+  std::unique_ptr<Scene> scene_;
+  std::unique_ptr<BoneRenderer> renderer_;
+  std::unique_ptr<OverlayRenderer> overlay_;
+  OrbitCamera camera_;
+  HierarchyView hierarchy_;
+  PanelModel panel_;
+  TimeSeries force_{5.0};
+  FrameSeries frameMs_, uploadMs_, stepUs_;
+  std::future<std::unique_ptr<Scene>> loading_;
+  std::string loadingName_;
+
+  // The mouse's tool target (render thread's copy; the pose source gets it through a triple buffer).
+  simulation::ToolPose target_;
+  bool drillOn_ = false;
+  std::string recordTarget_;  // where the running recording goes
+
+  // Input state.
+  double cursorX_ = 0.0, cursorY_ = 0.0;
+  bool leftDown_ = false, middleDown_ = false, rightDown_ = false;
+  int mods_ = 0;
+  int width_ = 0, height_ = 0;  // framebuffer
+
+  // Per-frame state.
+  std::size_t frame_ = 0;
+  double lastFrameMs_ = 0.0;
+  bool naiveStale_ = true;
+  View lastView_ = View::Shaded;
+  double lastRateS_ = 0.0;
+  std::uint64_t lastRateSteps_ = 0;
+  bool waitedForPath_ = false;
+  ViewerReport report_;
+};
+
+}  // namespace osteon::viewer

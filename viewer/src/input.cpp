@@ -1,0 +1,243 @@
+// Keyboard, mouse and file drops, the panels' requests, loading another bone and recording.
+#include "app.h"
+
+#include "gl_util.h"  // epoxy before GLFW
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
+
+#include <chrono>
+#include <new>
+
+namespace osteon::viewer {
+
+namespace {
+
+constexpr double kRadiansPerPixel = 0.01;
+constexpr double kDepthStepMm = 1.0;    // Ctrl + wheel, Page Up / Down: along the view
+constexpr double kAdvanceStepMm = 0.25;  // Up / Down, Shift + wheel: along the tool's axis
+
+bool held(GLFWwindow* w, int key, int other) {
+  return glfwGetKey(w, key) == GLFW_PRESS || glfwGetKey(w, other) == GLFW_PRESS;
+}
+
+}  // namespace
+
+void App::onKey(int key, int action, int mods) {
+  if (action == GLFW_RELEASE) return;
+  if (options_.ui && ImGui::GetIO().WantCaptureKeyboard) return;
+  const bool press = action == GLFW_PRESS;
+  const bool mouseTool = !scene_->poseSource().followsPath();
+  // Movement keys repeat; everything else acts once per press.
+  switch (key) {
+    case GLFW_KEY_UP:
+    case GLFW_KEY_DOWN:
+      if (mouseTool) moveToolAlong(target_.forward(), key == GLFW_KEY_UP ? kAdvanceStepMm : -kAdvanceStepMm);
+      return;
+    case GLFW_KEY_PAGE_UP:
+    case GLFW_KEY_PAGE_DOWN:
+      if (mouseTool) moveToolAlong(camera_.forward(), key == GLFW_KEY_PAGE_DOWN ? kDepthStepMm : -kDepthStepMm);
+      return;
+    default:
+      break;
+  }
+  if (!press) return;
+  if (key >= GLFW_KEY_F1 && key <= GLFW_KEY_F6) {
+    panel_.view = View(key - GLFW_KEY_F1);
+    return;
+  }
+  if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) {
+    panel_.axisView = AxisView(key - GLFW_KEY_1);
+    return;
+  }
+  switch (key) {
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+    case GLFW_KEY_TAB: options_.ui = !options_.ui; break;
+    case GLFW_KEY_SPACE: panel_.toggleDrill = true; break;
+    case GLFW_KEY_R: panel_.toggleRecord = true; break;
+    case GLFW_KEY_F: panel_.frameBone = true; break;
+    case GLFW_KEY_T: panel_.resetTool = true; break;
+    case GLFW_KEY_W: panel_.wire = !panel_.wire; break;
+    case GLFW_KEY_G: panel_.showTool = !panel_.showTool; break;
+    case GLFW_KEY_M:
+      panel_.method = panel_.method == SurfaceChoice::Naive ? SurfaceChoice::CrackFree : SurfaceChoice::Naive;
+      break;
+    case GLFW_KEY_S: panel_.view = View::Shaded; break;
+    case GLFW_KEY_C: panel_.view = View::Cracks; break;
+    case GLFW_KEY_L: panel_.view = View::Levels; break;
+    case GLFW_KEY_D: panel_.view = View::Density; break;
+    case GLFW_KEY_H: panel_.view = View::Hierarchy; break;
+    case GLFW_KEY_LEFT_BRACKET: panel_.hierarchyLevel = std::max(panel_.hierarchyLevel - 1, 0); break;
+    case GLFW_KEY_RIGHT_BRACKET:
+      panel_.hierarchyLevel = std::min(panel_.hierarchyLevel + 1, std::max(hierarchy_.levelCount() - 1, 0));
+      break;
+    default: break;
+  }
+  (void)mods;
+}
+
+void App::onMouseButton(int button, int action, int mods) {
+  mods_ = mods;
+  const bool down = action == GLFW_PRESS;
+  // A drag that starts over a panel belongs to the panel.
+  if (down && options_.ui && ImGui::GetIO().WantCaptureMouse) return;
+  if (button == GLFW_MOUSE_BUTTON_LEFT) leftDown_ = down;
+  if (button == GLFW_MOUSE_BUTTON_MIDDLE) middleDown_ = down;
+  if (button == GLFW_MOUSE_BUTTON_RIGHT) rightDown_ = down;
+}
+
+void App::onCursor(double x, double y) {
+  const double dx = x - cursorX_, dy = y - cursorY_;
+  cursorX_ = x;
+  cursorY_ = y;
+  int w = 0, h = 0;
+  glfwGetWindowSize(window_, &w, &h);
+  const bool shift = held(window_, GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
+  const bool turn = held(window_, GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL) ||
+                    held(window_, GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT);
+  if (middleDown_ || (leftDown_ && shift)) {
+    camera_.pan(dx, dy, h);
+  } else if (leftDown_) {
+    camera_.rotate(dx, dy);
+  } else if (rightDown_ && !scene_->poseSource().followsPath()) {
+    turn ? turnTool(dx, dy) : moveToolInView(dx, dy);
+  }
+}
+
+void App::onScroll(double dy) {
+  if (options_.ui && ImGui::GetIO().WantCaptureMouse) return;
+  const bool mouseTool = !scene_->poseSource().followsPath();
+  if (mouseTool && held(window_, GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL)) {
+    moveToolAlong(camera_.forward(), -dy * kDepthStepMm);  // wheel away: deeper into the view
+  } else if (mouseTool && held(window_, GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT)) {
+    moveToolAlong(target_.forward(), dy * kAdvanceStepMm);
+  } else {
+    camera_.zoom(dy);
+  }
+}
+
+void App::onDrop(const std::string& path) {
+  std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", path.c_str());
+  panel_.open = true;
+}
+
+void App::publishTarget() {
+  if (!scene_->poseSource().followsPath()) scene_->poseSource().setTarget(target_, drillOn_);
+}
+
+void App::moveToolInView(double dxPixels, double dyPixels) {
+  int w = 0, h = 0;
+  glfwGetWindowSize(window_, &w, &h);
+  const double mm = camera_.mmPerPixelAt(target_.tipMm, h);
+  target_.tipMm += (dxPixels * camera_.right() - dyPixels * camera_.up()) * mm;
+  publishTarget();
+}
+
+void App::moveToolAlong(const glm::dvec3& direction, double mm) {
+  target_.tipMm += direction * mm;
+  publishTarget();
+}
+
+void App::turnTool(double dxPixels, double dyPixels) {
+  // About the tip, around the view's axes: the shaft swings with the cursor.
+  const glm::dquat q = glm::angleAxis(dxPixels * kRadiansPerPixel, camera_.up()) *
+                       glm::angleAxis(dyPixels * kRadiansPerPixel, camera_.right());
+  target_.orientation = glm::normalize(q * target_.orientation);
+  publishTarget();
+}
+
+void App::handleRequests() {
+  if (panel_.toggleDrill) {
+    drillOn_ = !drillOn_;
+    publishTarget();
+  }
+  if (panel_.resetTool) {
+    target_ = scene_->initialPose();
+    publishTarget();
+  }
+  if (panel_.toggleRecord) toggleRecording();
+  if (panel_.frameBone) camera_.frame(scene_->boundsMin(), scene_->boundsMax());
+  if (panel_.axisView) {
+    camera_.setAxisView(*panel_.axisView);
+    camera_.frame(scene_->boundsMin(), scene_->boundsMax());
+  }
+  if (panel_.open) startLoading(panel_.openPath);
+  panel_.toggleDrill = panel_.resetTool = panel_.toggleRecord = panel_.frameBone = panel_.open = false;
+  panel_.axisView.reset();
+  // A recording the haptic loop has let go of (stopped, or full) is written now.
+  if (scene_->poseSource().recorder().finished()) finishRecording(false);
+}
+
+void App::toggleRecording() {
+  PathRecorder& recorder = scene_->poseSource().recorder();
+  if (recorder.recording()) {
+    recorder.requestStop();
+    panel_.recordMessage = "stopping ...";
+    return;
+  }
+  if (recorder.finished()) return;  // being written
+  recordTarget_ = panel_.recordPath;
+  if (recordTarget_.empty()) recordTarget_ = "osteon-path.csv";
+  if (recorder.start()) panel_.recordMessage = "recording to " + recordTarget_;
+}
+
+void App::finishRecording(bool atExit) {
+  PathRecorder& recorder = scene_->poseSource().recorder();
+  if (!recorder.finished()) return;
+  const std::size_t samples = recorder.sampleCount();
+  const bool full = recorder.overflowed();
+  try {
+    std::vector<std::string> inputs = {scene_->request().input};
+    if (isCsvPath(scene_->request().path)) inputs.push_back(scene_->request().path);
+    geometry::refuseOverwritingInputs({recordTarget_}, inputs);
+    recorder.write(recordTarget_, scene_->periodS());
+    panel_.recordMessage = "wrote " + std::to_string(samples) + " samples (" + std::to_string(samples / 1000) +
+                           " s) to " + recordTarget_ + (full ? " (the buffer was full: recording stopped)" : "");
+  } catch (const InputError& e) {
+    recorder.discard();
+    if (atExit) throw;
+    panel_.recordMessage = e.what();
+  }
+}
+
+void App::startLoading(const std::string& input) {
+  if (loading_.valid() || input.empty()) return;
+  LoadRequest request = scene_->request();
+  request.input = input;
+  request.path.clear();  // another bone is drilled with the mouse
+  if (!(panel_.openScaleToMm > 0.0) || !(panel_.openVoxelMm > 0.0)) {
+    panel_.loadMessage = "mm per file unit and voxel mm must be positive";
+    return;
+  }
+  request.scaleToMm = panel_.openScaleToMm;
+  request.voxelSizeMm = panel_.openVoxelMm;
+  if (isGridPath(input)) request.voxelSizeMm.reset();  // a grid has its own
+  loadingName_ = input;
+  panel_.loading = true;
+  panel_.loadMessage = input;
+  loading_ = std::async(std::launch::async, [request] { return Scene::load(request); });
+}
+
+void App::pollLoading() {
+  if (!loading_.valid() || loading_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  panel_.loading = false;
+  try {
+    std::unique_ptr<Scene> scene = loading_.get();
+    installScene(std::move(scene), false);
+    panel_.loadMessage.clear();
+    glfwSetWindowTitle(window_, ("osteon-viewer: " + loadingName_).c_str());
+  } catch (const InputError& e) {
+    panel_.loadMessage = e.what();
+  } catch (const std::bad_alloc&) {
+    panel_.loadMessage = loadingName_ + ": out of memory (a larger --voxel-size needs less)";
+  } catch (const std::exception& e) {
+    panel_.loadMessage = loadingName_ + ": internal error: " + e.what();
+  }
+  loading_ = {};
+}
+
+}  // namespace osteon::viewer

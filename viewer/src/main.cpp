@@ -1,0 +1,139 @@
+// `osteon-viewer`: parses the options (CLI11 lives here alone), loads the bone, then opens the
+// window. Every refusal of the input comes before a window opens; errors are one line on stderr
+// and the exit codes are the CLI's: 0 success, 2 bad input or no window, 3 an internal error.
+#include "app.h"
+#include "options.h"
+#include "report.h"
+#include "scene.h"
+
+#include "osteon/core/error.h"
+#include "osteon/simulation/path.h"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+#include <new>
+
+namespace {
+
+using osteon::kExitBadInput;
+using osteon::kExitInternal;
+using osteon::kExitOk;
+
+std::string oneLine(std::string text) {
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+int fail(int code, const std::string& message) {
+  std::cerr << (code == kExitInternal ? "osteon-viewer: internal error: " : "osteon-viewer: error: ")
+            << oneLine(message) << "\n";
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace viewer = osteon::viewer;
+  CLI::App app{"osteon-viewer: drill a bone with the mouse or a path, see the crack-free surface live"};
+  app.set_version_flag("--version", std::string("osteon-viewer ") + OSTEON_VERSION);
+  std::string input = "default";
+  std::optional<std::string> units;
+  std::optional<double> scale;
+  std::optional<double> voxelSize;
+  int levels = 2;
+  std::string tool = "drill", path, view = "shaded", method = "crackfree", size = "1280x800", camera = "anterior";
+  viewer::ViewerOptions options;
+  bool noUi = false;
+  app.add_option("MESH", input, "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus) or GRID.nrrd")
+      ->default_val("default");
+  CLI::Option* u = app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
+  CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
+  u->excludes(s);
+  app.add_option("--voxel-size", voxelSize, "Base voxel edge in mm (default 1.2 for a mesh; a grid has its own)");
+  app.add_option("--levels", levels, "0: static voxels; 1 or 2: refine near the tool (VS/2, VS/4)")->default_val(2);
+  app.add_option("--tool", tool, "drill, burr or shaver")->default_val("drill");
+  app.add_option("--path", path, "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
+  app.add_option("--frames", options.frames, "Render N frames and exit (with --path, the last waits for its end)");
+  app.add_option("--screenshot", options.screenshot, "Write the last frame to this PNG");
+  app.add_option("--view", view, "shaded, cracks, levels, density, hierarchy or wireframe")->default_val("shaded");
+  app.add_option("--method", method, "The surface drawn: crackfree (live, incremental) or naive (seed's MC, whole)")
+      ->default_val("crackfree");
+  app.add_option("--camera", camera, "Start view, framed on the bone: anterior (looking along +y), posterior, right, "
+                 "left, superior or inferior")
+      ->default_val("anterior");
+  app.add_option("--zoom", options.zoom, "Magnify the start view by this factor")->default_val(1.0);
+  std::string focus = "bone";
+  app.add_option("--focus", focus, "Centre of the start view: bone, or tool (its first pose)")->default_val("bone");
+  app.add_option("--size", size, "Window size WIDTHxHEIGHT in pixels")->default_val("1280x800");
+  app.add_option("--record", options.record, "Record the tool's path (1 kHz) from the start to exit into this CSV");
+  app.add_flag("--json", options.json, "Print one JSON object on stdout at exit");
+  app.add_flag("--no-ui", noUi, "Hide the panels (Tab toggles them)");
+  bool noTool = false;
+  app.add_flag("--no-tool", noTool, "Do not draw the tool (G toggles it), to see the hole it drilled");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitOk;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << "osteon-viewer " << OSTEON_VERSION << "\n";
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    return fail(kExitBadInput, std::string(e.what()) + " (see osteon-viewer --help)");
+  }
+
+  std::unique_ptr<viewer::Scene> scene;
+  try {
+    // Everything about the input is settled before a window opens.
+    options.load.input = input;
+    options.load.scaleToMm = viewer::scaleToMmFrom(units, scale);
+    options.load.voxelSizeMm = voxelSize;
+    options.load.levels = levels;
+    options.load.tool = osteon::simulation::parseToolKind(tool);
+    options.load.path = path;
+    options.view = viewer::parseView(view);
+    options.method = viewer::parseSurfaceChoice(method);
+    options.camera = viewer::parseAxisView(camera);
+    if (focus != "bone" && focus != "tool") {
+      throw osteon::InputError("--focus " + focus + ": expected bone or tool");
+    }
+    options.focusTool = focus == "tool";
+    options.ui = !noUi;
+    options.tool = !noTool;
+    viewer::parseWindowSize(size, options.width, options.height);
+    viewer::validateOptions(options);
+    scene = viewer::Scene::load(options.load);
+  } catch (const osteon::InputError& e) {
+    return fail(kExitBadInput, e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(kExitBadInput, "out of memory: the input needs more memory than this machine has (a larger "
+                               "--voxel-size needs less)");
+  } catch (const std::exception& e) {
+    return fail(kExitInternal, e.what());
+  }
+
+  try {
+    std::string json;
+    {
+      viewer::App window(options, std::move(scene));
+      window.run();
+      if (options.json) json = viewer::reportJson(window.report());
+    }  // the window closes here, before anything is printed
+    if (options.json) std::cout << json << "\n";
+    return kExitOk;
+  } catch (const viewer::WindowError& e) {
+    return fail(kExitBadInput, e.what());
+  } catch (const osteon::InputError& e) {
+    return fail(kExitBadInput, e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(kExitBadInput, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(kExitInternal, e.what());
+  }
+}

@@ -1,0 +1,47 @@
+// What is drawn over the bone: the tool (each part's core at its inner radius, opaque, and its
+// contact shell at the outer radius, translucent), the force as an arrow at the tool, and
+// world-space lines (the hierarchy's boxes).
+#pragma once
+
+#include "gl_util.h"
+#include "renderer.h"
+
+#include "osteon/simulation/tool.h"
+
+#include <glm/vec4.hpp>
+
+#include <vector>
+
+namespace osteon::viewer {
+
+class OverlayRenderer {
+ public:
+  OverlayRenderer();
+
+  void drawTool(const FrameCamera& camera, const simulation::Tool& tool, const simulation::ToolPose& pose,
+                bool drillOn);
+  // An arrow from `fromMm` along `vectorMm` (its length in mm).
+  void drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,
+                 const glm::vec4& colour);
+  // Line segments: points in pairs (mm).
+  void drawLines(const FrameCamera& camera, const std::vector<glm::vec3>& points, const glm::vec4& colour);
+
+ private:
+  struct Mesh {
+    GlVertexArray vao;
+    GlBuffer vbo, ibo;
+    GLsizei indexCount = 0;
+  };
+  static Mesh makeMesh(const std::vector<float>& positionsNormals, const std::vector<std::uint32_t>& indices);
+  void begin(const FrameCamera& camera);
+  void drawMesh(const Mesh& mesh, const glm::mat4& model, const glm::vec4& colour, bool lit);
+  // A capsule (a sphere when a == b) of radius r.
+  void drawCapsule(const glm::dvec3& a, const glm::dvec3& b, double r, const glm::vec4& colour);
+
+  GlProgram program_;
+  Mesh sphere_, cylinder_, cone_;
+  GlVertexArray linesVao_;
+  GlBuffer linesVbo_;
+};
+
+}  // namespace osteon::viewer

@@ -1,0 +1,177 @@
+#include "panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <utility>
+
+namespace osteon::viewer {
+
+namespace {
+
+void statusLine(const PanelModel& m) {
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(0.0f, io.DisplaySize.y), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+  ImGui::SetNextWindowBgAlpha(0.6f);
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                 ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                 ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
+  if (ImGui::Begin("status", nullptr, flags)) {
+    const StatusNumbers& s = m.status;
+    ImGui::Text("haptic %.0f Hz | step p99 %.0f us | overruns %llu | remesh %.2f ms | upload %.3f ms | "
+                "%zu triangles | removed %.1f mm3 | |F| %.2f N (level %d) | frame %.1f ms (p99 %.1f)",
+                s.hapticRateHz, s.stepP99Us, static_cast<unsigned long long>(s.overruns), s.remeshMs, s.uploadMs,
+                s.triangles, s.removedVolumeMm3, s.forceN, s.level, s.frameMs, s.frameP99Ms);
+  }
+  ImGui::End();
+}
+
+void viewSection(PanelModel& m) {
+  if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  static const char* names[] = {"shaded (F1)", "cracks (F2)", "levels (F3)", "density (F4)", "hierarchy (F5)",
+                                "wireframe (F6)"};
+  int view = int(m.view);
+  for (int i = 0; i < 6; ++i) {
+    if (ImGui::RadioButton(names[i], &view, i)) m.view = View(i);
+    if (i % 2 == 0) ImGui::SameLine(160.0f);
+  }
+  int method = int(m.method);
+  ImGui::Text("surface (M):");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("crackfree", &method, 0)) m.method = SurfaceChoice::CrackFree;
+  ImGui::SameLine();
+  if (ImGui::RadioButton("naive", &method, 1)) m.method = SurfaceChoice::Naive;
+  if (m.method == SurfaceChoice::Naive) ImGui::TextDisabled("naive: extracted whole, %.1f ms", m.status.naiveExtractMs);
+  ImGui::Checkbox("edges (W)", &m.wire);
+  if (!m.texturesMessage.empty() && (m.view == View::Levels || m.view == View::Density)) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.7f, 0.3f, 1.0f));
+    ImGui::TextWrapped("%s", m.texturesMessage.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (m.view == View::Levels) {
+    ImGui::TextColored(ImVec4(0.8f, 0.8f, 0.8f, 1.0f), "level 0");
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.2f, 0.8f, 0.35f, 1.0f), "level -1");
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.3f, 0.45f, 0.95f, 1.0f), "level -2");
+  }
+  if (m.view == View::Density) {
+    ImGui::TextColored(ImVec4(0.96f, 0.94f, 0.86f, 1.0f), "cortical");
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.72f, 0.42f, 0.26f, 1.0f), "cancellous");
+  }
+  if (m.view == View::Hierarchy) {
+    ImGui::SliderInt("level ([ ])", &m.hierarchyLevel, 0, std::max(m.hierarchyLevels - 1, 0));
+    ImGui::SliderFloat("radius mm", &m.hierarchyRadiusMm, 2.0f, 60.0f, "%.0f");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", m.hierarchyMessage.c_str());
+    ImGui::PopStyleColor();
+  }
+}
+
+void cameraSection(PanelModel& m) {
+  if (!ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (ImGui::Button("frame (F)")) m.frameBone = true;
+  static const char* labels[] = {"ant (1)", "post (2)", "right (3)", "left (4)", "sup (5)", "inf (6)"};
+  for (int i = 0; i < 6; ++i) {
+    if (i != 3) ImGui::SameLine();
+    if (ImGui::SmallButton(labels[i])) m.axisView = AxisView(i);
+  }
+}
+
+void toolSection(PanelModel& m) {
+  if (!ImGui::CollapsingHeader("Tool and force", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (m.followsPath) {
+    ImGui::Text("following the path (%.1f s): t = %.2f s", m.pathDurationS, m.status.simTimeS);
+  } else {
+    if (ImGui::Button(m.drillOn ? "drill: ON (space)" : "drill: off (space)")) m.toggleDrill = true;
+    ImGui::SameLine();
+    if (ImGui::Button("reset tool (T)")) m.resetTool = true;
+  }
+  ImGui::Checkbox("show the tool (G)", &m.showTool);
+  if (m.force && !m.force->values().empty()) {
+    char label[48];
+    std::snprintf(label, sizeof label, "|F| %.2f N", double(m.force->values().back()));
+    ImGui::PlotLines("##force", m.force->values().data(), int(m.force->values().size()), 0, label, 0.0f,
+                     std::max(3.5f, m.force->max()), ImVec2(ImGui::GetContentRegionAvail().x, 80.0f));
+    ImGui::TextDisabled("last 5 s");
+  }
+}
+
+void metricSection(PanelModel& m) {
+  if (!ImGui::CollapsingHeader("Crack metric", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Checkbox("live (every 10 frames)", &m.liveMetric);
+  if (m.view != View::Cracks) {
+    ImGui::TextDisabled("shown in the crack view (F2)");
+    return;
+  }
+  if (!m.countsValid) return;
+  const PixelCounts& c = m.counts;
+  ImGui::Text("red %llu (silhouette %llu, cracks %llu)", static_cast<unsigned long long>(c.red),
+              static_cast<unsigned long long>(c.redSilhouette), static_cast<unsigned long long>(c.cracks()));
+  const double total = double(c.red + c.white);
+  ImGui::Text("white %llu | red share %.4f%%", static_cast<unsigned long long>(c.white),
+              total > 0.0 ? 100.0 * double(c.red) / total : 0.0);
+}
+
+void recordSection(PanelModel& m) {
+  if (!ImGui::CollapsingHeader("Recording", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::SetNextItemWidth(-40.0f);
+  ImGui::InputText("file", m.recordPath, sizeof m.recordPath);
+  if (ImGui::Button(m.recording ? "stop and save (R)" : "record (R)")) m.toggleRecord = true;
+  if (m.recording) {
+    ImGui::SameLine();
+    ImGui::Text("%.1f s", double(m.recordedSamples) / 1000.0);
+  }
+  if (!m.recordMessage.empty()) ImGui::TextWrapped("%s", m.recordMessage.c_str());
+}
+
+void fileSection(PanelModel& m) {
+  if (!ImGui::CollapsingHeader("File")) return;
+  ImGui::TextWrapped("bone: %s", m.sceneName.c_str());
+  ImGui::SetNextItemWidth(-40.0f);
+  ImGui::InputText("path", m.openPath, sizeof m.openPath);
+  ImGui::SetNextItemWidth(120.0f);
+  ImGui::InputDouble("mm per file unit", &m.openScaleToMm, 0.0, 0.0, "%g");
+  static const std::pair<const char*, double> units[] = {{"mm", 1.0}, {"cm", 10.0}, {"m", 1000.0}, {"in", 25.4}};
+  for (const auto& [name, scale] : units) {
+    if (ImGui::SmallButton(name)) m.openScaleToMm = scale;
+    ImGui::SameLine();
+  }
+  ImGui::NewLine();
+  ImGui::SetNextItemWidth(120.0f);
+  ImGui::InputDouble("voxel mm", &m.openVoxelMm, 0.0, 0.0, "%g");
+  if (ImGui::Button("open") && !m.loading) m.open = true;
+  ImGui::SameLine();
+  ImGui::TextDisabled("or drop a file on the window");
+  if (m.loading) ImGui::Text("loading %s ...", m.loadMessage.c_str());
+  if (!m.loading && !m.loadMessage.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.5f, 0.4f, 1.0f));
+    ImGui::TextWrapped("%s", m.loadMessage.c_str());
+    ImGui::PopStyleColor();
+  }
+}
+
+}  // namespace
+
+void drawPanels(PanelModel& m) {
+  statusLine(m);
+  // A fixed width; the height follows the open sections, up to the window's.
+  const float maxHeight = std::max(ImGui::GetIO().DisplaySize.y - 60.0f, 100.0f);
+  ImGui::SetNextWindowPos(ImVec2(10.0f, 10.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(360.0f, 0.0f), ImVec2(360.0f, maxHeight));
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  if (ImGui::Begin("osteon", nullptr, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::TextWrapped("%s", m.sceneName.c_str());
+    viewSection(m);
+    cameraSection(m);
+    toolSection(m);
+    metricSection(m);
+    recordSection(m);
+    fileSection(m);
+  }
+  ImGui::End();
+}
+
+}  // namespace osteon::viewer

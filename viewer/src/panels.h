@@ -1,0 +1,72 @@
+// The ImGui panels: status line, |F| plot, views, camera, tool, crack metric, recording and
+// file. They read a PanelModel the app fills each frame and leave requests in it; they never
+// touch the scene themselves.
+#pragma once
+
+#include "camera.h"
+#include "metrics.h"
+#include "options.h"
+
+#include <optional>
+#include <string>
+
+namespace osteon::viewer {
+
+struct StatusNumbers {
+  double hapticRateHz = 0.0;
+  double stepP99Us = 0.0;      // collision step, p99 of the latest steps seen by the frames
+  std::uint64_t overruns = 0;  // haptic + collision
+  double remeshMs = 0.0;       // the latest updateSurface that had changes
+  double uploadMs = 0.0;       // this frame's surface upload
+  double naiveExtractMs = 0.0; // the naive surface's latest whole extraction
+  double frameMs = 0.0;
+  double frameP99Ms = 0.0;
+  std::size_t triangles = 0;
+  double removedVolumeMm3 = 0.0;
+  double forceN = 0.0;
+  double simTimeS = 0.0;
+  int level = 0;               // finest level in contact
+};
+
+struct PanelModel {
+  // What the app shows.
+  std::string sceneName;
+  bool followsPath = false;
+  double pathDurationS = 0.0;
+  bool drillOn = false;
+  StatusNumbers status;
+  const TimeSeries* force = nullptr;
+  PixelCounts counts;
+  bool countsValid = false;
+  bool recording = false;
+  std::size_t recordedSamples = 0;
+  std::string recordMessage;     // the last write, or its failure
+  bool loading = false;
+  std::string loadMessage;       // the last load's failure, or what is loading
+  std::string texturesMessage;   // why level/density views are unavailable ("" if they are)
+  int hierarchyLevels = 0;
+  std::string hierarchyMessage;
+
+  // Settings the panels edit in place.
+  View view = View::Shaded;
+  SurfaceChoice method = SurfaceChoice::CrackFree;
+  bool wire = false;
+  bool showTool = true;
+  bool liveMetric = true;
+  int hierarchyLevel = 1;
+  float hierarchyRadiusMm = 15.0f;
+  char recordPath[1024] = {};
+  char openPath[1024] = {};
+  double openScaleToMm = 1.0;    // mm per file unit of the mesh to open
+  double openVoxelMm = 1.2;      // its base voxel size (a grid keeps its own)
+
+  // Requests for the app, cleared by it.
+  bool toggleDrill = false, toggleRecord = false, frameBone = false, resetTool = false;
+  std::optional<AxisView> axisView;
+  bool open = false;
+};
+
+// Draws every panel (between ImGui::NewFrame and ImGui::Render).
+void drawPanels(PanelModel& model);
+
+}  // namespace osteon::viewer

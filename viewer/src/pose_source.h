@@ -1,0 +1,51 @@
+// The viewer's device: where the haptic loop finds the tool. Without a haptic device the mouse
+// sets a target pose (render thread, through a triple buffer) and the tool follows it at a
+// bounded speed, so a jump of the cursor drills a straight channel rather than teleporting the
+// tool into the bone; with --path the pose follows the path in wall-clock time from the start
+// (the tool stays at the path's end afterwards). Either way every sample can be recorded.
+#pragma once
+
+#include "recorder.h"
+
+#include "osteon/simulation/handoff.h"
+#include "osteon/simulation/path.h"
+#include "osteon/simulation/runtime.h"
+
+namespace osteon::viewer {
+
+class ViewerPoseSource : public simulation::PoseSource {
+ public:
+  static constexpr double kMaxSpeedMmPerS = 100.0;
+  static constexpr double kMaxTurnRadPerS = 6.0;
+
+  // path: null for the mouse; otherwise it must outlive this source.
+  ViewerPoseSource(const simulation::ToolPose& initial, const simulation::DrillPath* path);
+
+  // ---- render thread ----
+  // The pose the tool moves towards, and the drill's state (the mouse; ignored with a path).
+  void setTarget(const simulation::ToolPose& pose, bool drillOn);
+  bool followsPath() const { return path_ != nullptr; }
+  PathRecorder& recorder() { return recorder_; }
+
+  // ---- haptic thread ----
+  void sample(double tS, simulation::ToolPose& pose, bool& drillOn) noexcept override;
+
+ private:
+  struct Target {
+    simulation::ToolPose pose;
+    bool drillOn = false;
+  };
+  const simulation::DrillPath* path_;
+  simulation::TripleBuffer<Target> target_;
+  // The haptic thread's own state.
+  simulation::ToolPose current_;
+  double lastTS_ = -1.0;
+  PathRecorder recorder_;
+};
+
+// Moves `from` towards `to` by at most maxMm of travel and maxRad of turn (plain math, for the
+// mouse source and its tests).
+simulation::ToolPose stepTowards(const simulation::ToolPose& from, const simulation::ToolPose& to, double maxMm,
+                                 double maxRad);
+
+}  // namespace osteon::viewer

@@ -1,0 +1,51 @@
+#include "report.h"
+
+#include <nlohmann/json.hpp>
+
+namespace osteon::viewer {
+
+namespace {
+
+nlohmann::json percentiles(const simulation::Percentiles& p, bool withMax) {
+  nlohmann::json j = {{"p50", p.p50}, {"p99", p.p99}};
+  if (withMax) j["max"] = p.max;
+  return j;
+}
+
+}  // namespace
+
+std::string reportJson(const ViewerReport& r) {
+  nlohmann::json j = {
+      {"frames", r.frames},
+      {"frame_ms", percentiles(r.frameMs, true)},
+      {"upload_ms", percentiles(r.uploadMs, false)},
+      {"remesh_ms", percentiles(r.remeshMs, true)},
+      {"triangles", r.triangles},
+      {"red_pixels", r.redPixels},
+      {"red_silhouette_pixels", r.redSilhouettePixels},
+      {"white_pixels", r.whitePixels},
+      {"bone_pixels", r.bonePixels},
+      {"bone_centroid", {r.boneCentroid[0], r.boneCentroid[1]}},
+      {"level_pixels", {{"-1", r.levelMinus1Pixels}, {"-2", r.levelMinus2Pixels}}},
+      {"haptic", {{"steps", r.hapticSteps}, {"overruns", r.hapticOverruns}}},
+      {"collision", {{"steps", r.collisionSteps}, {"overruns", r.collisionOverruns}}},
+      {"realtime_priority", r.realtimePriority},
+      {"removed_volume_mm3", r.removedVolumeMm3},
+      {"max_force_n", r.maxForceN},
+      {"input", r.input},
+      {"view", r.view},
+      {"method", r.method},
+      {"size", {r.width, r.height}},
+      {"path", r.path.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.path)},
+      {"path_duration_s", r.pathDurationS},
+      {"waited_for_path", r.waitedForPath},
+      {"load_ms", r.loadMs},
+      {"screenshot", r.screenshot.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.screenshot)},
+      {"screenshot_ms", r.screenshotMs},
+      {"record", r.record.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.record)},
+      {"recorded_samples", r.recordedSamples},
+  };
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace osteon::viewer

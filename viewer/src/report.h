@@ -1,0 +1,39 @@
+// What `osteon-viewer --json` prints on exit: one JSON object (report.cpp is the only
+// translation unit that includes nlohmann/json).
+#pragma once
+
+#include "osteon/simulation/runner.h"
+
+#include <cstdint>
+#include <string>
+
+namespace osteon::viewer {
+
+struct ViewerReport {
+  std::string input, view, method, path;
+  int width = 0, height = 0;
+  std::size_t frames = 0;
+  simulation::Percentiles frameMs;   // render work per frame (the wait for a path excluded)
+  simulation::Percentiles uploadMs;  // surface changes to the GPU per frame
+  simulation::Percentiles remeshMs;  // updateSurface per frame that had changes
+  std::size_t triangles = 0;         // of the surface drawn on the last frame
+  std::uint64_t redPixels = 0, redSilhouettePixels = 0, whitePixels = 0;  // last frame, bone only
+  std::uint64_t bonePixels = 0;                 // not background (crack view: red + white)
+  double boneCentroid[2] = {0.0, 0.0};          // fractions of the frame, y from the top
+  std::uint64_t levelMinus1Pixels = 0, levelMinus2Pixels = 0;  // level view colours
+  std::uint64_t hapticSteps = 0, hapticOverruns = 0;
+  std::uint64_t collisionSteps = 0, collisionOverruns = 0;
+  bool realtimePriority = false;
+  double removedVolumeMm3 = 0.0;
+  double maxForceN = 0.0;
+  double pathDurationS = 0.0;
+  bool waitedForPath = false;
+  double loadMs = 0.0;
+  std::string screenshot, record;
+  double screenshotMs = 0.0;         // read back, flipped and written (not in frameMs)
+  std::size_t recordedSamples = 0;
+};
+
+std::string reportJson(const ViewerReport& report);
+
+}  // namespace osteon::viewer

@@ -1,0 +1,103 @@
+#include "scene.h"
+
+#include "osteon/core/error.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/io/nrrd_io.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace osteon::viewer {
+
+namespace sim = osteon::simulation;
+
+namespace {
+
+std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim::SessionOptions& base) {
+  sim::SessionOptions options = base;
+  if (isGridPath(request.input)) {
+    geometry::NrrdReadResult read = geometry::readNrrd(request.input);
+    const double vs = read.grid.voxelSizeMm();
+    if (request.voxelSizeMm && std::abs(*request.voxelSizeMm - vs) > 1e-9 * *request.voxelSizeMm) {
+      std::ostringstream s;
+      s << "--voxel-size " << *request.voxelSizeMm << ": " << request.input << " has voxels of " << vs
+        << " mm (omit --voxel-size for a grid)";
+      throw InputError(s.str());
+    }
+    options.voxelSizeMm = vs;
+    return std::make_unique<sim::Session>(sim::Session::fromGrid(std::move(read.grid), options, request.input));
+  }
+  options.voxelSizeMm = request.voxelSizeMm.value_or(kDefaultVoxelSizeMm);
+  return std::make_unique<sim::Session>(sim::Session::open(request.input, request.scaleToMm, options));
+}
+
+// Without a path: aimed at the humeral head as the 5 o'clock portal starts (clear of the bone),
+// or, for a bone without a head (a grid), above the middle of the bone pointing down.
+sim::ToolPose restingPose(sim::Session& session, const glm::dvec3& lo, const glm::dvec3& hi) {
+  try {
+    if (session.bone().mesh()) {
+      const sim::PortalPlan plan = session.portalPath(sim::Portal::FiveOClock);
+      sim::ToolPose pose;
+      bool on = false;
+      plan.path.sample(0.0, pose, on);
+      return pose;
+    }
+  } catch (const InputError&) {
+    // no head to aim at: the fallback below
+  }
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  return sim::ToolPose::pointing({centre.x, centre.y, hi.z + 5.0}, {0.0, 0.0, -1.0});
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
+  const Clock::time_point start = Clock::now();
+  std::unique_ptr<Scene> scene(new Scene());
+  scene->request_ = request;
+  // What can be refused cheaply is refused first.
+  std::optional<sim::Portal> portal;
+  if (isCsvPath(request.path)) {
+    scene->path_ = sim::loadPathCsv(request.path);
+  } else if (!request.path.empty()) {
+    portal = sim::parsePortal(request.path);
+  }
+  sim::SessionOptions options;
+  options.levels = request.levels;
+  options.tool = request.tool;
+  options.keepSurface = false;  // the live runtime's visual side keeps its own surface
+  scene->session_ = openSession(request, options);
+  sim::Session& session = *scene->session_;
+  if (portal) scene->path_ = session.portalPath(*portal).path;
+
+  const geometry::VoxelGrid& grid = session.grid();
+  scene->boundsMin_ = grid.originMm();
+  scene->boundsMax_ = grid.originMm() + glm::dvec3(grid.dims()) * grid.voxelSizeMm();
+  if (scene->path_) {
+    bool on = false;
+    scene->path_->sample(0.0, scene->initialPose_, on);
+  } else {
+    scene->initialPose_ = restingPose(session, scene->boundsMin_, scene->boundsMax_);
+  }
+
+  // The loops run until stop(); the log is not kept (a session can last for hours).
+  scene->options_.keepLog = false;
+  scene->source_ = std::make_unique<ViewerPoseSource>(scene->initialPose_, scene->path());
+  scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->source_, nullptr, scene->options_);
+  scene->loadMs_ = msSince(start);
+  return scene;
+}
+
+sim::RuntimeResult Scene::stop() {
+  if (!result_) {
+    result_ = live_->stop();
+    source_->recorder().forceFinished();
+  }
+  return *result_;
+}
+
+Scene::~Scene() {
+  if (live_) stop();
+}
+
+}  // namespace osteon::viewer

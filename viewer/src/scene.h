@@ -1,0 +1,62 @@
+// One opened bone and its drilling: the session, the path or the mouse, the pose source and the
+// live runtime (haptic and collision loops at 1 kHz). Loading does all the slow work
+// (voxelization, the hierarchy, the first surface) and can run off the render thread; a load
+// that fails throws InputError before anything is shown.
+#pragma once
+
+#include "options.h"
+#include "pose_source.h"
+
+#include "osteon/simulation/live.h"
+#include "osteon/simulation/session.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace osteon::viewer {
+
+class Scene {
+ public:
+  // Throws InputError "<file or value>: <reason>" for bad input.
+  static std::unique_ptr<Scene> load(const LoadRequest& request);
+  ~Scene();  // stops the loops
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  void start() { live_->start(); }
+  // Joins the loops (the recorder can then be read); idempotent.
+  simulation::RuntimeResult stop();
+
+  const LoadRequest& request() const { return request_; }
+  simulation::Session& session() { return *session_; }
+  simulation::LiveRuntime& live() { return *live_; }
+  ViewerPoseSource& poseSource() { return *source_; }
+  const simulation::Tool& tool() const { return session_->simulation().tool(); }
+  // The scripted path (null: the mouse).
+  const simulation::DrillPath* path() const { return path_ ? &*path_ : nullptr; }
+  double pathDurationS() const { return path_ ? path_->durationS() : 0.0; }
+  // Where the tool starts (the path's start, or aimed at the humeral head, or above the bone).
+  const simulation::ToolPose& initialPose() const { return initialPose_; }
+  // The grid's extent, what the camera frames.
+  glm::dvec3 boundsMin() const { return boundsMin_; }
+  glm::dvec3 boundsMax() const { return boundsMax_; }
+  double periodS() const { return options_.periodS; }
+  double loadMs() const { return loadMs_; }
+  std::optional<simulation::RuntimeResult>& result() { return result_; }
+
+ private:
+  Scene() = default;
+  LoadRequest request_;
+  simulation::RuntimeOptions options_;
+  std::unique_ptr<simulation::Session> session_;
+  std::optional<simulation::DrillPath> path_;
+  std::unique_ptr<ViewerPoseSource> source_;
+  std::unique_ptr<simulation::LiveRuntime> live_;
+  simulation::ToolPose initialPose_;
+  glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
+  double loadMs_ = 0.0;
+  std::optional<simulation::RuntimeResult> result_;
+};
+
+}  // namespace osteon::viewer
