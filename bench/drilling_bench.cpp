@@ -1,4 +1,5 @@
-// osteon_bench_drilling [--runtime-s S] [--runtime-only] [--query-skin VOXELS] [--query-slice NODES]:
+// osteon_bench_drilling [--runtime-s S] [--runtime-only] [--floor-only S] [--query-skin VOXELS]
+//                       [--query-slice NODES]:
 // the drilling figures of
 // docs/performance.md.
 //   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
@@ -138,6 +139,14 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) slices = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
+    if (std::strcmp(argv[i], "--floor-only") == 0 && i + 1 < argc) {
+      // The machine's floor alone, for a run measured elsewhere (bench/viewer_bench.sh).
+      const OverrunFloor floor = overrunFloor(std::atof(argv[i + 1]));
+      std::printf("floor %llu %llu %llu %llu %.2f\n", (unsigned long long)floor.periods[0],
+                  (unsigned long long)floor.overruns[0], (unsigned long long)floor.periods[1],
+                  (unsigned long long)floor.overruns[1], floor.stealS);
+      return 0;
+    }
   }
   const geometry::HumerusModel model = geometry::buildHumerusModel();
   const std::shared_ptr<const BoneModel> bone12 = BoneModel::fromMesh(model.mesh, 1.2, "default");
