@@ -74,6 +74,31 @@ struct DrillCommandOptions {
   std::string outDir = ".";
   bool threaded = false;     // the three-thread runtime in real time, not the deterministic mode
   bool json = false;
+  std::string device;        // drive the run from a device instead of --path (devices.md)
+  std::optional<double> durationS;  // a live device's run length
+  std::string record;        // record the device's stream to this CSV
+};
+
+struct ReplayCommandOptions {
+  std::string log;           // a recording: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on
+  std::string mesh;
+  MeshUnits units;
+  double voxelSizeMm = 0.0;
+  int levels = 2;
+  std::string tool = "drill";
+  std::string outDir = ".";
+  bool json = false;
+};
+
+struct DevicesListOptions {
+  bool json = false;
+};
+
+struct DevicesMonitorOptions {
+  std::string device;
+  std::optional<long long> count;    // stop after this many events
+  std::optional<double> durationS;   // stop after this long
+  bool json = false;
 };
 
 struct CheckCommandOptions {
@@ -122,5 +147,9 @@ int runDrill(const DrillCommandOptions& options);  // drill.cpp
 int runExperiment(const ExperimentCommandOptions& options);  // experiment.cpp
 int runCheck(const CheckCommandOptions& options);  // check.cpp
 int runValidate(const ValidateCommandOptions& options);  // validate.cpp
+int runReplay(const ReplayCommandOptions& options);  // replay.cpp
+int runDrillWithDevice(const DrillCommandOptions& options);  // replay.cpp: drill --device
+int runDevicesList(const DevicesListOptions& options);  // devices.cpp
+int runDevicesMonitor(const DevicesMonitorOptions& options);  // devices.cpp
 
 }  // namespace osteon::cli

@@ -1,6 +1,7 @@
 // `osteon drill`: one drilling run in the deterministic mode (seed 4): forces.csv,
 // summary.json and the drilled surface.
 #include "commands.h"
+#include "run_summary.h"
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
@@ -43,7 +44,44 @@ void makeOutDir(const std::string& dir) {
 
 }  // namespace
 
+json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
+                    const std::string& mode, const std::string& tool, double voxelSizeMm, int levels) {
+  return {{"jitter_n", s.jitterN},
+          {"max_step_change_n", s.maxStepChangeN},
+          {"max_force_n", s.maxForceN},
+          {"removed_volume_mm3", s.removedVolumeMm3},
+          {"haptic_step_us", percentilesJson(s.hapticStepUs)},
+          {"remesh_ms", percentilesJson(s.remeshMs)},
+          {"overruns", s.overruns},
+          {"steps", s.steps},
+          {"non_finite_forces", s.totals.nonFiniteForces},
+          {"brick_allocations", s.totals.brickAllocations},
+          {"cut_overflows", s.totals.cutOverflows},
+          {"refine_pool_exhausted", s.totals.refinePoolExhausted},
+          {"mask_overflows", s.totals.maskOverflows},
+          {"mode", mode},
+          {"mesh", mesh},
+          {"tool", tool},
+          {"voxel_size_mm", voxelSizeMm},
+          {"levels", levels},
+          {"finest_voxel_mm", session.simulation().finestVoxelMm()}};
+}
+
+json runtimeStatsJson(const sim::RuntimeStats& st) {
+  return {{"haptic_steps", st.hapticSteps}, {"collision_steps", st.collisionSteps},
+          {"haptic_overruns", st.hapticOverruns}, {"collision_overruns", st.collisionOverruns},
+          {"haptic_loop_us", percentilesJson(st.hapticStepUs)},
+          {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
+          {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
+          {"realtime_priority", st.realtimeGranted}};
+}
+
 int runDrill(const DrillCommandOptions& options) {
+  if (!options.device.empty()) return runDrillWithDevice(options);  // replay.cpp
+  if (options.path.empty()) throw InputError("--path or --device: one is required (a path, or a device to drive the run)");
+  if (options.durationS || !options.record.empty()) {
+    throw InputError(std::string(options.durationS ? "--duration" : "--record") + ": only with --device");
+  }
   // Everything that can be refused is refused before the work.
   sim::DrillingOptions drilling;
   drilling.levels = options.levels;
@@ -101,13 +139,7 @@ int runDrill(const DrillCommandOptions& options) {
     ro.keepLog = false;
     const sim::RuntimeResult r = session.runThreaded(device, nullptr, ro);
     run = r.run;
-    const sim::RuntimeStats& st = r.stats;
-    runtimeJson = {{"haptic_steps", st.hapticSteps}, {"collision_steps", st.collisionSteps},
-                   {"haptic_overruns", st.hapticOverruns}, {"collision_overruns", st.collisionOverruns},
-                   {"haptic_loop_us", percentilesJson(st.hapticStepUs)},
-                   {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
-                   {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
-                   {"realtime_priority", st.realtimeGranted}};
+    runtimeJson = runtimeStatsJson(r.stats);
   } else {
     sim::DeterministicOptions deterministic;
     deterministic.onRow = logRow;
@@ -121,28 +153,11 @@ int runDrill(const DrillCommandOptions& options) {
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
 
   const sim::RunSummary& s = run.summary;
-  json summary = {{"jitter_n", s.jitterN},
-                        {"max_step_change_n", s.maxStepChangeN},
-                        {"max_force_n", s.maxForceN},
-                        {"removed_volume_mm3", s.removedVolumeMm3},
-                        {"haptic_step_us", percentilesJson(s.hapticStepUs)},
-                        {"remesh_ms", percentilesJson(s.remeshMs)},
-                        {"overruns", s.overruns},
-                        {"steps", s.steps},
-                        {"non_finite_forces", s.totals.nonFiniteForces},
-                        {"brick_allocations", s.totals.brickAllocations},
-                        {"cut_overflows", s.totals.cutOverflows},
-                        {"refine_pool_exhausted", s.totals.refinePoolExhausted},
-                        {"mask_overflows", s.totals.maskOverflows},
-                        {"mode", options.threaded ? "threaded" : "deterministic"},
-                        {"mesh", options.mesh},
-                        {"tool", sim::toolKindName(kind)},
-                        {"voxel_size_mm", options.voxelSizeMm},
-                        {"levels", options.levels},
-                        {"finest_voxel_mm", session.simulation().finestVoxelMm()},
-                        {"path", pathJson},
-                        {"surface_triangles", surface.triangleCount()},
-                        {"files", {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}}}};
+  json summary = runSummaryJson(s, session, options.mesh, options.threaded ? "threaded" : "deterministic",
+                                sim::toolKindName(kind), options.voxelSizeMm, options.levels);
+  summary["path"] = pathJson;
+  summary["surface_triangles"] = surface.triangleCount();
+  summary["files"] = {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}};
   if (options.threaded) summary["runtime"] = runtimeJson;
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   if (options.json) {

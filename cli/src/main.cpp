@@ -122,14 +122,49 @@ int main(int argc, char** argv) {
   drillCmd->add_option("--levels", drill.levels,
                        "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
-  drillCmd->add_option("--path", drill.path, "portal-5, portal-7 or PATH.csv (t,x,y,z,drill_on)")
-      ->required();
+  CLI::Option* drillPath =
+      drillCmd->add_option("--path", drill.path, "portal-5, portal-7 or PATH.csv (t,x,y,z,drill_on)");
   drillCmd->add_option("--tool", drill.tool, "drill, burr or shaver")->default_val("drill");
   drillCmd->add_option("--out-dir", drill.outDir, "Folder for forces.csv, summary.json, surface.ply")
       ->default_val(".");
   drillCmd->add_flag("--threaded", drill.threaded,
                      "Run the haptic, collision and visual threads in real time (not bit-identical)");
   drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
+  drillCmd->add_option("--device", drill.device,
+                       "Drive the run from a device instead of --path: mouse, spacemouse[:PATH], "
+                       "serial:PORT[@BAUD], touch[:NAME], replay:LOG.csv, scripted:portal-5|portal-7|PATH.csv")
+      ->excludes(drillPath);
+  drillCmd->add_option("--duration", drill.durationS, "Seconds to run a live device (required for one)");
+  drillCmd->add_option("--record", drill.record,
+                       "Record the device's stream at 1 kHz to this CSV (t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
+
+  osteon::cli::ReplayCommandOptions replay;
+  CLI::App* replayCmd = app.add_subcommand(
+      "replay", "Replay a device recording through the safety layer into a deterministic session");
+  replayCmd->add_option("LOG", replay.log, "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on")->required();
+  addMesh(*replayCmd, replay.mesh);
+  addUnits(*replayCmd, replay.units);
+  replayCmd->add_option("--voxel-size", replay.voxelSizeMm, "Base voxel edge in mm")->required();
+  replayCmd->add_option("--levels", replay.levels,
+                        "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
+      ->default_val(2);
+  replayCmd->add_option("--tool", replay.tool, "drill, burr or shaver")->default_val("drill");
+  replayCmd->add_option("--out-dir", replay.outDir, "Folder for forces.csv, summary.json, surface.ply")
+      ->default_val(".");
+  replayCmd->add_flag("--json", replay.json, "Print the summary as JSON on stdout");
+
+  CLI::App* devicesCmd = app.add_subcommand("devices", "List attached devices, or watch one's events");
+  devicesCmd->require_subcommand(1);
+  osteon::cli::DevicesListOptions devicesList;
+  CLI::App* devicesListCmd =
+      devicesCmd->add_subcommand("list", "3Dconnexion HID devices and USB serial ports attached now");
+  devicesListCmd->add_flag("--json", devicesList.json, "Print one JSON object on stdout");
+  osteon::cli::DevicesMonitorOptions monitor;
+  CLI::App* monitorCmd = devicesCmd->add_subcommand("monitor", "Print a device's events, one per line");
+  monitorCmd->add_option("DEVICE", monitor.device, "Device name, e.g. serial:/dev/ttyACM0 or spacemouse")->required();
+  monitorCmd->add_option("--count", monitor.count, "Exit 0 after this many events");
+  monitorCmd->add_option("--duration", monitor.durationS, "Exit 0 after this many seconds");
+  monitorCmd->add_flag("--json", monitor.json, "One JSON object per event");
 
   osteon::cli::CheckCommandOptions check;
   CLI::App* checkCmd = app.add_subcommand(
@@ -187,7 +222,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     const auto known = [&](const std::string& name) {
-      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd, checkCmd, validateCmd}) {
+      for (const CLI::App* sub : {infoCmd, voxCmd, modelCmd, dphCmd, meshCmd, drillCmd, experimentCmd, checkCmd, validateCmd,
+                                  replayCmd, devicesCmd}) {
         if (sub->get_name() == name) return true;
       }
       return false;
@@ -195,7 +231,7 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
       std::cerr << "osteon: error: " << argv[1]
                 << ": unknown command (expected info, voxelize, hierarchy, mesh, check, validate, drill, "
-                   "experiment or model; "
+                   "replay, devices, experiment or model; "
                    "see osteon "
                    "--help)\n";
       return kExitBadInput;
@@ -215,6 +251,9 @@ int main(int argc, char** argv) {
     if (*experimentCmd) return osteon::cli::runExperiment(experiment);
     if (*checkCmd) return osteon::cli::runCheck(check);
     if (*validateCmd) return osteon::cli::runValidate(validate);
+    if (*replayCmd) return osteon::cli::runReplay(replay);
+    if (*devicesListCmd) return osteon::cli::runDevicesList(devicesList);
+    if (*monitorCmd) return osteon::cli::runDevicesMonitor(monitor);
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

@@ -1,0 +1,282 @@
+// `osteon replay LOG.csv MESH` and `osteon drill MESH --device NAME`: runs driven by a device
+// through the safety layer (osteon::simulation_devices), written as `drill` writes its runs
+// (forces.csv, summary.json, surface.ply) plus the device's faults and the safety layer's work.
+#include "commands.h"
+#include "run_summary.h"
+
+#include "osteon/core/error.h"
+#include "osteon/devices/recording.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/device_input.h"
+#include "osteon/simulation/path.h"
+#include "osteon/simulation/session.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+namespace osteon::cli {
+
+namespace dev = osteon::devices;
+namespace geo = osteon::geometry;
+namespace sim = osteon::simulation;
+using nlohmann::json;
+
+namespace {
+
+struct RunSetup {
+  std::string mesh;
+  std::string tool;
+  double voxelSizeMm = 0.0;
+  int levels = 2;
+  std::string outDir;
+  bool json = false;
+  std::string mode;           // replay, device, device-threaded
+};
+
+void checkRunOptions(double voxelSizeMm, int levels) {
+  sim::DrillingOptions drilling;
+  drilling.levels = levels;
+  sim::validateDrillingOptions(drilling);
+  if (!(voxelSizeMm > 0.0)) {
+    std::ostringstream s;
+    s << "--voxel-size " << voxelSizeMm << ": must be a positive number of mm";
+    throw InputError(s.str());
+  }
+}
+
+void makeOutDir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    throw InputError("--out-dir " + dir + ": cannot create the folder (" + ec.message() + ")");
+  }
+}
+
+bool isCsv(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".csv";
+}
+
+// The files a device name reads (recordings, path CSVs), which no output may overwrite.
+std::vector<std::string> deviceInputs(const std::string& name) {
+  std::vector<std::string> files;
+  std::size_t start = 0;
+  while (start <= name.size()) {
+    const std::size_t plus = name.find('+', start);
+    const std::string part = name.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
+    const std::size_t colon = part.find(':');
+    if (colon != std::string::npos) {
+      const std::string kind = part.substr(0, colon), argument = part.substr(colon + 1);
+      if (kind == "replay" || (kind == "scripted" && isCsv(argument))) files.push_back(argument);
+    }
+    if (plus == std::string::npos) break;
+    start = plus + 1;
+  }
+  return files;
+}
+
+bool sameLexicalPath(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  const auto na = std::filesystem::weakly_canonical(std::filesystem::absolute(a, ec), ec);
+  const auto nb = std::filesystem::weakly_canonical(std::filesystem::absolute(b, ec), ec);
+  return na == nb;
+}
+
+json faultsJson(const dev::FaultCounts& f) {
+  return {{"nan", f.nonFinite}, {"gaps", f.gaps}, {"jumps", f.jumps}, {"watchdog", f.watchdog}};
+}
+
+json safetyJson(const dev::SafetyStats& s, double limitN) {
+  return {{"clamped_steps", s.clampedSteps},       {"ramp_steps", s.rampSteps},
+          {"held_steps", s.heldSteps},             {"fault_steps", s.faultSteps},
+          {"non_finite_forces", s.nonFiniteForces}, {"engagements", s.engagements},
+          {"max_force_n", s.maxForceN},             {"max_step_change_n", s.maxStepChangeN},
+          {"force_limit_n", limitN}};
+}
+
+// Writes summary.json and the surface, prints the summary; shared by replay and drill --device.
+int finish(const RunSetup& setup, sim::Session& session, const sim::RunSummary& run, json extra,
+           const std::string& forcesPath, const std::string& summaryPath, const std::string& surfacePath,
+           const std::string& what) {
+  const geo::SurfaceMesh surface = session.multiResolutionSurface();
+  geo::writeMesh(surface.toTriangleMesh(), surfacePath);
+  json summary = runSummaryJson(run, session, setup.mesh, setup.mode, setup.tool, setup.voxelSizeMm, setup.levels);
+  for (auto& item : extra.items()) summary[item.key()] = item.value();
+  summary["surface_triangles"] = surface.triangleCount();
+  json files = {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}};
+  if (summary.contains("recording_out")) files["recording"] = summary["recording_out"];
+  summary.erase("recording_out");
+  summary["files"] = files;
+  geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
+  if (setup.json) {
+    std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+  } else {
+    const json& f = summary["faults"];
+    std::cout << what << ": " << run.steps << " steps, max force " << run.maxForceN << " N, removed "
+              << run.removedVolumeMm3 << " mm3; device faults: nan " << f["nan"] << ", gaps " << f["gaps"]
+              << ", jumps " << f["jumps"] << ", watchdog " << f["watchdog"] << "\n"
+              << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
+  }
+  return kExitOk;
+}
+
+sim::SessionOptions sessionOptions(double voxelSizeMm, int levels, sim::ToolKind kind) {
+  sim::SessionOptions so;
+  so.voxelSizeMm = voxelSizeMm;
+  so.levels = levels;
+  so.tool = kind;
+  so.keepSurface = false;  // batch runs: the surface is extracted once at the end
+  return so;
+}
+
+}  // namespace
+
+int runReplay(const ReplayCommandOptions& options) {
+  // Everything that can be refused is refused before the work.
+  checkRunOptions(options.voxelSizeMm, options.levels);
+  const sim::ToolKind kind = sim::parseToolKind(options.tool);
+  dev::Recording recording = dev::loadRecording(options.log);
+  makeOutDir(options.outDir);
+  const std::string forcesPath = options.outDir + "/forces.csv";
+  const std::string summaryPath = options.outDir + "/summary.json";
+  const std::string surfacePath = options.outDir + "/surface.ply";
+  geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath}, {inputFile(options.mesh), options.log});
+
+  sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units),
+                                            sessionOptions(options.voxelSizeMm, options.levels, kind));
+  const std::size_t rows = recording.rows.size();
+  dev::ReplayDevice device("replay:" + options.log, std::move(recording));
+  sim::ForceLogWriter forces(forcesPath);
+  sim::DeviceRunOptions ro;
+  ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
+  const sim::DeviceRunResult r = sim::runDevice(session, device, ro);
+  forces.commit();
+
+  RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
+                 options.json, "replay"};
+  json extra = {{"faults", faultsJson(r.safety.faults)},
+                {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
+                {"recording", {{"file", options.log}, {"rows", rows}, {"start_s", r.startS}, {"end_s", r.endS},
+                               {"steps_before_pose", r.stepsBeforePose}}}};
+  return finish(setup, session, r.run.summary, extra, forcesPath, summaryPath, surfacePath,
+                "replayed " + options.log);
+}
+
+int runDrillWithDevice(const DrillCommandOptions& options) {
+  checkRunOptions(options.voxelSizeMm, options.levels);
+  const sim::ToolKind kind = sim::parseToolKind(options.tool);
+  if (options.durationS && !(*options.durationS > 0.0 && *options.durationS <= sim::kMaxPathDurationS)) {
+    std::ostringstream s;
+    s << "--duration " << *options.durationS << ": must be a number of seconds in (0, " << sim::kMaxPathDurationS << "]";
+    throw InputError(s.str());
+  }
+  // Every part of the name is parsed before any work (a bad name is exit 2 at once).
+  for (std::size_t start = 0; start <= options.device.size();) {
+    const std::size_t plus = options.device.find('+', start);
+    const dev::DeviceName n =
+        dev::parseDeviceName(options.device.substr(start, plus == std::string::npos ? std::string::npos : plus - start));
+    if (n.kind == "mouse") {
+      throw InputError("mouse: the viewer's device (fed by its window); the command line has no mouse "
+                       "(use spacemouse, touch, replay:LOG.csv or scripted:...)");
+    }
+    if (plus == std::string::npos) break;
+    start = plus + 1;
+  }
+  makeOutDir(options.outDir);
+  const std::string forcesPath = options.outDir + "/forces.csv";
+  const std::string summaryPath = options.outDir + "/summary.json";
+  const std::string surfacePath = options.outDir + "/surface.ply";
+  std::vector<std::string> inputs = deviceInputs(options.device);
+  inputs.push_back(inputFile(options.mesh));
+  std::vector<std::string> outputs = {forcesPath, summaryPath, surfacePath};
+  if (!options.record.empty()) {
+    for (const std::string& out : outputs) {
+      if (sameLexicalPath(options.record, out)) throw InputError("--record " + options.record + ": is also the run's " + out);
+    }
+    for (const std::string& in : inputs) {
+      if (!in.empty() && sameLexicalPath(options.record, in)) {
+        throw InputError("--record " + options.record + ": is an input of the run (it would be overwritten)");
+      }
+    }
+    outputs.push_back(options.record);
+  }
+  geo::refuseOverwritingInputs(outputs, inputs);
+
+  sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units),
+                                            sessionOptions(options.voxelSizeMm, options.levels, kind));
+  std::unique_ptr<dev::Device> device = sim::openSessionDevice(options.device, session);
+  const dev::Capabilities caps = device->capabilities();
+  if (!caps.pose) {
+    throw InputError(options.device + ": gives no pose (buttons and pedal only); join it to a pose device, e.g. "
+                                      "touch+" + options.device);
+  }
+  const bool deterministic = caps.timeDriven && !options.threaded;
+  if (deterministic && options.durationS) {
+    throw InputError("--duration: " + options.device + " ends with its path or recording (" +
+                     std::to_string(caps.endS - caps.startS) + " s); --duration is for live devices");
+  }
+  if (!caps.timeDriven && !options.durationS) {
+    throw InputError(options.device + ": a live device needs --duration S (how long to run, in seconds)");
+  }
+
+  std::optional<dev::StreamRecorder> recorder;
+  dev::RecorderOptions recorderOptions;
+  recorderOptions.waitWhenFull = deterministic;  // a live loop never waits for the disk
+  if (!options.record.empty()) recorder.emplace(options.record, recorderOptions);
+
+  sim::ForceLogWriter forces(forcesPath);
+  const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
+  sim::DeviceInputOptions io;
+  io.frame = sim::defaultDeviceFrame(session);
+  io.recorder = recorder ? &*recorder : nullptr;
+  sim::RunSummary run;
+  dev::SafetyStats safety;
+  double limitN = io.safety.forceLimitN;
+  if (caps.force && caps.maxForceN > 0.0) limitN = std::min(limitN, caps.maxForceN);
+  json extra;
+  if (deterministic) {
+    sim::DeviceRunOptions ro;
+    ro.input = io;
+    ro.onRow = logRow;
+    const sim::DeviceRunResult r = sim::runDevice(session, *device, ro);
+    run = r.run.summary;
+    safety = r.safety;
+    extra["device"] = {{"name", options.device}, {"start_s", r.startS}, {"end_s", r.endS},
+                       {"steps_before_pose", r.stepsBeforePose}};
+  } else {
+    sim::DeviceInput input(*device, io);
+    sim::RuntimeOptions ro;
+    ro.durationS = options.durationS ? *options.durationS : caps.endS;
+    ro.onRow = logRow;
+    ro.keepLog = false;
+    const sim::RuntimeResult r = session.runThreaded(input, &input, ro);
+    run = r.run.summary;
+    safety = input.safety().stats();
+    extra["runtime"] = runtimeStatsJson(r.stats);
+    extra["device"] = {{"name", options.device}, {"duration_s", ro.durationS},
+                       {"frame_origin_mm", {io.frame.originMm.x, io.frame.originMm.y, io.frame.originMm.z}}};
+  }
+  forces.commit();
+  if (recorder) {
+    recorder->close();
+    extra["recording_out"] = options.record;
+    extra["device"]["recorded_rows"] = recorder->rows();
+    extra["device"]["recording_dropped_rows"] = recorder->dropped();
+  }
+  extra["faults"] = faultsJson(safety.faults);
+  extra["safety"] = safetyJson(safety, limitN);
+  RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
+                 options.json, deterministic ? "device" : "device-threaded"};
+  return finish(setup, session, run, extra, forcesPath, summaryPath, surfacePath,
+                "drilled with " + options.device);
+}
+
+}  // namespace osteon::cli

@@ -1,0 +1,28 @@
+// The summary.json fields every drilling run shares (drill, drill --device, replay), so the
+// three write the same names. Defined in drill.cpp; nlohmann/json stays out of this header
+// but for its forward declarations.
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <string>
+
+namespace osteon::simulation {
+struct RunSummary;
+struct RuntimeStats;
+class Session;
+}  // namespace osteon::simulation
+
+namespace osteon::cli {
+
+// jitter_n, max_step_change_n, max_force_n, removed_volume_mm3, haptic_step_us and remesh_ms
+// {p50, p99, max}, overruns, steps, the simulation's counters (non_finite_forces, ...), mode,
+// mesh, tool, voxel_size_mm, levels, finest_voxel_mm.
+nlohmann::json runSummaryJson(const simulation::RunSummary& summary, const simulation::Session& session,
+                              const std::string& mesh, const std::string& mode, const std::string& tool,
+                              double voxelSizeMm, int levels);
+
+// The threaded runtime's `runtime` object: steps and overruns per thread, visual updates, ...
+nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
+
+}  // namespace osteon::cli
