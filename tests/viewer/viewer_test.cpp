@@ -119,6 +119,22 @@ TEST_F(ViewerTest, ARecordedPathReplaysInDrillToTheSameRemovedVolume) {
   }
 }
 
+// A device drives the tool through the safety layer: here a recording of the scripted portal-5
+// device, replayed as a device.
+TEST_F(ViewerTest, ADeviceDrivesTheTool) {
+  const ViewerRun record = run(OSTEON_CLI, "drill default --voxel-size 1.2 --levels 2 --device scripted:portal-5 --record '" +
+                                               path("portal5.csv") + "' --out-dir '" + path("d") + "'",
+                               false);
+  ASSERT_EQ(record.exitCode, 0) << record.err;
+  const nlohmann::json j = viewer("default --device 'replay:" + path("portal5.csv") + "' --frames 400");
+  EXPECT_GT(j["removed_volume_mm3"].get<double>(), 1.0);
+  EXPECT_GT(j["max_force_n"].get<double>(), 0.5);
+  EXPECT_LE(j["max_force_n"].get<double>(), 3.3 + 1e-9);
+  const ViewerRun bad = run(OSTEON_VIEWER, "default --device nonsense:x", false);
+  EXPECT_EQ(bad.exitCode, 2) << bad.err;
+  EXPECT_NE(bad.err.find("nonsense:x"), std::string::npos) << bad.err;
+}
+
 TEST_F(ViewerTest, BadInputExitsTwoWithOneLineBeforeAnyWindow) {
   for (const std::string& args : {std::string("'") + path("missing.stl") + "'", std::string("default --voxel-size -1"),
                                   std::string("default --size 0x0"), std::string("default --view nonsense")}) {

@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   app.add_option("--levels", levels, "0: static voxels; 1 or 2: refine near the tool (VS/2, VS/4)")->default_val(2);
   app.add_option("--tool", tool, "drill, burr or shaver")->default_val("drill");
   app.add_option("--path", path, "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
+  std::string device;
+  app.add_option("--device", device, "Drive the tool from a device (spacemouse, serial:PORT, touch, replay:LOG.csv, ...)");
   app.add_option("--frames", options.frames, "Render N frames and exit (with --path, the last waits for its end)");
   app.add_option("--screenshot", options.screenshot, "Write the last frame to this PNG");
   app.add_option("--view", view, "shaded, cracks, levels, density, hierarchy or wireframe")->default_val("shaded");
@@ -97,6 +99,7 @@ int main(int argc, char** argv) {
     options.load.levels = levels;
     options.load.tool = osteon::simulation::parseToolKind(tool);
     options.load.path = path;
+    options.load.device = device;
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);
     options.camera = viewer::parseAxisView(camera);

@@ -106,6 +106,13 @@ void validateOptions(const ViewerOptions& options) {
     throw InputError(s.str());
   }
   if (options.frames < 0) throw InputError("--frames " + std::to_string(options.frames) + ": must be 0 or more");
+  if (!load.device.empty() && !load.path.empty()) {
+    throw InputError("--device " + load.device + ": give a device or a --path, not both");
+  }
+  if (!load.device.empty() && !options.record.empty()) {
+    throw InputError("--record " + options.record + ": with --device, record with `osteon drill --device " +
+                     load.device + " --record` (the viewer records the mouse or a path)");
+  }
   for (const std::string* out : {&options.screenshot, &options.record}) {
     if (out->empty()) continue;
     const std::filesystem::path folder = std::filesystem::path(*out).parent_path();

@@ -36,6 +36,7 @@ struct LoadRequest {
   int levels = 2;                       // 0 static, 1 or 2 refined near the tool
   simulation::ToolKind tool = simulation::ToolKind::Drill;
   std::string path;                     // "" (the mouse), portal-5, portal-7 or a PATH.csv
+  std::string device;                   // "" (the mouse or the path), or a device name (docs/devices.md)
 };
 
 inline constexpr double kDefaultVoxelSizeMm = 1.2;

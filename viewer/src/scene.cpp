@@ -83,7 +83,17 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   // The loops run until stop(); the log is not kept (a session can last for hours).
   scene->options_.keepLog = false;
   scene->source_ = std::make_unique<ViewerPoseSource>(scene->initialPose_, scene->path());
-  scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->source_, nullptr, scene->options_);
+  if (!request.device.empty()) {
+    // A device drives the tool through the safety layer, and takes the force back.
+    scene->device_ = sim::openSessionDevice(request.device, session);
+    sim::DeviceInputOptions io;
+    io.frame = sim::defaultDeviceFrame(session);
+    scene->deviceInput_ = std::make_unique<sim::DeviceInput>(*scene->device_, io);
+    scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->deviceInput_, scene->deviceInput_.get(),
+                                                      scene->options_);
+  } else {
+    scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->source_, nullptr, scene->options_);
+  }
   scene->loadMs_ = msSince(start);
   return scene;
 }

@@ -7,6 +7,7 @@
 #include "options.h"
 #include "pose_source.h"
 
+#include "osteon/simulation/device_input.h"
 #include "osteon/simulation/live.h"
 #include "osteon/simulation/session.h"
 
@@ -32,6 +33,8 @@ class Scene {
   simulation::Session& session() { return *session_; }
   simulation::LiveRuntime& live() { return *live_; }
   ViewerPoseSource& poseSource() { return *source_; }
+  // The attached device's adapter (null: the mouse or a path).
+  simulation::DeviceInput* deviceInput() { return deviceInput_.get(); }
   const simulation::Tool& tool() const { return session_->simulation().tool(); }
   // The scripted path (null: the mouse).
   const simulation::DrillPath* path() const { return path_ ? &*path_ : nullptr; }
@@ -52,6 +55,9 @@ class Scene {
   std::unique_ptr<simulation::Session> session_;
   std::optional<simulation::DrillPath> path_;
   std::unique_ptr<ViewerPoseSource> source_;
+  // With --device: the device, and its adapter through the safety layer (pose in, force out).
+  std::unique_ptr<devices::Device> device_;
+  std::unique_ptr<simulation::DeviceInput> deviceInput_;
   std::unique_ptr<simulation::LiveRuntime> live_;
   simulation::ToolPose initialPose_;
   glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
