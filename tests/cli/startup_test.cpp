@@ -102,7 +102,14 @@ TEST_F(StartupTest, HelpStaysSmall) {
   std::ifstream in(rss);
   long kilobytes = 0;
   ASSERT_TRUE(in >> kilobytes) << test::readBytes(rss);
-  EXPECT_LT(kilobytes, 40 * 1024) << "osteon --help peaked at " << kilobytes << " KB";
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // The sanitizer's run-time (shadow memory, allocator) adds tens of MB of its own at start-up;
+  // OpenImageIO would still add its ~95 MB on top.
+  const long limitKb = 100 * 1024;
+#else
+  const long limitKb = 40 * 1024;
+#endif
+  EXPECT_LT(kilobytes, limitKb) << "osteon --help peaked at " << kilobytes << " KB";
 }
 
 TEST_F(StartupTest, CheckWithImagesLoadsThePluginAndWritesPngs) {

@@ -29,7 +29,21 @@ class CliTest : public ::testing::Test {
 
   CliRun osteon(const std::string& args) const {
     // 4 GiB of address space and 120 s: far above any command's need, far below a runaway's.
-    const std::string command = std::string("ulimit -v 4194304; timeout 120 '") + OSTEON_CLI + "' " +
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    // ASan and TSan reserve terabytes of address space for shadow memory, so `ulimit -v` would
+    // stop every command at start-up; their allocators keep the same 4 GiB bound instead.
+    const std::string limit =
+        "export ASAN_OPTIONS=\"$ASAN_OPTIONS:max_allocation_size_mb=4096:hard_rss_limit_mb=4096\" "
+        "TSAN_OPTIONS=\"$TSAN_OPTIONS:max_allocation_size_mb=4096:hard_rss_limit_mb=4096\"; ";
+#else
+    const std::string limit = "ulimit -v 4194304; ";
+#endif
+#ifdef OSTEON_SLOW_BUILD
+    const std::string seconds = "1200";  // sanitizer builds run 2-15x slower (cmake/OsteonSanitizers.cmake)
+#else
+    const std::string seconds = "120";
+#endif
+    const std::string command = limit + "timeout " + seconds + " '" + OSTEON_CLI + "' " +
                                 args + " >'" + path("stdout") + "' 2>'" + path("stderr") + "' </dev/null";
     const int status = std::system(command.c_str());
     CliRun run;

@@ -1,0 +1,110 @@
+# Sanitizer builds of osteon's own code (docs/architecture.md, "Sanitizer builds"):
+#   cmake -S . -B build-asan -DOSTEON_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=RelWithDebInfo
+#   cmake -S . -B build-tsan -DOSTEON_SANITIZE=thread            -DCMAKE_BUILD_TYPE=RelWithDebInfo
+# or simply `scripts/test --sanitize address,undefined` / `scripts/test --sanitize thread`.
+#
+# Included by the top-level CMakeLists.txt before any module, so the flags reach every target
+# of ours (modules, the image plugin, cli, tests, benchmarks) and nothing else: third-party
+# libraries come from Debian, prebuilt and not instrumented. What their frames report is
+# suppressed, entry by entry with its reason, in tests/sanitizers/*.supp.
+#
+# A finding fails the test that made it: ASan and TSan exit non-zero (TSan at exit, after
+# printing every race), UBSan aborts on the first finding (-fno-sanitize-recover).
+#
+# OSTEON_SLOW_BUILD=1 is defined for every target of ours: tests that count 1 kHz periods a
+# real-time thread managed in wall-clock time expect fewer of them under a sanitizer's 2-15x
+# slowdown. Nothing else may depend on it.
+set(OSTEON_SANITIZE "" CACHE STRING
+    "Sanitizers for osteon's own targets: address,undefined | thread | empty for none")
+
+if(NOT OSTEON_SANITIZE)
+  # Called by tests/CMakeLists.txt; nothing to add without sanitizers.
+  function(osteon_sanitizer_test_environment)
+  endfunction()
+  return()
+endif()
+
+if(NOT CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+  message(FATAL_ERROR "OSTEON_SANITIZE needs GCC or Clang, not ${CMAKE_CXX_COMPILER_ID}")
+endif()
+string(REPLACE "," ";" _osteon_sanitizers "${OSTEON_SANITIZE}")
+list(REMOVE_DUPLICATES _osteon_sanitizers)
+foreach(_s IN LISTS _osteon_sanitizers)
+  if(NOT _s MATCHES "^(address|undefined|thread|leak)$")
+    message(FATAL_ERROR "OSTEON_SANITIZE: unknown sanitizer '${_s}' "
+                        "(address, undefined, leak or thread, comma separated)")
+  endif()
+endforeach()
+if("thread" IN_LIST _osteon_sanitizers AND
+   ("address" IN_LIST _osteon_sanitizers OR "leak" IN_LIST _osteon_sanitizers))
+  message(FATAL_ERROR "OSTEON_SANITIZE: thread cannot be combined with address or leak")
+endif()
+list(JOIN _osteon_sanitizers "," _osteon_sanitize_list)
+set(OSTEON_SANITIZE_FLAGS -fsanitize=${_osteon_sanitize_list} -fno-omit-frame-pointer -g)
+if("undefined" IN_LIST _osteon_sanitizers)
+  list(APPEND OSTEON_SANITIZE_FLAGS -fno-sanitize-recover=undefined)
+endif()
+message(STATUS "osteon: sanitizers ${_osteon_sanitize_list} on osteon's own targets "
+               "(${CMAKE_BUILD_TYPE})")
+
+add_compile_options(${OSTEON_SANITIZE_FLAGS})
+add_link_options(-fsanitize=${_osteon_sanitize_list})
+add_compile_definitions(OSTEON_SLOW_BUILD=1)
+
+# Our static libraries hold instrumented code, so whatever links them needs the sanitizer's
+# run-time library: the installed package passes the flag on (the `package` test builds
+# examples/drill_minimal against it). Deferred to the end of the top-level directory, when
+# every target exists; install(EXPORT) reads the property at generate time.
+function(_osteon_sanitize_static_libraries dir)
+  get_property(targets DIRECTORY "${dir}" PROPERTY BUILDSYSTEM_TARGETS)
+  foreach(target IN LISTS targets)
+    get_target_property(type ${target} TYPE)
+    if(type STREQUAL "STATIC_LIBRARY")
+      target_link_options(${target} INTERFACE -fsanitize=${_osteon_sanitize_list})
+    endif()
+  endforeach()
+  get_property(subdirs DIRECTORY "${dir}" PROPERTY SUBDIRECTORIES)
+  foreach(subdir IN LISTS subdirs)
+    _osteon_sanitize_static_libraries("${subdir}")
+  endforeach()
+endfunction()
+cmake_language(DEFER DIRECTORY "${CMAKE_SOURCE_DIR}"
+               CALL _osteon_sanitize_static_libraries "${CMAKE_SOURCE_DIR}")
+
+# The run-time options every test runs with: halt on the first ASan error, leaks checked at
+# exit, UBSan stack traces, and the suppression files (third-party frames only).
+set(_osteon_supp "${PROJECT_SOURCE_DIR}/tests/sanitizers")
+set(OSTEON_SANITIZER_ENVIRONMENT
+  "ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:check_initialization_order=1:strict_init_order=1:suppressions=${_osteon_supp}/asan.supp"
+  "LSAN_OPTIONS=suppressions=${_osteon_supp}/lsan.supp:print_suppressions=0"
+  "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:suppressions=${_osteon_supp}/ubsan.supp"
+  "TSAN_OPTIONS=halt_on_error=0:second_deadlock_stack=1:history_size=4:suppressions=${_osteon_supp}/tsan.supp")
+# Per-test time limit in sanitizer builds, for every test (Release: 300 s, the package 600 s).
+set(OSTEON_SANITIZER_TEST_TIMEOUT 1800)
+# The same lines for a shell (`set -a; . BUILD/sanitizer.env; set +a`), to run osteon by hand.
+list(JOIN OSTEON_SANITIZER_ENVIRONMENT "\n" _osteon_env_lines)
+file(WRITE "${PROJECT_BINARY_DIR}/sanitizer.env" "${_osteon_env_lines}\n")
+
+# Called at the end of tests/CMakeLists.txt: every test of that folder, those gtest_discover_tests
+# finds after the build included, gets OSTEON_SANITIZER_ENVIRONMENT and the longer time limit. (gtest_discover_tests'
+# PROPERTIES cannot carry a list-valued ENVIRONMENT in CMake 3.25, so this ctest include file,
+# read after the discovered tests', sets it.)
+function(osteon_sanitizer_test_environment)
+  get_property(targets DIRECTORY PROPERTY BUILDSYSTEM_TARGETS)
+  get_property(tests DIRECTORY PROPERTY TESTS)
+  set(script "# Generated by cmake/OsteonSanitizers.cmake\nset(_osteon_tests")
+  foreach(test IN LISTS tests)
+    string(APPEND script " [==[${test}]==]")
+  endforeach()
+  foreach(target IN LISTS targets)
+    string(APPEND script " \${${target}_TESTS}")  # set by the target's discovery include
+  endforeach()
+  # One bracket argument holds the whole list (its semicolons are not split). Every test gets
+  # OSTEON_SANITIZER_TEST_TIMEOUT: a sanitizer's slowdown is not a hang.
+  string(APPEND script ")\nif(_osteon_tests)\n  set_tests_properties(\${_osteon_tests} PROPERTIES\n"
+                       "    TIMEOUT ${OSTEON_SANITIZER_TEST_TIMEOUT}\n"
+                       "    ENVIRONMENT [==[${OSTEON_SANITIZER_ENVIRONMENT}]==])\nendif()\n")
+  set(file "${CMAKE_CURRENT_BINARY_DIR}/osteon_sanitizer_environment.cmake")
+  file(WRITE "${file}" "${script}")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${file}")
+endfunction()
