@@ -157,14 +157,7 @@ DeviceRunResult runDevice(Session& session, devices::Device& device, const Devic
     const Clock::time_point start = Clock::now();
     const StepOutput out = session.step(in);
     stepNs.add(std::chrono::nanoseconds(Clock::now() - start).count());
-    ForceLogRow row;
-    row.tS = in.tS;
-    row.tipMm = in.pose.tipMm;
-    row.forceN = out.contact.forceN;
-    row.magnitudeN = out.contact.magnitudeN;
-    row.contactVoxels = out.contact.contactVoxels;
-    row.removedVoxels = session.totals().samplesRemoved;
-    row.level = out.contact.level;
+    const ForceLogRow row = logRowOf(in.tS, in.pose, out, session.totals().samplesRemoved);
     metrics.add(row.tS, row.magnitudeN);
     if (options.onRow) options.onRow(row);
     input.apply(in.tS, out.contact.forceN);

@@ -196,8 +196,7 @@ struct LiveRuntime::Impl {
       const StepOutput out = sim->step({m.tS, m.pose, m.drillOn});
       forces.write(out.contact);
       const DrillingTotals& totals = sim->totals();
-      if (!logRows.push({m.tS, m.pose.tipMm, out.contact.forceN, out.contact.magnitudeN, out.contact.contactVoxels,
-                         totals.samplesRemoved, out.contact.level})) {
+      if (!logRows.push(logRowOf(m.tS, m.pose, out, totals.samplesRemoved))) {
         logDropped.fetch_add(1, std::memory_order_relaxed);
       }
       displayCore.write({m.tS, m.pose, m.drillOn, out.contact, totals.removedFill, sim->removedVolumeMm3(), totals.steps});

@@ -132,14 +132,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
     const Clock::time_point start = Clock::now();
     const StepOutput out = sim.step(input);    // collision, force, removal
     stepNs.add(std::chrono::nanoseconds(Clock::now() - start).count());
-    ForceLogRow row;
-    row.tS = t;
-    row.tipMm = input.pose.tipMm;
-    row.forceN = out.contact.forceN;
-    row.magnitudeN = out.contact.magnitudeN;
-    row.contactVoxels = out.contact.contactVoxels;
-    row.removedVoxels = sim.totals().samplesRemoved;
-    row.level = out.contact.level;
+    const ForceLogRow row = logRowOf(t, input.pose, out, sim.totals().samplesRemoved);
     metrics.add(row.tS, row.magnitudeN);
     if (options.onRow) options.onRow(row);
     if (options.keepLog) result.log.push_back(row);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <thread>
 
 namespace osteon::simulation {
@@ -58,18 +59,33 @@ TEST(Handoff, TripleBufferAcrossThreadsIsMonotoneAndUntorn) {
   EXPECT_FALSE(backwards);
 }
 
+// The built-in humerus at 1.2 mm, static, and a short, fast portal-5 path: bone within the
+// first second.
+struct HumerusRun {
+  geometry::HumerusModel model = geometry::buildHumerusModel();
+  geometry::VoxelGrid grid;
+  geometry::DynamicProximityHierarchy hierarchy;
+  std::unique_ptr<DrillingSimulation> sim;
+  PortalPlan plan;
+  HumerusRun() {
+    geometry::VoxelizeOptions vo;
+    vo.voxelSizeMm = 1.2;
+    grid = geometry::voxelize(model.mesh, vo);
+    hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+    sim = std::make_unique<DrillingSimulation>(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{},
+                                               DrillingOptions{});
+    PortalPathOptions po;
+    po.durationS = 1.5;
+    plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
+                          sim->tool().parts[0].outerRadiusMm, po);
+  }
+};
+
 TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
-  const geometry::HumerusModel model = geometry::buildHumerusModel();
-  geometry::VoxelizeOptions vo;
-  vo.voxelSizeMm = 1.2;
-  geometry::VoxelGrid grid = geometry::voxelize(model.mesh, vo);
-  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
-  PortalPathOptions po;
-  po.durationS = 1.5;  // short, fast path: bone within the first second
-  const PortalPlan plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                                         sim.tool().parts[0].outerRadiusMm, po);
-  PathPoseSource source(plan.path);
+  HumerusRun h;
+  DrillingSimulation& sim = *h.sim;
+  geometry::VoxelGrid& grid = h.grid;
+  PathPoseSource source(h.plan.path);
   struct Sink : ForceSink {
     double maxN = 0.0;
     void apply(double, const glm::dvec3& f) noexcept override { maxN = std::max(maxN, glm::length(f)); }
@@ -98,17 +114,10 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
 // The collision thread hands rows to a logging thread: with keepLog off nothing is collected,
 // every row reaches onRow in order, and the summary is the metrics of those rows.
 TEST(Runtime, StreamsTheForceLogWithoutKeepingIt) {
-  const geometry::HumerusModel model = geometry::buildHumerusModel();
-  geometry::VoxelizeOptions vo;
-  vo.voxelSizeMm = 1.2;
-  geometry::VoxelGrid grid = geometry::voxelize(model.mesh, vo);
-  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
-  PortalPathOptions po;
-  po.durationS = 1.5;
-  const PortalPlan plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                                         sim.tool().parts[0].outerRadiusMm, po);
-  PathPoseSource source(plan.path);
+  HumerusRun h;
+  DrillingSimulation& sim = *h.sim;
+  geometry::VoxelGrid& grid = h.grid;
+  PathPoseSource source(h.plan.path);
   RuntimeOptions options;
   options.durationS = 2.2;  // past 2 s, so the jitter window has rows
   options.realtimePriority = false;

@@ -26,6 +26,12 @@ struct ForceLogRow {
   int level = 0;                    // finest level in contact
 };
 
+// The log row of one step: the pose it took, its force, the samples removed so far.
+inline ForceLogRow logRowOf(double tS, const ToolPose& pose, const StepOutput& out, std::uint64_t samplesRemoved) {
+  return {tS, pose.tipMm, out.contact.forceN, out.contact.magnitudeN, out.contact.contactVoxels, samplesRemoved,
+          out.contact.level};
+}
+
 struct Percentiles {
   double p50 = 0.0;
   double p99 = 0.0;
