@@ -29,7 +29,7 @@ endfunction()
 # libraries export their PRIVATE links too (as $<LINK_ONLY:...>), so every one of them must
 # exist in the consumer. The lines mirror the find_package calls in the top-level
 # CMakeLists.txt and the modules' CMakeLists.txt; the order is the order they are found in.
-set(_osteon_dependency_keys glm embree OpenMesh TBB Threads CGAL OpenImageIO hidapi serialport)
+set(_osteon_dependency_keys glm embree OpenMesh TBB Threads ZLIB CGAL OpenImageIO hidapi serialport)
 set(_osteon_dep_glm         "find_dependency(glm)")
 set(_osteon_dep_embree      "find_dependency(embree 3)")
 # Debian's OpenMesh has no version file: no version, and CONFIG so CGAL's FindOpenMesh
@@ -37,6 +37,7 @@ set(_osteon_dep_embree      "find_dependency(embree 3)")
 set(_osteon_dep_OpenMesh    "find_dependency(OpenMesh CONFIG)")
 set(_osteon_dep_TBB         "find_dependency(TBB CONFIG)")
 set(_osteon_dep_Threads     "find_dependency(Threads)")
+set(_osteon_dep_ZLIB        "find_dependency(ZLIB)")
 set(_osteon_dep_CGAL        "find_dependency(CGAL 5.5)")
 # As validation/CMakeLists.txt finds it: through pkg-config, not Debian's broken CMake package.
 set(_osteon_dep_OpenImageIO [=[find_dependency(PkgConfig)
@@ -81,6 +82,8 @@ function(_osteon_dependency_key item out)
     set(key TBB)
   elseif(item STREQUAL "Threads::Threads")
     set(key Threads)
+  elseif(item STREQUAL "ZLIB::ZLIB")
+    set(key ZLIB)
   elseif(item MATCHES "^CGAL::")
     set(key CGAL)
   elseif(item STREQUAL "PkgConfig::OpenImageIO")

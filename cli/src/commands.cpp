@@ -9,6 +9,7 @@
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/volume_io.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/io/units.h"
@@ -213,7 +214,12 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
       j["out"] = options.out;
       j["out_density"] = geo::densityPathFor(options.out);
     }
+    if (inside == 0) {
+      j["empty"] = true;
+      j["empty_reason"] = "no voxel inside";
+    }
     printJson(j);
+    if (inside == 0) return emptyExit("voxelize", options.mesh, "no voxel inside", options.allowEmpty);
     return kExitOk;
   }
   const glm::ivec3 d = grid.dims();
@@ -247,6 +253,7 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
     std::printf("  wrote         %s and %s\n", options.out.c_str(),
                 geo::densityPathFor(options.out).c_str());
   }
+  if (inside == 0) return emptyExit("voxelize", options.mesh, "no voxel inside", options.allowEmpty);
   return kExitOk;
 }
 
@@ -292,6 +299,54 @@ bool isNrrdPath(const std::string& path) {
 
 }  // namespace
 
+// What a volume was read as, for the JSON ("volume") and the text output (one line).
+json volumeJson(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
+  json j = {{"kind", v.kind}, {"format", v.format}, {"type", v.type}};
+  if (v.kind == "osteon grid") {
+    j["density_loaded"] = v.densityLoaded;
+    return j;
+  }
+  j["min"] = v.minValue;
+  j["max"] = v.maxValue;
+  if (v.kind == "label map") {
+    j["labels"] = v.labels;
+    j["bone_label"] = v.label ? json(*v.label) : json("every non-zero");
+  } else {
+    j["iso_hu"] = v.isoHu;
+    j["iso_default"] = !meaning.isoHu.has_value();
+    j["fill_ramp_hu"] = {v.isoHu - geo::kCtRampHalfWidthHu, v.isoHu + geo::kCtRampHalfWidthHu};
+    j["cortical_from_hu"] = geo::kCorticalHu;
+  }
+  return j;
+}
+
+std::string volumeLine(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
+  if (v.kind == "osteon grid") return "";  // osteon's own grids: the output as it always was
+  std::ostringstream s;
+  s << "  volume      " << v.format << " " << v.type << ", read as " << v.kind;
+  if (v.kind == "label map") {
+    s << " (labels";
+    for (long long l : v.labels) s << " " << l;
+    s << "; bone: " << (v.label ? "label " + std::to_string(*v.label) : std::string("every non-zero voxel"))
+      << ")";
+  } else if (v.kind == "ct") {
+    s << " (values " << v.minValue << " to " << v.maxValue << "; iso " << v.isoHu << " HU"
+      << (meaning.isoHu ? "" : " (default)") << ", cortical from " << geo::kCorticalHu << " HU)";
+  }
+  return s.str();
+}
+
+// An empty result: said on stderr; exit 1 unless --allow-empty.
+int emptyExit(const char* command, const std::string& input, const std::string& reason, bool allowEmpty) {
+  std::fprintf(stderr, "osteon %s: %s: empty result: %s%s\n", command, input.c_str(), reason.c_str(),
+               allowEmpty ? " (accepted: --allow-empty)" : " (exit 1; --allow-empty accepts it)");
+  return allowEmpty ? kExitOk : kExitCheckFailed;
+}
+
+namespace {
+
+}  // namespace
+
 // Refuses inputs inside a folder the run fills with files of its own naming.
 void refuseInputsInside(const std::string& folder, const std::vector<std::string>& inputs) {
   std::error_code ec;
@@ -314,22 +369,33 @@ namespace {
 // The files a grid argument reads: a mesh file, or a grid and its density beside it.
 std::vector<std::string> gridInputFiles(const std::string& input) {
   if (isNrrdPath(input)) return {input, geo::densityPathFor(input)};
+  if (geo::isVolumePath(input)) return {input};
   return {inputFile(input)};
 }
 
 // The grid a command works on: a GRID.nrrd as saved, or a mesh voxelized at --voxel-size.
 geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
-                        const std::optional<double>& voxelSizeMm, double& voxelizeMs) {
+                        const std::optional<double>& voxelSizeMm, double& voxelizeMs,
+                        const VolumeMeaning& meaning, json& volume, std::string& volumeText) {
   voxelizeMs = 0.0;
-  if (isNrrdPath(input)) {
-    geo::NrrdReadResult read = geo::readNrrd(input);
+  if (geo::isVolumePath(input)) {
+    geo::VolumeOptions vo;
+    vo.label = meaning.label;
+    vo.isoHu = meaning.isoHu;
+    geo::VolumeLoad read = geo::loadVolume(input, vo);
     if (voxelSizeMm && std::abs(*voxelSizeMm - read.grid.voxelSizeMm()) > 1e-9 * *voxelSizeMm) {
       std::ostringstream s;
       s << "--voxel-size " << *voxelSizeMm << ": " << input << " has voxels of "
         << read.grid.voxelSizeMm() << " mm (omit --voxel-size for a grid)";
       throw InputError(s.str());
     }
+    volume = volumeJson(read, meaning);
+    volumeText = volumeLine(read, meaning);
     return std::move(read.grid);
+  }
+  if (meaning.label || meaning.isoHu) {
+    throw InputError(std::string(meaning.label ? "--label" : "--iso") + ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " +
+                     input + " is a mesh");
   }
   if (!voxelSizeMm) throw InputError("--voxel-size: required when the input is a mesh");
   const LoadedMesh loaded = load(input, units);
@@ -348,7 +414,10 @@ geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
 int runHierarchy(const HierarchyOptions& options) {
   if (!options.svg.empty()) geo::refuseOverwritingInputs({options.svg}, gridInputFiles(options.input));
   double voxelizeMs = 0.0;
-  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs);
+  json volume;
+  std::string volumeText;
+  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs,
+                                       options.volume, volume, volumeText);
   geo::DphBuildOptions build;
   build.expansionRatio = options.xi;
   build.seed = options.seed;
@@ -394,6 +463,11 @@ int runHierarchy(const HierarchyOptions& options) {
               {"memory_bytes", hierarchy.memoryBytes()},
               {"valid", problem.empty()}};
     if (!problem.empty()) j["problem"] = problem;
+    if (!volume.is_null()) j["volume"] = volume;
+    if (hierarchy.voxelCount() == 0) {
+      j["empty"] = true;
+      j["empty_reason"] = "no voxel inside";
+    }
     if (!options.svg.empty()) j["svg"] = options.svg;
     printJson(j);
   } else {
@@ -406,10 +480,21 @@ int runHierarchy(const HierarchyOptions& options) {
     }
     std::printf("  build %.1f ms, %.2f MB; %s\n", buildMs, double(hierarchy.memoryBytes()) / 1e6,
                 problem.empty() ? "all invariants hold" : problem.c_str());
+    if (!volumeText.empty()) std::printf("%s\n", volumeText.c_str());
     if (!options.svg.empty()) std::printf("  wrote %s (slice z = %d)\n", options.svg.c_str(), sliceZ);
   }
-  return problem.empty() ? kExitOk : kExitCheckFailed;
+  if (!problem.empty()) return kExitCheckFailed;
+  if (hierarchy.voxelCount() == 0) return emptyExit("hierarchy", options.input, "no voxel inside", options.allowEmpty);
+  return kExitOk;
 }
+
+namespace {
+
+std::string emptyMeshReason(const geo::VoxelGrid& grid) {
+  return grid.countVoxels(geo::kFillHalf) == 0 ? "no triangles (no voxel inside)" : "no triangles";
+}
+
+}  // namespace
 
 int runMesh(const MeshCommandOptions& options) {
   geo::SurfaceOptions so;
@@ -427,7 +512,10 @@ int runMesh(const MeshCommandOptions& options) {
     geo::refuseOverwritingInputs({options.out}, gridInputFiles(options.input));
   }
   double voxelizeMs = 0.0;
-  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs);
+  json volume;
+  std::string volumeText;
+  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs,
+                                       options.volume, volume, volumeText);
   geo::SurfaceTimings t;
   const geo::SurfaceMesh surface = geo::extractSurface(grid, so, &t);
   const geo::TriangleMesh mesh = surface.toTriangleMesh();
@@ -456,7 +544,13 @@ int runMesh(const MeshCommandOptions& options) {
                 {"normals", t.normalsMs}, {"other", t.otherMs}}},
               {"voxelize_ms", voxelizeMs}};
     if (!options.out.empty()) j["out"] = options.out;
+    if (!volume.is_null()) j["volume"] = volume;
+    if (surface.triangleCount() == 0) {
+      j["empty"] = true;
+      j["empty_reason"] = emptyMeshReason(grid);
+    }
     printJson(j);
+    if (surface.triangleCount() == 0) return emptyExit("mesh", options.input, emptyMeshReason(grid), options.allowEmpty);
     return kExitOk;
   }
   std::printf("osteon mesh %s (%s, %d smoothing passes%s) at %.4g mm\n", options.input.c_str(),
@@ -471,7 +565,9 @@ int runMesh(const MeshCommandOptions& options) {
               topo.eulerCharacteristic);
   std::printf("  time        %.2f ms: extract %.2f, smooth %.2f, normals %.2f, other %.2f\n",
               t.totalMs, t.extractMs, t.smoothMs, t.normalsMs, t.otherMs);
+  if (!volumeText.empty()) std::printf("%s\n", volumeText.c_str());
   if (!options.out.empty()) std::printf("  wrote       %s\n", options.out.c_str());
+  if (surface.triangleCount() == 0) return emptyExit("mesh", options.input, emptyMeshReason(grid), options.allowEmpty);
   return kExitOk;
 }
 

@@ -18,6 +18,12 @@ struct MeshUnits {
   std::optional<double> scale;
 };
 
+// What a volume (NRRD or NIfTI that is not osteon's own grid) means (volume_io.h).
+struct VolumeMeaning {
+  std::optional<long long> label;  // label maps: the bone label (default: every non-zero voxel)
+  std::optional<double> isoHu;     // CTs: the bone threshold in HU (default 300)
+};
+
 struct InfoOptions {
   std::string mesh;
   MeshUnits units;
@@ -35,6 +41,7 @@ struct VoxelizeCommandOptions {
   int cancellousDensity = 15;
   std::string out;  // GRID.nrrd, empty for none
   bool json = false;
+  bool allowEmpty = false;  // an empty grid exits 0 (still "empty": true), not 1
 };
 
 struct HierarchyOptions {
@@ -46,6 +53,8 @@ struct HierarchyOptions {
   std::string svg;     // a slice of the hierarchy as SVG, empty for none
   std::optional<double> sliceZMm;
   bool json = false;
+  VolumeMeaning volume;
+  bool allowEmpty = false;
 };
 
 struct MeshCommandOptions {
@@ -57,6 +66,8 @@ struct MeshCommandOptions {
   bool taubin = false;
   std::string out;
   bool json = false;
+  VolumeMeaning volume;
+  bool allowEmpty = false;
 };
 
 struct ModelOptions {
@@ -77,6 +88,8 @@ struct DrillCommandOptions {
   std::string device;        // drive the run from a device instead of --path (devices.md)
   std::optional<double> durationS;  // a live device's run length
   std::string record;        // record the device's stream to this CSV
+  VolumeMeaning volume;      // when `mesh` is a volume (then --path must be a CSV)
+  bool allowEmpty = false;   // a path that never meets bone exits 0 (still "empty": true), not 1
 };
 
 struct ReplayCommandOptions {
@@ -137,6 +150,10 @@ std::string inputFile(const std::string& meshArgument);
 // Refuses (InputError) any existing input inside `folder`, which a command fills with files of
 // its own naming (run logs, images).
 void refuseInputsInside(const std::string& folder, const std::vector<std::string>& inputs);
+
+// An empty result (no voxel inside, no triangles, a path that never meets bone): one line on
+// stderr naming the command, the input and the reason; kExitCheckFailed unless allowEmpty.
+int emptyExit(const char* command, const std::string& input, const std::string& reason, bool allowEmpty);
 
 int runInfo(const InfoOptions& options);
 int runVoxelize(const VoxelizeCommandOptions& options);

@@ -6,12 +6,14 @@
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/io/volume_io.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -23,6 +25,10 @@ namespace osteon::cli {
 namespace geo = osteon::geometry;
 namespace sim = osteon::simulation;
 using nlohmann::json;
+
+// commands.cpp: what a volume was read as.
+json volumeJson(const geo::VolumeLoad& v, const VolumeMeaning& meaning);
+std::string volumeLine(const geo::VolumeLoad& v, const VolumeMeaning& meaning);
 
 namespace {
 
@@ -88,6 +94,15 @@ int runDrill(const DrillCommandOptions& options) {
   sim::validateDrillingOptions(drilling);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   const bool csvPath = endsWithCsv(options.path);
+  const bool volumeInput = geo::isVolumePath(options.mesh);
+  if (volumeInput && !csvPath) {
+    throw InputError("--path " + options.path + ": portal paths need the bone's mesh to fit the humeral head; " +
+                     options.mesh + " is a volume: give a PATH.csv (t,x,y,z,drill_on)");
+  }
+  if (!volumeInput && (options.volume.label || options.volume.isoHu)) {
+    throw InputError(std::string(options.volume.label ? "--label" : "--iso") +
+                     ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + options.mesh + " is a mesh");
+  }
   sim::DrillPath path;
   sim::Portal portal = sim::Portal::FiveOClock;
   if (csvPath) {
@@ -105,14 +120,33 @@ int runDrill(const DrillCommandOptions& options) {
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
   geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath},
-                               {inputFile(options.mesh), csvPath ? options.path : std::string()});
+                               {volumeInput ? options.mesh : inputFile(options.mesh),
+                                csvPath ? options.path : std::string()});
 
   sim::SessionOptions so;
   so.voxelSizeMm = options.voxelSizeMm;
   so.levels = options.levels;
   so.tool = kind;
   so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
-  sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units), so);
+  json volumeInfo;
+  std::string volumeText;
+  const auto openSession = [&]() {
+    if (!volumeInput) return sim::Session::open(options.mesh, scaleToMm(options.units), so);
+    geo::VolumeOptions vo;
+    vo.label = options.volume.label;
+    vo.isoHu = options.volume.isoHu;
+    geo::VolumeLoad load = geo::loadVolume(options.mesh, vo);
+    if (std::abs(load.grid.voxelSizeMm() - options.voxelSizeMm) > 1e-6 * options.voxelSizeMm) {
+      std::ostringstream s;
+      s << "--voxel-size " << options.voxelSizeMm << ": " << options.mesh << " has voxels of "
+        << load.grid.voxelSizeMm() << " mm (give its own voxel size)";
+      throw InputError(s.str());
+    }
+    volumeInfo = volumeJson(load, options.volume);
+    volumeText = volumeLine(load, options.volume);
+    return sim::Session::fromGrid(std::move(load.grid), so, options.mesh);
+  };
+  sim::Session session = openSession();
   json pathJson = {{"name", options.path}};
   if (!csvPath) {
     const sim::HumeralHead& head = session.humeralHead();
@@ -159,6 +193,13 @@ int runDrill(const DrillCommandOptions& options) {
   summary["surface_triangles"] = surface.triangleCount();
   summary["files"] = {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}};
   if (options.threaded) summary["runtime"] = runtimeJson;
+  if (!volumeInfo.is_null()) summary["volume"] = volumeInfo;
+  // A path that never meets bone: nothing removed and no force at any step.
+  const bool empty = s.removedVolumeMm3 == 0.0 && s.maxForceN == 0.0;
+  if (empty) {
+    summary["empty"] = true;
+    summary["empty_reason"] = "the path never meets bone (no contact, nothing removed)";
+  }
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   if (options.json) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
@@ -168,6 +209,11 @@ int runDrill(const DrillCommandOptions& options) {
               << " steps, max force " << s.maxForceN << " N, jitter " << s.jitterN << " N, removed "
               << s.removedVolumeMm3 << " mm3\n"
               << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
+    if (!volumeText.empty()) std::cout << volumeText << "\n";
+  }
+  if (empty) {
+    return emptyExit("drill", options.mesh, "the path never meets bone (no contact, nothing removed)",
+                     options.allowEmpty);
   }
   return kExitOk;
 }

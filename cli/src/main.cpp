@@ -28,11 +28,25 @@ void addUnits(CLI::App& cmd, osteon::cli::MeshUnits& units) {
 // Commands that work on a grid take a mesh (voxelized at --voxel-size) or a saved grid.
 void addGridInput(CLI::App& cmd, std::string& input, osteon::cli::MeshUnits& units,
                   std::optional<double>& voxelSizeMm) {
-  cmd.add_option("MESH", input, "Mesh file, 'default', or a GRID.nrrd written by osteon voxelize")
+  cmd.add_option("MESH", input,
+                 "Mesh file, 'default', a GRID.nrrd written by osteon voxelize, or a volume "
+                 "(.nrrd .nhdr .nii .nii.gz: label map or CT)")
       ->required();
   addUnits(cmd, units);
   cmd.add_option("--voxel-size", voxelSizeMm,
                  "Voxel edge in mm (required for a mesh; a grid has its own)");
+}
+
+// What a volume (NRRD or NIfTI) means, and whether an empty result is accepted.
+void addVolumeMeaning(CLI::App& cmd, osteon::cli::VolumeMeaning& meaning) {
+  cmd.add_option("--label", meaning.label,
+                 "Label map volumes: the bone label (default: every non-zero voxel)");
+  cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
+}
+
+void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
+  cmd.add_flag("--allow-empty", allowEmpty,
+               "An empty result (no voxel inside, no triangles, no bone met) exits 0, not 1");
 }
 
 void addMesh(CLI::App& cmd, std::string& mesh) {
@@ -81,6 +95,7 @@ int main(int argc, char** argv) {
       ->default_val(15);
   voxCmd->add_option("--out", vox.out, "Write the grid as NRRD (fill; density beside it)");
   voxCmd->add_flag("--json", vox.json, "Print one JSON object on stdout");
+  addAllowEmpty(*voxCmd, vox.allowEmpty);
 
   osteon::cli::HierarchyOptions dph;
   CLI::App* dphCmd = app.add_subcommand(
@@ -101,6 +116,8 @@ int main(int argc, char** argv) {
   dphCmd->add_option("--svg", dph.svg, "Draw a z-slice of the hierarchy into this SVG file");
   dphCmd->add_option("--slice-z", dph.sliceZMm, "Height of the --svg slice in mm (default: middle)");
   dphCmd->add_flag("--json", dph.json, "Print one JSON object on stdout");
+  addVolumeMeaning(*dphCmd, dph.volume);
+  addAllowEmpty(*dphCmd, dph.allowEmpty);
 
   osteon::cli::MeshCommandOptions meshOpt;
   CLI::App* meshCmd = app.add_subcommand(
@@ -112,11 +129,15 @@ int main(int argc, char** argv) {
   meshCmd->add_flag("--taubin", meshOpt.taubin, "Alternate shrink-free Taubin lambda/mu passes");
   meshCmd->add_option("--out", meshOpt.out, "Write the surface (.ply .obj .stl .off)");
   meshCmd->add_flag("--json", meshOpt.json, "Print one JSON object on stdout");
+  addVolumeMeaning(*meshCmd, meshOpt.volume);
+  addAllowEmpty(*meshCmd, meshOpt.allowEmpty);
 
   osteon::cli::DrillCommandOptions drill;
   CLI::App* drillCmd = app.add_subcommand(
       "drill", "Drill a path into the bone at 1 kHz (deterministic): force log, summary, surface");
   addMesh(*drillCmd, drill.mesh);
+  drillCmd->get_option("MESH")->description(
+      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz) with a PATH.csv");
   addUnits(*drillCmd, drill.units);
   drillCmd->add_option("--voxel-size", drill.voxelSizeMm, "Base voxel edge in mm")->required();
   drillCmd->add_option("--levels", drill.levels,
@@ -130,6 +151,8 @@ int main(int argc, char** argv) {
   drillCmd->add_flag("--threaded", drill.threaded,
                      "Run the haptic, collision and visual threads in real time (not bit-identical)");
   drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
+  addVolumeMeaning(*drillCmd, drill.volume);
+  addAllowEmpty(*drillCmd, drill.allowEmpty);
   drillCmd->add_option("--device", drill.device,
                        "Drive the run from a device instead of --path: mouse, spacemouse[:PATH], "
                        "serial:PORT[@BAUD], touch[:NAME], replay:LOG.csv, scripted:portal-5|portal-7|PATH.csv")

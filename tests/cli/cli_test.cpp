@@ -214,11 +214,13 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   EXPECT_GT(t["removed_volume_mm3"].get<double>(), 10.0);
 
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
-  const CliRun csv = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --json --path '" +
+  // In the air: a path that never meets bone is an empty result, accepted here on purpose.
+  const CliRun csv = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --json --allow-empty --path '" +
                             path("p.csv") + "' --out-dir '" + path("c") + "'");
   ASSERT_EQ(csv.exitCode, 0) << csv.err;
   EXPECT_EQ(nlohmann::json::parse(csv.out)["steps"].get<int>(), 1001);
   EXPECT_EQ(nlohmann::json::parse(csv.out)["max_force_n"].get<double>(), 0.0);  // in the air
+  EXPECT_TRUE(nlohmann::json::parse(csv.out)["empty"].get<bool>());
 
   expectBadInput("drill default --voxel-size 1.2 --levels 3 --path portal-5", "--levels 3", "0, 1 or 2");
   expectBadInput("drill default --voxel-size 1.2 --path portal-6", "portal-6", "not a portal");
