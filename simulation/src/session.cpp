@@ -205,7 +205,8 @@ const SessionOptions& Session::options() const { return state_->options; }
 const HumeralHead& Session::humeralHead() const { return state_->bone->humeralHead(); }
 
 PortalPlan Session::portalPath(Portal portal, const PortalPathOptions& options) const {
-  return makePortalPath(portal, humeralHead(), *state_->bone->mesh(), state_->simulation->tool().parts[0].outerRadiusMm,
+  const HumeralHead& head = humeralHead();  // throws for a bone without a mesh, before it is read
+  return makePortalPath(portal, head, *state_->bone->mesh(), state_->simulation->tool().parts[0].outerRadiusMm,
                         options);
 }
 
