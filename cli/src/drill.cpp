@@ -95,10 +95,6 @@ int runDrill(const DrillCommandOptions& options) {
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   const bool csvPath = endsWithCsv(options.path);
   const bool volumeInput = geo::isVolumePath(options.mesh);
-  if (volumeInput && !csvPath) {
-    throw InputError("--path " + options.path + ": portal paths need the bone's mesh to fit the humeral head; " +
-                     options.mesh + " is a volume: give a PATH.csv (t,x,y,z,drill_on)");
-  }
   if (!volumeInput && (options.volume.label || options.volume.isoHu)) {
     throw InputError(std::string(options.volume.label ? "--label" : "--iso") +
                      ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + options.mesh + " is a mesh");

@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
       "drill", "Drill a path into the bone at 1 kHz (deterministic): force log, summary, surface");
   addMesh(*drillCmd, drill.mesh);
   drillCmd->get_option("MESH")->description(
-      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz) with a PATH.csv");
+      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz)");
   addUnits(*drillCmd, drill.units);
   drillCmd->add_option("--voxel-size", drill.voxelSizeMm, "Base voxel edge in mm")->required();
   drillCmd->add_option("--levels", drill.levels,

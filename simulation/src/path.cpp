@@ -21,6 +21,7 @@ struct SphereFit {
   double rms = 0.0;
   int used = 0;
   glm::dvec3 pointsMean{0.0};  // of the points fitted: on a head, the articular cap's middle
+  double areaMm2 = 0.0;        // of the surface the points fitted stand for (robustEndFit)
   bool ok = false;
 };
 
@@ -72,7 +73,8 @@ SphereFit fitSphere(const std::vector<glm::dvec3>& points, const glm::dvec3& shi
 // away from its centre: the shaft, neck and tuberosities fall away (their normals do not point
 // radially from the head centre) and the articular sphere stays.
 SphereFit robustEndFit(const std::vector<glm::dvec3>& points, const std::vector<glm::dvec3>& normals,
-                       const std::vector<double>& along, double capFrom, double regionFrom, double sign) {
+                       const std::vector<double>& areas, const std::vector<double>& along, double capFrom,
+                       double regionFrom, double sign) {
   std::vector<glm::dvec3> subset;
   for (std::size_t i = 0; i < points.size(); ++i) if (sign * along[i] >= capFrom) subset.push_back(points[i]);
   SphereFit fit = fitSphere(subset, subset.empty() ? glm::dvec3(0.0) : subset.front());
@@ -85,16 +87,19 @@ SphereFit robustEndFit(const std::vector<glm::dvec3>& points, const std::vector<
     std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
     const double tolerance = std::max(0.005 * fit.radius, 2.0 * residuals[residuals.size() / 2]);
     subset.clear();
+    double areaMm2 = 0.0;
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (sign * along[i] < regionFrom) continue;
       const glm::dvec3 d = points[i] - fit.centre;
       const double len = glm::length(d);
       if (std::abs(len - fit.radius) < tolerance && glm::dot(normals[i], d) > cosMax * len) {
         subset.push_back(points[i]);
+        areaMm2 += areas[i];
       }
     }
-    const SphereFit next = fitSphere(subset, fit.centre);
+    SphereFit next = fitSphere(subset, fit.centre);
     if (!next.ok) break;
+    next.areaMm2 = areaMm2;
     const bool settled = glm::length(next.centre - fit.centre) < 1e-6 && std::abs(next.radius - fit.radius) < 1e-6;
     fit = next;
     if (settled) break;
@@ -122,10 +127,11 @@ glm::dvec3 principalAxis(const std::vector<glm::dvec3>& points, const glm::dvec3
 
 }  // namespace
 
-HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide) {
+HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, HeadEnd headEnd) {
   // Triangle centroids with their face normals, each triangle split into four first so a
   // low-poly head (a few dozen facets) still gives enough points.
   std::vector<glm::dvec3> points, normals;
+  std::vector<double> areas;  // of the quarter triangle each point stands for
   const std::size_t nv = mesh.positionsMm.size();
   for (const glm::u32vec3& t : mesh.triangles) {
     if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
@@ -138,6 +144,7 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide) {
                                       (ab + bc + ca) / 3.0}) {
       points.push_back(centroid);
       normals.push_back(n / len);
+      areas.push_back(0.125 * len);
     }
   }
   if (points.size() < 50) throw InputError("humeral head fit: the mesh has too few points");
@@ -153,10 +160,13 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide) {
     hi = std::max(hi, along[i]);
   }
   const double length = hi - lo;
-  const SphereFit top = robustEndFit(points, normals, along, hi - 0.10 * length, hi - 0.30 * length, 1.0);
-  const SphereFit bottom = robustEndFit(points, normals, along, -(lo + 0.10 * length), -(lo + 0.30 * length), -1.0);
+  const SphereFit top = robustEndFit(points, normals, areas, along, hi - 0.10 * length, hi - 0.30 * length, 1.0);
+  const SphereFit bottom =
+      robustEndFit(points, normals, areas, along, -(lo + 0.10 * length), -(lo + 0.30 * length), -1.0);
   const auto score = [&](const SphereFit& f) {
-    return f.ok && f.used >= 20 && f.radius > 0.03 * length ? f.rms / f.radius : 1e300;
+    if (!(f.ok && f.used >= 20 && f.radius > 0.03 * length)) return 1e300;
+    if (headEnd == HeadEnd::LargestCap) return f.areaMm2 > 0.0 ? 1.0 / f.areaMm2 : 1e300;
+    return f.rms / f.radius;
   };
   const bool topIsHead = score(top) <= score(bottom);
   const SphereFit& head = topIsHead ? top : bottom;

@@ -4,6 +4,7 @@
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/hierarchy/fine_fill.h"
 #include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/embree_scene.h"
 
@@ -54,10 +55,30 @@ std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, c
   return bone;
 }
 
+const geometry::TriangleMesh& BoneModel::headMesh() const {
+  if (mesh_) return *mesh_;
+  std::call_once(surfaceOnce_, [this] {
+    // The grid as loaded (its half-fill surface: a CT's iso level), smoothed as `mesh` does;
+    // the fit and the entry ray need positions and triangles only.
+    geometry::SurfaceOptions options;
+    options.computeNormals = false;
+    surfaceMesh_ = geometry::extractSurface(grid_, options).toTriangleMesh();
+  });
+  return *surfaceMesh_;
+}
+
 const HumeralHead& BoneModel::humeralHead() const {
-  if (!mesh_) throw InputError(name_ + ": portal paths need the bone's mesh (a grid has no humeral head to fit)");
+  const geometry::TriangleMesh& mesh = headMesh();
   // A failed fit throws out of call_once, which leaves the flag unset: the next call tries again.
-  std::call_once(headOnce_, [this] { head_ = fitHumeralHead(*mesh_); });
+  // A grid's surface has thousands of points on every rounded end: the head is the largest cap.
+  std::call_once(headOnce_, [this, &mesh] {
+    try {
+      head_ = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap);
+    } catch (const InputError& e) {
+      if (mesh_) throw;
+      throw InputError(name_ + ": " + e.what() + " (fitted to the grid's surface)");
+    }
+  });
   return *head_;
 }
 
@@ -205,8 +226,8 @@ const SessionOptions& Session::options() const { return state_->options; }
 const HumeralHead& Session::humeralHead() const { return state_->bone->humeralHead(); }
 
 PortalPlan Session::portalPath(Portal portal, const PortalPathOptions& options) const {
-  const HumeralHead& head = humeralHead();  // throws for a bone without a mesh, before it is read
-  return makePortalPath(portal, head, *state_->bone->mesh(), state_->simulation->tool().parts[0].outerRadiusMm,
+  const HumeralHead& head = humeralHead();  // throws for a bone without a head
+  return makePortalPath(portal, head, state_->bone->headMesh(), state_->simulation->tool().parts[0].outerRadiusMm,
                         options);
 }
 

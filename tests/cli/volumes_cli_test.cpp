@@ -4,11 +4,15 @@
 #include "support/volume_files.h"
 
 #include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/volume_io.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <random>
+#include <sstream>
+#include <tuple>
 
 namespace osteon {
 namespace {
@@ -171,7 +175,7 @@ TEST_F(VolumesCliTest, EmptyResultsExitOneUnlessAllowed) {
 }
 
 // The built-in bone voxelized, then written as a label map and as a CT with noise (seeded):
-// both mesh, the CT drills a CSV path (a volume has no mesh to fit portal-5's head to).
+// both mesh, the CT drills a CSV path and portal-5 (its head fitted to the CT's own surface).
 TEST_F(VolumesCliTest, TheBuiltInBoneAsLabelMapAndCtMeshesAndDrills) {
   ASSERT_EQ(osteon("voxelize default --voxel-size 1.5 --out " + quoted(path("g.nrrd"))).exitCode, 0);
   const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
@@ -216,11 +220,110 @@ TEST_F(VolumesCliTest, TheBuiltInBoneAsLabelMapAndCtMeshesAndDrills) {
   EXPECT_GT(d["removed_volume_mm3"].get<double>(), 1.0);
   EXPECT_EQ(d["volume"]["kind"], "ct");
   EXPECT_FALSE(d.contains("empty"));
-  expectBadInput("drill " + quoted(path("ct.nii.gz")) + " --voxel-size 1.5 --path portal-5 --out-dir " + quoted(path("p")),
-                 "portal-5", "give a PATH.csv");
+  // Portal-5 on the CT and on the mesh itself: the built-in head is dense enough that both fits
+  // agree, so both portals remove about the same (the shared humerus compares the same path).
+  const nlohmann::json p = runJson("drill " + quoted(path("ct.nii.gz")) + " --voxel-size 1.5 --levels 0 --json " +
+                                   "--path portal-5 --out-dir " + quoted(path("p5")));
+  const nlohmann::json m = runJson("drill default --voxel-size 1.5 --levels 0 --json --path portal-5 --out-dir " +
+                                   quoted(path("m5")));
+  const double ctMm3 = p["removed_volume_mm3"].get<double>(), meshMm3 = m["removed_volume_mm3"].get<double>();
+  EXPECT_GT(ctMm3, 1.0);
+  EXPECT_EQ(p["non_finite_forces"].get<long long>(), 0);
+  EXPECT_NEAR(p["path"]["head_radius_mm"].get<double>(), m["path"]["head_radius_mm"].get<double>(), 1.5);
+  RecordProperty("ct_portal5_removed_mm3", std::to_string(ctMm3));
+  RecordProperty("mesh_portal5_removed_mm3", std::to_string(meshMm3));
+  EXPECT_GT(ctMm3, 0.5 * meshMm3) << "CT " << ctMm3 << " mm3, mesh " << meshMm3 << " mm3";
+  EXPECT_LT(ctMm3, 2.0 * meshMm3) << "CT " << ctMm3 << " mm3, mesh " << meshMm3 << " mm3";
   expectBadInput("drill " + quoted(path("ct.nii.gz")) + " --voxel-size 1.2 --path " + quoted(csv) + " --out-dir " +
                      quoted(path("p")),
                  "--voxel-size 1.2", "has voxels of 1.5 mm");
+}
+
+// The shared humerus (metres) voxelized, then written as a label map and as an int16 CT in HU
+// with partial volume and seeded noise: both drill portal-5 with the head fitted to their own
+// surface, and remove what the mesh itself loses to the same path at the same voxel size.
+TEST_F(VolumesCliTest, ASharedHumerusAsCtAndLabelMapDrillsPortal5LikeItsMesh) {
+  const std::string stl = std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
+  if (!fs::exists(stl)) GTEST_SKIP() << "shared data not found: " << stl;
+  const std::string common = " --voxel-size 1.2 --levels 0 --json --out-dir ";
+  ASSERT_EQ(osteon("voxelize " + quoted(stl) + " --units m --voxel-size 1.2 --out " + quoted(path("g.nrrd"))).exitCode, 0);
+  const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
+  TestVolume v;
+  v.sizes = bone.dims();
+  v.spacingMm = bone.voxelSizeMm();
+  v.firstCentreMm = bone.voxelCentreMm(glm::ivec3(0));
+  std::vector<double> labels, hu;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 30.0);
+  for (int z = 0; z < v.sizes.z; ++z) {
+    for (int y = 0; y < v.sizes.y; ++y) {
+      for (int x = 0; x < v.sizes.x; ++x) {
+        geometry::Fill f;
+        geometry::Density d;
+        bone.fillAndDensity({x, y, z}, f, d);
+        labels.push_back(f >= geometry::kFillHalf ? 1 : 0);
+        // A scanner averages what a voxel holds: soft tissue and bone in proportion to the fill.
+        const double fraction = double(f) / double(geometry::kFillFull);
+        const double boneHu = d >= geometry::kCtCorticalDensity ? 1300.0 : 450.0;
+        hu.push_back(std::round(-700.0 + fraction * (boneHu + 700.0) + noise(rng)));
+      }
+    }
+  }
+  v.values = labels;
+  test::writeTestNrrd(path("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(labels), true);
+  v.values = hu;
+  test::writeTestNrrd(path("ct.nrrd"), v, "short", test::encodeAs<std::int16_t>(hu), false);
+
+  const nlohmann::json mesh = runJson("drill " + quoted(stl) + " --units m --path portal-5" + common + quoted(path("m")));
+  const nlohmann::json ct =
+      runJson("drill " + quoted(path("ct.nrrd")) + " --iso 300 --path portal-5" + common + quoted(path("c")));
+  const nlohmann::json lab =
+      runJson("drill " + quoted(path("labels.nrrd")) + " --label 1 --path portal-5" + common + quoted(path("l")));
+  ASSERT_FALSE(mesh.is_null() || ct.is_null() || lab.is_null());
+  EXPECT_EQ(ct["volume"]["kind"], "ct");
+  EXPECT_EQ(lab["volume"]["kind"], "label map");
+  const auto vec = [](const nlohmann::json& a) { return glm::dvec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>()); };
+  const double meshMm3 = mesh["removed_volume_mm3"].get<double>();
+  RecordProperty("mesh_portal5_removed_mm3", std::to_string(meshMm3));
+  for (const auto& [name, j, dir] : {std::make_tuple("ct", ct, "c"), std::make_tuple("labels", lab, "l")}) {
+    SCOPED_TRACE(name);
+    const double removedMm3 = j["removed_volume_mm3"].get<double>();
+    EXPECT_GT(removedMm3, 1.0);
+    EXPECT_FALSE(j.contains("empty"));
+    EXPECT_EQ(j["non_finite_forces"].get<long long>(), 0);
+    EXPECT_TRUE(std::isfinite(j["max_force_n"].get<double>()));
+    EXPECT_GT(j["max_force_n"].get<double>(), 0.0);
+    const std::string forces = test::readBytes(path(std::string(dir) + "/forces.csv"));
+    EXPECT_EQ(forces.find("nan"), std::string::npos);
+    EXPECT_EQ(forces.find("inf"), std::string::npos);
+    // The head fitted to the volume's surface is the mesh's head, within a voxel.
+    EXPECT_NEAR(j["path"]["head_radius_mm"].get<double>(), mesh["path"]["head_radius_mm"].get<double>(), 1.2);
+    EXPECT_LT(glm::length(vec(j["path"]["head_centre_mm"]) - vec(mesh["path"]["head_centre_mm"])), 1.2);
+
+    // The volume's portal, its straight line read back from the first and last rows of the log,
+    // drilled into the mesh: the same path into the same bone removes about the same volume.
+    const std::size_t firstRow = forces.find('\n') + 1;
+    const std::size_t lastRow = forces.rfind('\n', forces.size() - 2) + 1;
+    const auto row = [&forces](std::size_t at) {
+      std::istringstream in(forces.substr(at, forces.find('\n', at) - at));
+      std::string t, x, y, z;
+      std::getline(in, t, ',');
+      std::getline(in, x, ',');
+      std::getline(in, y, ',');
+      std::getline(in, z, ',');
+      return t + "," + x + "," + y + "," + z + ",1\n";
+    };
+    const std::string csv = path(std::string(dir) + ".csv");
+    test::writeBytes(csv, "t,x,y,z,drill_on\n" + row(firstRow) + row(lastRow));
+    const nlohmann::json same =
+        runJson("drill " + quoted(stl) + " --units m --path " + quoted(csv) + common + quoted(path(std::string(dir) + "m")));
+    const double sameMm3 = same["removed_volume_mm3"].get<double>();
+    const double ratio = removedMm3 / sameMm3;
+    RecordProperty(std::string(name) + "_portal5_removed_mm3", std::to_string(removedMm3));
+    RecordProperty(std::string("mesh_on_") + name + "_portal5_removed_mm3", std::to_string(sameMm3));
+    EXPECT_GT(ratio, 0.5) << removedMm3 << " mm3, the mesh on the same path " << sameMm3 << " mm3";
+    EXPECT_LT(ratio, 2.0) << removedMm3 << " mm3, the mesh on the same path " << sameMm3 << " mm3";
+  }
 }
 
 // Dense bone wears slower: the same path into a cortical and a cancellous CT block removes less

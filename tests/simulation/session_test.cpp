@@ -11,6 +11,7 @@
 #include <cstring>
 #include <map>
 #include <set>
+#include <thread>
 #include <array>
 #include <type_traits>
 #include <utility>
@@ -146,6 +147,45 @@ TEST(Session, SurfaceChangesRebuildTheSurface) {
   EXPECT_TRUE(compare());
 }
 
+// A bone from a grid (a saved grid, a label map, a CT) has no mesh: its head is fitted to the
+// grid's own surface, extracted once when a portal path first asks for it.
+TEST(Session, ABoneFromAGridFitsItsHeadToTheGridsSurface) {
+  const auto meshBone = BoneModel::fromMesh(humerus(), 1.2, "default", 1.0, {}, false);
+  const auto gridBone = BoneModel::fromGrid(meshBone->grid(), "saved.nrrd");
+  EXPECT_EQ(gridBone->mesh(), nullptr);
+  EXPECT_EQ(&meshBone->headMesh(), meshBone->mesh());
+  // Asked from many threads at once: one extraction, one fit, the same answer for all.
+  std::vector<const HumeralHead*> heads(4, nullptr);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < heads.size(); ++i) {
+    threads.emplace_back([&heads, &gridBone, i] { heads[i] = &gridBone->humeralHead(); });
+  }
+  for (std::thread& t : threads) t.join();
+  for (const HumeralHead* h : heads) EXPECT_EQ(h, heads[0]);
+  EXPECT_GT(gridBone->headMesh().triangleCount(), 10000u);
+  const HumeralHead& fromMesh = meshBone->humeralHead();
+  const HumeralHead& fromGrid = *heads[0];
+  EXPECT_LT(glm::length(fromGrid.centreMm - fromMesh.centreMm), 1.2);  // within a voxel
+  EXPECT_NEAR(fromGrid.radiusMm, fromMesh.radiusMm, 1.2);
+  EXPECT_GT(glm::dot(fromGrid.axis, fromMesh.axis), 0.95);
+  EXPECT_GT(glm::dot(fromGrid.superior, fromMesh.superior), 0.99);
+
+  SessionOptions options;
+  options.levels = 0;
+  Session session(gridBone, options);
+  const PortalPlan plan = session.portalPath(Portal::FiveOClock, shortPath());
+  // The axes agree within about 10 degrees: a few mm on the head's surface.
+  EXPECT_LT(glm::length(plan.entryMm - Session(meshBone, options).portalPath(Portal::FiveOClock).entryMm), 6.0);
+  EXPECT_GT(session.run(plan.path).summary.removedVolumeMm3, 0.0);
+
+  // No head to fit: the fit's own error, as for a mesh.
+  const auto box = BoneModel::fromMesh(test::makeBox({0, 0, 0}, {20, 20, 60}), 1.2, "box", 1.0, {}, false);
+  EXPECT_THROW(box->humeralHead(), InputError);  // the mesh: too few points
+  const auto boxGrid = BoneModel::fromGrid(box->grid(), "box.nrrd");
+  EXPECT_THROW(boxGrid->humeralHead(), InputError);
+  EXPECT_THROW(Session(boxGrid, options).portalPath(Portal::FiveOClock), InputError);
+}
+
 TEST(Session, DisplayValuesAndBonesWithoutAMesh) {
   Session session = Session::fromMesh(humerus(), SessionOptions{}, "default");
   const glm::ivec3 centre(session.grid().gridFromWorld(session.humeralHead().centreMm));
@@ -153,9 +193,6 @@ TEST(Session, DisplayValuesAndBonesWithoutAMesh) {
   EXPECT_GT(session.densityAt(centre), 0);
   EXPECT_EQ(session.levelAt({0, 0, 0}), 1);  // the padding: no bone
 
-  Session fromGrid = Session::fromGrid(session.grid(), SessionOptions{}, "saved.nrrd");
-  EXPECT_EQ(fromGrid.bone().mesh(), nullptr);
-  EXPECT_THROW(fromGrid.portalPath(Portal::FiveOClock), InputError);
   geometry::VoxelGrid empty = geometry::makeGridFor(test::makeBox({0, 0, 0}, {10, 10, 10}), 1.0);
   EXPECT_THROW(Session::fromGrid(std::move(empty), SessionOptions{}, "empty.nrrd"), InputError);
   SessionOptions bad;

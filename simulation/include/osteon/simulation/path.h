@@ -3,9 +3,9 @@
 //
 // The head comes from a sphere fitted to the mesh, so any humerus works: the bone's long axis
 // by principal components, the sphere fitted robustly at each end of it, the head being the
-// end that a sphere fits best. Superior points from the shaft to the head; medial from the
-// shaft axis to the head centre; anterior = medial x superior for a right humerus (a left one
-// mirrors it).
+// end that a sphere fits best (HeadEnd). Superior points from the shaft to the head; medial
+// from the shaft axis to the head centre; anterior = medial x superior for a right humerus (a
+// left one mirrors it).
 //
 // Portal paths: the clock face is drawn on the articular surface around the head axis (the
 // direction from the head centre to the middle of the points on the sphere), 12 o'clock
@@ -36,8 +36,19 @@ struct HumeralHead {
   glm::dvec3 anterior{0.0, -1.0, 0.0};
 };
 
+// Which end of the bone is the head, of the ends a sphere fits.
+enum class HeadEnd {
+  // The end that a sphere fits best for its size (rms / radius): meshes.
+  TightestSphere,
+  // The end whose sphere holds the most surface area: surfaces extracted from a voxel grid,
+  // where any rounded end (a cut shaft's cap, the capitulum) has thousands of points and fits
+  // its small sphere as tightly as the head fits its large one.
+  LargestCap,
+};
+
 // Throws InputError when the mesh has too few points or no end fits a sphere.
-HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide = true);
+HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide = true,
+                           HeadEnd headEnd = HeadEnd::TightestSphere);
 
 // The longest drill path accepted from user data (an hour): the run's length, and so its
 // time and its logs, follow from the path's end time.

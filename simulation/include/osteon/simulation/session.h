@@ -53,7 +53,8 @@ struct SessionOptions {
 
 // What does not change while drilling: the mesh (when there is one), the grid as voxelized,
 // and the level -2 fills sampled from the mesh for refinement. Immutable and shared: many
-// sessions (every run of an experiment) drill fresh copies of one bone.
+// sessions (every run of an experiment) drill fresh copies of one bone. A bone from a grid (a
+// saved grid, a label map, a CT) fits its humeral head to the grid's own surface instead.
 class BoneModel {
  public:
   // From a mesh in millimetres. `name` names it in messages (a file, or "default");
@@ -76,8 +77,12 @@ class BoneModel {
   const geometry::TriangleMesh* mesh() const { return mesh_ ? &*mesh_ : nullptr; }
   const geometry::VoxelGrid& grid() const { return grid_; }
   const geometry::FineFillSource* fineFills() const { return fineFills_.get(); }
-  // The humeral head fitted to the mesh (seed 4's portals), fitted once on first use (safe from
-  // any thread). Throws InputError without a mesh or a head.
+  // What the humeral head is fitted to and portal paths enter: the mesh, or for a bone without
+  // one the grid's crack-free surface in mm (the `mesh` command's), extracted once on first use
+  // (safe from any thread): only portal paths pay for it.
+  const geometry::TriangleMesh& headMesh() const;
+  // The humeral head fitted to headMesh() (seed 4's portals), fitted once on first use (safe
+  // from any thread). Throws InputError when no end of the bone fits a head.
   const HumeralHead& humeralHead() const;
 
  private:
@@ -86,6 +91,8 @@ class BoneModel {
   std::optional<geometry::TriangleMesh> mesh_;
   geometry::VoxelGrid grid_;
   std::unique_ptr<geometry::FineFillSource> fineFills_;
+  mutable std::once_flag surfaceOnce_;
+  mutable std::optional<geometry::TriangleMesh> surfaceMesh_;  // bones without a mesh
   mutable std::once_flag headOnce_;
   mutable std::optional<HumeralHead> head_;
 };
@@ -150,10 +157,11 @@ class Session {
   const SessionOptions& options() const;
   const DrillingTotals& totals() const { return simulation().totals(); }
   double removedVolumeMm3() const { return simulation().removedVolumeMm3(); }
-  // The bone's humeral head (fitted once). Throws InputError for a bone without a mesh or a head.
+  // The bone's humeral head (fitted once, to the mesh or the grid's surface). Throws InputError
+  // for a bone without a head.
   const HumeralHead& humeralHead() const;
-  // The seed's portal paths (section 4) on this bone's humeral head, for this session's tool.
-  // Throws InputError for a bone without a mesh or without a head.
+  // The seed's portal paths (section 4) on this bone's humeral head, for this session's tool,
+  // entering BoneModel::headMesh(). Throws InputError for a bone without a head.
   PortalPlan portalPath(Portal portal, const PortalPathOptions& options = {}) const;
 
  private:
