@@ -1,6 +1,7 @@
 #include "osteon/devices/recording.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -207,6 +208,7 @@ std::string shortNumber(double v) {
 }  // namespace
 
 Recording loadRecording(const std::string& path) {
+  requireRegularFile(path, "the recording");
   LineReader reader(path);
   if (!reader.open()) throw InputError(path + ": cannot open the recording (" + std::strerror(errno) + ")");
   Recording recording;

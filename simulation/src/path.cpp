@@ -1,6 +1,7 @@
 #include "osteon/simulation/path.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 
 #include <glm/geometric.hpp>
 
@@ -327,6 +328,7 @@ bool unitQuaternion(const glm::dquat& q, glm::dquat& unit) {
 }  // namespace
 
 DrillPath loadPathCsv(const std::string& path) {
+  requireRegularFile(path, "the path file");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the path file");
   std::string line;
@@ -369,6 +371,11 @@ DrillPath loadPathCsv(const std::string& path) {
       }
       if (used != cells[i].size() || cells[i].empty() || !std::isfinite(v[i])) {
         throw InputError(where + "'" + cells[i] + "' in column " + header[i] + " is not a finite number");
+      }
+    }
+    for (std::size_t i = 1; i < 4; ++i) {
+      if (std::abs(v[i]) > kMaxPathCoordinateMm) {
+        throw InputError(where + "'" + cells[i] + "' in column " + header[i] + " is beyond +-1e9 mm (1000 km)");
       }
     }
     if (v[4] != 0.0 && v[4] != 1.0) throw InputError(where + "drill_on must be 0 or 1");

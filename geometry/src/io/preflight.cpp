@@ -141,7 +141,7 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
   // One record per line: vertices with finite coordinates, faces whose corner count the line
   // actually lists (the parser trusts that count and would loop or allocate on it).
   long long seenVertices = 0, seenFaces = 0;
-  while (seenFaces < faces && std::getline(in, line)) {
+  while ((seenVertices < vertices || seenFaces < faces) && std::getline(in, line)) {
     ++lineNo;
     const std::vector<std::string> tokens = tokensOf(line);
     if (tokens.empty() || tokens[0][0] == '#') continue;
@@ -166,6 +166,12 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
       }
     }
     ++seenFaces;
+  }
+  // OpenMesh would repeat its last face for each one missing.
+  if (seenVertices < vertices || seenFaces < faces) {
+    throw InputError(path + ": OFF header promises " + std::to_string(vertices) + " vertices and " +
+                     std::to_string(faces) + " faces, the file ends after " + std::to_string(seenVertices) +
+                     " and " + std::to_string(seenFaces) + " (truncated file?)");
   }
   return false;
 }
@@ -250,6 +256,13 @@ void checkPlyBody(const std::string& path, std::ifstream& in, std::size_t header
                            std::to_string(r) + " runs past the end of the file");
         }
       }
+    }
+    // More data than the header describes means header and data disagree (a wrong count or
+    // type); a trailing newline some writers add is not data.
+    const std::size_t extra = std::size_t(size - at);
+    if (extra > 2 || body.find_first_not_of("\r\n", std::size_t(at)) != std::string::npos) {
+      throw InputError(path + ": binary PLY has " + std::to_string(extra) +
+                       " bytes after the elements its header describes (wrong count or type?)");
     }
     return;
   }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <istream>
+#include <limits>
 #include <vector>
 
 #include "osteon/core/error.h"
@@ -206,11 +207,14 @@ void checkObj(const std::string& path) {
       if (tokens.size() < 4) {
         throw InputError(path + ": line " + std::to_string(lineNo) + ": a face needs 3 corners");
       }
+      // v, v/vt, v//vn or v/vt/vn: the reader parses v as an int and drops a face whose v
+      // overflows, so a corner must be an integer of that range.
       for (std::size_t k = 1; k < tokens.size(); ++k) {
-        const char c = tokens[k][0];
-        if (!std::isdigit(static_cast<unsigned char>(c)) && c != '-' && c != '+') {
-          throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner '" +
-                           lineExcerpt(tokens[k]) + "' is not a vertex index");
+        const std::string_view v = tokens[k].substr(0, tokens[k].find('/'));
+        const IntegerToken kind = classifyInteger(v, std::numeric_limits<int>::min() + 1, std::numeric_limits<int>::max());
+        if (kind != IntegerToken::Integer) {
+          throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner '" + lineExcerpt(tokens[k]) +
+                           (kind == IntegerToken::OutOfRange ? "' is beyond any vertex index" : "' is not a vertex index"));
         }
       }
     }

@@ -15,6 +15,7 @@
 
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
+#include "osteon/core/memory.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/io/mesh_io.h"
 
@@ -163,16 +164,29 @@ std::vector<unsigned char> readFileBytes(const std::string& path, std::uint64_t 
   return bytes;
 }
 
+// A volume is read as its stored values, then decoded to doubles, then made a grid (fill and
+// density per voxel): a size past the machine's memory is refused before any of it is allocated.
+void refuseOverVolumeMemory(const std::string& path, glm::ivec3 sizes, int scalarBytes) {
+  const double voxels = double(sizes.x) * sizes.y * sizes.z;
+  refuseOverMemory(path + ": a " + std::to_string(sizes.x) + " x " + std::to_string(sizes.y) + " x " +
+                       std::to_string(sizes.z) + " volume",
+                   voxels * double(scalarBytes + sizeof(double) + sizeof(std::uint16_t) + sizeof(std::int16_t)), "");
+}
+
 // Inflates gzip (or zlib) data that must hold exactly `expected` bytes.
 // deflate never compresses more than about 1032:1: more than that is a lie, refused unallocated.
 constexpr std::uint64_t kMaxDeflateRatio = 1032;
 
-std::vector<unsigned char> inflateExactly(const std::string& path, const std::vector<unsigned char>& in,
-                                          std::uint64_t expected) {
-  if (expected > std::uint64_t(in.size()) * kMaxDeflateRatio + 1024) {
-    throw InputError(path + ": truncated: " + std::to_string(in.size()) + " bytes of gzip data cannot hold the " +
+void checkDeflateRatio(const std::string& path, std::size_t gzipBytes, std::uint64_t expected) {
+  if (expected > std::uint64_t(gzipBytes) * kMaxDeflateRatio + 1024) {
+    throw InputError(path + ": truncated: " + std::to_string(gzipBytes) + " bytes of gzip data cannot hold the " +
                      std::to_string(expected) + " bytes the sizes need");
   }
+}
+
+std::vector<unsigned char> inflateExactly(const std::string& path, const std::vector<unsigned char>& in,
+                                          std::uint64_t expected) {
+  checkDeflateRatio(path, in.size(), expected);
   std::vector<unsigned char> out(expected);
   z_stream z{};
   if (inflateInit2(&z, 15 + 32) != Z_OK) throw InputError(path + ": zlib failed to start");
@@ -194,6 +208,10 @@ std::vector<unsigned char> inflateExactly(const std::string& path, const std::ve
           inflateEnd(&z);
           throw InputError(path + ": gzip data is longer than the sizes need (" +
                            std::to_string(expected) + " bytes)");
+        }
+        if (rc != Z_STREAM_END) {  // the data is whole but its trailer (checksum, length) is not
+          inflateEnd(&z);
+          throw InputError(path + ": truncated: the gzip stream ends before its checksum");
         }
         break;
       }
@@ -219,7 +237,10 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
   int flip[3];
   for (int axis = 0; axis < 3; ++axis) {
     const double scale = std::max({std::abs(m[0][axis]), std::abs(m[1][axis]), std::abs(m[2][axis])});
-    if (!(scale > 0.0)) throw InputError(path + ": space direction of axis " + std::to_string(axis) + " is zero");
+    if (!(scale > 0.0) || !std::isfinite(scale)) {
+      throw InputError(path + ": the voxel spacing of axis " + std::to_string(axis) + " is " +
+                       (std::isfinite(scale) ? "zero" : "not a finite number"));
+    }
     for (int r = 0; r < 3; ++r) {
       if (r != axis && std::abs(m[r][axis]) > 1e-6 * scale) {
         throw InputError(path + ": space directions are not axis-aligned (axis " + std::to_string(axis) +
@@ -298,6 +319,8 @@ RawVolume readNrrdVolume(const std::string& path) {
   };
   readLine();
   if (line.compare(0, 7, "NRRD000") != 0) fail("not a NRRD file (no NRRD000x magic)");
+  // NRRD0001 to NRRD0005 are the versions there are; a later one may mean what this reader cannot.
+  if (line.size() < 8 || line[7] < '1' || line[7] > '5') fail(excerpt(line) + " is not a NRRD version this reader knows (NRRD0001 to NRRD0005)");
   std::size_t lineNo = 1;
   std::map<std::string, std::string> fields;
   bool osteon = false;
@@ -413,17 +436,24 @@ RawVolume readNrrdVolume(const std::string& path) {
       if (d.rfind("LIST", 0) == 0 || d.find('%') != std::string::npos || d.find(' ') != std::string::npos) {
         fail("data file " + excerpt(d) + ": only a single data file is supported");
       }
-      raw = readFileBytes(dataPath, 0);
+      try {
+        raw = readFileBytes(dataPath, 0);
+      } catch (const InputError& e) {
+        throw InputError(path + ": data file " + e.what());  // the header is the file the user named
+      }
     } else {
       raw = readFileBytes(path, std::uint64_t(in.tellg()));
     }
-    const std::string& shown = dataFile ? dataPath : path;
+    const std::string shown = dataFile ? path + ": data file " + dataPath : path;
+    // A file that cannot hold its sizes is told as truncated, before what the sizes would cost.
     if (gzip) {
-      raw = inflateExactly(shown, raw, expected);
+      checkDeflateRatio(shown, raw.size(), expected);
     } else if (raw.size() != expected) {
       throw InputError(shown + ": " + (raw.size() < expected ? "truncated: " : "") + std::to_string(raw.size()) +
                        " bytes of data, sizes need " + std::to_string(expected));
     }
+    refuseOverVolumeMemory(path, v.sizes, scalar->bytes);
+    if (gzip) raw = inflateExactly(shown, raw, expected);
     decode(*scalar, bigEndian, raw.data(), count, v.values);
     placeVolume(path, m, centre0, v);
     return v;
@@ -543,6 +573,7 @@ RawVolume readNiftiVolume(const std::string& path) {
     fail("truncated: the file (" + std::to_string(fileBytes) + " bytes" + (gzipped ? ", gzip" : "") +
          ") cannot hold the " + std::to_string(expected) + " bytes of data the sizes need");
   }
+  refuseOverVolumeMemory(path, v.sizes, s.bytes);
   std::vector<unsigned char> raw(expected);
   std::uint64_t got = 0;
   while (got < expected) {
@@ -552,6 +583,12 @@ RawVolume readNiftiVolume(const std::string& path) {
     got += std::uint64_t(n);
   }
   if (got < expected) fail("truncated: " + std::to_string(got) + " bytes of data, sizes need " + std::to_string(expected));
+  if (gzipped) {
+    // zlib checks the stream's trailer (CRC and length) only when asked past the data.
+    unsigned char extra = 0;
+    int err = Z_OK;
+    if (gzread(gz, &extra, 1) < 0 || (gzerror(gz, &err), err != Z_OK)) fail("truncated: the gzip stream ends before its checksum");
+  }
   decode(s, swap, raw.data(), count, v.values);
   if (scaled) {
     for (double& x : v.values) x = x * slope + inter;

@@ -4,6 +4,7 @@
 
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/core/error.h"
+#include "osteon/core/memory.h"
 #include "osteon/geometry/io/units.h"
 #include "column_ray.h"
 
@@ -245,9 +246,27 @@ std::string adviceFor(const TriangleMesh& mesh, const VoxelizeOptions& options) 
   return advice.empty() ? "" : "; " + advice;
 }
 
+// Peak memory of a voxelization: the brick table, plus the bricks the surface passes through
+// (uniform bricks hold no arrays), times the working copies of a run. The constants fit the
+// humerus from 0.4 to 0.05 mm (docs/performance.md, "Refused up front").
+double estimatePeakBytes(const TriangleMesh& mesh, double voxelSizeMm) {
+  const glm::dvec3 bricks = glm::ceil((bounds(mesh).extentMm() / voxelSizeMm + 3.0) / double(kBrickEdge));
+  const double slots = bricks.x * bricks.y * bricks.z;
+  double areaMm2 = 0.0;
+  for (const glm::u32vec3& t : mesh.triangles) {
+    const glm::dvec3 &a = mesh.positionsMm[t.x], &b = mesh.positionsMm[t.y], &c = mesh.positionsMm[t.z];
+    areaMm2 += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  const double brickAreaMm2 = (kBrickEdge * voxelSizeMm) * (kBrickEdge * voxelSizeMm);
+  const double surfaceBricks = std::min(slots, 2.5 * areaMm2 / brickAreaMm2);
+  const double gridBytes = slots * double(sizeof(void*) + sizeof(Fill) + sizeof(Density) + 1) +
+                           surfaceBricks * double(sizeof(VoxelGrid::Brick));
+  return 3.0 * gridBytes;
+}
+
 // Before any ray is cast: a voxel larger than the whole mesh cannot sample it (and huge
 // coordinates along the rays would leave Embree's valid range), and a grid past the voxel
-// limit cannot be held.
+// limit or this machine's memory cannot be held.
 void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options) {
   const double vs = options.voxelSizeMm;
   if (!std::isfinite(vs) || vs <= 0.0) return;  // makeGridFor names the value
@@ -259,13 +278,16 @@ void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options
   }
   const glm::dvec3 cells = glm::ceil(e / vs) + 3.0;
   const double voxels = cells.x * cells.y * cells.z;
+  const double peakBytes = estimatePeakBytes(mesh, vs);
   if (!(voxels <= double(VoxelGrid::kMaxVoxels))) {
     std::ostringstream s;
-    s << meshAtVoxelSize(mesh, options) << " would need " << voxels << " voxels (limit 2^32)"
-      << adviceFor(mesh, options);
+    s << meshAtVoxelSize(mesh, options) << " would need " << voxels << " voxels (limit 2^32) and about "
+      << memoryText(peakBytes) << " of memory" << adviceFor(mesh, options);
     if (options.voxelSizeGiven) s << "; use a larger --voxel-size";
     throw InputError(s.str());
   }
+  refuseOverMemory(meshAtVoxelSize(mesh, options), peakBytes,
+                   options.voxelSizeGiven ? "use a larger --voxel-size" : "");
 }
 
 }  // namespace

@@ -53,6 +53,8 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide = 
 // The longest drill path accepted from user data (an hour): the run's length, and so its
 // time and its logs, follow from the path's end time.
 inline constexpr double kMaxPathDurationS = 3600.0;
+// Coordinates beyond this are no place on a bone in any unit (as for meshes).
+inline constexpr double kMaxPathCoordinateMm = 1e9;
 
 enum class Portal { FiveOClock, SevenOClock };
 
