@@ -167,7 +167,12 @@ int runDrill(const DrillCommandOptions& options) {
     ro.durationS = path.durationS();
     ro.onRow = logRow;
     ro.keepLog = false;
-    const sim::RuntimeResult r = session.runThreaded(device, nullptr, ro);
+    sim::RuntimeResult r;
+    try {
+      r = session.runThreaded(device, nullptr, ro);
+    } catch (const sim::RuntimeFault& e) {  // one line: what failed, and where the rows logged are
+      throw sim::RuntimeFault(std::string(e.what()) + "; " + forces.abandon());
+    }
     run = r.run;
     runtimeJson = runtimeStatsJson(r.stats);
   } else {

@@ -257,7 +257,12 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
     ro.durationS = options.durationS ? *options.durationS : caps.endS;
     ro.onRow = logRow;
     ro.keepLog = false;
-    const sim::RuntimeResult r = session.runThreaded(input, &input, ro);
+    sim::RuntimeResult r;
+    try {
+      r = session.runThreaded(input, &input, ro);
+    } catch (const sim::RuntimeFault& e) {  // one line: what failed, and where the rows logged are
+      throw sim::RuntimeFault(std::string(e.what()) + "; " + forces.abandon());
+    }
     run = r.run.summary;
     safety = input.safety().stats();
     extra["runtime"] = runtimeStatsJson(r.stats);

@@ -1,5 +1,6 @@
 #include "osteon/simulation/live.h"
 
+#include "osteon/core/error.h"
 #include "osteon/simulation/handoff.h"
 
 #include <pthread.h>
@@ -10,7 +11,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <exception>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -92,6 +97,30 @@ constexpr std::uint64_t kRefinedEverySteps = 16;
 // Step timings kept for percentiles: ten minutes at 1 kHz, then only the latest is known.
 constexpr std::uint64_t kMaxTimedPeriods = 600000;
 
+// OSTEON_INJECT_FAULT=surface-update: every visual surface update throws, so that tests of a
+// whole program (the command line) see how a threaded run fails. Anything else is refused.
+bool surfaceFaultFromEnvironment() {
+  const char* fault = std::getenv("OSTEON_INJECT_FAULT");
+  if (!fault || !*fault) return false;
+  if (std::string(fault) == "surface-update") return true;
+  throw InputError(std::string("OSTEON_INJECT_FAULT=") + fault + ": unknown fault (known: surface-update)");
+}
+
+// The exception being handled, as one line.
+std::string currentErrorLine() {
+  std::string text = "an exception that is not a std::exception";
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    text = e.what();
+  } catch (...) {
+  }
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
+}
+
 }  // namespace
 
 struct LiveRuntime::Impl {
@@ -120,6 +149,8 @@ struct LiveRuntime::Impl {
   BrickMessage drainMsg;
   DisplayState shown;
   std::uint64_t visualUpdates = 0;
+  bool injectSurfaceFault = surfaceFaultFromEnvironment();
+  std::string visualFault;  // set once; the visual surface is left as it was from then on
 
   std::atomic<bool> stopFlag{false};
   std::atomic<bool> collisionDone{false};
@@ -257,26 +288,45 @@ struct LiveRuntime::Impl {
     drain();
   }
 
-  // The visual side: handed-over bricks into its grid, the surface updated.
+  // The visual side: handed-over bricks into its grid, the surface updated. Never throws: a
+  // failure is kept in visualFault.
   double drainVisual() {
-    changed.clear();
-    while (bricks.pop(drainMsg)) {
-      apply(visualGrid, drainMsg);
-      changed.push_back(drainMsg.brick);
+    try {
+      changed.clear();
+      while (bricks.pop(drainMsg)) {
+        apply(visualGrid, drainMsg);
+        changed.push_back(drainMsg.brick);
+      }
+      return updateVisual();
+    } catch (...) {
+      noteVisualFault();
+      return 0.0;
     }
-    return updateVisual();
   }
 
   double updateVisual() {
     if (changed.empty()) return 0.0;
+    if (!visualFault.empty()) {  // a surface that failed once is not trusted with more changes
+      visualGrid.clearDirty();
+      changed.clear();
+      return 0.0;
+    }
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    if (options.beforeSurfaceUpdate) options.beforeSurfaceUpdate();
+    if (injectSurfaceFault) throw std::runtime_error("injected fault (OSTEON_INJECT_FAULT=surface-update)");
     const double ms = updater->update(changed).ms;
     remeshNs.addMs(ms);
     visualGrid.clearDirty();
     ++visualUpdates;
     changed.clear();
     return ms;
+  }
+
+  // Called in a catch block of the visual side.
+  void noteVisualFault() {
+    if (visualFault.empty()) visualFault = "the visual surface update failed: " + currentErrorLine();
+    changed.clear();
   }
 };
 
@@ -292,7 +342,13 @@ LiveRuntime::LiveRuntime(DrillingSimulation& sim, geometry::VoxelGrid& grid, Pos
     : impl_(std::make_unique<Impl>(sim, grid, source, sink, surfaceOptions, options, periods)) {}
 
 LiveRuntime::~LiveRuntime() {
-  if (impl_ && impl_->started && !impl_->stopped) stop();
+  if (!impl_ || !impl_->started || impl_->stopped) return;
+  try {
+    stop();
+  } catch (...) {
+    // Only the session's surface reset can throw here, after the loops are joined: nothing is
+    // left running, and a destructor must not throw.
+  }
 }
 
 void LiveRuntime::start() {
@@ -317,18 +373,22 @@ RuntimeResult LiveRuntime::stop() {
   m.logger.join();
   // What the ring holds, then the bricks it had no room for, straight into the visual grid
   // (the loops are done: nothing writes the grid now).
-  m.changed.clear();
-  while (m.bricks.pop(m.drainMsg)) {
-    apply(m.visualGrid, m.drainMsg);
-    m.changed.push_back(m.drainMsg.brick);
-  }
-  for (const std::size_t brick : m.grid->dirtyBricks()) {
-    snapshot(*m.grid, brick, m.drainMsg);
-    apply(m.visualGrid, m.drainMsg);
-    m.changed.push_back(brick);
+  try {
+    m.changed.clear();
+    while (m.bricks.pop(m.drainMsg)) {
+      apply(m.visualGrid, m.drainMsg);
+      m.changed.push_back(m.drainMsg.brick);
+    }
+    for (const std::size_t brick : m.grid->dirtyBricks()) {
+      snapshot(*m.grid, brick, m.drainMsg);
+      apply(m.visualGrid, m.drainMsg);
+      m.changed.push_back(brick);
+    }
+    m.updateVisual();
+  } catch (...) {
+    m.noteVisualFault();
   }
   m.grid->clearDirty();
-  m.updateVisual();
   if (m.session && m.session->options().keepSurface) m.session->resetSurface();
 
   RuntimeStats& stats = result.stats;
@@ -344,6 +404,7 @@ RuntimeResult LiveRuntime::stop() {
   stats.hapticStepUs = m.hapticNs.percentiles(1e3);
   stats.collisionStepUs = m.collisionNs.percentiles(1e3);
   stats.remeshMs = m.remeshNs.percentiles(1e6);
+  result.visualFault = m.visualFault;
   result.run.log = std::move(m.log);
   RunSummary& s = result.run.summary;
   s.jitterN = m.metrics.jitterN();
@@ -362,7 +423,15 @@ bool LiveRuntime::running() const { return impl_->started && !impl_->stopped; }
 
 bool LiveRuntime::loopsDone() const { return impl_->loopsFinished.load(std::memory_order_acquire) >= 2; }
 
-double LiveRuntime::updateSurface() { return impl_->drainVisual(); }
+double LiveRuntime::updateSurface() {
+  Impl& m = *impl_;
+  const bool failedBefore = !m.visualFault.empty();
+  const double ms = m.drainVisual();
+  if (!failedBefore && !m.visualFault.empty()) throw RuntimeFault(m.visualFault);
+  return ms;
+}
+
+const std::string& LiveRuntime::visualFault() const { return impl_->visualFault; }
 
 SurfaceChanges LiveRuntime::takeSurfaceChanges() { return impl_->updater->takeChanges(); }
 

@@ -3,12 +3,16 @@
 #include "osteon/core/error.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+#include <string>
 
-#include <stdio_ext.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace osteon::simulation {
 
@@ -163,32 +167,116 @@ void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path)
   writer.commit();
 }
 
+namespace {
+
+constexpr char kForceLogHeader[] = "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
+// The longest row the format can give (every %f at 1e308): formatted only with this much room,
+// a row is never cut.
+constexpr std::size_t kMaxRowBytes = 2048;
+
+}  // namespace
+
 ForceLogWriter::ForceLogWriter(const std::string& path) : file_(path), buffer_(std::size_t(1) << 16) {
-  out_ = std::fopen(file_.tempPath().c_str(), "w");
-  if (!out_) throw InputError(path + ": cannot write the force log");
-  std::setvbuf(out_, buffer_.data(), _IOFBF, buffer_.size());
-  __fsetlocking(out_, FSETLOCKING_BYCALLER);  // one writer: no stream lock per row
-  std::fputs("t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n", out_);
+  fd_ = ::open(file_.tempPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw InputError(path + ": cannot write the force log (" + std::strerror(errno) + ")");
+  used_ = sizeof(kForceLogHeader) - 1;
+  std::memcpy(buffer_.data(), kForceLogHeader, used_);
+  linesInBuffer_ = 1;
 }
 
 ForceLogWriter::~ForceLogWriter() {
-  if (out_) std::fclose(out_);
+  if (!done_) keepPartial();
+}
+
+long ForceLogWriter::writeSome(int fd, const char* data, std::size_t bytes) noexcept {
+  return long(::write(fd, data, bytes));
 }
 
 void ForceLogWriter::write(const ForceLogRow& r) noexcept {
-  if (!out_) return;
-  std::fprintf(out_, "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x, r.tipMm.y,
-               r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
-               static_cast<unsigned long long>(r.removedVoxels), r.level);
+  if (error_ != 0 || fd_ < 0) return;
+  if (buffer_.size() - used_ < kMaxRowBytes) {
+    flush();
+    if (error_ != 0) return;
+  }
+  const int n = std::snprintf(buffer_.data() + used_, buffer_.size() - used_,
+                              "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x, r.tipMm.y,
+                              r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
+                              static_cast<unsigned long long>(r.removedVoxels), r.level);
+  if (n > 0 && std::size_t(n) < buffer_.size() - used_) {
+    used_ += std::size_t(n);
+    ++linesInBuffer_;
+  }
+}
+
+void ForceLogWriter::flush() noexcept {
+  if (error_ != 0 || fd_ < 0 || used_ == 0) return;
+  std::size_t written = 0;
+  while (written < used_) {
+    const long n = writeSome(fd_, buffer_.data() + written, used_ - written);
+    if (n > 0) {
+      written += std::size_t(n);
+    } else if (n < 0 && errno == EINTR) {
+      continue;
+    } else {
+      error_ = n < 0 ? errno : EIO;  // no progress at all: as good as an error
+      break;
+    }
+  }
+  if (error_ != 0) {
+    // The disk took part of the buffer: cut what it took back to the last whole row.
+    std::size_t whole = written;
+    while (whole > 0 && buffer_[whole - 1] != '\n') --whole;
+    if (whole < written && ::ftruncate(fd_, off_t(bytesOnDisk_ + whole)) != 0) torn_ = true;
+    linesOnDisk_ += std::uint64_t(std::count(buffer_.data(), buffer_.data() + whole, '\n'));
+    bytesOnDisk_ += whole;
+  } else {
+    linesOnDisk_ += linesInBuffer_;
+    bytesOnDisk_ += used_;
+  }
+  used_ = 0;
+  linesInBuffer_ = 0;
+}
+
+std::uint64_t ForceLogWriter::keepPartial() noexcept {
+  done_ = true;
+  flush();
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+  if (torn_ || rowsOnDisk() == 0) return 0;  // the temporary goes with file_
+  try {
+    file_.commitTo(partialPath());
+  } catch (...) {
+    return 0;
+  }
+  return rowsOnDisk();
 }
 
 void ForceLogWriter::commit() {
-  if (!out_) return;
-  const bool failed = std::ferror(out_) != 0;
-  const bool closed = std::fclose(out_) == 0;
-  out_ = nullptr;
-  if (failed || !closed) throw InputError(path() + ": write failed (disk full?)");
-  file_.commit();
+  if (done_) return;
+  flush();
+  if (::close(fd_) != 0 && error_ == 0) error_ = errno;  // a deferred write error shows here
+  fd_ = -1;
+  if (error_ == 0) {
+    done_ = true;
+    file_.commit();
+    std::remove(partialPath().c_str());  // left by an earlier run that failed: this one did not
+    return;
+  }
+  const int error = error_;
+  const std::uint64_t kept = keepPartial();
+  throw InputError(path() + ": cannot write the force log (" + std::strerror(error) + "); " + keptNote(kept));
+}
+
+std::string ForceLogWriter::abandon() {
+  if (done_) return "the force log was already closed";
+  return keptNote(keepPartial());
+}
+
+std::string ForceLogWriter::keptNote(std::uint64_t kept) const {
+  if (kept == 0) return "no row of the force log reached the disk";
+  return "the " + std::to_string(kept) + " rows written before it are kept in " + partialPath();
 }
 
 }  // namespace osteon::simulation

@@ -170,7 +170,17 @@ RunResult Session::run(const DrillPath& path, DeterministicOptions options) {
 RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options) {
   State& s = *state_;
   geometry::SurfaceMesh visual;
-  RuntimeResult r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, options, &visual);
+  RuntimeResult r;
+  try {
+    r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, options, &visual);
+  } catch (const RuntimeFault&) {
+    // Drilled up to the fault: the session's surface starts again from the grid as it is.
+    s.updater.reset();
+    s.grid.clearDirty();
+    s.surfaceStale = true;
+    if (s.options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
+    throw;
+  }
   // The visual thread kept its own surface; the session's updater starts again from the grid.
   if (s.options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
   s.grid.clearDirty();

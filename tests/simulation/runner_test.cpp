@@ -208,7 +208,8 @@ TEST(ForceLog, HasTheHeaderAndOneRowPerStep) {
 }
 
 // The writer gives writeForceLog's bytes, and nothing at the path until commit(): a run that
-// fails leaves no half file and no temporary one.
+// fails leaves no half log under the log's name and no temporary, only its whole rows in a
+// file named partial.
 TEST(ForceLog, TheWriterStreamsTheSameBytesAndLeavesNothingUntilCommitted) {
   std::vector<ForceLogRow> log(5);
   for (std::size_t i = 0; i < log.size(); ++i) {
@@ -231,14 +232,16 @@ TEST(ForceLog, TheWriterStreamsTheSameBytesAndLeavesNothingUntilCommitted) {
   EXPECT_EQ(test::readBytes(dir + "/streamed.csv"), test::readBytes(dir + "/whole.csv"));
   {
     ForceLogWriter abandoned(dir + "/abandoned.csv");
-    abandoned.write(log[0]);
+    for (const ForceLogRow& r : log) abandoned.write(r);
   }
+  EXPECT_EQ(test::readBytes(dir + "/abandoned.csv.partial"), test::readBytes(dir + "/whole.csv"));
+  { ForceLogWriter noRows(dir + "/no_rows.csv"); }  // nothing worth keeping: no file at all
   std::size_t files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     ++files;
     EXPECT_NE(entry.path().filename().string().find(".csv"), std::string::npos);
   }
-  EXPECT_EQ(files, 2u);  // whole.csv and streamed.csv only
+  EXPECT_EQ(files, 3u);  // whole.csv, streamed.csv and abandoned.csv.partial only
   try {
     ForceLogWriter nowhere("/nonexistent-dir/forces.csv");
     ADD_FAILURE() << "opened a log in a missing folder";

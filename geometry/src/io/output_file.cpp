@@ -44,14 +44,16 @@ OutputFile::~OutputFile() {
   if (!committed_ && !tempPath_.empty()) std::remove(tempPath_.c_str());
 }
 
-void OutputFile::commit() {
+void OutputFile::commit() { commitTo(path_); }
+
+void OutputFile::commitTo(const std::string& otherPath) {
   if (committed_) return;
   std::error_code ec;
-  fs::rename(tempPath_, path_, ec);
+  fs::rename(tempPath_, otherPath, ec);
   if (ec) {
     std::remove(tempPath_.c_str());
     committed_ = true;
-    throw InputError(path_ + ": cannot put the output in place (" + ec.message() + ")");
+    throw InputError(otherPath + ": cannot put the output in place (" + ec.message() + ")");
   }
   committed_ = true;
 }

@@ -3,7 +3,9 @@
 // (runtime.h), and the visual work is the caller's, done on its own thread (a render loop)
 // through updateSurface(). Everything the render thread reads comes through hand-offs (a
 // triple buffer of display state, a ring of changed bricks into its own grid copy): it never
-// touches what the collision thread writes, and the 1 kHz loops never wait for it.
+// touches what the collision thread writes, and the 1 kHz loops never wait for it: a render
+// thread that stalls (a hung driver, a debugger) only delays the surface, which catches up at
+// its next update.
 #pragma once
 
 #include "osteon/geometry/surface/surface_updater.h"
@@ -14,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 namespace osteon::simulation {
 
@@ -56,13 +59,18 @@ class LiveRuntime {
 
   void start();
   // Joins the loops; hands over what is left; the session's own surface starts again from its
-  // grid. Returns the run as runThreaded would (force log metrics, step percentiles).
+  // grid. Returns the run as runThreaded would (force log metrics, step percentiles, and a
+  // visual fault in visualFault rather than thrown).
   RuntimeResult stop();
   bool running() const;
 
   // ---- the render thread ----
   // Applies the bricks handed over since the last call to the visual grid and updates the
   // visual surface. Returns the update's milliseconds (0 when nothing changed).
+  // If the update throws, the 1 kHz loops go on untouched and the call throws RuntimeFault
+  // (runtime.h), once, naming the error; from then on the visual surface stays as it was and
+  // later calls only keep the hand-over drained (returning 0). The environment's
+  // OSTEON_INJECT_FAULT=surface-update makes every update throw (read at construction).
   double updateSurface();
   // The visual surface's changes since the last call (everything on the first).
   SurfaceChanges takeSurfaceChanges();
@@ -71,6 +79,8 @@ class LiveRuntime {
   const geometry::VoxelGrid& visualGrid() const;
   // The latest display state (a reference valid until the next call).
   const DisplayState& display();
+  // The surface update's error in one line, empty while there is none.
+  const std::string& visualFault() const;
 
   // ---- any thread ----
   LiveStats stats() const;

@@ -125,23 +125,52 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
 void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path);
 
 // The same CSV row by row as a run goes: written to a temporary file beside `path` and put in
-// place by commit(), so a run that fails leaves no half log. write() neither allocates, locks
-// nor throws; a failed write is reported by commit().
+// place by commit(), so path() only ever holds a complete log. write() neither allocates, locks
+// nor throws: rows are formatted into a buffer that goes to the file whole. When the disk fails
+// (full, over quota, an I/O error) the file is cut back to its last whole row and later rows
+// are dropped; commit() then keeps the rows written in partialPath() and throws. A writer
+// destroyed without commit() (a run that failed elsewhere) keeps its whole rows there too.
 class ForceLogWriter {
  public:
   explicit ForceLogWriter(const std::string& path);  // throws InputError naming path
-  ~ForceLogWriter();
+  virtual ~ForceLogWriter();
   ForceLogWriter(const ForceLogWriter&) = delete;
   ForceLogWriter& operator=(const ForceLogWriter&) = delete;
 
   const std::string& path() const { return file_.path(); }
+  std::string partialPath() const { return file_.path() + ".partial"; }
   void write(const ForceLogRow& row) noexcept;
-  void commit();  // throws InputError naming path (disk full, rename failed)
+  // True once a write to the file has failed (the rows after it are dropped).
+  bool failed() const { return error_ != 0; }
+  // Puts the log in place, and removes a partialPath() left by an earlier failed run. After a
+  // failed write it keeps the whole rows written before it in partialPath() and throws an
+  // InputError naming the file, the reason and how many rows were kept.
+  void commit();
+  // For a run that failed part-way: keeps the whole rows written so far in partialPath(), as
+  // destruction would, and says where in words for the run's one-line error.
+  std::string abandon();
+
+ protected:
+  // write(2) on the temporary file: the bytes written, maybe fewer than asked, or -1 and errno.
+  // A seam for tests, which fail it as a full disk does; called once per 64 KiB of rows.
+  virtual long writeSome(int fd, const char* data, std::size_t bytes) noexcept;
 
  private:
+  void flush() noexcept;
+  // Closes the file and keeps its whole rows in partialPath(); the rows kept (0: no file).
+  std::uint64_t keepPartial() noexcept;
+  std::uint64_t rowsOnDisk() const { return linesOnDisk_ > 0 ? linesOnDisk_ - 1 : 0; }
+  std::string keptNote(std::uint64_t kept) const;
+
   geometry::OutputFile file_;
   std::vector<char> buffer_;
-  std::FILE* out_ = nullptr;
+  std::size_t used_ = 0;
+  std::uint64_t linesInBuffer_ = 0;   // the header counts as a line
+  std::uint64_t linesOnDisk_ = 0, bytesOnDisk_ = 0;
+  int fd_ = -1;
+  int error_ = 0;      // errno of the first failed write
+  bool torn_ = false;  // a failed write's tail could not be cut off: the file is not kept
+  bool done_ = false;  // committed or kept
 };
 
 }  // namespace osteon::simulation

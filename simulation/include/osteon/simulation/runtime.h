@@ -11,6 +11,9 @@
 // rings (runtime/handoff.h), timings go to arrays sized before the start. Periods are
 // kept with clock_nanosleep on CLOCK_MONOTONIC to absolute deadlines; a period whose work ends
 // after its deadline is an overrun, and missed periods are skipped, not run late.
+// Faults stay off the 1 kHz loops: a visual side that stalls only delays the surface, one whose
+// surface update throws stops the run cleanly (RuntimeFault), and the force log is written by
+// the logging thread, whose failures (a full disk) the writer keeps to itself (runner.h).
 #pragma once
 
 #include "osteon/geometry/surface/surface_updater.h"
@@ -19,6 +22,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
+#include <string>
 
 namespace osteon::simulation {
 
@@ -55,6 +60,10 @@ struct RuntimeOptions {
   // Rows as they come, on the logging thread (not a 1 kHz loop); must not throw.
   std::function<void(const ForceLogRow& row)> onRow;
   bool keepLog = true;  // also collect every row in RuntimeResult::run.log
+  // Called on the visual side before each surface update, never in a 1 kHz loop: the seam
+  // through which tests make the update throw. The environment's
+  // OSTEON_INJECT_FAULT=surface-update does the same for whole programs (live.h).
+  std::function<void()> beforeSurfaceUpdate;
 };
 
 struct RuntimeStats {
@@ -71,11 +80,20 @@ struct RuntimeStats {
 struct RuntimeResult {
   RunResult run;  // force log (collision thread) and the summary of runner.h
   RuntimeStats stats;
+  std::string visualFault;  // the visual surface update's error in one line; empty: none
+};
+
+// The runtime's own work failed (the visual surface update threw), not the input: the loops
+// were stopped cleanly first. what() is one line.
+class RuntimeFault : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // Runs the three threads for options.durationS; `grid` is the grid `sim` drills. `sink` may be
 // null. The visual thread's surface ends equal to a full extraction of the drilled grid unless
-// stats.ringFull > 0.
+// stats.ringFull > 0. When the visual surface update throws, the loops are stopped at once and
+// RuntimeFault says what failed and when; the rows logged so far have reached options.onRow.
 RuntimeResult runThreaded(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source,
                           ForceSink* sink, const geometry::SurfaceOptions& surfaceOptions,
                           const RuntimeOptions& options, geometry::SurfaceMesh* finalSurface = nullptr);

@@ -22,6 +22,9 @@ class OutputFile {
   const std::string& path() const { return path_; }
   const std::string& tempPath() const { return tempPath_; }
   void commit();
+  // As commit(), onto another path in the same folder (an output kept under a name that says
+  // it is incomplete, as a force log cut short by a full disk).
+  void commitTo(const std::string& otherPath);
 
  private:
   std::string path_;
