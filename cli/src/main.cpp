@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -66,6 +67,9 @@ std::string oneLine(std::string text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A write past `ulimit -f` then fails with EFBIG, told as one line naming the file, instead of
+  // killing the process mid-file.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"osteon: crack-free multi-resolution bone drilling, from mesh to voxels to proof"};
   app.set_version_flag("--version", std::string("osteon ") + OSTEON_VERSION);
   app.require_subcommand(1);

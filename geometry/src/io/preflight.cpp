@@ -119,12 +119,20 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
   if (line.find("BINARY") != std::string::npos) {
     throw InputError(path + ": binary OFF is not supported; save it as ASCII OFF or PLY");
   }
-  // Counts follow on the first non-comment line (some writers put them on the OFF line).
+  // The reader takes the counts from the first numbers after the OFF line: counts on the OFF
+  // line itself are skipped and a comment before them fails it, so both are refused here.
   std::vector<std::string> counts = tokensOf(line.substr(off + 3));
-  while (counts.empty() || counts[0][0] == '#') {
+  if (!counts.empty() && counts[0][0] != '#') {
+    throw InputError(path + ": line 1: OFF counts must be on the line after 'OFF', not on it");
+  }
+  counts.clear();
+  while (counts.empty()) {
     if (!std::getline(in, line)) throw InputError(path + ": OFF header has no element counts");
     ++lineNo;
     counts = tokensOf(line);
+  }
+  if (counts[0][0] == '#') {
+    throw InputError(path + ": line " + std::to_string(lineNo) + ": a comment before the OFF counts (the reader needs the counts first)");
   }
   if (counts.size() < 2 || !isInteger(counts[0]) || !isInteger(counts[1]) ||
       counts[0][0] == '-' || counts[1][0] == '-' || counts[0].size() > 12 || counts[1].size() > 12) {

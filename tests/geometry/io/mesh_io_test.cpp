@@ -206,8 +206,14 @@ TEST_F(MeshIoTest, CountsAndCornersTheParsersWouldTrustAreCheckedFirst) {
   expectInputError(path("junk.ply"), "no properties");
   test::writeBytes(path("binary.off"), "OFF BINARY\n" + std::string(40, '\0'));
   expectInputError(path("binary.off"), "binary OFF is not supported");
-  test::writeBytes(path("countsOnOffLine.off"), "OFF 3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-  expectInputError(path("countsOnOffLine.off"), "non-finite");
+  test::writeBytes(path("nan.off"), "OFF\n3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectInputError(path("nan.off"), "non-finite");
+  // OpenMesh reads the counts after the OFF line: on it they would be skipped (found by fuzzing,
+  // tests/data/bad/off/fuzz_counts_on_off_line.off), and a comment before them fails it.
+  test::writeBytes(path("countsOnOffLine.off"), "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectInputError(path("countsOnOffLine.off"), "OFF counts must be on the line after 'OFF'");
+  test::writeBytes(path("comment.off"), "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectInputError(path("comment.off"), "a comment before the OFF counts");
   test::writeBytes(path("float.obj"), "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
   expectInputError(path("float.obj"), "single precision");
 }
