@@ -2,6 +2,9 @@
 // framebuffer and reported by --json, and what it records. Skipped, with the reason, only when
 // no X server can be started here.
 #include "support/shapes.h"
+#include "support/volume_files.h"
+
+#include "osteon/geometry/io/nrrd_io.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -9,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include <sys/wait.h>
@@ -133,6 +137,49 @@ TEST_F(ViewerTest, ADeviceDrivesTheTool) {
   const ViewerRun bad = run(OSTEON_VIEWER, "default --device nonsense:x", false);
   EXPECT_EQ(bad.exitCode, 2) << bad.err;
   EXPECT_NE(bad.err.find("nonsense:x"), std::string::npos) << bad.err;
+}
+
+// The built-in bone as a label map and as a CT (seeded noise) opens like its mesh: the same bone
+// in view, crack-free, and portal-5 drills it with the head fitted to the volume's own surface.
+TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
+  ASSERT_EQ(run(OSTEON_CLI, "voxelize default --voxel-size 1.5 --out '" + path("g.nrrd") + "'", false).exitCode, 0);
+  const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
+  test::TestVolume v;
+  v.sizes = bone.dims();
+  v.spacingMm = bone.voxelSizeMm();
+  v.firstCentreMm = bone.voxelCentreMm(glm::ivec3(0));
+  std::vector<double> labels, hu;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 30.0);
+  for (int z = 0; z < v.sizes.z; ++z) {
+    for (int y = 0; y < v.sizes.y; ++y) {
+      for (int x = 0; x < v.sizes.x; ++x) {
+        geometry::Fill f;
+        geometry::Density d;
+        bone.fillAndDensity({x, y, z}, f, d);
+        const bool in = f >= geometry::kFillHalf;
+        labels.push_back(in ? 3 : 0);
+        hu.push_back(std::round((in ? (d >= 40 ? 1300.0 : 450.0) : -700.0) + noise(rng)));
+      }
+    }
+  }
+  test::writeTestNrrd(path("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(labels), true);
+  test::writeTestNifti(path("ct.nii.gz"), v, 4, 16, test::encodeAs<std::int16_t>(hu), true);
+
+  const std::string drill = " --levels 0 --path portal-5 --frames 5 --view cracks";
+  const nlohmann::json mesh = viewer("default --voxel-size 1.5" + drill);
+  const double meshPixels = double(mesh["bone_pixels"].get<std::uint64_t>());
+  for (const std::string& volume : {"'" + path("labels.nrrd") + "' --label 3", "'" + path("ct.nii.gz") + "' --iso 300"}) {
+    SCOPED_TRACE(volume);
+    const nlohmann::json j = viewer(volume + drill);
+    if (j.empty()) continue;
+    EXPECT_NEAR(double(j["bone_pixels"].get<std::uint64_t>()), meshPixels, 0.1 * meshPixels);
+    EXPECT_EQ(cracks(j), 0u);
+    EXPECT_GT(j["removed_volume_mm3"].get<double>(), 10.0);
+  }
+  const ViewerRun label = run(OSTEON_VIEWER, "default --label 1", false);
+  EXPECT_EQ(label.exitCode, 2) << label.err;
+  EXPECT_NE(label.err.find("--label: only for a volume"), std::string::npos) << label.err;
 }
 
 TEST_F(ViewerTest, BadInputExitsTwoWithOneLineBeforeAnyWindow) {

@@ -49,8 +49,14 @@ int main(int argc, char** argv) {
   std::string tool = "drill", path, view = "shaded", method = "crackfree", size = "1280x800", camera = "anterior";
   viewer::ViewerOptions options;
   bool noUi = false;
-  app.add_option("MESH", input, "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus) or GRID.nrrd")
+  app.add_option("MESH", input,
+                 "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a volume: an osteon grid, a "
+                 "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
       ->default_val("default");
+  std::optional<long long> label;
+  std::optional<double> isoHu;
+  app.add_option("--label", label, "Label maps: the bone label (default: every non-zero voxel is bone)");
+  app.add_option("--iso", isoHu, "CT volumes: the bone threshold in HU (default 300)");
   CLI::Option* u = app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
   CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
   u->excludes(s);
@@ -100,6 +106,8 @@ int main(int argc, char** argv) {
     options.load.tool = osteon::simulation::parseToolKind(tool);
     options.load.path = path;
     options.load.device = device;
+    options.load.label = label;
+    options.load.isoHu = isoHu;
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);
     options.camera = viewer::parseAxisView(camera);

@@ -5,6 +5,7 @@
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/io/units.h"
 #include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/volume_io.h"
 
 #include <algorithm>
 #include <cctype>
@@ -86,7 +87,7 @@ double scaleToMmFrom(const std::optional<std::string>& units, const std::optiona
   return geometry::millimetresPer(geometry::parseLengthUnit(units.value_or("mm")));
 }
 
-bool isGridPath(const std::string& path) { return lowerExtension(path) == ".nrrd"; }
+bool isGridPath(const std::string& path) { return geometry::isVolumePath(path); }
 
 bool isCsvPath(const std::string& path) { return lowerExtension(path) == ".csv"; }
 
@@ -125,6 +126,10 @@ void validateOptions(const ViewerOptions& options) {
   }
   if (!options.record.empty() && !isCsvPath(options.record)) {
     throw InputError("--record " + options.record + ": must be a .csv file");
+  }
+  if ((load.label || load.isoHu) && !isGridPath(load.input)) {
+    throw InputError(std::string(load.label ? "--label" : "--iso") + ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " +
+                     load.input + " is a mesh");
   }
   std::vector<std::string> inputs;
   if (load.input != geometry::kDefaultModelArgument) {

@@ -30,13 +30,15 @@ AxisView parseAxisView(const std::string& text);
 
 // What a bone is opened from (the command line, the File panel, a dropped file).
 struct LoadRequest {
-  std::string input = "default";        // a mesh file, `default`, or a GRID.nrrd
+  std::string input = "default";        // a mesh file, `default`, or a volume (.nrrd .nhdr .nii .nii.gz)
   double scaleToMm = 1.0;               // mesh coordinates to millimetres
   std::optional<double> voxelSizeMm;    // a mesh without it is voxelized at kDefaultVoxelSizeMm
   int levels = 2;                       // 0 static, 1 or 2 refined near the tool
   simulation::ToolKind tool = simulation::ToolKind::Drill;
   std::string path;                     // "" (the mouse), portal-5, portal-7 or a PATH.csv
   std::string device;                   // "" (the mouse or the path), or a device name (docs/devices.md)
+  std::optional<long long> label;       // label maps: the bone label (default: every non-zero)
+  std::optional<double> isoHu;          // CTs: the bone threshold (default 300 HU)
 };
 
 inline constexpr double kDefaultVoxelSizeMm = 1.2;
@@ -63,7 +65,8 @@ void parseWindowSize(const std::string& text, int& width, int& height);
 // Millimetres per file unit from --units or --scale; throws InputError for bad values.
 double scaleToMmFrom(const std::optional<std::string>& units, const std::optional<double>& scale);
 
-// True for a .nrrd path (a saved grid), case-insensitive.
+// True for a volume (an osteon grid, a label map or a CT: .nrrd .nhdr .nii .nii.gz), which
+// has its own voxel size.
 bool isGridPath(const std::string& path);
 // True when a --path argument names a CSV file rather than a portal.
 bool isCsvPath(const std::string& path);

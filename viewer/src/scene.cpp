@@ -2,7 +2,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/core/timing.h"
-#include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/volume_io.h"
 
 #include <cmath>
 #include <sstream>
@@ -16,7 +16,10 @@ namespace {
 std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim::SessionOptions& base) {
   sim::SessionOptions options = base;
   if (isGridPath(request.input)) {
-    geometry::NrrdReadResult read = geometry::readNrrd(request.input);
+    geometry::VolumeOptions volume;
+    volume.label = request.label;
+    volume.isoHu = request.isoHu;
+    geometry::VolumeLoad read = geometry::loadVolume(request.input, volume);
     const double vs = read.grid.voxelSizeMm();
     if (request.voxelSizeMm && std::abs(*request.voxelSizeMm - vs) > 1e-9 * *request.voxelSizeMm) {
       std::ostringstream s;
