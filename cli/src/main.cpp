@@ -208,7 +208,9 @@ int main(int argc, char** argv) {
   osteon::cli::ValidateCommandOptions validate;
   CLI::App* validateCmd = app.add_subcommand(
       "validate", "The nightly run: every guarantee on models x voxel sizes x methods x modes; report");
-  validateCmd->add_option("--models", validate.models, "Comma-separated meshes ('default' for the built-in)")
+  validateCmd->add_option("--models", validate.models,
+                          "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii .nii.gz: "
+                          "at their own voxel size, every non-zero label or 300 HU)")
       ->default_val("default");
   addUnits(*validateCmd, validate.units);
   validateCmd->add_option("--voxel-sizes", validate.voxelSizes, "Comma-separated voxel sizes in mm")

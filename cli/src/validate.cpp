@@ -7,6 +7,7 @@
 #include "osteon/geometry/io/library_versions.h"
 #include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/io/volume_io.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
@@ -343,7 +344,22 @@ int runValidate(const ValidateCommandOptions& options) {
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
   std::vector<val::ValidationModel> models;
   const double scale = scaleToMm(options.units);
-  for (const std::string& name : names) models.push_back({name, geometry::loadMeshArgument(name, scale), scale});
+  for (const std::string& name : names) {
+    if (geometry::isVolumePath(name)) {
+      // Its own voxel size, every non-zero label or 300 HU (`osteon mesh VOLUME` says what it holds).
+      models.emplace_back();
+      models.back().name = name;
+      models.back().volume = std::move(geometry::loadVolume(name).grid);
+      if (models.back().volume->countVoxels(geometry::kFillHalf) == 0) {
+        throw InputError(name + ": no voxel inside (nothing to validate)");
+      }
+    } else {
+      models.emplace_back();
+      models.back().name = name;
+      models.back().mesh = geometry::loadMeshArgument(name, scale);
+      models.back().loadScaleToMm = scale;
+    }
+  }
 
   val::ValidationOptions vo;
   vo.voxelSizesMm = sizes;
@@ -356,7 +372,8 @@ int runValidate(const ValidateCommandOptions& options) {
   char startedText[32];
   std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
   std::size_t done = 0;
-  const std::size_t total = models.size() * sizes.size() * 4;
+  std::size_t total = 0;
+  for (const val::ValidationModel& m : models) total += m.voxelSizesMm(sizes).size() * 4;
   // Force logs of the crack-free runs, for the plots: forces/<model>_<voxel>_<mode>_<portal>.csv.
   std::filesystem::create_directories(options.outDir + "/forces");
   std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
@@ -396,7 +413,7 @@ int runValidate(const ValidateCommandOptions& options) {
     gv.requireInside = true;
     gv.meshName = m.name;
     gv.loadScaleToMm = m.loadScaleToMm;
-    const geometry::VoxelGrid grid = geometry::voxelize(m.mesh, gv);
+    const geometry::VoxelGrid grid = m.volume ? *m.volume : geometry::voxelize(m.mesh, gv);
     for (const char* method : {"crackfree", "naive"}) {
       geometry::SurfaceOptions so;
       so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;

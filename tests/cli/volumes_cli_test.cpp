@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <random>
 #include <sstream>
 #include <tuple>
@@ -345,6 +346,33 @@ TEST_F(VolumesCliTest, CorticalHuWearsSlowerThanCancellous) {
   EXPECT_GT(cancRemoved, 0.0);
   EXPECT_GT(a["max_force_n"].get<double>(), 0.0);  // the cortical block was met, not missed
   EXPECT_LT(cortRemoved, 0.8 * cancRemoved) << "cortical " << cortRemoved << " mm3, cancellous " << cancRemoved;
+}
+
+}  // namespace
+}  // namespace osteon
+
+namespace osteon {
+namespace {
+
+// validate takes volumes beside meshes: each at its own voxel size, its surfaces checked, and
+// (no humeral head in a block) not drilled; accuracy is null, there being no source polygons.
+TEST_F(VolumesCliTest, ValidateChecksAVolumeAtItsOwnVoxelSize) {
+  const std::string seeds = std::string(OSTEON_SOURCE_DIR) + "/tests/data/seeds/";
+  const CliRun run = osteon("validate --quick --models " + quoted(seeds + "labels.nrrd") + "," + quoted(seeds + "ct.nii") +
+                            " --out-dir " + quoted(path("v")));
+  ASSERT_EQ(run.exitCode, 0) << run.err << run.out;
+  std::ifstream in(path("v/report.json"));
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["verdict"], "PASS");
+  ASSERT_EQ(report["cases"].size(), 8u);  // 2 volumes x 1 voxel size x 2 methods x 2 modes
+  for (const nlohmann::json& c : report["cases"]) {
+    EXPECT_DOUBLE_EQ(c["voxel_size_mm"].get<double>(), 2.0);
+    EXPECT_GT(c["triangles"].get<std::size_t>(), 0u);
+    EXPECT_TRUE(c["hausdorff_mm"].is_null());
+    if (c["method"] == "crackfree") {
+      EXPECT_EQ(c["border_edges"].get<int>(), 0);
+    }
+  }
 }
 
 }  // namespace

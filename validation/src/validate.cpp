@@ -37,6 +37,10 @@ void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when
 
 }  // namespace
 
+std::vector<double> ValidationModel::voxelSizesMm(const std::vector<double>& requested) const {
+  return volume ? std::vector<double>{volume->voxelSizeMm()} : requested;
+}
+
 bool ValidationReport::pass() const {
   for (const ValidationCase& c : cases) {
     if (c.method == geometry::SurfaceMethod::CrackFree && !c.pass()) return false;
@@ -50,18 +54,19 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
   CrackMetricOptions crackOptions;
   crackOptions.pixels = options.crackPixels;
   for (const ValidationModel& model : models) {
-    // Drilling needs a humeral head; a bone without one is checked but not drilled.
-    std::optional<sim::HumeralHead> head;
-    if (options.drill) {
-      try {
-        head = sim::fitHumeralHead(model.mesh);
-      } catch (const InputError&) {
-        head.reset();
-      }
-    }
-    for (const double voxelMm : options.voxelSizesMm) {
+    for (const double voxelMm : model.voxelSizesMm(options.voxelSizesMm)) {
       const std::shared_ptr<const sim::BoneModel> bone =
-          sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
+          model.volume ? sim::BoneModel::fromGrid(*model.volume, model.name)
+                       : sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
+      // Drilling needs a humeral head; a bone without one is checked but not drilled.
+      bool head = false;
+      if (options.drill) {
+        try {
+          bone->humeralHead();
+          head = true;
+        } catch (const InputError&) {
+        }
+      }
       const geometry::VoxelGrid& original = bone->grid();
       for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
         geometry::SurfaceOptions so;
@@ -82,8 +87,8 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
         base.before = checkMesh(surface);
         base.cracks = measureCracks(surface, crackOptions);
         try {
-          base.accuracy = compareMeshes(surface, model.mesh);
-          base.accuracyKnown = true;
+          base.accuracyKnown = !model.volume;  // a volume has no source polygons
+          if (base.accuracyKnown) base.accuracy = compareMeshes(surface, model.mesh);
         } catch (const std::invalid_argument&) {
           base.accuracyKnown = false;  // the source is not a polygon mesh
         }

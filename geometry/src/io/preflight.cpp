@@ -165,6 +165,9 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
       throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner count '" +
                        tokens[0] + "' does not match the indices on the line");
     }
+    if (std::stoll(tokens[0]) < 3) {  // fewer sends OpenMesh's reader astray (it allocated 2 GB)
+      throw InputError(path + ": line " + std::to_string(lineNo) + ": a face needs 3 corners, not " + tokens[0]);
+    }
     // The reader extracts unsigned indices; anything else fails its stream for all that follows.
     for (long long k = 1; k <= std::stoll(tokens[0]); ++k) {
       if (classifyInteger(tokens[std::size_t(k)], 0, std::numeric_limits<std::uint32_t>::max()) !=

@@ -241,6 +241,11 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
       throw InputError(path + ": the voxel spacing of axis " + std::to_string(axis) + " is " +
                        (std::isfinite(scale) ? "zero" : "not a finite number"));
     }
+    // Below a nanometre no scanner samples; such a spacing is a corrupt header.
+    if (scale < 1e-6) {
+      throw InputError(path + ": the voxel spacing of axis " + std::to_string(axis) + " is " + shortNum(scale) +
+                       " mm, below 1 nm");
+    }
     for (int r = 0; r < 3; ++r) {
       if (r != axis && std::abs(m[r][axis]) > 1e-6 * scale) {
         throw InputError(path + ": space directions are not axis-aligned (axis " + std::to_string(axis) +
@@ -719,7 +724,7 @@ VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
       inside[i] = options.label ? raw.values[i] == double(*options.label) : raw.values[i] != 0.0;
     }
     const std::vector<int> dist = insideDistance(inside, n);
-    const int shell = std::max(1, int(std::ceil(options.corticalThicknessMm / raw.voxelSizeMm)));
+    const int shell = int(std::clamp(std::ceil(options.corticalThicknessMm / raw.voxelSizeMm), 1.0, 1e6));
     for (std::size_t i = 0; i < inside.size(); ++i) {
       if (!inside[i]) continue;
       fill[i] = kFillFull;

@@ -11,7 +11,10 @@
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"
 
+#include "osteon/geometry/voxels/voxel_grid.h"
+
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,8 +26,13 @@ inline const char* forceModeName(ForceMode m) { return m == ForceMode::Static ? 
 
 struct ValidationModel {
   std::string name;                // as given: "default" or a path
-  geometry::TriangleMesh mesh;     // in mm
+  geometry::TriangleMesh mesh;     // in mm (empty for a volume)
   double loadScaleToMm = 1.0;      // how the file was scaled to mm (for messages)
+  // A volume (an osteon grid, a label map, a CT): checked and drilled at its own voxel size
+  // only, with no source polygons to measure accuracy against.
+  std::optional<geometry::VoxelGrid> volume;
+  // The voxel sizes this model runs at: the volume's own, or the options' for a mesh.
+  std::vector<double> voxelSizesMm(const std::vector<double>& requested) const;
 };
 
 struct ValidationOptions {
