@@ -168,6 +168,13 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
     if (std::stoll(tokens[0]) < 3) {  // fewer sends OpenMesh's reader astray (it allocated 2 GB)
       throw InputError(path + ": line " + std::to_string(lineNo) + ": a face needs 3 corners, not " + tokens[0]);
     }
+    // OpenMesh reads faces as one stream of numbers, not by line: anything after the indices (a
+    // face colour) would be taken for the next face's corner count.
+    if ((long long)tokens.size() > std::stoll(tokens[0]) + 1) {
+      throw InputError(path + ": line " + std::to_string(lineNo) + ": " +
+                       std::to_string((long long)tokens.size() - std::stoll(tokens[0]) - 1) +
+                       " value(s) after the face's " + tokens[0] + " corners (face colours are not supported)");
+    }
     // The reader extracts unsigned indices; anything else fails its stream for all that follows.
     for (long long k = 1; k <= std::stoll(tokens[0]); ++k) {
       if (classifyInteger(tokens[std::size_t(k)], 0, std::numeric_limits<std::uint32_t>::max()) !=

@@ -416,9 +416,11 @@ TEST_F(MeshIoTest, ObjAndOffVertexLinesNeedThreeNumbers) {
   // A trailing w or colour values after x y z are fine.
   test::writeBytes(path("extra.obj"), "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0\nf 1 2 3\n");
   EXPECT_EQ(readMesh(path("extra.obj")).triangleCount(), 1u);
-  test::writeBytes(path("colour.off"),
-                   "OFF\n3 1 0\n0 0 0 255 0 0\n1 0 0\n0 1 0\n3 0 1 2 0 0 255\n");
+  test::writeBytes(path("colour.off"), "OFF\n3 1 0\n0 0 0 255 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   EXPECT_EQ(readMesh(path("colour.off")).triangleCount(), 1u);
+  // A face colour is not: OpenMesh would read it as the next face (4 faces became 7).
+  test::writeBytes(path("face_colour.off"), "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0 0 255\n3 0 2 1\n");
+  expectInputError(path("face_colour.off"), "face colours are not supported");
 }
 
 // A text STL that breaks the rules is reported as text, not as a binary file with a wild count.
