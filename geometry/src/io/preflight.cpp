@@ -134,7 +134,13 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
   if (counts[0][0] == '#') {
     throw InputError(path + ": line " + std::to_string(lineNo) + ": a comment before the OFF counts (the reader needs the counts first)");
   }
-  if (counts.size() < 2 || !isInteger(counts[0]) || !isInteger(counts[1]) ||
+  // OpenMesh reads exactly three counts (vertices, faces, edges) as numbers of a stream: with
+  // two it takes the first coordinate for the third, with four the rest of the line for a vertex.
+  if (counts.size() != 3) {
+    throw InputError(path + ": line " + std::to_string(lineNo) + ": OFF counts must be 3 numbers (vertices faces edges), not '" +
+                     line + "'");
+  }
+  if (!isInteger(counts[0]) || !isInteger(counts[1]) ||
       counts[0][0] == '-' || counts[1][0] == '-' || counts[0].size() > 12 || counts[1].size() > 12) {
     throw InputError(path + ": OFF header counts are missing or negative: '" + line + "'");
   }
