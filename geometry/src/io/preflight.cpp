@@ -158,7 +158,10 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
   while ((seenVertices < vertices || seenFaces < faces) && std::getline(in, line)) {
     ++lineNo;
     const std::vector<std::string> tokens = tokensOf(line);
-    if (tokens.empty() || tokens[0][0] == '#') continue;
+    if (tokens.empty()) continue;
+    if (tokens[0][0] == '#') {  // OpenMesh reads it as a vertex or a face, and goes astray
+      throw InputError(path + ": line " + std::to_string(lineNo) + ": a comment among the OFF vertices and faces (the reader does not skip it)");
+    }
     if (seenVertices < vertices) {
       // x y z first; normals, colours or texture coordinates may follow.
       const std::vector<std::string_view> views(tokens.begin(), tokens.end());
