@@ -70,7 +70,7 @@ void BM_DphBuild(benchmark::State& state) {
   state.counters["ns_per_voxel"] = benchmark::Counter(
       double(voxels), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_DphBuild)->Arg(1200)->Arg(540)->Arg(250)->ArgName("voxel_um")
+BENCHMARK(BM_DphBuild)->Arg(1200)->Arg(540)->Arg(300)->Arg(270)->Arg(250)->ArgName("voxel_um")
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 
 // The collision query of one haptic step: voxels between the drill's layers are within the

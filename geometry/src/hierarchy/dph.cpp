@@ -69,7 +69,18 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
     if (!packable(v)) throw InputError("hierarchy: voxel coordinate beyond +-2^20");
   }
   if (n == 0) return h;
+  if (options.method == DphBuildMethod::kLattice && h.buildLattice(voxels)) return h;
+  DphBuildOptions insertion = options;
+  if (options.method == DphBuildMethod::kLattice) insertion.shuffle = false;  // too wide a key: the given order
+  h.buildInsertion(voxels, insertion);
+  return h;
+}
 
+void DynamicProximityHierarchy::buildInsertion(const std::vector<glm::ivec3>& voxels,
+                                               const DphBuildOptions& options) {
+  DynamicProximityHierarchy& h = *this;
+  const int xi = xi_;
+  const std::size_t n = voxels.size();
   // Level 0: one node per voxel, in the given order.
   {
     Level level0;
@@ -230,7 +241,6 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
                        ", " + std::to_string(v.z) + ") given twice");
     }
   }
-  return h;
 }
 
 DynamicProximityHierarchy DynamicProximityHierarchy::build(const VoxelGrid& grid,
@@ -262,6 +272,28 @@ std::uint32_t DynamicProximityHierarchy::root() const {
 
 std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel) const {
   if (!packable(voxel)) return kNone;
+  if (lattice_) {
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const long long d = (long long)voxel[a] - latticeOriginVoxel_[a];
+      if (d < 0 || d >= (long long)keySpread_[a].size()) return kNone;
+      key += keySpread_[std::size_t(a)][std::size_t(d)];
+    }
+    const Level& level0 = levels_[0];
+    std::uint32_t begin = 0, end = 1;  // a single voxel has no level 1
+    if (levels_.size() > 1) {
+      const std::uint64_t cells = std::uint64_t(xi_) * std::uint64_t(xi_) * std::uint64_t(xi_);
+      const auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), key / cells);
+      if (it == cellKeys_.end() || *it != key / cells) return kNone;
+      const auto cell = std::size_t(it - cellKeys_.begin());
+      begin = levels_[1].childBegin[cell];
+      end = levels_[1].childEnd[cell];
+    }
+    for (std::uint32_t c = begin; c < end; ++c) {  // at most xi^3 voxels, in key order
+      if (level0.centre[c] == voxel) return level0.alive[c] ? c : kNone;
+    }
+    return kNone;
+  }
   const std::uint64_t key = packVoxel(voxel);
   const auto it = std::lower_bound(voxelKeys_.begin(), voxelKeys_.end(), key);
   if (it == voxelKeys_.end() || *it != key) return kNone;
@@ -467,6 +499,17 @@ std::string DynamicProximityHierarchy::validate() const {
   for (std::size_t i = 1; i < voxelKeys_.size(); ++i) {
     if (voxelKeys_[i - 1] >= voxelKeys_[i]) return "voxel index is not sorted";
   }
+  if (lattice_) {
+    if (levels_.size() > 1 && cellKeys_.size() != levels_[1].centre.size()) return "cell index size is wrong";
+    for (std::size_t i = 1; i < cellKeys_.size(); ++i) {
+      if (cellKeys_[i - 1] >= cellKeys_[i]) return "cell index is not sorted";
+    }
+    for (std::uint32_t i = 0; i < levels_[0].centre.size(); ++i) {  // every voxel found where it is
+      if (levels_[0].alive[i] && findVoxel(levels_[0].centre[i]) != i) {
+        return "voxel index does not find level-0 node " + std::to_string(i);
+      }
+    }
+  }
   return "";
 }
 
@@ -494,7 +537,8 @@ std::string DynamicProximityHierarchy::validateAgainst(const VoxelGrid& grid) co
 
 std::size_t DynamicProximityHierarchy::memoryBytes() const {
   std::size_t bytes = sizeof(*this) + voxelKeys_.capacity() * sizeof(std::uint64_t) +
-                      voxelNodes_.capacity() * sizeof(std::uint32_t);
+                      voxelNodes_.capacity() * sizeof(std::uint32_t) + cellKeys_.capacity() * sizeof(std::uint64_t);
+  for (const auto& spread : keySpread_) bytes += spread.capacity() * sizeof(std::uint64_t);
   for (const Level& lv : levels_) {
     bytes += lv.centre.capacity() * sizeof(glm::ivec3) +
              (lv.parent.capacity() + lv.childBegin.capacity() + lv.childEnd.capacity() +

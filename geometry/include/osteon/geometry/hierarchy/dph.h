@@ -1,13 +1,15 @@
 // Dynamic Proximity Hierarchy over level-0 voxels (seed section 3.3).
 //
 // Level 0 holds one node per occupied voxel. A node at level L covers a cube of xi^L voxels
-// (xi, the expansion ratio, odd so the cube is centred on a voxel) around the node that
-// created it. Levels are built bottom-up: the nodes of level L are taken in a seeded random
-// order; a node whose centre lies in the cell of an existing level-(L+1) node becomes that
-// node's child (the earliest created, when several cells hold it); otherwise it creates a new
-// level-(L+1) node at its own centre. Levels are added until one node, the root, remains.
-// Each level is one pass with a hash of parent cells, so construction is O(n) per level and
-// O(n log n) in all.
+// (xi, the expansion ratio, odd so the cube is centred on a voxel). Two builds give valid
+// hierarchies with the same query answers (as sets):
+// - lattice (default): the cells of level L tile space from the voxels' lowest corner, so a
+//   node's parent is the cell holding it. The voxels are sorted once by a base-xi Morton key
+//   (radix sort, O(n)); then every level is already grouped by parent and is one linear pass.
+// - insertion (the seed's Fig. 3): the nodes of level L are taken in a seeded random order;
+//   a node whose centre lies in the cell of an existing level-(L+1) node becomes that node's
+//   child (the earliest created, when several cells hold it); otherwise it creates a new
+//   level-(L+1) node at its own centre. O(n) per level with a hash of cells, cache-hostile.
 //
 // Queries descend from the root and prune any subtree whose box of level-0 descendants is out
 // of reach. Removing a voxel removes its node and every ancestor left without children.
@@ -26,10 +28,16 @@
 
 namespace osteon::geometry {
 
+enum class DphBuildMethod {
+  kLattice,    // cells on a fixed lattice, built bottom-up in Morton order: O(n)
+  kInsertion,  // the seed's insertion (seed, shuffle): kept for Fig. 3 and as a reference
+};
+
 struct DphBuildOptions {
   int expansionRatio = 3;    // xi: odd, 3..15
-  std::uint64_t seed = 1;    // insertion order at every level
-  bool shuffle = true;       // false: level 0 in the given order, higher levels in creation order
+  DphBuildMethod method = DphBuildMethod::kLattice;
+  std::uint64_t seed = 1;    // kInsertion: insertion order at every level
+  bool shuffle = true;       // kInsertion; false: level 0 in the given order, higher levels in creation order
 };
 
 // Caller-owned traversal memory, so queries never allocate once it has grown.
@@ -140,7 +148,9 @@ class DynamicProximityHierarchy {
 
   // From voxel coordinates (grid indices; any z, so a z = 0 slice gives the seed's 2-D case).
   // worldFromGrid: voxel v has its centre at originMm + (v + 0.5) * voxelSizeMm.
-  // Throws InputError for an even or out-of-range xi, or duplicate voxels.
+  // Throws InputError for an even or out-of-range xi, or duplicate voxels. The lattice build
+  // falls back to insertion (in the given order) for extents whose Morton key needs > 64 bits
+  // (beyond 1.5 M voxels along an axis at xi 3).
   static DynamicProximityHierarchy build(const std::vector<glm::ivec3>& voxels,
                                          const DphBuildOptions& options,
                                          glm::dvec3 originMm = glm::dvec3(0.0),
@@ -218,6 +228,8 @@ class DynamicProximityHierarchy {
   std::string validateAgainst(const VoxelGrid& grid) const;
 
   std::size_t memoryBytes() const;
+  // True when built on the lattice (see the top of this file).
+  bool latticeBuilt() const { return lattice_; }
   // Distinct for every build (copies share it): a cache kept from one never answers another.
   std::uint64_t generation() const { return generation_; }
   // Entries a depth-first traversal's stack needs at most.
@@ -237,6 +249,10 @@ class DynamicProximityHierarchy {
   };
 
   std::uint32_t findVoxel(const glm::ivec3& voxel) const;
+  // The lattice build (dph_build.cpp); false, leaving *this untouched, when the Morton key
+  // would not fit in 64 bits.
+  bool buildLattice(const std::vector<glm::ivec3>& voxels);
+  void buildInsertion(const std::vector<glm::ivec3>& voxels, const DphBuildOptions& options);
   // Squared distance (voxel units) from a point in grid space to the box of voxel centres.
   double boxDistanceSq(int level, std::uint32_t node, const glm::dvec3& g) const;
   void reserveScratch(DphQueryScratch& scratch) const;
@@ -265,8 +281,16 @@ class DynamicProximityHierarchy {
   double voxelSizeMm_ = 1.0;
   std::vector<long long> halfWidth_;
   std::vector<Level> levels_;
-  std::vector<std::uint64_t> voxelKeys_;     // sorted packed coordinates of level-0 nodes
-  std::vector<std::uint32_t> voxelNodes_;    // level-0 node of voxelKeys_[i]
+  // Voxel lookup of the insertion build: sorted packed coordinates and their level-0 nodes.
+  std::vector<std::uint64_t> voxelKeys_;
+  std::vector<std::uint32_t> voxelNodes_;
+  // Voxel lookup of the lattice build (about 1 byte a voxel instead of 12): a voxel's Morton
+  // key is keySpread_[0][x - o.x] + keySpread_[1][y - o.y] + keySpread_[2][z - o.z]; its
+  // level-1 cell, key / xi^3, is found among the sorted cell keys of the level-1 nodes.
+  bool lattice_ = false;
+  glm::ivec3 latticeOriginVoxel_{0};
+  std::vector<std::uint64_t> keySpread_[3];
+  std::vector<std::uint64_t> cellKeys_;      // level-1 node i's cell key (ascending)
   std::size_t maxChildren_ = 0;
   std::uint64_t generation_ = 0;
 };
