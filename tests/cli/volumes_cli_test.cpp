@@ -1,6 +1,7 @@
 // Volumes as users have them (label maps and CTs, NRRD and NIfTI) through the commands that
 // take a grid, and empty results that are not success (issue 22, items 1 and 2).
 #include "support/cli_fixture.h"
+#include "support/bone_volumes.h"
 #include "support/volume_files.h"
 
 #include "osteon/geometry/io/nrrd_io.h"
@@ -180,24 +181,15 @@ TEST_F(VolumesCliTest, EmptyResultsExitOneUnlessAllowed) {
 TEST_F(VolumesCliTest, TheBuiltInBoneAsLabelMapAndCtMeshesAndDrills) {
   ASSERT_EQ(osteon("voxelize default --voxel-size 1.5 --out " + quoted(path("g.nrrd"))).exitCode, 0);
   const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
-  TestVolume v;
-  v.sizes = bone.dims();
-  v.spacingMm = bone.voxelSizeMm();
-  v.firstCentreMm = bone.voxelCentreMm(glm::ivec3(0));
-  std::vector<double> labels, hu;
-  std::mt19937 rng(22);
-  std::normal_distribution<double> noise(0.0, 30.0);
+  test::BoneVolumes made = test::boneVolumes(bone, 1.0, 30.0, 22, false);
+  TestVolume& v = made.geometry;
+  const std::vector<double>& labels = made.labels;
+  const std::vector<double>& hu = made.hu;
   glm::ivec3 top(-1);  // the highest inside voxel: where the path goes in
   for (int z = 0; z < v.sizes.z; ++z) {
     for (int y = 0; y < v.sizes.y; ++y) {
       for (int x = 0; x < v.sizes.x; ++x) {
-        geometry::Fill f;
-        geometry::Density d;
-        bone.fillAndDensity({x, y, z}, f, d);
-        const bool in = f >= geometry::kFillHalf;
-        if (in && z > top.z) top = {x, y, z};
-        labels.push_back(in ? 1 : 0);
-        hu.push_back(std::round((in ? (d >= 40 ? 1300.0 : 450.0) : -700.0) + noise(rng)));
+        if (bone.fill({x, y, z}) >= geometry::kFillHalf && z > top.z) top = {x, y, z};
       }
     }
   }
@@ -249,27 +241,10 @@ TEST_F(VolumesCliTest, ASharedHumerusAsCtAndLabelMapDrillsPortal5LikeItsMesh) {
   const std::string common = " --voxel-size 1.2 --levels 0 --json --out-dir ";
   ASSERT_EQ(osteon("voxelize " + quoted(stl) + " --units m --voxel-size 1.2 --out " + quoted(path("g.nrrd"))).exitCode, 0);
   const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
-  TestVolume v;
-  v.sizes = bone.dims();
-  v.spacingMm = bone.voxelSizeMm();
-  v.firstCentreMm = bone.voxelCentreMm(glm::ivec3(0));
-  std::vector<double> labels, hu;
-  std::mt19937 rng(5);
-  std::normal_distribution<double> noise(0.0, 30.0);
-  for (int z = 0; z < v.sizes.z; ++z) {
-    for (int y = 0; y < v.sizes.y; ++y) {
-      for (int x = 0; x < v.sizes.x; ++x) {
-        geometry::Fill f;
-        geometry::Density d;
-        bone.fillAndDensity({x, y, z}, f, d);
-        labels.push_back(f >= geometry::kFillHalf ? 1 : 0);
-        // A scanner averages what a voxel holds: soft tissue and bone in proportion to the fill.
-        const double fraction = double(f) / double(geometry::kFillFull);
-        const double boneHu = d >= geometry::kCtCorticalDensity ? 1300.0 : 450.0;
-        hu.push_back(std::round(-700.0 + fraction * (boneHu + 700.0) + noise(rng)));
-      }
-    }
-  }
+  test::BoneVolumes made = test::boneVolumes(bone, 1.0, 30.0, 5, true);
+  TestVolume& v = made.geometry;
+  const std::vector<double>& labels = made.labels;
+  const std::vector<double>& hu = made.hu;
   v.values = labels;
   test::writeTestNrrd(path("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(labels), true);
   v.values = hu;

@@ -2,7 +2,7 @@
 // framebuffer and reported by --json, and what it records. Skipped, with the reason, only when
 // no X server can be started here.
 #include "support/shapes.h"
-#include "support/volume_files.h"
+#include "support/bone_volumes.h"
 
 #include "osteon/geometry/io/nrrd_io.h"
 
@@ -12,7 +12,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <string>
 
 #include <sys/wait.h>
@@ -144,25 +143,10 @@ TEST_F(ViewerTest, ADeviceDrivesTheTool) {
 TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
   ASSERT_EQ(run(OSTEON_CLI, "voxelize default --voxel-size 1.5 --out '" + path("g.nrrd") + "'", false).exitCode, 0);
   const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
-  test::TestVolume v;
-  v.sizes = bone.dims();
-  v.spacingMm = bone.voxelSizeMm();
-  v.firstCentreMm = bone.voxelCentreMm(glm::ivec3(0));
-  std::vector<double> labels, hu;
-  std::mt19937 rng(7);
-  std::normal_distribution<double> noise(0.0, 30.0);
-  for (int z = 0; z < v.sizes.z; ++z) {
-    for (int y = 0; y < v.sizes.y; ++y) {
-      for (int x = 0; x < v.sizes.x; ++x) {
-        geometry::Fill f;
-        geometry::Density d;
-        bone.fillAndDensity({x, y, z}, f, d);
-        const bool in = f >= geometry::kFillHalf;
-        labels.push_back(in ? 3 : 0);
-        hu.push_back(std::round((in ? (d >= 40 ? 1300.0 : 450.0) : -700.0) + noise(rng)));
-      }
-    }
-  }
+  test::BoneVolumes made = test::boneVolumes(bone, 3.0, 30.0, 7, false);
+  const test::TestVolume& v = made.geometry;
+  const std::vector<double>& labels = made.labels;
+  const std::vector<double>& hu = made.hu;
   test::writeTestNrrd(path("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(labels), true);
   test::writeTestNifti(path("ct.nii.gz"), v, 4, 16, test::encodeAs<std::int16_t>(hu), true);
 
