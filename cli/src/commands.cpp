@@ -1,5 +1,7 @@
 // The work behind each `osteon` command, and its JSON (nlohmann/json lives in this file only).
 #include "commands.h"
+#include "run_summary.h"
+#include "osteon/core/memory.h"
 #include "osteon/core/timing.h"
 
 #include "hierarchy_svg.h"
@@ -14,6 +16,7 @@
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/io/units.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/session.h"
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +32,7 @@
 namespace osteon::cli {
 
 namespace geo = osteon::geometry;
+namespace sim = osteon::simulation;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -143,6 +147,7 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
   if (!options.out.empty()) {
     geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)}, {inputFile(options.mesh)});
   }
+  const Clock::time_point setupStart = Clock::now();
   const LoadedMesh loaded = load(options.mesh, options.units);
   geo::VoxelizeOptions vo;
   vo.voxelSizeMm = options.voxelSizeMm;
@@ -163,6 +168,12 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
 
   geo::VoxelizeStats stats;
   const geo::VoxelGrid grid = geo::voxelize(loaded.mesh, vo, &stats);
+  // Set-up ends with the grid (writing it is output, not set-up).
+  sim::SetupTimings setup;
+  setup.loadMs = loaded.loadMs;
+  setup.voxelizeMs = std::max(0.0, stats.totalMs - stats.densityMs);
+  setup.densityMs = stats.densityMs;
+  setup.totalMs = msSince(setupStart);
   double writeMs = 0.0;
   if (!options.out.empty()) {
     const Clock::time_point start = Clock::now();
@@ -210,6 +221,8 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
     j["timings_ms"] = {{"load", loaded.loadMs},   {"bvh", stats.bvhMs},
                        {"rays", stats.raysMs},    {"combine", stats.combineMs},
                        {"density", stats.densityMs}, {"write", writeMs}};
+    j["setup_ms"] = setupJson(setup);
+    j["peak_rss_mb"] = peakRssMb();
     if (!options.out.empty()) {
       j["out"] = options.out;
       j["out_density"] = geo::densityPathFor(options.out);
@@ -249,6 +262,7 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
   }
   std::printf("  time          %.1f ms (bvh %.1f, rays %.1f, density %.1f); load %.1f ms\n",
               stats.totalMs, stats.bvhMs, stats.raysMs, stats.densityMs, loaded.loadMs);
+  std::printf("%s\n", setupLine(setup).c_str());
   if (!options.out.empty()) {
     std::printf("  wrote         %s and %s\n", options.out.c_str(),
                 geo::densityPathFor(options.out).c_str());
@@ -374,15 +388,19 @@ std::vector<std::string> gridInputFiles(const std::string& input) {
 }
 
 // The grid a command works on: a GRID.nrrd as saved, or a mesh voxelized at --voxel-size.
+// setup gets the stages' times (a volume's whole read, its density included, is its load).
 geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
                         const std::optional<double>& voxelSizeMm, double& voxelizeMs,
-                        const VolumeMeaning& meaning, json& volume, std::string& volumeText) {
+                        const VolumeMeaning& meaning, json& volume, std::string& volumeText,
+                        sim::SetupTimings& setup) {
   voxelizeMs = 0.0;
   if (geo::isVolumePath(input)) {
+    const Clock::time_point start = Clock::now();
     geo::VolumeOptions vo;
     vo.label = meaning.label;
     vo.isoHu = meaning.isoHu;
     geo::VolumeLoad read = geo::loadVolume(input, vo);
+    setup.loadMs = msSince(start);
     if (voxelSizeMm && std::abs(*voxelSizeMm - read.grid.voxelSizeMm()) > 1e-9 * *voxelSizeMm) {
       std::ostringstream s;
       s << "--voxel-size " << *voxelSizeMm << ": " << input << " has voxels of "
@@ -406,6 +424,9 @@ geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
   geo::VoxelizeStats stats;
   geo::VoxelGrid grid = geo::voxelize(loaded.mesh, options, &stats);
   voxelizeMs = stats.totalMs;
+  setup.loadMs = loaded.loadMs;
+  setup.voxelizeMs = std::max(0.0, stats.totalMs - stats.densityMs);
+  setup.densityMs = stats.densityMs;
   return grid;
 }
 
@@ -416,14 +437,18 @@ int runHierarchy(const HierarchyOptions& options) {
   double voxelizeMs = 0.0;
   json volume;
   std::string volumeText;
+  const Clock::time_point setupStart = Clock::now();
+  sim::SetupTimings setup;
   const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs,
-                                       options.volume, volume, volumeText);
+                                       options.volume, volume, volumeText, setup);
   geo::DphBuildOptions build;
   build.expansionRatio = options.xi;
   build.seed = options.seed;
   const Clock::time_point start = Clock::now();
   const geo::DynamicProximityHierarchy hierarchy = geo::DynamicProximityHierarchy::build(grid, build);
   const double buildMs = msSince(start);
+  setup.hierarchyMs = buildMs;
+  setup.totalMs = msSince(setupStart);  // set-up ends with the hierarchy; the checks are not part of it
   const std::string problem = hierarchy.validateAgainst(grid);
 
   int sliceZ = grid.dims().z / 2;
@@ -461,7 +486,9 @@ int runHierarchy(const HierarchyOptions& options) {
               {"build_ms", buildMs},
               {"voxelize_ms", voxelizeMs},
               {"memory_bytes", hierarchy.memoryBytes()},
-              {"valid", problem.empty()}};
+              {"valid", problem.empty()},
+              {"setup_ms", setupJson(setup)},
+              {"peak_rss_mb", peakRssMb()}};
     if (!problem.empty()) j["problem"] = problem;
     if (!volume.is_null()) j["volume"] = volume;
     if (hierarchy.voxelCount() == 0) {
@@ -480,6 +507,7 @@ int runHierarchy(const HierarchyOptions& options) {
     }
     std::printf("  build %.1f ms, %.2f MB; %s\n", buildMs, double(hierarchy.memoryBytes()) / 1e6,
                 problem.empty() ? "all invariants hold" : problem.c_str());
+    std::printf("%s\n", setupLine(setup).c_str());
     if (!volumeText.empty()) std::printf("%s\n", volumeText.c_str());
     if (!options.svg.empty()) std::printf("  wrote %s (slice z = %d)\n", options.svg.c_str(), sliceZ);
   }
@@ -514,10 +542,15 @@ int runMesh(const MeshCommandOptions& options) {
   double voxelizeMs = 0.0;
   json volume;
   std::string volumeText;
+  const Clock::time_point setupStart = Clock::now();
+  sim::SetupTimings setup;
   const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs,
-                                       options.volume, volume, volumeText);
+                                       options.volume, volume, volumeText, setup);
   geo::SurfaceTimings t;
+  const Clock::time_point surfaceStart = Clock::now();
   const geo::SurfaceMesh surface = geo::extractSurface(grid, so, &t);
+  setup.surfaceMs = msSince(surfaceStart);
+  setup.totalMs = msSince(setupStart);  // set-up ends with the surface; topology and writing are not part of it
   const geo::TriangleMesh mesh = surface.toTriangleMesh();
   const geo::MeshTopology topo = geo::analyzeTopology(mesh);
   if (!options.out.empty()) geo::writeMesh(mesh, options.out);
@@ -542,7 +575,9 @@ int runMesh(const MeshCommandOptions& options) {
               {"time_ms",
                {{"total", t.totalMs}, {"extract", t.extractMs}, {"smooth", t.smoothMs},
                 {"normals", t.normalsMs}, {"other", t.otherMs}}},
-              {"voxelize_ms", voxelizeMs}};
+              {"voxelize_ms", voxelizeMs},
+              {"setup_ms", setupJson(setup)},
+              {"peak_rss_mb", peakRssMb()}};
     if (!options.out.empty()) j["out"] = options.out;
     if (!volume.is_null()) j["volume"] = volume;
     if (surface.triangleCount() == 0) {
@@ -565,6 +600,7 @@ int runMesh(const MeshCommandOptions& options) {
               topo.eulerCharacteristic);
   std::printf("  time        %.2f ms: extract %.2f, smooth %.2f, normals %.2f, other %.2f\n",
               t.totalMs, t.extractMs, t.smoothMs, t.normalsMs, t.otherMs);
+  std::printf("%s\n", setupLine(setup).c_str());
   if (!volumeText.empty()) std::printf("%s\n", volumeText.c_str());
   if (!options.out.empty()) std::printf("  wrote       %s\n", options.out.c_str());
   if (surface.triangleCount() == 0) return emptyExit("mesh", options.input, emptyMeshReason(grid), options.allowEmpty);

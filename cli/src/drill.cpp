@@ -4,6 +4,9 @@
 #include "run_summary.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/memory.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/io/volume_io.h"
@@ -14,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -50,6 +54,27 @@ void makeOutDir(const std::string& dir) {
 
 }  // namespace
 
+json setupJson(const sim::SetupTimings& t) {
+  return {{"load", t.loadMs},         {"voxelize", t.voxelizeMs},   {"density", t.densityMs},
+          {"fine_fills", t.fineFillsMs}, {"hierarchy", t.hierarchyMs}, {"surface", t.surfaceMs},
+          {"total", t.totalMs}};
+}
+
+std::string setupLine(const sim::SetupTimings& t, double pathMs) {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "  set-up      %.0f ms: load %.0f, voxelize %.0f, density %.0f, fine fills %.0f, hierarchy %.0f, "
+                "surface %.0f",
+                t.totalMs, t.loadMs, t.voxelizeMs, t.densityMs, t.fineFillsMs, t.hierarchyMs, t.surfaceMs);
+  std::string text = line;
+  if (pathMs >= 0.0) {
+    std::snprintf(line, sizeof line, ", path %.0f", pathMs);
+    text += line;
+  }
+  std::snprintf(line, sizeof line, "; peak RSS %.0f MB", peakRssMb());
+  return text + line;
+}
+
 json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
                     const std::string& mode, const std::string& tool, double voxelSizeMm, int levels) {
   return {{"jitter_n", s.jitterN},
@@ -70,7 +95,9 @@ json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const
           {"tool", tool},
           {"voxel_size_mm", voxelSizeMm},
           {"levels", levels},
-          {"finest_voxel_mm", session.simulation().finestVoxelMm()}};
+          {"finest_voxel_mm", session.simulation().finestVoxelMm()},
+          {"setup_ms", setupJson(session.setupTimings())},
+          {"peak_rss_mb", peakRssMb()}};
 }
 
 json runtimeStatsJson(const sim::RuntimeStats& st) {
@@ -126,12 +153,16 @@ int runDrill(const DrillCommandOptions& options) {
   so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
   json volumeInfo;
   std::string volumeText;
+  // Set-up, from the file to the first step: the session's stages plus the path (head fit and
+  // portal plan), timed as one wall-clock total.
+  const Clock::time_point setupStart = Clock::now();
   const auto openSession = [&]() {
     if (!volumeInput) return sim::Session::open(options.mesh, scaleToMm(options.units), so);
     geo::VolumeOptions vo;
     vo.label = options.volume.label;
     vo.isoHu = options.volume.isoHu;
     geo::VolumeLoad load = geo::loadVolume(options.mesh, vo);
+    const double loadMs = msSince(setupStart);
     if (std::abs(load.grid.voxelSizeMm() - options.voxelSizeMm) > 1e-6 * options.voxelSizeMm) {
       std::ostringstream s;
       s << "--voxel-size " << options.voxelSizeMm << ": " << options.mesh << " has voxels of "
@@ -140,9 +171,10 @@ int runDrill(const DrillCommandOptions& options) {
     }
     volumeInfo = volumeJson(load, options.volume);
     volumeText = volumeLine(load, options.volume);
-    return sim::Session::fromGrid(std::move(load.grid), so, options.mesh);
+    return sim::Session::fromGrid(std::move(load.grid), so, options.mesh, loadMs);
   };
   sim::Session session = openSession();
+  const Clock::time_point pathStart = Clock::now();
   json pathJson = {{"name", options.path}};
   if (!csvPath) {
     const sim::HumeralHead& head = session.humeralHead();
@@ -155,6 +187,11 @@ int runDrill(const DrillCommandOptions& options) {
     pathJson["speed_mm_per_s"] = plan.speedMmPerS;
   }
   pathJson["duration_s"] = path.durationS();
+  const double pathMs = msSince(pathStart);
+  sim::SetupTimings setup = session.setupTimings();
+  setup.totalMs = msSince(setupStart);
+  const double setupPeakRssMb = peakRssMb();  // ready for the first step; peak_rss_mb adds the run
+  const std::size_t setupVoxels = session.hierarchy().voxelCount();  // every voxel with bone, before drilling
 
   // Streamed as the run goes (memory does not grow with the path), put in place when complete.
   sim::ForceLogWriter forces(forcesPath);
@@ -191,6 +228,10 @@ int runDrill(const DrillCommandOptions& options) {
   json summary = runSummaryJson(s, session, options.mesh, options.threaded ? "threaded" : "deterministic",
                                 sim::toolKindName(kind), options.voxelSizeMm, options.levels);
   summary["path"] = pathJson;
+  summary["setup_ms"] = setupJson(setup);
+  summary["setup_ms"]["path"] = pathMs;
+  summary["setup_peak_rss_mb"] = setupPeakRssMb;
+  summary["voxels"] = setupVoxels;
   summary["surface_triangles"] = surface.triangleCount();
   summary["files"] = {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}};
   if (options.threaded) summary["runtime"] = runtimeJson;
@@ -209,6 +250,7 @@ int runDrill(const DrillCommandOptions& options) {
               << options.voxelSizeMm << " mm, " << options.levels << " level(s): " << s.steps
               << " steps, max force " << s.maxForceN << " N, jitter " << s.jitterN << " N, removed "
               << s.removedVolumeMm3 << " mm3\n"
+              << setupLine(setup, pathMs) << "\n"
               << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
     if (!volumeText.empty()) std::cout << volumeText << "\n";
   }

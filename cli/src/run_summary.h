@@ -10,6 +10,7 @@
 namespace osteon::simulation {
 struct RunSummary;
 struct RuntimeStats;
+struct SetupTimings;
 class Session;
 }  // namespace osteon::simulation
 
@@ -17,10 +18,17 @@ namespace osteon::cli {
 
 // jitter_n, max_step_change_n, max_force_n, removed_volume_mm3, haptic_step_us and remesh_ms
 // {p50, p99, max}, overruns, steps, the simulation's counters (non_finite_forces, ...), mode,
-// mesh, tool, voxel_size_mm, levels, finest_voxel_mm.
+// mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the session's setup_ms and peak_rss_mb
+// (setupJson).
 nlohmann::json runSummaryJson(const simulation::RunSummary& summary, const simulation::Session& session,
                               const std::string& mesh, const std::string& mode, const std::string& tool,
                               double voxelSizeMm, int levels);
+
+// `setup_ms` {load, voxelize, density, fine_fills, hierarchy, surface, total} (stages a command
+// does not run are 0), as drill, hierarchy, voxelize and mesh report their set-up.
+nlohmann::json setupJson(const simulation::SetupTimings& setup);
+// One line for the text output: "  set-up      812 ms: load 3, voxelize 410, ...; peak RSS 95 MB".
+std::string setupLine(const simulation::SetupTimings& setup, double pathMs = -1.0);
 
 // The threaded runtime's `runtime` object: steps and overruns per thread, visual updates, ...
 nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);

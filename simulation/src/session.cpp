@@ -1,6 +1,7 @@
 #include "osteon/simulation/session.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/hierarchy/fine_fill.h"
 #include "osteon/geometry/io/mesh_source.h"
@@ -8,6 +9,7 @@
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/embree_scene.h"
 
+#include <algorithm>
 #include <optional>
 #include <utility>
 
@@ -15,10 +17,10 @@ namespace osteon::simulation {
 
 BoneModel::~BoneModel() = default;
 
-std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh meshMm, double voxelSizeMm,
-                                                     const std::string& name, double loadScaleToMm,
-                                                     const geometry::VoxelizeOptions& voxelizing,
-                                                     bool sampleFineFills) {
+std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
+                                            double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
+                                            bool sampleFineFills) {
+  const Clock::time_point start = Clock::now();
   std::shared_ptr<BoneModel> bone(new BoneModel());
   bone->name_ = name;
   bone->mesh_ = std::move(meshMm);
@@ -27,24 +29,45 @@ std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh mesh
   vo.requireInside = true;
   vo.meshName = name;
   vo.loadScaleToMm = loadScaleToMm;
-  bone->grid_ = geometry::voxelize(*bone->mesh_, vo);
+  geometry::VoxelizeStats stats;
+  bone->grid_ = geometry::voxelize(*bone->mesh_, vo, &stats);
+  // The voxelizer times its own passes; density is its last one, reported apart.
+  bone->setup_.densityMs = stats.densityMs;
+  bone->setup_.voxelizeMs = std::max(0.0, stats.totalMs - stats.densityMs);
   if (sampleFineFills) {
+    const Clock::time_point fineStart = Clock::now();
     // Level -2 fills sampled from the mesh once; the ray scene is needed only for that.
     const geometry::EmbreeScene scene(*bone->mesh_);
     bone->fineFills_ = std::make_unique<geometry::FineFillSource>(
         geometry::FineFillSource::sample(bone->grid_, *bone->mesh_, scene));
+    bone->setup_.fineFillsMs = msSince(fineStart);
   }
+  bone->setup_.totalMs = msSince(start);
   return bone;
+}
+
+std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh meshMm, double voxelSizeMm,
+                                                     const std::string& name, double loadScaleToMm,
+                                                     const geometry::VoxelizeOptions& voxelizing,
+                                                     bool sampleFineFills) {
+  return build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
 }
 
 std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
                                                  double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
                                                  bool sampleFineFills) {
-  return fromMesh(geometry::loadMeshArgument(meshArgument, scaleToMm), voxelSizeMm, meshArgument, scaleToMm,
-                  voxelizing, sampleFineFills);
+  const Clock::time_point start = Clock::now();
+  geometry::TriangleMesh mesh = geometry::loadMeshArgument(meshArgument, scaleToMm);
+  const double loadMs = msSince(start);
+  std::shared_ptr<BoneModel> bone =
+      build(std::move(mesh), voxelSizeMm, meshArgument, scaleToMm, voxelizing, sampleFineFills);
+  bone->setup_.loadMs = loadMs;
+  bone->setup_.totalMs = msSince(start);
+  return bone;
 }
 
-std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, const std::string& name) {
+std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, const std::string& name,
+                                                     double loadMs) {
   if (grid.countVoxels(geometry::kFillHalf) == 0) {
     throw InputError(name + ": the grid has no voxel inside (nothing to drill)");
   }
@@ -52,6 +75,8 @@ std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, c
   bone->name_ = name;
   bone->grid_ = std::move(grid);
   bone->grid_.clearDirty();
+  bone->setup_.loadMs = loadMs;
+  bone->setup_.totalMs = loadMs;
   return bone;
 }
 
@@ -94,10 +119,12 @@ struct Session::State {
   geometry::SurfaceMesh surface;
   bool surfaceStale = true;
   std::uint64_t steps = 0;
+  SetupTimings setup;  // the bone's stages, then this session's
 };
 
 Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options)
     : state_(std::make_unique<State>()) {
+  const Clock::time_point start = Clock::now();
   if (!bone) throw InputError("session: no bone");
   DrillingOptions drilling = options.drilling;
   drilling.levels = options.levels;
@@ -108,11 +135,19 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   s.options = options;
   s.options.voxelSizeMm = s.bone->grid().voxelSizeMm();
   s.grid = s.bone->grid();  // every session drills fresh bone
+  s.setup = s.bone->setupTimings();
+  const Clock::time_point hierarchyStart = Clock::now();
   s.hierarchy = geometry::DynamicProximityHierarchy::build(s.grid, geometry::DphBuildOptions{});
+  s.setup.hierarchyMs = msSince(hierarchyStart);
   s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr, options.tool,
                        options.toolOptions, drilling);
-  if (options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
+  if (options.keepSurface) {
+    const Clock::time_point surfaceStart = Clock::now();
+    s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
+    s.setup.surfaceMs = msSince(surfaceStart);
+  }
   s.grid.clearDirty();
+  s.setup.totalMs = s.bone->setupTimings().totalMs + msSince(start);
 }
 
 Session::Session(Session&&) noexcept = default;
@@ -131,8 +166,9 @@ Session Session::open(const std::string& meshArgument, double scaleToMm, const S
                  options);
 }
 
-Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name) {
-  return Session(BoneModel::fromGrid(std::move(grid), name), options);
+Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name,
+                          double loadMs) {
+  return Session(BoneModel::fromGrid(std::move(grid), name, loadMs), options);
 }
 
 StepOutput Session::step(const StepInput& input) {
@@ -232,6 +268,7 @@ const geometry::DynamicProximityHierarchy& Session::hierarchy() const { return s
 DrillingSimulation& Session::simulation() { return *state_->simulation; }
 const DrillingSimulation& Session::simulation() const { return *state_->simulation; }
 const SessionOptions& Session::options() const { return state_->options; }
+const SetupTimings& Session::setupTimings() const { return state_->setup; }
 
 const HumeralHead& Session::humeralHead() const { return state_->bone->humeralHead(); }
 

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <initializer_list>
 #include <map>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
@@ -22,6 +24,24 @@ std::string binaryStlHeader(std::uint32_t count) {
   std::string bytes(80, '\0');
   bytes.append(reinterpret_cast<const char*>(&count), 4);
   return bytes;
+}
+
+// Set-up reported (issue 23): setup_ms has every stage, none negative, the total at least its
+// largest part, the stages the command does not run 0; peak_rss_mb is positive. No timed
+// assertions: the machine may be busy.
+void expectSetupReported(const nlohmann::json& j, std::initializer_list<const char*> notRun) {
+  ASSERT_TRUE(j.contains("setup_ms")) << j.dump();
+  const nlohmann::json& setup = j["setup_ms"];
+  double largest = 0.0;
+  for (const char* key : {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
+    ASSERT_TRUE(setup.contains(key)) << key;
+    EXPECT_GE(setup[key].get<double>(), 0.0) << key;
+    if (std::string(key) != "total") largest = std::max(largest, setup[key].get<double>());
+  }
+  EXPECT_GE(setup["total"].get<double>(), largest);
+  for (const char* key : notRun) EXPECT_EQ(setup[key].get<double>(), 0.0) << key;
+  ASSERT_TRUE(j.contains("peak_rss_mb"));
+  EXPECT_GT(j["peak_rss_mb"].get<double>(), 0.0);
 }
 
 TEST_F(CliTest, EveryBadMeshGivesItsErrorAndExitCode2) {
@@ -98,6 +118,7 @@ TEST_F(CliTest, VoxelizeDefaultPrintsTheContractJson) {
   const double volume = j["volume_mm3"].get<double>();
   const double meshVolume = j["mesh_volume_mm3"].get<double>();
   EXPECT_NEAR(volume, meshVolume, 0.01 * meshVolume);
+  expectSetupReported(j, {"fine_fills", "hierarchy", "surface"});
   EXPECT_TRUE(std::filesystem::exists(path("g.nrrd")));
   EXPECT_TRUE(std::filesystem::exists(path("g.density.nrrd")));
 }
@@ -125,6 +146,7 @@ TEST_F(CliTest, HierarchyReportsLevelsForMeshesAndGrids) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_TRUE(j["valid"].get<bool>());
+  expectSetupReported(j, {"fine_fills", "surface"});
   const auto& levels = j["nodes_per_level"];
   ASSERT_EQ(levels.size(), j["levels"].get<std::size_t>());
   EXPECT_EQ(levels.back()["nodes"].get<int>(), 1);  // one root
@@ -141,6 +163,7 @@ TEST_F(CliTest, HierarchyReportsLevelsForMeshesAndGrids) {
   const CliRun grid = osteon("hierarchy '" + path("g.nrrd") + "' --json");
   ASSERT_EQ(grid.exitCode, 0) << grid.err;
   EXPECT_EQ(nlohmann::json::parse(grid.out)["nodes_per_level"], levels);
+  expectSetupReported(nlohmann::json::parse(grid.out), {"voxelize", "density", "fine_fills", "surface"});
 
   expectBadInput("hierarchy default", "--voxel-size", "required");
   expectBadInput("hierarchy default --voxel-size 1.2 --xi 4", "--xi 4", "odd");
@@ -160,6 +183,7 @@ TEST_F(CliTest, MeshIsClosedForCrackFreeAndCrackedForNaive) {
   for (const char* key : {"total", "extract", "smooth", "normals", "other"}) {
     EXPECT_TRUE(j["time_ms"].contains(key)) << key;
   }
+  expectSetupReported(j, {"fine_fills", "hierarchy"});
   EXPECT_EQ(geometry::readMesh(path("s.ply")).triangleCount(), j["triangles"].get<std::size_t>());
   const CliRun naive = osteon("mesh default --voxel-size 1.2 --method naive --json");
   ASSERT_EQ(naive.exitCode, 0) << naive.err;
@@ -191,6 +215,13 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   }
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 10.0);
   EXPECT_LE(j["max_force_n"].get<double>(), 3.3);
+  // Set-up from the file to the first step, the path's head fit and plan included.
+  expectSetupReported(j, {});
+  EXPECT_GE(j["setup_ms"]["path"].get<double>(), 0.0);
+  EXPECT_GE(j["setup_ms"]["total"].get<double>(), j["setup_ms"]["path"].get<double>());
+  EXPECT_GT(j["setup_peak_rss_mb"].get<double>(), 0.0);
+  EXPECT_GE(j["peak_rss_mb"].get<double>(), j["setup_peak_rss_mb"].get<double>());
+  EXPECT_TRUE(nlohmann::json::parse(test::readBytes(path("a/summary.json"))).contains("setup_ms"));
   EXPECT_EQ(nlohmann::json::parse(test::readBytes(path("a/summary.json")))["steps"], j["steps"]);
   const std::string log = test::readBytes(path("a/forces.csv"));
   EXPECT_EQ(log.substr(0, log.find('\n')), "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
@@ -208,6 +239,7 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   ASSERT_EQ(threaded.exitCode, 0) << threaded.err;
   const nlohmann::json t = nlohmann::json::parse(threaded.out);
   EXPECT_EQ(t["mode"], "threaded");
+  expectSetupReported(t, {"fine_fills", "surface"});  // levels 0; the visual thread keeps its own surface
   EXPECT_GT(t["runtime"]["collision_steps"].get<int>(), 3500);  // most periods, even on a busy machine
   EXPECT_GT(t["runtime"]["visual_updates"].get<int>(), 0);
   EXPECT_EQ(t["runtime"]["ring_full"].get<int>(), 0);

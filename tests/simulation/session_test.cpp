@@ -186,6 +186,45 @@ TEST(Session, ABoneFromAGridFitsItsHeadToTheGridsSurface) {
   EXPECT_THROW(Session(boxGrid, options).portalPath(Portal::FiveOClock), InputError);
 }
 
+// Set-up is reported stage by stage: every stage non-negative, the total at least its largest
+// part, stages that did not run 0 (no timed assertions: the machine may be busy).
+void expectSetupConsistent(const SetupTimings& t) {
+  const double stages[] = {t.loadMs, t.voxelizeMs, t.densityMs, t.fineFillsMs, t.hierarchyMs, t.surfaceMs};
+  for (const double ms : stages) {
+    EXPECT_GE(ms, 0.0);
+    EXPECT_GE(t.totalMs, ms);
+  }
+}
+
+TEST(Session, ReportsItsSetupTimings) {
+  const Session opened = Session::open("default", 1.0, SessionOptions{});
+  expectSetupConsistent(opened.setupTimings());
+  EXPECT_GT(opened.setupTimings().totalMs, 0.0);
+  EXPECT_GT(opened.setupTimings().fineFillsMs, 0.0);  // levels 2 samples the fine fills
+
+  const auto bone = BoneModel::fromMesh(humerus(), 1.2, "default", 1.0, {}, false);
+  expectSetupConsistent(bone->setupTimings());
+  EXPECT_EQ(bone->setupTimings().loadMs, 0.0);  // given a mesh: nothing loaded
+  EXPECT_EQ(bone->setupTimings().fineFillsMs, 0.0);
+  EXPECT_EQ(bone->setupTimings().hierarchyMs, 0.0);  // the sessions' stages
+  EXPECT_EQ(bone->setupTimings().surfaceMs, 0.0);
+  SessionOptions batch;
+  batch.levels = 0;
+  batch.keepSurface = false;
+  const Session session(bone, batch);
+  const SetupTimings& t = session.setupTimings();
+  expectSetupConsistent(t);
+  EXPECT_EQ(t.voxelizeMs, bone->setupTimings().voxelizeMs);  // the bone's share, as it was
+  EXPECT_EQ(t.surfaceMs, 0.0);                              // no surface kept
+  EXPECT_GE(t.totalMs, bone->setupTimings().totalMs + t.hierarchyMs);
+
+  const Session fromGrid = Session::fromGrid(bone->grid(), SessionOptions{}, "saved.nrrd", 12.5);
+  expectSetupConsistent(fromGrid.setupTimings());
+  EXPECT_EQ(fromGrid.setupTimings().loadMs, 12.5);
+  EXPECT_EQ(fromGrid.setupTimings().voxelizeMs, 0.0);
+  EXPECT_EQ(fromGrid.setupTimings().densityMs, 0.0);
+}
+
 TEST(Session, DisplayValuesAndBonesWithoutAMesh) {
   Session session = Session::fromMesh(humerus(), SessionOptions{}, "default");
   const glm::ivec3 centre(session.grid().gridFromWorld(session.humeralHead().centreMm));

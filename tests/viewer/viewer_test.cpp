@@ -66,6 +66,16 @@ TEST_F(ViewerTest, TheFrontViewShowsTheBoneInTheMiddle) {
   ASSERT_GT(png.size(), 10000u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   EXPECT_GT(shaded["triangles"].get<std::size_t>(), 10000u);
+  // The session's set-up, stage by stage (no timed assertions): none negative, the total (the
+  // scene's whole load) at least each stage, no surface of the session's own (the live runtime's).
+  for (const char* key : {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
+    ASSERT_TRUE(shaded["setup_ms"].contains(key)) << key;
+    EXPECT_GE(shaded["setup_ms"][key].get<double>(), 0.0) << key;
+    EXPECT_GE(shaded["setup_ms"]["total"].get<double>(), shaded["setup_ms"][key].get<double>()) << key;
+  }
+  EXPECT_EQ(shaded["setup_ms"]["surface"].get<double>(), 0.0);
+  EXPECT_EQ(shaded["setup_ms"]["total"].get<double>(), shaded["load_ms"].get<double>());
+  EXPECT_GT(shaded["peak_rss_mb"].get<double>(), 0.0);
   // On black, unlit: every bone pixel counts.
   const nlohmann::json j = viewer("default --view cracks --frames 3");
   const double share = double(j["bone_pixels"].get<std::uint64_t>()) / (640.0 * 480.0);

@@ -9,6 +9,7 @@
 #include <imgui.h>
 
 #include "osteon/core/error.h"
+#include "osteon/core/memory.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/image/image_writer.h"
@@ -337,6 +338,9 @@ void App::finishReport() {
   r.pathDurationS = scene_->pathDurationS();
   r.waitedForPath = waitedForPath_;
   r.loadMs = scene_->loadMs();
+  r.setup = scene_->session().setupTimings();
+  r.setup.totalMs = scene_->loadMs();  // the scene's whole set-up: session, path and runtime started
+  r.peakRssMb = peakRssMb();
   r.screenshot = options_.screenshot;
   r.record = options_.record;
 }

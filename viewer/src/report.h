@@ -3,6 +3,7 @@
 #pragma once
 
 #include "osteon/simulation/runner.h"
+#include "osteon/simulation/session.h"
 
 #include <cstdint>
 #include <string>
@@ -29,6 +30,8 @@ struct ViewerReport {
   double pathDurationS = 0.0;
   bool waitedForPath = false;
   double loadMs = 0.0;
+  simulation::SetupTimings setup;   // the session's stages; totalMs is loadMs (the scene's whole set-up)
+  double peakRssMb = 0.0;            // the process's peak resident set when the report is made
   std::string screenshot, record;
   double screenshotMs = 0.0;         // read back, flipped and written (not in frameMs)
   std::size_t recordedSamples = 0;

@@ -19,7 +19,9 @@ std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim:
     geometry::VolumeOptions volume;
     volume.label = request.label;
     volume.isoHu = request.isoHu;
+    const Clock::time_point start = Clock::now();
     geometry::VolumeLoad read = geometry::loadVolume(request.input, volume);
+    const double loadMs = msSince(start);  // the session's set-up timings report it
     const double vs = read.grid.voxelSizeMm();
     if (request.voxelSizeMm && std::abs(*request.voxelSizeMm - vs) > 1e-9 * *request.voxelSizeMm) {
       std::ostringstream s;
@@ -28,7 +30,7 @@ std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim:
       throw InputError(s.str());
     }
     options.voxelSizeMm = vs;
-    return std::make_unique<sim::Session>(sim::Session::fromGrid(std::move(read.grid), options, request.input));
+    return std::make_unique<sim::Session>(sim::Session::fromGrid(std::move(read.grid), options, request.input, loadMs));
   }
   options.voxelSizeMm = request.voxelSizeMm.value_or(kDefaultVoxelSizeMm);
   return std::make_unique<sim::Session>(sim::Session::open(request.input, request.scaleToMm, options));

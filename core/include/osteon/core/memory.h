@@ -27,6 +27,14 @@ inline std::uint64_t machineMemoryBytes() {
   return bytes;
 }
 
+// The process's peak resident set so far, in MB (2^20 bytes; getrusage's ru_maxrss, which Linux
+// gives in KiB): what set-up really cost in memory, beside the estimates above. 0 if unknown.
+inline double peakRssMb() {
+  rusage usage{};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return double(usage.ru_maxrss) / 1024.0;
+}
+
 // "12.3 GB", "850 MB".
 inline std::string memoryText(double bytes) {
   char text[32];

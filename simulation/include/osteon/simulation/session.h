@@ -51,6 +51,21 @@ struct SessionOptions {
   bool keepSurface = true;             // false: no visual work (faster batch runs)
 };
 
+// How long set-up took, stage by stage, in wall-clock milliseconds (osteon/core/timing.h), so
+// integrators and front ends can see where the wait before the first step goes. A stage that
+// did not run is 0 (a bone from a grid has no voxelize, density or fine fills stage).
+struct SetupTimings {
+  double loadMs = 0.0;       // the mesh read and scaled, or the built-in bone built, or the volume read
+  double voxelizeMs = 0.0;   // ray projection and fills (the voxelizer without its density pass)
+  double densityMs = 0.0;    // cortical / cancellous density (the voxelizer's last pass)
+  double fineFillsMs = 0.0;  // level -2 fills sampled from the mesh (sessions with levels 1 or 2)
+  double hierarchyMs = 0.0;  // the Dynamic Proximity Hierarchy built over the session's grid
+  double surfaceMs = 0.0;    // the first full surface extraction (keepSurface sessions)
+  // Wall time of the whole set-up: the stages above and what lies between them (the grid
+  // copy, the drilling simulation's pools), so it is never less than any one stage.
+  double totalMs = 0.0;
+};
+
 // What does not change while drilling: the mesh (when there is one), the grid as voxelized,
 // and the level -2 fills sampled from the mesh for refinement. Immutable and shared: many
 // sessions (every run of an experiment) drill fresh copies of one bone. A bone from a grid (a
@@ -69,7 +84,9 @@ class BoneModel {
                                                const geometry::VoxelizeOptions& voxelizing = {},
                                                bool sampleFineFills = true);
   // From a saved grid: no mesh, so refined voxels split their fill evenly.
-  static std::shared_ptr<const BoneModel> fromGrid(geometry::VoxelGrid grid, const std::string& name = "grid");
+  // loadMs: how long reading the grid took, reported by setupTimings().
+  static std::shared_ptr<const BoneModel> fromGrid(geometry::VoxelGrid grid, const std::string& name = "grid",
+                                                   double loadMs = 0.0);
 
   ~BoneModel();
 
@@ -84,10 +101,17 @@ class BoneModel {
   // The humeral head fitted to headMesh() (seed 4's portals), fitted once on first use (safe
   // from any thread). Throws InputError when no end of the bone fits a head.
   const HumeralHead& humeralHead() const;
+  // The bone's share of set-up: load (open() and fromGrid()'s loadMs only), voxelize, density,
+  // fine fills and their total; hierarchy and surface are each session's (0 here).
+  const SetupTimings& setupTimings() const { return setup_; }
 
  private:
   BoneModel() = default;
+  static std::shared_ptr<BoneModel> build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
+                                          double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
+                                          bool sampleFineFills);
   std::string name_;
+  SetupTimings setup_;
   std::optional<geometry::TriangleMesh> mesh_;
   geometry::VoxelGrid grid_;
   std::unique_ptr<geometry::FineFillSource> fineFills_;
@@ -108,7 +132,8 @@ class Session {
   static Session fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options,
                           const std::string& name = "mesh", double loadScaleToMm = 1.0);
   static Session open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options);
-  static Session fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name = "grid");
+  static Session fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name = "grid",
+                          double loadMs = 0.0);
 
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
@@ -155,6 +180,9 @@ class Session {
   DrillingSimulation& simulation();
   const DrillingSimulation& simulation() const;
   const SessionOptions& options() const;
+  // Set-up, stage by stage: the bone's stages (shared by every session drilling it) and this
+  // session's hierarchy and surface; totalMs is the bone's total plus this session's construction.
+  const SetupTimings& setupTimings() const;
   const DrillingTotals& totals() const { return simulation().totals(); }
   double removedVolumeMm3() const { return simulation().removedVolumeMm3(); }
   // The bone's humeral head (fitted once, to the mesh or the grid's surface). Throws InputError
