@@ -32,6 +32,23 @@ void validateDensityRule(const DensityRule& rule) {
   }
 }
 
+namespace {
+
+// The 13 of a voxel's 26 neighbours that come before it in x-fastest order, and how far they
+// are (kind 0: one voxel, 1: sqrt 2, 2: sqrt 3 voxels).
+struct Neighbour {
+  glm::ivec3 offset;
+  int kind;
+};
+constexpr std::array<Neighbour, 13> kVisitedNeighbours{{
+    {{-1, 0, 0}, 0}, {{0, -1, 0}, 0}, {{0, 0, -1}, 0},
+    {{-1, -1, 0}, 1}, {{1, -1, 0}, 1}, {{-1, 0, -1}, 1}, {{1, 0, -1}, 1}, {{0, -1, -1}, 1},
+    {{0, 1, -1}, 1},
+    {{-1, -1, -1}, 2}, {{1, -1, -1}, 2}, {{-1, 1, -1}, 2}, {{1, 1, -1}, 2},
+}};
+
+}  // namespace
+
 DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const DensityRule& rule) {
   validateDensityRule(rule);
   const glm::ivec3 dims = grid.dims();
@@ -41,6 +58,7 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
   const double brickReachMm = shellMm + 0.5 * std::sqrt(3.0) * kBrickEdge * vs;
   // Voxel queries look a little past the shell so that a miss still bounds the next voxels.
   const double queryReachMm = shellMm + 2.0 * vs;
+  const double stepMm[3] = {vs, std::sqrt(2.0) * vs, std::sqrt(3.0) * vs};
   std::atomic<std::uint64_t> corticalCount{0}, cancellousCount{0}, queryCount{0};
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.brickCount()),
@@ -57,31 +75,38 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
       const glm::ivec3 span = hi - lo;
       const glm::dvec3 centre = grid.worldFromGrid(glm::dvec3(lo) + 0.5 * glm::dvec3(span));
       ++nQueries;
-      if (surface.distanceWithin(centre, brickReachMm) < 0.0 && !allocated) {
+      const double centreDistance = surface.distanceWithin(centre, brickReachMm);
+      if (centreDistance < 0.0 && !allocated) {
         // Deep inside: the whole brick is cancellous and stays a few bytes.
         grid.setBrickUniform(brick, uniformFill, rule.cancellousDensity);
         nCancellous += std::uint64_t(span.x) * std::uint64_t(span.y) * std::uint64_t(span.z);
         continue;
       }
       VoxelGrid::Brick& b = grid.materialiseBrick(brick);
-      // Bounds on each voxel centre's distance to the surface. Neighbouring centres are one
-      // voxel apart, so the bounds of the voxels before it (x-1, y-1, z-1) widened by one
-      // voxel bound it too; one exact distance settles a run of voxels around it.
+      // Bounds on each voxel centre's distance to the surface (the distance is 1-Lipschitz):
+      // from the brick centre's distance (or, when that found nothing within brickReachMm,
+      // from that reach), and from the 13 neighbours already visited in this brick, widened
+      // by the distance to them (1, sqrt 2 or sqrt 3 voxels). A voxel whose bounds do not
+      // decide it gets one exact distance, which then bounds the voxels after it.
+      const glm::dvec3 centreGrid = glm::dvec3(lo) + 0.5 * glm::dvec3(span);
       for (int z = lo.z; z < hi.z; ++z)
         for (int y = lo.y; y < hi.y; ++y)
           for (int x = lo.x; x < hi.x; ++x) {
             const glm::ivec3 ijk(x, y, z);
             const glm::ivec3 l = ijk - lo;
             const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(l));
-            double lower = 0.0;
-            double upper = kUnbounded;
-            for (int axis = 0; axis < 3; ++axis) {
-              if (l[axis] == 0) continue;
-              glm::ivec3 prev = l;
-              --prev[axis];
+            const double r = vs * glm::length(glm::dvec3(ijk) + 0.5 - centreGrid);
+            double lower = centreDistance < 0.0 ? brickReachMm - r : centreDistance - r;
+            double upper = centreDistance < 0.0 ? kUnbounded : centreDistance + r;
+            for (const Neighbour& n : kVisitedNeighbours) {
+              const glm::ivec3 prev = l + n.offset;
+              if (prev.x < 0 || prev.y < 0 || prev.z < 0 || prev.x >= span.x || prev.y >= span.y) {
+                continue;
+              }
               const std::size_t p = std::size_t(VoxelGrid::voxelInBrick(prev));
-              lower = std::max(lower, lowerMm[p] - vs);
-              upper = std::min(upper, upperMm[p] + vs);
+              const double step = stepMm[n.kind];
+              lower = std::max(lower, lowerMm[p] - step);
+              upper = std::min(upper, upperMm[p] + step);
             }
             if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
               ++nQueries;

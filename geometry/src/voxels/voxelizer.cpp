@@ -59,11 +59,21 @@ void runAxisPass(AxisPass& pass) {
   const double rayLength = (dims[a] + 2) * vs;
   const std::size_t brickColumns = std::size_t(brickDims[u]) * std::size_t(brickDims[v]);
 
+  // Voxel-index strides inside a brick along the column axis and the two across it.
+  int stride[3];
+  stride[0] = 1;
+  stride[1] = kBrickEdge;
+  stride[2] = kBrickEdge * kBrickEdge;
+
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, brickColumns),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     std::vector<detail::Interval> intervals;
-    std::vector<float> acc(static_cast<std::size_t>(dims[a]));
+    std::vector<float> acc(static_cast<std::size_t>(dims[a]), 0.f);  // zero between columns
     std::vector<Fill> column(std::size_t(kBrickEdge * kBrickEdge) * std::size_t(dims[a]), 0);
+    // Per column of the brick column: the voxels [first, last] any inside interval touched;
+    // the column's other voxels are empty (first > last: all empty).
+    int touchedFirst[kBrickEdge * kBrickEdge];
+    int touchedLast[kBrickEdge * kBrickEdge];
     std::uint64_t cast = 0, retried = 0, unresolved = 0, winding = 0, abstained = 0;
     // Coincident hits: far below a voxel, and no more than 0.1 um on any grid.
     detail::ColumnRay ray(*pass.scene, a, pass.outwardSign, rayStart, rayLength,
@@ -72,14 +82,15 @@ void runAxisPass(AxisPass& pass) {
     for (std::size_t bcol = range.begin(); bcol != range.end(); ++bcol) {
       const int bu = int(bcol % std::size_t(brickDims[u]));
       const int bv = int(bcol / std::size_t(brickDims[u]));
-      std::fill(column.begin(), column.end(), Fill(0));
+      std::fill(std::begin(touchedFirst), std::end(touchedFirst), dims[a]);
+      std::fill(std::begin(touchedLast), std::end(touchedLast), -1);
       for (int lv = 0; lv < kBrickEdge; ++lv) {
         const int iv = bv * kBrickEdge + lv;
         if (iv >= dims[v]) break;
         for (int lu = 0; lu < kBrickEdge; ++lu) {
           const int iu = bu * kBrickEdge + lu;
           if (iu >= dims[u]) break;
-          std::fill(acc.begin(), acc.end(), 0.f);
+          int kFirst = dims[a], kLast = -1;  // voxels of acc written for this column
           int votes = 0;
           for (int sv = 0; sv < R; ++sv) {
             for (int su = 0; su < R; ++su) {
@@ -100,63 +111,95 @@ void runAxisPass(AxisPass& pass) {
                 detail::pairByParity(ray.hits(), intervals);  // best effort: drop the odd hit out
               }
               ++votes;
-              // Exact overlap of each inside interval with the voxels of the column.
+              // Exact overlap of each inside interval with the voxels of the column: partial
+              // at its two end voxels, exactly 1 for every voxel between them (ray by ray, in
+              // the same order, so each voxel's float sum is the same).
               for (const detail::Interval& iv01 : intervals) {
                 const double s0 = std::max(0.0, (iv01.t0 - vs) / vs);
                 const double s1 = std::min(double(dims[a]), (iv01.t1 - vs) / vs);
                 if (s1 <= s0) continue;
                 const int k0 = int(s0);
                 const int k1 = std::min(int(s1), dims[a] - 1);
-                for (int k = k0; k <= k1; ++k) {
-                  const double overlap = std::min(s1, k + 1.0) - std::max(s0, double(k));
-                  if (overlap > 0.0) acc[std::size_t(k)] += float(overlap);
-                }
+                kFirst = std::min(kFirst, k0);
+                kLast = std::max(kLast, k1);
+                const double first = std::min(s1, k0 + 1.0) - s0;
+                if (first > 0.0) acc[std::size_t(k0)] += float(first);
+                if (k1 == k0) continue;
+                float* inner = acc.data() + k0 + 1;
+                for (int n = k1 - k0 - 1; n > 0; --n) *inner++ += 1.f;
+                const double last = std::min(s1, k1 + 1.0) - double(k1);
+                if (last > 0.0) acc[std::size_t(k1)] += float(last);
               }
             }
           }
           const std::size_t colIndex = std::size_t(lu + kBrickEdge * lv);
           if (votes == 0) {
             ++abstained;
+            for (int k = kFirst; k <= kLast; ++k) acc[std::size_t(k)] = 0.f;
             continue;  // column stays unknown
           }
           (*pass.columnKnown)[std::size_t(iu) + std::size_t(dims[u]) * std::size_t(iv)] = 1;
+          if (kFirst > kLast) continue;  // no voxel touched: empty
+          touchedFirst[colIndex] = kFirst;
+          touchedLast[colIndex] = kLast;
           Fill* dst = column.data() + colIndex * std::size_t(dims[a]);
-          // Fill in 1/255 steps (what 4 x 4 rays resolve), stored in fill units.
+          // Fill in 1/255 steps (what 4 x 4 rays resolve), stored in fill units; rounded half
+          // away from zero as lround does (x >= 0 here, and x - floor(x) is exact in float).
           const float scale = float(kFillSteps) / float(votes);
-          for (int k = 0; k < dims[a]; ++k) {
-            const long steps = std::clamp(std::lround(acc[std::size_t(k)] * scale), 0L, long(kFillSteps));
-            dst[k] = Fill(steps * kFillPerStep);
+          for (int k = kFirst; k <= kLast; ++k) {
+            const float x = acc[std::size_t(k)] * scale;
+            acc[std::size_t(k)] = 0.f;
+            long steps = long(x);
+            if (x - float(steps) >= 0.5f) ++steps;
+            dst[k] = Fill(std::clamp(steps, 0L, long(kFillSteps)) * kFillPerStep);
           }
         }
       }
       // Store the column of bricks: uniform where every voxel agrees, arrays otherwise.
+      const int nu = std::min(kBrickEdge, dims[u] - bu * kBrickEdge);
+      const int nv = std::min(kBrickEdge, dims[v] - bv * kBrickEdge);
+      const auto valueAt = [&](int col, int k) -> Fill {
+        return k >= touchedFirst[col] && k <= touchedLast[col]
+                   ? column[std::size_t(col) * std::size_t(dims[a]) + std::size_t(k)]
+                   : Fill(0);
+      };
       for (int ba = 0; ba < brickDims[a]; ++ba) {
         glm::ivec3 bc;
         bc[a] = ba;
         bc[u] = bu;
         bc[v] = bv;
         const std::size_t brick = grid.brickIndex(bc);
-        const glm::ivec3 lo = bc * kBrickEdge;
-        const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
-        const auto valueAt = [&](const glm::ivec3& ijk) {
-          const std::size_t colIndex = std::size_t((ijk[u] - lo[u]) + kBrickEdge * (ijk[v] - lo[v]));
-          return column[colIndex * std::size_t(dims[a]) + std::size_t(ijk[a])];
-        };
-        const Fill first = valueAt(lo);
+        const int k0 = ba * kBrickEdge;
+        const int k1 = std::min(k0 + kBrickEdge, dims[a]);
+        const Fill first = valueAt(0, k0);
         bool uniform = true;
-        for (int z = lo.z; z < hi.z && uniform; ++z)
-          for (int y = lo.y; y < hi.y && uniform; ++y)
-            for (int x = lo.x; x < hi.x && uniform; ++x) uniform = valueAt({x, y, z}) == first;
+        for (int lv = 0; lv < nv && uniform; ++lv)
+          for (int lu = 0; lu < nu && uniform; ++lu) {
+            const int col = lu + kBrickEdge * lv;
+            if (k1 <= touchedFirst[col] || k0 > touchedLast[col]) {
+              uniform = first == 0;  // the whole segment is empty
+              continue;
+            }
+            for (int k = k0; k < k1; ++k) {
+              if (valueAt(col, k) != first) {
+                uniform = false;
+                break;
+              }
+            }
+          }
         if (uniform) {
           pass.out->setBrickUniform(brick, first, 0);
           continue;
         }
         VoxelGrid::Brick& b = pass.out->materialiseBrick(brick);
-        for (int z = lo.z; z < hi.z; ++z)
-          for (int y = lo.y; y < hi.y; ++y)
-            for (int x = lo.x; x < hi.x; ++x)
-              b.fill[std::size_t(VoxelGrid::voxelInBrick(glm::ivec3(x, y, z) - lo))] =
-                  valueAt({x, y, z});
+        for (int lv = 0; lv < nv; ++lv)
+          for (int lu = 0; lu < nu; ++lu) {
+            const int col = lu + kBrickEdge * lv;
+            const int base = lu * stride[u] + lv * stride[v];
+            for (int k = k0; k < k1; ++k) {
+              b.fill[std::size_t(base + (k - k0) * stride[a])] = valueAt(col, k);
+            }
+          }
       }
     }
     pass.raysCast += cast;

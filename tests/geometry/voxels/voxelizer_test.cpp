@@ -1,5 +1,7 @@
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "support/shapes.h"
 
@@ -38,6 +40,40 @@ TriangleMesh punchHole(const TriangleMesh& sphere, glm::dvec3 axis, double angle
     if (glm::dot(glm::normalize(c), glm::normalize(axis)) < cosLimit) holed.triangles.push_back(t);
   }
   return holed;
+}
+
+// Every voxel's density against its own exact distance query: cortical exactly when the
+// centre is within the shell, cancellous otherwise, none without bone. The density pass
+// settles most voxels from bounds (brick centre, visited neighbours); this checks that no
+// bound ever decides a voxel differently from its own distance.
+void expectDensityFromExactDistances(const TriangleMesh& mesh, double voxelSizeMm) {
+  VoxelizeOptions options;
+  options.voxelSizeMm = voxelSizeMm;
+  VoxelizeStats stats;
+  const VoxelGrid g = voxelize(mesh, options, &stats);
+  const EmbreeScene scene(mesh);
+  const double shell = options.density.corticalThicknessMm;
+  std::uint64_t mismatches = 0, cortical = 0, bone = 0;
+  for (int z = 0; z < g.dims().z; ++z)
+    for (int y = 0; y < g.dims().y; ++y)
+      for (int x = 0; x < g.dims().x; ++x) {
+        const Density d = g.density({x, y, z});
+        if (g.fill({x, y, z}) == 0) {
+          mismatches += d != 0 ? 1 : 0;
+          continue;
+        }
+        ++bone;
+        const double distance = scene.distanceWithin(g.voxelCentreMm({x, y, z}), shell + 1.0);
+        const bool expectCortical = distance >= 0.0 && distance <= shell;
+        const Density expected =
+            expectCortical ? options.density.corticalDensity : options.density.cancellousDensity;
+        mismatches += d != expected ? 1 : 0;
+        cortical += expectCortical ? 1 : 0;
+      }
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_EQ(cortical, stats.density.corticalVoxels);
+  EXPECT_EQ(bone, stats.density.corticalVoxels + stats.density.cancellousVoxels);
+  EXPECT_LT(stats.density.distanceQueries, bone / 2);  // bounds settle most voxels
 }
 
 TEST(Voxelizer, SphereBoxTorusVolumesWithinHalfAPercentAtRadiusOver20) {
@@ -194,6 +230,10 @@ TEST(Voxelizer, DensityRuleSeparatesCorticalShellFromCancellousCore) {
   EXPECT_LE(classMismatches, cortical / 1000);  // only centres at 8 mm +- tessellation error
 }
 
+TEST(Voxelizer, DensityOfEveryVoxelIsItsExactDistanceRuleOnTheBuiltInHumerus) {
+  expectDensityFromExactDistances(buildHumerusModel().mesh, 0.7);
+}
+
 TEST(Voxelizer, PrecisionHoldsFarFromTheOriginAndAtTinyScales) {
   // Embree works in floats: the scene is stored around its own centre, so a unit cube at
   // 1e5 mm voxelizes as exactly as one at the origin.
@@ -264,6 +304,11 @@ TEST_F(SharedBones, HumerusInMetresWithinOnePercentOfItsMeshVolume) {
   const VoxelGrid g = voxelizeAt(humerus, 1.0, false, &stats);
   EXPECT_LT(relativeError(g.filledVolumeMm3(), signedVolumeMm3(humerus)), 0.01);
   EXPECT_EQ(stats.raysUnresolved, 0u);
+}
+
+TEST_F(SharedBones, DensityOfEveryVoxelIsItsExactDistanceRule) {
+  expectDensityFromExactDistances(readMesh(dir_ + "/fibula_L_vhm_denver.stl"), 0.9);
+  expectDensityFromExactDistances(readMesh(dir_ + "/humerus_R_opensim_myosuite.stl", 1000.0), 0.9);
 }
 
 TEST_F(SharedBones, FibulaInMillimetresWithinOnePercentOfItsMeshVolume) {
