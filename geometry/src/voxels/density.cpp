@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 namespace osteon::geometry {
 
@@ -47,6 +48,56 @@ constexpr std::array<Neighbour, 13> kVisitedNeighbours{{
     {{-1, -1, -1}, 2}, {{1, -1, -1}, 2}, {{-1, 1, -1}, 2}, {{1, 1, -1}, 2},
 }};
 
+// Bounds of a brick's voxels, padded by one voxel on every side the visited neighbours reach
+// (x and y both ways, z below) so that no neighbour needs a range check: padding holds the
+// bounds that bound nothing (0 and infinity).
+constexpr int kPad = kBrickEdge + 2;
+constexpr int kPaddedVoxels = kPad * kPad * (kBrickEdge + 1);
+constexpr int paddedIndex(int x, int y, int z) { return (x + 1) + kPad * ((y + 1) + kPad * (z + 1)); }
+
+// A triangle near a brick, with its bounding box for a quick rejection.
+struct NearTriangle {
+  double fromCentre;  // lower bound on its distance from the brick centre (box distance)
+  glm::dvec3 a, b, c;
+  glm::dvec3 lo, hi;
+};
+
+inline double boxDistance(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double box2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = std::max(0.0, std::max(lo[k] - p[k], p[k] - hi[k]));
+    box2 += e * e;
+  }
+  return box2;
+}
+
+// What EmbreeScene::distanceWithin(point, reach) answers, over the triangles near the brick
+// (a superset of every triangle within reach of its voxels): the smallest distance below
+// reach, else -1. The minimum is the same whatever the order, so the same bits.
+// `near` is sorted by fromCentre and p lies within pFromCentre of the brick centre, so a
+// triangle is at least fromCentre - pFromCentre from p: the scan stops at the first one that
+// cannot beat the best so far.
+// upperMm: a bound the distance is known not to exceed (it only starts the search tighter:
+// a triangle nearer than reach is still found and the minimum is the same).
+inline double distanceWithinNear(const std::vector<NearTriangle>& near, const glm::dvec3& p,
+                                 double pFromCentre, double reach, double upperMm) {
+  double best = reach;
+  double search = std::min(reach, upperMm * (1.0 + 1e-9) + 1e-9);
+  bool found = false;
+  for (const NearTriangle& t : near) {
+    // Margins far above rounding: a skipped triangle is never a winner.
+    const double reject = std::min(best, search) * (1.0 + 1e-9) + 1e-9;
+    if (t.fromCentre - pFromCentre * (1.0 + 1e-9) > reject) break;
+    if (boxDistance(p, t.lo, t.hi) > reject * reject) continue;
+    const double d = glm::length(closestPointOnTriangle(p, t.a, t.b, t.c) - p);
+    if (d < best) {
+      best = d;
+      found = true;
+    }
+  }
+  return found ? best : -1.0;
+}
+
 }  // namespace
 
 DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const DensityRule& rule) {
@@ -58,14 +109,31 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
   const double brickReachMm = shellMm + 0.5 * std::sqrt(3.0) * kBrickEdge * vs;
   // Voxel queries look a little past the shell so that a miss still bounds the next voxels.
   const double queryReachMm = shellMm + 2.0 * vs;
+  const TriangleMesh& mesh = surface.mesh();
   const double stepMm[3] = {vs, std::sqrt(2.0) * vs, std::sqrt(3.0) * vs};
+  // Distance of each voxel centre of a whole brick from the brick's centre.
+  std::array<double, VoxelGrid::kBrickVoxels> fullBrickRadius;
+  for (int z = 0; z < kBrickEdge; ++z)
+    for (int y = 0; y < kBrickEdge; ++y)
+      for (int x = 0; x < kBrickEdge; ++x) {
+        const glm::dvec3 offset = glm::dvec3(x, y, z) + 0.5 - 0.5 * double(kBrickEdge);
+        fullBrickRadius[std::size_t(VoxelGrid::voxelInBrick({x, y, z}))] = vs * glm::length(offset);
+      }
+  int neighbourDelta[13];
+  for (std::size_t n = 0; n < kVisitedNeighbours.size(); ++n) {
+    const glm::ivec3 o = kVisitedNeighbours[n].offset;
+    neighbourDelta[n] = paddedIndex(o.x, o.y, o.z) - paddedIndex(0, 0, 0);
+  }
   std::atomic<std::uint64_t> corticalCount{0}, cancellousCount{0}, queryCount{0};
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.brickCount()),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     std::uint64_t nCortical = 0, nCancellous = 0, nQueries = 0;
-    std::array<double, VoxelGrid::kBrickVoxels> lowerMm;
-    std::array<double, VoxelGrid::kBrickVoxels> upperMm;
+    std::vector<double> lowerMm(kPaddedVoxels, 0.0);
+    std::vector<double> upperMm(kPaddedVoxels, kUnbounded);
+    bool interiorStale = false;  // a partial brick left values where padding must be
+    std::vector<std::uint32_t> nearIds;
+    std::vector<NearTriangle> near;
     for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
       const bool allocated = grid.brickAllocated(brick);
       const Fill uniformFill = grid.brickUniformFill(brick);
@@ -89,33 +157,58 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
       // by the distance to them (1, sqrt 2 or sqrt 3 voxels). A voxel whose bounds do not
       // decide it gets one exact distance, which then bounds the voxels after it.
       const glm::dvec3 centreGrid = glm::dvec3(lo) + 0.5 * glm::dvec3(span);
+      const bool fullBrick = span == glm::ivec3(kBrickEdge);
+      if (!fullBrick || interiorStale) {
+        // Voxels past a partial brick's span are neighbours that bound nothing.
+        std::fill(lowerMm.begin(), lowerMm.end(), 0.0);
+        std::fill(upperMm.begin(), upperMm.end(), kUnbounded);
+      }
+      interiorStale = !fullBrick;
+      // Every triangle within queryReachMm of a voxel centre is within that plus the
+      // farthest centre's distance of the brick centre: gather them once for the brick.
+      const double farthestMm = vs * glm::length(0.5 * glm::dvec3(span) - 0.5);
+      nearIds.clear();
+      surface.trianglesNear(centre, queryReachMm + farthestMm, nearIds);
+      std::sort(nearIds.begin(), nearIds.end());
+      nearIds.erase(std::unique(nearIds.begin(), nearIds.end()), nearIds.end());
+      near.clear();
+      for (const std::uint32_t id : nearIds) {
+        const glm::u32vec3& t = mesh.triangles[id];
+        const glm::dvec3& pa = mesh.positionsMm[t.x];
+        const glm::dvec3& pb = mesh.positionsMm[t.y];
+        const glm::dvec3& pc = mesh.positionsMm[t.z];
+        const glm::dvec3 tlo = glm::min(pa, glm::min(pb, pc));
+        const glm::dvec3 thi = glm::max(pa, glm::max(pb, pc));
+        near.push_back({std::sqrt(boxDistance(centre, tlo, thi)), pa, pb, pc, tlo, thi});
+      }
+      std::sort(near.begin(), near.end(), [](const NearTriangle& p, const NearTriangle& q) {
+        return p.fromCentre < q.fromCentre;
+      });
       for (int z = lo.z; z < hi.z; ++z)
         for (int y = lo.y; y < hi.y; ++y)
           for (int x = lo.x; x < hi.x; ++x) {
             const glm::ivec3 ijk(x, y, z);
             const glm::ivec3 l = ijk - lo;
             const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(l));
-            const double r = vs * glm::length(glm::dvec3(ijk) + 0.5 - centreGrid);
+            const double r = fullBrick ? fullBrickRadius[local]
+                                       : vs * glm::length(glm::dvec3(ijk) + 0.5 - centreGrid);
             double lower = centreDistance < 0.0 ? brickReachMm - r : centreDistance - r;
             double upper = centreDistance < 0.0 ? kUnbounded : centreDistance + r;
-            for (const Neighbour& n : kVisitedNeighbours) {
-              const glm::ivec3 prev = l + n.offset;
-              if (prev.x < 0 || prev.y < 0 || prev.z < 0 || prev.x >= span.x || prev.y >= span.y) {
-                continue;
-              }
-              const std::size_t p = std::size_t(VoxelGrid::voxelInBrick(prev));
-              const double step = stepMm[n.kind];
-              lower = std::max(lower, lowerMm[p] - step);
-              upper = std::min(upper, upperMm[p] + step);
+            const int pi = paddedIndex(l.x, l.y, l.z);
+            for (int n = 0; n < 13; ++n) {
+              const int p = pi + neighbourDelta[n];
+              const double step = stepMm[kVisitedNeighbours[std::size_t(n)].kind];
+              lower = std::max(lower, lowerMm[std::size_t(p)] - step);
+              upper = std::min(upper, upperMm[std::size_t(p)] + step);
             }
             if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
               ++nQueries;
-              const double d = surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
+              const double d = distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm, upper);
               lower = d < 0.0 ? queryReachMm : d;
               upper = d < 0.0 ? kUnbounded : d;
             }
-            lowerMm[local] = lower;
-            upperMm[local] = upper;
+            lowerMm[std::size_t(pi)] = lower;
+            upperMm[std::size_t(pi)] = upper;
             if (b.fill[local] == 0) {
               b.density[local] = 0;
               continue;

@@ -144,6 +144,46 @@ double EmbreeScene::distanceWithin(const glm::dvec3& pointMm, double maxDistance
   return q.bestDistance;
 }
 
+namespace {
+
+struct GatherQuery {
+  const TriangleMesh* mesh;
+  glm::dvec3 point;
+  double radius2;
+  std::vector<std::uint32_t>* out;
+};
+
+bool gatherCallback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<GatherQuery*>(args->userPtr);
+  const glm::u32vec3& t = q->mesh->triangles[args->primID];
+  if (boxDistance2(q->point, q->mesh->positionsMm[t.x], q->mesh->positionsMm[t.y],
+                   q->mesh->positionsMm[t.z]) <= q->radius2) {
+    q->out->push_back(args->primID);
+  }
+  return false;  // the radius stays: every triangle within it is wanted
+}
+
+}  // namespace
+
+void EmbreeScene::trianglesNear(const glm::dvec3& pointMm, double radiusMm,
+                                std::vector<std::uint32_t>& out) const {
+  if (mesh_->triangles.empty()) return;
+  const double padded = radiusMm * (1.0 + 1e-9) + 1e-9;  // over the box test's rounding
+  GatherQuery q{mesh_, pointMm, padded * padded, &out};
+  RTCPointQuery query;
+  const glm::dvec3 local = pointMm - centreMm_;
+  query.x = float(local.x);
+  query.y = float(local.y);
+  query.z = float(local.z);
+  query.time = 0.f;
+  // Embree tests its boxes in single precision around a rounded point: a margin far above
+  // that rounding keeps every box the exact sphere touches.
+  query.radius = float(radiusMm * (1.0 + 1e-4) + 1e-3);
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(scene_.get(), &query, &context, gatherCallback, &q);
+}
+
 bool EmbreeScene::segmentHits(const glm::dvec3& fromMm, const glm::dvec3& toMm) const {
   const glm::dvec3 d = toMm - fromMm;
   const double length = glm::length(d);

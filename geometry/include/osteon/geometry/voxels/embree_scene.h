@@ -8,8 +8,10 @@
 
 #include <embree3/rtcore.h>
 
+#include <cstdint>
 #include <memory>
 #include <type_traits>
+#include <vector>
 
 namespace osteon::geometry {
 
@@ -40,6 +42,10 @@ class EmbreeScene {
   // otherwise a negative value. closestMm receives that nearest point when found.
   double distanceWithin(const glm::dvec3& pointMm, double maxDistanceMm,
                         glm::dvec3* closestMm = nullptr) const;
+  // Appends to `out` every triangle that may lie within radiusMm of pointMm (a superset: the
+  // triangles whose bounding box does, found through the BVH; a triangle may repeat).
+  void trianglesNear(const glm::dvec3& pointMm, double radiusMm,
+                     std::vector<std::uint32_t>& out) const;
   // Whether the segment from fromMm to toMm meets the mesh: one occlusion ray, watertight (the
   // scene is robust), so a segment between the two sides of a closed mesh always hits.
   bool segmentHits(const glm::dvec3& fromMm, const glm::dvec3& toMm) const;
