@@ -31,13 +31,27 @@ class ColumnRay {
   // The merged hits of the last cast (for a best-effort parity pairing when unresolved).
   const std::vector<RayHit>& hits() const { return hits_; }
 
+  // Up to kPacket rays at once: their first casts go to Embree as one packet, the re-casts
+  // of any unresolved one as single rays, so each ray's intervals, outcome and attempts are
+  // those cast() gives it. When pairUnresolved, an unresolved ray's intervals are its last
+  // hits paired by parity (what the voxelizer does with hits() after cast()).
+  static constexpr int kPacket = 16;
+  void castPacket(int count, const double* uMm, const double* vMm, double jitterMm,
+                  bool pairUnresolved, std::vector<Interval>* intervals, RayOutcome* outcomes,
+                  int* attempts);
+
  private:
   struct Collector {
     RTCIntersectContext context;  // first: Embree hands the filter a pointer to it
-    std::vector<RayHit>* hits;
+    std::vector<RayHit>* hits;    // indexed by the ray's id
     int axis;
   };
   static void collect(const RTCFilterFunctionNArguments* args);
+  // Re-casts (attempts from `attempt` on) after a first cast whose hits are in hits_.
+  RayOutcome finish(double uMm, double vMm, double jitterMm, int attempt,
+                    std::vector<Interval>& intervals, int& attempts);
+  // One cast with the given attempt's jitter; the shifted raw hits land in hits_.
+  void castOnce(double uMm, double vMm, double jitterMm, int attempt);
 
   const EmbreeScene* scene_;
   int axis_;
@@ -46,6 +60,7 @@ class ColumnRay {
   double lengthMm_;
   double toleranceMm_;
   std::vector<RayHit> hits_;
+  std::vector<RayHit> packetHits_[kPacket];
   Collector collector_;
 };
 

@@ -67,7 +67,10 @@ void runAxisPass(AxisPass& pass) {
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, brickColumns),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<detail::Interval> intervals;
+    std::vector<detail::Interval> packetIntervals[detail::ColumnRay::kPacket];
+    double packetU[detail::ColumnRay::kPacket], packetV[detail::ColumnRay::kPacket];
+    detail::RayOutcome packetOutcomes[detail::ColumnRay::kPacket];
+    int packetAttempts[detail::ColumnRay::kPacket];
     std::vector<float> acc(static_cast<std::size_t>(dims[a]), 0.f);  // zero between columns
     std::vector<Fill> column(std::size_t(kBrickEdge * kBrickEdge) * std::size_t(dims[a]), 0);
     // Per column of the brick column: the voxels [first, last] any inside interval touched;
@@ -92,29 +95,36 @@ void runAxisPass(AxisPass& pass) {
           if (iu >= dims[u]) break;
           int kFirst = dims[a], kLast = -1;  // voxels of acc written for this column
           int votes = 0;
-          for (int sv = 0; sv < R; ++sv) {
-            for (int su = 0; su < R; ++su) {
+          // The column's rays, sv-major as always, cast in packets; each ray is then
+          // accumulated in that order.
+          for (int first = 0; first < R * R; first += detail::ColumnRay::kPacket) {
+            const int count = std::min(detail::ColumnRay::kPacket, R * R - first);
+            for (int i = 0; i < count; ++i) {
+              const int sv = (first + i) / R;
+              const int su = (first + i) % R;
               // Stratified samples, nudged off rational positions so rays do not run
               // exactly along the edges and faces of axis-aligned meshes.
               const double fu = (su + 0.5 + 0.0061803) / R;
               const double fv = (sv + 0.5 + 0.0041421) / R;
-              int attempts = 0;
-              const detail::RayOutcome outcome =
-                  ray.cast(origin[u] + (iu + fu) * vs, origin[v] + (iv + fv) * vs, 2e-3 * vs / R,
-                           intervals, attempts);
+              packetU[i] = origin[u] + (iu + fu) * vs;
+              packetV[i] = origin[v] + (iv + fv) * vs;
+            }
+            ray.castPacket(count, packetU, packetV, 2e-3 * vs / R, !pass.abstain, packetIntervals,
+                           packetOutcomes, packetAttempts);
+            for (int i = 0; i < count; ++i) {
+              const detail::RayOutcome outcome = packetOutcomes[i];
               ++cast;
-              retried += std::uint64_t(attempts - 1);
+              retried += std::uint64_t(packetAttempts[i] - 1);
               if (outcome == detail::RayOutcome::Winding) ++winding;
               if (outcome == detail::RayOutcome::Unresolved) {
                 ++unresolved;
-                if (pass.abstain) continue;
-                detail::pairByParity(ray.hits(), intervals);  // best effort: drop the odd hit out
+                if (pass.abstain) continue;  // (otherwise paired by parity: best effort)
               }
               ++votes;
               // Exact overlap of each inside interval with the voxels of the column: partial
               // at its two end voxels, exactly 1 for every voxel between them (ray by ray, in
               // the same order, so each voxel's float sum is the same).
-              for (const detail::Interval& iv01 : intervals) {
+              for (const detail::Interval& iv01 : packetIntervals[i]) {
                 const double s0 = std::max(0.0, (iv01.t0 - vs) / vs);
                 const double s1 = std::min(double(dims[a]), (iv01.t1 - vs) / vs);
                 if (s1 <= s0) continue;
@@ -122,13 +132,13 @@ void runAxisPass(AxisPass& pass) {
                 const int k1 = std::min(int(s1), dims[a] - 1);
                 kFirst = std::min(kFirst, k0);
                 kLast = std::max(kLast, k1);
-                const double first = std::min(s1, k0 + 1.0) - s0;
-                if (first > 0.0) acc[std::size_t(k0)] += float(first);
+                const double firstOverlap = std::min(s1, k0 + 1.0) - s0;
+                if (firstOverlap > 0.0) acc[std::size_t(k0)] += float(firstOverlap);
                 if (k1 == k0) continue;
                 float* inner = acc.data() + k0 + 1;
                 for (int n = k1 - k0 - 1; n > 0; --n) *inner++ += 1.f;
-                const double last = std::min(s1, k1 + 1.0) - double(k1);
-                if (last > 0.0) acc[std::size_t(k1)] += float(last);
+                const double lastOverlap = std::min(s1, k1 + 1.0) - double(k1);
+                if (lastOverlap > 0.0) acc[std::size_t(k1)] += float(lastOverlap);
               }
             }
           }

@@ -4,6 +4,8 @@
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "support/shapes.h"
+// The ray caster is internal to the geometry library; its packet path is checked here.
+#include "../../../geometry/src/voxels/column_ray.h"
 
 #include <gtest/gtest.h>
 
@@ -74,6 +76,65 @@ void expectDensityFromExactDistances(const TriangleMesh& mesh, double voxelSizeM
   EXPECT_EQ(cortical, stats.density.corticalVoxels);
   EXPECT_EQ(bone, stats.density.corticalVoxels + stats.density.cancellousVoxels);
   EXPECT_LT(stats.density.distanceQueries, bone / 2);  // bounds settle most voxels
+}
+
+// The voxelizer casts each column's rays as Embree packets: every ray must give what the
+// single-ray cast gives (same outcome, attempts and intervals, bit for bit), or the grid
+// would change. Columns along each axis of the grid, a ray bundle of 4 x 4 and of 3 x 3.
+void expectPacketsMatchSingleRays(const TriangleMesh& mesh, double voxelSizeMm, int stride) {
+  const VoxelGrid layout = makeGridFor(mesh, voxelSizeMm);
+  const EmbreeScene scene(mesh);
+  const int outwardSign = detail::outwardSignOf(mesh);
+  const glm::ivec3 dims = layout.dims();
+  const double vs = voxelSizeMm;
+  const glm::dvec3 origin = layout.originMm();
+  std::uint64_t rays = 0, withHits = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3;
+    const int v = (axis + 2) % 3;
+    detail::ColumnRay single(scene, axis, outwardSign, origin[axis] - vs, (dims[axis] + 2) * vs,
+                             std::min(1e-4, 1e-3 * vs));
+    detail::ColumnRay packet(scene, axis, outwardSign, origin[axis] - vs, (dims[axis] + 2) * vs,
+                             std::min(1e-4, 1e-3 * vs));
+    for (int R : {4, 3}) {
+      for (int iv = 0; iv < dims[v]; iv += stride)
+        for (int iu = 0; iu < dims[u]; iu += stride) {
+          double us[detail::ColumnRay::kPacket], vs2[detail::ColumnRay::kPacket];
+          const int count = R * R;
+          for (int i = 0; i < count; ++i) {
+            us[i] = origin[u] + (iu + (i % R + 0.5 + 0.0061803) / R) * vs;
+            vs2[i] = origin[v] + (iv + (i / R + 0.5 + 0.0041421) / R) * vs;
+          }
+          std::vector<detail::Interval> packed[detail::ColumnRay::kPacket];
+          detail::RayOutcome outcomes[detail::ColumnRay::kPacket];
+          int attempts[detail::ColumnRay::kPacket];
+          packet.castPacket(count, us, vs2, 2e-3 * vs / R, true, packed, outcomes, attempts);
+          for (int i = 0; i < count; ++i) {
+            std::vector<detail::Interval> intervals;
+            int singleAttempts = 0;
+            const detail::RayOutcome outcome =
+                single.cast(us[i], vs2[i], 2e-3 * vs / R, intervals, singleAttempts);
+            if (outcome == detail::RayOutcome::Unresolved) {
+              detail::pairByParity(single.hits(), intervals);
+            }
+            ++rays;
+            withHits += intervals.empty() ? 0 : 1;
+            ASSERT_EQ(int(outcomes[i]), int(outcome)) << "axis " << axis << " column " << iu << ", " << iv;
+            ASSERT_EQ(attempts[i], singleAttempts);
+            ASSERT_EQ(packed[i].size(), intervals.size());
+            for (std::size_t k = 0; k < intervals.size(); ++k) {
+              ASSERT_EQ(packed[i][k].t0, intervals[k].t0);
+              ASSERT_EQ(packed[i][k].t1, intervals[k].t1);
+            }
+          }
+        }
+    }
+  }
+  EXPECT_GT(withHits, rays / 4);  // the comparison saw the bone, not only empty padding
+}
+
+TEST(Voxelizer, RayPacketsGiveWhatSingleRaysGiveOnTheBuiltInHumerus) {
+  expectPacketsMatchSingleRays(buildHumerusModel().mesh, 0.9, 2);
 }
 
 TEST(Voxelizer, SphereBoxTorusVolumesWithinHalfAPercentAtRadiusOver20) {
@@ -309,6 +370,11 @@ TEST_F(SharedBones, HumerusInMetresWithinOnePercentOfItsMeshVolume) {
 TEST_F(SharedBones, DensityOfEveryVoxelIsItsExactDistanceRule) {
   expectDensityFromExactDistances(readMesh(dir_ + "/fibula_L_vhm_denver.stl"), 0.9);
   expectDensityFromExactDistances(readMesh(dir_ + "/humerus_R_opensim_myosuite.stl", 1000.0), 0.9);
+}
+
+TEST_F(SharedBones, RayPacketsGiveWhatSingleRaysGive) {
+  expectPacketsMatchSingleRays(readMesh(dir_ + "/fibula_L_vhm_denver.stl"), 0.7, 3);
+  expectPacketsMatchSingleRays(readMesh(dir_ + "/humerus_R_opensim_myosuite.stl", 1000.0), 0.7, 3);
 }
 
 TEST_F(SharedBones, FibulaInMillimetresWithinOnePercentOfItsMeshVolume) {
