@@ -55,6 +55,8 @@ constexpr int kPad = kBrickEdge + 2;
 constexpr int kPaddedVoxels = kPad * kPad * (kBrickEdge + 1);
 constexpr int paddedIndex(int x, int y, int z) { return (x + 1) + kPad * ((y + 1) + kPad * (z + 1)); }
 
+constexpr std::size_t kMaxNearTriangles = 1024;
+
 // A triangle near a brick, with its bounding box for a quick rejection.
 struct NearTriangle {
   double fromCentre;  // lower bound on its distance from the brick centre (box distance)
@@ -165,25 +167,34 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
       }
       interiorStale = !fullBrick;
       // Every triangle within queryReachMm of a voxel centre is within that plus the
-      // farthest centre's distance of the brick centre: gather them once for the brick.
+      // farthest centre's distance of the brick centre: gather them once for the brick, and
+      // scan them for each voxel's query. Large bricks (coarse voxels, whose gather would be
+      // wider than twice a voxel's reach) or crowded ones are left to Embree's closest-first
+      // search for each voxel instead.
       const double farthestMm = vs * glm::length(0.5 * glm::dvec3(span) - 0.5);
-      nearIds.clear();
-      surface.trianglesNear(centre, queryReachMm + farthestMm, nearIds);
-      std::sort(nearIds.begin(), nearIds.end());
-      nearIds.erase(std::unique(nearIds.begin(), nearIds.end()), nearIds.end());
       near.clear();
-      for (const std::uint32_t id : nearIds) {
-        const glm::u32vec3& t = mesh.triangles[id];
-        const glm::dvec3& pa = mesh.positionsMm[t.x];
-        const glm::dvec3& pb = mesh.positionsMm[t.y];
-        const glm::dvec3& pc = mesh.positionsMm[t.z];
-        const glm::dvec3 tlo = glm::min(pa, glm::min(pb, pc));
-        const glm::dvec3 thi = glm::max(pa, glm::max(pb, pc));
-        near.push_back({std::sqrt(boxDistance(centre, tlo, thi)), pa, pb, pc, tlo, thi});
+      bool useNear = farthestMm <= queryReachMm;
+      if (useNear) {
+        nearIds.clear();
+        surface.trianglesNear(centre, queryReachMm + farthestMm, nearIds);
+        std::sort(nearIds.begin(), nearIds.end());
+        nearIds.erase(std::unique(nearIds.begin(), nearIds.end()), nearIds.end());
+        useNear = nearIds.size() <= kMaxNearTriangles;
       }
-      std::sort(near.begin(), near.end(), [](const NearTriangle& p, const NearTriangle& q) {
-        return p.fromCentre < q.fromCentre;
-      });
+      if (useNear) {
+        for (const std::uint32_t id : nearIds) {
+          const glm::u32vec3& t = mesh.triangles[id];
+          const glm::dvec3& pa = mesh.positionsMm[t.x];
+          const glm::dvec3& pb = mesh.positionsMm[t.y];
+          const glm::dvec3& pc = mesh.positionsMm[t.z];
+          const glm::dvec3 tlo = glm::min(pa, glm::min(pb, pc));
+          const glm::dvec3 thi = glm::max(pa, glm::max(pb, pc));
+          near.push_back({std::sqrt(boxDistance(centre, tlo, thi)), pa, pb, pc, tlo, thi});
+        }
+        std::sort(near.begin(), near.end(), [](const NearTriangle& p, const NearTriangle& q) {
+          return p.fromCentre < q.fromCentre;
+        });
+      }
       for (int z = lo.z; z < hi.z; ++z)
         for (int y = lo.y; y < hi.y; ++y)
           for (int x = lo.x; x < hi.x; ++x) {
@@ -203,7 +214,9 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
             }
             if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
               ++nQueries;
-              const double d = distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm, upper);
+              const double d =
+                  useNear ? distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm, upper)
+                          : surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
               lower = d < 0.0 ? queryReachMm : d;
               upper = d < 0.0 ? kUnbounded : d;
             }
