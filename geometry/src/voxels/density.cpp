@@ -81,8 +81,12 @@ inline double boxDistance(const glm::dvec3& p, const glm::dvec3& lo, const glm::
 // cannot beat the best so far.
 // upperMm: a bound the distance is known not to exceed (it only starts the search tighter:
 // a triangle nearer than reach is still found and the minimum is the same).
+// stopAtMm: return the first distance found at or below it (then only an upper bound: *exact
+// is false), since that already decides the voxel.
 inline double distanceWithinNear(const std::vector<NearTriangle>& near, const glm::dvec3& p,
-                                 double pFromCentre, double reach, double upperMm) {
+                                 double pFromCentre, double reach, double upperMm,
+                                 double stopAtMm, bool* exact) {
+  *exact = true;
   double best = reach;
   double search = std::min(reach, upperMm * (1.0 + 1e-9) + 1e-9);
   bool found = false;
@@ -95,6 +99,10 @@ inline double distanceWithinNear(const std::vector<NearTriangle>& near, const gl
     if (d < best) {
       best = d;
       found = true;
+      if (d <= stopAtMm) {
+        *exact = false;
+        return d;
+      }
     }
   }
   return found ? best : -1.0;
@@ -214,10 +222,12 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
             }
             if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
               ++nQueries;
+              bool exact = true;
               const double d =
-                  useNear ? distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm, upper)
+                  useNear ? distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm, upper,
+                                               shellMm, &exact)
                           : surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
-              lower = d < 0.0 ? queryReachMm : d;
+              if (exact) lower = d < 0.0 ? queryReachMm : d;
               upper = d < 0.0 ? kUnbounded : d;
             }
             lowerMm[std::size_t(pi)] = lower;
