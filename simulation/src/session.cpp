@@ -94,16 +94,17 @@ const geometry::TriangleMesh& BoneModel::headMesh() const {
 
 const HumeralHead& BoneModel::humeralHead() const {
   const geometry::TriangleMesh& mesh = headMesh();
-  // A failed fit throws out of call_once, which leaves the flag unset: the next call tries again.
   // A grid's surface has thousands of points on every rounded end: the head is the largest cap.
+  // A failed fit is kept as its message and thrown outside call_once: an exception through
+  // call_once leaves the flag locked where pthread_once cannot unwind (TSan's interceptor).
   std::call_once(headOnce_, [this, &mesh] {
     try {
       head_ = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap);
     } catch (const InputError& e) {
-      if (mesh_) throw;
-      throw InputError(name_ + ": " + e.what() + " (fitted to the grid's surface)");
+      headError_ = mesh_ ? e.what() : name_ + ": " + e.what() + " (fitted to the grid's surface)";
     }
   });
+  if (!head_) throw InputError(headError_);
   return *head_;
 }
 

@@ -118,6 +118,7 @@ class BoneModel {
   mutable std::once_flag surfaceOnce_;
   mutable std::optional<geometry::TriangleMesh> surfaceMesh_;  // bones without a mesh
   mutable std::once_flag headOnce_;
+  mutable std::string headError_;  // why the fit failed, when it did
   mutable std::optional<HumeralHead> head_;
 };
 
