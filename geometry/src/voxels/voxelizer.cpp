@@ -59,6 +59,32 @@ void runAxisPass(AxisPass& pass) {
   const double rayLength = (dims[a] + 2) * vs;
   const std::size_t brickColumns = std::size_t(brickDims[u]) * std::size_t(brickDims[v]);
 
+  // Columns some triangle's bounding box reaches across the rays (widened far beyond Embree's
+  // float rounding). A ray in any other column can hit nothing: no hits is an even, resolved
+  // ray with no inside interval, so such a column is counted as cast and left empty.
+  std::vector<std::uint8_t> reachable(std::size_t(dims[u]) * std::size_t(dims[v]), 0);
+  {
+    const TriangleMesh& mesh = pass.scene->mesh();
+    const double margin = 1e-2 * vs + 1e-3;
+    const auto columnOf = [&](double coordMm, int c) {
+      const double g = std::floor((coordMm - origin[c]) / vs);
+      return int(std::clamp(g, 0.0, double(dims[c] - 1)));
+    };
+    for (const glm::u32vec3& t : mesh.triangles) {
+      const glm::dvec3& p0 = mesh.positionsMm[t.x];
+      const glm::dvec3& p1 = mesh.positionsMm[t.y];
+      const glm::dvec3& p2 = mesh.positionsMm[t.z];
+      const int u0 = columnOf(std::min({p0[u], p1[u], p2[u]}) - margin, u);
+      const int u1 = columnOf(std::max({p0[u], p1[u], p2[u]}) + margin, u);
+      const int v0 = columnOf(std::min({p0[v], p1[v], p2[v]}) - margin, v);
+      const int v1 = columnOf(std::max({p0[v], p1[v], p2[v]}) + margin, v);
+      for (int jv = v0; jv <= v1; ++jv)
+        for (int ju = u0; ju <= u1; ++ju) {
+          reachable[std::size_t(ju) + std::size_t(dims[u]) * std::size_t(jv)] = 1;
+        }
+    }
+  }
+
   // Voxel-index strides inside a brick along the column axis and the two across it.
   int stride[3];
   stride[0] = 1;
@@ -95,9 +121,14 @@ void runAxisPass(AxisPass& pass) {
           if (iu >= dims[u]) break;
           int kFirst = dims[a], kLast = -1;  // voxels of acc written for this column
           int votes = 0;
+          const bool unreachable = !reachable[std::size_t(iu) + std::size_t(dims[u]) * std::size_t(iv)];
+          if (unreachable) {
+            cast += std::uint64_t(R) * std::uint64_t(R);
+            votes = R * R;
+          }
           // The column's rays, sv-major as always, cast in packets; each ray is then
           // accumulated in that order.
-          for (int first = 0; first < R * R; first += detail::ColumnRay::kPacket) {
+          for (int first = 0; !unreachable && first < R * R; first += detail::ColumnRay::kPacket) {
             const int count = std::min(detail::ColumnRay::kPacket, R * R - first);
             for (int i = 0; i < count; ++i) {
               const int sv = (first + i) / R;
