@@ -155,9 +155,15 @@ TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCat
               static_cast<unsigned long long>(after.collisionSteps - before.collisionSteps), collisionRatio,
               static_cast<unsigned long long>(after.bricksHandedOver - before.bricksHandedOver),
               static_cast<unsigned long long>(after.ringFull), firstUpdateMs, catchUpMs);
-  EXPECT_GE(hapticRatio, 0.8);
+#ifdef OSTEON_SLOW_BUILD
+  // A sanitizer's 2-15x slowdown costs the collision thread periods, stall or not.
+  const double minRatio = 0.5;
+#else
+  const double minRatio = 0.8;
+#endif
+  EXPECT_GE(hapticRatio, minRatio);
   EXPECT_LE(hapticRatio, 1.05);
-  EXPECT_GE(collisionRatio, 0.8);
+  EXPECT_GE(collisionRatio, minRatio);
   EXPECT_GT(after.bricksHandedOver, before.bricksHandedOver);  // drilling went on during the stall
   EXPECT_EQ(sink.nonFinite, 0u);
   EXPECT_GT(sink.maxN, 0.1);
