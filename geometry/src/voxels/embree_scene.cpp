@@ -124,18 +124,23 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
   return false;
 }
 
+// Embree's point query around `localMm` (relative to the scene's centre, as its BVH is).
+RTCPointQuery pointQueryAt(const glm::dvec3& localMm, float radiusMm) {
+  RTCPointQuery query;
+  query.x = float(localMm.x);
+  query.y = float(localMm.y);
+  query.z = float(localMm.z);
+  query.time = 0.f;
+  query.radius = radiusMm;
+  return query;
+}
+
 }  // namespace
 
 double EmbreeScene::distanceWithin(const glm::dvec3& pointMm, double maxDistanceMm,
                                    glm::dvec3* closestMm) const {
   ClosestQuery q{mesh_, pointMm, maxDistanceMm, glm::dvec3(0.0), false};
-  RTCPointQuery query;
-  const glm::dvec3 local = pointMm - centreMm_;
-  query.x = float(local.x);
-  query.y = float(local.y);
-  query.z = float(local.z);
-  query.time = 0.f;
-  query.radius = float(maxDistanceMm);
+  RTCPointQuery query = pointQueryAt(pointMm - centreMm_, float(maxDistanceMm));
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(scene_.get(), &query, &context, closestPointCallback, &q);
@@ -170,15 +175,9 @@ void EmbreeScene::trianglesNear(const glm::dvec3& pointMm, double radiusMm,
   if (mesh_->triangles.empty()) return;
   const double padded = radiusMm * (1.0 + 1e-9) + 1e-9;  // over the box test's rounding
   GatherQuery q{mesh_, pointMm, padded * padded, &out};
-  RTCPointQuery query;
-  const glm::dvec3 local = pointMm - centreMm_;
-  query.x = float(local.x);
-  query.y = float(local.y);
-  query.z = float(local.z);
-  query.time = 0.f;
   // Embree tests its boxes in single precision around a rounded point: a margin far above
   // that rounding keeps every box the exact sphere touches.
-  query.radius = float(radiusMm * (1.0 + 1e-4) + 1e-3);
+  RTCPointQuery query = pointQueryAt(pointMm - centreMm_, float(radiusMm * (1.0 + 1e-4) + 1e-3));
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(scene_.get(), &query, &context, gatherCallback, &q);
