@@ -387,13 +387,21 @@ std::vector<std::string> gridInputFiles(const std::string& input) {
   return {inputFile(input)};
 }
 
-// The grid a command works on: a GRID.nrrd as saved, or a mesh voxelized at --voxel-size.
-// setup gets the stages' times (a volume's whole read, its density included, is its load).
-geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
-                        const std::optional<double>& voxelSizeMm, double& voxelizeMs,
-                        const VolumeMeaning& meaning, json& volume, std::string& volumeText,
-                        sim::SetupTimings& setup) {
-  voxelizeMs = 0.0;
+// The grid a command works on, what it was read from, and its set-up so far.
+struct LoadedGrid {
+  Clock::time_point start = Clock::now();  // the command's set-up starts here
+  geo::VoxelGrid grid;
+  double voxelizeMs = 0.0;
+  json volume;              // a volume's meaning, null for a mesh
+  std::string volumeText;
+  sim::SetupTimings setup;  // a volume's whole read, its density included, is its load
+};
+
+// A GRID.nrrd or other volume as read, or a mesh voxelized at --voxel-size.
+LoadedGrid loadGrid(const std::string& input, const MeshUnits& units, const std::optional<double>& voxelSizeMm,
+                    const VolumeMeaning& meaning) {
+  LoadedGrid out;
+  sim::SetupTimings& setup = out.setup;
   if (geo::isVolumePath(input)) {
     const Clock::time_point start = Clock::now();
     geo::VolumeOptions vo;
@@ -407,9 +415,10 @@ geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
         << read.grid.voxelSizeMm() << " mm (omit --voxel-size for a grid)";
       throw InputError(s.str());
     }
-    volume = volumeJson(read, meaning);
-    volumeText = volumeLine(read, meaning);
-    return std::move(read.grid);
+    out.volume = volumeJson(read, meaning);
+    out.volumeText = volumeLine(read, meaning);
+    out.grid = std::move(read.grid);
+    return out;
   }
   if (meaning.label || meaning.isoHu) {
     throw InputError(std::string(meaning.label ? "--label" : "--iso") + ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " +
@@ -422,25 +431,21 @@ geo::VoxelGrid loadGrid(const std::string& input, const MeshUnits& units,
   options.meshName = input;
   options.loadScaleToMm = loaded.scale;
   geo::VoxelizeStats stats;
-  geo::VoxelGrid grid = geo::voxelize(loaded.mesh, options, &stats);
-  voxelizeMs = stats.totalMs;
+  out.grid = geo::voxelize(loaded.mesh, options, &stats);
+  out.voxelizeMs = stats.totalMs;
   setup.loadMs = loaded.loadMs;
   setup.voxelizeMs = std::max(0.0, stats.totalMs - stats.densityMs);
   setup.densityMs = stats.densityMs;
-  return grid;
+  return out;
 }
 
 }  // namespace
 
 int runHierarchy(const HierarchyOptions& options) {
   if (!options.svg.empty()) geo::refuseOverwritingInputs({options.svg}, gridInputFiles(options.input));
-  double voxelizeMs = 0.0;
-  json volume;
-  std::string volumeText;
-  const Clock::time_point setupStart = Clock::now();
-  sim::SetupTimings setup;
-  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs,
-                                       options.volume, volume, volumeText, setup);
+  LoadedGrid loaded = loadGrid(options.input, options.units, options.voxelSizeMm, options.volume);
+  const geo::VoxelGrid& grid = loaded.grid;
+  sim::SetupTimings& setup = loaded.setup;
   geo::DphBuildOptions build;
   build.expansionRatio = options.xi;
   build.seed = options.seed;
@@ -448,7 +453,7 @@ int runHierarchy(const HierarchyOptions& options) {
   const geo::DynamicProximityHierarchy hierarchy = geo::DynamicProximityHierarchy::build(grid, build);
   const double buildMs = msSince(start);
   setup.hierarchyMs = buildMs;
-  setup.totalMs = msSince(setupStart);  // set-up ends with the hierarchy; the checks are not part of it
+  setup.totalMs = msSince(loaded.start);  // set-up ends with the hierarchy; the checks are not part of it
   const std::string problem = hierarchy.validateAgainst(grid);
 
   int sliceZ = grid.dims().z / 2;
@@ -484,13 +489,13 @@ int runHierarchy(const HierarchyOptions& options) {
               {"levels", hierarchy.levelCount()},
               {"nodes_per_level", levels},
               {"build_ms", buildMs},
-              {"voxelize_ms", voxelizeMs},
+              {"voxelize_ms", loaded.voxelizeMs},
               {"memory_bytes", hierarchy.memoryBytes()},
               {"valid", problem.empty()},
               {"setup_ms", setupJson(setup)},
               {"peak_rss_mb", peakRssMb()}};
     if (!problem.empty()) j["problem"] = problem;
-    if (!volume.is_null()) j["volume"] = volume;
+    if (!loaded.volume.is_null()) j["volume"] = loaded.volume;
     if (hierarchy.voxelCount() == 0) {
       j["empty"] = true;
       j["empty_reason"] = "no voxel inside";
@@ -508,7 +513,7 @@ int runHierarchy(const HierarchyOptions& options) {
     std::printf("  build %.1f ms, %.2f MB; %s\n", buildMs, double(hierarchy.memoryBytes()) / 1e6,
                 problem.empty() ? "all invariants hold" : problem.c_str());
     std::printf("%s\n", setupLine(setup).c_str());
-    if (!volumeText.empty()) std::printf("%s\n", volumeText.c_str());
+    if (!loaded.volumeText.empty()) std::printf("%s\n", loaded.volumeText.c_str());
     if (!options.svg.empty()) std::printf("  wrote %s (slice z = %d)\n", options.svg.c_str(), sliceZ);
   }
   if (!problem.empty()) return kExitCheckFailed;
@@ -539,18 +544,14 @@ int runMesh(const MeshCommandOptions& options) {
     geo::meshFormatFromPath(options.out);  // fail before the work
     geo::refuseOverwritingInputs({options.out}, gridInputFiles(options.input));
   }
-  double voxelizeMs = 0.0;
-  json volume;
-  std::string volumeText;
-  const Clock::time_point setupStart = Clock::now();
-  sim::SetupTimings setup;
-  const geo::VoxelGrid grid = loadGrid(options.input, options.units, options.voxelSizeMm, voxelizeMs,
-                                       options.volume, volume, volumeText, setup);
+  LoadedGrid loaded = loadGrid(options.input, options.units, options.voxelSizeMm, options.volume);
+  const geo::VoxelGrid& grid = loaded.grid;
+  sim::SetupTimings& setup = loaded.setup;
   geo::SurfaceTimings t;
   const Clock::time_point surfaceStart = Clock::now();
   const geo::SurfaceMesh surface = geo::extractSurface(grid, so, &t);
   setup.surfaceMs = msSince(surfaceStart);
-  setup.totalMs = msSince(setupStart);  // set-up ends with the surface; topology and writing are not part of it
+  setup.totalMs = msSince(loaded.start);  // set-up ends with the surface; topology and writing are not part of it
   const geo::TriangleMesh mesh = surface.toTriangleMesh();
   const geo::MeshTopology topo = geo::analyzeTopology(mesh);
   if (!options.out.empty()) geo::writeMesh(mesh, options.out);
@@ -575,11 +576,11 @@ int runMesh(const MeshCommandOptions& options) {
               {"time_ms",
                {{"total", t.totalMs}, {"extract", t.extractMs}, {"smooth", t.smoothMs},
                 {"normals", t.normalsMs}, {"other", t.otherMs}}},
-              {"voxelize_ms", voxelizeMs},
+              {"voxelize_ms", loaded.voxelizeMs},
               {"setup_ms", setupJson(setup)},
               {"peak_rss_mb", peakRssMb()}};
     if (!options.out.empty()) j["out"] = options.out;
-    if (!volume.is_null()) j["volume"] = volume;
+    if (!loaded.volume.is_null()) j["volume"] = loaded.volume;
     if (surface.triangleCount() == 0) {
       j["empty"] = true;
       j["empty_reason"] = emptyMeshReason(grid);
@@ -601,7 +602,7 @@ int runMesh(const MeshCommandOptions& options) {
   std::printf("  time        %.2f ms: extract %.2f, smooth %.2f, normals %.2f, other %.2f\n",
               t.totalMs, t.extractMs, t.smoothMs, t.normalsMs, t.otherMs);
   std::printf("%s\n", setupLine(setup).c_str());
-  if (!volumeText.empty()) std::printf("%s\n", volumeText.c_str());
+  if (!loaded.volumeText.empty()) std::printf("%s\n", loaded.volumeText.c_str());
   if (!options.out.empty()) std::printf("  wrote       %s\n", options.out.c_str());
   if (surface.triangleCount() == 0) return emptyExit("mesh", options.input, emptyMeshReason(grid), options.allowEmpty);
   return kExitOk;
