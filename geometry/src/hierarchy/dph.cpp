@@ -245,6 +245,15 @@ void DynamicProximityHierarchy::buildInsertion(const std::vector<glm::ivec3>& vo
 
 DynamicProximityHierarchy DynamicProximityHierarchy::build(const VoxelGrid& grid,
                                                            const DphBuildOptions& options) {
+  if (options.method == DphBuildMethod::kLattice && options.expansionRatio == 3) {
+    DynamicProximityHierarchy h;
+    static std::atomic<std::uint64_t> gridBuilds{0};
+    h.generation_ = (std::uint64_t(1) << 63) | ++gridBuilds;  // distinct from the voxel-list builds' numbers
+    h.originMm_ = grid.originMm();
+    h.voxelSizeMm_ = grid.voxelSizeMm();
+    const glm::ivec3 far = grid.dims() - 1;
+    if (packable(far) && h.buildLatticeFromGrid(grid)) return h;
+  }
   std::vector<glm::ivec3> occupied;
   occupied.reserve(std::size_t(grid.countVoxels(1)));
   const glm::ivec3 dims = grid.dims();
@@ -270,8 +279,15 @@ std::uint32_t DynamicProximityHierarchy::root() const {
   return top.aliveCount > 0 && top.alive[0] ? 0u : kNone;
 }
 
-std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel) const {
+std::uint32_t DynamicProximityHierarchy::parent(int level, std::uint32_t node) const {
+  if (level > 0 || !compactVoxels()) return levels_[std::size_t(level)].parent[node];
+  const std::vector<std::uint32_t>& begins = levels_[1].childBegin;  // ascending in the lattice build
+  return std::uint32_t(std::upper_bound(begins.begin(), begins.end(), node) - begins.begin()) - 1;
+}
+
+std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel, std::uint32_t* cellOut) const {
   if (!packable(voxel)) return kNone;
+  std::uint32_t node = kNone;
   if (lattice_) {
     std::uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
@@ -280,39 +296,46 @@ std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel) cons
       key += keySpread_[std::size_t(a)][std::size_t(d)];
     }
     const Level& level0 = levels_[0];
-    std::uint32_t begin = 0, end = 1;  // a single voxel has no level 1
-    if (levels_.size() > 1) {
+    if (!compactVoxels()) {  // a single voxel: no level 1
+      node = level0.centre[0] == voxel ? 0 : kNone;
+    } else {
       const std::uint64_t cells = std::uint64_t(xi_) * std::uint64_t(xi_) * std::uint64_t(xi_);
       const auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), key / cells);
       if (it == cellKeys_.end() || *it != key / cells) return kNone;
-      const auto cell = std::size_t(it - cellKeys_.begin());
-      begin = levels_[1].childBegin[cell];
-      end = levels_[1].childEnd[cell];
+      const auto cell = std::uint32_t(it - cellKeys_.begin());
+      const auto digit = std::uint16_t(key % cells);
+      for (std::uint32_t c = levels_[1].childBegin[cell]; c < levels_[1].childEnd[cell]; ++c) {  // ascending digits
+        if (level0.digit[c] == digit) {
+          node = c;
+          if (cellOut) *cellOut = cell;
+          break;
+        }
+      }
     }
-    for (std::uint32_t c = begin; c < end; ++c) {  // at most xi^3 voxels, in key order
-      if (level0.centre[c] == voxel) return level0.alive[c] ? c : kNone;
-    }
-    return kNone;
+  } else {
+    const std::uint64_t key = packVoxel(voxel);
+    const auto it = std::lower_bound(voxelKeys_.begin(), voxelKeys_.end(), key);
+    if (it != voxelKeys_.end() && *it == key) node = voxelNodes_[std::size_t(it - voxelKeys_.begin())];
   }
-  const std::uint64_t key = packVoxel(voxel);
-  const auto it = std::lower_bound(voxelKeys_.begin(), voxelKeys_.end(), key);
-  if (it == voxelKeys_.end() || *it != key) return kNone;
-  const std::uint32_t node = voxelNodes_[std::size_t(it - voxelKeys_.begin())];
-  return levels_[0].alive[node] ? node : kNone;
+  if (node == kNone || !levels_[0].alive[node]) return kNone;
+  if (cellOut && !compactVoxels()) *cellOut = levels_[0].parent[node];
+  return node;
 }
 
 bool DynamicProximityHierarchy::removeVoxel(const glm::ivec3& voxel) {
-  std::uint32_t node = findVoxel(voxel);
+  std::uint32_t cell = kNone;
+  std::uint32_t node = findVoxel(voxel, &cell);
   if (node == kNone) return false;
   levels_[0].alive[node] = 0;
   --levels_[0].aliveCount;
   // Walk up while parents are left without children.
+  node = cell;
   for (std::size_t L = 1; L < levels_.size(); ++L) {
     Level& lv = levels_[L];
-    node = levels_[L - 1].parent[node];
     if (--lv.aliveChildren[node] > 0) break;
     lv.alive[node] = 0;
     --lv.aliveCount;
+    node = lv.parent[node];
   }
   return true;
 }
@@ -446,11 +469,12 @@ std::string DynamicProximityHierarchy::validate() const {
       err << "level " << L << ": " << alive << " alive nodes but a count of " << lv.aliveCount;
       return err.str();
     }
-    for (std::uint32_t i = 0; i < lv.centre.size(); ++i) {
+    for (std::uint32_t i = 0; i < lv.alive.size(); ++i) {
       if (!lv.alive[i]) continue;
+      const glm::ivec3 centreI = centre(int(L), i);
       if (L + 1 < levels_.size()) {
         const Level& up = levels_[L + 1];
-        const std::uint32_t p = lv.parent[i];
+        const std::uint32_t p = parent(int(L), i);
         if (p >= up.centre.size() || !up.alive[p]) {
           err << "level " << L << " node " << i << ": no alive parent";
           return err.str();
@@ -459,24 +483,24 @@ std::string DynamicProximityHierarchy::validate() const {
           err << "level " << L << " node " << i << ": outside its parent's child range";
           return err.str();
         }
-        if (chebyshev(lv.centre[i], up.centre[p]) > halfWidth_[L + 1]) {
+        if (chebyshev(centreI, up.centre[p]) > halfWidth_[L + 1]) {
           err << "level " << L << " node " << i << ": centre outside its parent's cell";
           return err.str();
         }
-        const glm::ivec3 lo = L == 0 ? lv.centre[i] : lv.boxMin[i];
-        const glm::ivec3 hi = L == 0 ? lv.centre[i] : lv.boxMax[i];
+        const glm::ivec3 lo = L == 0 ? centreI : lv.boxMin[i];
+        const glm::ivec3 hi = L == 0 ? centreI : lv.boxMax[i];
         if (glm::any(glm::lessThan(lo, up.boxMin[p])) || glm::any(glm::greaterThan(hi, up.boxMax[p]))) {
           err << "level " << L << " node " << i << ": not inside its parent's box";
           return err.str();
         }
-      } else if (lv.parent[i] != kNone) {
+      } else if (parent(int(L), i) != kNone) {
         err << "top level node " << i << " has a parent";
         return err.str();
       }
       if (L > 0) {
         std::uint32_t children = 0;
         for (std::uint32_t c = lv.childBegin[i]; c < lv.childEnd[i]; ++c) {
-          if (levels_[L - 1].parent[c] != i) {
+          if (parent(int(L) - 1, c) != i) {
             err << "level " << L << " node " << i << ": child " << c << " names another parent";
             return err.str();
           }
@@ -501,11 +525,12 @@ std::string DynamicProximityHierarchy::validate() const {
   }
   if (lattice_) {
     if (levels_.size() > 1 && cellKeys_.size() != levels_[1].centre.size()) return "cell index size is wrong";
+    if (compactVoxels() && levels_[0].digit.size() != levels_[0].alive.size()) return "voxel digits are missing";
     for (std::size_t i = 1; i < cellKeys_.size(); ++i) {
       if (cellKeys_[i - 1] >= cellKeys_[i]) return "cell index is not sorted";
     }
-    for (std::uint32_t i = 0; i < levels_[0].centre.size(); ++i) {  // every voxel found where it is
-      if (levels_[0].alive[i] && findVoxel(levels_[0].centre[i]) != i) {
+    for (std::uint32_t i = 0; i < levels_[0].alive.size(); ++i) {  // every voxel found where it is
+      if (levels_[0].alive[i] && findVoxel(centre(0, i)) != i) {
         return "voxel index does not find level-0 node " + std::to_string(i);
       }
     }
@@ -520,9 +545,9 @@ std::string DynamicProximityHierarchy::validateAgainst(const VoxelGrid& grid) co
     return grid.countVoxels(1) == 0 ? "" : "empty hierarchy over a grid with bone";
   }
   const Level& level0 = levels_[0];
-  for (std::uint32_t i = 0; i < level0.centre.size(); ++i) {
-    if (level0.alive[i] && grid.fill(level0.centre[i]) == 0) {
-      const glm::ivec3 v = level0.centre[i];
+  for (std::uint32_t i = 0; i < level0.alive.size(); ++i) {
+    if (level0.alive[i] && grid.fill(centre(0, i)) == 0) {
+      const glm::ivec3 v = centre(0, i);
       return "voxel (" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " +
              std::to_string(v.z) + ") is in the hierarchy but empty in the grid";
     }
@@ -544,8 +569,9 @@ std::size_t DynamicProximityHierarchy::memoryBytes() const {
              (lv.parent.capacity() + lv.childBegin.capacity() + lv.childEnd.capacity() +
               lv.aliveChildren.capacity()) * sizeof(std::uint32_t) +
              (lv.boxMin.capacity() + lv.boxMax.capacity()) * sizeof(glm::ivec3) +
-             lv.alive.capacity();
+             lv.alive.capacity() + lv.digit.capacity() * sizeof(std::uint16_t);
   }
+  bytes += digitOffset_.capacity() * sizeof(glm::ivec3);
   return bytes;
 }
 

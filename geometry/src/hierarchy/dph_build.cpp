@@ -1,10 +1,13 @@
 // The lattice build of the Dynamic Proximity Hierarchy (see dph.h): the cells of level L tile
 // space from the voxels' lowest corner in cubes of xi^L voxels, so a node's parent is simply
-// the cell that holds it. Voxels sorted by a base-xi Morton key (the digits of x, y and z
-// interleaved, most significant level first) are grouped by their level-1 cell, those cells
-// by their level-2 cell, and so on: every level is one linear pass over the one below, with
-// no hash, no search and no permutation. The structure depends on the voxel set only, not on
-// the input order or the thread count.
+// the cell that holds it. Level-1 cells sorted by a base-xi Morton key (the digits of x, y and
+// z interleaved, most significant level first) are grouped by their level-2 cell, those by
+// their level-3 cell, and so on: every level is one linear pass over the one below, with no
+// hash, no search and no permutation. The structure depends on the voxel set only, not on the
+// input order or the thread count.
+//
+// Level 0 keeps no coordinates: a voxel is its level-1 cell's corner plus its digit, its place
+// in the cell (x + xi y + xi^2 z), so the hierarchy costs about 3 bytes a voxel plus its cells.
 #include "osteon/geometry/hierarchy/dph.h"
 
 #include "osteon/core/error.h"
@@ -51,17 +54,54 @@ void radixSort(std::vector<std::uint64_t>& values, int lowBit, int bits) {
   }
 }
 
+// Sorts keys (all distinct or not) and returns the permutation: order[i] = the input index of
+// the i-th smallest. Ties keep input order.
+std::vector<std::uint32_t> sortKeys(std::vector<std::uint64_t>& keys, int keyBits) {
+  const std::size_t n = keys.size();
+  const int indexBits = bitsFor(n);
+  std::vector<std::uint32_t> order(n);
+  if (keyBits + indexBits <= 64) {  // (key, index) packed into one word: the usual case
+    for (std::size_t i = 0; i < n; ++i) keys[i] = (keys[i] << indexBits) | i;
+    radixSort(keys, indexBits, keyBits);
+    const std::uint64_t indexMask = (std::uint64_t(1) << indexBits) - 1;
+    for (std::size_t i = 0; i < n; ++i) {
+      order[i] = std::uint32_t(keys[i] & indexMask);
+      keys[i] >>= indexBits;
+    }
+    return order;
+  }
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs(n);
+  for (std::size_t i = 0; i < n; ++i) pairs[i] = {keys[i], std::uint32_t(i)};
+  std::sort(pairs.begin(), pairs.end());
+  for (std::size_t i = 0; i < n; ++i) {
+    keys[i] = pairs[i].first;
+    order[i] = pairs[i].second;
+  }
+  return order;
+}
+
+// Masks of a 3x3x3 cell's bits (bit x + 3y + 9z) that have x, y or z equal to 0.
+constexpr std::uint32_t kCellX0 = 0x1249249u;  // x = 0: bits 0, 3, 6, ..., 24
+constexpr std::uint32_t kCellY0 = 0x01C0E07u;  // y = 0: bits 0-2, 9-11, 18-20
+constexpr std::uint32_t kCellZ0 = 0x00001FFu;  // z = 0: bits 0-8
+
+// Lowest and highest coordinate (0..2) present along one axis of a non-empty cell mask.
+void axisRange(std::uint32_t mask, std::uint32_t axis0, int step, int& lo, int& hi) {
+  lo = 3;
+  hi = -1;
+  for (int d = 0; d < 3; ++d) {
+    if (mask & (axis0 << (d * step))) {
+      lo = std::min(lo, d);
+      hi = d;
+    }
+  }
+}
+
 }  // namespace
 
-bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxels) {
-  const std::size_t n = voxels.size();
+bool DynamicProximityHierarchy::prepareLattice(const glm::ivec3& lo, const glm::ivec3& hi, int& keyBits) {
   const std::uint64_t xi = std::uint64_t(xi_);
   const std::uint64_t cellsPerParent = xi * xi * xi;
-  glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
-  for (const glm::ivec3& v : voxels) {
-    lo = glm::min(lo, v);
-    hi = glm::max(hi, v);
-  }
   // Digit levels: xi^digits must span the widest axis; the key ranges over xi^(3 digits).
   const long long extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) + 1LL;
   int digits = 1;
@@ -71,9 +111,7 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
     if (keyCount > std::numeric_limits<std::uint64_t>::max() / cellsPerParent) return false;
     keyCount *= cellsPerParent;
   }
-  const int keyBits = bitsFor(keyCount);
-  const int indexBits = bitsFor(n);
-
+  keyBits = bitsFor(keyCount);
   // An axis's share of the key: its base-xi digits, each at its place in a digit triple.
   for (int a = 0; a < 3; ++a) {
     std::vector<std::uint64_t>& spread = keySpread_[a];
@@ -86,33 +124,33 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
     }
   }
   latticeOriginVoxel_ = lo;
+  digitOffset_.resize(std::size_t(cellsPerParent));
+  for (int d = 0; d < int(cellsPerParent); ++d) digitOffset_[std::size_t(d)] = {d % xi_, d / xi_ % xi_, d / (xi_ * xi_)};
+  levels_.clear();
+  halfWidth_.assign(1, 0);
+  maxChildren_ = 0;
+  return true;
+}
+
+bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxels) {
+  const std::size_t n = voxels.size();
+  const std::uint64_t cellsPerParent = std::uint64_t(xi_) * std::uint64_t(xi_) * std::uint64_t(xi_);
+  glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+  for (const glm::ivec3& v : voxels) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  int keyBits = 0;
+  if (!prepareLattice(lo, hi, keyBits)) return false;
   const auto keyOf = [&](const glm::ivec3& v) {
     return keySpread_[0][std::size_t(v.x - lo.x)] + keySpread_[1][std::size_t(v.y - lo.y)] +
            keySpread_[2][std::size_t(v.z - lo.z)];
   };
-
-  // Sort (key, input index) pairs: packed into one word when they fit, the usual case.
   std::vector<std::uint64_t> keys(n);
-  std::vector<std::uint32_t> order(n);  // sorted position -> input index
-  if (keyBits + indexBits <= 64) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) keys[i] = (keyOf(voxels[i]) << indexBits) | i;
-    });
-    radixSort(keys, indexBits, keyBits);
-    const std::uint64_t indexMask = (std::uint64_t(1) << indexBits) - 1;
-    for (std::size_t i = 0; i < n; ++i) {
-      order[i] = std::uint32_t(keys[i] & indexMask);
-      keys[i] >>= indexBits;
-    }
-  } else {
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs(n);
-    for (std::size_t i = 0; i < n; ++i) pairs[i] = {keyOf(voxels[i]), std::uint32_t(i)};
-    std::sort(pairs.begin(), pairs.end());
-    for (std::size_t i = 0; i < n; ++i) {
-      keys[i] = pairs[i].first;
-      order[i] = pairs[i].second;
-    }
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) keys[i] = keyOf(voxels[i]);
+  });
+  const std::vector<std::uint32_t> order = sortKeys(keys, keyBits);
   for (std::size_t i = 1; i < n; ++i) {
     if (keys[i] == keys[i - 1]) {
       const glm::ivec3 v = voxels[order[i]];
@@ -120,26 +158,204 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
                        std::to_string(v.z) + ") given twice");
     }
   }
-
-  // Level 0 in key order.
-  levels_.clear();
-  halfWidth_.clear();
-  {
+  if (n == 1) {  // no level 1 to hold its cell: the root is the voxel
     Level level0;
-    level0.centre.resize(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) level0.centre[i] = voxels[order[i]];
-    });
-    level0.parent.assign(n, kNone);
-    level0.alive.assign(n, 1);
-    level0.aliveCount = n;
+    level0.centre = voxels;
+    level0.parent.assign(1, kNone);
+    level0.alive.assign(1, 1);
+    level0.aliveCount = 1;
     levels_.push_back(std::move(level0));
-    halfWidth_.push_back(0);
+    lattice_ = true;
+    return true;
   }
-  std::vector<std::uint32_t>().swap(order);
 
+  // Level 0 as digits and level 1 from it: a run of equal key / xi^3 is one cell.
+  Level level0, level1;
+  level0.digit.resize(n);
+  level0.alive.assign(n, 1);
+  level0.aliveCount = n;
+  std::vector<std::uint64_t> cells;
+  for (std::size_t i = 0; i < n;) {
+    const std::uint64_t cell = keys[i] / cellsPerParent;
+    const glm::ivec3 first = voxels[order[i]];
+    glm::ivec3 bMin = first, bMax = first;
+    std::size_t j = i;
+    for (; j < n && keys[j] / cellsPerParent == cell; ++j) {
+      const glm::ivec3 v = voxels[order[j]];
+      level0.digit[j] = std::uint16_t(keys[j] % cellsPerParent);
+      bMin = glm::min(bMin, v);
+      bMax = glm::max(bMax, v);
+    }
+    glm::ivec3 corner;
+    for (int a = 0; a < 3; ++a) corner[a] = lo[a] + (first[a] - lo[a]) / xi_ * xi_;
+    level1.centre.push_back(corner + (xi_ - 1) / 2);
+    level1.childBegin.push_back(std::uint32_t(i));
+    level1.childEnd.push_back(std::uint32_t(j));
+    level1.aliveChildren.push_back(std::uint32_t(j - i));
+    level1.boxMin.push_back(bMin);
+    level1.boxMax.push_back(bMax);
+    maxChildren_ = std::max<std::size_t>(maxChildren_, j - i);
+    cells.push_back(cell);
+    i = j;
+  }
+  level1.parent.assign(cells.size(), kNone);
+  level1.alive.assign(cells.size(), 1);
+  level1.aliveCount = cells.size();
+  levels_.push_back(std::move(level0));
+  levels_.push_back(std::move(level1));
+  halfWidth_.push_back((xi_ - 1) / 2);
+  buildUpperLevels(std::move(cells));
+  return true;
+}
+
+bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
+  constexpr int B = VoxelGrid::kBrickSize;
+  const glm::ivec3 dims = grid.dims();
+  // Bounds of the occupied voxels: uniform bricks whole, the others voxel by voxel.
+  glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+  std::uint64_t occupied = 0;
+  for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
+    const VoxelGrid::Brick* b = grid.brickData(brick);
+    if (!b && grid.brickUniformFill(brick) == 0) continue;
+    const glm::ivec3 bLo = grid.brickCoord(brick) * B;
+    const glm::ivec3 bHi = glm::min(bLo + B, dims) - 1;
+    if (!b) {
+      lo = glm::min(lo, bLo);
+      hi = glm::max(hi, bHi);
+      occupied += std::uint64_t(bHi.x - bLo.x + 1) * std::uint64_t(bHi.y - bLo.y + 1) * std::uint64_t(bHi.z - bLo.z + 1);
+      continue;
+    }
+    for (int z = bLo.z; z <= bHi.z; ++z)
+      for (int y = bLo.y; y <= bHi.y; ++y)
+        for (int x = bLo.x; x <= bHi.x; ++x) {
+          if (b->fill[std::size_t(VoxelGrid::voxelInBrick(glm::ivec3(x, y, z) - bLo))] == 0) continue;
+          lo = glm::min(lo, glm::ivec3(x, y, z));
+          hi = glm::max(hi, glm::ivec3(x, y, z));
+          ++occupied;
+        }
+  }
+  if (occupied < 2 || occupied >= kNone) return false;  // the voxel-list build handles these
+  int keyBits = 0;
+  if (!prepareLattice(lo, hi, keyBits)) return false;
+
+  // One layer of cells (xi voxels in z) at a time, in parallel: each writes its rows of
+  // occupancy bits (bit x of row (y, z)) and the non-empty cells it finds, in scan order.
+  struct Cell {
+    glm::ivec3 corner;
+    std::uint32_t mask;  // bit x + 3y + 9z: that voxel of the cell is occupied
+  };
+  const glm::ivec3 cellDims = (hi - lo) / 3 + 1;
+  const int words = (cellDims.x * 3 + 63) / 64;
+  std::vector<std::vector<Cell>> layers(std::size_t(cellDims.z));
+  tbb::parallel_for(tbb::blocked_range<int>(0, cellDims.z), [&](const tbb::blocked_range<int>& r) {
+    std::vector<std::uint64_t> rows(std::size_t(3 * cellDims.y * 3) * std::size_t(words));
+    for (int cz = r.begin(); cz < r.end(); ++cz) {
+      std::fill(rows.begin(), rows.end(), 0);
+      for (int dz = 0; dz < 3; ++dz) {
+        const int z = lo.z + 3 * cz + dz;
+        if (z > hi.z) break;
+        for (int y = lo.y; y <= hi.y; ++y) {
+          std::uint64_t* row = &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) * words];
+          for (int bx = lo.x / B; bx <= hi.x / B; ++bx) {
+            const std::size_t brick = grid.brickIndex({bx, y / B, z / B});
+            const VoxelGrid::Brick* b = grid.brickData(brick);
+            if (!b && grid.brickUniformFill(brick) == 0) continue;
+            const int x0 = std::max(bx * B, lo.x), x1 = std::min(bx * B + B - 1, hi.x);
+            const int local = VoxelGrid::voxelInBrick({0, y % B, z % B});
+            for (int x = x0; x <= x1; ++x) {
+              if (b && b->fill[std::size_t(local + x - bx * B)] == 0) continue;
+              const int bit = x - lo.x;
+              row[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+            }
+          }
+        }
+      }
+      std::vector<Cell>& cells = layers[std::size_t(cz)];
+      for (int cy = 0; cy < cellDims.y; ++cy) {
+        for (int cx = 0; cx < cellDims.x; ++cx) {
+          std::uint32_t mask = 0;
+          const int bit = 3 * cx;
+          for (int dz = 0; dz < 3; ++dz) {
+            for (int dy = 0; dy < 3; ++dy) {
+              const std::uint64_t* row =
+                  &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) * words];
+              std::uint64_t three = row[bit >> 6] >> (bit & 63);
+              if ((bit & 63) > 61 && (bit >> 6) + 1 < words) three |= row[(bit >> 6) + 1] << (64 - (bit & 63));
+              mask |= std::uint32_t(three & 7u) << (3 * (dy + 3 * dz));
+            }
+          }
+          if (mask != 0) cells.push_back({lo + 3 * glm::ivec3(cx, cy, cz), mask});
+        }
+      }
+    }
+  });
+  // Rows are 3 cellDims.y long so that the y of a cell's last row never runs past them.
+
+  std::size_t cellCount = 0;
+  for (const std::vector<Cell>& layer : layers) cellCount += layer.size();
+  std::vector<Cell> scanned;
+  scanned.reserve(cellCount);
+  for (std::vector<Cell>& layer : layers) {
+    scanned.insert(scanned.end(), layer.begin(), layer.end());
+    std::vector<Cell>().swap(layer);
+  }
+  std::vector<std::uint64_t> cells(cellCount);
+  for (std::size_t i = 0; i < cellCount; ++i) {
+    const glm::ivec3 o = scanned[i].corner - lo;
+    cells[i] = (keySpread_[0][std::size_t(o.x)] + keySpread_[1][std::size_t(o.y)] + keySpread_[2][std::size_t(o.z)]) / 27;
+  }
+  const std::vector<std::uint32_t> order = sortKeys(cells, std::max(1, keyBits - 4));  // key / 27 < 2^(keyBits - 4)
+
+  Level level0, level1;
+  level1.centre.resize(cellCount);
+  level1.childBegin.resize(cellCount);
+  level1.childEnd.resize(cellCount);
+  level1.aliveChildren.resize(cellCount);
+  level1.boxMin.resize(cellCount);
+  level1.boxMax.resize(cellCount);
+  level1.parent.assign(cellCount, kNone);
+  level1.alive.assign(cellCount, 1);
+  level1.aliveCount = cellCount;
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < cellCount; ++p) {
+    const auto count = std::uint32_t(__builtin_popcount(scanned[order[p]].mask));
+    level1.childBegin[p] = std::uint32_t(n);
+    level1.childEnd[p] = std::uint32_t(n + count);
+    level1.aliveChildren[p] = count;
+    maxChildren_ = std::max<std::size_t>(maxChildren_, count);
+    n += count;
+  }
+  level0.digit.resize(n);
+  level0.alive.assign(n, 1);
+  level0.aliveCount = n;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cellCount, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t p = r.begin(); p < r.end(); ++p) {
+      const Cell& c = scanned[order[p]];
+      std::uint16_t* digit = &level0.digit[level1.childBegin[p]];
+      for (std::uint32_t m = c.mask; m != 0; m &= m - 1) *digit++ = std::uint16_t(__builtin_ctz(m));
+      glm::ivec3 bMin, bMax;
+      axisRange(c.mask, kCellX0, 1, bMin.x, bMax.x);
+      axisRange(c.mask, kCellY0, 3, bMin.y, bMax.y);
+      axisRange(c.mask, kCellZ0, 9, bMin.z, bMax.z);
+      level1.centre[p] = c.corner + 1;
+      level1.boxMin[p] = c.corner + bMin;
+      level1.boxMax[p] = c.corner + bMax;
+    }
+  });
+  levels_.push_back(std::move(level0));
+  levels_.push_back(std::move(level1));
+  halfWidth_.push_back(1);
+  buildUpperLevels(std::move(cells));
+  return true;
+}
+
+void DynamicProximityHierarchy::buildUpperLevels(std::vector<std::uint64_t> keys) {
+  const std::uint64_t xi = std::uint64_t(xi_);
+  const std::uint64_t cellsPerParent = xi * xi * xi;
+  const glm::ivec3 lo = latticeOriginVoxel_;
+  cellKeys_ = keys;
   // Each level from the one below: a run of equal key / xi^3 is one parent cell.
-  long long cellEdge = 1;
+  long long cellEdge = xi_;
   while (levels_.back().centre.size() > 1) {
     cellEdge *= xi_;
     const std::size_t L = levels_.size() - 1;
@@ -161,18 +377,16 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
     above.alive.assign(parents, 1);
     above.aliveCount = parents;
     Level& below = levels_[L];
-    const bool fromVoxels = L == 0;
     std::size_t p = 0;
     for (std::size_t i = 0; i < count;) {
       const std::uint64_t cell = keys[i] / cellsPerParent;
       const std::uint64_t cellEnd = (cell + 1) * cellsPerParent;  // keys of this cell lie below
-      glm::ivec3 bMin = fromVoxels ? below.centre[i] : below.boxMin[i];
-      glm::ivec3 bMax = fromVoxels ? below.centre[i] : below.boxMax[i];
+      glm::ivec3 bMin = below.boxMin[i], bMax = below.boxMax[i];
       std::size_t j = i;
       for (; j < count && keys[j] < cellEnd; ++j) {
         below.parent[j] = std::uint32_t(p);
-        bMin = glm::min(bMin, fromVoxels ? below.centre[j] : below.boxMin[j]);
-        bMax = glm::max(bMax, fromVoxels ? below.centre[j] : below.boxMax[j]);
+        bMin = glm::min(bMin, below.boxMin[j]);
+        bMax = glm::max(bMax, below.boxMax[j]);
       }
       glm::ivec3 centre;
       for (int a = 0; a < 3; ++a) {
@@ -191,13 +405,11 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
       i = j;
     }
     keys.resize(parents);
-    if (L == 0) cellKeys_ = keys;
     levels_.push_back(std::move(above));
     halfWidth_.push_back((cellEdge - 1) / 2);
   }
   cellKeys_.shrink_to_fit();
   lattice_ = true;
-  return true;
 }
 
 }  // namespace osteon::geometry

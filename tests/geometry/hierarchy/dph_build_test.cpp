@@ -176,6 +176,70 @@ TEST(DphLattice, OneStructureForAnyInputOrderAndThreadCount) {
   }
 }
 
+// The grid build reads cells straight from the bricks; it must give the voxel-list build's
+// structure node for node, on any thread count.
+void expectGridBuildAsVoxelList(const VoxelGrid& grid) {
+  const std::vector<glm::ivec3> voxels = occupied(grid);
+  const auto fromList = DynamicProximityHierarchy::build(voxels, DphBuildOptions{}, grid.originMm(), grid.voxelSizeMm());
+  DynamicProximityHierarchy one, many;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 4);
+    many = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+  }
+  ASSERT_EQ(one.validateAgainst(grid), "");
+  ASSERT_EQ(one.voxelCount(), voxels.size());
+  expectIdentical(one, fromList);
+  expectIdentical(many, fromList);
+  expectSameAnswers(one, fromList, voxels, 100, 4.0 * grid.voxelSizeMm(), 5);
+}
+
+TEST(DphLattice, TheGridBuildIsTheVoxelListBuild) {
+  // Random voxels over bricks of every kind: cells straddle 64-bit words (x up to 150) and
+  // bricks; uniform full bricks and edge bricks beside them.
+  VoxelGrid grid({150, 37, 29}, glm::dvec3(-4.0, 2.0, 1.0), 0.5);
+  std::mt19937 rng(21);
+  std::bernoulli_distribution keep(0.3);
+  for (int z = 0; z < 29; ++z)
+    for (int y = 0; y < 37; ++y)
+      for (int x = 0; x < 150; ++x)
+        if (keep(rng)) grid.set({x, y, z}, Fill(1 + rng() % kFillFull), 3);
+  grid.setBrickUniform(grid.brickIndex({2, 1, 1}), kFillFull, 5);
+  grid.setBrickUniform(grid.brickIndex({18, 4, 3}), kFillHalf, 5);  // the edge bricks, padded
+  expectGridBuildAsVoxelList(grid);
+  VoxelizeOptions options;
+  for (const double vs : {1.2, 0.9}) {
+    options.voxelSizeMm = vs;
+    expectGridBuildAsVoxelList(voxelize(buildHumerusModel().mesh, options));
+  }
+  const std::string path = std::string(OSTEON_SHARED_DATA_DIR) + "/fibula_L_vhm_denver.stl";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found at " << path;
+  options.voxelSizeMm = 1.0;
+  expectGridBuildAsVoxelList(voxelize(readMesh(path), options));
+}
+
+TEST(DphLattice, GridsOfNoneOneAndTwoVoxels) {
+  VoxelGrid grid({20, 20, 20}, glm::dvec3(0.0), 1.0);
+  EXPECT_EQ(DynamicProximityHierarchy::build(grid, DphBuildOptions{}).voxelCount(), 0u);
+  grid.set({9, 3, 17}, kFillFull, 1);
+  const auto one = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+  EXPECT_EQ(one.validateAgainst(grid), "");
+  EXPECT_EQ(one.levelCount(), 1);
+  grid.set({10, 3, 17}, 1, 1);
+  expectGridBuildAsVoxelList(grid);
+  auto two = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+  EXPECT_TRUE(two.removeVoxel({9, 3, 17}));
+  EXPECT_FALSE(two.contains({9, 3, 17}));
+  EXPECT_TRUE(two.contains({10, 3, 17}));
+  EXPECT_EQ(two.validate(), "");
+  EXPECT_TRUE(two.removeVoxel({10, 3, 17}));
+  EXPECT_EQ(two.root(), DynamicProximityHierarchy::kNone);
+  EXPECT_EQ(two.validate(), "");
+}
+
 TEST(DphLattice, CellsTileTheLatticeFromTheLowestVoxel) {
   // Two voxels on either side of 0 share every cell above level 0 (the lattice starts at -1).
   const auto h = DynamicProximityHierarchy::build({{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, DphBuildOptions{});

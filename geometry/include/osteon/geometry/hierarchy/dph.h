@@ -6,6 +6,9 @@
 // - lattice (default): the cells of level L tile space from the voxels' lowest corner, so a
 //   node's parent is the cell holding it. The voxels are sorted once by a base-xi Morton key
 //   (radix sort, O(n)); then every level is already grouped by parent and is one linear pass.
+//   From a grid (xi 3) the level-1 cells are read from the bricks' occupancy in one parallel
+//   pass and only the cells are sorted. Level 0 keeps no coordinates, only each voxel's
+//   place in its level-1 cell (2 bytes): about 5 bytes a voxel in all on a solid bone.
 // - insertion (the seed's Fig. 3): the nodes of level L are taken in a seeded random order;
 //   a node whose centre lies in the cell of an existing level-(L+1) node becomes that node's
 //   child (the earliest created, when several cells hold it); otherwise it creates a new
@@ -162,18 +165,17 @@ class DynamicProximityHierarchy {
   int levelCount() const { return int(levels_.size()); }
   std::size_t nodeCount(int level) const { return levels_[std::size_t(level)].aliveCount; }
   // Node slots at a level, removed ones included (iterate 0..nodeSlots-1 with alive()).
-  std::size_t nodeSlots(int level) const { return levels_[std::size_t(level)].centre.size(); }
+  std::size_t nodeSlots(int level) const { return levels_[std::size_t(level)].alive.size(); }
   std::size_t voxelCount() const { return levels_.empty() ? 0 : levels_[0].aliveCount; }
   // Half the cell edge at a level, in voxels: (xi^L - 1) / 2.
   long long halfWidth(int level) const { return halfWidth_[std::size_t(level)]; }
   // Index of the root at the top level, or kNone once every voxel is removed.
   std::uint32_t root() const;
   glm::ivec3 centre(int level, std::uint32_t node) const {
-    return levels_[std::size_t(level)].centre[node];
+    return level == 0 && compactVoxels() ? voxelInCell(parent(0, node), node) : levels_[std::size_t(level)].centre[node];
   }
-  std::uint32_t parent(int level, std::uint32_t node) const {
-    return levels_[std::size_t(level)].parent[node];
-  }
+  // O(log n) for a voxel of the lattice build, which keeps no parent per voxel.
+  std::uint32_t parent(int level, std::uint32_t node) const;
   bool alive(int level, std::uint32_t node) const {
     return levels_[std::size_t(level)].alive[node] != 0;
   }
@@ -237,8 +239,9 @@ class DynamicProximityHierarchy {
 
  private:
   struct Level {
-    std::vector<glm::ivec3> centre;
-    std::vector<std::uint32_t> parent;
+    std::vector<glm::ivec3> centre;            // level 0 of the lattice build: empty (see digit)
+    std::vector<std::uint16_t> digit;          // lattice level 0: the voxel's place in its level-1 cell
+    std::vector<std::uint32_t> parent;         // lattice level 0: empty
     std::vector<std::uint32_t> childBegin;     // level >= 1
     std::vector<std::uint32_t> childEnd;       // level >= 1
     std::vector<std::uint32_t> aliveChildren;  // level >= 1
@@ -248,10 +251,22 @@ class DynamicProximityHierarchy {
     std::size_t aliveCount = 0;
   };
 
-  std::uint32_t findVoxel(const glm::ivec3& voxel) const;
-  // The lattice build (dph_build.cpp); false, leaving *this untouched, when the Morton key
-  // would not fit in 64 bits.
+  // The voxel's level-0 node, and its level-1 cell when cell is given.
+  std::uint32_t findVoxel(const glm::ivec3& voxel, std::uint32_t* cell = nullptr) const;
+  // Level 0 kept as digits (the lattice build over more than one voxel).
+  bool compactVoxels() const { return !levels_.empty() && !levels_[0].digit.empty(); }
+  glm::ivec3 voxelInCell(std::uint32_t cell, std::uint32_t node) const {
+    return levels_[1].centre[cell] - int(halfWidth_[1]) + digitOffset_[levels_[0].digit[node]];
+  }
+  // The lattice build (dph_build.cpp); false when the Morton key would not fit in 64 bits.
   bool buildLattice(const std::vector<glm::ivec3>& voxels);
+  // The same hierarchy straight from the grid's bricks (xi 3): no voxel list, no voxel sort.
+  // False, leaving the grid to the voxel-list build, for fewer than 2 voxels or too wide a key.
+  bool buildLatticeFromGrid(const VoxelGrid& grid);
+  // Lattice origin, key spread and digit offsets for the occupied bounds lo..hi.
+  bool prepareLattice(const glm::ivec3& lo, const glm::ivec3& hi, int& keyBits);
+  // Levels 2 and up from level 1 and its sorted cell keys.
+  void buildUpperLevels(std::vector<std::uint64_t> keys);
   void buildInsertion(const std::vector<glm::ivec3>& voxels, const DphBuildOptions& options);
   // Squared distance (voxel units) from a point in grid space to the box of voxel centres.
   double boxDistanceSq(int level, std::uint32_t node, const glm::dvec3& g) const;
@@ -291,6 +306,7 @@ class DynamicProximityHierarchy {
   glm::ivec3 latticeOriginVoxel_{0};
   std::vector<std::uint64_t> keySpread_[3];
   std::vector<std::uint64_t> cellKeys_;      // level-1 node i's cell key (ascending)
+  std::vector<glm::ivec3> digitOffset_;      // a digit's voxel, from its cell's lowest corner
   std::size_t maxChildren_ = 0;
   std::uint64_t generation_ = 0;
 };

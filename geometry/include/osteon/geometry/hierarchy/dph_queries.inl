@@ -112,7 +112,7 @@ bool DynamicProximityHierarchy::traverseFrom(std::uint64_t* stack, std::size_t& 
     const auto node = std::uint32_t(item & 0xffffffffu);
     const Level& lv = levels_[std::size_t(level)];
     ++spent;
-    if (level == 0) {
+    if (level == 0) {  // the root of a one-voxel hierarchy (its centre is kept)
       leaf(lv.centre[node], node);
       continue;
     }
@@ -121,8 +121,15 @@ bool DynamicProximityHierarchy::traverseFrom(std::uint64_t* stack, std::size_t& 
     const std::uint32_t begin = lv.childBegin[node], end = lv.childEnd[node];
     spent += end - begin;
     if (level == 1) {  // voxels straight to `leaf`, not through the stack (most of the work)
-      for (std::uint32_t c = begin; c < end; ++c) {
-        if (below.alive[c]) leaf(below.centre[c], c);
+      if (below.digit.empty()) {
+        for (std::uint32_t c = begin; c < end; ++c) {
+          if (below.alive[c]) leaf(below.centre[c], c);
+        }
+      } else {
+        const glm::ivec3 corner = lv.centre[node] - int(halfWidth_[1]);
+        for (std::uint32_t c = begin; c < end; ++c) {
+          if (below.alive[c]) leaf(corner + digitOffset_[below.digit[c]], c);
+        }
       }
       continue;
     }
