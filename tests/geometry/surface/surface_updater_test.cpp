@@ -153,6 +153,49 @@ TEST(SurfaceUpdater, FullExtractionAgreesOnGridsOfSizesAroundABrick) {
       }
 }
 
+// The first extraction runs in parallel; it must be, slot for slot and bit for bit, what the
+// serial update of every brick gives: an updater started on an empty grid, then updated
+// after the grid is filled, takes that serial path.
+void expectFirstExtractionIsTheSerialOne(const VoxelGrid& grid, const SurfaceOptions& options) {
+  const SurfaceUpdater parallel(grid, options);
+  VoxelGrid filled(grid.dims(), grid.originMm(), grid.voxelSizeMm());
+  SurfaceUpdater serial(filled, options);
+  filled = grid;
+  std::vector<std::size_t> all(grid.brickCount());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  serial.update(all);
+  const SurfaceMesh a = parallel.mesh(), b = serial.mesh();
+  ASSERT_GT(a.triangleCount(), 0u);
+  ASSERT_EQ(a.positionsMm, b.positionsMm);
+  ASSERT_EQ(a.normals, b.normals);
+  ASSERT_EQ(a.triangles, b.triangles);
+  ASSERT_EQ(a.brickRanges.size(), b.brickRanges.size());
+  EXPECT_EQ(parallel.validate(), "");
+}
+
+TEST(SurfaceUpdater, TheParallelFirstExtractionIsTheSerialOne) {
+  VoxelizeOptions voxelizing;
+  voxelizing.voxelSizeMm = 0.9;
+  const VoxelGrid humerus = voxelize(buildHumerusModel().mesh, voxelizing);
+  for (const int iterations : {0, 1, 2}) {
+    SurfaceOptions options;
+    options.smoothIterations = iterations;
+    expectFirstExtractionIsTheSerialOne(humerus, options);
+  }
+  SurfaceOptions taubin;
+  taubin.taubin = true;
+  taubin.smoothIterations = 4;
+  expectFirstExtractionIsTheSerialOne(humerus, taubin);
+  // Noise: loops of five and six vertices (centres) in numbers.
+  VoxelGrid noisy({19, 17, 23}, glm::dvec3(1.0, -2.0, 0.5), 0.7);
+  std::mt19937 rng(8);
+  std::uniform_int_distribution<int> fill(0, int(kFillFull));
+  for (int z = 0; z < 23; ++z)
+    for (int y = 0; y < 17; ++y)
+      for (int x = 0; x < 19; ++x) noisy.set({x, y, z}, Fill(fill(rng)), 2);
+  expectFirstExtractionIsTheSerialOne(noisy, SurfaceOptions{});
+}
+
 TEST(SurfaceUpdater, NothingChangedNothingDone) {
   const TriangleMesh sphere = test::makeSphere(5.0, 64, 32);
   VoxelizeOptions options;

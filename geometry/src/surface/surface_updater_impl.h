@@ -1,0 +1,459 @@
+// The incremental surface updater's state (surface_updater.cpp: updates, the mesh and its
+// changes; surface_updater_build.cpp: the first, whole extraction, in parallel).
+#pragma once
+
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/core/constants.h"
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "surface_cells.h"
+
+namespace osteon::geometry {
+
+namespace updater_detail {
+
+using namespace detail;
+
+inline constexpr int kCells = kBrickEdge * kBrickEdge * kBrickEdge;
+
+inline int cellIndex(const glm::ivec3& l) {
+  return l.x + kBrickEdge * (l.y + kBrickEdge * l.z);
+}
+
+}  // namespace updater_detail
+
+using namespace updater_detail;
+
+struct SurfaceUpdater::Impl {
+  struct CellBrick {
+    FillBlock fills;                                  // the voxels read at the last extraction
+    std::array<std::uint8_t, kCells> changed;         // cells reading a voxel that changed
+    bool fillsValid = false;                          // owned and triangles follow `fills`
+    std::array<std::uint32_t, 3 * kCells> owned;      // owned edge -> vertex slot
+    std::vector<glm::u32vec3> triangles;              // grouped by cell, cells in order
+    std::array<std::uint32_t, kCells + 1> cellBegin;  // triangles of cell i: [begin[i], begin[i+1])
+  };
+
+  const VoxelGrid* grid;
+  SurfaceOptions options;
+  glm::ivec3 cellBricks;
+  double vs;
+  std::vector<std::unique_ptr<CellBrick>> bricks;  // dense over cell bricks (from -1)
+
+  // Vertex slots: stable while the vertex lives; freed slots are reused.
+  std::vector<VertexInfo> info;
+  std::vector<std::vector<std::uint32_t>> centreLoop;  // loop vertices of centre slots
+  std::vector<glm::dvec3> position;                    // smoothed
+  std::vector<glm::dvec3> normal;
+  std::vector<std::uint8_t> alive;
+  std::vector<std::uint32_t> freeSlots;
+  std::vector<std::uint32_t> pendingFree;
+
+  // Changes since the last takeChanges(): per slot and per cell brick a flag, and their lists.
+  bool everything = true;
+  std::vector<std::uint8_t> slotChanged, brickChanged;
+  std::vector<std::uint32_t> changedSlots;
+  std::vector<std::uint32_t> changedBricks;
+  void noteSlot(std::uint32_t s) {
+    if (everything) return;
+    if (slotChanged.size() <= s) slotChanged.resize(std::size_t(s) + 1, 0);
+    if (!slotChanged[s]) slotChanged[s] = 1, changedSlots.push_back(s);
+  }
+  void noteBrick(std::size_t b) {
+    if (everything) return;
+    if (brickChanged.size() < bricks.size()) brickChanged.resize(bricks.size(), 0);
+    if (!brickChanged[b]) brickChanged[b] = 1, changedBricks.push_back(std::uint32_t(b));
+  }
+
+  // Scratch for updates (kept to avoid reallocating).
+  std::vector<std::uint32_t> mark;  // per slot: epoch of the last visit
+  std::uint32_t epoch = 0;
+
+  std::size_t brickIndex(const glm::ivec3& cb) const {
+    return std::size_t(cb.x + 1) +
+           std::size_t(cellBricks.x) *
+               (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
+  }
+  bool validBrick(const glm::ivec3& cb) const {
+    return cb.x >= -1 && cb.y >= -1 && cb.z >= -1 && cb.x < cellBricks.x - 1 &&
+           cb.y < cellBricks.y - 1 && cb.z < cellBricks.z - 1;
+  }
+  static glm::ivec3 brickOfCell(const glm::ivec3& c) {
+    return {floorDiv(c.x, kBrickEdge), floorDiv(c.y, kBrickEdge), floorDiv(c.z, kBrickEdge)};
+  }
+  const CellBrick* brickOf(const glm::ivec3& cell) const {
+    const glm::ivec3 cb = brickOfCell(cell);
+    return validBrick(cb) ? bricks[brickIndex(cb)].get() : nullptr;
+  }
+
+  std::uint32_t allocate(const VertexInfo& v) {
+    std::uint32_t slot;
+    if (!freeSlots.empty()) {
+      slot = freeSlots.back();
+      freeSlots.pop_back();
+      info[slot] = v;
+      alive[slot] = 1;
+    } else {
+      slot = std::uint32_t(info.size());
+      info.push_back(v);
+      centreLoop.emplace_back();
+      position.emplace_back(0.0);
+      normal.emplace_back(0.0);
+      alive.push_back(1);
+      mark.push_back(0);
+      local.push_back(0);
+    }
+    return slot;
+  }
+  // A freed slot is reused only after the update that freed it: until then, old triangle
+  // lists still name it and must not be mistaken for whatever would take its place.
+  void release(std::uint32_t slot) {
+    noteSlot(slot);
+    alive[slot] = 0;
+    centreLoop[slot].clear();
+    pendingFree.push_back(slot);
+  }
+
+  // Crossed edges owned by a cell brick's cells, diffed against what it had.
+  void rebuildEdges(const glm::ivec3& cb, std::vector<std::uint32_t>& touched) {
+    std::unique_ptr<CellBrick>& slot = bricks[brickIndex(cb)];
+    const bool active = cellBrickActive(*grid, cb);
+    if (!active && !slot) return;
+    if (!slot) {
+      slot = std::make_unique<CellBrick>();
+      slot->owned.fill(kNoVertex);
+      slot->cellBegin.fill(0);
+    }
+    CellBrick& b = *slot;
+    const bool fresh = !b.fillsValid;
+    if (!active) {
+      for (std::uint32_t& s : b.owned) {
+        if (s != kNoVertex) release(s);
+        s = kNoVertex;
+      }
+      b.fillsValid = false;
+      return;
+    }
+    loadBlock(*grid, cb, nextBlock);
+    const FillBlock& block = nextBlock;
+    // Which cells read a changed voxel (every cell when there is nothing to compare with).
+    b.changed.fill(fresh ? 1 : 0);
+    bool any = fresh;
+    if (!fresh) {
+      for (int z = 0; z < kBlock; ++z)
+        for (int y = 0; y < kBlock; ++y)
+          for (int x = 0; x < kBlock; ++x) {
+            if (blockFill(block, x, y, z) == blockFill(b.fills, x, y, z)) continue;
+            any = true;
+            for (int d = 0; d < 8; ++d) {
+              const glm::ivec3 c(x - (d & 1), y - ((d >> 1) & 1), z - ((d >> 2) & 1));
+              if (c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < kBrickEdge && c.y < kBrickEdge && c.z < kBrickEdge) {
+                b.changed[std::size_t(cellIndex(c))] = 1;
+              }
+            }
+          }
+    }
+    if (!any) return;
+    glm::ivec3 lo, hi;
+    cellRange(*grid, cb, lo, hi);
+    for (int ci = 0; ci < kCells; ++ci) {
+      if (!b.changed[std::size_t(ci)]) continue;
+      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
+      const glm::ivec3 g = cb * kBrickEdge + l;
+      const bool inRange = glm::all(glm::greaterThanEqual(g, lo)) && glm::all(glm::lessThan(g, hi));
+      const Fill f0 = blockFill(block, l.x, l.y, l.z);
+      for (int axis = 0; axis < 3; ++axis) {
+        std::uint32_t& s = b.owned[std::size_t(3 * ci + axis)];
+        glm::ivec3 n = l;
+        ++n[axis];
+        const Fill f1 = blockFill(block, n.x, n.y, n.z);
+        if (!fresh && blockFill(b.fills, l.x, l.y, l.z) == f0 &&
+            blockFill(b.fills, n.x, n.y, n.z) == f1) {
+          continue;  // edge unchanged
+        }
+        const bool crosses = inRange && ((double(f0) > kIso) != (double(f1) > kIso));
+        if (!crosses) {
+          if (s != kNoVertex) release(s);
+          s = kNoVertex;
+          continue;
+        }
+        const VertexInfo v = edgeVertexInfo(*grid, g, axis, f0, f1);
+        if (s == kNoVertex) {
+          s = allocate(v);
+          touched.push_back(s);
+        } else if (info[s].t != v.t) {
+          info[s].t = v.t;
+          touched.push_back(s);
+        }
+      }
+    }
+  }
+
+  std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
+    const glm::ivec3 owner = edgeStart(cell, e);
+    const glm::ivec3 cb = brickOfCell(owner);
+    return bricks[brickIndex(cb)]->owned[std::size_t(3 * cellIndex(owner - cb * kBrickEdge) + e / 4)];
+  }
+
+  // Triangles of a cell brick's cells: a cell whose eight voxels kept their fill keeps its
+  // triangles (and loop centres) as they were; the others are made again, and every vertex of
+  // their old and new triangles is touched (its neighbourhood may have changed).
+  void rebuildTriangles(const glm::ivec3& cb, std::vector<std::uint32_t>& touched) {
+    CellBrick* b = bricks[brickIndex(cb)].get();
+    if (!b) return;
+    const bool active = cellBrickActive(*grid, cb);
+    const FillBlock& block = nextBlock;  // as rebuildEdges read it: the grid has not changed since
+    if (active) loadBlock(*grid, cb, nextBlock);
+    if (active && b->fillsValid && block == b->fills) return;
+    const bool hadOld = !b->triangles.empty() && b->fillsValid;
+    noteBrick(brickIndex(cb));
+    oldTriangles.swap(b->triangles);  // keeps both buffers' capacity between updates
+    b->triangles.clear();
+    const std::array<std::uint32_t, kCells + 1> oldBegin = b->cellBegin;
+    const std::vector<glm::u32vec3>& old = oldTriangles;
+    b->cellBegin.fill(0);
+    const auto& table = mcTable();
+    glm::ivec3 lo, hi;
+    cellRange(*grid, cb, lo, hi);
+    for (int ci = 0; ci < kCells; ++ci) {
+      b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
+      const std::uint32_t oldFirst = hadOld ? oldBegin[std::size_t(ci)] : 0;
+      const std::uint32_t oldEnd = hadOld ? oldBegin[std::size_t(ci) + 1] : 0;
+      if (hadOld && active && !b->changed[std::size_t(ci)]) {
+        // Unchanged cells keep their triangles: copy the whole run of them at once.
+        int last = ci;
+        while (last + 1 < kCells && !b->changed[std::size_t(last + 1)]) ++last;
+        const std::uint32_t runEnd = oldBegin[std::size_t(last) + 1];
+        const std::uint32_t shift = std::uint32_t(b->triangles.size()) - oldFirst;
+        for (int k = ci + 1; k <= last; ++k)
+          b->cellBegin[std::size_t(k)] = oldBegin[std::size_t(k)] + shift;
+        b->triangles.insert(b->triangles.end(), old.begin() + oldFirst, old.begin() + runEnd);
+        ci = last;
+        continue;
+      }
+      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
+      const int x = cb.x * kBrickEdge + l.x;
+      const int y = cb.y * kBrickEdge + l.y;
+      const int z = cb.z * kBrickEdge + l.z;
+      {
+        // Changed: its old triangles' vertices are touched, its old centres go.
+        for (std::uint32_t k = oldFirst; k < oldEnd; ++k) {
+          for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = old[k][c];
+            if (!alive[v]) continue;
+            if (info[v].axis == 3) {
+              if (c == 0 && (k == oldFirst || old[k - 1].x != v)) release(v);
+            } else {
+              touched.push_back(v);
+            }
+          }
+        }
+        if (!active || x < lo.x || y < lo.y || z < lo.z || x >= hi.x || y >= hi.y || z >= hi.z)
+          continue;
+        Fill corner[8];
+        const int config = cellConfig(block, l, corner);
+        if (config == 0 || config == 255) continue;
+        const McCase& mc = table[std::size_t(config)];
+        std::uint32_t ids[13];
+        const auto firstNew = b->triangles.size();
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          int count = 0;
+          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1];
+               ++k) {
+            ids[count++] = sharedVertex({x, y, z}, mc.edges[std::size_t(k)]);
+          }
+          if (count == 3) {
+            b->triangles.push_back({ids[0], ids[1], ids[2]});
+          } else if (count == 4) {
+            b->triangles.push_back({ids[0], ids[1], ids[2]});
+            b->triangles.push_back({ids[0], ids[2], ids[3]});
+          } else {
+            const std::uint32_t centre =
+                allocate({glm::dvec3(0.0), 3, 0.0, 0.0, 0, 0, glm::ivec3(x, y, z)});
+            centreLoop[centre].assign(ids, ids + count);
+            for (int i = 0; i < count; ++i)
+              b->triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
+          }
+        }
+        for (auto k = firstNew; k < b->triangles.size(); ++k) {
+          for (int c = 0; c < 3; ++c) touched.push_back(b->triangles[k][c]);
+        }
+      }
+    }
+    b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
+    if (active) b->fills = block;
+    b->fillsValid = active;
+  }
+
+  // Triangles around a vertex: in the four cells around its edge, or its own cell.
+  template <typename Fn>
+  void forEachIncident(std::uint32_t v, Fn&& fn) const {
+    const VertexInfo& vi = info[v];
+    const auto scanCell = [&](const glm::ivec3& cell) {
+      const CellBrick* b = brickOf(cell);
+      if (!b) return;
+      const int i = cellIndex(cell - brickOfCell(cell) * kBrickEdge);
+      for (std::uint32_t k = b->cellBegin[std::size_t(i)]; k < b->cellBegin[std::size_t(i) + 1];
+           ++k) {
+        const glm::u32vec3& t = b->triangles[k];
+        if (t.x == v || t.y == v || t.z == v) fn(t);
+      }
+    };
+    if (vi.axis == 3) {
+      scanCell(vi.voxel);
+      return;
+    }
+    const int u = (vi.axis + 1) % 3;
+    const int w = (vi.axis + 2) % 3;
+    for (int du = 0; du < 2; ++du)
+      for (int dw = 0; dw < 2; ++dw) {
+        glm::ivec3 cell = vi.voxel;
+        cell[u] -= du;
+        cell[w] -= dw;
+        scanCell(cell);
+      }
+  }
+
+  void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    forEachIncident(v, [&](const glm::u32vec3& t) {
+      for (int c = 0; c < 3; ++c) {
+        if (t[c] != v) out.push_back(t[c]);
+      }
+    });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+  // Smoothing and normals for the vertices within reach of `touched`. One Jacobi pass moves a
+  // vertex by its neighbours' positions, and a loop centre is its loop's mean, so a vertex's
+  // pass-j position depends on pass-(j-1) positions of its neighbours and of the loops of
+  // neighbouring centres: one step of this dependency graph per pass. Over p passes a change
+  // reaches p steps (those positions are kept), and they come out exact when computed on
+  // 2p - 1 steps (farther vertices are read raw, which only spoils the discarded rim).
+  std::size_t resmooth(const std::vector<std::uint32_t>& touched) {
+    const int passes = options.smoothIterations;
+    const int keep = passes;
+    const int reach = std::max(2 * passes - 1, passes);
+    ++epoch;
+    region.clear();
+    depthOf.clear();
+    for (std::uint32_t v : touched) {
+      if (!alive[v] || mark[v] == epoch) continue;
+      mark[v] = epoch;
+      local[v] = std::uint32_t(region.size());
+      region.push_back(v);
+      depthOf.push_back(0);
+    }
+    rowStart.assign(1, 0);
+    rows.clear();
+    for (std::size_t i = 0; i < region.size(); ++i) {
+      neighbours(region[i], nb);
+      rows.insert(rows.end(), nb.begin(), nb.end());
+      rowStart.push_back(std::uint32_t(rows.size()));
+      if (depthOf[i] >= reach) continue;
+      for (std::uint32_t n : nb) {
+        const auto visit = [&](std::uint32_t w) {
+          if (mark[w] == epoch) return;
+          mark[w] = epoch;
+          local[w] = std::uint32_t(region.size());
+          region.push_back(w);
+          depthOf.push_back(depthOf[i] + 1);
+        };
+        visit(n);
+        if (info[n].axis == 3) {
+          for (std::uint32_t l : centreLoop[n]) visit(l);
+        }
+      }
+    }
+    const auto raw = [&](std::uint32_t slot) {
+      if (info[slot].axis != 3) return positionOf(info[slot]);
+      glm::dvec3 sum(0.0);
+      for (std::uint32_t l : centreLoop[slot]) sum += positionOf(info[l]);
+      return sum / double(centreLoop[slot].size());
+    };
+    const std::size_t n = region.size();
+    cur.resize(n);
+    curT.resize(n);
+    nextT.resize(n);
+    const auto now = [&](std::uint32_t slot) {
+      return mark[slot] == epoch ? cur[local[slot]] : raw(slot);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      curT[i] = info[region[i]].t;
+      cur[i] = raw(region[i]);
+    }
+    for (int pass = 0; pass < passes; ++pass) {
+      const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
+      for (std::size_t i = 0; i < n; ++i) {
+        const VertexInfo& v = info[region[i]];
+        if (v.axis == 3) continue;
+        double mean = 0.0;
+        for (std::uint32_t k = rowStart[i]; k < rowStart[i + 1]; ++k) mean += now(rows[k])[v.axis];
+        mean /= double(rowStart[i + 1] - rowStart[i]);
+        nextT[i] = std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / v.lengthMm, kEdgeMargin,
+                              1.0 - kEdgeMargin);
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        VertexInfo v = info[region[i]];
+        if (v.axis == 3) continue;
+        curT[i] = nextT[i];
+        v.t = curT[i];
+        cur[i] = positionOf(v);
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t slot = region[i];
+        if (info[slot].axis != 3) continue;
+        glm::dvec3 sum(0.0);
+        for (std::uint32_t l : centreLoop[slot]) sum += now(l);
+        cur[i] = sum / double(centreLoop[slot].size());
+      }
+    }
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (depthOf[i] <= keep) {
+        position[region[i]] = cur[i];
+        noteSlot(region[i]);
+        ++kept;
+      }
+    }
+    // Normals of every kept vertex and its neighbours, from the triangles around them.
+    for (std::size_t i = 0; i < n; ++i) {
+      if (depthOf[i] > keep + 1) continue;
+      const std::uint32_t v = region[i];
+      glm::dvec3 sum(0.0);
+      forEachIncident(v, [&](const glm::u32vec3& t) {
+        sum += glm::cross(position[t.y] - position[t.x], position[t.z] - position[t.x]);
+      });
+      const double len = glm::length(sum);
+      normal[v] = len > 0.0 ? sum / len : glm::dvec3(0.0);
+      noteSlot(v);
+    }
+    return kept;
+  }
+
+  // The first extraction, of every cell brick, with the same vertex slots, triangles and
+  // positions as update() of every brick would give (surface_updater_build.cpp).
+  void buildAll();
+  void smoothAll();
+  glm::ivec3 cellBrickOf(std::size_t index) const {
+    return {int(index % std::size_t(cellBricks.x)) - 1, int(index / std::size_t(cellBricks.x) % std::size_t(cellBricks.y)) - 1,
+            int(index / (std::size_t(cellBricks.x) * std::size_t(cellBricks.y))) - 1};
+  }
+
+  FillBlock nextBlock;  // the voxels a cell brick reads now (rebuildEdges, rebuildTriangles)
+  // Scratch of resmooth, kept between updates.
+  std::vector<std::uint32_t> region, rowStart, rows, nb, local;
+  std::vector<glm::u32vec3> oldTriangles;
+  std::vector<int> depthOf;
+  std::vector<glm::dvec3> cur;
+  std::vector<double> curT, nextT;
+};
+
+}  // namespace osteon::geometry
