@@ -220,7 +220,9 @@ int runDrill(const DrillCommandOptions& options) {
   }
 
   forces.commit();
-  // The drilled bone with its refined regions, crack-free and smoothed.
+  // The drilled bone with its refined regions, crack-free and smoothed, made once the run's
+  // own surface is gone (its memory is what this extraction uses).
+  session.releaseSurface();
   const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
 

@@ -209,7 +209,9 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const Ru
   geometry::SurfaceMesh visual;
   RuntimeResult r;
   try {
-    r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, options, &visual);
+    // Only a session that keeps its surface keeps the visual thread's last one (a copy).
+    r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, options,
+                                s.options.keepSurface ? &visual : nullptr);
   } catch (const RuntimeFault&) {
     // Drilled up to the fault: the session's surface starts again from the grid as it is.
     s.updater.reset();
@@ -240,6 +242,13 @@ void Session::resetSurface() {
   if (!s.options.keepSurface) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
   s.grid.clearDirty();
   s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
+  s.surfaceStale = true;
+}
+
+void Session::releaseSurface() {
+  State& s = *state_;
+  s.updater.reset();
+  s.surface = geometry::SurfaceMesh{};
   s.surfaceStale = true;
 }
 

@@ -145,6 +145,15 @@ TEST(Session, SurfaceChangesRebuildTheSurface) {
   EXPECT_GT(changedSlots, 0u);
   EXPECT_LT(changedSlots, reads * session.surface().vertexCount() / 4) << "only what changed is listed";
   EXPECT_TRUE(compare());
+  // Released, the surface is extracted from the grid (the same surface, its last bits aside);
+  // changes need it kept again.
+  const std::size_t vertices = session.surface().vertexCount(), triangles = session.surface().triangleCount();
+  session.releaseSurface();
+  EXPECT_EQ(session.surface().vertexCount(), vertices);
+  EXPECT_EQ(session.surface().triangleCount(), triangles);
+  EXPECT_THROW(session.takeSurfaceChanges(), InputError);
+  session.resetSurface();
+  EXPECT_TRUE(session.takeSurfaceChanges().everything);
 }
 
 // A bone from a grid (a saved grid, a label map, a CT) has no mesh: its head is fitted to the

@@ -26,8 +26,11 @@ struct PendingCentre {
 void SurfaceUpdater::Impl::buildAll() {
   const std::size_t count = bricks.size();
   constexpr std::size_t kGrain = 16;
-  // Edges: each active cell brick's crossed owned edges, as (owned index, vertex).
+  // Edges: each active cell brick's crossed owned edges, as (owned index, vertex), and how
+  // many loop centres its cells will need (so every per-slot array is sized once).
   std::vector<std::vector<std::pair<std::uint32_t, VertexInfo>>> edges(count);
+  std::vector<std::uint32_t> centreCount(count, 0);
+  const auto& table = mcTable();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
       const glm::ivec3 cb = cellBrickOf(bi);
@@ -44,6 +47,11 @@ void SurfaceUpdater::Impl::buildAll() {
         const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
         const glm::ivec3 g = cb * kBrickEdge + l;
         if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi))) continue;
+        Fill corner[8];
+        const McCase& mc = table[std::size_t(cellConfig(block, l, corner))];
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          centreCount[bi] += mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)] > 4;
+        }
         const Fill f0 = blockFill(block, l.x, l.y, l.z);
         for (int axis = 0; axis < 3; ++axis) {
           glm::ivec3 n = l;
@@ -56,9 +64,15 @@ void SurfaceUpdater::Impl::buildAll() {
       bricks[bi] = std::move(b);
     }
   });
-  std::size_t edgeCount = 0;
-  for (const auto& e : edges) edgeCount += e.size();
-  info.reserve(edgeCount + edgeCount / 4);
+  std::size_t slots = 0;
+  for (std::size_t bi = 0; bi < count; ++bi) slots += edges[bi].size() + centreCount[bi];
+  info.reserve(slots);
+  centreLoop.reserve(slots);
+  position.reserve(slots);
+  normal.reserve(slots);
+  alive.reserve(slots);
+  mark.reserve(slots);
+  local.reserve(slots);
   for (std::size_t bi = 0; bi < count; ++bi) {
     for (const auto& [k, v] : edges[bi]) bricks[bi]->owned[k] = allocate(v);
     std::vector<std::pair<std::uint32_t, VertexInfo>>().swap(edges[bi]);
@@ -66,7 +80,6 @@ void SurfaceUpdater::Impl::buildAll() {
 
   // Triangles, every cell brick's own (the owned edges they read are all numbered now).
   std::vector<std::vector<PendingCentre>> centres(count);
-  const auto& table = mcTable();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
       CellBrick* b = bricks[bi].get();

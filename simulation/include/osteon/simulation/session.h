@@ -163,6 +163,9 @@ class Session {
   // Extracts the surface again from the grid as it is now (a full extraction; the changes
   // start over with everything). keepSurface sessions only.
   void resetSurface();
+  // Frees the kept surface (the incremental updater and the last mesh), for the memory a final
+  // extraction needs; surface() then extracts from the grid, and resetSurface() keeps one again.
+  void releaseSurface();
   // The drilled bone with its refined regions at their own resolution (for export).
   geometry::SurfaceMesh multiResolutionSurface() const;
   // Tool pose and contact force of the latest step.
