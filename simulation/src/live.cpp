@@ -39,6 +39,13 @@ void sleepUntilNs(std::int64_t deadline) {
   }
 }
 
+// Writes the stack pages a loop may reach, so that none is first touched (a page fault)
+// inside a period.
+__attribute__((noinline)) void prefaultStack() {
+  volatile std::uint8_t pages[128 * 1024];
+  for (std::size_t i = 0; i < sizeof pages; i += 4096) pages[i] = 0;
+}
+
 bool askRealtime(int priority) {
   sched_param p{};
   p.sched_priority = priority;
@@ -187,6 +194,7 @@ struct LiveRuntime::Impl {
   template <typename Work>
   void periodic(std::int64_t startNs, std::atomic<std::uint64_t>& steps, std::atomic<std::uint64_t>& overruns,
                 Durations& stepNs, Work&& work) {
+    prefaultStack();
     for (std::uint64_t k = 0; k < periods && !stopFlag.load(std::memory_order_relaxed);) {
       const std::int64_t deadline = startNs + std::int64_t(k) * periodNs;
       sleepUntilNs(deadline);

@@ -43,7 +43,13 @@ Percentiles percentilesOf(std::vector<double> values);
 // memory. add() allocates only past the reserved capacity.
 class Durations {
  public:
-  void reserve(std::size_t n) { ns_.reserve(n); }
+  // Room for n durations, its pages written now: a first write to a fresh page in a 1 kHz
+  // loop is a page fault, which waits whenever another thread holds the address space's lock
+  // (an munmap of a freed surface buffer), often past the period.
+  void reserve(std::size_t n) {
+    ns_.assign(n, 0u);
+    ns_.clear();
+  }
   bool full() const { return ns_.size() >= ns_.capacity(); }
   void add(std::int64_t ns);
   // A duration chrono gave in milliseconds from whole nanoseconds: kept exactly.
