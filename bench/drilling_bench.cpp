@@ -9,8 +9,9 @@
 //   2. The threaded runtime for S seconds (default 60) at 1.2 mm with 2 levels and at 0.3 mm
 //      static, each on a path that keeps cutting new bone, so the visual thread is always
 //      remeshing: the share of 1 ms periods that overran, the
-//      CPU time the hypervisor stole meanwhile, and the machine's floor: the same loops with no
-//      work for S seconds.
+//      CPU time the hypervisor stole meanwhile, and the floor of that same window (a no-work
+//      loop at the haptic priority running beside the run); then the machine's floor alone:
+//      the same loops with no work for S seconds.
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/runtime.h"
@@ -83,6 +84,47 @@ double stealSeconds() {
 struct OverrunFloor {
   std::uint64_t periods[2] = {0, 0}, overruns[2] = {0, 0};
   double stealS = 0.0;
+};
+
+// A no-work 1 kHz loop (SCHED_FIFO, absolute deadlines, the runtime's overrun rule) running
+// beside something else until stopped: the floor of that very window, with the same load,
+// the same hypervisor steal and the same memory traffic as what it runs beside.
+class ProbeLoop {
+ public:
+  ProbeLoop(int priority, std::chrono::microseconds offset) {
+    thread_ = std::thread([this, priority, offset] {
+      using Clock = std::chrono::steady_clock;
+      sched_param p{};
+      p.sched_priority = priority;
+      pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+      const auto period = std::chrono::milliseconds(1);
+      const auto startAt = Clock::now() + offset;
+      for (std::uint64_t k = 0; !stop_.load(std::memory_order_relaxed);) {
+        const auto deadline = startAt + k * period;
+        std::this_thread::sleep_until(deadline);
+        const auto end = Clock::now();
+        ++periods_;
+        if (end > deadline + period) {
+          ++overruns_;
+          k = std::uint64_t((end - startAt) / period) + 1;
+        } else {
+          ++k;
+        }
+      }
+    });
+  }
+  void stop() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+  ~ProbeLoop() { stop(); }
+  std::uint64_t periods() const { return periods_; }
+  std::uint64_t overruns() const { return overruns_; }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::uint64_t periods_ = 0, overruns_ = 0;
+  std::thread thread_;
 };
 
 OverrunFloor overrunFloor(double seconds) {
@@ -213,7 +255,9 @@ int main(int argc, char** argv) {
     const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
     std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
     const double steal0 = stealSeconds();
+    ProbeLoop probe(80, std::chrono::microseconds(250));  // the haptic thread's priority
     const RuntimeResult r = threaded.runThreaded(device, nullptr, ro);
+    probe.stop();
     const double stealS = stealSeconds() - steal0;
     const RuntimeStats& st = r.stats;
     std::printf("threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n", runtimeS, voxelMm,
@@ -231,6 +275,12 @@ int main(int argc, char** argv) {
                 (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
     std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3, r.run.summary.jitterN);
     std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
+    const double hapticPct = 100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1));
+    const double probePct = 100.0 * double(probe.overruns()) / double(std::max<std::uint64_t>(probe.periods(), 1));
+    std::printf("floor in the same window (a no-work loop at the haptic priority beside the run): %llu periods, %llu "
+                "overran (%.4f %%); haptic minus floor %+.4f points: %s\n",
+                (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct, hapticPct - probePct,
+                hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
     std::fflush(stdout);
   }
   const OverrunFloor floor = overrunFloor(runtimeS);
