@@ -387,6 +387,39 @@ std::size_t imageModelIndex(const std::string& image) {
   return index;
 }
 
+// The first field of a case that the merge and report.html read and that is missing or of
+// the wrong type, or "" when there is none: a merged report is only as sound as its shards'.
+std::string caseFieldMissing(const json& c) {
+  if (!c.is_object()) return "not an object";
+  for (const char* k : {"model", "method", "mode"}) {
+    if (!c.value(k, json()).is_string()) return std::string("\"") + k + "\" is not a string";
+  }
+  if (!c.value("pass", json()).is_boolean()) return "\"pass\" is not true or false";
+  const json failures = c.value("failures", json());
+  if (!failures.is_array() || !std::all_of(failures.begin(), failures.end(), [](const json& f) { return f.is_string(); })) {
+    return "\"failures\" is not a list of strings";
+  }
+  for (const char* k : {"voxel_size_mm", "border_edges", "non_manifold", "self_intersections", "crack_percent",
+                        "collision_misses", "collision_missed_samples", "collision_rays", "max_force_n", "jitter_n",
+                        "voxels", "triangles", "vertices"}) {
+    if (!c.value(k, json()).is_number()) return std::string("\"") + k + "\" is not a number";
+  }
+  const json hausdorff = c.value("hausdorff_mm", json(false));
+  if (!hausdorff.is_number() && !hausdorff.is_null()) return "\"hausdorff_mm\" is not a number or null";
+  const json times = c.value("mesh_time_ms", json());
+  for (const char* k : {"total", "extract", "smooth", "normals", "other"}) {
+    if (!times.is_object() || !times.value(k, json()).is_number()) return std::string("\"mesh_time_ms\" has no ") + k;
+  }
+  if (c.contains("after")) {
+    const json& after = c["after"];
+    if (!after.is_object() || !after.value("border_edges", json()).is_number() ||
+        !after.value("crack_percent", json()).is_number()) {
+      return "\"after\" has no border_edges or crack_percent";
+    }
+  }
+  return "";
+}
+
 struct ShardReport {
   std::string dir;
   json report;
@@ -437,7 +470,9 @@ ShardReport readShard(const std::string& dir) {
   if (cases.size() != sh["cases"].size()) throw bad("report.json holds " + std::to_string(cases.size()) +
                                                     " cases, its shard names " + std::to_string(sh["cases"].size()));
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    if (!cases[i].is_object() || !cases[i].value("pass", json()).is_boolean() || caseKey(cases[i]) != sh["cases"][i]) {
+    const std::string what = caseFieldMissing(cases[i]);
+    if (!what.empty()) throw bad("case " + std::to_string(i) + " is not a validate case (" + what + ")");
+    if (caseKey(cases[i]) != sh["cases"][i]) {
       throw bad("case " + std::to_string(i) + " is not the case its shard names (" + sh["cases"][i].get<std::string>() + ")");
     }
   }
