@@ -1,5 +1,8 @@
 // `osteon validate`: the nightly run and its report (report.json with a stable schema,
-// report.html, validate.log, crack images).
+// report.html, validate.log, crack images), or a shard of the run (--shard K/N); merging the
+// shards' reports is validate_merge.cpp.
+#include "validate_report.h"
+
 #include "commands.h"
 #include "force_plots.h"
 
@@ -12,6 +15,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/validation/library_versions.h"
+#include "osteon/validation/shard.h"
 #include "osteon/validation/validate.h"
 
 #include <nlohmann/json.hpp>
@@ -26,6 +30,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -156,6 +161,7 @@ json caseJson(const val::ValidationCase& c) {
             {"vertices", c.vertices},
             {"voxels", c.voxels},
             {"extract_ms", c.extractMs},
+            {"case_ms", {{"setup", c.setupMs}, {"surface", c.surfaceMs}, {"drill", c.drillMs}}},
             {"mesh_time_ms", {{"total", c.timings.totalMs}, {"extract", c.timings.extractMs},
                               {"smooth", c.timings.smoothMs}, {"normals", c.timings.normalsMs},
                               {"other", c.timings.otherMs}}},
@@ -186,13 +192,6 @@ json environmentJson() {
   return {{"compiler", __VERSION__}, {"cpp", __cplusplus}, {"build_type", buildType.empty() ? "unset" : buildType},
           {"hardware_threads", std::thread::hardware_concurrency()}, {"os", os}, {"cpu", cpu},
           {"libraries", libraries}};
-}
-
-std::string caseKey(const json& c) {
-  std::ostringstream s;
-  s << c.value("model", "") << "|" << c.value("voxel_size_mm", 0.0) << "|" << c.value("method", "") << "|"
-    << c.value("mode", "");
-  return s.str();
 }
 
 // Regressions against an older report: a case that passed and fails, or a crack-free metric
@@ -259,6 +258,17 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   h << "<p>Started " << htmlEscape(report["started"].get<std::string>()) << ", "
     << report["seconds"].get<double>() << " s. osteon " << htmlEscape(report["osteon_version"].get<std::string>())
     << ".</p>\n";
+  if (report.contains("shard")) {
+    const json& shard = report["shard"];
+    h << "<p>Shard " << shard["index"] << " of " << shard["count"] << " (counted from 0): " << shard["cases"].size()
+      << " of the run's " << shard["case_list"].size() << " cases; merge the shards with "
+      << "<code>osteon validate --merge</code>.</p>\n";
+  }
+  if (report.contains("merged_from")) {
+    h << "<p>Merged from " << report["merged_from"].size() << " shards (the seconds above are their sum):";
+    for (const json& d : report["merged_from"]) h << " " << htmlEscape(d.get<std::string>());
+    h << ".</p>\n";
+  }
   if (!report["regressions"].empty()) {
     h << "<h2 class='fail'>Regressions against " << htmlEscape(report.value("compared_with", "")) << "</h2><ul>";
     for (const json& r : report["regressions"]) {
@@ -311,26 +321,76 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   geometry::writeFileAtomically(path, h.str());
 }
 
+// --shard K/N: whole decimal numbers, K counted from 0 (as a Slurm array's task ids).
+std::pair<std::size_t, std::size_t> parseShard(const std::string& text) {
+  const auto bad = [&](const std::string& why) { return InputError("--shard " + text + ": " + why); };
+  const std::size_t slash = text.find('/');
+  const auto whole = [](const std::string& t) {
+    return !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (slash == std::string::npos || !whole(text.substr(0, slash)) || !whole(text.substr(slash + 1))) {
+    throw bad("not K/N with whole numbers, K counted from 0 (0/4 .. 3/4)");
+  }
+  const std::size_t k = std::stoul(text.substr(0, slash)), n = std::stoul(text.substr(slash + 1));
+  if (n == 0) throw bad("N must be at least 1");
+  if (k >= n) throw bad("K must be below N (shards are counted from 0: 0.." + std::to_string(n - 1) + ")");
+  return {k, n};
+}
+
 }  // namespace
 
+std::string caseKey(const json& c) {
+  return val::caseKey(c.value("model", ""), c.value("voxel_size_mm", 0.0), c.value("method", ""), c.value("mode", ""));
+}
+
+json readComparable(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("--compare " + path + ": cannot open");
+  json old;
+  try {
+    old = json::parse(in);
+  } catch (const std::exception&) {
+    throw InputError("--compare " + path + ": not a JSON report");
+  }
+  checkComparable(path, old);
+  return old;
+}
+
+void writeReport(json& j, const ValidateCommandOptions& options, const json& old, const std::vector<std::string>& images) {
+  bool pass = true;  // every crack-free case keeps every guarantee (ValidationReport::pass)
+  for (const json& c : j["cases"]) {
+    if (c["method"] == "crackfree" && !c["pass"].get<bool>()) pass = false;
+  }
+  j["verdict"] = pass ? "PASS" : "FAIL";
+  j["images"] = images;
+  if (!options.compare.empty()) {
+    j["compared_with"] = options.compare;
+    j["regressions"] = compareReports(j, old);
+  }
+  geometry::writeFileAtomically(options.outDir + "/report.json", j.dump(2) + "\n");
+  writeHtml(options.outDir + "/report.html", j, images);
+}
+
+int printVerdict(const json& j, const std::string& outDir) {
+  std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << j["cases"].size() << " cases, "
+            << j["regressions"].size() << " regressions, " << j["seconds"].get<double>()
+            << " s); report: " << outDir << "/report.html\n";
+  return j["verdict"] == "PASS" ? kExitOk : kExitCheckFailed;
+}
+
+
 int runValidate(const ValidateCommandOptions& options) {
+  if (!options.merge.empty()) return runValidateMerge(options);
+  // Plain values, not an optional pair: GCC's -Wmaybe-uninitialized misreads the latter.
+  const bool sharded = !options.shard.empty();
+  const auto [shardIndex, shardCount] = sharded ? parseShard(options.shard) : std::pair<std::size_t, std::size_t>{0, 1};
   // Sizes given with --quick replace its 1.2 mm; given or not, they are checked.
   const std::vector<double> parsedSizes = parseVoxelSizes(options.voxelSizes);
   const std::vector<double> sizes =
       options.quick && !options.voxelSizesGiven ? std::vector<double>{1.2} : parsedSizes;
   const std::vector<std::string> names = splitList(options.models);
   if (names.empty()) throw InputError("--models " + options.models + ": no model given");
-  json old;
-  if (!options.compare.empty()) {
-    std::ifstream in(options.compare);
-    if (!in) throw InputError("--compare " + options.compare + ": cannot open");
-    try {
-      old = json::parse(in);
-    } catch (const std::exception&) {
-      throw InputError("--compare " + options.compare + ": not a JSON report");
-    }
-    checkComparable(options.compare, old);
-  }
+  const json old = options.compare.empty() ? json() : readComparable(options.compare);
   std::vector<std::string> inputs;
   for (const std::string& name : names) inputs.push_back(inputFile(name));
   inputs.push_back(options.compare);
@@ -371,9 +431,30 @@ int runValidate(const ValidateCommandOptions& options) {
   const std::time_t startedT = std::chrono::system_clock::to_time_t(started);
   char startedText[32];
   std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
+  // A shard runs the case groups assigned to it (shard.h); every shard computes the same split.
+  const std::vector<val::CaseGroup> groups = val::caseGroups(models, vo);
+  std::vector<bool> ownGroup(groups.size(), true);
+  const std::vector<std::string> runKeys = val::caseKeys(models, groups);
+  if (sharded) {
+    // A merge finds each case by its key, so a model or voxel size given twice cannot be split.
+    std::set<std::string> unique;
+    for (const std::string& key : runKeys) {
+      if (!unique.insert(key).second) {
+        throw InputError("--shard " + options.shard + ": case " + key + " comes twice (a model or voxel size given twice)");
+      }
+    }
+    std::vector<double> costs;
+    for (const val::CaseGroup& g : groups) costs.push_back(g.cost);
+    const std::vector<std::size_t> shardOf = val::assignShards(costs, shardCount);
+    vo.groups.emplace();
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      ownGroup[g] = shardOf[g] == shardIndex;
+      if (ownGroup[g]) vo.groups->push_back(g);
+    }
+  }
   std::size_t done = 0;
-  std::size_t total = 0;
-  for (const val::ValidationModel& m : models) total += m.voxelSizesMm(sizes).size() * 4;
+  const std::size_t total = static_cast<std::size_t>(std::count(ownGroup.begin(), ownGroup.end(), true)) *
+                            val::kCasesPerGroup;
   // Force logs of the crack-free runs, for the plots: forces/<model>_<voxel>_<mode>_<portal>.csv.
   std::filesystem::create_directories(options.outDir + "/forces");
   std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
@@ -405,9 +486,13 @@ int runValidate(const ValidateCommandOptions& options) {
     log << line.str() << "\n" << std::flush;
   });
 
-  // Crack views of each model's surfaces at the first voxel size, before drilling.
+  // Crack views of each model's surfaces at the first voxel size, before drilling; in a shard,
+  // of the models whose first group it runs.
+  std::vector<bool> ownImages(models.size(), false);
+  for (std::size_t g = groups.size(); g-- > 0;) ownImages[groups[g].model] = ownGroup[g];
   std::vector<std::string> images;
   for (const val::ValidationModel& m : models) {
+    if (!ownImages[static_cast<std::size_t>(&m - models.data())]) continue;
     geometry::VoxelizeOptions gv;
     gv.voxelSizeMm = sizes.front();
     gv.requireInside = true;
@@ -442,12 +527,12 @@ int runValidate(const ValidateCommandOptions& options) {
     plots.push_back("plots/" + name + ".png");
   }
   if (!figures.empty()) drawForcePlots(figures, options.outDir + "/plots/plots.gp");
+  std::sort(plots.begin(), plots.end());  // as a merge lists the shards' plots
 
   json cases = json::array();
   for (const val::ValidationCase& c : report.cases) cases.push_back(caseJson(c));
   const double seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
   json j = {{"schema", "osteon-validate/1"},
-            {"verdict", report.pass() ? "PASS" : "FAIL"},
             {"started", startedText},
             {"seconds", seconds},
             {"osteon_version", OSTEON_VERSION},
@@ -457,19 +542,25 @@ int runValidate(const ValidateCommandOptions& options) {
             {"cases", cases},
             {"plots", plots},
             {"regressions", json::array()}};
-  if (!options.compare.empty()) {
-    j["compared_with"] = options.compare;
-    j["regressions"] = compareReports(j, old);
+  if (sharded) {
+    // The whole run's case list, so a merge can tell shards of one run from shards of another.
+    const std::vector<std::string>& keys = runKeys;
+    json own = json::array();
+    double cost = 0.0, totalCost = 0.0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      totalCost += groups[g].cost;
+      if (!ownGroup[g]) continue;
+      cost += groups[g].cost;
+      for (int k = 0; k < val::kCasesPerGroup; ++k) own.push_back(keys[g * val::kCasesPerGroup + k]);
+    }
+    j["shard"] = {{"index", shardIndex}, {"count", shardCount}, {"case_list", keys}, {"cases", own},
+                  {"estimated_cost", cost}, {"run_estimated_cost", totalCost}};
   }
-  geometry::writeFileAtomically(reportJsonPath, j.dump(2) + "\n");
-  writeHtml(reportHtmlPath, j, images);
+  writeReport(j, options, old, images);
   log.close();
   if (!log) throw InputError(logPath + ": writing failed (disk full or not writable?)");
   logFile.commit();
-  std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << report.cases.size() << " cases, "
-            << j["regressions"].size() << " regressions, " << seconds << " s); report: " << options.outDir
-            << "/report.html\n";
-  return report.pass() ? kExitOk : kExitCheckFailed;
+  return printVerdict(j, options.outDir);
 }
 
 }  // namespace osteon::cli
