@@ -131,6 +131,9 @@ struct ValidateCommandOptions {
   bool quick = false;
   std::string outDir = "validation-report";
   std::string compare;                 // a previous report.json
+  std::string shard;                   // "K/N": run the K-th (0-based) of N shards; empty: all
+  std::vector<std::string> merge;      // shard out-dirs to merge into --out-dir instead of a run
+  std::vector<std::string> runOptionsGiven;  // options of a run given on the command line (--models ...)
 };
 
 struct ExperimentCommandOptions {

@@ -220,6 +220,12 @@ int main(int argc, char** argv) {
   validateCmd->add_option("--out-dir", validate.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   validateCmd->add_option("--compare", validate.compare, "A previous report.json: mark regressions");
+  validateCmd->add_option("--shard", validate.shard,
+                          "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "
+                          "estimated cost; merge the shards' folders with --merge");
+  validateCmd->add_option("--merge", validate.merge,
+                          "Shard folders (each with the report.json of one --shard K/N run): merge them into one "
+                          "report in --out-dir instead of running");
 
   osteon::cli::ExperimentCommandOptions experiment;
   CLI::App* experimentCmd = app.add_subcommand(
@@ -270,6 +276,9 @@ int main(int argc, char** argv) {
   }
 
   validate.voxelSizesGiven = validateCmd->count("--voxel-sizes") > 0;
+  for (const char* name : {"--models", "--voxel-sizes", "--quick", "--shard", "--units", "--scale"}) {
+    if (validateCmd->count(name) > 0) validate.runOptionsGiven.push_back(name);
+  }
   try {
     if (*infoCmd) return osteon::cli::runInfo(info);
     if (*voxCmd) return osteon::cli::runVoxelize(vox);

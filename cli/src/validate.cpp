@@ -1,5 +1,6 @@
 // `osteon validate`: the nightly run and its report (report.json with a stable schema,
-// report.html, validate.log, crack images).
+// report.html, validate.log, crack images); a shard of the run (--shard K/N), and the merge of
+// the shards' reports into one (--merge).
 #include "commands.h"
 #include "force_plots.h"
 
@@ -12,6 +13,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/validation/library_versions.h"
+#include "osteon/validation/shard.h"
 #include "osteon/validation/validate.h"
 
 #include <nlohmann/json.hpp>
@@ -26,6 +28,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -189,10 +192,7 @@ json environmentJson() {
 }
 
 std::string caseKey(const json& c) {
-  std::ostringstream s;
-  s << c.value("model", "") << "|" << c.value("voxel_size_mm", 0.0) << "|" << c.value("method", "") << "|"
-    << c.value("mode", "");
-  return s.str();
+  return val::caseKey(c.value("model", ""), c.value("voxel_size_mm", 0.0), c.value("method", ""), c.value("mode", ""));
 }
 
 // Regressions against an older report: a case that passed and fails, or a crack-free metric
@@ -259,6 +259,17 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   h << "<p>Started " << htmlEscape(report["started"].get<std::string>()) << ", "
     << report["seconds"].get<double>() << " s. osteon " << htmlEscape(report["osteon_version"].get<std::string>())
     << ".</p>\n";
+  if (report.contains("shard")) {
+    const json& shard = report["shard"];
+    h << "<p>Shard " << shard["index"] << " of " << shard["count"] << " (counted from 0): " << shard["cases"].size()
+      << " of the run's " << shard["case_list"].size() << " cases; merge the shards with "
+      << "<code>osteon validate --merge</code>.</p>\n";
+  }
+  if (report.contains("merged_from")) {
+    h << "<p>Merged from " << report["merged_from"].size() << " shards (the seconds above are their sum):";
+    for (const json& d : report["merged_from"]) h << " " << htmlEscape(d.get<std::string>());
+    h << ".</p>\n";
+  }
   if (!report["regressions"].empty()) {
     h << "<h2 class='fail'>Regressions against " << htmlEscape(report.value("compared_with", "")) << "</h2><ul>";
     for (const json& r : report["regressions"]) {
@@ -311,26 +322,284 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   geometry::writeFileAtomically(path, h.str());
 }
 
+// --shard K/N: whole decimal numbers, K counted from 0 (as a Slurm array's task ids).
+std::pair<std::size_t, std::size_t> parseShard(const std::string& text) {
+  const auto bad = [&](const std::string& why) { return InputError("--shard " + text + ": " + why); };
+  const std::size_t slash = text.find('/');
+  const auto whole = [](const std::string& t) {
+    return !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (slash == std::string::npos || !whole(text.substr(0, slash)) || !whole(text.substr(slash + 1))) {
+    throw bad("not K/N with whole numbers, K counted from 0 (0/4 .. 3/4)");
+  }
+  const std::size_t k = std::stoul(text.substr(0, slash)), n = std::stoul(text.substr(slash + 1));
+  if (n == 0) throw bad("N must be at least 1");
+  if (k >= n) throw bad("K must be below N (shards are counted from 0: 0.." + std::to_string(n - 1) + ")");
+  return {k, n};
+}
+
+// The old report of --compare, read and checked before any work: a bad file after the run
+// would lose the run.
+json readComparable(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("--compare " + path + ": cannot open");
+  json old;
+  try {
+    old = json::parse(in);
+  } catch (const std::exception&) {
+    throw InputError("--compare " + path + ": not a JSON report");
+  }
+  checkComparable(path, old);
+  return old;
+}
+
+// What a run and a merge both do last: the verdict, regressions, report.json and report.html.
+void writeReport(json& j, const ValidateCommandOptions& options, const json& old, const std::vector<std::string>& images) {
+  bool pass = true;  // every crack-free case keeps every guarantee (ValidationReport::pass)
+  for (const json& c : j["cases"]) {
+    if (c["method"] == "crackfree" && !c["pass"].get<bool>()) pass = false;
+  }
+  j["verdict"] = pass ? "PASS" : "FAIL";
+  j["images"] = images;
+  if (!options.compare.empty()) {
+    j["compared_with"] = options.compare;
+    j["regressions"] = compareReports(j, old);
+  }
+  geometry::writeFileAtomically(options.outDir + "/report.json", j.dump(2) + "\n");
+  writeHtml(options.outDir + "/report.html", j, images);
+}
+
+int printVerdict(const json& j, const std::string& outDir) {
+  std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << j["cases"].size() << " cases, "
+            << j["regressions"].size() << " regressions, " << j["seconds"].get<double>()
+            << " s); report: " << outDir << "/report.html\n";
+  return j["verdict"] == "PASS" ? kExitOk : kExitCheckFailed;
+}
+
+// Crack images sort by the model index that leads their folder (images/<model>_<method>/), as
+// a whole run writes them; a shard writes those of the models whose first group it owns.
+std::size_t imageModelIndex(const std::string& image) {
+  const std::string prefix = "images/";
+  if (image.rfind(prefix, 0) != 0) return 0;
+  std::size_t i = prefix.size(), index = 0;
+  while (i < image.size() && std::isdigit(static_cast<unsigned char>(image[i]))) index = index * 10 + (image[i++] - '0');
+  return index;
+}
+
+struct ShardReport {
+  std::string dir;
+  json report;
+  std::size_t index = 0, count = 0;
+};
+
+// One shard's report.json, checked for what a merge relies on.
+ShardReport readShard(const std::string& dir) {
+  const std::string path = dir + "/report.json";
+  const auto bad = [&](const std::string& why) { return InputError("--merge " + dir + ": " + why); };
+  std::ifstream in(path);
+  if (!in) throw bad("no report.json to read (cannot open " + path + ")");
+  ShardReport s;
+  s.dir = dir;
+  try {
+    s.report = json::parse(in);
+  } catch (const std::exception&) {
+    throw bad("report.json is not JSON (truncated or not a validate report)");
+  }
+  const json& r = s.report;
+  if (!r.is_object() || r.value("schema", json()) != "osteon-validate/1") {
+    throw bad("report.json is not a validate report (no \"schema\": \"osteon-validate/1\")");
+  }
+  if (!r.contains("shard") || !r["shard"].is_object()) {
+    throw bad("not a shard report (no \"shard\" object: written by validate --shard K/N)");
+  }
+  const json& sh = r["shard"];
+  const auto strings = [](const json& a) {
+    return a.is_array() && std::all_of(a.begin(), a.end(), [](const json& x) { return x.is_string(); });
+  };
+  if (!sh.value("index", json()).is_number_unsigned() || !sh.value("count", json()).is_number_unsigned() ||
+      !strings(sh.value("case_list", json())) || !strings(sh.value("cases", json()))) {
+    throw bad("not a shard report (\"shard\" needs index, count, case_list and cases)");
+  }
+  s.index = sh["index"].get<std::size_t>();
+  s.count = sh["count"].get<std::size_t>();
+  if (s.count == 0 || s.index >= s.count) throw bad("not a shard report (shard " + sh["index"].dump() + "/" + sh["count"].dump() + ")");
+  for (const char* k : {"osteon_version", "started"}) {
+    if (!r.value(k, json()).is_string()) throw bad(std::string("not a shard report (\"") + k + "\" is not a string)");
+  }
+  if (!r.value("seconds", json()).is_number() || !r.contains("options") || !strings(r.value("plots", json())) ||
+      !strings(r.value("images", json())) || !r.value("cases", json()).is_array()) {
+    throw bad("not a shard report (seconds, options, plots, images or cases missing)");
+  }
+  // Its cases must be those its shard object names, in that order (a hand-edited or truncated
+  // report would otherwise merge silently).
+  const json& cases = r["cases"];
+  if (cases.size() != sh["cases"].size()) throw bad("report.json holds " + std::to_string(cases.size()) +
+                                                    " cases, its shard names " + std::to_string(sh["cases"].size()));
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    if (!cases[i].is_object() || !cases[i].value("pass", json()).is_boolean() || caseKey(cases[i]) != sh["cases"][i]) {
+      throw bad("case " + std::to_string(i) + " is not the case its shard names (" + sh["cases"][i].get<std::string>() + ")");
+    }
+  }
+  return s;
+}
+
+// Copies a shard's images, plots and force logs into the merged report's folder, so it stands
+// alone; not the shard's gnuplot script, which names the shard's own files.
+void copyShardFiles(const std::string& fromDir, const std::string& toDir) {
+  namespace fs = std::filesystem;
+  for (const char* sub : {"images", "plots", "forces"}) {
+    std::error_code ec;
+    if (!fs::is_directory(fromDir + "/" + sub, ec)) continue;
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(fromDir + "/" + sub, ec)) {
+      const std::string name = e.path().filename().string();
+      if (!e.is_regular_file() || name.rfind("plots.gp", 0) == 0) continue;
+      const fs::path to = fs::path(toDir) / fs::relative(e.path(), fromDir);
+      fs::create_directories(to.parent_path(), ec);
+      if (!ec) fs::copy_file(e.path(), to, fs::copy_options::overwrite_existing, ec);
+      if (ec) throw InputError("--out-dir " + toDir + ": cannot copy " + e.path().string() + " (" + ec.message() + ")");
+    }
+    if (ec) throw InputError("--merge " + fromDir + ": cannot read " + sub + " (" + ec.message() + ")");
+  }
+}
+
+// --merge: the shards' reports as one, as the whole run would have written it.
+int runMerge(const ValidateCommandOptions& options) {
+  namespace fs = std::filesystem;
+  if (!options.runOptionsGiven.empty()) {
+    throw InputError("--merge: " + options.runOptionsGiven.front() +
+                     " is an option of a run, not of a merge (each shard's report holds its run's options)");
+  }
+  const json old = options.compare.empty() ? json() : readComparable(options.compare);
+  std::vector<ShardReport> shards;
+  for (const std::string& dir : options.merge) shards.push_back(readShard(dir));
+
+  // One run: the same osteon, options, shard count and case list in every report.
+  const ShardReport& first = shards.front();
+  for (const ShardReport& s : shards) {
+    const std::string pair = first.dir + " and " + s.dir;
+    if (s.report["osteon_version"] != first.report["osteon_version"]) {
+      throw InputError("--merge: " + pair + " come from different osteon versions (" +
+                       first.report["osteon_version"].get<std::string>() + ", " +
+                       s.report["osteon_version"].get<std::string>() + ")");
+    }
+    if (s.count != first.count) {
+      throw InputError("--merge: " + pair + " are shards of different splits (of " + std::to_string(first.count) +
+                       " and of " + std::to_string(s.count) + " shards)");
+    }
+    if (s.report["shard"]["case_list"] != first.report["shard"]["case_list"]) {
+      throw InputError("--merge: " + pair + " are shards of different runs (their case lists differ)");
+    }
+    if (s.report["options"] != first.report["options"]) {
+      throw InputError("--merge: " + pair + " are shards of different runs (their options differ)");
+    }
+  }
+  std::vector<const ShardReport*> byIndex(first.count, nullptr);
+  for (const ShardReport& s : shards) {
+    const ShardReport*& slot = byIndex[s.index];
+    if (slot) {
+      throw InputError("--merge: " + slot->dir + " and " + s.dir + " are both shard " + std::to_string(s.index) + "/" +
+                       std::to_string(s.count));
+    }
+    slot = &s;
+  }
+  std::string missing;
+  for (std::size_t k = 0; k < byIndex.size(); ++k) {
+    if (!byIndex[k]) missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(first.count);
+  }
+  if (!missing.empty()) {
+    std::string given;
+    for (const ShardReport& s : shards) {
+      given += (given.empty() ? "" : ", ") + s.dir + " (" + std::to_string(s.index) + "/" + std::to_string(s.count) + ")";
+    }
+    throw InputError("--merge: shard " + missing + " missing (given: " + given + ")");
+  }
+
+  // Every case of the run in exactly one shard, then in the run's order.
+  std::map<std::string, const json*> caseOf;
+  std::map<std::string, std::string> dirOf;
+  for (const ShardReport& s : shards) {
+    for (const json& c : s.report["cases"]) {
+      const std::string key = caseKey(c);
+      if (caseOf.count(key)) throw InputError("--merge: " + dirOf[key] + " and " + s.dir + " both hold case " + key);
+      caseOf[key] = &c;
+      dirOf[key] = s.dir;
+    }
+  }
+  json cases = json::array();
+  for (const json& key : first.report["shard"]["case_list"]) {
+    const auto it = caseOf.find(key.get<std::string>());
+    if (it == caseOf.end()) throw InputError("--merge: no shard holds case " + key.get<std::string>());
+    cases.push_back(*it->second);
+  }
+  if (cases.size() != caseOf.size()) throw InputError("--merge: a shard holds a case outside its run's case list");
+
+  // Outputs: never into a shard's own folder, never over an input.
+  std::vector<std::string> inputs{options.compare};
+  for (const ShardReport& s : shards) {
+    std::error_code ec;
+    if (fs::exists(options.outDir, ec) && fs::equivalent(options.outDir, s.dir, ec)) {
+      throw InputError("--out-dir " + options.outDir + ": is the shard folder " + s.dir +
+                       " (merge into another folder)");
+    }
+    inputs.push_back(s.dir + "/report.json");
+  }
+  geometry::refuseOverwritingInputs({options.outDir + "/report.json", options.outDir + "/report.html",
+                                     options.outDir + "/validate.log"}, inputs);
+  for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
+  std::error_code ec;
+  fs::create_directories(options.outDir, ec);
+  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+
+  std::set<std::string> plots;
+  std::vector<std::string> images;
+  std::string log;
+  json mergedFrom = json::array(), shardSeconds = json::array();
+  double seconds = 0.0;
+  std::string started = byIndex.front()->report["started"];
+  for (const ShardReport* s : byIndex) {
+    copyShardFiles(s->dir, options.outDir);
+    for (const json& p : s->report["plots"]) plots.insert(p.get<std::string>());
+    for (const json& i : s->report["images"]) images.push_back(i.get<std::string>());
+    mergedFrom.push_back(s->dir);
+    shardSeconds.push_back(s->report["seconds"]);
+    seconds += s->report["seconds"].get<double>();
+    started = std::min(started, s->report["started"].get<std::string>());  // ISO 8601 UTC sorts as text
+    std::ifstream shardLog(s->dir + "/validate.log");
+    log += "# shard " + std::to_string(s->index) + "/" + std::to_string(s->count) + ": " + s->dir + "\n";
+    log += std::string(std::istreambuf_iterator<char>(shardLog), std::istreambuf_iterator<char>());
+  }
+  std::stable_sort(images.begin(), images.end(),
+                   [](const std::string& a, const std::string& b) { return imageModelIndex(a) < imageModelIndex(b); });
+  geometry::writeFileAtomically(options.outDir + "/validate.log", log);
+  json j = {{"schema", "osteon-validate/1"},
+            {"started", started},
+            {"seconds", seconds},
+            {"osteon_version", first.report["osteon_version"]},
+            {"options", first.report["options"]},
+            {"environment", byIndex.front()->report.value("environment", json::object())},
+            {"cases", cases},
+            {"plots", std::vector<std::string>(plots.begin(), plots.end())},
+            {"regressions", json::array()},
+            {"merged_from", mergedFrom},
+            {"shard_seconds", shardSeconds}};
+  writeReport(j, options, old, images);
+  return printVerdict(j, options.outDir);
+}
+
 }  // namespace
 
 int runValidate(const ValidateCommandOptions& options) {
+  if (!options.merge.empty()) return runMerge(options);
+  // Plain values, not an optional pair: GCC's -Wmaybe-uninitialized misreads the latter.
+  const bool sharded = !options.shard.empty();
+  const auto [shardIndex, shardCount] = sharded ? parseShard(options.shard) : std::pair<std::size_t, std::size_t>{0, 1};
   // Sizes given with --quick replace its 1.2 mm; given or not, they are checked.
   const std::vector<double> parsedSizes = parseVoxelSizes(options.voxelSizes);
   const std::vector<double> sizes =
       options.quick && !options.voxelSizesGiven ? std::vector<double>{1.2} : parsedSizes;
   const std::vector<std::string> names = splitList(options.models);
   if (names.empty()) throw InputError("--models " + options.models + ": no model given");
-  json old;
-  if (!options.compare.empty()) {
-    std::ifstream in(options.compare);
-    if (!in) throw InputError("--compare " + options.compare + ": cannot open");
-    try {
-      old = json::parse(in);
-    } catch (const std::exception&) {
-      throw InputError("--compare " + options.compare + ": not a JSON report");
-    }
-    checkComparable(options.compare, old);
-  }
+  const json old = options.compare.empty() ? json() : readComparable(options.compare);
   std::vector<std::string> inputs;
   for (const std::string& name : names) inputs.push_back(inputFile(name));
   inputs.push_back(options.compare);
@@ -371,9 +640,30 @@ int runValidate(const ValidateCommandOptions& options) {
   const std::time_t startedT = std::chrono::system_clock::to_time_t(started);
   char startedText[32];
   std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
+  // A shard runs the case groups assigned to it (shard.h); every shard computes the same split.
+  const std::vector<val::CaseGroup> groups = val::caseGroups(models, vo);
+  std::vector<bool> ownGroup(groups.size(), true);
+  const std::vector<std::string> runKeys = val::caseKeys(models, groups);
+  if (sharded) {
+    // A merge finds each case by its key, so a model or voxel size given twice cannot be split.
+    std::set<std::string> unique;
+    for (const std::string& key : runKeys) {
+      if (!unique.insert(key).second) {
+        throw InputError("--shard " + options.shard + ": case " + key + " comes twice (a model or voxel size given twice)");
+      }
+    }
+    std::vector<double> costs;
+    for (const val::CaseGroup& g : groups) costs.push_back(g.cost);
+    const std::vector<std::size_t> shardOf = val::assignShards(costs, shardCount);
+    vo.groups.emplace();
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      ownGroup[g] = shardOf[g] == shardIndex;
+      if (ownGroup[g]) vo.groups->push_back(g);
+    }
+  }
   std::size_t done = 0;
-  std::size_t total = 0;
-  for (const val::ValidationModel& m : models) total += m.voxelSizesMm(sizes).size() * 4;
+  const std::size_t total = static_cast<std::size_t>(std::count(ownGroup.begin(), ownGroup.end(), true)) *
+                            val::kCasesPerGroup;
   // Force logs of the crack-free runs, for the plots: forces/<model>_<voxel>_<mode>_<portal>.csv.
   std::filesystem::create_directories(options.outDir + "/forces");
   std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
@@ -405,9 +695,13 @@ int runValidate(const ValidateCommandOptions& options) {
     log << line.str() << "\n" << std::flush;
   });
 
-  // Crack views of each model's surfaces at the first voxel size, before drilling.
+  // Crack views of each model's surfaces at the first voxel size, before drilling; in a shard,
+  // of the models whose first group it runs.
+  std::vector<bool> ownImages(models.size(), false);
+  for (std::size_t g = groups.size(); g-- > 0;) ownImages[groups[g].model] = ownGroup[g];
   std::vector<std::string> images;
   for (const val::ValidationModel& m : models) {
+    if (!ownImages[static_cast<std::size_t>(&m - models.data())]) continue;
     geometry::VoxelizeOptions gv;
     gv.voxelSizeMm = sizes.front();
     gv.requireInside = true;
@@ -442,12 +736,12 @@ int runValidate(const ValidateCommandOptions& options) {
     plots.push_back("plots/" + name + ".png");
   }
   if (!figures.empty()) drawForcePlots(figures, options.outDir + "/plots/plots.gp");
+  std::sort(plots.begin(), plots.end());  // as a merge lists the shards' plots
 
   json cases = json::array();
   for (const val::ValidationCase& c : report.cases) cases.push_back(caseJson(c));
   const double seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
   json j = {{"schema", "osteon-validate/1"},
-            {"verdict", report.pass() ? "PASS" : "FAIL"},
             {"started", startedText},
             {"seconds", seconds},
             {"osteon_version", OSTEON_VERSION},
@@ -457,19 +751,25 @@ int runValidate(const ValidateCommandOptions& options) {
             {"cases", cases},
             {"plots", plots},
             {"regressions", json::array()}};
-  if (!options.compare.empty()) {
-    j["compared_with"] = options.compare;
-    j["regressions"] = compareReports(j, old);
+  if (sharded) {
+    // The whole run's case list, so a merge can tell shards of one run from shards of another.
+    const std::vector<std::string>& keys = runKeys;
+    json own = json::array();
+    double cost = 0.0, totalCost = 0.0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      totalCost += groups[g].cost;
+      if (!ownGroup[g]) continue;
+      cost += groups[g].cost;
+      for (int k = 0; k < val::kCasesPerGroup; ++k) own.push_back(keys[g * val::kCasesPerGroup + k]);
+    }
+    j["shard"] = {{"index", shardIndex}, {"count", shardCount}, {"case_list", keys}, {"cases", own},
+                  {"estimated_cost", cost}, {"run_estimated_cost", totalCost}};
   }
-  geometry::writeFileAtomically(reportJsonPath, j.dump(2) + "\n");
-  writeHtml(reportHtmlPath, j, images);
+  writeReport(j, options, old, images);
   log.close();
   if (!log) throw InputError(logPath + ": writing failed (disk full or not writable?)");
   logFile.commit();
-  std::cout << "verdict: " << j["verdict"].get<std::string>() << " (" << report.cases.size() << " cases, "
-            << j["regressions"].size() << " regressions, " << seconds << " s); report: " << options.outDir
-            << "/report.html\n";
-  return report.pass() ? kExitOk : kExitCheckFailed;
+  return printVerdict(j, options.outDir);
 }
 
 }  // namespace osteon::cli

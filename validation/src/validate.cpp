@@ -1,5 +1,7 @@
 #include "osteon/validation/validate.h"
 
+#include "osteon/validation/shard.h"
+
 #include "osteon/simulation/session.h"
 #include "osteon/core/timing.h"
 
@@ -9,6 +11,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/experiment.h"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -53,87 +56,89 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
   ValidationReport report;
   CrackMetricOptions crackOptions;
   crackOptions.pixels = options.crackPixels;
-  for (const ValidationModel& model : models) {
-    for (const double voxelMm : model.voxelSizesMm(options.voxelSizesMm)) {
-      const std::shared_ptr<const sim::BoneModel> bone =
-          model.volume ? sim::BoneModel::fromGrid(*model.volume, model.name)
-                       : sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
-      // Drilling needs a humeral head; a bone without one is checked but not drilled.
-      bool head = false;
-      if (options.drill) {
-        try {
-          bone->humeralHead();
-          head = true;
-        } catch (const InputError&) {
-        }
+  const std::vector<CaseGroup> groups = caseGroups(models, options);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (options.groups && !std::binary_search(options.groups->begin(), options.groups->end(), g)) continue;
+    const ValidationModel& model = models[groups[g].model];
+    const double voxelMm = groups[g].voxelSizeMm;
+    const std::shared_ptr<const sim::BoneModel> bone =
+        model.volume ? sim::BoneModel::fromGrid(*model.volume, model.name)
+                     : sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
+    // Drilling needs a humeral head; a bone without one is checked but not drilled.
+    bool head = false;
+    if (options.drill) {
+      try {
+        bone->humeralHead();
+        head = true;
+      } catch (const InputError&) {
       }
-      const geometry::VoxelGrid& original = bone->grid();
-      for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
-        geometry::SurfaceOptions so;
-        so.method = method;
-        const Clock::time_point start = Clock::now();
-        geometry::SurfaceTimings timings;
-        const geometry::TriangleMesh surface = geometry::extractSurface(original, so, &timings).toTriangleMesh();
-        const double extractMs = msSince(start);
-        ValidationCase base;
-        base.timings = timings;
-        base.voxels = original.countVoxels(geometry::kFillHalf);
-        base.model = model.name;
-        base.voxelSizeMm = voxelMm;
-        base.method = method;
-        base.extractMs = extractMs;
-        base.triangles = surface.triangleCount();
-        base.vertices = surface.vertexCount();
-        base.before = checkMesh(surface);
-        base.cracks = measureCracks(surface, crackOptions);
-        try {
-          base.accuracyKnown = !model.volume;  // a volume has no source polygons
-          if (base.accuracyKnown) base.accuracy = compareMeshes(surface, model.mesh);
-        } catch (const std::invalid_argument&) {
-          base.accuracyKnown = false;  // the source is not a polygon mesh
-        }
-        surfaceFailures(base.before, base.cracks, "before drilling", base.failures);
-        for (const int levels : {0, 2}) {
-          ValidationCase c = base;
-          c.mode = levels == 0 ? ForceMode::Static : ForceMode::Dynamic;
-          if (head) {
-            sim::SessionOptions drilling;
-            drilling.levels = levels;
-            sim::Session session(bone, drilling);
-            const sim::DrillingSimulation& simulation = session.simulation();
-            for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
-              const sim::PortalPlan plan = session.portalPath(portal);
-              PortalRun run;
-              run.portal = sim::portalName(portal);
-              CollisionCheckOptions check;
-              check.everySteps = options.checkEverySteps;
-              check.method = so.method;  // naive: its surface re-extracted whole at each check
-              run.collisions = crossCheckCollisions(session, plan.path, check);
-              const sim::RunSummary& s = run.collisions.run.summary;
-              run.maxForceN = s.maxForceN;
-              run.jitterN = s.jitterN;
-              run.nonFiniteForces = s.totals.nonFiniteForces;
-              if (run.collisions.misses > 0) {
-                c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) + " collision misses");
-              }
-              if (run.nonFiniteForces > 0) c.failures.push_back(run.portal + ": NaN or infinite force");
-              if (run.maxForceN > simulation.tool().maxForceN + 1e-9) c.failures.push_back(run.portal + ": force above the cap");
-              c.portals.push_back(std::move(run));
-              // The next path starts its own clock; after the last, the refined voxels stay
-              // so the drilled surface below includes them.
-              if (portal == sim::Portal::FiveOClock) session.simulation().voxels().expireAll();
+    }
+    const geometry::VoxelGrid& original = bone->grid();
+    for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
+      geometry::SurfaceOptions so;
+      so.method = method;
+      const Clock::time_point start = Clock::now();
+      geometry::SurfaceTimings timings;
+      const geometry::TriangleMesh surface = geometry::extractSurface(original, so, &timings).toTriangleMesh();
+      const double extractMs = msSince(start);
+      ValidationCase base;
+      base.timings = timings;
+      base.voxels = original.countVoxels(geometry::kFillHalf);
+      base.model = model.name;
+      base.voxelSizeMm = voxelMm;
+      base.method = method;
+      base.extractMs = extractMs;
+      base.triangles = surface.triangleCount();
+      base.vertices = surface.vertexCount();
+      base.before = checkMesh(surface);
+      base.cracks = measureCracks(surface, crackOptions);
+      try {
+        base.accuracyKnown = !model.volume;  // a volume has no source polygons
+        if (base.accuracyKnown) base.accuracy = compareMeshes(surface, model.mesh);
+      } catch (const std::invalid_argument&) {
+        base.accuracyKnown = false;  // the source is not a polygon mesh
+      }
+      surfaceFailures(base.before, base.cracks, "before drilling", base.failures);
+      for (const int levels : {0, 2}) {
+        ValidationCase c = base;
+        c.mode = levels == 0 ? ForceMode::Static : ForceMode::Dynamic;
+        if (head) {
+          sim::SessionOptions drilling;
+          drilling.levels = levels;
+          sim::Session session(bone, drilling);
+          const sim::DrillingSimulation& simulation = session.simulation();
+          for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
+            const sim::PortalPlan plan = session.portalPath(portal);
+            PortalRun run;
+            run.portal = sim::portalName(portal);
+            CollisionCheckOptions check;
+            check.everySteps = options.checkEverySteps;
+            check.method = so.method;  // naive: its surface re-extracted whole at each check
+            run.collisions = crossCheckCollisions(session, plan.path, check);
+            const sim::RunSummary& s = run.collisions.run.summary;
+            run.maxForceN = s.maxForceN;
+            run.jitterN = s.jitterN;
+            run.nonFiniteForces = s.totals.nonFiniteForces;
+            if (run.collisions.misses > 0) {
+              c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) + " collision misses");
             }
-            const geometry::TriangleMesh drilled =
-                so.method == geometry::SurfaceMethod::CrackFree
-                    ? geometry::extractSurface(session.grid(), simulation.voxels(), so).toTriangleMesh()
-                    : geometry::extractSurface(session.grid(), so).toTriangleMesh();
-            c.after = checkMesh(drilled);
-            c.afterCracks = measureCracks(drilled, crackOptions);
-            surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);
+            if (run.nonFiniteForces > 0) c.failures.push_back(run.portal + ": NaN or infinite force");
+            if (run.maxForceN > simulation.tool().maxForceN + 1e-9) c.failures.push_back(run.portal + ": force above the cap");
+            c.portals.push_back(std::move(run));
+            // The next path starts its own clock; after the last, the refined voxels stay
+            // so the drilled surface below includes them.
+            if (portal == sim::Portal::FiveOClock) session.simulation().voxels().expireAll();
           }
-          if (progress) progress(c);
-          report.cases.push_back(std::move(c));
+          const geometry::TriangleMesh drilled =
+              so.method == geometry::SurfaceMethod::CrackFree
+                  ? geometry::extractSurface(session.grid(), simulation.voxels(), so).toTriangleMesh()
+                  : geometry::extractSurface(session.grid(), so).toTriangleMesh();
+          c.after = checkMesh(drilled);
+          c.afterCracks = measureCracks(drilled, crackOptions);
+          surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);
         }
+        if (progress) progress(c);
+        report.cases.push_back(std::move(c));
       }
     }
   }

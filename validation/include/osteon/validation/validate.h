@@ -40,6 +40,9 @@ struct ValidationOptions {
   int crackPixels = 512;
   int checkEverySteps = 10;        // collision cross-check period along the paths
   bool drill = true;
+  // Indexes into caseGroups(models, options) (shard.h) to run, in ascending order; unset runs
+  // every group. A shard of the nightly runs its own groups only.
+  std::optional<std::vector<std::size_t>> groups;
 };
 
 struct PortalRun {
