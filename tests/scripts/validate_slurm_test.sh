@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A 4-shard quick validation through a one-node Slurm cluster on this machine
 # (scripts/slurm-local), merged, against the same validation run unsharded: same verdict, same
-# cases, same per-case results. Exit 77 (skipped, with the reason) where Slurm cannot start here
+# cases, same per-case results. The built-in bone at four voxel sizes: four case groups (a
+# model at a voxel size, the unit a shard takes), so every shard has one. Exit 77 (skipped, with the reason) where Slurm cannot start here
 # or the osteon given cannot shard.
 #   validate_slurm_test.sh OSTEON SOURCE_DIR WORK_DIR
 set -euo pipefail
@@ -28,10 +29,10 @@ if ! "$src/scripts/slurm-local" start "$cluster" 2>"$work/start.err"; then
 fi
 export SLURM_CONF="$cluster/slurm.conf"
 
-# The built-in bone at 1.2 mm (--quick): 4 cases, one per shard.
+run=(--quick --voxel-sizes 1.8,2.1,2.4,2.7)
 started=$(date +%s)
 rc=0
-"$src/scripts/validate-slurm" --shards 4 --quick --out-dir "$work/run" --osteon "$osteon" --time 10 \
+"$src/scripts/validate-slurm" --shards 4 "${run[@]}" --out-dir "$work/run" --osteon "$osteon" --time 10 \
   --cpus-per-task 1 --wait >"$work/submit.out" 2>&1 || rc=$?
 cat "$work/submit.out"
 echo "through Slurm: $(($(date +%s) - started)) s, exit $rc"
@@ -42,13 +43,15 @@ for k in 0 1 2 3; do
   [[ -f "$work/run/shard-$k/report.json" ]] || { echo "FAIL: shard $k wrote no report"; cat "$work/run/logs/shard-$k.out"; exit 1; }
   [[ "$(jq -r '.shard | type' "$work/run/shard-$k/report.json")" == object ]] ||
     { echo "FAIL: shard $k's report has no \"shard\" object"; exit 1; }
+  [[ "$(jq '.cases | length' "$work/run/shard-$k/report.json")" -eq 4 ]] ||
+    { echo "FAIL: shard $k ran $(jq '.cases | length' "$work/run/shard-$k/report.json") cases, not one group of 4"; exit 1; }
 done
 [[ -f "$work/run/merged/report.json" && -f "$work/run/merged/report.html" ]] ||
   { echo "FAIL: no merged report"; cat "$work/run/logs/merge.out"; exit 1; }
 
 started=$(date +%s)
 urc=0
-"$osteon" validate --quick --out-dir "$work/unsharded" >"$work/unsharded.out" 2>&1 || urc=$?
+"$osteon" validate "${run[@]}" --out-dir "$work/unsharded" >"$work/unsharded.out" 2>&1 || urc=$?
 echo "unsharded: $(($(date +%s) - started)) s, exit $urc"
 [[ $rc -eq $urc ]] || { echo "FAIL: validate-slurm --wait exited $rc, the unsharded run $urc"; exit 1; }
 
@@ -63,5 +66,5 @@ if ! diff -u "$work/unsharded.summary" "$work/merged.summary"; then
   echo "FAIL: the merged report differs from the unsharded run (above: - unsharded, + merged)"
   exit 1
 fi
-[[ "$(jq '.cases | length' "$work/run/merged/report.json")" -eq 4 ]] || { echo "FAIL: not 4 cases"; exit 1; }
-echo "merged: $(jq -r .verdict "$work/run/merged/report.json"), 4 cases, as unsharded"
+[[ "$(jq '.cases | length' "$work/run/merged/report.json")" -eq 16 ]] || { echo "FAIL: not 16 cases"; exit 1; }
+echo "merged: $(jq -r .verdict "$work/run/merged/report.json"), 16 cases, as unsharded"
