@@ -159,6 +159,7 @@ json caseJson(const val::ValidationCase& c) {
             {"vertices", c.vertices},
             {"voxels", c.voxels},
             {"extract_ms", c.extractMs},
+            {"case_ms", {{"setup", c.setupMs}, {"surface", c.surfaceMs}, {"drill", c.drillMs}}},
             {"mesh_time_ms", {{"total", c.timings.totalMs}, {"extract", c.timings.extractMs},
                               {"smooth", c.timings.smoothMs}, {"normals", c.timings.normalsMs},
                               {"other", c.timings.otherMs}}},

@@ -61,6 +61,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
     if (options.groups && !std::binary_search(options.groups->begin(), options.groups->end(), g)) continue;
     const ValidationModel& model = models[groups[g].model];
     const double voxelMm = groups[g].voxelSizeMm;
+    const Clock::time_point setupStart = Clock::now();
     const std::shared_ptr<const sim::BoneModel> bone =
         model.volume ? sim::BoneModel::fromGrid(*model.volume, model.name)
                      : sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
@@ -74,6 +75,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
       }
     }
     const geometry::VoxelGrid& original = bone->grid();
+    const double setupMs = msSince(setupStart);
     for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
       geometry::SurfaceOptions so;
       so.method = method;
@@ -99,8 +101,11 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
         base.accuracyKnown = false;  // the source is not a polygon mesh
       }
       surfaceFailures(base.before, base.cracks, "before drilling", base.failures);
+      base.setupMs = setupMs;
+      base.surfaceMs = msSince(start);
       for (const int levels : {0, 2}) {
         ValidationCase c = base;
+        const Clock::time_point drillStart = Clock::now();
         c.mode = levels == 0 ? ForceMode::Static : ForceMode::Dynamic;
         if (head) {
           sim::SessionOptions drilling;
@@ -137,6 +142,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
           c.afterCracks = measureCracks(drilled, crackOptions);
           surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);
         }
+        c.drillMs = msSince(drillStart);
         if (progress) progress(c);
         report.cases.push_back(std::move(c));
       }

@@ -69,6 +69,10 @@ struct ValidationCase {
   std::vector<PortalRun> portals;
   MeshReport after;     // the drilled surface (both portals drilled into one bone)
   CrackMetric afterCracks;
+  // Wall time, for sizing runs (docs/validation.md): the group's set-up (voxelize, density,
+  // head fit) shared by its four cases, the surface and its checks shared by the method's two
+  // modes, and this case's own drilling with the drilled surface's checks.
+  double setupMs = 0.0, surfaceMs = 0.0, drillMs = 0.0;
   std::vector<std::string> failures;  // broken guarantees, in words
   bool pass() const { return failures.empty(); }
 };
