@@ -17,7 +17,7 @@ nights() { tail -n +2 "$history" | cut -d, -f1 | sort -u | wc -l; }
 # Night 1: PASS, 4 rows, plots in the report.
 nightly >"$work/night1.out" 2>&1 || { cat "$work/night1.out"; fail "night 1 exited $?"; }
 night1=$(realpath "$root/latest")
-[[ "$(head -n 1 "$history")" == date,commit,model,voxel_size_mm,method,mode,crack_percent,border_edges,self_intersections,hausdorff_mm,max_force_n,jitter_n,mesh_ms,run_s ]] ||
+[[ "$(head -n 1 "$history")" == date,commit,model,voxel_size_mm,method,mode,crack_percent,border_edges,self_intersections,hausdorff_mm,max_force_n,jitter_n,case_s,mesh_ms,run_s ]] ||
   fail "history header: $(head -n 1 "$history")"
 [[ $(rows) -eq 4 && $(nights) -eq 1 ]] || fail "after night 1: $(rows) rows, $(nights) nights"
 grep -q ',default,2.4,crackfree,static,0,0,0,0\.' "$history" || fail "no crack-free static row with 0 cracks: $(cat "$history")"
