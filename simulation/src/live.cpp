@@ -3,6 +3,7 @@
 #include "osteon/core/error.h"
 #include "osteon/simulation/handoff.h"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <time.h>
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <mutex>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -44,6 +46,18 @@ void sleepUntilNs(std::int64_t deadline) {
 __attribute__((noinline)) void prefaultStack() {
   volatile std::uint8_t pages[128 * 1024];
   for (std::size_t i = 0; i < sizeof pages; i += 4096) pages[i] = 0;
+}
+
+// While the 1 kHz loops run, freed memory stays in the process: each munmap of a freed
+// surface buffer (and each page fault of a fresh one) in the visual thread stalled the
+// collision thread up to 4 ms and doubled the haptic thread's overruns at 0.3 mm
+// (docs/performance.md, "Threaded runtime"). Process-wide and once: RSS stays at its peak.
+void keepFreedMemory() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mallopt(M_MMAP_MAX, 0);         // large blocks from the heap too, not from fresh mappings
+    mallopt(M_TRIM_THRESHOLD, -1);  // and the heap's top never given back
+  });
 }
 
 bool askRealtime(int priority) {
@@ -363,6 +377,7 @@ void LiveRuntime::start() {
   Impl& m = *impl_;
   if (m.started) return;
   m.started = true;
+  keepFreedMemory();
   const std::int64_t startNs = nowNs() + 5000000;  // 5 ms for the threads to start
   m.haptic = std::thread([&m, startNs] { m.hapticLoop(startNs); });
   m.collision = std::thread([&m, startNs] { m.collisionLoop(startNs + m.periodNs / 2); });
