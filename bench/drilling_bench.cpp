@@ -92,6 +92,7 @@ struct OverrunFloor {
 class ProbeLoop {
  public:
   ProbeLoop(int priority, std::chrono::microseconds offset) {
+    overrunNs_.assign(RuntimeStats::kOverrunInstantsKept, 0);
     thread_ = std::thread([this, priority, offset] {
       using Clock = std::chrono::steady_clock;
       sched_param p{};
@@ -105,6 +106,7 @@ class ProbeLoop {
         const auto end = Clock::now();
         ++periods_;
         if (end > deadline + period) {
+          if (overruns_ < overrunNs_.size()) overrunNs_[overruns_] = end.time_since_epoch().count();
           ++overruns_;
           k = std::uint64_t((end - startAt) / period) + 1;
         } else {
@@ -120,12 +122,31 @@ class ProbeLoop {
   ~ProbeLoop() { stop(); }
   std::uint64_t periods() const { return periods_; }
   std::uint64_t overruns() const { return overruns_; }
+  // Steady-clock (CLOCK_MONOTONIC) ns of the first overruns, as RuntimeStats keeps them.
+  std::vector<std::int64_t> overrunNs() const {
+    return {overrunNs_.begin(), overrunNs_.begin() + std::ptrdiff_t(std::min<std::uint64_t>(overruns_, overrunNs_.size()))};
+  }
 
  private:
+  std::vector<std::int64_t> overrunNs_;
   std::atomic<bool> stop_{false};
   std::uint64_t periods_ = 0, overruns_ = 0;
   std::thread thread_;
 };
+
+// Overruns of `a` that end within 2 ms of one of `b`'s: the same stall seen by both.
+std::size_t coincident(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
+  std::size_t n = 0;
+  for (const std::int64_t t : a) {
+    for (const std::int64_t u : b) {
+      if (std::llabs(t - u) <= 2000000) {
+        ++n;
+        break;
+      }
+    }
+  }
+  return n;
+}
 
 OverrunFloor overrunFloor(double seconds) {
   using Clock = std::chrono::steady_clock;
@@ -281,6 +302,10 @@ int main(int argc, char** argv) {
                 "overran (%.4f %%); haptic minus floor %+.4f points: %s\n",
                 (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct, hapticPct - probePct,
                 hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
+    const std::vector<std::int64_t> probeAt = probe.overrunNs();
+    std::printf("overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu\n",
+                coincident(st.hapticOverrunNs, probeAt), st.hapticOverrunNs.size(),
+                coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size());
     std::fflush(stdout);
   }
   const OverrunFloor floor = overrunFloor(runtimeS);

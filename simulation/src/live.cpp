@@ -178,6 +178,7 @@ struct LiveRuntime::Impl {
   std::atomic<int> loopsFinished{0};
   std::atomic<int> granted{0};
   std::atomic<std::uint64_t> hapticSteps{0}, hapticOverruns{0}, collisionSteps{0}, collisionOverruns{0};
+  std::vector<std::int64_t> hapticOverrunNs, collisionOverrunNs;  // sized and written up front
   std::atomic<std::uint64_t> bricksHandedOver{0}, ringFull{0}, logDropped{0};
   std::atomic<std::int64_t> lastStepNs{0};
   std::thread haptic, collision, logger;
@@ -195,6 +196,8 @@ struct LiveRuntime::Impl {
     metrics.reserveForStep(options.periodS);
     hapticNs.reserve(timed);
     collisionNs.reserve(timed);
+    hapticOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
+    collisionOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     changed.reserve(1024);
     // The visual side owns a copy of the grid: the collision thread never waits for it and it
     // never reads a brick mid-write.
@@ -207,7 +210,7 @@ struct LiveRuntime::Impl {
   // overruns; skips periods it has missed entirely rather than running them late.
   template <typename Work>
   void periodic(std::int64_t startNs, std::atomic<std::uint64_t>& steps, std::atomic<std::uint64_t>& overruns,
-                Durations& stepNs, Work&& work) {
+                std::vector<std::int64_t>& overrunNs, Durations& stepNs, Work&& work) {
     prefaultStack();
     for (std::uint64_t k = 0; k < periods && !stopFlag.load(std::memory_order_relaxed);) {
       const std::int64_t deadline = startNs + std::int64_t(k) * periodNs;
@@ -218,7 +221,8 @@ struct LiveRuntime::Impl {
       if (!stepNs.full()) stepNs.add(end - begin);
       steps.fetch_add(1, std::memory_order_relaxed);
       if (end > deadline + periodNs) {
-        overruns.fetch_add(1, std::memory_order_relaxed);
+        const std::uint64_t n = overruns.fetch_add(1, std::memory_order_relaxed);  // this loop's own count
+        if (n < overrunNs.size()) overrunNs[n] = end;
         k = std::uint64_t((end - startNs) / periodNs) + 1;  // the next period not yet begun
       } else {
         ++k;
@@ -229,7 +233,7 @@ struct LiveRuntime::Impl {
 
   void hapticLoop(std::int64_t startNs) {
     if (options.realtimePriority && askRealtime(80)) granted.fetch_add(1);
-    periodic(startNs, hapticSteps, hapticOverruns, hapticNs, [&](double tS) {
+    periodic(startNs, hapticSteps, hapticOverruns, hapticOverrunNs, hapticNs, [&](double tS) {
       PoseMessage m;
       m.tS = tS;
       source->sample(tS, m.pose, m.drillOn);
@@ -242,7 +246,7 @@ struct LiveRuntime::Impl {
     if (options.realtimePriority && askRealtime(79)) granted.fetch_add(1);
     BrickMessage handover;
     RefinedList refined;
-    periodic(startNs, collisionSteps, collisionOverruns, collisionNs, [&](double) {
+    periodic(startNs, collisionSteps, collisionOverruns, collisionOverrunNs, collisionNs, [&](double) {
       const std::int64_t begin = nowNs();
       const PoseMessage& m = poses.read();
       if (m.tS < 0.0) return;
@@ -419,6 +423,11 @@ RuntimeResult LiveRuntime::stop() {
   stats.hapticOverruns = m.hapticOverruns.load();
   stats.collisionSteps = m.collisionSteps.load();
   stats.collisionOverruns = m.collisionOverruns.load();
+  const auto firstOverruns = [](const std::vector<std::int64_t>& all, std::uint64_t count) {
+    return std::vector<std::int64_t>(all.begin(), all.begin() + std::ptrdiff_t(std::min<std::uint64_t>(count, all.size())));
+  };
+  stats.hapticOverrunNs = firstOverruns(m.hapticOverrunNs, stats.hapticOverruns);
+  stats.collisionOverrunNs = firstOverruns(m.collisionOverrunNs, stats.collisionOverruns);
   stats.visualUpdates = m.visualUpdates;
   stats.bricksHandedOver = m.bricksHandedOver.load();
   stats.ringFull = m.ringFull.load();

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <memory>
 #include <thread>
 
@@ -94,8 +96,17 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   options.durationS = 1.5;
   options.realtimePriority = false;
   geometry::SurfaceMesh surface;
+  const std::int64_t beganNs = std::chrono::steady_clock::now().time_since_epoch().count();
   const RuntimeResult r = runThreaded(sim, grid, source, &sink, geometry::SurfaceOptions{}, options, &surface);
-  // Shared, noisy machines miss periods; the loops skip them rather than fall behind.
+  const std::int64_t endedNs = std::chrono::steady_clock::now().time_since_epoch().count();
+  // Shared, noisy machines miss periods; the loops skip them rather than fall behind. Each
+  // overrun's instant is kept, in order, within the run.
+  for (const auto& [instants, count] : {std::pair{&r.stats.hapticOverrunNs, r.stats.hapticOverruns},
+                                        std::pair{&r.stats.collisionOverrunNs, r.stats.collisionOverruns}}) {
+    EXPECT_EQ(instants->size(), std::min<std::uint64_t>(count, RuntimeStats::kOverrunInstantsKept));
+    EXPECT_TRUE(std::is_sorted(instants->begin(), instants->end()));
+    for (const std::int64_t t : *instants) EXPECT_TRUE(t > beganNs && t < endedNs);
+  }
   EXPECT_GT(r.stats.collisionSteps, 750u);
   EXPECT_LE(r.stats.collisionSteps, 1501u);
   EXPECT_EQ(r.stats.logDropped, 0u);

@@ -24,6 +24,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace osteon::simulation {
 
@@ -75,6 +76,10 @@ struct RuntimeStats {
   std::uint64_t logDropped = 0;    // force log rows the logging thread's ring had no room for
   Percentiles hapticStepUs, collisionStepUs, remeshMs;
   bool realtimeGranted = false;
+  // When the first overruns happened (CLOCK_MONOTONIC ns at the late period's end; at most
+  // kOverrunInstantsKept each): to line them up with what else the machine did then.
+  static constexpr std::size_t kOverrunInstantsKept = 4096;
+  std::vector<std::int64_t> hapticOverrunNs, collisionOverrunNs;
 };
 
 struct RuntimeResult {
