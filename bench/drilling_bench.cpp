@@ -303,9 +303,11 @@ int main(int argc, char** argv) {
                 (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct, hapticPct - probePct,
                 hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
     const std::vector<std::int64_t> probeAt = probe.overrunNs();
-    std::printf("overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu\n",
+    std::printf("overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu; "
+                "haptic within 2 ms of a collision overrun: %zu\n",
                 coincident(st.hapticOverrunNs, probeAt), st.hapticOverrunNs.size(),
-                coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size());
+                coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size(),
+                coincident(st.hapticOverrunNs, st.collisionOverrunNs));
     std::fflush(stdout);
   }
   const OverrunFloor floor = overrunFloor(runtimeS);
