@@ -30,6 +30,12 @@ std::uint64_t packVoxel(const glm::ivec3& v) {
          (std::uint64_t(v.y + kCoordOffset) << kCoordBits) | std::uint64_t(v.z + kCoordOffset);
 }
 
+// A new number for every build (copies share theirs), so a kept cache never answers another.
+std::uint64_t nextGeneration() {
+  static std::atomic<std::uint64_t> builds{0};
+  return ++builds;
+}
+
 long long floorDiv(long long a, long long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 long long chebyshev(const glm::ivec3& a, const glm::ivec3& b) {
@@ -58,8 +64,7 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
                      ": the expansion ratio must be odd, from 3 to 15 (cells centred on a voxel)");
   }
   DynamicProximityHierarchy h;
-  static std::atomic<std::uint64_t> builds{0};
-  h.generation_ = ++builds;
+  h.generation_ = nextGeneration();
   h.xi_ = xi;
   h.originMm_ = originMm;
   h.voxelSizeMm_ = voxelSizeMm;
@@ -247,8 +252,7 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const VoxelGrid& grid
                                                            const DphBuildOptions& options) {
   if (options.method == DphBuildMethod::kLattice && options.expansionRatio == 3) {
     DynamicProximityHierarchy h;
-    static std::atomic<std::uint64_t> gridBuilds{0};
-    h.generation_ = (std::uint64_t(1) << 63) | ++gridBuilds;  // distinct from the voxel-list builds' numbers
+    h.generation_ = nextGeneration();
     h.originMm_ = grid.originMm();
     h.voxelSizeMm_ = grid.voxelSizeMm();
     const glm::ivec3 far = grid.dims() - 1;

@@ -240,6 +240,7 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
 
   // One layer of cells (xi voxels in z) at a time, in parallel: each writes its rows of
   // occupancy bits (bit x of row (y, z)) and the non-empty cells it finds, in scan order.
+  // A layer has 3 cellDims.y rows per z, so a cell's last row never runs past them.
   struct Cell {
     glm::ivec3 corner;
     std::uint32_t mask;  // bit x + 3y + 9z: that voxel of the cell is occupied
@@ -289,7 +290,6 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
       }
     }
   });
-  // Rows are 3 cellDims.y long so that the y of a cell's last row never runs past them.
 
   std::size_t cellCount = 0;
   for (const std::vector<Cell>& layer : layers) cellCount += layer.size();

@@ -102,15 +102,8 @@ void SurfaceUpdater::Impl::buildAll() {
           for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
             ids[n++] = sharedVertex(g, mc.edges[std::size_t(k)]);
           }
-          if (n == 3) {
-            b->triangles.push_back({ids[0], ids[1], ids[2]});
-          } else if (n == 4) {
-            b->triangles.push_back({ids[0], ids[1], ids[2]});
-            b->triangles.push_back({ids[0], ids[2], ids[3]});
-          } else {
-            centres[bi].push_back({g, std::uint32_t(b->triangles.size()), std::vector<std::uint32_t>(ids, ids + n)});
-            for (int i = 0; i < n; ++i) b->triangles.push_back({kNoVertex, ids[i], ids[(i + 1) % n]});
-          }
+          if (n > 4) centres[bi].push_back({g, std::uint32_t(b->triangles.size()), std::vector<std::uint32_t>(ids, ids + n)});
+          appendLoopTriangles(b->triangles, ids, n, kNoVertex);  // the centre's slot comes later
         }
       }
       b->cellBegin[kCells] = std::uint32_t(b->triangles.size());

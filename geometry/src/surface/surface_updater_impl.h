@@ -30,6 +30,23 @@ inline int cellIndex(const glm::ivec3& l) {
 
 using namespace updater_detail;
 
+// A cell's loop of edge vertices as triangles: one for 3 vertices, two for 4, and for more a
+// fan from `centre` (the loop's centre vertex). Returns the triangles it appended.
+inline int appendLoopTriangles(std::vector<glm::u32vec3>& out, const std::uint32_t* ids, int count,
+                               std::uint32_t centre) {
+  if (count == 3) {
+    out.push_back({ids[0], ids[1], ids[2]});
+    return 1;
+  }
+  if (count == 4) {
+    out.push_back({ids[0], ids[1], ids[2]});
+    out.push_back({ids[0], ids[2], ids[3]});
+    return 2;
+  }
+  for (int i = 0; i < count; ++i) out.push_back({centre, ids[i], ids[(i + 1) % count]});
+  return count;
+}
+
 struct SurfaceUpdater::Impl {
   struct CellBrick {
     FillBlock fills;                                  // the voxels read at the last extraction
@@ -268,18 +285,12 @@ struct SurfaceUpdater::Impl {
                ++k) {
             ids[count++] = sharedVertex({x, y, z}, mc.edges[std::size_t(k)]);
           }
-          if (count == 3) {
-            b->triangles.push_back({ids[0], ids[1], ids[2]});
-          } else if (count == 4) {
-            b->triangles.push_back({ids[0], ids[1], ids[2]});
-            b->triangles.push_back({ids[0], ids[2], ids[3]});
-          } else {
-            const std::uint32_t centre =
-                allocate({glm::dvec3(0.0), 3, 0.0, 0.0, 0, 0, glm::ivec3(x, y, z)});
+          std::uint32_t centre = kNoVertex;
+          if (count > 4) {
+            centre = allocate({glm::dvec3(0.0), 3, 0.0, 0.0, 0, 0, glm::ivec3(x, y, z)});
             centreLoop[centre].assign(ids, ids + count);
-            for (int i = 0; i < count; ++i)
-              b->triangles.push_back({centre, ids[i], ids[(i + 1) % count]});
           }
+          appendLoopTriangles(b->triangles, ids, count, centre);
         }
         for (auto k = firstNew; k < b->triangles.size(); ++k) {
           for (int c = 0; c < 3; ++c) touched.push_back(b->triangles[k][c]);
