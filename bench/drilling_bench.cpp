@@ -1,5 +1,5 @@
 // osteon_bench_drilling [--runtime-s S] [--runtime-only] [--floor-only S] [--query-skin VOXELS]
-//                       [--query-slice NODES]:
+//                       [--query-slice NODES] [--standby on|off|both]:
 // the drilling figures of
 // docs/performance.md.
 //   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
@@ -11,7 +11,8 @@
 //      remeshing: the share of 1 ms periods that overran, the
 //      CPU time the hypervisor stole meanwhile, and the floor of that same window (a no-work
 //      loop at the haptic priority running beside the run); then the machine's floor alone:
-//      the same loops with no work for S seconds.
+//      the same loops with no work for S seconds. --standby both runs each case twice, the
+//      haptic loop without its standby thread, then with it (runtime.h).
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/runtime.h"
@@ -198,11 +199,23 @@ int main(int argc, char** argv) {
   double skin = DrillingOptions{}.querySkinVoxels;
   std::size_t slices = DrillingOptions{}.querySliceNodes;
   bool haptic = true;
+  std::vector<bool> standbyModes = {true};
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--query-skin") == 0 && i + 1 < argc) skin = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) slices = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
+    if (std::strcmp(argv[i], "--standby") == 0 && i + 1 < argc) {
+      const std::string mode = argv[i + 1];
+      if (mode == "off") {
+        standbyModes = {false};
+      } else if (mode == "both") {
+        standbyModes = {false, true};
+      } else if (mode != "on") {
+        std::fprintf(stderr, "--standby %s: not on, off or both\n", mode.c_str());
+        return 2;
+      }
+    }
     if (std::strcmp(argv[i], "--floor-only") == 0 && i + 1 < argc) {
       // The machine's floor alone, for a run measured elsewhere (bench/viewer_bench.sh).
       const OverrunFloor floor = overrunFloor(std::atof(argv[i + 1]));
@@ -268,47 +281,56 @@ int main(int argc, char** argv) {
       std::printf("\nhelix path at %g mm / %d levels, deterministic: step p50 %.1f p99 %.1f max %.1f us\n", voxelMm,
                   levels, s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max);
     }
-    Session threaded = makeSession(bone, levels);
-    PathPoseSource device(path);
-    RuntimeOptions ro;
-    ro.durationS = runtimeS;
-    char startText[32];
-    const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-    std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
-    const double steal0 = stealSeconds();
-    ProbeLoop probe(80, std::chrono::microseconds(250));  // the haptic thread's priority
-    const RuntimeResult r = threaded.runThreaded(device, nullptr, ro);
-    probe.stop();
-    const double stealS = stealSeconds() - steal0;
-    const RuntimeStats& st = r.stats;
-    std::printf("threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n", runtimeS, voxelMm,
-                levels, startText);
-    std::printf("realtime priority: %s\n", st.realtimeGranted ? "SCHED_FIFO granted" : "not granted (normal scheduling)");
-    std::printf("haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
-                (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns,
-                100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1)), st.hapticStepUs.p99);
-    std::printf("collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
-                (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
-                100.0 * double(st.collisionOverruns) / double(std::max<std::uint64_t>(st.collisionSteps, 1)),
-                st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
-    std::printf("visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, ring full %llu\n",
-                (unsigned long long)st.visualUpdates, st.remeshMs.p50, st.remeshMs.p99, st.remeshMs.max,
-                (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
-    std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3, r.run.summary.jitterN);
-    std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
-    const double hapticPct = 100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1));
-    const double probePct = 100.0 * double(probe.overruns()) / double(std::max<std::uint64_t>(probe.periods(), 1));
-    std::printf("floor in the same window (a no-work loop at the haptic priority beside the run): %llu periods, %llu "
-                "overran (%.4f %%); haptic minus floor %+.4f points: %s\n",
-                (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct, hapticPct - probePct,
-                hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
-    const std::vector<std::int64_t> probeAt = probe.overrunNs();
-    std::printf("overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu; "
-                "haptic within 2 ms of a collision overrun: %zu\n",
-                coincident(st.hapticOverrunNs, probeAt), st.hapticOverrunNs.size(),
-                coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size(),
-                coincident(st.hapticOverrunNs, st.collisionOverrunNs));
-    std::fflush(stdout);
+    for (const bool withStandby : standbyModes) {
+      Session threaded = makeSession(bone, levels);
+      PathPoseSource device(path);
+      RuntimeOptions ro;
+      ro.durationS = runtimeS;
+      ro.hapticStandby = withStandby;
+      char startText[32];
+      const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+      std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
+      const double steal0 = stealSeconds();
+      ProbeLoop probe(80, std::chrono::microseconds(250));  // the haptic thread's priority
+      const RuntimeResult r = threaded.runThreaded(device, nullptr, ro);
+      probe.stop();
+      const double stealS = stealSeconds() - steal0;
+      const RuntimeStats& st = r.stats;
+      std::printf("threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n", runtimeS, voxelMm,
+                  levels, startText);
+      std::printf("realtime priority: %s\n", st.realtimeGranted ? "SCHED_FIFO granted" : "not granted (normal scheduling)");
+      if (st.standbyCpu >= 0) {
+        std::printf("haptic standby: on (CPUs %d and %d), ran %llu periods\n", st.hapticCpu, st.standbyCpu,
+                    (unsigned long long)st.standbySteps);
+      } else {
+        std::printf("haptic standby: off\n");
+      }
+      std::printf("haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
+                  (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns,
+                  100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1)), st.hapticStepUs.p99);
+      std::printf("collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
+                  (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
+                  100.0 * double(st.collisionOverruns) / double(std::max<std::uint64_t>(st.collisionSteps, 1)),
+                  st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
+      std::printf("visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, ring full %llu\n",
+                  (unsigned long long)st.visualUpdates, st.remeshMs.p50, st.remeshMs.p99, st.remeshMs.max,
+                  (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
+      std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3, r.run.summary.jitterN);
+      std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
+      const double hapticPct = 100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1));
+      const double probePct = 100.0 * double(probe.overruns()) / double(std::max<std::uint64_t>(probe.periods(), 1));
+      std::printf("floor in the same window (a no-work loop at the haptic priority beside the run): %llu periods, %llu "
+                  "overran (%.4f %%); haptic minus floor %+.4f points: %s\n",
+                  (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct, hapticPct - probePct,
+                  hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
+      const std::vector<std::int64_t> probeAt = probe.overrunNs();
+      std::printf("overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu; "
+                  "haptic within 2 ms of a collision overrun: %zu\n",
+                  coincident(st.hapticOverrunNs, probeAt), st.hapticOverrunNs.size(),
+                  coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size(),
+                  coincident(st.hapticOverrunNs, st.collisionOverrunNs));
+      std::fflush(stdout);
+    }
   }
   const OverrunFloor floor = overrunFloor(runtimeS);
   std::printf("\nmachine floor, %g s: the same two 1 kHz loops with no work, a thread streaming memory beside them\n",

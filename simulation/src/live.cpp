@@ -60,6 +60,26 @@ void keepFreedMemory() {
   });
 }
 
+// The CPUs this process may run on, in order.
+std::vector<int> allowedCpus() {
+  std::vector<int> cpus;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &set)) cpus.push_back(c);
+  }
+  return cpus;
+}
+
+void pinTo(int cpu) {
+  if (cpu < 0) return;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  pthread_setaffinity_np(pthread_self(), sizeof set, &set);  // best effort: unpinned still runs
+}
+
 bool askRealtime(int priority) {
   sched_param p{};
   p.sched_priority = priority;
@@ -113,6 +133,9 @@ struct RefinedList {
   std::array<glm::ivec3, DisplayState::kMaxRefined> voxels;
 };
 
+// The haptic standby wakes this long after each period's start: late enough that the first
+// thread has nearly always run the period, early enough to run it well inside it.
+constexpr std::int64_t kStandbyLagNs = 250000;
 // How many steps apart the refined voxels are published (a 48 KiB copy).
 constexpr std::uint64_t kRefinedEverySteps = 16;
 // Step timings kept for percentiles: ten minutes at 1 kHz, then only the latest is known.
@@ -178,10 +201,16 @@ struct LiveRuntime::Impl {
   std::atomic<int> loopsFinished{0};
   std::atomic<int> granted{0};
   std::atomic<std::uint64_t> hapticSteps{0}, hapticOverruns{0}, collisionSteps{0}, collisionOverruns{0};
+  // The haptic loop's claim word: 2 x the next period to run, + 1 while one of its threads
+  // runs it. The release store after each period orders one thread's work before the other's.
+  std::atomic<std::uint64_t> hapticClaim{0};
+  std::atomic<std::uint64_t> standbySteps{0};
+  std::atomic<int> hapticThreadsLeft{0};
+  int hapticCpu = -1, standbyCpu = -1;  // standbyCpu < 0: no standby thread
   std::vector<std::int64_t> hapticOverrunNs, collisionOverrunNs;  // sized and written up front
   std::atomic<std::uint64_t> bricksHandedOver{0}, ringFull{0}, logDropped{0};
   std::atomic<std::int64_t> lastStepNs{0};
-  std::thread haptic, collision, logger;
+  std::thread haptic, standby, collision, logger;
   bool started = false, stopped = false;
 
   Impl(DrillingSimulation& s, VoxelGrid& g, PoseSource& src, ForceSink* snk, const geometry::SurfaceOptions& so,
@@ -199,6 +228,11 @@ struct LiveRuntime::Impl {
     hapticOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     collisionOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     changed.reserve(1024);
+    const std::vector<int> cpus = allowedCpus();
+    if (options.hapticStandby && cpus.size() >= 2) {
+      hapticCpu = cpus.back();
+      standbyCpu = cpus.front();
+    }
     // The visual side owns a copy of the grid: the collision thread never waits for it and it
     // never reads a brick mid-write.
     grid->clearDirty();
@@ -231,15 +265,54 @@ struct LiveRuntime::Impl {
     loopsFinished.fetch_add(1, std::memory_order_release);
   }
 
-  void hapticLoop(std::int64_t startNs) {
+  // One of the haptic loop's two threads (the second only with a standby). Each wakes at its
+  // own lag after every period's start, and the first to find the period unclaimed runs it: a
+  // CPU the hypervisor or kernel holds for a millisecond stalls one thread, not the loop
+  // (docs/performance.md, "Threaded runtime"). Overruns and skipped periods as in periodic().
+  void hapticLoop(std::int64_t startNs, std::int64_t lagNs, int cpu, bool isStandby) {
+    pinTo(cpu);
     if (options.realtimePriority && askRealtime(80)) granted.fetch_add(1);
-    periodic(startNs, hapticSteps, hapticOverruns, hapticOverrunNs, hapticNs, [&](double tS) {
-      PoseMessage m;
-      m.tS = tS;
-      source->sample(tS, m.pose, m.drillOn);
-      poses.write(m);
-      if (sink) sink->apply(tS, forces.read().forceN);
-    });
+    prefaultStack();
+    for (std::uint64_t k = 0; !stopFlag.load(std::memory_order_relaxed);) {
+      sleepUntilNs(startNs + std::int64_t(k) * periodNs + lagNs);
+      std::uint64_t claim = hapticClaim.load(std::memory_order_acquire);
+      const std::uint64_t next = claim >> 1;
+      if (next >= periods) break;
+      if (next > k) {  // the other thread ran (or skipped) this one: wake for the next
+        k = next;
+        continue;
+      }
+      if ((claim & 1) != 0) {  // the other thread is inside period `next`'s work
+        k = next + 1;
+        continue;
+      }
+      if (!hapticClaim.compare_exchange_strong(claim, claim | 1, std::memory_order_acq_rel)) continue;
+      const std::int64_t deadline = startNs + std::int64_t(next) * periodNs;
+      const std::int64_t begin = nowNs();
+      hapticWork(double(next) * double(periodNs) * 1e-9);
+      const std::int64_t end = nowNs();
+      if (!hapticNs.full()) hapticNs.add(end - begin);
+      hapticSteps.fetch_add(1, std::memory_order_relaxed);
+      if (isStandby) standbySteps.fetch_add(1, std::memory_order_relaxed);
+      k = next + 1;
+      if (end > deadline + periodNs) {
+        const std::uint64_t n = hapticOverruns.fetch_add(1, std::memory_order_relaxed);
+        if (n < hapticOverrunNs.size()) hapticOverrunNs[n] = end;
+        k = std::uint64_t((end - startNs) / periodNs) + 1;  // the next period not yet begun
+      }
+      hapticClaim.store(2 * k, std::memory_order_release);
+    }
+    if (hapticThreadsLeft.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      loopsFinished.fetch_add(1, std::memory_order_release);
+    }
+  }
+
+  void hapticWork(double tS) {
+    PoseMessage m;
+    m.tS = tS;
+    source->sample(tS, m.pose, m.drillOn);
+    poses.write(m);
+    if (sink) sink->apply(tS, forces.read().forceN);
   }
 
   void collisionLoop(std::int64_t startNs) {
@@ -383,7 +456,11 @@ void LiveRuntime::start() {
   m.started = true;
   keepFreedMemory();
   const std::int64_t startNs = nowNs() + 5000000;  // 5 ms for the threads to start
-  m.haptic = std::thread([&m, startNs] { m.hapticLoop(startNs); });
+  m.hapticThreadsLeft.store(m.standbyCpu >= 0 ? 2 : 1);
+  m.haptic = std::thread([&m, startNs] { m.hapticLoop(startNs, 0, m.hapticCpu, false); });
+  if (m.standbyCpu >= 0) {
+    m.standby = std::thread([&m, startNs] { m.hapticLoop(startNs, kStandbyLagNs, m.standbyCpu, true); });
+  }
   m.collision = std::thread([&m, startNs] { m.collisionLoop(startNs + m.periodNs / 2); });
   m.logger = std::thread([&m] { m.loggerLoop(); });
 }
@@ -395,6 +472,7 @@ RuntimeResult LiveRuntime::stop() {
   m.stopped = true;
   m.stopFlag.store(true, std::memory_order_release);
   m.haptic.join();
+  if (m.standby.joinable()) m.standby.join();
   m.collision.join();
   m.collisionDone.store(true, std::memory_order_release);
   m.logger.join();
@@ -432,7 +510,10 @@ RuntimeResult LiveRuntime::stop() {
   stats.bricksHandedOver = m.bricksHandedOver.load();
   stats.ringFull = m.ringFull.load();
   stats.logDropped = m.logDropped.load();
-  stats.realtimeGranted = m.granted.load() == 2;
+  stats.realtimeGranted = m.granted.load() == (m.standbyCpu >= 0 ? 3 : 2);
+  stats.standbySteps = m.standbySteps.load();
+  stats.hapticCpu = m.hapticCpu;
+  stats.standbyCpu = m.standbyCpu;
   stats.hapticStepUs = m.hapticNs.percentiles(1e3);
   stats.collisionStepUs = m.collisionNs.percentiles(1e3);
   stats.remeshMs = m.remeshNs.percentiles(1e6);
@@ -502,6 +583,9 @@ LiveStats LiveRuntime::stats() const {
   s.bricksHandedOver = m.bricksHandedOver.load(std::memory_order_relaxed);
   s.ringFull = m.ringFull.load(std::memory_order_relaxed);
   s.collisionStepUsLast = double(m.lastStepNs.load(std::memory_order_relaxed)) * 1e-3;
+  s.standbySteps = m.standbySteps.load(std::memory_order_relaxed);
+  s.hapticCpu = m.hapticCpu;
+  s.standbyCpu = m.standbyCpu;
   return s;
 }
 

@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <pthread.h>
+#include <sched.h>
+
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -51,6 +55,76 @@ TEST(LiveRuntime, DrillsWhileTheCallerRendersAndEndsEqualToTheGrid) {
   const geometry::SurfaceMesh full = geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
   EXPECT_EQ(live.visualSurface().triangleCount(), full.triangleCount());
   EXPECT_EQ(session.surface().triangleCount(), full.triangleCount());
+}
+
+// A pose source that notes what the haptic loop does to it: calls at once on two threads, or
+// a period given twice or out of order.
+class WatchingSource : public PoseSource {
+ public:
+  void sample(double tS, ToolPose& pose, bool& drillOn) noexcept override {
+    if (inside_.fetch_add(1) != 0) overlapped_ = true;
+    if (tS <= lastTS_) backwards_ = true;
+    lastTS_ = tS;
+    pose = ToolPose{};
+    pose.tipMm = glm::dvec3(0.0, 0.0, 500.0);  // far above the bone: no contact
+    drillOn = false;
+    inside_.fetch_sub(1);
+  }
+  bool overlapped() const { return overlapped_.load(); }
+  bool backwards() const { return backwards_; }
+
+ private:
+  std::atomic<int> inside_{0};
+  std::atomic<bool> overlapped_{false};
+  double lastTS_ = -1.0;
+  bool backwards_ = false;
+};
+
+// A real-time thread holds the first haptic thread's CPU for 200 ms: the standby, pinned to
+// another CPU, must run those periods, each once and in order, and never beside the first.
+TEST(LiveRuntime, TheHapticStandbyRunsThePeriodsOfAHeldCpu) {
+  SessionOptions options;
+  options.voxelSizeMm = 2.4;
+  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  WatchingSource source;
+  RuntimeOptions ro;
+  ro.keepLog = false;
+  LiveRuntime live(session, source, nullptr, ro);
+  live.start();
+  while (live.stats().hapticSteps < 100) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const LiveStats before = live.stats();
+  if (before.standbyCpu < 0) {
+    live.stop();
+    GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
+  }
+  std::atomic<int> hogStarted{0};  // 1: holding the CPU; -1: real-time priority refused
+  std::thread hog([&] {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(before.hapticCpu, &set);
+    pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+    sched_param p{};
+    p.sched_priority = 90;  // above the haptic threads' 80
+    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) != 0) {
+      hogStarted = -1;
+      return;
+    }
+    hogStarted = 1;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+    while (std::chrono::steady_clock::now() < until) {
+    }
+  });
+  while (hogStarted == 0) std::this_thread::yield();
+  hog.join();
+  const LiveStats after = live.stats();
+  const RuntimeResult r = live.stop();
+  if (hogStarted < 0 || !r.stats.realtimeGranted) GTEST_SKIP() << "SCHED_FIFO not granted: no CPU can be held";
+  EXPECT_NE(before.hapticCpu, before.standbyCpu);
+  // About 200 periods passed while the CPU was held; without the standby hardly any would run.
+  EXPECT_GE(after.hapticSteps - before.hapticSteps, 180u);
+  EXPECT_GE(after.standbySteps - before.standbySteps, 150u);
+  EXPECT_FALSE(source.overlapped());
+  EXPECT_FALSE(source.backwards());
 }
 
 }  // namespace

@@ -77,7 +77,7 @@ struct DeviceStatus {
 
 // Any device as the runtime's pose source and force sink: samples through the safety layer
 // into the session, the session's force through the safety layer back to the device. sample()
-// and apply() run on the haptic thread (as runtime.h calls them): no heap, no lock, no throw.
+// and apply() run in the haptic loop (as runtime.h calls them): no heap, no lock, no throw.
 class DeviceInput final : public PoseSource, public ForceSink {
  public:
   DeviceInput(devices::Device& device, const DeviceInputOptions& options = {});
@@ -87,7 +87,7 @@ class DeviceInput final : public PoseSource, public ForceSink {
   // True once the device has given an accepted pose (before it, sample() gives the parked
   // pose at the frame's origin with the drill off).
   bool hasPose() const { return safety_.verdict().valid; }
-  // The haptic thread's, or anyone's once the loops have stopped.
+  // The haptic loop's, or anyone's once the loops have stopped.
   const devices::SafetyLayer& safety() const { return safety_; }
   devices::Device& device() { return *device_; }
   // Any thread: the latest status.

@@ -42,6 +42,8 @@ struct LiveStats {
   std::uint64_t collisionSteps = 0, collisionOverruns = 0;
   std::uint64_t bricksHandedOver = 0, ringFull = 0;
   double collisionStepUsLast = 0.0;  // the latest step's duration
+  std::uint64_t standbySteps = 0;     // haptic periods run by its standby thread (runtime.h)
+  int hapticCpu = -1, standbyCpu = -1;
 };
 
 class LiveRuntime {

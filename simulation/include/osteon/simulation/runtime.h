@@ -1,6 +1,7 @@
 // The threaded runtime (seed 4: "three separate threads for collision detection, and visual and
 // haptic rendering"):
-//   haptic     1 kHz: device pose in, the latest force out
+//   haptic     1 kHz: device pose in, the latest force out; on two threads pinned to two
+//              CPUs, the second standing by for a period the first has not begun in time
 //   collision  1 kHz: the latest pose -> a drilling step (refine, force, removal); the force
 //              and every changed brick handed on
 //   visual     as fast as it can: changed bricks into its own copy of the grid, the surface
@@ -28,8 +29,9 @@
 
 namespace osteon::simulation {
 
-// The device side: where the tool is, and where the force goes. Called from the haptic thread
-// only; must not block, allocate or throw.
+// The device side: where the tool is, and where the force goes. Called from the haptic loop
+// only, on either of its two threads but never on both at once; each call sees all that the
+// previous one did. Must not block, allocate or throw.
 class PoseSource {
  public:
   virtual ~PoseSource() = default;
@@ -56,6 +58,9 @@ struct RuntimeOptions {
   double durationS = 7.0;
   double periodS = 0.001;
   bool realtimePriority = true;  // ask for SCHED_FIFO (granted only with the privilege)
+  // With two or more CPUs, the haptic loop runs on two threads pinned to different CPUs: the
+  // standby runs a period the first has not begun 250 us into it.
+  bool hapticStandby = true;
   std::size_t brickRingCapacity = 4096;
   std::size_t logRingCapacity = 65536;  // force log rows on their way to the logging thread
   // Rows as they come, on the logging thread (not a 1 kHz loop); must not throw.
@@ -76,6 +81,8 @@ struct RuntimeStats {
   std::uint64_t logDropped = 0;    // force log rows the logging thread's ring had no room for
   Percentiles hapticStepUs, collisionStepUs, remeshMs;
   bool realtimeGranted = false;
+  std::uint64_t standbySteps = 0;       // haptic periods its standby thread ran
+  int hapticCpu = -1, standbyCpu = -1;  // where the haptic threads are pinned (-1: no standby)
   // When the first overruns happened (CLOCK_MONOTONIC ns at the late period's end; at most
   // kOverrunInstantsKept each): to line them up with what else the machine did then.
   static constexpr std::size_t kOverrunInstantsKept = 4096;
