@@ -1,5 +1,6 @@
 // osteon_bench_drilling [--runtime-s S] [--runtime-only] [--floor-only S] [--query-skin VOXELS]
-//                       [--query-slice NODES] [--standby on|off|both]:
+//                       [--query-slice NODES] [--standby on|off|both] [--repeat N]
+//                       [--cpu-stalls S]:
 // the drilling figures of
 // docs/performance.md.
 //   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
@@ -12,7 +13,11 @@
 //      CPU time the hypervisor stole meanwhile, and the floor of that same window (a no-work
 //      loop at the haptic priority running beside the run); then the machine's floor alone:
 //      the same loops with no work for S seconds. --standby both runs each case twice, the
-//      haptic loop without its standby thread, then with it (runtime.h).
+//      haptic loop without its standby thread, then with it (runtime.h). --repeat N runs
+//      the cases N times in turn and sums each case's overruns against its probes': one
+//      minute's difference is within the minute-to-minute spread, N minutes' is not.
+//   3. --cpu-stalls S alone: a no-work loop pinned to each CPU for S seconds, and how many of
+//      one CPU's overruns another CPU shares.
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/runtime.h"
@@ -192,6 +197,60 @@ OverrunFloor overrunFloor(double seconds) {
   return f;
 }
 
+// Where the machine's stalls land: one no-work 1 kHz loop pinned to each CPU (SCHED_FIFO 80,
+// staggered), for `seconds`. Prints each CPU's overruns and how many of them fall within 2 ms
+// of another CPU's: the case for the haptic loop's standby thread on a second CPU (runtime.h).
+void cpuStalls(double seconds) {
+  using Clock = std::chrono::steady_clock;
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  sched_getaffinity(0, sizeof allowed, &allowed);
+  std::vector<int> cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &allowed)) cpus.push_back(c);
+  }
+  std::vector<std::vector<std::int64_t>> at(cpus.size());
+  const auto startAt = Clock::now() + std::chrono::milliseconds(5);
+  const auto periods = std::uint64_t(seconds * 1000.0);
+  std::vector<std::thread> loops;
+  const double steal0 = stealSeconds();
+  for (std::size_t i = 0; i < cpus.size(); ++i) {
+    loops.emplace_back([&, i] {
+      cpu_set_t one;
+      CPU_ZERO(&one);
+      CPU_SET(cpus[i], &one);
+      pthread_setaffinity_np(pthread_self(), sizeof one, &one);
+      sched_param p{};
+      p.sched_priority = 80;
+      pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+      at[i].reserve(RuntimeStats::kOverrunInstantsKept);
+      const auto period = std::chrono::milliseconds(1);
+      const auto offset = std::chrono::microseconds(1000 * std::int64_t(i) / std::int64_t(cpus.size()));
+      for (std::uint64_t k = 0; k < periods;) {
+        const auto deadline = startAt + offset + k * period;
+        std::this_thread::sleep_until(deadline);
+        const auto end = Clock::now();
+        if (end > deadline + period) {
+          if (at[i].size() < at[i].capacity()) at[i].push_back(end.time_since_epoch().count());
+          k = std::uint64_t((end - startAt - offset) / period) + 1;
+        } else {
+          ++k;
+        }
+      }
+    });
+  }
+  for (std::thread& t : loops) t.join();
+  std::printf("no-work 1 kHz loops pinned one per CPU, %g s, stolen %.2f s:\n", seconds, stealSeconds() - steal0);
+  for (std::size_t i = 0; i < cpus.size(); ++i) {
+    std::vector<std::int64_t> others;
+    for (std::size_t j = 0; j < cpus.size(); ++j) {
+      if (j != i) others.insert(others.end(), at[j].begin(), at[j].end());
+    }
+    std::printf("  CPU %d: %zu overran, %zu of them within 2 ms of another CPU's\n", cpus[i], at[i].size(),
+                coincident(at[i], others));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -200,11 +259,23 @@ int main(int argc, char** argv) {
   std::size_t slices = DrillingOptions{}.querySliceNodes;
   bool haptic = true;
   std::vector<bool> standbyModes = {true};
+  int rounds = 1;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--query-skin") == 0 && i + 1 < argc) skin = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) slices = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
+    if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) {
+      rounds = std::atoi(argv[i + 1]);
+      if (rounds < 1 || rounds > 1000) {
+        std::fprintf(stderr, "--repeat %s: not a count from 1 to 1000\n", argv[i + 1]);
+        return 2;
+      }
+    }
+    if (std::strcmp(argv[i], "--cpu-stalls") == 0 && i + 1 < argc) {
+      cpuStalls(std::atof(argv[i + 1]));
+      return 0;
+    }
     if (std::strcmp(argv[i], "--standby") == 0 && i + 1 < argc) {
       const std::string mode = argv[i + 1];
       if (mode == "off") {
@@ -269,67 +340,120 @@ int main(int argc, char** argv) {
     points.push_back({t, p, ToolPose::pointing(p, tangent).orientation, true});
   }
   const DrillPath path(points);
-  // The two cases the overrun target names: 1.2 mm with 2 levels, and 0.3 mm static (whose
-  // visual thread remeshes 16 times the surface cells).
-  for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
-    const std::shared_ptr<const BoneModel>& bone = voxelMm == 1.2 ? bone12 : bone03;
-    {
-      // The same path in the deterministic mode (one thread, no visual thread): the step's own
-      // cost on this path, against which the threaded figures below compare.
-      Session alone = makeSession(bone, levels);
-      const RunSummary s = alone.run(path).summary;
-      std::printf("\nhelix path at %g mm / %d levels, deterministic: step p50 %.1f p99 %.1f max %.1f us\n", voxelMm,
-                  levels, s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max);
-    }
-    for (const bool withStandby : standbyModes) {
-      Session threaded = makeSession(bone, levels);
-      PathPoseSource device(path);
-      RuntimeOptions ro;
-      ro.durationS = runtimeS;
-      ro.hapticStandby = withStandby;
-      char startText[32];
-      const std::time_t start = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-      std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
-      const double steal0 = stealSeconds();
-      ProbeLoop probe(80, std::chrono::microseconds(250));  // the haptic thread's priority
-      const RuntimeResult r = threaded.runThreaded(device, nullptr, ro);
-      probe.stop();
-      const double stealS = stealSeconds() - steal0;
-      const RuntimeStats& st = r.stats;
-      std::printf("threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n", runtimeS, voxelMm,
-                  levels, startText);
-      std::printf("realtime priority: %s\n", st.realtimeGranted ? "SCHED_FIFO granted" : "not granted (normal scheduling)");
-      if (st.standbyCpu >= 0) {
-        std::printf("haptic standby: on (CPUs %d and %d), ran %llu periods\n", st.hapticCpu, st.standbyCpu,
-                    (unsigned long long)st.standbySteps);
-      } else {
-        std::printf("haptic standby: off\n");
+  // Each case's sums over the rounds: [case][standby off, on].
+  struct Totals {
+    std::uint64_t periods = 0, overruns = 0, probePeriods = 0, probeOverruns = 0, minutesMet = 0, runs = 0;
+    double stealS = 0.0;
+  };
+  Totals totals[2][2];
+  for (int round = 0; round < rounds; ++round) {
+    if (rounds > 1) std::printf("\nround %d of %d\n", round + 1, rounds);
+    // The two cases the overrun target names: 1.2 mm with 2 levels, and 0.3 mm static (whose
+    // visual thread remeshes 16 times the surface cells).
+    for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
+      const std::shared_ptr<const BoneModel>& bone = voxelMm == 1.2 ? bone12 : bone03;
+      if (round == 0) {
+        // The same path in the deterministic mode (one thread, no visual thread): the step's own
+        // cost on this path, against which the threaded figures below compare.
+        Session alone = makeSession(bone, levels);
+        const RunSummary s = alone.run(path).summary;
+        std::printf(
+            "\nhelix path at %g mm / %d levels, deterministic: step p50 %.1f p99 %.1f max %.1f "
+            "us\n",
+            voxelMm, levels, s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max);
       }
-      std::printf("haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
-                  (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns,
-                  100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1)), st.hapticStepUs.p99);
-      std::printf("collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
-                  (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
-                  100.0 * double(st.collisionOverruns) / double(std::max<std::uint64_t>(st.collisionSteps, 1)),
-                  st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
-      std::printf("visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, ring full %llu\n",
-                  (unsigned long long)st.visualUpdates, st.remeshMs.p50, st.remeshMs.p99, st.remeshMs.max,
-                  (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
-      std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3, r.run.summary.jitterN);
-      std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
-      const double hapticPct = 100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1));
-      const double probePct = 100.0 * double(probe.overruns()) / double(std::max<std::uint64_t>(probe.periods(), 1));
-      std::printf("floor in the same window (a no-work loop at the haptic priority beside the run): %llu periods, %llu "
-                  "overran (%.4f %%); haptic minus floor %+.4f points: %s\n",
-                  (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct, hapticPct - probePct,
-                  hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
-      const std::vector<std::int64_t> probeAt = probe.overrunNs();
-      std::printf("overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu; "
-                  "haptic within 2 ms of a collision overrun: %zu\n",
-                  coincident(st.hapticOverrunNs, probeAt), st.hapticOverrunNs.size(),
-                  coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size(),
-                  coincident(st.hapticOverrunNs, st.collisionOverrunNs));
-      std::fflush(stdout);
+      for (const bool withStandby : standbyModes) {
+        Session threaded = makeSession(bone, levels);
+        PathPoseSource device(path);
+        RuntimeOptions ro;
+        ro.durationS = runtimeS;
+        ro.hapticStandby = withStandby;
+        char startText[32];
+        const std::time_t start =
+            std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+        std::strftime(startText, sizeof startText, "%Y-%m-%d %H:%M:%S", std::localtime(&start));
+        const double steal0 = stealSeconds();
+        ProbeLoop probe(80, std::chrono::microseconds(250));  // the haptic thread's priority
+        const RuntimeResult r = threaded.runThreaded(device, nullptr, ro);
+        probe.stop();
+        const double stealS = stealSeconds() - steal0;
+        const RuntimeStats& st = r.stats;
+        std::printf(
+            "threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n",
+            runtimeS, voxelMm, levels, startText);
+        std::printf("realtime priority: %s\n",
+                    st.realtimeGranted ? "SCHED_FIFO granted" : "not granted (normal scheduling)");
+        if (st.standbyCpu >= 0) {
+          std::printf("haptic standby: on (CPUs %d and %d), ran %llu periods\n", st.hapticCpu,
+                      st.standbyCpu, (unsigned long long)st.standbySteps);
+        } else {
+          std::printf("haptic standby: off\n");
+        }
+        std::printf(
+            "haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
+            (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns,
+            100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1)),
+            st.hapticStepUs.p99);
+        std::printf(
+            "collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
+            (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
+            100.0 * double(st.collisionOverruns) /
+                double(std::max<std::uint64_t>(st.collisionSteps, 1)),
+            st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
+        std::printf(
+            "visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, "
+            "ring full %llu\n",
+            (unsigned long long)st.visualUpdates, st.remeshMs.p50, st.remeshMs.p99, st.remeshMs.max,
+            (unsigned long long)st.bricksHandedOver, (unsigned long long)st.ringFull);
+        std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3,
+                    r.run.summary.jitterN);
+        std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
+        const double hapticPct =
+            100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1));
+        const double probePct =
+            100.0 * double(probe.overruns()) / double(std::max<std::uint64_t>(probe.periods(), 1));
+        std::printf(
+            "floor in the same window (a no-work loop at the haptic priority beside the run): %llu "
+            "periods, %llu "
+            "overran (%.4f %%); haptic minus floor %+.4f points: %s\n",
+            (unsigned long long)probe.periods(), (unsigned long long)probe.overruns(), probePct,
+            hapticPct - probePct,
+            hapticPct <= probePct + 0.01 ? "within 0.01 (met)" : "over 0.01 (not met)");
+        const std::vector<std::int64_t> probeAt = probe.overrunNs();
+        std::printf(
+            "overruns within 2 ms of a probe overrun: haptic %zu of %zu, collision %zu of %zu; "
+            "haptic within 2 ms of a collision overrun: %zu\n",
+            coincident(st.hapticOverrunNs, probeAt), st.hapticOverrunNs.size(),
+            coincident(st.collisionOverrunNs, probeAt), st.collisionOverrunNs.size(),
+            coincident(st.hapticOverrunNs, st.collisionOverrunNs));
+        std::fflush(stdout);
+        Totals& t = totals[voxelMm == 1.2 ? 0 : 1][withStandby ? 1 : 0];
+        t.periods += st.hapticSteps;
+        t.overruns += st.hapticOverruns;
+        t.probePeriods += probe.periods();
+        t.probeOverruns += probe.overruns();
+        t.minutesMet += hapticPct <= probePct + 0.01 ? 1 : 0;
+        t.runs += 1;
+        t.stealS += stealS;
+      }
+    }
+  }
+  if (rounds > 1) {
+    std::printf("\n%d rounds of %g s, summed: haptic overruns against the same-window probe's\n", rounds, runtimeS);
+    std::printf("| case | standby | haptic overran | probe overran | haptic - probe | runs within 0.01 | stolen s |\n");
+    std::printf("|---|---|---:|---:|---:|---:|---:|\n");
+    for (int c = 0; c < 2; ++c) {
+      for (int m = 0; m < 2; ++m) {
+        const Totals& t = totals[c][m];
+        if (t.runs == 0) continue;
+        const double h = 100.0 * double(t.overruns) / double(std::max<std::uint64_t>(t.periods, 1));
+        const double f = 100.0 * double(t.probeOverruns) / double(std::max<std::uint64_t>(t.probePeriods, 1));
+        std::printf("| %s | %s | %llu of %llu (%.4f %%) | %llu of %llu (%.4f %%) | %+.4f pp | %llu of %llu | %.2f |\n",
+                    c == 0 ? "1.2 mm, 2 levels" : "0.3 mm static", m == 1 ? "on" : "off",
+                    (unsigned long long)t.overruns, (unsigned long long)t.periods, h,
+                    (unsigned long long)t.probeOverruns, (unsigned long long)t.probePeriods, f, h - f,
+                    (unsigned long long)t.minutesMet, (unsigned long long)t.runs, t.stealS);
+      }
     }
   }
   const OverrunFloor floor = overrunFloor(runtimeS);

@@ -106,7 +106,7 @@ json runtimeStatsJson(const sim::RuntimeStats& st) {
           {"haptic_loop_us", percentilesJson(st.hapticStepUs)},
           {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
           {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
-          {"realtime_priority", st.realtimeGranted}};
+          {"haptic_standby_steps", st.standbySteps}, {"realtime_priority", st.realtimeGranted}};
 }
 
 int runDrill(const DrillCommandOptions& options) {

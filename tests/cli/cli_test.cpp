@@ -243,6 +243,7 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   EXPECT_GT(t["runtime"]["collision_steps"].get<int>(), 3500);  // most periods, even on a busy machine
   EXPECT_GT(t["runtime"]["visual_updates"].get<int>(), 0);
   EXPECT_EQ(t["runtime"]["ring_full"].get<int>(), 0);
+  EXPECT_LE(t["runtime"]["haptic_standby_steps"].get<int>(), t["runtime"]["haptic_steps"].get<int>());
   EXPECT_GT(t["removed_volume_mm3"].get<double>(), 10.0);
 
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
