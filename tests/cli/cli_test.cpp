@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <initializer_list>
 #include <map>
 #include <string>
@@ -286,6 +287,23 @@ TEST_F(CliTest, ExperimentSeedDrawsThePlotsAndTheJitterTable) {
     }
   }
   EXPECT_NE(test::readBytes(path("exp/jitter.md")).find("| 1.2 mm | portal-7 | 2 |"), std::string::npos);
+  // The 14 force logs, byte for byte (64-bit FNV-1a of each forces.csv), as they were before
+  // the faster set-up (lattice and grid DPH builds, parallel first surface): changes to how
+  // a bone is built or walked must not move a single force.
+  const std::pair<const char*, std::uint64_t> logs[] = {
+      {"0.72mm_portal-5_L0", 0xc3acfb5a4876f0a6ull}, {"0.72mm_portal-5_L1", 0x337c883488a74dbaull},
+      {"0.72mm_portal-7_L0", 0xa8e5caa1fbecea89ull}, {"0.72mm_portal-7_L1", 0x5578f96db885874cull},
+      {"0.9mm_portal-5_L0", 0xa3f4746e28ed37dcull},  {"0.9mm_portal-5_L1", 0xe5a977f7276f0a5bull},
+      {"0.9mm_portal-7_L0", 0x5cfea41ed3d60549ull},  {"0.9mm_portal-7_L1", 0x23c9110f77fdca29ull},
+      {"1.2mm_portal-5_L0", 0xc6bc836733d2f5c8ull},  {"1.2mm_portal-5_L1", 0x794349eb6f6702e6ull},
+      {"1.2mm_portal-5_L2", 0x4772912d6698b2c3ull},  {"1.2mm_portal-7_L0", 0x3efd8aac745f2651ull},
+      {"1.2mm_portal-7_L1", 0x91cc7d3eec27b1baull},  {"1.2mm_portal-7_L2", 0xc876661ed38dd7ffull}};
+  for (const auto& [runName, expected] : logs) {
+    const std::string bytes = test::readBytes(path("exp/runs/" + std::string(runName) + "/forces.csv"));
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (const char c : bytes) h = (h ^ std::uint64_t(static_cast<unsigned char>(c))) * 0x100000001b3ull;
+    EXPECT_EQ(h, expected) << runName << ": forces.csv is not the byte-identical log (" << bytes.size() << " bytes)";
+  }
   expectBadInput("experiment lunar", "experiment lunar", "unknown");
 }
 
