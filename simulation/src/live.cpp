@@ -283,7 +283,9 @@ struct LiveRuntime::Impl {
         continue;
       }
       if ((claim & 1) != 0) {  // the other thread is inside period `next`'s work
-        k = next + 1;
+        // Wake for the period after this one: while the other thread is stalled inside its
+        // work, this one sleeps a period at a time instead of spinning on a past deadline.
+        k = std::max(k, next) + 1;
         continue;
       }
       if (!hapticClaim.compare_exchange_strong(claim, claim | 1, std::memory_order_acq_rel)) continue;

@@ -7,6 +7,7 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <time.h>
 
 #include <atomic>
 #include <chrono>
@@ -125,6 +126,63 @@ TEST(LiveRuntime, TheHapticStandbyRunsThePeriodsOfAHeldCpu) {
   EXPECT_GE(after.standbySteps - before.standbySteps, 150u);
   EXPECT_FALSE(source.overlapped());
   EXPECT_FALSE(source.backwards());
+}
+
+// A pose source whose one call, when asked, stalls 100 ms as a paused vCPU would, and notes
+// the CPU time the whole process used meanwhile.
+class StallingSource : public PoseSource {
+ public:
+  void sample(double, ToolPose& pose, bool& drillOn) noexcept override {
+    pose = ToolPose{};
+    pose.tipMm = glm::dvec3(0.0, 0.0, 500.0);  // far above the bone: no contact
+    drillOn = false;
+    if (stallNext_.exchange(false)) {
+      const double cpu0 = processCpuS();
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      cpuDuringStallS_ = processCpuS() - cpu0;
+      stalled_ = true;
+    }
+  }
+  void stallNext() { stallNext_ = true; }
+  bool stalled() const { return stalled_.load(); }
+  double cpuDuringStallS() const { return cpuDuringStallS_.load(); }
+
+ private:
+  static double processCpuS() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + double(t.tv_nsec) * 1e-9;
+  }
+  std::atomic<bool> stallNext_{false}, stalled_{false};
+  std::atomic<double> cpuDuringStallS_{0.0};
+};
+
+// While one haptic thread is stalled inside a period's work, the other may not run periods
+// (never both at once) and must sleep a period at a time, not spin on the claim: a spinning
+// real-time thread would take its CPU from the collision loop for the whole stall.
+TEST(LiveRuntime, TheHapticStandbySleepsWhileTheOtherThreadIsStalledInItsWork) {
+  SessionOptions options;
+  options.voxelSizeMm = 2.4;
+  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  StallingSource source;
+  RuntimeOptions ro;
+  ro.keepLog = false;
+  LiveRuntime live(session, source, nullptr, ro);
+  live.start();
+  while (live.stats().hapticSteps < 50) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  if (live.stats().standbyCpu < 0) {
+    live.stop();
+    GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
+  }
+  source.stallNext();
+  while (!source.stalled()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const std::uint64_t stepsAfterStall = live.stats().hapticSteps;
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const RuntimeResult r = live.stop();
+  // The 1 kHz loops with no contact use a few ms of CPU in 100 ms; a spin would use 100.
+  EXPECT_LT(source.cpuDuringStallS(), 0.05);
+  EXPECT_GE(r.stats.hapticOverruns, 1u);                      // the stalled period
+  EXPECT_GT(r.stats.hapticSteps, stepsAfterStall + 20);      // and the loop went on after it
 }
 
 }  // namespace
