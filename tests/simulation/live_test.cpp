@@ -81,23 +81,37 @@ class WatchingSource : public PoseSource {
   bool backwards_ = false;
 };
 
+// The standby tests' bone: coarse, since they watch the haptic loop, not the drilling.
+Session coarseHumerus() {
+  SessionOptions options;
+  options.voxelSizeMm = 2.4;
+  return Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+}
+
+RuntimeOptions withoutLog() {
+  RuntimeOptions ro;
+  ro.keepLog = false;
+  return ro;
+}
+
+// Starts `live` and waits until its haptic loop ran `steps` periods; false, with the runtime
+// stopped, when the loop has no standby thread (one CPU).
+bool startWithStandby(LiveRuntime& live, std::uint64_t steps) {
+  live.start();
+  while (live.stats().hapticSteps < steps) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  if (live.stats().standbyCpu >= 0) return true;
+  live.stop();
+  return false;
+}
+
 // A real-time thread holds the first haptic thread's CPU for 200 ms: the standby, pinned to
 // another CPU, must run those periods, each once and in order, and never beside the first.
 TEST(LiveRuntime, TheHapticStandbyRunsThePeriodsOfAHeldCpu) {
-  SessionOptions options;
-  options.voxelSizeMm = 2.4;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  Session session = coarseHumerus();
   WatchingSource source;
-  RuntimeOptions ro;
-  ro.keepLog = false;
-  LiveRuntime live(session, source, nullptr, ro);
-  live.start();
-  while (live.stats().hapticSteps < 100) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  LiveRuntime live(session, source, nullptr, withoutLog());
+  if (!startWithStandby(live, 100)) GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
   const LiveStats before = live.stats();
-  if (before.standbyCpu < 0) {
-    live.stop();
-    GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
-  }
   std::atomic<int> hogStarted{0};  // 1: holding the CPU; -1: real-time priority refused
   std::thread hog([&] {
     cpu_set_t set;
@@ -161,19 +175,10 @@ class StallingSource : public PoseSource {
 // (never both at once) and must sleep a period at a time, not spin on the claim: a spinning
 // real-time thread would take its CPU from the collision loop for the whole stall.
 TEST(LiveRuntime, TheHapticStandbySleepsWhileTheOtherThreadIsStalledInItsWork) {
-  SessionOptions options;
-  options.voxelSizeMm = 2.4;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  Session session = coarseHumerus();
   StallingSource source;
-  RuntimeOptions ro;
-  ro.keepLog = false;
-  LiveRuntime live(session, source, nullptr, ro);
-  live.start();
-  while (live.stats().hapticSteps < 50) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  if (live.stats().standbyCpu < 0) {
-    live.stop();
-    GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
-  }
+  LiveRuntime live(session, source, nullptr, withoutLog());
+  if (!startWithStandby(live, 50)) GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
   source.stallNext();
   while (!source.stalled()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   const std::uint64_t stepsAfterStall = live.stats().hapticSteps;
