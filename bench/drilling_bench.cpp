@@ -92,6 +92,34 @@ struct OverrunFloor {
   double stealS = 0.0;
 };
 
+using Clock = std::chrono::steady_clock;
+
+// A no-work 1 kHz loop at SCHED_FIFO `priority` with the runtime's rule: absolute deadlines
+// from `startAt`; a period whose wake-up ends after the period is an overrun (onOverrun gets
+// its end), and the periods it missed are skipped. Runs while keepGoing(k); returns the periods.
+template <class KeepGoing, class OnOverrun>
+std::uint64_t noWorkLoop(int priority, Clock::time_point startAt, KeepGoing&& keepGoing,
+                         OnOverrun&& onOverrun) {
+  sched_param p{};
+  p.sched_priority = priority;
+  pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+  const auto period = std::chrono::milliseconds(1);
+  std::uint64_t periods = 0;
+  for (std::uint64_t k = 0; keepGoing(k);) {
+    const auto deadline = startAt + k * period;
+    std::this_thread::sleep_until(deadline);
+    const auto end = Clock::now();
+    ++periods;
+    if (end > deadline + period) {
+      onOverrun(end);
+      k = std::uint64_t((end - startAt) / period) + 1;
+    } else {
+      ++k;
+    }
+  }
+  return periods;
+}
+
 // A no-work 1 kHz loop (SCHED_FIFO, absolute deadlines, the runtime's overrun rule) running
 // beside something else until stopped: the floor of that very window, with the same load,
 // the same hypervisor steal and the same memory traffic as what it runs beside.
@@ -100,25 +128,12 @@ class ProbeLoop {
   ProbeLoop(int priority, std::chrono::microseconds offset) {
     overrunNs_.assign(RuntimeStats::kOverrunInstantsKept, 0);
     thread_ = std::thread([this, priority, offset] {
-      using Clock = std::chrono::steady_clock;
-      sched_param p{};
-      p.sched_priority = priority;
-      pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
-      const auto period = std::chrono::milliseconds(1);
-      const auto startAt = Clock::now() + offset;
-      for (std::uint64_t k = 0; !stop_.load(std::memory_order_relaxed);) {
-        const auto deadline = startAt + k * period;
-        std::this_thread::sleep_until(deadline);
-        const auto end = Clock::now();
-        ++periods_;
-        if (end > deadline + period) {
-          if (overruns_ < overrunNs_.size()) overrunNs_[overruns_] = end.time_since_epoch().count();
-          ++overruns_;
-          k = std::uint64_t((end - startAt) / period) + 1;
-        } else {
-          ++k;
-        }
-      }
+      periods_ = noWorkLoop(
+          priority, Clock::now() + offset, [this](std::uint64_t) { return !stop_.load(std::memory_order_relaxed); },
+          [this](Clock::time_point end) {
+            if (overruns_ < overrunNs_.size()) overrunNs_[overruns_] = end.time_since_epoch().count();
+            ++overruns_;
+          });
     });
   }
   void stop() {
@@ -154,29 +169,20 @@ std::size_t coincident(const std::vector<std::int64_t>& a, const std::vector<std
   return n;
 }
 
+// `part` as a percentage of `whole` (0 when nothing ran).
+double percentOf(std::uint64_t part, std::uint64_t whole) {
+  return 100.0 * double(part) / double(std::max<std::uint64_t>(whole, 1));
+}
+
 OverrunFloor overrunFloor(double seconds) {
-  using Clock = std::chrono::steady_clock;
   OverrunFloor f;
   std::atomic<bool> stop{false};
   const auto startAt = Clock::now() + std::chrono::milliseconds(5);
+  const auto periods = std::uint64_t(seconds * 1000.0);
   const auto loop = [&](int which, int priority, std::chrono::microseconds offset) {
-    sched_param p{};
-    p.sched_priority = priority;
-    pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
-    const auto period = std::chrono::milliseconds(1);
-    const auto periods = std::uint64_t(seconds * 1000.0);
-    for (std::uint64_t k = 0; k < periods;) {
-      const auto deadline = startAt + offset + k * period;
-      std::this_thread::sleep_until(deadline);
-      const auto end = Clock::now();
-      ++f.periods[which];
-      if (end > deadline + period) {
-        ++f.overruns[which];
-        k = std::uint64_t((end - startAt - offset) / period) + 1;
-      } else {
-        ++k;
-      }
-    }
+    f.periods[which] = noWorkLoop(
+        priority, startAt + offset, [&](std::uint64_t k) { return k < periods; },
+        [&](Clock::time_point) { ++f.overruns[which]; });
   };
   const double steal0 = stealSeconds();
   std::thread busy([&] {
@@ -201,7 +207,6 @@ OverrunFloor overrunFloor(double seconds) {
 // staggered), for `seconds`. Prints each CPU's overruns and how many of them fall within 2 ms
 // of another CPU's: the case for the haptic loop's standby thread on a second CPU (runtime.h).
 void cpuStalls(double seconds) {
-  using Clock = std::chrono::steady_clock;
   cpu_set_t allowed;
   CPU_ZERO(&allowed);
   sched_getaffinity(0, sizeof allowed, &allowed);
@@ -220,23 +225,13 @@ void cpuStalls(double seconds) {
       CPU_ZERO(&one);
       CPU_SET(cpus[i], &one);
       pthread_setaffinity_np(pthread_self(), sizeof one, &one);
-      sched_param p{};
-      p.sched_priority = 80;
-      pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
       at[i].reserve(RuntimeStats::kOverrunInstantsKept);
-      const auto period = std::chrono::milliseconds(1);
       const auto offset = std::chrono::microseconds(1000 * std::int64_t(i) / std::int64_t(cpus.size()));
-      for (std::uint64_t k = 0; k < periods;) {
-        const auto deadline = startAt + offset + k * period;
-        std::this_thread::sleep_until(deadline);
-        const auto end = Clock::now();
-        if (end > deadline + period) {
-          if (at[i].size() < at[i].capacity()) at[i].push_back(end.time_since_epoch().count());
-          k = std::uint64_t((end - startAt - offset) / period) + 1;
-        } else {
-          ++k;
-        }
-      }
+      noWorkLoop(
+          80, startAt + offset, [&](std::uint64_t k) { return k < periods; },
+          [&, i](Clock::time_point end) {
+            if (at[i].size() < at[i].capacity()) at[i].push_back(end.time_since_epoch().count());
+          });
     });
   }
   for (std::thread& t : loops) t.join();
@@ -389,16 +384,15 @@ int main(int argc, char** argv) {
         } else {
           std::printf("haptic standby: off\n");
         }
-        std::printf(
-            "haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
-            (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns,
-            100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1)),
-            st.hapticStepUs.p99);
+        const double hapticPct = percentOf(st.hapticOverruns, st.hapticSteps);
+        const double probePct = percentOf(probe.overruns(), probe.periods());
+        std::printf("haptic: %llu periods, %llu overran (%.4f %%), loop p99 %.1f us\n",
+                    (unsigned long long)st.hapticSteps, (unsigned long long)st.hapticOverruns, hapticPct,
+                    st.hapticStepUs.p99);
         std::printf(
             "collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
             (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
-            100.0 * double(st.collisionOverruns) /
-                double(std::max<std::uint64_t>(st.collisionSteps, 1)),
+            percentOf(st.collisionOverruns, st.collisionSteps),
             st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
         std::printf(
             "visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, "
@@ -408,10 +402,6 @@ int main(int argc, char** argv) {
         std::printf("removed %.1f mm3, jitter %.4f N\n", r.run.summary.removedVolumeMm3,
                     r.run.summary.jitterN);
         std::printf("CPU time stolen by the hypervisor during the run: %.2f s\n", stealS);
-        const double hapticPct =
-            100.0 * double(st.hapticOverruns) / double(std::max<std::uint64_t>(st.hapticSteps, 1));
-        const double probePct =
-            100.0 * double(probe.overruns()) / double(std::max<std::uint64_t>(probe.periods(), 1));
         std::printf(
             "floor in the same window (a no-work loop at the haptic priority beside the run): %llu "
             "periods, %llu "
@@ -446,8 +436,8 @@ int main(int argc, char** argv) {
       for (int m = 0; m < 2; ++m) {
         const Totals& t = totals[c][m];
         if (t.runs == 0) continue;
-        const double h = 100.0 * double(t.overruns) / double(std::max<std::uint64_t>(t.periods, 1));
-        const double f = 100.0 * double(t.probeOverruns) / double(std::max<std::uint64_t>(t.probePeriods, 1));
+        const double h = percentOf(t.overruns, t.periods);
+        const double f = percentOf(t.probeOverruns, t.probePeriods);
         std::printf("| %s | %s | %llu of %llu (%.4f %%) | %llu of %llu (%.4f %%) | %+.4f pp | %llu of %llu | %.2f |\n",
                     c == 0 ? "1.2 mm, 2 levels" : "0.3 mm static", m == 1 ? "on" : "off",
                     (unsigned long long)t.overruns, (unsigned long long)t.periods, h,
@@ -462,8 +452,8 @@ int main(int argc, char** argv) {
   std::printf("haptic: %llu periods, %llu overran (%.4f %%); collision: %llu periods, %llu overran (%.4f %%); "
               "stolen %.2f s\n",
               (unsigned long long)floor.periods[0], (unsigned long long)floor.overruns[0],
-              100.0 * double(floor.overruns[0]) / double(std::max<std::uint64_t>(floor.periods[0], 1)),
+              percentOf(floor.overruns[0], floor.periods[0]),
               (unsigned long long)floor.periods[1], (unsigned long long)floor.overruns[1],
-              100.0 * double(floor.overruns[1]) / double(std::max<std::uint64_t>(floor.periods[1], 1)), floor.stealS);
+              percentOf(floor.overruns[1], floor.periods[1]), floor.stealS);
   return 0;
 }

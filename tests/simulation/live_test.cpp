@@ -186,8 +186,8 @@ TEST(LiveRuntime, TheHapticStandbySleepsWhileTheOtherThreadIsStalledInItsWork) {
   const RuntimeResult r = live.stop();
   // The 1 kHz loops with no contact use a few ms of CPU in 100 ms; a spin would use 100.
   EXPECT_LT(source.cpuDuringStallS(), 0.05);
-  EXPECT_GE(r.stats.hapticOverruns, 1u);                      // the stalled period
-  EXPECT_GT(r.stats.hapticSteps, stepsAfterStall + 20);      // and the loop went on after it
+  EXPECT_GE(r.stats.hapticOverruns, 1u);                 // the stalled period
+  EXPECT_GT(r.stats.hapticSteps, stepsAfterStall + 20);  // and the loop went on after it
 }
 
 }  // namespace
