@@ -22,6 +22,7 @@ struct MeshUnits {
 struct VolumeMeaning {
   std::optional<long long> label;  // label maps: the bone label (default: every non-zero voxel)
   std::optional<double> isoHu;     // CTs: the bone threshold in HU (default 300)
+  bool allowOutsideData = false;   // NRRD: read a `data file:` outside the header's folder
 };
 
 struct InfoOptions {

@@ -43,6 +43,8 @@ void addVolumeMeaning(CLI::App& cmd, osteon::cli::VolumeMeaning& meaning) {
   cmd.add_option("--label", meaning.label,
                  "Label map volumes: the bone label (default: every non-zero voxel)");
   cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
+  cmd.add_flag("--allow-outside-data", meaning.allowOutsideData,
+               "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
 }
 
 void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
