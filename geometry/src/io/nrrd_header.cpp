@@ -110,7 +110,7 @@ bool isInside(const fs::path& inner, const fs::path& folder) {
     if (f->empty()) continue;  // a trailing separator
     if (i == inner.end() || *i != *f) return false;
   }
-  return i != inner.end();
+  return true;  // the folder itself is inside (and then refused as not a regular file)
 }
 
 void failAt(const std::string& shown, const std::string& reason) { throw InputError(shown + ": " + reason); }
@@ -179,7 +179,7 @@ std::uint64_t skipLines(const DataLocation& at, std::uint64_t offset, long long 
     const std::size_t n = std::size_t(in.gcount());
     if (n == 0) {
       failAt(at.shown, "line skip " + std::to_string(lines) + " runs past the end of the file (" +
-                           std::to_string(found) + " lines after " +
+                           std::to_string(found) + (found == 1 ? " line" : " lines") + " after " +
                            (offset == 0 ? std::string("its start") : "the header") + ")");
     }
     for (std::size_t i = 0; i < n; ++i) {
