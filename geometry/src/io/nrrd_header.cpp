@@ -147,6 +147,10 @@ void refuseSeveralDataFiles(const Header& h, const std::string& value) {
 // Resolves `data file:` against the header's folder; refuses it outside that folder.
 std::string dataFilePath(const Header& h, const std::string& name, bool allowOutsideData) {
   if (name.empty()) h.fail("'data file' names no file");
+  // The system reads a name only up to a NUL: what follows it would be checked but not opened.
+  if (std::any_of(name.begin(), name.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; })) {
+    h.fail("data file " + excerpt(name) + ": the name holds a control character (a NUL or the like)");
+  }
   fs::path folder = fs::path(h.path).parent_path();
   if (folder.empty()) folder = ".";
   const fs::path named(name);
@@ -173,6 +177,7 @@ std::uint64_t skipLines(const DataLocation& at, std::uint64_t offset, long long 
   if (!in) failAt(at.shown, "cannot open (" + std::string(std::strerror(errno)) + ")");
   in.seekg(std::streamoff(offset));
   std::vector<char> chunk(1 << 16);
+  const std::uint64_t from = offset;
   long long found = 0;
   while (found < lines) {
     in.read(chunk.data(), std::streamsize(chunk.size()));
@@ -180,7 +185,7 @@ std::uint64_t skipLines(const DataLocation& at, std::uint64_t offset, long long 
     if (n == 0) {
       failAt(at.shown, "line skip " + std::to_string(lines) + " runs past the end of the file (" +
                            std::to_string(found) + (found == 1 ? " line" : " lines") + " after " +
-                           (offset == 0 ? std::string("its start") : "the header") + ")");
+                           (from == 0 ? std::string("its start") : "the header") + ")");
     }
     for (std::size_t i = 0; i < n; ++i) {
       if (chunk[i] == '\n' && ++found == lines) return offset + i + 1;
