@@ -85,6 +85,11 @@ TEST_F(NrrdDataCli, DataFileOutsideTheHeadersFolderNeedsTheFlag) {
   test::writeBytes(path("scans/h.nhdr"), header("20 20 20", "raw", "data file: link.raw\n"));
   expectBadInput("mesh '" + path("scans/h.nhdr") + "'", "link.raw", "is outside the header's folder");
   EXPECT_EQ(osteon("mesh '" + path("scans/h.nhdr") + "' --allow-outside-data").exitCode, 0);
+  // validate opens --models volumes through the same reader.
+  const std::string validate = "validate --quick --models '" + path("scans/h.nhdr") + "' --out-dir '" + path("v") + "'";
+  expectBadInput(validate, "link.raw", "is outside the header's folder");
+  const CliRun validated = osteon(validate + " --allow-outside-data");
+  EXPECT_EQ(validated.exitCode, 0) << validated.err;
 }
 
 // A 1-voxel header over a 3 GB file was read whole before its length was compared: seconds
