@@ -1,19 +1,18 @@
 // Where a NRRD's data lies, through the command line: a `data file:` outside the header's
 // folder needs --allow-outside-data, and data longer than the sizes say is refused from the
 // file's size, before any of it is read.
-#include "support/cli_fixture.h"
-#include "support/shapes.h"
+#include <chrono>
+#include <cstdlib>
+#include <fcntl.h>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <cstdlib>
-#include <filesystem>
-#include <string>
-
-#include <fcntl.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "support/cli_fixture.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -31,9 +30,10 @@ std::string cubeBytes() {
   return bytes;
 }
 
-std::string header(const std::string& sizes, const std::string& encoding, const std::string& extra) {
-  return "NRRD0004\ntype: uint8\ndimension: 3\nsizes: " + sizes + "\nspacings: 1 1 1\nencoding: " + encoding + "\n" +
-         extra;
+std::string header(const std::string& sizes, const std::string& encoding,
+                   const std::string& extra) {
+  return "NRRD0004\ntype: uint8\ndimension: 3\nsizes: " + sizes +
+         "\nspacings: 1 1 1\nencoding: " + encoding + "\n" + extra;
 }
 
 // A file of `bytes` that takes no disk: ftruncate leaves it sparse.
@@ -53,8 +53,9 @@ class NrrdDataCli : public CliTest {
     (void)limitMb;  // sanitizers reserve terabytes of address space at start-up
     const CliRun run = osteon(args);
 #else
-    const std::string command = "ulimit -v " + std::to_string(limitMb * 1024) + "; timeout 60 '" + OSTEON_CLI +
-                                "' " + args + " >'" + path("stdout") + "' 2>'" + path("stderr") + "' </dev/null";
+    const std::string command = "ulimit -v " + std::to_string(limitMb * 1024) + "; timeout 60 '" +
+                                OSTEON_CLI + "' " + args + " >'" + path("stdout") + "' 2>'" +
+                                path("stderr") + "' </dev/null";
     const int status = std::system(command.c_str());
     CliRun run;
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -83,10 +84,12 @@ TEST_F(NrrdDataCli, DataFileOutsideTheHeadersFolderNeedsTheFlag) {
   // A symlink in the folder that leads out of it is as far outside.
   fs::create_symlink("../labels.raw", path("scans/link.raw"));
   test::writeBytes(path("scans/h.nhdr"), header("20 20 20", "raw", "data file: link.raw\n"));
-  expectBadInput("mesh '" + path("scans/h.nhdr") + "'", "link.raw", "is outside the header's folder");
+  expectBadInput("mesh '" + path("scans/h.nhdr") + "'", "link.raw",
+                 "is outside the header's folder");
   EXPECT_EQ(osteon("mesh '" + path("scans/h.nhdr") + "' --allow-outside-data").exitCode, 0);
   // validate opens --models volumes through the same reader.
-  const std::string validate = "validate --quick --models '" + path("scans/h.nhdr") + "' --out-dir '" + path("v") + "'";
+  const std::string validate =
+      "validate --quick --models '" + path("scans/h.nhdr") + "' --out-dir '" + path("v") + "'";
   expectBadInput(validate, "link.raw", "is outside the header's folder");
   const CliRun validated = osteon(validate + " --allow-outside-data");
   EXPECT_EQ(validated.exitCode, 0) << validated.err;
@@ -107,12 +110,14 @@ TEST_F(NrrdDataCli, HugeDataUnderATinyHeaderIsRefusedAtOnce) {
   } cases[] = {
       {"detached.nhdr", "huge.raw: 3221225472 bytes of data disagree with sizes, which need 1"},
       {"attached.nrrd", "bytes of data disagree with sizes, which need 1"},
-      {"gzip.nhdr", "huge.raw: gzip data is corrupt"},  // zeros are no gzip stream: seen in the first bytes
+      {"gzip.nhdr",
+       "huge.raw: gzip data is corrupt"},  // zeros are no gzip stream: seen in the first bytes
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);
     double seconds = 0.0;
-    const CliRun run = boundedRun("mesh '" + path(c.file) + "' --out '" + path("out.ply") + "'", 300, seconds);
+    const CliRun run =
+        boundedRun("mesh '" + path(c.file) + "' --out '" + path("out.ply") + "'", 300, seconds);
     EXPECT_EQ(run.exitCode, 2) << run.err;
     EXPECT_NE(run.err.find(c.reason), std::string::npos) << run.err;
     EXPECT_LT(seconds, 5.0);

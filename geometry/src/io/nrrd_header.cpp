@@ -1,7 +1,5 @@
 #include "io/nrrd_header.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -10,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <system_error>
+#include <zlib.h>
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
@@ -113,12 +112,15 @@ bool isInside(const fs::path& inner, const fs::path& folder) {
   return true;  // the folder itself is inside (and then refused as not a regular file)
 }
 
-void failAt(const std::string& shown, const std::string& reason) { throw InputError(shown + ": " + reason); }
+void failAt(const std::string& shown, const std::string& reason) {
+  throw InputError(shown + ": " + reason);
+}
 
 void checkRegularFile(const std::string& path, const std::string& shown) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
-  if (ec && ec != std::errc::no_such_file_or_directory) failAt(shown, "cannot read (" + ec.message() + ")");
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    failAt(shown, "cannot read (" + ec.message() + ")");
   if (!fs::exists(status)) failAt(shown, "no such file");
   if (!fs::is_regular_file(status)) failAt(shown, "not a regular file");
 }
@@ -137,9 +139,10 @@ void refuseSeveralDataFiles(const Header& h, const std::string& value) {
     bool numbers = true;
     for (std::size_t i = 1; i < w.size(); ++i) numbers = numbers && parseInteger(w[i], n);
     if (numbers) {
-      h.fail("data file " + excerpt(value) +
-             ": numbered data files (a '%' pattern with min, max and step) are not supported; only a "
-             "single data file is");
+      h.fail(
+          "data file " + excerpt(value) +
+          ": numbered data files (a '%' pattern with min, max and step) are not supported; only a "
+          "single data file is");
     }
   }
 }
@@ -148,8 +151,10 @@ void refuseSeveralDataFiles(const Header& h, const std::string& value) {
 std::string dataFilePath(const Header& h, const std::string& name, bool allowOutsideData) {
   if (name.empty()) h.fail("'data file' names no file");
   // The system reads a name only up to a NUL: what follows it would be checked but not opened.
-  if (std::any_of(name.begin(), name.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; })) {
-    h.fail("data file " + excerpt(name) + ": the name holds a control character (a NUL or the like)");
+  if (std::any_of(name.begin(), name.end(),
+                  [](unsigned char c) { return c < 0x20 || c == 0x7f; })) {
+    h.fail("data file " + excerpt(name) +
+           ": the name holds a control character (a NUL or the like)");
   }
   fs::path folder = fs::path(h.path).parent_path();
   if (folder.empty()) folder = ".";
@@ -163,8 +168,9 @@ std::string dataFilePath(const Header& h, const std::string& name, bool allowOut
     const fs::path realFile = fs::weakly_canonical(fs::absolute(file), ec2);
     if (ec1 || ec2) failAt(shown, "cannot resolve the name (" + (ec1 ? ec1 : ec2).message() + ")");
     if (!isInside(realFile, realFolder)) {
-      throw InputError(shown + " is outside the header's folder " + realFolder.string() + " (it resolves to " +
-                       realFile.string() + "); give --allow-outside-data to read it");
+      throw InputError(shown + " is outside the header's folder " + realFolder.string() +
+                       " (it resolves to " + realFile.string() +
+                       "); give --allow-outside-data to read it");
     }
   }
   checkRegularFile(file.string(), shown);
@@ -208,7 +214,9 @@ const std::string& Header::require(const char* name, const char* shown) const {
   return *v;
 }
 
-void Header::fail(const std::string& reason) const { throw InputError(path + ": " + reason); }
+void Header::fail(const std::string& reason) const {
+  throw InputError(path + ": " + reason);
+}
 
 Header readHeader(const std::string& path) {
   Header h;
@@ -221,7 +229,8 @@ Header readHeader(const std::string& path) {
   std::uint64_t consumed = 0;
   const LineRead first = readLine(in, line, consumed);
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (first == LineRead::End || line.compare(0, 7, "NRRD000") != 0) h.fail("not a NRRD file (no NRRD000x magic)");
+  if (first == LineRead::End || line.compare(0, 7, "NRRD000") != 0)
+    h.fail("not a NRRD file (no NRRD000x magic)");
   // NRRD0001 to NRRD0005 are the versions there are; a later one may mean what this reader cannot.
   if (line.size() != 8 || line[7] < '1' || line[7] > '5') {
     h.fail(excerpt(line) + " is not a NRRD version this reader knows (NRRD0001 to NRRD0005)");
@@ -231,7 +240,8 @@ Header readHeader(const std::string& path) {
   for (std::size_t lineNo = 2;; ++lineNo) {
     const LineRead read = readLine(in, line, consumed);
     if (read == LineRead::TooLong) {
-      h.fail("header line " + std::to_string(lineNo) + " is longer than 64 KiB (not a text header?)");
+      h.fail("header line " + std::to_string(lineNo) +
+             " is longer than 64 KiB (not a text header?)");
     }
     if (read == LineRead::End) break;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -250,8 +260,9 @@ Header readHeader(const std::string& path) {
       const std::string name = isKey ? line.substr(0, kv) : fieldName(line.substr(0, colon));
       std::map<std::string, std::size_t>& seen = isKey ? keyLine : fieldLine;
       if (const auto it = seen.find(name); it != seen.end()) {
-        h.fail(std::string(isKey ? "key " : "field ") + excerpt(trim(line.substr(0, isKey ? kv : colon))) +
-               " given twice (header lines " + std::to_string(it->second) + " and " + std::to_string(lineNo) + ")");
+        h.fail(std::string(isKey ? "key " : "field ") +
+               excerpt(trim(line.substr(0, isKey ? kv : colon))) + " given twice (header lines " +
+               std::to_string(it->second) + " and " + std::to_string(lineNo) + ")");
       }
       seen[name] = lineNo;
       if (isKey) {
@@ -270,7 +281,8 @@ Header readHeader(const std::string& path) {
 }
 
 OsteonFile osteonFile(const Header& h) {
-  if (!h.keys.count("osteon_voxel_size_mm") || !h.keys.count("osteon_origin_mm")) return OsteonFile::None;
+  if (!h.keys.count("osteon_voxel_size_mm") || !h.keys.count("osteon_origin_mm"))
+    return OsteonFile::None;
   for (const std::string& c : h.comments) {
     if (c.rfind(" osteon voxel grid: fill, ", 0) == 0) return OsteonFile::Fill;
     if (c.rfind(" osteon voxel grid: density", 0) == 0) return OsteonFile::Density;
@@ -280,7 +292,8 @@ OsteonFile osteonFile(const Header& h) {
 
 glm::ivec3 readSizes(const Header& h) {
   const std::string& dimension = h.require("dimension", "dimension");
-  if (trim(dimension) != "3") h.fail("dimension " + excerpt(dimension) + " is not supported (need 3)");
+  if (trim(dimension) != "3")
+    h.fail("dimension " + excerpt(dimension) + " is not supported (need 3)");
   std::vector<double> sizes;
   const std::string& sizesText = h.require("sizes", "sizes");
   if (!parseSizes(sizesText, sizes) || sizes.size() != 3) {
@@ -294,7 +307,8 @@ glm::ivec3 readSizes(const Header& h) {
     }
     n[a] = int(sizes[a]);
     voxels *= std::uint64_t(n[a]);
-    if (voxels > VoxelGrid::kMaxVoxels) h.fail("sizes " + excerpt(sizesText) + " exceed 2^32 voxels");
+    if (voxels > VoxelGrid::kMaxVoxels)
+      h.fail("sizes " + excerpt(sizesText) + " exceed 2^32 voxels");
   }
   // A colour or vector axis holds components of one sample, not positions in space.
   if (const std::string* kinds = h.field("kinds")) {
@@ -304,7 +318,8 @@ glm::ivec3 readSizes(const Header& h) {
       const std::string kind = normaliseWords(k[a]);
       if (kind != "domain" && kind != "space" && kind != "???" && kind != "none") {
         h.fail("kinds " + excerpt(*kinds) + ": axis " + std::to_string(a) + " is " + excerpt(k[a]) +
-               ", not a spatial axis (only domain, space or ??? axes; colour, vector and list volumes are "
+               ", not a spatial axis (only domain, space or ??? axes; colour, vector and list "
+               "volumes are "
                "not supported)");
       }
     }
@@ -314,26 +329,45 @@ glm::ivec3 readSizes(const Header& h) {
 
 std::optional<Scalar> scalarNamed(const std::string& typeText) {
   static const std::map<std::string, Scalar> types = {
-      {"signed char", {"int8", 1, true, true}},   {"int8", {"int8", 1, true, true}},
-      {"int8_t", {"int8", 1, true, true}},        {"uchar", {"uint8", 1, true, false}},
-      {"unsigned char", {"uint8", 1, true, false}}, {"uint8", {"uint8", 1, true, false}},
-      {"uint8_t", {"uint8", 1, true, false}},     {"short", {"int16", 2, true, true}},
-      {"short int", {"int16", 2, true, true}},    {"signed short", {"int16", 2, true, true}},
-      {"signed short int", {"int16", 2, true, true}}, {"int16", {"int16", 2, true, true}},
-      {"int16_t", {"int16", 2, true, true}},      {"ushort", {"uint16", 2, true, false}},
-      {"unsigned short", {"uint16", 2, true, false}}, {"unsigned short int", {"uint16", 2, true, false}},
-      {"uint16", {"uint16", 2, true, false}},     {"uint16_t", {"uint16", 2, true, false}},
-      {"int", {"int32", 4, true, true}},          {"signed int", {"int32", 4, true, true}},
-      {"int32", {"int32", 4, true, true}},        {"int32_t", {"int32", 4, true, true}},
-      {"uint", {"uint32", 4, true, false}},       {"unsigned int", {"uint32", 4, true, false}},
-      {"uint32", {"uint32", 4, true, false}},     {"uint32_t", {"uint32", 4, true, false}},
-      {"longlong", {"int64", 8, true, true}},     {"long long", {"int64", 8, true, true}},
-      {"long long int", {"int64", 8, true, true}}, {"signed long long", {"int64", 8, true, true}},
-      {"signed long long int", {"int64", 8, true, true}}, {"int64", {"int64", 8, true, true}},
-      {"int64_t", {"int64", 8, true, true}},      {"ulonglong", {"uint64", 8, true, false}},
+      {"signed char", {"int8", 1, true, true}},
+      {"int8", {"int8", 1, true, true}},
+      {"int8_t", {"int8", 1, true, true}},
+      {"uchar", {"uint8", 1, true, false}},
+      {"unsigned char", {"uint8", 1, true, false}},
+      {"uint8", {"uint8", 1, true, false}},
+      {"uint8_t", {"uint8", 1, true, false}},
+      {"short", {"int16", 2, true, true}},
+      {"short int", {"int16", 2, true, true}},
+      {"signed short", {"int16", 2, true, true}},
+      {"signed short int", {"int16", 2, true, true}},
+      {"int16", {"int16", 2, true, true}},
+      {"int16_t", {"int16", 2, true, true}},
+      {"ushort", {"uint16", 2, true, false}},
+      {"unsigned short", {"uint16", 2, true, false}},
+      {"unsigned short int", {"uint16", 2, true, false}},
+      {"uint16", {"uint16", 2, true, false}},
+      {"uint16_t", {"uint16", 2, true, false}},
+      {"int", {"int32", 4, true, true}},
+      {"signed int", {"int32", 4, true, true}},
+      {"int32", {"int32", 4, true, true}},
+      {"int32_t", {"int32", 4, true, true}},
+      {"uint", {"uint32", 4, true, false}},
+      {"unsigned int", {"uint32", 4, true, false}},
+      {"uint32", {"uint32", 4, true, false}},
+      {"uint32_t", {"uint32", 4, true, false}},
+      {"longlong", {"int64", 8, true, true}},
+      {"long long", {"int64", 8, true, true}},
+      {"long long int", {"int64", 8, true, true}},
+      {"signed long long", {"int64", 8, true, true}},
+      {"signed long long int", {"int64", 8, true, true}},
+      {"int64", {"int64", 8, true, true}},
+      {"int64_t", {"int64", 8, true, true}},
+      {"ulonglong", {"uint64", 8, true, false}},
       {"unsigned long long", {"uint64", 8, true, false}},
-      {"unsigned long long int", {"uint64", 8, true, false}}, {"uint64", {"uint64", 8, true, false}},
-      {"uint64_t", {"uint64", 8, true, false}},   {"float", {"float", 4, false, true}},
+      {"unsigned long long int", {"uint64", 8, true, false}},
+      {"uint64", {"uint64", 8, true, false}},
+      {"uint64_t", {"uint64", 8, true, false}},
+      {"float", {"float", 4, false, true}},
       {"double", {"double", 8, false, true}},
   };
   const auto it = types.find(normaliseWords(typeText));
@@ -349,7 +383,8 @@ Layout readLayout(const Header& h) {
   layout.scalar = *scalar;
   const std::string encoding = normaliseWords(h.require("encoding", "encoding"));
   layout.gzip = encoding == "gzip" || encoding == "gz";
-  if (!layout.gzip && encoding != "raw") h.fail("encoding " + excerpt(encoding) + " is not supported (raw or gzip)");
+  if (!layout.gzip && encoding != "raw")
+    h.fail("encoding " + excerpt(encoding) + " is not supported (raw or gzip)");
   if (const std::string* e = h.field("endian")) {
     const std::string s = normaliseWords(*e);
     if (s != "little" && s != "big") h.fail("endian " + excerpt(s) + " is not little or big");
@@ -360,7 +395,8 @@ Layout readLayout(const Header& h) {
   return layout;
 }
 
-DataLocation locateData(const Header& h, std::uint64_t expectedBytes, bool gzip, bool allowOutsideData) {
+DataLocation locateData(const Header& h, std::uint64_t expectedBytes, bool gzip,
+                        bool allowOutsideData) {
   DataLocation at;
   std::uint64_t start = 0;
   if (const std::string* dataFile = h.field("datafile")) {
@@ -379,11 +415,14 @@ DataLocation locateData(const Header& h, std::uint64_t expectedBytes, bool gzip,
   if (start > fileBytes) failAt(at.shown, "truncated: no data after the header");
 
   long long lineSkip = 0, byteSkip = 0;
-  if (const std::string* v = h.field("lineskip"); v && (!parseInteger(*v, lineSkip) || lineSkip < 0)) {
+  if (const std::string* v = h.field("lineskip");
+      v && (!parseInteger(*v, lineSkip) || lineSkip < 0)) {
     h.fail("line skip " + excerpt(*v) + " is not a whole number of lines (0 or more)");
   }
-  if (const std::string* v = h.field("byteskip"); v && (!parseInteger(*v, byteSkip) || byteSkip < -1)) {
-    h.fail("byte skip " + excerpt(*v) + " is not a whole number of bytes (0 or more, or -1 for the file's end)");
+  if (const std::string* v = h.field("byteskip");
+      v && (!parseInteger(*v, byteSkip) || byteSkip < -1)) {
+    h.fail("byte skip " + excerpt(*v) +
+           " is not a whole number of bytes (0 or more, or -1 for the file's end)");
   }
   at.offset = lineSkip > 0 ? skipLines(at, start, lineSkip) : start;
   const std::string skipped = lineSkip > 0 || byteSkip != 0 ? " after the line and byte skips" : "";
@@ -391,41 +430,48 @@ DataLocation locateData(const Header& h, std::uint64_t expectedBytes, bool gzip,
   if (gzip) {
     // Inflated data can only be measured by inflating it; its skip applies there.
     if (byteSkip == -1) {
-      h.fail("byte skip -1 (data at the end of the file) is only for raw encoding; gzip data cannot be found "
-             "from the file's end");
+      h.fail(
+          "byte skip -1 (data at the end of the file) is only for raw encoding; gzip data cannot "
+          "be found "
+          "from the file's end");
     }
     at.inflatedSkip = std::uint64_t(byteSkip);
     at.bytes = fileBytes - at.offset;
     if (expectedBytes + at.inflatedSkip > at.bytes * kMaxDeflateRatio + 1024) {
       failAt(at.shown, "truncated: " + std::to_string(at.bytes) + " bytes of gzip data" + skipped +
                            " cannot hold the " + std::to_string(expectedBytes + at.inflatedSkip) +
-                           " bytes the sizes" + (at.inflatedSkip ? " and the byte skip" : "") + " need");
+                           " bytes the sizes" + (at.inflatedSkip ? " and the byte skip" : "") +
+                           " need");
     }
     return at;
   }
   if (byteSkip == -1) {
     // The data is the file's last bytes; whatever precedes it is skipped.
     if (fileBytes - at.offset < expectedBytes) {
-      failAt(at.shown, "truncated: " + std::to_string(fileBytes - at.offset) + " bytes of data" + skipped +
-                           ", sizes need " + std::to_string(expectedBytes));
+      failAt(at.shown, "truncated: " + std::to_string(fileBytes - at.offset) + " bytes of data" +
+                           skipped + ", sizes need " + std::to_string(expectedBytes));
     }
     at.offset = fileBytes - expectedBytes;
   } else if (std::uint64_t(byteSkip) > fileBytes - at.offset) {
-    failAt(at.shown, "truncated: byte skip " + std::to_string(byteSkip) + " passes the end of the file (" +
-                         std::to_string(fileBytes - at.offset) + " bytes after the " +
-                         (lineSkip > 0 ? "line skip" : at.path == h.path ? "header" : "file's start") + ")");
+    failAt(at.shown, "truncated: byte skip " + std::to_string(byteSkip) +
+                         " passes the end of the file (" + std::to_string(fileBytes - at.offset) +
+                         " bytes after the " +
+                         (lineSkip > 0        ? "line skip"
+                          : at.path == h.path ? "header"
+                                              : "file's start") +
+                         ")");
   } else {
     at.offset += std::uint64_t(byteSkip);
   }
   // The whole length is known before a byte is read: a lie is refused at once.
   at.bytes = fileBytes - at.offset;
   if (at.bytes < expectedBytes) {
-    failAt(at.shown, "truncated: " + std::to_string(at.bytes) + " bytes of data" + skipped + ", sizes need " +
-                         std::to_string(expectedBytes));
+    failAt(at.shown, "truncated: " + std::to_string(at.bytes) + " bytes of data" + skipped +
+                         ", sizes need " + std::to_string(expectedBytes));
   }
   if (at.bytes > expectedBytes) {
-    failAt(at.shown, std::to_string(at.bytes) + " bytes of data" + skipped + " disagree with sizes, which need " +
-                         std::to_string(expectedBytes));
+    failAt(at.shown, std::to_string(at.bytes) + " bytes of data" + skipped +
+                         " disagree with sizes, which need " + std::to_string(expectedBytes));
   }
   return at;
 }
@@ -448,7 +494,8 @@ std::vector<unsigned char> inflateData(const DataLocation& at, std::uint64_t exp
   if (inflateInit2(&z, 15 + 32) != Z_OK) failAt(at.shown, "zlib failed to start");
   std::vector<unsigned char> out(expected);
   std::vector<unsigned char> chunk(1 << 16);
-  std::vector<unsigned char> skipped(std::size_t(std::min<std::uint64_t>(at.inflatedSkip, 1 << 16)));
+  std::vector<unsigned char> skipped(
+      std::size_t(std::min<std::uint64_t>(at.inflatedSkip, 1 << 16)));
   std::uint64_t unread = at.bytes;  // compressed bytes not yet read
   std::uint64_t skipLeft = at.inflatedSkip;
   std::uint64_t produced = 0;
@@ -468,10 +515,13 @@ std::vector<unsigned char> inflateData(const DataLocation& at, std::uint64_t exp
   int rc = Z_OK;
   for (;;) {
     refill(1);
-    unsigned char* const before = skipLeft > 0 ? skipped.data() : produced < expected ? out.data() + produced : &extra;
-    const uInt room = uInt(skipLeft > 0 ? std::min<std::uint64_t>(skipLeft, skipped.size())
-                           : produced < expected ? std::min<std::uint64_t>(expected - produced, 1u << 30)
-                                                 : 1);
+    unsigned char* const before = skipLeft > 0          ? skipped.data()
+                                  : produced < expected ? out.data() + produced
+                                                        : &extra;
+    const uInt room =
+        uInt(skipLeft > 0          ? std::min<std::uint64_t>(skipLeft, skipped.size())
+             : produced < expected ? std::min<std::uint64_t>(expected - produced, 1u << 30)
+                                   : 1);
     z.next_out = before;
     z.avail_out = room;
     rc = inflate(&z, Z_NO_FLUSH);
@@ -482,8 +532,11 @@ std::vector<unsigned char> inflateData(const DataLocation& at, std::uint64_t exp
       produced += wrote;
     } else if (wrote > 0) {
       // Bounded: inflating stops at the first byte past what the sizes need.
-      failAt(at.shown, "gzip data is longer than the sizes need (" + std::to_string(expected) + " bytes" +
-                           (at.inflatedSkip ? " after a byte skip of " + std::to_string(at.inflatedSkip) : "") + ")");
+      failAt(
+          at.shown,
+          "gzip data is longer than the sizes need (" + std::to_string(expected) + " bytes" +
+              (at.inflatedSkip ? " after a byte skip of " + std::to_string(at.inflatedSkip) : "") +
+              ")");
     }
     if (rc == Z_STREAM_END) {
       // Another gzip member may follow (as `cat a.gz b.gz` makes); anything else after the
@@ -494,14 +547,16 @@ std::vector<unsigned char> inflateData(const DataLocation& at, std::uint64_t exp
         continue;
       }
       if (z.avail_in + unread > 0 && produced == expected && skipLeft == 0) {
-        failAt(at.shown, std::to_string(z.avail_in + unread) + " bytes follow the end of the gzip data (" +
-                             "it holds the " + std::to_string(expected) + " bytes the sizes need)");
+        failAt(at.shown, std::to_string(z.avail_in + unread) +
+                             " bytes follow the end of the gzip data (" + "it holds the " +
+                             std::to_string(expected) + " bytes the sizes need)");
       }
       break;
     }
     if (rc == Z_BUF_ERROR && z.avail_in == 0 && unread == 0) break;  // the file ends mid-stream
     if (rc != Z_OK && rc != Z_BUF_ERROR) {
-      failAt(at.shown, std::string("gzip data is corrupt (") + (z.msg ? z.msg : "zlib error") + ")");
+      failAt(at.shown,
+             std::string("gzip data is corrupt (") + (z.msg ? z.msg : "zlib error") + ")");
     }
   }
   if (produced < expected || skipLeft > 0) {

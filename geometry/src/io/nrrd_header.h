@@ -71,13 +71,14 @@ Layout readLayout(const Header& h);
 // or numbered data files, a raw data length other than `expectedBytes`, gzip data too short
 // to inflate to it.
 struct DataLocation {
-  std::string path;                  // the file that holds the data
-  std::string shown;                 // how messages name it ("H" or "H: data file D")
-  std::uint64_t offset = 0;          // first data byte (gzip: of the compressed stream)
-  std::uint64_t bytes = 0;           // from offset to the file's end
-  std::uint64_t inflatedSkip = 0;    // gzip: bytes of the inflated stream before the data
+  std::string path;                // the file that holds the data
+  std::string shown;               // how messages name it ("H" or "H: data file D")
+  std::uint64_t offset = 0;        // first data byte (gzip: of the compressed stream)
+  std::uint64_t bytes = 0;         // from offset to the file's end
+  std::uint64_t inflatedSkip = 0;  // gzip: bytes of the inflated stream before the data
 };
-DataLocation locateData(const Header& h, std::uint64_t expectedBytes, bool gzip, bool allowOutsideData);
+DataLocation locateData(const Header& h, std::uint64_t expectedBytes, bool gzip,
+                        bool allowOutsideData);
 
 // The data file opened at its first data byte.
 std::ifstream openData(const DataLocation& at);

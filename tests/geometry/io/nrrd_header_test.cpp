@@ -1,9 +1,6 @@
 // The NRRD header as every NRRD osteon opens reads it (geometry/src/io/nrrd_header.cpp):
 // fields given once, spatial kinds only, line and byte skips honoured, osteon's own grid known
 // by all it writes, data files kept in the header's folder and measured before they are read.
-#include "osteon/geometry/io/nrrd_io.h"
-#include "osteon/geometry/io/volume_io.h"
-
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -11,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/volume_io.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
 
@@ -58,8 +57,8 @@ class NrrdHeader : public ::testing::Test {
   }
 
   // Loading fails with one line naming `named` (default: the file) and `reason`.
-  static void expectRefused(const std::string& path, const std::string& reason, const std::string& named = "",
-                            const VolumeOptions& options = {}) {
+  static void expectRefused(const std::string& path, const std::string& reason,
+                            const std::string& named = "", const VolumeOptions& options = {}) {
     SCOPED_TRACE(path + ": " + reason);
     try {
       loadVolume(path, options);
@@ -95,7 +94,8 @@ TEST_F(NrrdHeader, FieldsGivenTwiceAreRefused) {
     readNrrd(p);
     ADD_FAILURE() << "loaded";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("field 'sizes' given twice"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("field 'sizes' given twice"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -106,8 +106,10 @@ TEST_F(NrrdHeader, OnlySpatialKindsAreAxes) {
     test::writeBytes(p, header("\n", "raw", kinds) + cubeBytes());
     expectRefused(p, "not a spatial axis");
   }
-  test::writeBytes(p, "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 3 4 4\nspacings: 1 1 1\n"
-                      "kinds: RGB-color domain domain\nencoding: raw\n\n" + std::string(48, '\0'));
+  test::writeBytes(p,
+                   "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 3 4 4\nspacings: 1 1 1\n"
+                   "kinds: RGB-color domain domain\nencoding: raw\n\n" +
+                       std::string(48, '\0'));
   expectRefused(p, "axis 0 is 'RGB-color', not a spatial axis");
   test::writeBytes(p, header("\n", "raw", "domain domain") + cubeBytes());
   expectRefused(p, "are not three");
@@ -118,7 +120,8 @@ TEST_F(NrrdHeader, OnlySpatialKindsAreAxes) {
 TEST_F(NrrdHeader, LineAndByteSkipsAreHonoured) {
   const std::string cube = cubeBytes();
   // Attached: lines, then bytes, after the header's blank line.
-  test::writeBytes(file("a.nrrd"), header("line skip: 2\nbyte skip: 3\n\n") + "one\ntwo\nxyz" + cube);
+  test::writeBytes(file("a.nrrd"),
+                   header("line skip: 2\nbyte skip: 3\n\n") + "one\ntwo\nxyz" + cube);
   expectCube(file("a.nrrd"));
   // Detached: from the data file's start.
   test::writeBytes(file("d.nhdr"), header("data file: d.raw\nline skip: 1\nbyte skip: 5\n"));
@@ -129,8 +132,8 @@ TEST_F(NrrdHeader, LineAndByteSkipsAreHonoured) {
   test::writeBytes(file("end.raw"), std::string(1000, 'x') + cube);
   expectCube(file("end.nhdr"));
   // gzip: lines of the file, bytes of the inflated stream.
-  test::writeBytes(file("gz.nrrd"), header("line skip: 1\nbyte skip: 7\n\n", "gzip") + "junk line\n" +
-                                        test::gzipBytes("1234567" + cube));
+  test::writeBytes(file("gz.nrrd"), header("line skip: 1\nbyte skip: 7\n\n", "gzip") +
+                                        "junk line\n" + test::gzipBytes("1234567" + cube));
   expectCube(file("gz.nrrd"));
   // osteon's own grids too.
   VoxelGrid grid({4, 4, 4}, glm::dvec3(0.0), 1.0);
@@ -151,7 +154,8 @@ TEST_F(NrrdHeader, LineAndByteSkipsAreHonoured) {
       {header("line skip: x\n\n") + cube, "line skip 'x' is not a whole number"},
       {header("line skip: 3\n\n") + "a\n" + cube, "line skip 3 runs past the end of the file"},
       {header("byte skip: 65\n\n") + cube, "byte skip 65 passes the end of the file"},
-      {header("byte skip: 1\n\n") + cube, "truncated: 63 bytes of data after the line and byte skips"},
+      {header("byte skip: 1\n\n") + cube,
+       "truncated: 63 bytes of data after the line and byte skips"},
       {header("byte skip: -1\n\n", "gzip") + test::gzipBytes(cube), "byte skip -1"},
       {header("byte skip: 1\n\n", "gzip") + test::gzipBytes(cube), "truncated"},
   };
@@ -226,7 +230,8 @@ TEST_F(NrrdHeader, DataFileNamesWithBlanksAreOneFile) {
   expectRefused(file("h.nhdr"), "numbered data files");
   test::writeBytes(file("h.nhdr"), header("data file: my labels 2.raw\n"));
   expectRefused(file("h.nhdr"), "my labels 2.raw: no such file");
-  test::writeBytes(file("h.nhdr"), header(std::string("data file: my labels 1.raw\0/../../x.raw\n", 40)));
+  test::writeBytes(file("h.nhdr"),
+                   header(std::string("data file: my labels 1.raw\0/../../x.raw\n", 40)));
   expectRefused(file("h.nhdr"), "the name holds a control character");
   test::writeBytes(file("h.nhdr"), header("data file: slice%03d.raw\n"));  // no numbers: one file
   expectRefused(file("h.nhdr"), "slice%03d.raw: no such file");
@@ -241,7 +246,8 @@ TEST_F(NrrdHeader, DataLengthIsCheckedBeforeReading) {
   test::writeBytes(file("big.raw"), cube.substr(1));
   expectRefused(file("h.nhdr"), "truncated: 63 bytes of data, sizes need 64", "big.raw");
   // gzip: inflating stops at the first byte past the sizes; bytes after the stream are refused.
-  test::writeBytes(file("gz.nrrd"), header("\n", "gzip") + test::gzipBytes(cube + std::string(100000, '\0')));
+  test::writeBytes(file("gz.nrrd"),
+                   header("\n", "gzip") + test::gzipBytes(cube + std::string(100000, '\0')));
   expectRefused(file("gz.nrrd"), "gzip data is longer than the sizes need (64 bytes)");
   test::writeBytes(file("gz.nrrd"), header("\n", "gzip") + test::gzipBytes(cube) + "trailing");
   expectRefused(file("gz.nrrd"), "8 bytes follow the end of the gzip data");
