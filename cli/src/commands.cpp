@@ -407,6 +407,7 @@ LoadedGrid loadGrid(const std::string& input, const MeshUnits& units, const std:
     geo::VolumeOptions vo;
     vo.label = meaning.label;
     vo.isoHu = meaning.isoHu;
+    vo.allowOutsideData = meaning.allowOutsideData;
     geo::VolumeLoad read = geo::loadVolume(input, vo);
     setup.loadMs = msSince(start);
     if (voxelSizeMm && std::abs(*voxelSizeMm - read.grid.voxelSizeMm()) > 1e-9 * *voxelSizeMm) {

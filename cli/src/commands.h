@@ -22,6 +22,7 @@ struct MeshUnits {
 struct VolumeMeaning {
   std::optional<long long> label;  // label maps: the bone label (default: every non-zero voxel)
   std::optional<double> isoHu;     // CTs: the bone threshold in HU (default 300)
+  bool allowOutsideData = false;   // NRRD: read a `data file:` outside the header's folder
 };
 
 struct InfoOptions {
@@ -132,6 +133,7 @@ struct ValidateCommandOptions {
   std::string outDir = "validation-report";
   std::string compare;                 // a previous report.json
   std::string shard;                   // "K/N": run the K-th (0-based) of N shards; empty: all
+  bool allowOutsideData = false;       // NRRD volumes in --models: a data file may lie outside its header's folder
   std::vector<std::string> merge;      // shard out-dirs to merge into --out-dir instead of a run
   std::vector<std::string> runOptionsGiven;  // options of a run given on the command line (--models ...)
 };

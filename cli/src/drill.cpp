@@ -161,6 +161,7 @@ int runDrill(const DrillCommandOptions& options) {
     geo::VolumeOptions vo;
     vo.label = options.volume.label;
     vo.isoHu = options.volume.isoHu;
+    vo.allowOutsideData = options.volume.allowOutsideData;
     geo::VolumeLoad load = geo::loadVolume(options.mesh, vo);
     const double loadMs = msSince(setupStart);
     if (std::abs(load.grid.voxelSizeMm() - options.voxelSizeMm) > 1e-6 * options.voxelSizeMm) {

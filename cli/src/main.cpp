@@ -43,6 +43,8 @@ void addVolumeMeaning(CLI::App& cmd, osteon::cli::VolumeMeaning& meaning) {
   cmd.add_option("--label", meaning.label,
                  "Label map volumes: the bone label (default: every non-zero voxel)");
   cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
+  cmd.add_flag("--allow-outside-data", meaning.allowOutsideData,
+               "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
 }
 
 void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
@@ -220,6 +222,8 @@ int main(int argc, char** argv) {
   validateCmd->add_option("--out-dir", validate.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   validateCmd->add_option("--compare", validate.compare, "A previous report.json: mark regressions");
+  validateCmd->add_flag("--allow-outside-data", validate.allowOutsideData,
+                        "NRRD volumes in --models: read a 'data file:' outside the header's folder");
   validateCmd->add_option("--shard", validate.shard,
                           "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "
                           "estimated cost; merge the shards' folders with --merge");
@@ -276,7 +280,7 @@ int main(int argc, char** argv) {
   }
 
   validate.voxelSizesGiven = validateCmd->count("--voxel-sizes") > 0;
-  for (const char* name : {"--models", "--voxel-sizes", "--quick", "--shard", "--units", "--scale"}) {
+  for (const char* name : {"--models", "--voxel-sizes", "--quick", "--shard", "--units", "--scale", "--allow-outside-data"}) {
     if (validateCmd->count(name) > 0) validate.runOptionsGiven.push_back(name);
   }
   try {

@@ -409,7 +409,9 @@ int runValidate(const ValidateCommandOptions& options) {
       // Its own voxel size, every non-zero label or 300 HU (`osteon mesh VOLUME` says what it holds).
       models.emplace_back();
       models.back().name = name;
-      models.back().volume = std::move(geometry::loadVolume(name).grid);
+      geometry::VolumeOptions volumeOptions;
+      volumeOptions.allowOutsideData = options.allowOutsideData;
+      models.back().volume = std::move(geometry::loadVolume(name, volumeOptions).grid);
       if (models.back().volume->countVoxels(geometry::kFillHalf) == 0) {
         throw InputError(name + ": no voxel inside (nothing to validate)");
       }

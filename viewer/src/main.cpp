@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
   std::optional<double> isoHu;
   app.add_option("--label", label, "Label maps: the bone label (default: every non-zero voxel is bone)");
   app.add_option("--iso", isoHu, "CT volumes: the bone threshold in HU (default 300)");
+  bool allowOutsideData = false;
+  app.add_flag("--allow-outside-data", allowOutsideData,
+               "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
   CLI::Option* u = app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
   CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
   u->excludes(s);
@@ -108,6 +111,7 @@ int main(int argc, char** argv) {
     options.load.device = device;
     options.load.label = label;
     options.load.isoHu = isoHu;
+    options.load.allowOutsideData = allowOutsideData;
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);
     options.camera = viewer::parseAxisView(camera);

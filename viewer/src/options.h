@@ -39,6 +39,7 @@ struct LoadRequest {
   std::string device;                   // "" (the mouse or the path), or a device name (docs/devices.md)
   std::optional<long long> label;       // label maps: the bone label (default: every non-zero)
   std::optional<double> isoHu;          // CTs: the bone threshold (default 300 HU)
+  bool allowOutsideData = false;        // NRRD: a `data file:` may lie outside the header's folder
 };
 
 inline constexpr double kDefaultVoxelSizeMm = 1.2;

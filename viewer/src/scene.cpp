@@ -19,6 +19,7 @@ std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim:
     geometry::VolumeOptions volume;
     volume.label = request.label;
     volume.isoHu = request.isoHu;
+    volume.allowOutsideData = request.allowOutsideData;
     const Clock::time_point start = Clock::now();
     geometry::VolumeLoad read = geometry::loadVolume(request.input, volume);
     const double loadMs = msSince(start);  // the session's set-up timings report it

@@ -19,6 +19,7 @@
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/output_file.h"
+#include "io/nrrd_header.h"
 
 namespace osteon::geometry {
 
@@ -141,22 +142,14 @@ struct Header {
   bool bigEndian = false;
   double voxelSizeMm = 0.0;
   glm::dvec3 originMm{0.0};
-  std::uint64_t dataOffset = 0;
   std::size_t valueBytes = 1;  // bytes per stored value
+  std::string dataShown;       // the data's file, as messages name it
 };
 
 std::string trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r");
   if (first == std::string::npos) return "";
   return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
-
-std::string lowerNoSpace(const std::string& s) {
-  std::string out;
-  for (unsigned char c : s) {
-    if (!std::isspace(c)) out += static_cast<char>(std::tolower(c));
-  }
-  return out;
 }
 
 // Lowercase, runs of blanks made one space: "Unsigned  Char" -> "unsigned char".
@@ -204,20 +197,6 @@ std::string excerpt(const std::string& s) {
   return out + (s.size() > 60 ? "...'" : "'");
 }
 
-enum class LineRead { Line, End, TooLong };
-
-constexpr std::size_t kMaxHeaderLine = 65536;
-
-LineRead readLine(std::istream& in, std::string& line) {
-  line.clear();
-  for (int c; (c = in.get()) != EOF;) {
-    if (c == '\n') return LineRead::Line;
-    line += static_cast<char>(c);
-    if (line.size() > kMaxHeaderLine) return LineRead::TooLong;  // not a text header
-  }
-  return LineRead::End;
-}
-
 // Shortest form for messages ("3e+300", "1.2e+09").
 std::string shortNum(double v) {
   std::ostringstream s;
@@ -229,114 +208,34 @@ bool nearlyEqual(double a, double b, double scale) {
   return std::abs(a - b) <= 1e-6 * scale;
 }
 
-// Parses and checks a header; leaves `in` at the first data byte.
-Header readHeader(const std::string& path, std::ifstream& in, ValueType expected) {
-  const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) fail("no such file");
-  if (!fs::is_regular_file(status)) fail("not a regular file");
-  const std::uint64_t fileBytes = fs::file_size(path, ec);
-  if (ec) fail("cannot read its size (" + ec.message() + ")");
-  in.open(path, std::ios::binary);
-  if (!in) fail("cannot open (" + std::string(std::strerror(errno)) + ")");
-
-  std::string line;
-  char magic[8] = {};
-  in.read(magic, sizeof(magic));
-  if (!in || std::memcmp(magic, "NRRD000", 7) != 0 || magic[7] < '1' || magic[7] > '9' ||
-      readLine(in, line) != LineRead::Line || !trim(line).empty()) {
-    fail("not a NRRD file (no NRRD000x magic)");
-  }
-  std::map<std::string, std::string> fields;  // names lowercase without spaces
-  std::map<std::string, std::string> keys;
-  for (std::size_t lineNo = 2;; ++lineNo) {
-    const LineRead read = readLine(in, line);
-    if (read == LineRead::TooLong) {
-      fail("header line " + std::to_string(lineNo) + " is longer than 64 KiB (not a text header?)");
-    }
-    if (read == LineRead::End) fail("header is not ended by a blank line (no data?)");
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) break;
-    if (line[0] == '#') continue;
-    const std::size_t kv = line.find(":=");
-    const std::size_t colon = line.find(": ");
-    if (kv != std::string::npos && (colon == std::string::npos || kv < colon)) {
-      keys[line.substr(0, kv)] = line.substr(kv + 2);
-    } else if (colon != std::string::npos) {
-      const std::string name = lowerNoSpace(line.substr(0, colon));
-      if (!fields.emplace(name, trim(line.substr(colon + 2))).second) {
-        fail("field " + excerpt(trim(line.substr(0, colon))) + " given twice");
-      }
-    } else {
-      fail("malformed header line " + excerpt(line));
-    }
-  }
-  const auto field = [&](const char* name) -> const std::string* {
-    const auto it = fields.find(name);
-    return it == fields.end() ? nullptr : &it->second;
+// Parses and checks a header (nrrd_header.h reads it, as for every NRRD osteon opens); leaves
+// `in` at the first data byte, wherever the header says the data lies.
+Header readHeader(const std::string& path, std::ifstream& in, ValueType expected, bool allowOutsideData) {
+  const nrrd::Header nh = nrrd::readHeader(path);
+  const auto fail = [&nh](const std::string& reason) { nh.fail(reason); };
+  const auto field = [&nh](const char* name) { return nh.field(name); };
+  const auto require = [&nh](const char* name, const char* shown) -> const std::string& {
+    return nh.require(name, shown);
   };
-  const auto require = [&](const char* name, const char* shown) -> const std::string& {
-    const std::string* v = field(name);
-    if (!v) fail(std::string("missing '") + shown + "' field");
-    return *v;
-  };
-
-  if (field("datafile")) fail("detached data ('data file:') is not supported; attach the data");
-  for (const char* skip : {"lineskip", "byteskip"}) {
-    if (const std::string* v = field(skip); v && *v != "0") fail("line/byte skip not supported");
-  }
-  const std::string& dimension = require("dimension", "dimension");
-  if (trim(dimension) != "3")
-    fail("dimension " + excerpt(dimension) + " is not supported (need 3)");
-
+  const std::map<std::string, std::string>& keys = nh.keys;
+  Header h;
+  h.sizes = nrrd::readSizes(nh);
+  const std::uint64_t voxels = std::uint64_t(h.sizes.x) * std::uint64_t(h.sizes.y) * std::uint64_t(h.sizes.z);
   const std::string type = normaliseWords(require("type", "type"));
-  std::size_t valueBytes = 1;
+  const std::optional<nrrd::Scalar> scalar = nrrd::scalarNamed(type);
+  const std::string stored = scalar ? scalar->name : "";
   if (expected == ValueType::Fill) {
     // uint8 holds the voxelizer's 1/255 steps; uint16 the full fill units (1/16320).
-    const bool u8 = type == "uchar" || type == "unsigned char" || type == "uint8" ||
-                    type == "uint8_t";
-    const bool u16 = type == "ushort" || type == "unsigned short" ||
-                     type == "unsigned short int" || type == "uint16" || type == "uint16_t";
-    if (!u8 && !u16) fail("type " + excerpt(type) + " is not supported (fill must be uint8 or uint16)");
-    valueBytes = u8 ? 1 : 2;
-  } else {
-    if (type != "short" && type != "short int" && type != "signed short" &&
-        type != "signed short int" && type != "int16" && type != "int16_t") {
-      fail("type " + excerpt(type) + " is not supported (density must be int16)");
+    if (stored != "uint8" && stored != "uint16") {
+      fail("type " + excerpt(type) + " is not supported (fill must be uint8 or uint16)");
     }
-    valueBytes = 2;
+  } else if (stored != "int16") {
+    fail("type " + excerpt(type) + " is not supported (density must be int16)");
   }
-
-  const std::string encoding = normaliseWords(require("encoding", "encoding"));
-  if (encoding == "gzip" || encoding == "gz") {
-    fail("gzip encoding is not supported; save the volume uncompressed (raw)");
-  }
-  if (encoding != "raw") fail("encoding " + excerpt(encoding) + " is not supported (only raw)");
-
-  Header h;
-  if (const std::string* endian = field("endian")) {
-    const std::string e = normaliseWords(*endian);
-    if (e != "little" && e != "big") fail("endian " + excerpt(e) + " is not little or big");
-    h.bigEndian = e == "big";
-  } else if (valueBytes > 1) {
-    fail("missing 'endian' field (required for multi-byte raw data)");
-  }
-
-  std::vector<double> sizes;
-  const std::string& sizesText = require("sizes", "sizes");
-  if (!parseNumbers(sizesText, sizes) || sizes.size() != 3) {
-    fail("sizes " + excerpt(sizesText) + " are not three integers");
-  }
-  std::uint64_t voxels = 1;
-  for (int a = 0; a < 3; ++a) {
-    if (sizes[a] < 1 || sizes[a] > double(1 << 30) || sizes[a] != std::floor(sizes[a])) {
-      fail("sizes " + excerpt(sizesText) + " are not three integers from 1 to 2^30");
-    }
-    h.sizes[a] = int(sizes[a]);
-    voxels *= std::uint64_t(h.sizes[a]);
-    if (voxels > VoxelGrid::kMaxVoxels) fail("sizes " + excerpt(sizesText) + " exceed 2^32 voxels");
-  }
+  const std::size_t valueBytes = scalar->bytes;
+  const nrrd::Layout layout = nrrd::readLayout(nh);
+  if (layout.gzip) fail("gzip encoding is not supported; save the volume uncompressed (raw)");
+  h.bigEndian = layout.bigEndian;
 
   // Spacing and origin from the standard fields.
   bool haveSpacing = false;
@@ -452,17 +351,9 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
   h.valueBytes = valueBytes;
 
   // Before anything is allocated: the data must be exactly as long as the sizes say.
-  h.dataOffset = std::uint64_t(in.tellg());
-  const std::uint64_t expectedBytes = voxels * valueBytes;
-  const std::uint64_t dataBytes = fileBytes - std::min(fileBytes, h.dataOffset);
-  if (dataBytes < expectedBytes) {
-    fail("truncated: " + std::to_string(dataBytes) + " bytes of data, sizes need " +
-         std::to_string(expectedBytes));
-  }
-  if (dataBytes > expectedBytes) {
-    fail(std::to_string(dataBytes) + " bytes of data disagree with sizes, which need " +
-         std::to_string(expectedBytes));
-  }
+  const nrrd::DataLocation at = nrrd::locateData(nh, voxels * valueBytes, false, allowOutsideData);
+  in = nrrd::openData(at);
+  h.dataShown = at.shown;
   return h;
 }
 
@@ -539,9 +430,9 @@ void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDens
   }
 }
 
-NrrdReadResult readNrrd(const std::string& fillPath) {
+NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData) {
   std::ifstream fillIn;
-  const Header fillHeader = readHeader(fillPath, fillIn, ValueType::Fill);
+  const Header fillHeader = readHeader(fillPath, fillIn, ValueType::Fill, allowOutsideData);
 
   const std::string densityPath = densityPathFor(fillPath);
   std::error_code ec;
@@ -549,7 +440,7 @@ NrrdReadResult readNrrd(const std::string& fillPath) {
   std::ifstream densityIn;
   Header densityHeader;
   if (densityLoaded) {
-    densityHeader = readHeader(densityPath, densityIn, ValueType::Int16);
+    densityHeader = readHeader(densityPath, densityIn, ValueType::Int16, allowOutsideData);
     const glm::ivec3 a = fillHeader.sizes;
     const glm::ivec3 b = densityHeader.sizes;
     if (a != b) {
@@ -585,7 +476,7 @@ NrrdReadResult readNrrd(const std::string& fillPath) {
     const int depth = std::min(kBrickEdge, n.z - z0);
     const std::size_t count = sliceVoxels * std::size_t(depth);
     const bool steps = fillHeader.valueBytes == 1;
-    readValues(fillPath, fillIn, fillHeader.bigEndian, fillHeader.valueBytes,
+    readValues(fillHeader.dataShown, fillIn, fillHeader.bigEndian, fillHeader.valueBytes,
                Fill(steps ? kFillPerStep : 1), count, bytes, fills);
     if (const auto over = std::find_if(fills.begin(), fills.end(), [](Fill f) { return f > kFillFull; });
         over != fills.end()) {
@@ -593,7 +484,7 @@ NrrdReadResult readNrrd(const std::string& fillPath) {
                        std::to_string(kFillFull) + ")");
     }
     if (densityLoaded) {
-      readValues(densityPath, densityIn, densityHeader.bigEndian, std::size_t(2), Density(1), count,
+      readValues(densityHeader.dataShown, densityIn, densityHeader.bigEndian, std::size_t(2), Density(1), count,
                  bytes, densities);
     } else {
       densities.assign(count, 0);

@@ -18,6 +18,7 @@
 #include "osteon/core/memory.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/io/mesh_io.h"
+#include "io/nrrd_header.h"
 
 namespace osteon::geometry {
 
@@ -69,50 +70,7 @@ bool parseNumbers(std::string text, std::vector<double>& values) {
   return true;
 }
 
-// A scalar type: its name, width and how to read one value.
-struct Scalar {
-  std::string name;
-  std::size_t bytes = 0;
-  bool integer = true;
-  bool isSigned = false;
-};
-
-std::optional<Scalar> nrrdScalar(const std::string& typeText) {
-  std::string t;
-  for (unsigned char c : trim(typeText)) {
-    if (std::isspace(c)) {
-      if (!t.empty() && t.back() != ' ') t += ' ';
-    } else {
-      t += char(std::tolower(c));
-    }
-  }
-  static const std::map<std::string, Scalar> types = {
-      {"signed char", {"int8", 1, true, true}},   {"int8", {"int8", 1, true, true}},
-      {"int8_t", {"int8", 1, true, true}},        {"uchar", {"uint8", 1, true, false}},
-      {"unsigned char", {"uint8", 1, true, false}}, {"uint8", {"uint8", 1, true, false}},
-      {"uint8_t", {"uint8", 1, true, false}},     {"short", {"int16", 2, true, true}},
-      {"short int", {"int16", 2, true, true}},    {"signed short", {"int16", 2, true, true}},
-      {"signed short int", {"int16", 2, true, true}}, {"int16", {"int16", 2, true, true}},
-      {"int16_t", {"int16", 2, true, true}},      {"ushort", {"uint16", 2, true, false}},
-      {"unsigned short", {"uint16", 2, true, false}}, {"unsigned short int", {"uint16", 2, true, false}},
-      {"uint16", {"uint16", 2, true, false}},     {"uint16_t", {"uint16", 2, true, false}},
-      {"int", {"int32", 4, true, true}},          {"signed int", {"int32", 4, true, true}},
-      {"int32", {"int32", 4, true, true}},        {"int32_t", {"int32", 4, true, true}},
-      {"uint", {"uint32", 4, true, false}},       {"unsigned int", {"uint32", 4, true, false}},
-      {"uint32", {"uint32", 4, true, false}},     {"uint32_t", {"uint32", 4, true, false}},
-      {"longlong", {"int64", 8, true, true}},     {"long long", {"int64", 8, true, true}},
-      {"long long int", {"int64", 8, true, true}}, {"signed long long", {"int64", 8, true, true}},
-      {"signed long long int", {"int64", 8, true, true}}, {"int64", {"int64", 8, true, true}},
-      {"int64_t", {"int64", 8, true, true}},      {"ulonglong", {"uint64", 8, true, false}},
-      {"unsigned long long", {"uint64", 8, true, false}},
-      {"unsigned long long int", {"uint64", 8, true, false}}, {"uint64", {"uint64", 8, true, false}},
-      {"uint64_t", {"uint64", 8, true, false}},   {"float", {"float", 4, false, true}},
-      {"double", {"double", 8, false, true}},
-  };
-  const auto it = types.find(t);
-  if (it == types.end()) return std::nullopt;
-  return it->second;
-}
+using nrrd::Scalar;  // a scalar type: its name, width and how to read one value
 
 // Decodes `count` values of `s` from `bytes` into doubles.
 void decode(const Scalar& s, bool bigEndian, const unsigned char* bytes, std::size_t count,
@@ -146,24 +104,6 @@ void decode(const Scalar& s, bool bigEndian, const unsigned char* bytes, std::si
   }
 }
 
-std::vector<unsigned char> readFileBytes(const std::string& path, std::uint64_t offset) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw InputError(path + ": no such file");
-  if (!fs::is_regular_file(status)) throw InputError(path + ": not a regular file");
-  const std::uint64_t size = fs::file_size(path, ec);
-  if (ec) throw InputError(path + ": cannot read its size");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
-  if (offset > size) throw InputError(path + ": truncated (no data after the header)");
-  std::vector<unsigned char> bytes(size - offset);
-  in.seekg(std::streamoff(offset));
-  if (!bytes.empty() && !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
-    throw InputError(path + ": read failed");
-  }
-  return bytes;
-}
-
 // A volume is read as its stored values, then decoded to doubles, then made a grid (fill and
 // density per voxel): a size past the machine's memory is refused before any of it is allocated.
 void refuseOverVolumeMemory(const std::string& path, glm::ivec3 sizes, int scalarBytes) {
@@ -171,63 +111,6 @@ void refuseOverVolumeMemory(const std::string& path, glm::ivec3 sizes, int scala
   refuseOverMemory(path + ": a " + std::to_string(sizes.x) + " x " + std::to_string(sizes.y) + " x " +
                        std::to_string(sizes.z) + " volume",
                    voxels * double(scalarBytes + sizeof(double) + sizeof(std::uint16_t) + sizeof(std::int16_t)), "");
-}
-
-// Inflates gzip (or zlib) data that must hold exactly `expected` bytes.
-// deflate never compresses more than about 1032:1: more than that is a lie, refused unallocated.
-constexpr std::uint64_t kMaxDeflateRatio = 1032;
-
-void checkDeflateRatio(const std::string& path, std::size_t gzipBytes, std::uint64_t expected) {
-  if (expected > std::uint64_t(gzipBytes) * kMaxDeflateRatio + 1024) {
-    throw InputError(path + ": truncated: " + std::to_string(gzipBytes) + " bytes of gzip data cannot hold the " +
-                     std::to_string(expected) + " bytes the sizes need");
-  }
-}
-
-std::vector<unsigned char> inflateExactly(const std::string& path, const std::vector<unsigned char>& in,
-                                          std::uint64_t expected) {
-  checkDeflateRatio(path, in.size(), expected);
-  std::vector<unsigned char> out(expected);
-  z_stream z{};
-  if (inflateInit2(&z, 15 + 32) != Z_OK) throw InputError(path + ": zlib failed to start");
-  z.next_in = const_cast<unsigned char*>(in.data());
-  z.avail_in = uInt(std::min<std::size_t>(in.size(), 0x7fffffff));
-  z.next_out = out.data();
-  z.avail_out = uInt(std::min<std::uint64_t>(expected, 0x7fffffff));
-  int rc = Z_OK;
-  while (rc == Z_OK) {
-    rc = inflate(&z, Z_NO_FLUSH);
-    if (rc == Z_OK && z.avail_out == 0) {
-      const std::uint64_t done = z.total_out;
-      if (done >= expected) {
-        unsigned char extra;
-        z.next_out = &extra;
-        z.avail_out = 1;
-        rc = inflate(&z, Z_NO_FLUSH);
-        if (z.avail_out == 0) {
-          inflateEnd(&z);
-          throw InputError(path + ": gzip data is longer than the sizes need (" +
-                           std::to_string(expected) + " bytes)");
-        }
-        if (rc != Z_STREAM_END) {  // the data is whole but its trailer (checksum, length) is not
-          inflateEnd(&z);
-          throw InputError(path + ": truncated: the gzip stream ends before its checksum");
-        }
-        break;
-      }
-      z.avail_out = uInt(std::min<std::uint64_t>(expected - done, 0x7fffffff));
-    }
-  }
-  const std::uint64_t got = z.total_out;
-  inflateEnd(&z);
-  if (rc != Z_STREAM_END && rc != Z_OK && rc != Z_BUF_ERROR) {
-    throw InputError(path + ": gzip data is corrupt (" + (z.msg ? z.msg : "zlib error") + ")");
-  }
-  if (got < expected) {
-    throw InputError(path + ": truncated: " + std::to_string(got) + " bytes of gzip data, sizes need " +
-                     std::to_string(expected));
-  }
-  return out;
 }
 
 // Axis-aligned geometry from a 3x3 direction matrix (columns = axes i, j, k in LPS) and the
@@ -304,95 +187,30 @@ glm::ivec3 checkSizes(const std::string& path, const std::vector<double>& s) {
   return n;
 }
 
-RawVolume readNrrdVolume(const std::string& path) {
-  const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail("no such file");
-  if (!fs::is_regular_file(path, ec)) fail("not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail("cannot open (" + std::string(std::strerror(errno)) + ")");
-  std::string line;
-  // Lines bounded at 64 KiB: a binary file or a runaway comment is refused, not read whole.
-  const auto readLine = [&in, &line]() {
-    line.clear();
-    for (int c; (c = in.get()) != EOF;) {
-      if (c == '\n') return true;
-      line += char(c);
-      if (line.size() > 65536) return true;
-    }
-    return !line.empty();
-  };
-  readLine();
-  if (line.compare(0, 7, "NRRD000") != 0) fail("not a NRRD file (no NRRD000x magic)");
-  // NRRD0001 to NRRD0005 are the versions there are; a later one may mean what this reader cannot.
-  if (line.size() < 8 || line[7] < '1' || line[7] > '5') fail(excerpt(line) + " is not a NRRD version this reader knows (NRRD0001 to NRRD0005)");
-  std::size_t lineNo = 1;
-  std::map<std::string, std::string> fields;
-  bool osteon = false;
-  bool ended = false;
-  while (readLine()) {
-    ++lineNo;
-    if (line.size() > 65536) fail("header line " + std::to_string(lineNo) + " is longer than 64 KiB (not a text header?)");
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) {
-      ended = true;
-      break;
-    }
-    if (line[0] == '#') {
-      if (line.rfind("# osteon voxel grid", 0) == 0) osteon = true;
-      continue;
-    }
-    const std::size_t kv = line.find(":=");
-    const std::size_t colon = line.find(": ");
-    if (kv != std::string::npos && (colon == std::string::npos || kv < colon)) {
-      if (line.rfind("osteon_", 0) == 0) osteon = true;
-      continue;
-    }
-    if (colon == std::string::npos) fail("malformed header line " + excerpt(line));
-    std::string name;
-    for (unsigned char c : line.substr(0, colon)) {
-      if (!std::isspace(c)) name += char(std::tolower(c));
-    }
-    fields[name] = trim(line.substr(colon + 2));
-  }
+RawVolume readNrrdVolume(const std::string& path, bool allowOutsideData) {
+  const nrrd::Header h = nrrd::readHeader(path);
+  const auto fail = [&h](const std::string& reason) { h.fail(reason); };
+  const auto field = [&h](const char* name) { return h.field(name); };
   RawVolume v;
-  if (osteon) {
-    v.osteonGrid = true;
-    return v;
+  // osteon's own grid only by all it writes: a user's file with one osteon_* key is a volume.
+  switch (nrrd::osteonFile(h)) {
+    case nrrd::OsteonFile::Fill:
+      v.osteonGrid = true;
+      return v;
+    case nrrd::OsteonFile::Density:
+      h.fail("an osteon density file (it goes with a grid's fill file): open the grid's .nrrd beside it, "
+             "without '.density'");
+    case nrrd::OsteonFile::None:
+      break;
   }
-  const auto field = [&](const char* name) -> const std::string* {
-    const auto it = fields.find(name);
-    return it == fields.end() ? nullptr : &it->second;
-  };
-  const auto require = [&](const char* name, const char* shown) -> const std::string& {
-    const std::string* f = field(name);
-    if (!f) fail(std::string("missing '") + shown + "' field");
-    return *f;
-  };
-  const std::string* dataFile = field("datafile");
-  if (!dataFile) dataFile = field("data_file");
-  if (!ended && !dataFile) fail("header is not ended by a blank line (no data?)");
-  if (trim(require("dimension", "dimension")) != "3") fail("dimension " + excerpt(*field("dimension")) + " is not supported (need 3)");
-  const std::string typeText = require("type", "type");
-  const std::optional<Scalar> scalar = nrrdScalar(typeText);
-  if (!scalar) fail("type " + excerpt(typeText) + " is not a NRRD scalar type");
-  v.type = scalar->name;
-  v.integer = scalar->integer;
-  v.isSigned = scalar->isSigned;
-  const std::string encoding = lower(trim(require("encoding", "encoding")));
-  const bool gzip = encoding == "gzip" || encoding == "gz";
-  if (!gzip && encoding != "raw") fail("encoding " + excerpt(encoding) + " is not supported (raw or gzip)");
-  bool bigEndian = false;
-  if (const std::string* e = field("endian")) {
-    const std::string s = lower(trim(*e));
-    if (s != "little" && s != "big") fail("endian " + excerpt(s) + " is not little or big");
-    bigEndian = s == "big";
-  } else if (scalar->bytes > 1) {
-    fail("missing 'endian' field (required for multi-byte data)");
-  }
-  std::vector<double> sizes;
-  if (!parseNumbers(require("sizes", "sizes"), sizes) || sizes.size() != 3) fail("sizes are not three integers");
-  v.sizes = checkSizes(path, sizes);
+  v.sizes = nrrd::readSizes(h);
+  const nrrd::Layout layout = nrrd::readLayout(h);
+  const nrrd::Scalar& scalar = layout.scalar;
+  v.type = scalar.name;
+  v.integer = scalar.integer;
+  v.isSigned = scalar.isSigned;
+  const bool gzip = layout.gzip;
+  const bool bigEndian = layout.bigEndian;
   const std::string* space = field("space");
   const std::string* spacings = field("spacings");
   if (space || spacings) {
@@ -431,35 +249,22 @@ RawVolume readNrrdVolume(const std::string& path) {
       centre0.x = -centre0.x;
       centre0.y = -centre0.y;
     }
-    const std::string dataPath =
-        dataFile ? (fs::path(path).parent_path() / fs::path(trim(*dataFile))).string() : path;
     const std::uint64_t count = std::uint64_t(v.sizes.x) * v.sizes.y * v.sizes.z;
-    const std::uint64_t expected = count * scalar->bytes;
+    const std::uint64_t expected = count * scalar.bytes;
+    // Where the data lies and how long it is, known before a byte of it is read.
+    const nrrd::DataLocation at = nrrd::locateData(h, expected, gzip, allowOutsideData);
+    refuseOverVolumeMemory(path, v.sizes, int(scalar.bytes));
     std::vector<unsigned char> raw;
-    if (dataFile) {
-      const std::string d = trim(*dataFile);
-      if (d.rfind("LIST", 0) == 0 || d.find('%') != std::string::npos || d.find(' ') != std::string::npos) {
-        fail("data file " + excerpt(d) + ": only a single data file is supported");
-      }
-      try {
-        raw = readFileBytes(dataPath, 0);
-      } catch (const InputError& e) {
-        throw InputError(path + ": data file " + e.what());  // the header is the file the user named
-      }
-    } else {
-      raw = readFileBytes(path, std::uint64_t(in.tellg()));
-    }
-    const std::string shown = dataFile ? path + ": data file " + dataPath : path;
-    // A file that cannot hold its sizes is told as truncated, before what the sizes would cost.
     if (gzip) {
-      checkDeflateRatio(shown, raw.size(), expected);
-    } else if (raw.size() != expected) {
-      throw InputError(shown + ": " + (raw.size() < expected ? "truncated: " : "") + std::to_string(raw.size()) +
-                       " bytes of data, sizes need " + std::to_string(expected));
+      raw = nrrd::inflateData(at, expected);
+    } else {
+      raw.resize(expected);
+      std::ifstream data = nrrd::openData(at);
+      if (!data.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size()))) {
+        throw InputError(at.shown + ": read failed in the data");
+      }
     }
-    refuseOverVolumeMemory(path, v.sizes, scalar->bytes);
-    if (gzip) raw = inflateExactly(shown, raw, expected);
-    decode(*scalar, bigEndian, raw.data(), count, v.values);
+    decode(scalar, bigEndian, raw.data(), count, v.values);
     placeVolume(path, m, centre0, v);
     return v;
   }
@@ -574,7 +379,7 @@ RawVolume readNiftiVolume(const std::string& path) {
   const std::uint64_t expected = count * s.bytes;
   const std::uint64_t fileBytes = fs::file_size(path, ec);
   const bool gzipped = gzdirect(gz) == 0;
-  if (!ec && expected > (gzipped ? fileBytes * kMaxDeflateRatio + 1024 : fileBytes)) {
+  if (!ec && expected > (gzipped ? fileBytes * nrrd::kMaxDeflateRatio + 1024 : fileBytes)) {
     fail("truncated: the file (" + std::to_string(fileBytes) + " bytes" + (gzipped ? ", gzip" : "") +
          ") cannot hold the " + std::to_string(expected) + " bytes of data the sizes need");
   }
@@ -657,16 +462,16 @@ bool isVolumePath(const std::string& path) {
   return endsWith(p, ".nrrd") || endsWith(p, ".nhdr") || endsWith(p, ".nii") || endsWith(p, ".nii.gz");
 }
 
-RawVolume readRawVolume(const std::string& path) {
+RawVolume readRawVolume(const std::string& path, bool allowOutsideData) {
   const std::string p = lower(path);
   if (endsWith(p, ".nii") || endsWith(p, ".nii.gz")) return readNiftiVolume(path);
-  return readNrrdVolume(path);
+  return readNrrdVolume(path, allowOutsideData);
 }
 
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
   const std::string p = lower(path);
   const bool nifti = endsWith(p, ".nii") || endsWith(p, ".nii.gz");
-  RawVolume raw = readRawVolume(path);
+  RawVolume raw = readRawVolume(path, options.allowOutsideData);
   VolumeLoad load;
   load.format = nifti ? "nifti" : "nrrd";
   if (raw.osteonGrid) {
@@ -674,7 +479,7 @@ VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
       throw InputError(path + ": an osteon grid (fill and density as saved): " +
                        (options.label ? "--label" : "--iso") + " is for label maps and CTs");
     }
-    NrrdReadResult r = readNrrd(path);
+    NrrdReadResult r = readNrrd(path, options.allowOutsideData);
     load.grid = std::move(r.grid);
     load.densityLoaded = r.densityLoaded;
     load.kind = "osteon grid";

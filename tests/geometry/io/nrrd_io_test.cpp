@@ -318,7 +318,7 @@ TEST(NrrdIo, RejectsBadFiles) {
       {handHeader("uint8", "space: right-anterior-superior\nspacings: 1 1 1\n") + data,
        "right-anterior-superior"},
       {handHeader("uint8", "") + data, "no spacing"},
-      {handHeader("uint8", kGoodFields + "data file: bad.raw\n"), "detached"},
+      {handHeader("uint8", kGoodFields + "data file: bad.raw\n"), "bad.raw: no such file"},
       {"NRRD0004\ntype: uint8\ndimension: 3\nencoding: raw\nspacings: 1 1 1\n\n" + data,
        "missing 'sizes'"},
       {"NRRD0004\ndimension: 3\nsizes: 3 2 2\nencoding: raw\nspacings: 1 1 1\n\n" + data,

@@ -26,17 +26,21 @@ void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDens
 // Voxel size and origin come from osteon's keys when present (they must agree with the
 // standard fields), otherwise from "space directions" + "space origin" or "spacings".
 // Bricks whose voxels all agree stay uniform; the result has no dirty bricks.
+// The header is read as every NRRD osteon opens (src/io/nrrd_header.h): the data may be
+// attached or in a `data file:` inside the header's folder (anywhere with allowOutsideData),
+// after `line skip:` lines and `byte skip:` bytes.
 // Throws InputError "<file>: <reason>" for anything it cannot honour: a missing file, magic
-// or field, a fill type other than uint8/uint16 or a density type other than int16, a
-// dimension other than 3, gzip or other non-raw encodings, detached data, a space other than LPS, non-axis-aligned or non-isotropic
+// or field, a field given twice, a non-spatial kind, a fill type other than uint8/uint16 or a
+// density type other than int16, a dimension other than 3, gzip or other non-raw encodings, a
+// space other than LPS, non-axis-aligned or non-isotropic
 // spacing, a voxel size that is not positive and finite, an origin or far corner beyond
 // +-1e9 mm (kMaxCoordinateMm), a header line longer than 64 KiB (named by its number), more
 // than 2^32 voxels, data shorter or longer than the sizes say (checked before anything is
-// allocated), a density file whose sizes or geometry differ from the fill's.
+// read or allocated), a density file whose sizes or geometry differ from the fill's.
 struct NrrdReadResult {
   VoxelGrid grid;
   bool densityLoaded = false;
 };
-NrrdReadResult readNrrd(const std::string& fillPath);
+NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData = false);
 
 }  // namespace osteon::geometry

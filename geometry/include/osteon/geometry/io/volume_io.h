@@ -1,7 +1,8 @@
 // Volumes as users have them: NRRD (attached or detached header, raw or gzip, any scalar
 // type) and NIfTI-1 (.nii, .nii.gz), turned into osteon's voxel grid with their meaning said,
 // never guessed silently:
-//   - osteon's own grids (NRRD with osteon's header tag or keys) load as readNrrd reads them;
+//   - osteon's own grids (NRRD with the content line and every key osteon writes) load as
+//     readNrrd reads them; one stray osteon_* key does not make a user's volume a grid;
 //   - a label map (integer type, at most kMaxLabels distinct values): the bone is one label
 //     (VolumeOptions::label) or every non-zero voxel; each voxel is 0 or full;
 //   - a CT (signed integer or floating type, values spanning at least kMinCtRangeHu): fill
@@ -38,6 +39,7 @@ struct VolumeOptions {
   std::optional<long long> label;  // label maps: the bone label (default: every non-zero)
   std::optional<double> isoHu;     // CTs: the bone threshold (default kDefaultIsoHu)
   double corticalThicknessMm = 2.0;  // label maps: voxels this close to outside are cortical
+  bool allowOutsideData = false;   // NRRD: a `data file:` may lie outside the header's folder
 };
 
 struct VolumeLoad {
@@ -52,6 +54,9 @@ struct VolumeLoad {
   bool densityLoaded = false;       // osteon grids: a density file was read
 };
 
+// NRRD headers are read once for all (src/io/nrrd_header.h): a field given twice, a
+// non-spatial kind (colour, vector, list) or a `data file:` outside the header's folder
+// (unless allowOutsideData) is refused; `line skip:` and `byte skip:` are honoured.
 // Throws InputError "<file>: <reason>" for anything it cannot honour.
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options = {});
 
@@ -65,8 +70,8 @@ struct RawVolume {
   bool integer = true;
   bool isSigned = false;
   std::vector<double> values;
-  bool osteonGrid = false;  // NRRD with osteon's tag: loadVolume hands it to readNrrd
+  bool osteonGrid = false;  // osteon's own NRRD grid: loadVolume hands it to readNrrd
 };
-RawVolume readRawVolume(const std::string& path);
+RawVolume readRawVolume(const std::string& path, bool allowOutsideData = false);
 
 }  // namespace osteon::geometry
