@@ -154,6 +154,39 @@ TEST_F(ValidateHostileTest, CompareRefusesFieldsOfTheWrongTypeOrRange) {
   EXPECT_EQ(m["regressions"][0]["what"], "border_edges 4294967297 -> 4294967298");
 }
 
+// Image names sat in single-quoted attributes that the escaping left open: a name
+// `x' onerror='alert(1)` ran script. Listed names must be plain; every shown value is escaped.
+TEST_F(ValidateHostileTest, ReportHtmlCarriesNoMarkupFromAShard) {
+  json hostile = shard_;
+  hostile["images"].push_back("images/x' onerror='alert(1).png");
+  writeShard("img", hostile);
+  expectBadInput(merge("img", "m"), "--merge " + path("img"), "\"images\" lists");
+  hostile = shard_;
+  hostile["plots"].push_back("plots/../../x.png");
+  writeShard("plot", hostile);
+  expectBadInput(merge("plot", "m"), "--merge " + path("plot"), "\"plots\" lists");
+  EXPECT_FALSE(fs::exists(path("m")));
+
+  // Text a report may hold (a model's name, a failure) shows as text, quotes and all.
+  const std::string payload = "x' onerror='alert(1)\" <script>alert(2)</script>";
+  std::string text = shard_.dump();
+  const std::string model = shard_["cases"][0]["model"].get<std::string>();
+  const std::string inJson = json(payload).dump().substr(1, json(payload).dump().size() - 2);  // unquoted
+  for (std::size_t at = text.find(model); at != std::string::npos; at = text.find(model, at + inJson.size())) {
+    text.replace(at, model.size(), inJson);
+  }
+  json renamed = json::parse(text);
+  renamed["cases"][1]["failures"] = {payload};
+  writeShard("named", renamed);
+  const CliRun run = osteon(merge("named", "m"));
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const std::string html = test::readBytes(path("m/report.html"));
+  EXPECT_NE(html.find("x&#39; onerror=&#39;alert(1)&quot; &lt;script&gt;"), std::string::npos);
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("onerror='"), std::string::npos);
+  EXPECT_EQ(html.find("='"), std::string::npos) << "every attribute is double-quoted";
+}
+
 // Timings must be a run's (finite, not negative, at most a year), and a run with no cases must
 // not merge into a PASS.
 TEST_F(ValidateHostileTest, MergeRefusesImplausibleTimesAndARunWithoutCases) {
