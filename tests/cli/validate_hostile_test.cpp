@@ -2,10 +2,9 @@
 // `validate --compare OLD.json` and `validate --merge DIR...` refuse them (exit 2, one line
 // naming the file, the case and the field), never crash, never write outside --out-dir, and
 // report.html never carries markup from a report.
+#include "osteon/geometry/io/mesh_io.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
-
-#include "osteon/geometry/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -21,7 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 class ValidateHostileTest : public CliTest {
  protected:
@@ -59,12 +60,14 @@ TEST_F(ValidateHostileTest, DeeplyNestedReportsAreRefusedNotACrash) {
   fs::create_directories(path("deep"));
   test::writeBytes(path("deep/report.json"), text);
 
-  expectBadInput(merge("s0", "m") + " --compare " + quoted(path("deep.json")), "--compare " + path("deep.json"),
+  expectBadInput(merge("s0", "m") + " --compare " + quoted(path("deep.json")),
+                 "--compare " + path("deep.json"), "nests deeper than 64 levels");
+  expectBadInput(merge("deep", "m"), "--merge " + path("deep") + ": report.json",
                  "nests deeper than 64 levels");
-  expectBadInput(merge("deep", "m"), "--merge " + path("deep") + ": report.json", "nests deeper than 64 levels");
   // A run refuses it before running.
-  expectBadInput("validate --quick --models " + quoted(path("torus.stl")) + " --voxel-sizes 3.0 --out-dir " +
-                     quoted(path("v")) + " --compare " + quoted(path("deep.json")),
+  expectBadInput("validate --quick --models " + quoted(path("torus.stl")) +
+                     " --voxel-sizes 3.0 --out-dir " + quoted(path("v")) + " --compare " +
+                     quoted(path("deep.json")),
                  path("deep.json"), "nests deeper than 64 levels");
   EXPECT_FALSE(fs::exists(path("m")));
   EXPECT_FALSE(fs::exists(path("v/report.json")));
@@ -78,10 +81,12 @@ TEST_F(ValidateHostileTest, MergeRefusesLinksAndSpecialFilesInAShardAndWritesOnl
   fs::create_directories(path("deep/secret"));
   test::writeBytes(path("deep/secret/data.csv"), "an unrelated file\n");
   fs::create_symlink(path("secret/data.csv"), path("s0/forces/evil.csv"));
-  expectBadInput(merge("s0", "deep/out"), "--merge " + path("s0") + ": forces/evil.csv", "symbolic link");
+  expectBadInput(merge("s0", "deep/out"), "--merge " + path("s0") + ": forces/evil.csv",
+                 "symbolic link");
   EXPECT_EQ(test::readBytes(path("deep/secret/data.csv")), "an unrelated file\n");
   EXPECT_EQ(test::readBytes(path("secret/data.csv")), "the link's target\n");
-  EXPECT_FALSE(fs::exists(path("deep/out"))) << "nothing written before every shard file is checked";
+  EXPECT_FALSE(fs::exists(path("deep/out")))
+      << "nothing written before every shard file is checked";
   fs::remove(path("s0/forces/evil.csv"));
 
   // A link deeper down, a linked folder, and a FIFO (which would block a reader).
@@ -106,7 +111,8 @@ TEST_F(ValidateHostileTest, MergeRefusesLinksAndSpecialFilesInAShardAndWritesOnl
   // A link already in --out-dir where a copy goes is not written through.
   fs::create_directories(path("out"));
   fs::create_directory_symlink(path("secret"), path("out/forces"));
-  expectBadInput(merge("s0", "out"), "--out-dir " + path("out") + ": forces", "not a folder of its own");
+  expectBadInput(merge("s0", "out"), "--out-dir " + path("out") + ": forces",
+                 "not a folder of its own");
   fs::remove(path("out/forces"));
   test::writeBytes(path("s0/forces/a.csv"), "t,f\n");
   fs::create_directories(path("out/forces"));
@@ -128,16 +134,23 @@ TEST_F(ValidateHostileTest, CompareRefusesFieldsOfTheWrongTypeOrRange) {
     return merge("s0", "m") + " --compare " + quoted(path("old.json"));
   };
   const std::string where = "--compare " + path("old.json") + ": case 0 (";
-  expectBadInput(compareWith("border_edges", 1e300), where, "\"border_edges\" is 1e+300, not a whole count");
-  expectBadInput(compareWith("border_edges", -1), where, "\"border_edges\" is -1, not a whole count");
+  expectBadInput(compareWith("border_edges", 1e300), where,
+                 "\"border_edges\" is 1e+300, not a whole count");
+  expectBadInput(compareWith("border_edges", -1), where,
+                 "\"border_edges\" is -1, not a whole count");
   expectBadInput(compareWith("border_edges", 2.5), where, "\"border_edges\" is 2.5");
-  expectBadInput(compareWith("collision_misses", "3"), where, "\"collision_misses\" is not a number");
+  expectBadInput(compareWith("collision_misses", "3"), where,
+                 "\"collision_misses\" is not a number");
   expectBadInput(compareWith("crack_percent", "12"), where, "\"crack_percent\" is not a number");
-  expectBadInput(compareWith("crack_percent", 250.0), where, "\"crack_percent\" is 250.0, not a percentage");
-  expectBadInput(compareWith("jitter_n", -0.5), where, "\"jitter_n\" is -0.5, not a finite number of at least 0");
+  expectBadInput(compareWith("crack_percent", 250.0), where,
+                 "\"crack_percent\" is 250.0, not a percentage");
+  expectBadInput(compareWith("jitter_n", -0.5), where,
+                 "\"jitter_n\" is -0.5, not a finite number of at least 0");
   expectBadInput(compareWith("hausdorff_mm", "far"), where, "\"hausdorff_mm\" is not a number");
-  expectBadInput(compareWith("voxel_size_mm", 0), "--compare " + path("old.json") + ": case 0", "\"voxel_size_mm\" is 0");
-  expectBadInput(compareWith("model", 7), "--compare " + path("old.json") + ": case 0", "\"model\" is not a string");
+  expectBadInput(compareWith("voxel_size_mm", 0), "--compare " + path("old.json") + ": case 0",
+                 "\"voxel_size_mm\" is 0");
+  expectBadInput(compareWith("model", 7), "--compare " + path("old.json") + ": case 0",
+                 "\"model\" is not a string");
   EXPECT_FALSE(fs::exists(path("m")));
 
   // Counts past 32 bits compare as counts: a rise is a regression with its true numbers.
@@ -171,8 +184,10 @@ TEST_F(ValidateHostileTest, ReportHtmlCarriesNoMarkupFromAShard) {
   const std::string payload = "x' onerror='alert(1)\" <script>alert(2)</script>";
   std::string text = shard_.dump();
   const std::string model = shard_["cases"][0]["model"].get<std::string>();
-  const std::string inJson = json(payload).dump().substr(1, json(payload).dump().size() - 2);  // unquoted
-  for (std::size_t at = text.find(model); at != std::string::npos; at = text.find(model, at + inJson.size())) {
+  const std::string inJson =
+      json(payload).dump().substr(1, json(payload).dump().size() - 2);  // unquoted
+  for (std::size_t at = text.find(model); at != std::string::npos;
+       at = text.find(model, at + inJson.size())) {
     text.replace(at, model.size(), inJson);
   }
   json renamed = json::parse(text);
