@@ -22,19 +22,9 @@ using nlohmann::json;
 namespace {
 
 // What a field must hold. Counts are whole numbers that fit 64 bits; amounts are finite and
-// not negative (JSON has no NaN or infinity, and nlohmann refuses numbers that overflow).
-enum class Kind {
-  Text,
-  Flag,
-  Texts,
-  Count,
-  Amount,
-  AmountOrNull,
-  Percent,
-  VoxelSize,
-  Millis,
-  Seconds
-};
+// not negative (JSON has no NaN or infinity, and nlohmann refuses numbers that overflow), or
+// null where a run writes one: no Hausdorff distance for a volume, NaN forces (a failed case).
+enum class Kind { Text, Flag, Texts, Count, AmountOrNull, Percent, VoxelSize, Millis, Seconds };
 
 struct Field {
   const char* name;
@@ -54,10 +44,10 @@ constexpr Field kComparedFields[] = {{"pass", Kind::Flag},
                                      {"collision_misses", Kind::Count},
                                      {"crack_percent", Kind::Percent},
                                      {"hausdorff_mm", Kind::AmountOrNull},
-                                     {"jitter_n", Kind::Amount}};
+                                     {"jitter_n", Kind::AmountOrNull}};
 constexpr Field kMergedFields[] = {
     {"failures", Kind::Texts},       {"collision_missed_samples", Kind::Count},
-    {"collision_rays", Kind::Count}, {"max_force_n", Kind::Amount},
+    {"collision_rays", Kind::Count}, {"max_force_n", Kind::AmountOrNull},
     {"voxels", Kind::Count},         {"triangles", Kind::Count},
     {"vertices", Kind::Count}};
 constexpr const char* kMeshTimes[] = {"total", "extract", "smooth", "normals", "other"};

@@ -104,6 +104,8 @@ TEST_F(ReportReaderTest, FieldsAreCheckedForTypeAndRange) {
   EXPECT_NE(compareError(withCase("crack_percent", 100.5)), "");
   EXPECT_EQ(compareError(withCase("crack_percent", 100)), "");
   EXPECT_EQ(compareError(withCase("hausdorff_mm", nullptr)), "");
+  EXPECT_EQ(compareError(withCase("jitter_n", nullptr)), "");  // a run's NaN jitter
+  EXPECT_EQ(shardError(withCase("max_force_n", nullptr)), "");
   EXPECT_NE(compareError(withCase("pass", 1)).find("\"pass\" is not true or false"),
             std::string::npos);
   // An old report may lack a compared field; a shard's report may not.
