@@ -164,6 +164,16 @@ bool isPlainName(const std::string& name) {
 
 struct TooDeep {};
 
+// The report written names this path (compared_with, merged_from), and JSON text is UTF-8:
+// refused up front rather than failing the dump after the work.
+void requireUtf8Name(const std::string& path, const std::string& what) {
+  try {
+    (void)json(path).dump();
+  } catch (const json::type_error&) {
+    throw InputError(what + ": the name is not UTF-8 text, which report.json must record it as");
+  }
+}
+
 }  // namespace
 
 json readReportJson(const std::string& path, const std::string& what) {
@@ -218,6 +228,7 @@ std::string caseKey(const json& c) {
 
 json readComparable(const std::string& path) {
   const std::string what = "--compare " + path;
+  requireUtf8Name(path, what);
   json old = readReportJson(path, what);
   const auto bad = [&](const std::string& why) { return InputError(what + ": " + why); };
   if (!old.is_object())
@@ -251,6 +262,7 @@ bool isReportOutputPath(const std::string& path, const std::string& folder) {
 ShardReport readShard(const std::string& dir, const std::string& reportPath) {
   const std::string what = "--merge " + dir;
   const auto bad = [&](const std::string& why) { return InputError(what + ": " + why); };
+  requireUtf8Name(dir, what);
   ShardReport s;
   s.dir = dir;
   s.report = readReportJson(reportPath, what);

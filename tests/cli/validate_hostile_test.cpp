@@ -225,5 +225,15 @@ TEST_F(ValidateHostileTest, MergeRefusesImplausibleTimesAndARunWithoutCases) {
   EXPECT_FALSE(fs::exists(path("m")));
 }
 
+// report.json records the shard folders and the compared file by name, and JSON is UTF-8: a
+// name that is not was an internal error (exit 3) once the merge was done.
+TEST_F(ValidateHostileTest, NamesReportJsonCannotRecordAreRefusedUpFront) {
+  fs::create_directory_symlink(path("s0"), path("s\xff"));
+  expectBadInput(merge("s\xff", "m"), "--merge " + path("s\xff"), "not UTF-8");
+  fs::copy_file(path("s0/report.json"), path("old\xff.json"));
+  expectBadInput(merge("s0", "m") + " --compare " + quoted(path("old\xff.json")), "--compare", "not UTF-8");
+  EXPECT_FALSE(fs::exists(path("m")));
+}
+
 }  // namespace
 }  // namespace osteon
