@@ -15,6 +15,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fcntl.h>
@@ -37,6 +38,14 @@ std::size_t imageModelIndex(const std::string& image) {
   return index;
 }
 
+// An open file, closed when it goes out of scope.
+struct FileDescriptor {
+  int fd = -1;
+  ~FileDescriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
 // A shard's file opened for reading only if it is a plain file under that very name: a link is
 // refused, never followed (O_NOFOLLOW), and a FIFO or device never blocks the merge. -1 and
 // `why` set when it is not.
@@ -56,8 +65,10 @@ int openShardFile(const std::string& path, std::string& why) {
   return fd;
 }
 
-// Reads all of an open file; false on a read error.
-bool readAll(int fd, std::string& bytes) {
+// Passes all of an open file to `sink` block by block; false on a read error (errno set) or
+// when the sink returns false.
+template <typename Sink>
+bool readBlocks(int fd, Sink sink) {
   char buffer[1 << 16];
   for (;;) {
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
@@ -66,7 +77,7 @@ bool readAll(int fd, std::string& bytes) {
       if (errno == EINTR) continue;
       return false;
     }
-    bytes.append(buffer, std::size_t(n));
+    if (!sink(buffer, std::size_t(n))) return false;
   }
 }
 
@@ -132,14 +143,28 @@ void makeOutputFolder(const std::string& outDir, const std::string& rel) {
 // through a temporary file and a rename: a link already at the target is replaced, not followed.
 void copyShardFile(const std::string& dir, const std::string& rel, const std::string& outDir) {
   std::string why;
-  const int in = openShardFile(dir + "/" + rel, why);
-  if (in < 0) throw InputError("--merge " + dir + ": " + rel + " " + why);
-  std::string bytes;
-  const bool read = readAll(in, bytes);
-  ::close(in);
-  if (!read) throw InputError("--merge " + dir + ": cannot read " + rel + " (" + std::strerror(errno) + ")");
+  const FileDescriptor in{openShardFile(dir + "/" + rel, why)};
+  if (in.fd < 0) throw InputError("--merge " + dir + ": " + rel + " " + why);
   makeOutputFolder(outDir, std::filesystem::path(rel).parent_path().string());
-  geometry::writeFileAtomically(outDir + "/" + rel, bytes);
+  geometry::OutputFile out(outDir + "/" + rel);
+  FileDescriptor to{::open(out.tempPath().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644)};
+  if (to.fd < 0) throw InputError(out.path() + ": cannot open for writing (" + std::strerror(errno) + ")");
+  bool written = true;
+  const bool read = readBlocks(in.fd, [&](const char* p, std::size_t n) {
+    while (n > 0) {
+      const ssize_t w = ::write(to.fd, p, n);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) return written = false;
+      p += w;
+      n -= std::size_t(w);
+    }
+    return true;
+  });
+  const int error = errno;
+  if (::close(std::exchange(to.fd, -1)) != 0) written = false;
+  if (!written) throw InputError(out.path() + ": writing failed (disk full or not writable?)");
+  if (!read) throw InputError("--merge " + dir + ": cannot read " + rel + " (" + std::strerror(error) + ")");
+  out.commit();
 }
 
 // A shard's validate.log, if it has one (a plain file, as its outputs).
@@ -148,11 +173,11 @@ std::string shardLog(const std::string& dir) {
   std::error_code ec;
   if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return "";
   std::string why, bytes;
-  const int in = openShardFile(path, why);
-  if (in < 0) throw InputError("--merge " + dir + ": validate.log " + why);
-  const bool read = readAll(in, bytes);
-  ::close(in);
-  if (!read) throw InputError("--merge " + dir + ": cannot read validate.log (" + std::strerror(errno) + ")");
+  const FileDescriptor in{openShardFile(path, why)};
+  if (in.fd < 0) throw InputError("--merge " + dir + ": validate.log " + why);
+  if (!readBlocks(in.fd, [&](const char* p, std::size_t n) { return bytes.append(p, n), true; })) {
+    throw InputError("--merge " + dir + ": cannot read validate.log (" + std::strerror(errno) + ")");
+  }
   return bytes;
 }
 
