@@ -72,29 +72,6 @@ std::vector<double> parseVoxelSizes(const std::string& text) {
   return sizes;
 }
 
-// A report to compare with must have the shape `validate` writes, checked before the run:
-// the comparison is made only after it, and a bad file would then lose the whole run.
-void checkComparable(const std::string& path, const json& old) {
-  const auto bad = [&](const std::string& why) { return InputError("--compare " + path + ": " + why); };
-  if (!old.is_object()) throw bad(std::string("not a validate report (a JSON ") + old.type_name() + ", not an object)");
-  if (!old.contains("schema") || old["schema"] != "osteon-validate/1") {
-    throw bad("not a validate report (no \"schema\": \"osteon-validate/1\")");
-  }
-  if (!old.contains("cases") || !old["cases"].is_array()) throw bad("\"cases\" is missing or not an array");
-  std::size_t i = 0;
-  for (const json& c : old["cases"]) {
-    const std::string where = "case " + std::to_string(i++);
-    if (!c.is_object()) throw bad(where + " is not an object");
-    for (const char* k : {"model", "method", "mode"}) {
-      if (c.contains(k) && !c[k].is_string()) throw bad(where + ": \"" + k + "\" is not a string");
-    }
-    if (c.contains("pass") && !c["pass"].is_boolean()) throw bad(where + ": \"pass\" is not true or false");
-    for (const char* k : {"voxel_size_mm", "border_edges", "non_manifold", "self_intersections", "collision_misses"}) {
-      if (c.contains(k) && !c[k].is_number()) throw bad(where + ": \"" + k + "\" is not a number");
-    }
-  }
-}
-
 json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
   return {{"border_edges", r.topology.borderEdges},
           {"non_manifold", r.topology.nonManifoldEdges + r.topology.nonManifoldVertices},
@@ -197,21 +174,25 @@ json environmentJson() {
 // Regressions against an older report: a case that passed and fails, or a crack-free metric
 // that got worse (counts up at all; distances and jitter by more than 10 %).
 json compareReports(const json& now, const json& old) {
-  std::map<std::string, json> before;
-  for (const json& c : old.value("cases", json::array())) before[caseKey(c)] = c;
+  std::map<std::string, const json*> before;
+  for (const json& c : old["cases"]) before[caseKey(c)] = &c;
   json regressions = json::array();
   for (const json& c : now["cases"]) {
     const auto it = before.find(caseKey(c));
     if (it == before.end()) continue;
-    const json& o = it->second;
+    const json& o = *it->second;
     const auto note = [&](const std::string& what) { regressions.push_back({{"case", caseKey(c)}, {"what", what}}); };
     if (o.value("pass", false) && !c.value("pass", false)) note("passed before, fails now");
     if (c.value("method", "") != "crackfree") continue;
+    // Both reports are checked (readComparable, readShard, or written here): a count is a whole
+    // number of 64 bits, a distance a finite number; a field the old report lacks is not compared.
     for (const char* k : {"border_edges", "non_manifold", "self_intersections", "collision_misses"}) {
-      if (c.value(k, 0) > o.value(k, 0)) note(std::string(k) + " " + std::to_string(o.value(k, 0)) + " -> " + std::to_string(c.value(k, 0)));
+      if (!c.contains(k) || !o.contains(k)) continue;
+      const std::uint64_t a = o[k].get<std::uint64_t>(), b = c[k].get<std::uint64_t>();
+      if (b > a) note(std::string(k) + " " + std::to_string(a) + " -> " + std::to_string(b));
     }
     for (const char* k : {"crack_percent", "hausdorff_mm", "jitter_n"}) {
-      if (!c[k].is_number() || !o.contains(k) || !o[k].is_number()) continue;
+      if (!c.contains(k) || !c[k].is_number() || !o.contains(k) || !o[k].is_number()) continue;
       const double a = o[k].get<double>(), b = c[k].get<double>();
       if ((std::string(k) == "crack_percent" && b > a) || b > 1.1 * a + 1e-12) {
         note(std::string(k) + " " + std::to_string(a) + " -> " + std::to_string(b));
@@ -221,14 +202,9 @@ json compareReports(const json& now, const json& old) {
   return regressions;
 }
 
-// A number for a table cell: four significant digits (the JSON keeps full precision).
-std::string cell(const json& v) {
-  if (!v.is_number_float()) return v.dump();
-  std::ostringstream out;
-  out << std::setprecision(4) << v.get<double>();
-  return out.str();
-}
-
+// Text for report.html, in an element or a double-quoted attribute alike: every character
+// that could end either, or start markup, is escaped. Every value the page shows goes through
+// here, the numbers too (a dump of a JSON value).
 std::string htmlEscape(const std::string& s) {
   std::string out;
   for (const char c : s) {
@@ -237,43 +213,53 @@ std::string htmlEscape(const std::string& s) {
       case '>': out += "&gt;"; break;
       case '&': out += "&amp;"; break;
       case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      case '`': out += "&#96;"; break;
       default: out += c;
     }
   }
   return out;
 }
 
+std::string htmlEscape(const json& v) { return htmlEscape(v.is_string() ? v.get<std::string>() : v.dump()); }
+
+// A number for a table cell: four significant digits (the JSON keeps full precision).
+std::string cell(const json& v) {
+  if (!v.is_number_float()) return htmlEscape(v);
+  std::ostringstream out;
+  out << std::setprecision(4) << v.get<double>();
+  return out.str();
+}
+
 void writeHtml(const std::string& path, const json& report, const std::vector<std::string>& images) {
   std::ostringstream h;
   const bool pass = report["verdict"] == "PASS";
-  h << "<!doctype html><html><head><meta charset='utf-8'><title>osteon validation: "
-    << report["verdict"].get<std::string>() << "</title><style>body{font-family:sans-serif;margin:2em}"
+  const std::string verdict = htmlEscape(report["verdict"]);
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>osteon validation: " << verdict
+    << "</title><style>body{font-family:sans-serif;margin:2em}"
     << "table{border-collapse:collapse}td,th{border:1px solid #999;padding:3px 8px;text-align:right}"
     << ".pass{color:#070}.fail{color:#b00;font-weight:bold}img{width:200px;margin:4px;border:1px solid #ccc}</style>"
-    << "</head><body>\n<h1>osteon validation: <span class='" << (pass ? "pass" : "fail") << "'>"
-    << report["verdict"].get<std::string>() << "</span></h1>\n<p>"
+    << "</head><body>\n<h1>osteon validation: <span class=\"" << (pass ? "pass" : "fail") << "\">" << verdict
+    << "</span></h1>\n<p>"
     << (pass ? "Every crack-free case keeps every guarantee."
              : "A crack-free case broke a guarantee: see the failures below.")
     << " The naive method is the seed's baseline, measured beside it and expected to fail.</p>\n";
-  h << "<p>Started " << htmlEscape(report["started"].get<std::string>()) << ", "
-    << report["seconds"].get<double>() << " s. osteon " << htmlEscape(report["osteon_version"].get<std::string>())
-    << ".</p>\n";
+  h << "<p>Started " << htmlEscape(report["started"]) << ", " << report["seconds"].get<double>() << " s. osteon "
+    << htmlEscape(report["osteon_version"]) << ".</p>\n";
   if (report.contains("shard")) {
     const json& shard = report["shard"];
-    h << "<p>Shard " << shard["index"] << " of " << shard["count"] << " (counted from 0): " << shard["cases"].size()
-      << " of the run's " << shard["case_list"].size() << " cases; merge the shards with "
+    h << "<p>Shard " << htmlEscape(shard["index"]) << " of " << htmlEscape(shard["count"]) << " (counted from 0): "
+      << shard["cases"].size() << " of the run's " << shard["case_list"].size() << " cases; merge the shards with "
       << "<code>osteon validate --merge</code>.</p>\n";
   }
   if (report.contains("merged_from")) {
     h << "<p>Merged from " << report["merged_from"].size() << " shards (the seconds above are their sum):";
-    for (const json& d : report["merged_from"]) h << " " << htmlEscape(d.get<std::string>());
+    for (const json& d : report["merged_from"]) h << " " << htmlEscape(d);
     h << ".</p>\n";
   }
   if (!report["regressions"].empty()) {
-    h << "<h2 class='fail'>Regressions against " << htmlEscape(report.value("compared_with", "")) << "</h2><ul>";
-    for (const json& r : report["regressions"]) {
-      h << "<li>" << htmlEscape(r["case"].get<std::string>()) << ": " << htmlEscape(r["what"].get<std::string>()) << "</li>";
-    }
+    h << "<h2 class=\"fail\">Regressions against " << htmlEscape(report.value("compared_with", "")) << "</h2><ul>";
+    for (const json& r : report["regressions"]) h << "<li>" << htmlEscape(r["case"]) << ": " << htmlEscape(r["what"]) << "</li>";
     h << "</ul>\n";
   }
   h << "<h2>Cases</h2><table><tr><th>model</th><th>voxel</th><th>method</th><th>mode</th><th>verdict</th>"
@@ -281,14 +267,14 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
     << "<th>collision misses</th><th>rays missed / cast</th><th>max |F| N</th><th>jitter N</th><th>after drilling: border / cracks %</th></tr>\n";
   for (const json& c : report["cases"]) {
     const bool ok = c["pass"].get<bool>();
-    h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << c["voxel_size_mm"] << " mm</td><td>"
-      << c["method"].get<std::string>() << "</td><td>" << c["mode"].get<std::string>() << "</td><td class='"
-      << (ok ? "pass'>pass" : "fail'>FAIL") << "</td><td>" << c["border_edges"] << "</td><td>" << c["non_manifold"]
-      << "</td><td>" << c["self_intersections"] << "</td><td>" << cell(c["crack_percent"]) << "</td><td>"
-      << cell(c["hausdorff_mm"]) << "</td><td>" << c["collision_misses"] << "</td><td>" << c["collision_missed_samples"]
-      << " / " << c["collision_rays"] << "</td><td>" << cell(c["max_force_n"]) << "</td><td>"
-      << cell(c["jitter_n"]) << "</td><td>";
-    if (c.contains("after")) h << c["after"]["border_edges"] << " / " << cell(c["after"]["crack_percent"]);
+    h << "<tr><td>" << htmlEscape(c["model"]) << "</td><td>" << htmlEscape(c["voxel_size_mm"]) << " mm</td><td>"
+      << htmlEscape(c["method"]) << "</td><td>" << htmlEscape(c["mode"]) << "</td><td class=\""
+      << (ok ? "pass\">pass" : "fail\">FAIL") << "</td><td>" << cell(c["border_edges"]) << "</td><td>"
+      << cell(c["non_manifold"]) << "</td><td>" << cell(c["self_intersections"]) << "</td><td>"
+      << cell(c["crack_percent"]) << "</td><td>" << cell(c["hausdorff_mm"]) << "</td><td>" << cell(c["collision_misses"])
+      << "</td><td>" << cell(c["collision_missed_samples"]) << " / " << cell(c["collision_rays"]) << "</td><td>"
+      << cell(c["max_force_n"]) << "</td><td>" << cell(c["jitter_n"]) << "</td><td>";
+    if (c.contains("after")) h << cell(c["after"]["border_edges"]) << " / " << cell(c["after"]["crack_percent"]);
     h << "</td></tr>\n";
   }
   h << "</table>\n";
@@ -302,21 +288,19 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
     const char* seed = std::abs(vs - 1.2) < 1e-9 ? "6" : std::abs(vs - 0.9) < 1e-9 ? "14"
                      : std::abs(vs - 0.72) < 1e-9 ? "20" : std::abs(vs - 0.54) < 1e-9 ? "34" : "-";
     const json& t = c["mesh_time_ms"];
-    h << "<tr><td>" << htmlEscape(c["model"].get<std::string>()) << "</td><td>" << vs << " mm</td><td>" << c["voxels"]
-      << "</td><td>" << c["triangles"] << "</td><td>" << c["vertices"] << "</td><td>" << cell(t["total"]) << "</td><td>"
-      << cell(t["extract"]) << "</td><td>" << cell(t["smooth"]) << "</td><td>" << cell(t["normals"]) << "</td><td>" << cell(t["other"])
-      << "</td><td>" << seed << "</td></tr>\n";
+    h << "<tr><td>" << htmlEscape(c["model"]) << "</td><td>" << vs << " mm</td><td>" << cell(c["voxels"])
+      << "</td><td>" << cell(c["triangles"]) << "</td><td>" << cell(c["vertices"]) << "</td><td>" << cell(t["total"])
+      << "</td><td>" << cell(t["extract"]) << "</td><td>" << cell(t["smooth"]) << "</td><td>" << cell(t["normals"])
+      << "</td><td>" << cell(t["other"]) << "</td><td>" << seed << "</td></tr>\n";
   }
   h << "</table>\n<h2>Failures</h2><ul>";
   for (const json& c : report["cases"]) {
-    for (const json& f : c["failures"]) {
-      h << "<li>" << htmlEscape(caseKey(c)) << ": " << htmlEscape(f.get<std::string>()) << "</li>";
-    }
+    for (const json& f : c["failures"]) h << "<li>" << htmlEscape(caseKey(c)) << ": " << htmlEscape(f) << "</li>";
   }
   h << "</ul>\n<h2>Crack views (seed 3.4: front faces white, back faces red)</h2>\n";
-  for (const std::string& img : images) h << "<img src='" << htmlEscape(img) << "' title='" << htmlEscape(img) << "'>";
+  for (const std::string& img : images) h << "<img src=\"" << htmlEscape(img) << "\" title=\"" << htmlEscape(img) << "\">";
   h << "\n<h2>Forces (as the seed's Figs. 6-8)</h2>\n";
-  for (const json& p : report["plots"]) h << "<img style='width:550px' src='" << htmlEscape(p.get<std::string>()) << "'>";
+  for (const json& p : report["plots"]) h << "<img style=\"width:550px\" src=\"" << htmlEscape(p) << "\">";
   h << "\n<h2>Environment</h2><pre>" << htmlEscape(report["environment"].dump(2)) << "</pre></body></html>\n";
   geometry::writeFileAtomically(path, h.str());
 }
@@ -338,23 +322,6 @@ std::pair<std::size_t, std::size_t> parseShard(const std::string& text) {
 }
 
 }  // namespace
-
-std::string caseKey(const json& c) {
-  return val::caseKey(c.value("model", ""), c.value("voxel_size_mm", 0.0), c.value("method", ""), c.value("mode", ""));
-}
-
-json readComparable(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("--compare " + path + ": cannot open");
-  json old;
-  try {
-    old = json::parse(in);
-  } catch (const std::exception&) {
-    throw InputError("--compare " + path + ": not a JSON report");
-  }
-  checkComparable(path, old);
-  return old;
-}
 
 void writeReport(json& j, const ValidateCommandOptions& options, const json& old, const std::vector<std::string>& images) {
   bool pass = true;  // every crack-free case keeps every guarantee (ValidationReport::pass)

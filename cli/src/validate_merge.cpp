@@ -9,13 +9,18 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace osteon::cli {
 
@@ -33,120 +38,152 @@ std::size_t imageModelIndex(const std::string& image) {
   return index;
 }
 
-// The first field of a case that the merge and report.html read and that is missing or of
-// the wrong type, or "" when there is none: a merged report is only as sound as its shards'.
-std::string caseFieldMissing(const json& c) {
-  if (!c.is_object()) return "not an object";
-  for (const char* k : {"model", "method", "mode"}) {
-    if (!c.value(k, json()).is_string()) return std::string("\"") + k + "\" is not a string";
+// An open file, closed when it goes out of scope.
+struct FileDescriptor {
+  int fd = -1;
+  ~FileDescriptor() {
+    if (fd >= 0) ::close(fd);
   }
-  if (!c.value("pass", json()).is_boolean()) return "\"pass\" is not true or false";
-  const json failures = c.value("failures", json());
-  if (!failures.is_array() || !std::all_of(failures.begin(), failures.end(), [](const json& f) { return f.is_string(); })) {
-    return "\"failures\" is not a list of strings";
-  }
-  for (const char* k : {"voxel_size_mm", "border_edges", "non_manifold", "self_intersections", "crack_percent",
-                        "collision_misses", "collision_missed_samples", "collision_rays", "max_force_n", "jitter_n",
-                        "voxels", "triangles", "vertices"}) {
-    if (!c.value(k, json()).is_number()) return std::string("\"") + k + "\" is not a number";
-  }
-  const json hausdorff = c.value("hausdorff_mm", json(false));
-  if (!hausdorff.is_number() && !hausdorff.is_null()) return "\"hausdorff_mm\" is not a number or null";
-  const json times = c.value("mesh_time_ms", json());
-  for (const char* k : {"total", "extract", "smooth", "normals", "other"}) {
-    if (!times.is_object() || !times.value(k, json()).is_number()) return std::string("\"mesh_time_ms\" has no ") + k;
-  }
-  if (c.contains("after")) {
-    const json& after = c["after"];
-    if (!after.is_object() || !after.value("border_edges", json()).is_number() ||
-        !after.value("crack_percent", json()).is_number()) {
-      return "\"after\" has no border_edges or crack_percent";
-    }
-  }
-  return "";
-}
-
-struct ShardReport {
-  std::string dir;
-  json report;
-  std::size_t index = 0, count = 0;
 };
 
-// One shard's report.json, checked for what a merge relies on.
-ShardReport readShard(const std::string& dir) {
-  const std::string path = dir + "/report.json";
-  const auto bad = [&](const std::string& why) { return InputError("--merge " + dir + ": " + why); };
-  std::ifstream in(path);
-  if (!in) throw bad("no report.json to read (cannot open " + path + ")");
-  ShardReport s;
-  s.dir = dir;
-  try {
-    s.report = json::parse(in);
-  } catch (const std::exception&) {
-    throw bad("report.json is not JSON (truncated or not a validate report)");
+// A shard's file opened for reading only if it is a plain file under that very name: a link is
+// refused, never followed (O_NOFOLLOW), and a FIFO or device never blocks the merge. -1 and
+// `why` set when it is not.
+int openShardFile(const std::string& path, std::string& why) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    why = errno == ELOOP ? "is a symbolic link (a shard's outputs are its own files: links are not followed)"
+                         : std::string("cannot be opened (") + std::strerror(errno) + ")";
+    return -1;
   }
-  const json& r = s.report;
-  if (!r.is_object() || r.value("schema", json()) != "osteon-validate/1") {
-    throw bad("report.json is not a validate report (no \"schema\": \"osteon-validate/1\")");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    why = "is not a regular file (a shard's outputs are plain files)";
+    return -1;
   }
-  if (!r.contains("shard") || !r["shard"].is_object()) {
-    throw bad("not a shard report (no \"shard\" object: written by validate --shard K/N)");
-  }
-  const json& sh = r["shard"];
-  const auto strings = [](const json& a) {
-    return a.is_array() && std::all_of(a.begin(), a.end(), [](const json& x) { return x.is_string(); });
-  };
-  if (!sh.value("index", json()).is_number_unsigned() || !sh.value("count", json()).is_number_unsigned() ||
-      !strings(sh.value("case_list", json())) || !strings(sh.value("cases", json()))) {
-    throw bad("not a shard report (\"shard\" needs index, count, case_list and cases)");
-  }
-  s.index = sh["index"].get<std::size_t>();
-  s.count = sh["count"].get<std::size_t>();
-  if (s.count == 0 || s.index >= s.count) throw bad("not a shard report (shard " + sh["index"].dump() + "/" + sh["count"].dump() + ")");
-  for (const char* k : {"osteon_version", "started"}) {
-    if (!r.value(k, json()).is_string()) throw bad(std::string("not a shard report (\"") + k + "\" is not a string)");
-  }
-  if (!r.value("seconds", json()).is_number() || !r.contains("options") || !strings(r.value("plots", json())) ||
-      !strings(r.value("images", json())) || !r.value("cases", json()).is_array()) {
-    throw bad("not a shard report (seconds, options, plots, images or cases missing)");
-  }
-  // Its cases must be those its shard object names, in that order (a hand-edited or truncated
-  // report would otherwise merge silently).
-  const json& cases = r["cases"];
-  if (cases.size() != sh["cases"].size()) throw bad("report.json holds " + std::to_string(cases.size()) +
-                                                    " cases, its shard names " + std::to_string(sh["cases"].size()));
-  for (std::size_t i = 0; i < cases.size(); ++i) {
-    const std::string what = caseFieldMissing(cases[i]);
-    if (!what.empty()) throw bad("case " + std::to_string(i) + " is not a validate case (" + what + ")");
-    if (caseKey(cases[i]) != sh["cases"][i]) {
-      throw bad("case " + std::to_string(i) + " is not the case its shard names (" + sh["cases"][i].get<std::string>() + ")");
-    }
-  }
-  return s;
+  return fd;
 }
 
-// Copies a shard's images, plots and force logs into the merged report's folder, so it stands
-// alone; not the shard's gnuplot script, which names the shard's own files.
-void copyShardFiles(const std::string& fromDir, const std::string& toDir) {
+// Passes all of an open file to `sink` block by block; false on a read error (errno set) or
+// when the sink returns false.
+template <typename Sink>
+bool readBlocks(int fd, Sink sink) {
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n == 0) return true;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    if (!sink(buffer, std::size_t(n))) return false;
+  }
+}
+
+// The files of a shard's output folder `rel` (images, plots, forces, and their sub-folders),
+// relative to the shard, by the names the folder holds. Only real folders and regular files:
+// anything else (a link above all, which could lead the copy out of --out-dir) is refused.
+void listShardFiles(const std::string& dir, const std::string& rel, int depth, std::vector<std::string>& files) {
   namespace fs = std::filesystem;
+  const auto bad = [&](const std::string& why) { return InputError("--merge " + dir + ": " + why); };
+  std::error_code ec;
+  for (fs::directory_iterator it(dir + "/" + rel, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string sub = rel + "/" + it->path().filename().string();
+    const fs::file_status status = it->symlink_status(ec);
+    if (ec) break;
+    if (fs::is_symlink(status)) throw bad(sub + " is a symbolic link (a shard's outputs are its own files: links are not followed)");
+    if (fs::is_directory(status)) {
+      if (depth >= 4) throw bad(sub + " is nested deeper than validate writes");
+      listShardFiles(dir, sub, depth + 1, files);
+    } else if (!fs::is_regular_file(status)) {
+      throw bad(sub + " is not a regular file (a shard's outputs are plain files)");
+    } else if (it->path().filename().string().rfind("plots.gp", 0) != 0) {
+      files.push_back(sub);
+    }
+  }
+  if (ec) throw bad("cannot read " + rel + " (" + ec.message() + ")");
+}
+
+// What a shard's images, plots and force logs are, checked before anything is copied; not
+// the shard's gnuplot script, which names the shard's own files.
+std::vector<std::string> shardFiles(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
   for (const char* sub : {"images", "plots", "forces"}) {
     std::error_code ec;
-    if (!fs::is_directory(fromDir + "/" + sub, ec)) continue;
-    for (const fs::directory_entry& e : fs::recursive_directory_iterator(fromDir + "/" + sub, ec)) {
-      const std::string name = e.path().filename().string();
-      if (!e.is_regular_file() || name.rfind("plots.gp", 0) == 0) continue;
-      const fs::path to = fs::path(toDir) / fs::relative(e.path(), fromDir);
-      fs::create_directories(to.parent_path(), ec);
-      if (!ec) fs::copy_file(e.path(), to, fs::copy_options::overwrite_existing, ec);
-      if (ec) throw InputError("--out-dir " + toDir + ": cannot copy " + e.path().string() + " (" + ec.message() + ")");
+    const fs::file_status status = fs::symlink_status(dir + "/" + sub, ec);
+    if (!fs::exists(status)) continue;
+    if (fs::is_symlink(status)) {
+      throw InputError("--merge " + dir + ": " + sub + " is a symbolic link (a shard's outputs are its own files: links are not followed)");
     }
-    if (ec) throw InputError("--merge " + fromDir + ": cannot read " + sub + " (" + ec.message() + ")");
+    if (!fs::is_directory(status)) throw InputError("--merge " + dir + ": " + sub + " is not a folder");
+    listShardFiles(dir, sub, 1, files);
+  }
+  return files;
+}
+
+// A folder of the merged report inside --out-dir, made if need be; it must be a real folder,
+// not a link, so that every copy lands inside --out-dir.
+void makeOutputFolder(const std::string& outDir, const std::string& rel) {
+  namespace fs = std::filesystem;
+  std::string path = outDir;
+  for (const fs::path& part : fs::path(rel)) {
+    path += "/" + part.string();
+    std::error_code ec;
+    fs::create_directory(path, ec);
+    if (!fs::is_directory(fs::symlink_status(path, ec))) {
+      throw InputError("--out-dir " + outDir + ": " + path.substr(outDir.size() + 1) +
+                       " is not a folder of its own (a link or a file: a merge writes only inside --out-dir)");
+    }
   }
 }
 
-// --merge: the shards' reports as one, as the whole run would have written it.
+// One shard file (`rel`, a name listShardFiles found) copied to the same name inside --out-dir,
+// through a temporary file and a rename: a link already at the target is replaced, not followed.
+void copyShardFile(const std::string& dir, const std::string& rel, const std::string& outDir) {
+  std::string why;
+  const FileDescriptor in{openShardFile(dir + "/" + rel, why)};
+  if (in.fd < 0) throw InputError("--merge " + dir + ": " + rel + " " + why);
+  makeOutputFolder(outDir, std::filesystem::path(rel).parent_path().string());
+  geometry::OutputFile out(outDir + "/" + rel);
+  FileDescriptor to{::open(out.tempPath().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644)};
+  if (to.fd < 0) throw InputError(out.path() + ": cannot open for writing (" + std::strerror(errno) + ")");
+  bool written = true;
+  const bool read = readBlocks(in.fd, [&](const char* p, std::size_t n) {
+    while (n > 0) {
+      const ssize_t w = ::write(to.fd, p, n);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) return written = false;
+      p += w;
+      n -= std::size_t(w);
+    }
+    return true;
+  });
+  const int error = errno;
+  if (::close(std::exchange(to.fd, -1)) != 0) written = false;
+  if (!written) throw InputError(out.path() + ": writing failed (disk full or not writable?)");
+  if (!read) throw InputError("--merge " + dir + ": cannot read " + rel + " (" + std::strerror(error) + ")");
+  out.commit();
+}
+
+// A shard's validate.log, if it has one (a plain file, as its outputs).
+std::string shardLog(const std::string& dir) {
+  const std::string path = dir + "/validate.log";
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return "";
+  std::string why, bytes;
+  const FileDescriptor in{openShardFile(path, why)};
+  if (in.fd < 0) throw InputError("--merge " + dir + ": validate.log " + why);
+  if (!readBlocks(in.fd, [&](const char* p, std::size_t n) { return bytes.append(p, n), true; })) {
+    throw InputError("--merge " + dir + ": cannot read validate.log (" + std::strerror(errno) + ")");
+  }
+  return bytes;
+}
+
 }  // namespace
 
+// --merge: the shards' reports as one, as the whole run would have written it.
 int runValidateMerge(const ValidateCommandOptions& options) {
   namespace fs = std::filesystem;
   if (!options.runOptionsGiven.empty()) {
@@ -155,7 +192,7 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   }
   const json old = options.compare.empty() ? json() : readComparable(options.compare);
   std::vector<ShardReport> shards;
-  for (const std::string& dir : options.merge) shards.push_back(readShard(dir));
+  for (const std::string& dir : options.merge) shards.push_back(readShard(dir, dir + "/report.json"));
 
   // One run: the same osteon, options, shard count and case list in every report.
   const ShardReport& first = shards.front();
@@ -177,26 +214,32 @@ int runValidateMerge(const ValidateCommandOptions& options) {
       throw InputError("--merge: " + pair + " are shards of different runs (their options differ)");
     }
   }
-  std::vector<const ShardReport*> byIndex(first.count, nullptr);
+  // Each shard once. A map, not a table of N: N may be as large as --shard takes.
+  std::map<std::size_t, const ShardReport*> slots;
   for (const ShardReport& s : shards) {
-    const ShardReport*& slot = byIndex[s.index];
-    if (slot) {
-      throw InputError("--merge: " + slot->dir + " and " + s.dir + " are both shard " + std::to_string(s.index) + "/" +
-                       std::to_string(s.count));
+    const auto [slot, added] = slots.emplace(s.index, &s);
+    if (!added) {
+      throw InputError("--merge: " + slot->second->dir + " and " + s.dir + " are both shard " + std::to_string(s.index) +
+                       "/" + std::to_string(s.count));
     }
-    slot = &s;
   }
-  std::string missing;
-  for (std::size_t k = 0; k < byIndex.size(); ++k) {
-    if (!byIndex[k]) missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(first.count);
-  }
-  if (!missing.empty()) {
+  if (slots.size() < first.count) {
+    std::string missing;
+    std::size_t listed = 0;
+    for (std::size_t k = 0; k < first.count && listed < 8; ++k) {
+      if (slots.count(k)) continue;
+      missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(first.count);
+      ++listed;
+    }
+    if (first.count - slots.size() > listed) missing += " and " + std::to_string(first.count - slots.size() - listed) + " more";
     std::string given;
     for (const ShardReport& s : shards) {
       given += (given.empty() ? "" : ", ") + s.dir + " (" + std::to_string(s.index) + "/" + std::to_string(s.count) + ")";
     }
     throw InputError("--merge: shard " + missing + " missing (given: " + given + ")");
   }
+  std::vector<const ShardReport*> byIndex;
+  for (const auto& slot : slots) byIndex.push_back(slot.second);
 
   // Every case of the run in exactly one shard, then in the run's order.
   std::map<std::string, const json*> caseOf;
@@ -230,9 +273,17 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   geometry::refuseOverwritingInputs({options.outDir + "/report.json", options.outDir + "/report.html",
                                      options.outDir + "/validate.log"}, inputs);
   for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
+  // What each shard brings, checked before anything is written.
+  std::vector<std::vector<std::string>> files;
+  std::vector<std::string> logs;
+  for (const ShardReport* s : byIndex) {
+    files.push_back(shardFiles(s->dir));
+    logs.push_back(shardLog(s->dir));
+  }
   std::error_code ec;
   fs::create_directories(options.outDir, ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  for (const char* owned : {"images", "plots", "forces"}) makeOutputFolder(options.outDir, owned);
 
   std::set<std::string> plots;
   std::vector<std::string> images;
@@ -240,17 +291,16 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   json mergedFrom = json::array(), shardSeconds = json::array();
   double seconds = 0.0;
   std::string started = byIndex.front()->report["started"];
-  for (const ShardReport* s : byIndex) {
-    copyShardFiles(s->dir, options.outDir);
+  for (std::size_t k = 0; k < byIndex.size(); ++k) {
+    const ShardReport* s = byIndex[k];
+    for (const std::string& rel : files[k]) copyShardFile(s->dir, rel, options.outDir);
     for (const json& p : s->report["plots"]) plots.insert(p.get<std::string>());
     for (const json& i : s->report["images"]) images.push_back(i.get<std::string>());
     mergedFrom.push_back(s->dir);
     shardSeconds.push_back(s->report["seconds"]);
     seconds += s->report["seconds"].get<double>();
     started = std::min(started, s->report["started"].get<std::string>());  // ISO 8601 UTC sorts as text
-    std::ifstream shardLog(s->dir + "/validate.log");
-    log += "# shard " + std::to_string(s->index) + "/" + std::to_string(s->count) + ": " + s->dir + "\n";
-    log += std::string(std::istreambuf_iterator<char>(shardLog), std::istreambuf_iterator<char>());
+    log += "# shard " + std::to_string(s->index) + "/" + std::to_string(s->count) + ": " + s->dir + "\n" + logs[k];
   }
   std::stable_sort(images.begin(), images.end(),
                    [](const std::string& a, const std::string& b) { return imageModelIndex(a) < imageModelIndex(b); });
@@ -269,6 +319,5 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   writeReport(j, options, old, images);
   return printVerdict(j, options.outDir);
 }
-
 
 }  // namespace osteon::cli

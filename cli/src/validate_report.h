@@ -1,8 +1,9 @@
-// What `osteon validate` and `osteon validate --merge` share: case keys, the --compare report,
-// and writing report.json and report.html (validate.cpp).
+// What `osteon validate` and `osteon validate --merge` share: writing report.json and
+// report.html (validate.cpp); reading reports is report_reader.h.
 #pragma once
 
 #include "commands.h"
+#include "report_reader.h"
 
 #include <nlohmann/json.hpp>
 
@@ -10,13 +11,6 @@
 #include <vector>
 
 namespace osteon::cli {
-
-// "model|voxel mm|method|mode" of a report.json case (validation/shard.h's caseKey).
-std::string caseKey(const nlohmann::json& reportCase);
-
-// The old report of --compare, read and checked before any work: a bad file after the run
-// would lose the run. Throws InputError naming the file.
-nlohmann::json readComparable(const std::string& path);
 
 // The verdict (every crack-free case passes), the images, regressions against `old` (with
 // --compare), then report.json and report.html into options.outDir.

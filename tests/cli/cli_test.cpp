@@ -382,7 +382,7 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
     EXPECT_NE(env["libraries"][library].get<std::string>().find('.'), std::string::npos) << library;
   }
   const std::string html = test::readBytes(path("v/report.html"));
-  EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
+  EXPECT_NE(html.find("osteon validation: <span class=\"pass\">PASS"), std::string::npos);
   EXPECT_NE(html.find("beside the seed's Tables 1 and 2"), std::string::npos);
   EXPECT_NE(html.find("openimageio"), std::string::npos);  // the environment block
   ASSERT_EQ(j["plots"].size(), 2u);  // static against dynamic, one per portal

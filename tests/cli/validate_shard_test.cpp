@@ -116,7 +116,7 @@ TEST_F(ValidateShardTest, MergedShardsEqualTheWholeRun) {
     EXPECT_EQ(m["images"], w["images"]);
     EXPECT_EQ(m["plots"], w["plots"]);
     const std::string html = test::readBytes(path(out + "/report.html"));
-    EXPECT_NE(html.find("osteon validation: <span class='pass'>PASS"), std::string::npos);
+    EXPECT_NE(html.find("osteon validation: <span class=\"pass\">PASS"), std::string::npos);
     for (const char* list : {"images", "plots"}) {
       ASSERT_FALSE(m[list].empty()) << list;
       for (const json& file : m[list]) {
