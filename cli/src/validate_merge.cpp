@@ -3,6 +3,7 @@
 #include "validate_report.h"
 
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 
 #include <nlohmann/json.hpp>
@@ -137,7 +138,7 @@ void copyShardFiles(const std::string& fromDir, const std::string& toDir) {
       if (!e.is_regular_file() || name.rfind("plots.gp", 0) == 0) continue;
       const fs::path to = fs::path(toDir) / fs::relative(e.path(), fromDir);
       fs::create_directories(to.parent_path(), ec);
-      if (!ec) fs::copy_file(e.path(), to, fs::copy_options::overwrite_existing, ec);
+      if (!ec) geometry::copyFileAtomically(e.path().string(), to.string());  // with the run's set
       if (ec) throw InputError("--out-dir " + toDir + ": cannot copy " + e.path().string() + " (" + ec.message() + ")");
     }
     if (ec) throw InputError("--merge " + fromDir + ": cannot read " + sub + " (" + ec.message() + ")");
@@ -230,9 +231,7 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   geometry::refuseOverwritingInputs({options.outDir + "/report.json", options.outDir + "/report.html",
                                      options.outDir + "/validate.log"}, inputs);
   for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
-  std::error_code ec;
-  fs::create_directories(options.outDir, ec);
-  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  geometry::OutputDir outDir(options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
 
   std::set<std::string> plots;
   std::vector<std::string> images;
@@ -267,6 +266,7 @@ int runValidateMerge(const ValidateCommandOptions& options) {
             {"merged_from", mergedFrom},
             {"shard_seconds", shardSeconds}};
   writeReport(j, options, old, images);
+  outDir.commit();
   return printVerdict(j, options.outDir);
 }
 

@@ -1,6 +1,7 @@
 #include "osteon/simulation/runner.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -148,6 +149,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
       }
     }
     if (options.afterStep) options.afterStep(i, input, out);
+    if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
   }
   RunSummary& s = result.summary;
   s.jitterN = metrics.jitterN();

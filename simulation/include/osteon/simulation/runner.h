@@ -122,7 +122,8 @@ struct RunResult {
   RunSummary summary;
 };
 
-// Runs the path from t = 0 to its end. `surface` may be null (no visual work).
+// Runs the path from t = 0 to its end, or until SIGINT/SIGTERM is recorded (core/interrupt.h:
+// the caller then throws Interrupted). `surface` may be null (no visual work).
 RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, const DrillPath& path,
                            geometry::SurfaceUpdater* surface, const DeterministicOptions& options = {});
 
