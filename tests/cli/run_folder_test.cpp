@@ -151,6 +151,21 @@ class RunFolderCliTest : public CliTest {
     return set;
   }
 
+  // The command with files limited to `bytes`, as a disk with that much room left: writes past
+  // it fail with EFBIG (SIGXFSZ ignored, as the shell passes it on), as ENOSPC fails them.
+  CliRun osteonOnSmallDisk(const std::string& args, rlim_t bytes) const {
+    rlimit limit{};
+    getrlimit(RLIMIT_FSIZE, &limit);
+    const rlimit saved = limit;
+    limit.rlim_cur = bytes;
+    void (*oldHandler)(int) = std::signal(SIGXFSZ, SIG_IGN);
+    setrlimit(RLIMIT_FSIZE, &limit);
+    const CliRun run = osteon(args);
+    setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, oldHandler);
+    return run;
+  }
+
   // Stops `child` with `signal` once `needle` shows it midway; expects the clean end.
   static void interrupt(Child& child, const std::string& needle, int signal, int exitCode) {
     ASSERT_TRUE(child.waitFor(needle)) << child.out() << child.err();
@@ -175,6 +190,24 @@ TEST_F(RunFolderCliTest, ValidateStoppedBySigtermLeavesThePreviousSetWholeAndNoT
   Child run(validateArgs(dir));
   interrupt(run, "[1/4]", SIGTERM, 143);  // a case done: its force logs were written
   EXPECT_EQ(filesIn(dir), old);
+}
+
+TEST_F(RunFolderCliTest, ADrillThatFailsAfterItsForceLogKeepsThePreviousSetWhole) {
+  const std::string args = "drill default --voxel-size 1.2 --levels 0 --path portal-5 --out-dir ";
+  ASSERT_EQ(osteon(args + quoted(path("full"))).exitCode, 0);
+  const std::size_t forcesBytes = fs::file_size(path("full/forces.csv"));
+  const std::size_t surfaceBytes = fs::file_size(path("full/surface.ply"));
+  ASSERT_LT(forcesBytes + 1000, surfaceBytes) << "the surface must be the file that does not fit";
+  const std::string dir = path("d");
+  const std::map<std::string, std::string> old = {
+      {"forces.csv", "old forces\n"}, {"summary.json", "{\"old\": true}\n"}, {"surface.ply", "old surface"}};
+  fs::create_directories(dir);
+  for (const auto& [name, bytes] : old) test::writeBytes(dir + "/" + name, bytes);
+  // Room for the force log, not for the surface: the disk fills after the log was complete.
+  const CliRun run = osteonOnSmallDisk(args + quoted(dir), (forcesBytes + surfaceBytes) / 2);
+  EXPECT_EQ(run.exitCode, 2) << run.err;
+  EXPECT_NE(run.err.find("surface.ply"), std::string::npos) << run.err;
+  EXPECT_EQ(filesIn(dir), old) << "no new forces.csv beside the old summary and surface";
 }
 
 TEST_F(RunFolderCliTest, ExperimentStoppedBySigintLeavesNoFolderBehind) {
@@ -283,15 +316,7 @@ TEST_F(RunFolderCliTest, AnExistingRecordingSurvivesARunThatFailsAfterRecordingS
   const std::string args = "drill default --voxel-size 1.2 --levels 0 --device scripted:portal-5 --record " +
                            quoted(recording) + " --out-dir ";
   // A disk with 200 kB left: the force log fails after the recording began (as faults_cli_test).
-  rlimit limit{};
-  getrlimit(RLIMIT_FSIZE, &limit);
-  const rlimit saved = limit;
-  limit.rlim_cur = 200000;
-  void (*oldHandler)(int) = std::signal(SIGXFSZ, SIG_IGN);
-  setrlimit(RLIMIT_FSIZE, &limit);
-  const CliRun failed = osteon(args + quoted(path("small")));
-  setrlimit(RLIMIT_FSIZE, &saved);
-  std::signal(SIGXFSZ, oldHandler);
+  const CliRun failed = osteonOnSmallDisk(args + quoted(path("small")), 200000);
   EXPECT_EQ(failed.exitCode, 2) << failed.err;
   EXPECT_NE(failed.err.find("cannot write the force log"), std::string::npos) << failed.err;
   EXPECT_EQ(test::readBytes(recording), old) << "the old recording is kept whole";
