@@ -86,17 +86,17 @@ std::string canonicalKey(const std::string& path) {
 
 }  // namespace
 
-OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned)
-    : folder_(folder), owned_(std::move(owned)) {
+OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned, const std::string& option)
+    : folder_(folder), option_(option), owned_(std::move(owned)) {
   std::error_code ec;
   created_ = !fs::exists(folder_, ec);
   fs::create_directories(folder_, ec);
   if (ec || !fs::is_directory(folder_)) {
-    throw InputError("--out-dir " + folder_ + ": cannot create the folder (" +
+    throw InputError(option_ + " " + folder_ + ": cannot create the folder (" +
                      (ec ? ec.message() : std::string("not a folder")) + ")");
   }
   root_ = fs::canonical(folder_, ec).string();
-  if (ec) throw InputError("--out-dir " + folder_ + ": cannot resolve the folder (" + ec.message() + ")");
+  if (ec) throw InputError(option_ + " " + folder_ + ": cannot resolve the folder (" + ec.message() + ")");
   // The lock is the folder's own (no lock file to leave behind), held until the run ends.
   lockFd_ = ::open(folder_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (lockFd_ >= 0 && ::flock(lockFd_, LOCK_EX | LOCK_NB) != 0) {
@@ -104,22 +104,26 @@ OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned)
     if (error == EWOULDBLOCK) {
       const long pid = lockHolder(lockFd_);
       ::close(lockFd_);
-      throw InputError("--out-dir " + folder_ + ": another osteon run" +
+      throw InputError(option_ + " " + folder_ + ": another osteon run" +
                        (pid > 0 ? " (process " + std::to_string(pid) + ")" : std::string()) +
-                       " is writing into this folder; wait for it to end, or choose another --out-dir");
+                       " is writing into this folder; wait for it to end, or choose another " + option_);
     }
     // A file system without locks: the run goes on unlocked.
   }
-  {
-    std::lock_guard<std::mutex> lock(gMutex);
-    if (gOpen) {
-      if (lockFd_ >= 0) ::close(lockFd_);
-      throw std::logic_error("OutputDir: " + folder_ + " opened while " + gOpen->folder_ + " is open");
-    }
-    gOpen = this;
+  try {
+    removeLeftovers();
+    interrupts_ = std::make_unique<InterruptScope>();
+  } catch (...) {
+    if (lockFd_ >= 0) ::close(lockFd_);
+    throw;
   }
-  removeLeftovers();
-  interrupts_ = std::make_unique<InterruptScope>();
+  std::lock_guard<std::mutex> lock(gMutex);  // registered last: a constructor that threw is no open folder
+  if (gOpen) {
+    interrupts_.reset();
+    if (lockFd_ >= 0) ::close(lockFd_);
+    throw std::logic_error("OutputDir: " + folder_ + " opened while " + gOpen->folder_ + " is open");
+  }
+  gOpen = this;
 }
 
 OutputDir::~OutputDir() {
