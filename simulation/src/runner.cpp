@@ -187,7 +187,12 @@ ForceLogWriter::ForceLogWriter(const std::string& path) : file_(path), buffer_(s
 }
 
 ForceLogWriter::~ForceLogWriter() {
-  if (!done_) keepPartial();
+  if (done_) return;
+  if (interrupted()) {  // stopped on request (SIGINT/SIGTERM): nothing kept, the folder stays as it was
+    if (fd_ >= 0) ::close(fd_);
+    return;  // file_ removes the temporary
+  }
+  keepPartial();
 }
 
 long ForceLogWriter::writeSome(int fd, const char* data, std::size_t bytes) noexcept {

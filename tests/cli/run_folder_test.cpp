@@ -210,6 +210,19 @@ TEST_F(RunFolderCliTest, ADrillThatFailsAfterItsForceLogKeepsThePreviousSetWhole
   EXPECT_EQ(filesIn(dir), old) << "no new forces.csv beside the old summary and surface";
 }
 
+TEST_F(RunFolderCliTest, AThreadedDrillStoppedBySigintKeepsThePreviousSetAndNoPartialLog) {
+  const std::string dir = path("d");
+  const std::map<std::string, std::string> old = {
+      {"forces.csv", "old forces\n"}, {"summary.json", "{\"old\": true}\n"}, {"surface.ply", "old surface"}};
+  fs::create_directories(dir);
+  for (const auto& [name, bytes] : old) test::writeBytes(dir + "/" + name, bytes);
+  // Seven seconds of path in real time: two seconds in, the loops are drilling.
+  Child run({"drill", "default", "--voxel-size", "1.2", "--path", "portal-5", "--threaded", "--out-dir", dir});
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  interrupt(run, "", SIGINT, 130);
+  EXPECT_EQ(filesIn(dir), old);
+}
+
 TEST_F(RunFolderCliTest, ExperimentStoppedBySigintLeavesNoFolderBehind) {
   const std::string dir = path("e");
   Child run({"experiment", "seed", "--out-dir", dir});
