@@ -101,10 +101,11 @@ json safetyJson(const dev::SafetyStats& s, double limitN) {
           {"force_limit_n", limitN}};
 }
 
-// Writes summary.json and the surface, prints the summary; shared by replay and drill --device.
+// Writes summary.json and the surface, puts the run's files (and a recording) in place, prints
+// the summary; shared by replay and drill --device.
 int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session, const sim::RunSummary& run,
            json extra, const std::string& forcesPath, const std::string& summaryPath, const std::string& surfacePath,
-           const std::string& what) {
+           const std::string& what, geo::OutputFile* recording = nullptr) {
   const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
   json summary = runSummaryJson(run, session, setup.mesh, setup.mode, setup.tool, setup.voxelSizeMm, setup.levels);
@@ -116,6 +117,7 @@ int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session,
   summary["files"] = files;
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   outDir.commit();
+  if (recording) recording->commit();  // the run is complete: the new recording replaces the old
   if (setup.json) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {
@@ -281,7 +283,6 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   forces.commit();
   if (recorder) {
     recorder->close();
-    recordFile->commit();
     extra["recording_out"] = options.record;
     extra["device"]["recorded_rows"] = recorder->rows();
     extra["device"]["recording_dropped_rows"] = recorder->dropped();
@@ -291,7 +292,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
                  options.json, deterministic ? "device" : "device-threaded"};
   return finish(setup, outDir, session, run, extra, forcesPath, summaryPath, surfacePath,
-                "drilled with " + options.device);
+                "drilled with " + options.device, recordFile ? &*recordFile : nullptr);
 }
 
 }  // namespace osteon::cli
