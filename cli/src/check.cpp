@@ -3,6 +3,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"
@@ -11,6 +12,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 namespace osteon::cli {
@@ -23,19 +25,21 @@ int runCheck(const CheckCommandOptions& options) {
   if (options.cracks < 16 || options.cracks > 4096) {
     throw InputError("--cracks " + std::to_string(options.cracks) + ": pixels per side must be 16..4096");
   }
+  std::vector<std::string> viewNames;
   if (!options.images.empty()) {
     std::vector<std::string> views;
-    for (const char* v : {"+x", "-x", "+y", "-y", "+z", "-z"}) views.push_back(options.images + "/cracks_" + v + ".png");
+    for (const char* v : {"+x", "-x", "+y", "-y", "+z", "-z"}) {
+      viewNames.push_back(std::string("cracks_") + v + ".png");
+      views.push_back(options.images + "/" + viewNames.back());
+    }
     geometry::refuseOverwritingInputs(views, {inputFile(options.mesh), inputFile(options.reference)});
   }
   const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
   geometry::TriangleMesh reference;
   if (!options.reference.empty()) reference = geometry::loadMeshArgument(options.reference, scale);
-  if (!options.images.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(options.images, ec);
-    if (ec) throw InputError("--images " + options.images + ": cannot create the folder (" + ec.message() + ")");
-  }
+  // The six views are one set, put in place together (output_dir.h).
+  std::optional<geometry::OutputDir> imagesDir;
+  if (!options.images.empty()) imagesDir.emplace(options.images, viewNames, "--images");
 
   const val::MeshReport r = val::checkMesh(mesh);
   val::CrackMetricOptions co;
@@ -43,7 +47,10 @@ int runCheck(const CheckCommandOptions& options) {
   co.keepImages = !options.images.empty();
   const val::CrackMetric cracks = val::measureCracks(mesh, co);
   std::vector<std::string> images;
-  if (co.keepImages) images = val::writeCrackImages(cracks, options.images);
+  if (co.keepImages) {
+    images = val::writeCrackImages(cracks, options.images);
+    imagesDir->commit();
+  }
 
   // Why a surface is not a valid bone surface, one reason each; none means PASS.
   std::vector<std::string> failures;

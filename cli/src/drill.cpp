@@ -4,10 +4,12 @@
 #include "run_summary.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 #include "osteon/core/memory.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/io/volume_io.h"
 #include "osteon/simulation/runner.h"
@@ -43,14 +45,6 @@ bool endsWithCsv(const std::string& path) {
 }
 
 json percentilesJson(const sim::Percentiles& p) { return {{"p50", p.p50}, {"p99", p.p99}, {"max", p.max}}; }
-
-void makeOutDir(const std::string& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError("--out-dir " + dir + ": cannot create the folder (" + ec.message() + ")");
-  }
-}
 
 }  // namespace
 
@@ -138,7 +132,8 @@ int runDrill(const DrillCommandOptions& options) {
     s << "--voxel-size " << options.voxelSizeMm << ": must be a positive number of mm";
     throw InputError(s.str());
   }
-  makeOutDir(options.outDir);
+  // The run's three files are one set: put in place together at the end (output_dir.h).
+  geo::OutputDir outDir(options.outDir, {"forces.csv", "summary.json", "surface.ply"});
   const std::string forcesPath = options.outDir + "/forces.csv";
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
@@ -219,6 +214,7 @@ int runDrill(const DrillCommandOptions& options) {
     deterministic.keepLog = false;
     run = session.run(path, deterministic);
   }
+  throwIfInterrupted();  // the run was cut short: nothing of it is put in place
 
   forces.commit();
   // The drilled bone with its refined regions, crack-free and smoothed, made once the run's
@@ -246,6 +242,7 @@ int runDrill(const DrillCommandOptions& options) {
     summary["empty_reason"] = "the path never meets bone (no contact, nothing removed)";
   }
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
+  outDir.commit();
   if (options.json) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {

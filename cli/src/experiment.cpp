@@ -4,7 +4,9 @@
 #include "force_plots.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 #include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/simulation/experiment.h"
 
@@ -85,6 +87,11 @@ int runExperiment(const ExperimentCommandOptions& options) {
   geometry::refuseOverwritingInputs(outputs, {inputFile(options.mesh)});
   refuseInputsInside(options.outDir + "/runs", {inputFile(options.mesh)});
 
+  // The logs, the table and the plots are one set, put in place together when the run is
+  // complete (output_dir.h). plots.gp.log is gnuplot's own say, not part of it.
+  std::vector<std::string> owned = {"runs", "experiment.json", "jitter.md", "plots.gp"};
+  owned.insert(owned.end(), plannedImages.begin(), plannedImages.end());
+  geometry::OutputDir outDir(options.outDir, owned);
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/runs", ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
@@ -96,6 +103,7 @@ int runExperiment(const ExperimentCommandOptions& options) {
 
   const std::vector<sim::ExperimentRun> runs = sim::runSeedExperiment(
       mesh, cases, [&](const sim::ExperimentRun& r) {
+        throwIfInterrupted();  // a run cut short by SIGINT/SIGTERM: nothing is put in place
         const std::string dir = options.outDir + "/runs/" + r.name();
         std::filesystem::create_directories(dir);
         sim::writeForceLog(r.result.log, dir + "/forces.csv");
@@ -129,8 +137,15 @@ int runExperiment(const ExperimentCommandOptions& options) {
   const json table = {{"experiment", "seed"}, {"mesh", options.mesh}, {"runs", rows}, {"plots", images}};
   geometry::writeFileAtomically(options.outDir + "/experiment.json", table.dump(2) + "\n");
   geometry::writeFileAtomically(options.outDir + "/jitter.md", md.str());
-  // The logs and the table are on disk before the plotting can fail.
-  drawForcePlots(figures, options.outDir + "/plots.gp");
+  // The logs and the table are kept when the plotting fails (gnuplot missing): a set without
+  // plots, the previous run's plots removed.
+  try {
+    drawForcePlots(figures, options.outDir + "/plots.gp");
+  } catch (const InputError&) {
+    outDir.commit();
+    throw;
+  }
+  outDir.commit();
   if (options.json) {
     std::cout << table.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {

@@ -2,6 +2,7 @@
 // it lives here alone); commands.cpp does the work. Errors are one line on stderr.
 #include "commands.h"
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 
 #include <CLI/CLI.hpp>
 
@@ -296,6 +297,10 @@ int main(int argc, char** argv) {
     if (*replayCmd) return osteon::cli::runReplay(replay);
     if (*devicesListCmd) return osteon::cli::runDevicesList(devicesList);
     if (*monitorCmd) return osteon::cli::runDevicesMonitor(monitor);
+  } catch (const osteon::Interrupted& e) {
+    // The run's folder keeps its previous outputs (output_dir.h): nothing of this run is in it.
+    std::cerr << "osteon: " << e.what() << ": the run stopped; its output folder keeps what it held before\n";
+    return e.exitCode();
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
     return kExitBadInput;

@@ -5,8 +5,10 @@
 #include "run_summary.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 #include "osteon/devices/recording.h"
 #include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/simulation/device_input.h"
 #include "osteon/simulation/path.h"
@@ -51,12 +53,9 @@ void checkRunOptions(double voxelSizeMm, int levels) {
   }
 }
 
-void makeOutDir(const std::string& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError("--out-dir " + dir + ": cannot create the folder (" + ec.message() + ")");
-  }
+// The run's files are one set, put in place together at the end (output_dir.h).
+geo::OutputDir openOutDir(const std::string& dir) {
+  return geo::OutputDir(dir, {"forces.csv", "summary.json", "surface.ply"});
 }
 
 bool isCsv(const std::string& path) {
@@ -102,10 +101,11 @@ json safetyJson(const dev::SafetyStats& s, double limitN) {
           {"force_limit_n", limitN}};
 }
 
-// Writes summary.json and the surface, prints the summary; shared by replay and drill --device.
-int finish(const RunSetup& setup, sim::Session& session, const sim::RunSummary& run, json extra,
-           const std::string& forcesPath, const std::string& summaryPath, const std::string& surfacePath,
-           const std::string& what) {
+// Writes summary.json and the surface, puts the run's files (and a recording) in place, prints
+// the summary; shared by replay and drill --device.
+int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session, const sim::RunSummary& run,
+           json extra, const std::string& forcesPath, const std::string& summaryPath, const std::string& surfacePath,
+           const std::string& what, geo::OutputFile* recording = nullptr) {
   const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
   json summary = runSummaryJson(run, session, setup.mesh, setup.mode, setup.tool, setup.voxelSizeMm, setup.levels);
@@ -116,6 +116,8 @@ int finish(const RunSetup& setup, sim::Session& session, const sim::RunSummary& 
   summary.erase("recording_out");
   summary["files"] = files;
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
+  outDir.commit();
+  if (recording) recording->commit();  // the run is complete: the new recording replaces the old
   if (setup.json) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {
@@ -144,7 +146,7 @@ int runReplay(const ReplayCommandOptions& options) {
   checkRunOptions(options.voxelSizeMm, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   dev::Recording recording = dev::loadRecording(options.log);
-  makeOutDir(options.outDir);
+  geo::OutputDir outDir = openOutDir(options.outDir);
   const std::string forcesPath = options.outDir + "/forces.csv";
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
@@ -158,6 +160,7 @@ int runReplay(const ReplayCommandOptions& options) {
   sim::DeviceRunOptions ro;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   const sim::DeviceRunResult r = sim::runDevice(session, device, ro);
+  throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
 
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
@@ -166,7 +169,7 @@ int runReplay(const ReplayCommandOptions& options) {
                 {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
                 {"recording", {{"file", options.log}, {"rows", rows}, {"start_s", r.startS}, {"end_s", r.endS},
                                {"steps_before_pose", r.stepsBeforePose}}}};
-  return finish(setup, session, r.run.summary, extra, forcesPath, summaryPath, surfacePath,
+  return finish(setup, outDir, session, r.run.summary, extra, forcesPath, summaryPath, surfacePath,
                 "replayed " + options.log);
 }
 
@@ -190,7 +193,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
     if (plus == std::string::npos) break;
     start = plus + 1;
   }
-  makeOutDir(options.outDir);
+  geo::OutputDir outDir = openOutDir(options.outDir);
   const std::string forcesPath = options.outDir + "/forces.csv";
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
@@ -227,10 +230,17 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
     throw InputError(options.device + ": a live device needs --duration S (how long to run, in seconds)");
   }
 
+  // Recorded into a temporary, put in place only when the run and the recording are complete:
+  // an existing recording stays until then (and is kept when the run fails or is stopped).
+  std::optional<geo::OutputFile> recordFile;
   std::optional<dev::StreamRecorder> recorder;
   dev::RecorderOptions recorderOptions;
   recorderOptions.waitWhenFull = deterministic;  // a live loop never waits for the disk
-  if (!options.record.empty()) recorder.emplace(options.record, recorderOptions);
+  if (!options.record.empty()) {
+    recordFile.emplace(options.record);
+    recorderOptions.name = options.record;
+    recorder.emplace(recordFile->tempPath(), recorderOptions);
+  }
 
   sim::ForceLogWriter forces(forcesPath);
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
@@ -269,6 +279,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
     extra["device"] = {{"name", options.device}, {"duration_s", ro.durationS},
                        {"frame_origin_mm", {io.frame.originMm.x, io.frame.originMm.y, io.frame.originMm.z}}};
   }
+  throwIfInterrupted();  // the run was cut short: nothing of it is put in place (its recording neither)
   forces.commit();
   if (recorder) {
     recorder->close();
@@ -280,8 +291,8 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   extra["safety"] = safetyJson(safety, limitN);
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
                  options.json, deterministic ? "device" : "device-threaded"};
-  return finish(setup, session, run, extra, forcesPath, summaryPath, surfacePath,
-                "drilled with " + options.device);
+  return finish(setup, outDir, session, run, extra, forcesPath, summaryPath, surfacePath,
+                "drilled with " + options.device, recordFile ? &*recordFile : nullptr);
 }
 
 }  // namespace osteon::cli

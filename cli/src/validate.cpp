@@ -7,8 +7,10 @@
 #include "force_plots.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 #include "osteon/geometry/io/library_versions.h"
 #include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/io/volume_io.h"
 #include "osteon/geometry/surface/surface.h"
@@ -24,6 +26,8 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -305,6 +309,37 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
   geometry::writeFileAtomically(path, h.str());
 }
 
+// The name each model's force logs and plots go by: its file stem as a file name (letters,
+// digits, '.', '-', '_'), plus a short hash of its argument when two models would share it
+// (default and big/default.obj), so no model's logs overwrite another's. The same --models
+// give the same names in every shard of a run.
+std::map<std::string, std::string> modelFileNames(const std::vector<std::string>& models) {
+  std::map<std::string, std::string> stemOf;
+  std::map<std::string, std::set<std::string>> argumentsOf;
+  for (const std::string& model : models) {
+    std::string stem;
+    for (const char ch : std::filesystem::path(model).stem().string()) {
+      stem += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-' || ch == '_' ? ch : '_';
+    }
+    if (stem.empty()) stem = "model";
+    stemOf[model] = stem;
+    argumentsOf[stem].insert(model);
+  }
+  std::map<std::string, std::string> names;
+  for (const auto& [model, stem] : stemOf) {
+    if (argumentsOf[stem].size() == 1) {
+      names[model] = stem;
+      continue;
+    }
+    std::uint32_t hash = 2166136261u;  // FNV-1a: stable across runs, machines and shards
+    for (const char ch : model) hash = (hash ^ static_cast<unsigned char>(ch)) * 16777619u;
+    char suffix[16];
+    std::snprintf(suffix, sizeof suffix, "-%08x", hash);
+    names[model] = stem + suffix;
+  }
+  return names;
+}
+
 // --shard K/N: whole decimal numbers, K counted from 0 (as a Slurm array's task ids).
 std::pair<std::size_t, std::size_t> parseShard(const std::string& text) {
   const auto bad = [&](const std::string& why) { return InputError("--shard " + text + ": " + why); };
@@ -366,9 +401,13 @@ int runValidate(const ValidateCommandOptions& options) {
   const std::string logPath = options.outDir + "/validate.log";
   geometry::refuseOverwritingInputs({reportJsonPath, reportHtmlPath, logPath}, inputs);
   for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
+  // The report, the log, the force logs, plots and images are one set, put in place together
+  // when the run is complete (output_dir.h).
+  geometry::OutputDir outDir(options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/images", ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  const std::map<std::string, std::string> fileNameOf = modelFileNames(names);
   std::vector<val::ValidationModel> models;
   const double scale = scaleToMm(options.units);
   for (const std::string& name : names) {
@@ -428,12 +467,13 @@ int runValidate(const ValidateCommandOptions& options) {
   std::filesystem::create_directories(options.outDir + "/forces");
   std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
   const val::ValidationReport report = val::runValidation(models, vo, [&](const val::ValidationCase& c) {
+    throwIfInterrupted();  // a case cut short by SIGINT/SIGTERM: the run ends, nothing put in place
     if (c.method == geometry::SurfaceMethod::CrackFree) {
       for (const val::PortalRun& p : c.portals) {
         std::ostringstream stem, group;
-        stem << "forces/" << std::filesystem::path(c.model).stem().string() << "_" << c.voxelSizeMm << "mm_" << val::forceModeName(c.mode)
+        stem << "forces/" << fileNameOf.at(c.model) << "_" << c.voxelSizeMm << "mm_" << val::forceModeName(c.mode)
              << "_" << p.portal << ".csv";
-        group << std::filesystem::path(c.model).stem().string() << ", VS = " << c.voxelSizeMm << " mm, " << p.portal;
+        group << fileNameOf.at(c.model) << ", VS = " << c.voxelSizeMm << " mm, " << p.portal;
         simulation::writeForceLog(p.collisions.run.log, options.outDir + "/" + stem.str());
         std::ostringstream label;
         const bool still = c.mode == val::ForceMode::Static;
@@ -529,6 +569,7 @@ int runValidate(const ValidateCommandOptions& options) {
   log.close();
   if (!log) throw InputError(logPath + ": writing failed (disk full or not writable?)");
   logFile.commit();
+  outDir.commit();
   return printVerdict(j, options.outDir);
 }
 

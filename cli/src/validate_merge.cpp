@@ -3,6 +3,7 @@
 #include "validate_report.h"
 
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 
 #include <nlohmann/json.hpp>
@@ -280,9 +281,7 @@ int runValidateMerge(const ValidateCommandOptions& options) {
     files.push_back(shardFiles(s->dir));
     logs.push_back(shardLog(s->dir));
   }
-  std::error_code ec;
-  fs::create_directories(options.outDir, ec);
-  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  geometry::OutputDir outDir(options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
   for (const char* owned : {"images", "plots", "forces"}) makeOutputFolder(options.outDir, owned);
 
   std::set<std::string> plots;
@@ -317,6 +316,7 @@ int runValidateMerge(const ValidateCommandOptions& options) {
             {"merged_from", mergedFrom},
             {"shard_seconds", shardSeconds}};
   writeReport(j, options, old, images);
+  outDir.commit();
   return printVerdict(j, options.outDir);
 }
 

@@ -51,15 +51,18 @@ std::size_t formatRecordingRow(double tS, const DeviceSample& s, char* out, std:
 // ---- writing ----
 
 StreamRecorder::StreamRecorder(const std::string& path, const RecorderOptions& options)
-    : path_(path), options_(options), ring_(std::max<std::size_t>(options.bufferBytes, 4096)) {
+    : path_(path),
+      name_(options.name.empty() ? path : options.name),
+      options_(options),
+      ring_(std::max<std::size_t>(options.bufferBytes, 4096)) {
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw InputError(path + ": cannot write the recording (" + std::strerror(errno) + ")");
+  if (fd_ < 0) throw InputError(name_ + ": cannot write the recording (" + std::strerror(errno) + ")");
   const std::string header = std::string(kRecordingHeader) + "\n";
   if (::write(fd_, header.data(), header.size()) != ssize_t(header.size())) {
     const int e = errno;
     ::close(fd_);
     fd_ = -1;
-    throw InputError(path + ": cannot write the recording (" + std::strerror(e) + ")");
+    throw InputError(name_ + ": cannot write the recording (" + std::strerror(e) + ")");
   }
   writer_ = std::thread([this] { writerLoop(); });
 }
@@ -145,7 +148,7 @@ void StreamRecorder::close() {
   const bool closed = ::close(fd_) == 0;
   fd_ = -1;
   if (failed_.load() || !closed) {
-    throw InputError(path_ + ": writing the recording failed (" + std::strerror(error_ ? error_ : EIO) + ")");
+    throw InputError(name_ + ": writing the recording failed (" + std::strerror(error_ ? error_ : EIO) + ")");
   }
 }
 

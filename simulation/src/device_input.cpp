@@ -1,6 +1,7 @@
 #include "osteon/simulation/device_input.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 
 #include <algorithm>
 #include <cctype>
@@ -162,6 +163,7 @@ DeviceRunResult runDevice(Session& session, devices::Device& device, const Devic
     if (options.onRow) options.onRow(row);
     input.apply(in.tS, out.contact.forceN);
     ++ran;
+    if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
   }
   RunSummary& s = result.run.summary;
   s.jitterN = metrics.jitterN();

@@ -1,6 +1,7 @@
 #include "osteon/simulation/runner.h"
 
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -148,6 +149,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
       }
     }
     if (options.afterStep) options.afterStep(i, input, out);
+    if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
   }
   RunSummary& s = result.summary;
   s.jitterN = metrics.jitterN();
@@ -185,7 +187,12 @@ ForceLogWriter::ForceLogWriter(const std::string& path) : file_(path), buffer_(s
 }
 
 ForceLogWriter::~ForceLogWriter() {
-  if (!done_) keepPartial();
+  if (done_) return;
+  if (interrupted()) {  // stopped on request (SIGINT/SIGTERM): nothing kept, the folder stays as it was
+    if (fd_ >= 0) ::close(fd_);
+    return;  // file_ removes the temporary
+  }
+  keepPartial();
 }
 
 long ForceLogWriter::writeSome(int fd, const char* data, std::size_t bytes) noexcept {

@@ -2,6 +2,8 @@
 
 #include "osteon/simulation/live.h"
 
+#include "osteon/core/interrupt.h"
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -29,7 +31,8 @@ RuntimeResult runThreaded(DrillingSimulation& sim, geometry::VoxelGrid& grid, Po
       }
     }
   });
-  while (!live.loopsDone() && !visualFailed.load(std::memory_order_acquire)) {
+  // SIGINT/SIGTERM stop the loops early; the caller throws Interrupted.
+  while (!live.loopsDone() && !visualFailed.load(std::memory_order_acquire) && !interrupted()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   loopsOver.store(true, std::memory_order_release);

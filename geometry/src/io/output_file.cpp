@@ -1,6 +1,7 @@
 #include "osteon/geometry/io/output_file.h"
 
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/output_dir.h"
 
 #include <atomic>
 #include <cstdio>
@@ -44,7 +45,15 @@ OutputFile::~OutputFile() {
   if (!committed_ && !tempPath_.empty()) std::remove(tempPath_.c_str());
 }
 
-void OutputFile::commit() { commitTo(path_); }
+void OutputFile::commit() {
+  if (committed_) return;
+  // Inside an open run folder, the output waits for the rest of its run's set (output_dir.h).
+  if (OutputDir::holdBack(tempPath_, path_)) {
+    committed_ = true;
+    return;
+  }
+  commitTo(path_);
+}
 
 void OutputFile::commitTo(const std::string& otherPath) {
   if (committed_) return;
@@ -67,6 +76,14 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
     out.close();
     if (!out) throw InputError(path + ": writing failed (disk full or not writable?)");
   }
+  file.commit();
+}
+
+void copyFileAtomically(const std::string& from, const std::string& to) {
+  OutputFile file(to);
+  std::error_code ec;
+  fs::copy_file(from, file.tempPath(), fs::copy_options::overwrite_existing, ec);
+  if (ec) throw InputError(to + ": cannot copy " + from + " (" + ec.message() + ")");
   file.commit();
 }
 

@@ -35,11 +35,17 @@ struct RecorderOptions {
   // Deterministic runs (faster than real time) wait for room instead of dropping a row; live
   // loops drop and count (a real-time loop never waits for a disk).
   bool waitWhenFull = false;
+  // The file messages name, when the recorder writes a temporary that becomes it (as through
+  // geometry's OutputFile, which keeps an existing recording until the new one is complete).
+  // Empty: the path written.
+  std::string name;
 };
 
 class StreamRecorder {
  public:
-  // Creates (truncates) the file and writes the header. Throws InputError naming the path.
+  // Creates (truncates) the file and writes the header. Throws InputError naming the path
+  // (options.name when given). To keep an existing recording until the new one is complete,
+  // record into a temporary and rename it when close() succeeds.
   explicit StreamRecorder(const std::string& path, const RecorderOptions& options = {});
   ~StreamRecorder();
   StreamRecorder(const StreamRecorder&) = delete;
@@ -61,6 +67,7 @@ class StreamRecorder {
   bool drain();
 
   std::string path_;
+  std::string name_;  // in messages
   RecorderOptions options_;
   int fd_ = -1;
   std::vector<char> ring_;

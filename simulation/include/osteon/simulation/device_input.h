@@ -122,7 +122,8 @@ struct DeviceRunResult {
 // A time-driven device (a scripted path, a recording) drives the session in the deterministic
 // mode: 1 ms steps from its start to its end, each pose through the safety layer, each force
 // through it to the device. A scripted path gives drill's force log byte for byte, and so does
-// its recording replayed. Throws InputError for a live device or one without a pose.
+// its recording replayed. Throws InputError for a live device or one without a pose. Stops
+// early once SIGINT/SIGTERM is recorded (core/interrupt.h; the caller throws Interrupted).
 DeviceRunResult runDevice(Session& session, devices::Device& device, const DeviceRunOptions& options = {});
 
 }  // namespace osteon::simulation

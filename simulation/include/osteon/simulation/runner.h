@@ -122,7 +122,8 @@ struct RunResult {
   RunSummary summary;
 };
 
-// Runs the path from t = 0 to its end. `surface` may be null (no visual work).
+// Runs the path from t = 0 to its end, or until SIGINT/SIGTERM is recorded (core/interrupt.h:
+// the caller then throws Interrupted). `surface` may be null (no visual work).
 RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, const DrillPath& path,
                            geometry::SurfaceUpdater* surface, const DeterministicOptions& options = {});
 
@@ -135,7 +136,8 @@ void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path)
 // nor throws: rows are formatted into a buffer that goes to the file whole. When the disk fails
 // (full, over quota, an I/O error) the file is cut back to its last whole row and later rows
 // are dropped; commit() then keeps the rows written in partialPath() and throws. A writer
-// destroyed without commit() (a run that failed elsewhere) keeps its whole rows there too.
+// destroyed without commit() (a run that failed elsewhere) keeps its whole rows there too,
+// unless the run was stopped by SIGINT/SIGTERM (core/interrupt.h): then it keeps nothing.
 class ForceLogWriter {
  public:
   explicit ForceLogWriter(const std::string& path);  // throws InputError naming path

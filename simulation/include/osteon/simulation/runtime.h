@@ -102,7 +102,8 @@ class RuntimeFault : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Runs the three threads for options.durationS; `grid` is the grid `sim` drills. `sink` may be
+// Runs the three threads for options.durationS (less once SIGINT/SIGTERM is recorded,
+// core/interrupt.h); `grid` is the grid `sim` drills. `sink` may be
 // null. The visual thread's surface ends equal to a full extraction of the drilled grid unless
 // stats.ringFull > 0. When the visual surface update throws, the loops are stopped at once and
 // RuntimeFault says what failed and when; the rows logged so far have reached options.onRow.

@@ -21,9 +21,11 @@ class OutputFile {
 
   const std::string& path() const { return path_; }
   const std::string& tempPath() const { return tempPath_; }
+  // Inside a run folder that is open (output_dir.h), the file is put in place with the rest of
+  // its run's set; elsewhere at once.
   void commit();
-  // As commit(), onto another path in the same folder (an output kept under a name that says
-  // it is incomplete, as a force log cut short by a full disk).
+  // Renames onto a path in the same folder at once, run folder or not: an output kept under a
+  // name that says it is incomplete (a force log cut short by a full disk), or a failure's log.
   void commitTo(const std::string& otherPath);
 
  private:
@@ -34,6 +36,9 @@ class OutputFile {
 
 // Writes `bytes` to path through an OutputFile.
 void writeFileAtomically(const std::string& path, const std::string& bytes);
+
+// Copies `from` to `to` through an OutputFile.
+void copyFileAtomically(const std::string& from, const std::string& to);
 
 // True when both name the same existing file (after symlinks, and hard links alike).
 bool sameFile(const std::string& a, const std::string& b);
