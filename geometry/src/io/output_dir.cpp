@@ -78,10 +78,14 @@ bool inside(const fs::path& path, const fs::path& root) {
   return p != path.end();
 }
 
+// The folder resolved, the last name not: a rename onto a link replaces the link, so a link
+// at the output's place is that entry of the folder, not the file it points to.
 std::string canonicalKey(const std::string& path) {
   std::error_code ec;
-  const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
-  return ec ? std::string() : p.string();
+  const fs::path absolute = fs::absolute(path, ec).lexically_normal();
+  if (ec || !absolute.has_filename()) return std::string();
+  const fs::path folder = fs::weakly_canonical(absolute.parent_path(), ec);
+  return ec ? std::string() : (folder / absolute.filename()).string();
 }
 
 }  // namespace
