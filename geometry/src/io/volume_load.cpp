@@ -34,9 +34,6 @@ bool isNiftiPath(std::string path) {
   return endsWith(".nii") || endsWith(".nii.gz");
 }
 
-// osteon's own process (code, libraries, thread stacks: about 70 MB of address space when
-// measured) beside the volume's own memory.
-constexpr double kProcessBytes = 128e6;
 // A malloc'd brick costs its arrays plus the allocator's header; the brick table 13 bytes a brick
 // (pointer, uniform fill and density, dirty flag).
 constexpr double kBrickBytes = double(sizeof(VoxelGrid::Brick)) + 16.0 + 13.0;
@@ -251,11 +248,12 @@ double volumeLoadMemoryBytes(glm::ivec3 sizes, std::size_t scalarBytes) {
   const double stored = voxels * double(scalarBytes);
   // Reading: a gzip volume's compressed data beside its values (deflate grows data by at most
   // 5 bytes in 16 KiB plus its header), or the values and their copy in another axis order.
-  const double reading = 2.001 * stored + 1e6;
+  const double reading = 2.001 * stored;
   // Meaning: the values, a label map's 16-bit distance per voxel, and the grid (every brick
   // allocated at worst).
   const double building = stored + 2.0 * voxels + bricks * kBrickBytes;
-  return std::max(reading, building) + kProcessBytes;
+  // 4 MB beside: zlib's state, file buffers, the code the load runs first.
+  return std::max(reading, building) + 4e6 + kVolumeLoadHeapSlackBytes + kVolumeLoadProcessBytes;
 }
 
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {

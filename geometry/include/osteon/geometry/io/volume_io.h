@@ -65,9 +65,15 @@ struct VolumeLoad {
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options = {});
 
 // An upper bound of the memory loadVolume needs (bytes) for a volume of these sizes stored as
-// scalars of `scalarBytes` (a gzip volume's data included, osteon itself included): a larger
-// volume is refused before it is read (tests/geometry/io/volume_memory_test.cpp checks it).
+// scalars of `scalarBytes`: its phases' per-voxel peak (a gzip volume's data included) plus the
+// two constants below. A larger volume is refused before it is read
+// (tests/geometry/io/volume_memory_test.cpp measures the bound).
 double volumeLoadMemoryBytes(glm::ivec3 sizes, std::size_t scalarBytes);
+// osteon itself: code, libraries and thread stacks (about 70 MB of address space measured).
+inline constexpr double kVolumeLoadProcessBytes = 128e6;
+// Freed buffers glibc's allocator keeps: below its dynamic mmap threshold (at most 32 MiB) a
+// buffer comes from the heap and may stay there once freed; a load frees at most four.
+inline constexpr double kVolumeLoadHeapSlackBytes = 4.0 * 32 * 1024 * 1024;
 
 // Stored values of type T read from bytes (memcpy: no aliasing of the byte buffer).
 template <typename T>
