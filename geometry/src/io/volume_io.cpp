@@ -246,6 +246,12 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
     throw InputError(path + ": the origin (" + shortNum(centre0.x) + ", " + shortNum(centre0.y) + ", " +
                      shortNum(centre0.z) + ") is not finite");
   }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(std::isfinite(m[0][axis]) && std::isfinite(m[1][axis]) && std::isfinite(m[2][axis]))) {
+      throw InputError(path + ": the direction of axis " + std::to_string(axis) + " (" + shortNum(m[0][axis]) + ", " +
+                       shortNum(m[1][axis]) + ", " + shortNum(m[2][axis]) + ") is not finite");
+    }
+  }
   double spacing[3];
   int flip[3];
   int row[3];  // the LPS axis each stored axis runs along
