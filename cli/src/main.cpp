@@ -216,7 +216,7 @@ int main(int argc, char** argv) {
       "validate", "The nightly run: every guarantee on models x voxel sizes x methods x modes; report");
   validateCmd->add_option("--models", validate.models,
                           "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii .nii.gz: "
-                          "at their own voxel size, every non-zero label or 300 HU)")
+                          "at their own voxel size, every non-background label or 300 HU)")
       ->default_val("default");
   addUnits(*validateCmd, validate.units);
   validateCmd->add_option("--voxel-sizes", validate.voxelSizes, "Comma-separated voxel sizes in mm")
