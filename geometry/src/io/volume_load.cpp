@@ -156,6 +156,10 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
   many = many || counts.size() > std::size_t(kMaxLabels);
   const auto real = [&raw](T x) { return raw.integer ? double(x) : double(x) * raw.slope + raw.intercept; };
   const double loReal = std::min(real(lo), real(hi)), hiReal = std::max(real(lo), real(hi));
+  if (!std::isfinite(loReal) || !std::isfinite(hiReal)) {  // finite stored values scaled past a double
+    throw InputError(path + ": scl_slope " + shortNum(raw.slope) + " and scl_inter " + shortNum(raw.intercept) +
+                     " scale values " + shortNum(double(lo)) + " to " + shortNum(double(hi)) + " past any number");
+  }
   load.minValue = loReal;
   load.maxValue = hiReal;
   bool negative = false;

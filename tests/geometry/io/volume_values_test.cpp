@@ -81,6 +81,18 @@ TEST_F(VolumeValues, NonFiniteVoxelsAnywhereAreRefusedWithTheirCountAndFirstPosi
     EXPECT_NE(m.find("2 of 120 voxels are not a finite number"), std::string::npos) << m;
     EXPECT_NE(m.find("the first (NaN) at voxel (3, 2, 1)"), std::string::npos) << m;
   }
+  // Finite doubles that scl_slope scales past any double are no numbers either.
+  TestVolume huge = v;
+  huge.values[at(huge, 3, 2, 1)] = 1e308;
+  huge.values[at(huge, 4, 4, 3)] = -1000.0;
+  test::writeTestNifti(file("scaled.nii"), huge, 64, 64, test::encodeAs<double>(huge.values), false);
+  std::string scaled = test::readBytes(file("scaled.nii"));
+  const float slope = 10.0f;
+  std::memcpy(&scaled[112], &slope, sizeof slope);
+  test::writeAll(file("scaled.nii"), scaled);
+  EXPECT_NE(refusal("scaled.nii").find("scl_slope 10 and scl_inter 0 scale values -1000 to 1e+308 past any number"),
+            std::string::npos)
+      << refusal("scaled.nii");
   // Without them the same volume loads as the CT it is.
   v.values[at(v, 3, 2, 1)] = 1200.0;
   v.values[at(v, 4, 4, 3)] = -1000.0;
