@@ -323,8 +323,12 @@ json volumeJson(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
   j["min"] = v.minValue;
   j["max"] = v.maxValue;
   if (v.kind == "label map") {
+    // Labels as integers, exact to 64 bits (a uint64 label past 2^63 too), not as doubles.
+    j["min"] = v.labels.front();
+    j["max"] = v.labels.back();
     j["labels"] = v.labels;
-    j["bone_label"] = v.label ? json(*v.label) : json("every non-zero");
+    j["background"] = v.background;
+    j["bone_label"] = v.label ? json(*v.label) : json(v.background == 0 ? "every non-zero" : "every non-background");
   } else {
     j["iso_hu"] = v.isoHu;
     j["iso_default"] = !meaning.isoHu.has_value();
@@ -340,8 +344,12 @@ std::string volumeLine(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
   s << "  volume      " << v.format << " " << v.type << ", read as " << v.kind;
   if (v.kind == "label map") {
     s << " (labels";
-    for (long long l : v.labels) s << " " << l;
-    s << "; bone: " << (v.label ? "label " + std::to_string(*v.label) : std::string("every non-zero voxel"))
+    for (std::uint64_t l : v.labels) s << " " << l;
+    s << "; bone: "
+      << (v.label ? "label " + std::to_string(*v.label)
+                  : v.background == 0 ? std::string("every non-zero voxel")
+                                      : "every voxel but the background " + std::to_string(v.background) +
+                                            " (0 absent: the most common value)")
       << ")";
   } else if (v.kind == "ct") {
     s << " (values " << v.minValue << " to " << v.maxValue << "; iso " << v.isoHu << " HU"

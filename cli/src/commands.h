@@ -20,9 +20,9 @@ struct MeshUnits {
 
 // What a volume (NRRD or NIfTI that is not osteon's own grid) means (volume_io.h).
 struct VolumeMeaning {
-  std::optional<long long> label;  // label maps: the bone label (default: every non-zero voxel)
-  std::optional<double> isoHu;     // CTs: the bone threshold in HU (default 300)
-  bool allowOutsideData = false;   // NRRD: read a `data file:` outside the header's folder
+  std::optional<std::uint64_t> label;  // label maps: the bone label (default: all but the background)
+  std::optional<double> isoHu;         // CTs: the bone threshold in HU (default 300)
+  bool allowOutsideData = false;       // NRRD: read a `data file:` outside the header's folder
 };
 
 struct InfoOptions {

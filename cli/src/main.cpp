@@ -39,10 +39,24 @@ void addGridInput(CLI::App& cmd, std::string& input, osteon::cli::MeshUnits& uni
                  "Voxel edge in mm (required for a mesh; a grid has its own)");
 }
 
+// CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed or label is refused rather than wrapped.
+CLI::Validator nonNegativeInteger(const char* name) {
+  return CLI::Validator(
+      [](std::string& text) {
+        const std::size_t first = text.find_first_not_of(" \t");
+        return first != std::string::npos && text[first] == '-'
+                   ? std::string("must be a non-negative integer, not ") + text
+                   : std::string();
+      },
+      name);
+}
+
 // What a volume (NRRD or NIfTI) means, and whether an empty result is accepted.
 void addVolumeMeaning(CLI::App& cmd, osteon::cli::VolumeMeaning& meaning) {
   cmd.add_option("--label", meaning.label,
-                 "Label map volumes: the bone label (default: every non-zero voxel)");
+                 "Label map volumes: the bone label, 0 .. 2^64-1 (default: every voxel but the background, "
+                 "0 or else the most common value)")
+      ->check(nonNegativeInteger("LABEL"));
   cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
   cmd.add_flag("--allow-outside-data", meaning.allowOutsideData,
                "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
@@ -109,17 +123,9 @@ int main(int argc, char** argv) {
       "hierarchy", "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)");
   addGridInput(*dphCmd, dph.input, dph.units, dph.voxelSizeMm);
   dphCmd->add_option("--xi", dph.xi, "Expansion ratio (odd, 3..15)")->default_val(3);
-  // CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed is refused rather than wrapped.
   dphCmd->add_option("--seed", dph.seed, "Seed of the insertion order (0 .. 2^64-1)")
       ->default_val(1)
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            const std::size_t first = text.find_first_not_of(" \t");
-            return first != std::string::npos && text[first] == '-'
-                       ? std::string("must be a non-negative integer, not ") + text
-                       : std::string();
-          },
-          "SEED"));
+      ->check(nonNegativeInteger("SEED"));
   dphCmd->add_option("--svg", dph.svg, "Draw a z-slice of the hierarchy into this SVG file");
   dphCmd->add_option("--slice-z", dph.sliceZMm, "Height of the --svg slice in mm (default: middle)");
   dphCmd->add_flag("--json", dph.json, "Print one JSON object on stdout");
@@ -213,7 +219,7 @@ int main(int argc, char** argv) {
       "validate", "The nightly run: every guarantee on models x voxel sizes x methods x modes; report");
   validateCmd->add_option("--models", validate.models,
                           "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii .nii.gz: "
-                          "at their own voxel size, every non-zero label or 300 HU)")
+                          "at their own voxel size, every non-background label or 300 HU)")
       ->default_val("default");
   addUnits(*validateCmd, validate.units);
   validateCmd->add_option("--voxel-sizes", validate.voxelSizes, "Comma-separated voxel sizes in mm")

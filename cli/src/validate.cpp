@@ -412,7 +412,7 @@ int runValidate(const ValidateCommandOptions& options) {
   const double scale = scaleToMm(options.units);
   for (const std::string& name : names) {
     if (geometry::isVolumePath(name)) {
-      // Its own voxel size, every non-zero label or 300 HU (`osteon mesh VOLUME` says what it holds).
+      // Its own voxel size, every non-background label or 300 HU (`osteon mesh VOLUME` says what it holds).
       models.emplace_back();
       models.back().name = name;
       geometry::VolumeOptions volumeOptions;

@@ -53,9 +53,17 @@ int main(int argc, char** argv) {
                  "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a volume: an osteon grid, a "
                  "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
       ->default_val("default");
-  std::optional<long long> label;
+  std::optional<std::uint64_t> label;
   std::optional<double> isoHu;
-  app.add_option("--label", label, "Label maps: the bone label (default: every non-zero voxel is bone)");
+  // CLI11 reads "-1" into an unsigned as 2^64 - 1: a label is refused rather than wrapped.
+  app.add_option("--label", label, "Label maps: the bone label, 0 .. 2^64-1 (default: every voxel but the background)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const std::size_t first = text.find_first_not_of(" \t");
+            return first != std::string::npos && text[first] == '-' ? "must be a non-negative integer, not " + text
+                                                                    : std::string();
+          },
+          "LABEL"));
   app.add_option("--iso", isoHu, "CT volumes: the bone threshold in HU (default 300)");
   bool allowOutsideData = false;
   app.add_flag("--allow-outside-data", allowOutsideData,

@@ -6,6 +6,7 @@
 
 #include "osteon/simulation/tool.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -37,7 +38,7 @@ struct LoadRequest {
   simulation::ToolKind tool = simulation::ToolKind::Drill;
   std::string path;                     // "" (the mouse), portal-5, portal-7 or a PATH.csv
   std::string device;                   // "" (the mouse or the path), or a device name (docs/devices.md)
-  std::optional<long long> label;       // label maps: the bone label (default: every non-zero)
+  std::optional<std::uint64_t> label;   // label maps: the bone label (default: all but the background)
   std::optional<double> isoHu;          // CTs: the bone threshold (default 300 HU)
   bool allowOutsideData = false;        // NRRD: a `data file:` may lie outside the header's folder
 };

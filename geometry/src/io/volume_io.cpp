@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
@@ -72,52 +73,71 @@ bool parseNumbers(std::string text, std::vector<double>& values) {
 
 using nrrd::Scalar;  // a scalar type: its name, width and how to read one value
 
-// Decodes `count` values of `s` from `bytes` into doubles.
-void decode(const Scalar& s, bool bigEndian, const unsigned char* bytes, std::size_t count,
-            std::vector<double>& out) {
-  out.resize(count);
-  unsigned char v[8];
-  for (std::size_t i = 0; i < count; ++i) {
-    const unsigned char* p = bytes + i * s.bytes;
-    for (std::size_t b = 0; b < s.bytes; ++b) {
-      // to the host's order (little-endian hosts only, as osteon's targets)
-      v[b] = bigEndian ? p[s.bytes - 1 - b] : p[b];
-    }
-    double d = 0.0;
-    if (!s.integer) {
-      if (s.bytes == 4) {
-        float f;
-        std::memcpy(&f, v, 4);
-        d = f;
-      } else {
-        std::memcpy(&d, v, 8);
+// Makes `bytes` (count values of `s` in the file's byte order) the volume's values, in the
+// host's order (little-endian hosts only, as osteon's targets), in place: no second copy.
+void decode(const Scalar& s, bool bigEndian, std::vector<unsigned char>&& bytes, std::size_t count, RawVolume& v) {
+  bytes.resize(count * s.bytes);
+  if (bigEndian && s.bytes > 1) {
+    for (std::size_t i = 0; i < count; ++i) std::reverse(bytes.begin() + std::ptrdiff_t(i * s.bytes),
+                                                         bytes.begin() + std::ptrdiff_t((i + 1) * s.bytes));
+  }
+  v.data = std::move(bytes);
+  v.type = s.name;
+  v.scalarBytes = s.bytes;
+}
+
+// A volume past the machine's memory is refused before any of it is allocated, naming the file
+// and what would help (a volume has no --voxel-size to raise).
+void refuseOverVolumeMemory(const std::string& path, glm::ivec3 sizes, std::size_t scalarBytes) {
+  refuseOverMemory(path + ": a " + std::to_string(sizes.x) + " x " + std::to_string(sizes.y) + " x " +
+                       std::to_string(sizes.z) + " volume",
+                   volumeLoadMemoryBytes(sizes, scalarBytes),
+                   "crop or downsample it (fewer voxels) before loading, or use a machine with more memory");
+}
+
+// NaN or infinite voxels are refused wherever they are, before anything reads them as numbers
+// (a NaN compares false with every threshold and would read as air); positions are the file's
+// voxel indices (i fastest), as other tools show them.
+template <typename T>
+void refuseNonFinite(const std::string& path, const RawVolume& v, StoredValues<T> values) {
+  if constexpr (std::is_floating_point_v<T>) {
+    const std::size_t count = std::size_t(v.sizes.x) * v.sizes.y * v.sizes.z;
+    std::size_t bad = 0, first = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!std::isfinite(values[i])) {
+        if (bad++ == 0) first = i;
       }
-    } else {
-      std::uint64_t u = 0;
-      for (std::size_t b = 0; b < s.bytes; ++b) u |= std::uint64_t(v[b]) << (8 * b);
-      if (s.isSigned && s.bytes < 8 && (u >> (8 * s.bytes - 1)) & 1u) {
-        u |= ~std::uint64_t(0) << (8 * s.bytes);
-      }
-      d = s.isSigned ? double(std::int64_t(u)) : double(u);
     }
-    out[i] = d;
+    if (bad == 0) return;
+    const std::size_t nx = std::size_t(v.sizes.x), nxy = nx * std::size_t(v.sizes.y);
+    const T firstValue = values[first];
+    throw InputError(path + ": " + std::to_string(bad) + " of " + std::to_string(count) + " voxels " +
+                     (bad == 1 ? "is" : "are") + " not a finite number (" + v.type + " NaN or infinite), the first (" +
+                     (std::isnan(firstValue) ? "NaN" : firstValue > 0 ? "+Inf" : "-Inf") + ") at voxel (" +
+                     std::to_string(first % nx) + ", " + std::to_string(first / nx % std::size_t(v.sizes.y)) + ", " +
+                     std::to_string(first / nxy) + ")");
   }
 }
 
-// A volume is read as its stored values, then decoded to doubles, then made a grid (fill and
-// density per voxel): a size past the machine's memory is refused before any of it is allocated.
-void refuseOverVolumeMemory(const std::string& path, glm::ivec3 sizes, int scalarBytes) {
-  const double voxels = double(sizes.x) * sizes.y * sizes.z;
-  refuseOverMemory(path + ": a " + std::to_string(sizes.x) + " x " + std::to_string(sizes.y) + " x " +
-                       std::to_string(sizes.z) + " volume",
-                   voxels * double(scalarBytes + sizeof(double) + sizeof(std::uint16_t) + sizeof(std::int16_t)), "");
-}
-
 // Axis-aligned geometry from a 3x3 direction matrix (columns = axes i, j, k in LPS) and the
-// centre of voxel (0,0,0): flips axes that run backwards, refuses rotation and anisotropy.
+// centre of voxel (0,0,0): reorders axes stored in another order than L, P, S (a permuted
+// matrix), flips axes that run backwards, refuses rotation and anisotropy. Every volume comes
+// through here, so its values are checked here too.
 void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centre0, RawVolume& v) {
+  v.visit([&](auto values) { refuseNonFinite(path, v, values); });
+  if (!(std::isfinite(centre0.x) && std::isfinite(centre0.y) && std::isfinite(centre0.z))) {
+    throw InputError(path + ": the origin (" + shortNum(centre0.x) + ", " + shortNum(centre0.y) + ", " +
+                     shortNum(centre0.z) + ") is not finite");
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(std::isfinite(m[0][axis]) && std::isfinite(m[1][axis]) && std::isfinite(m[2][axis]))) {
+      throw InputError(path + ": the direction of axis " + std::to_string(axis) + " (" + shortNum(m[0][axis]) + ", " +
+                       shortNum(m[1][axis]) + ", " + shortNum(m[2][axis]) + ") is not finite");
+    }
+  }
   double spacing[3];
   int flip[3];
+  int row[3];  // the LPS axis each stored axis runs along
   for (int axis = 0; axis < 3; ++axis) {
     const double scale = std::max({std::abs(m[0][axis]), std::abs(m[1][axis]), std::abs(m[2][axis])});
     if (!(scale > 0.0) || !std::isfinite(scale)) {
@@ -129,26 +149,38 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
       throw InputError(path + ": the voxel spacing of axis " + std::to_string(axis) + " is " + shortNum(scale) +
                        " mm, below 1 nm");
     }
+    row[axis] = std::abs(m[0][axis]) == scale ? 0 : std::abs(m[1][axis]) == scale ? 1 : 2;
     for (int r = 0; r < 3; ++r) {
-      if (r != axis && std::abs(m[r][axis]) > 1e-6 * scale) {
+      if (r != row[axis] && std::abs(m[r][axis]) > 1e-6 * scale) {
         throw InputError(path + ": space directions are not axis-aligned (axis " + std::to_string(axis) +
                          " points along (" + shortNum(m[0][axis]) + ", " + shortNum(m[1][axis]) + ", " +
                          shortNum(m[2][axis]) + ")); rotated volumes are not supported: resample to an "
                          "axis-aligned grid");
       }
     }
-    spacing[axis] = std::abs(m[axis][axis]);
-    flip[axis] = m[axis][axis] < 0.0;
+    for (int other = 0; other < axis; ++other) {
+      if (row[other] == row[axis]) {
+        throw InputError(path + ": space directions of axes " + std::to_string(other) + " and " +
+                         std::to_string(axis) + " both run along " + "LPS"[row[axis]] +
+                         " (a degenerate direction matrix)");
+      }
+    }
+    spacing[axis] = scale;
+    flip[axis] = m[row[axis]][axis] < 0.0;
   }
   if (std::abs(spacing[0] - spacing[1]) > 1e-6 * spacing[0] || std::abs(spacing[0] - spacing[2]) > 1e-6 * spacing[0]) {
     throw InputError(path + ": anisotropic spacing " + shortNum(spacing[0]) + " x " + shortNum(spacing[1]) + " x " +
                      shortNum(spacing[2]) + " mm is not supported (voxels must be cubes: resample first)");
   }
   v.voxelSizeMm = (spacing[0] + spacing[1] + spacing[2]) / 3.0;
-  glm::dvec3 lowCentre = centre0;
+  const glm::ivec3 stored = v.sizes;
+  glm::ivec3 placed;
+  glm::dvec3 lowCentre;
   for (int a = 0; a < 3; ++a) {
-    if (flip[a]) lowCentre[a] = centre0[a] - double(v.sizes[a] - 1) * v.voxelSizeMm;
+    placed[row[a]] = stored[a];
+    lowCentre[row[a]] = flip[a] ? centre0[row[a]] - double(stored[a] - 1) * v.voxelSizeMm : centre0[row[a]];
   }
+  v.sizes = placed;
   v.originMm = lowCentre - 0.5 * v.voxelSizeMm;
   for (int a = 0; a < 3; ++a) {
     if (!(std::abs(v.originMm[a]) <= kMaxCoordinateMm) ||
@@ -158,18 +190,28 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
                        ", beyond +-1e9 mm (1000 km)");
     }
   }
-  if (flip[0] || flip[1] || flip[2]) {
-    const glm::ivec3 n = v.sizes;
-    std::vector<double> out(v.values.size());
-    for (int z = 0; z < n.z; ++z) {
-      for (int y = 0; y < n.y; ++y) {
-        for (int x = 0; x < n.x; ++x) {
-          const int sx = flip[0] ? n.x - 1 - x : x, sy = flip[1] ? n.y - 1 - y : y, sz = flip[2] ? n.z - 1 - z : z;
-          out[(std::size_t(z) * n.y + y) * n.x + x] = v.values[(std::size_t(sz) * n.y + sy) * n.x + sx];
+  if (flip[0] || flip[1] || flip[2] || row[0] != 0 || row[1] != 1 || row[2] != 2) {
+    // Stored voxel (i, j, k) goes to placed index p[row[a]] = i_a (or its mirror).
+    const std::size_t bytes = v.scalarBytes;
+    std::vector<unsigned char> out(v.data.size());
+    std::size_t step[3];  // placed offset of one step along each stored axis
+    std::size_t start = 0;
+    const std::size_t placedStride[3] = {1, std::size_t(placed.x), std::size_t(placed.x) * std::size_t(placed.y)};
+    for (int a = 0; a < 3; ++a) {
+      step[a] = placedStride[row[a]];
+      if (flip[a]) start += std::size_t(stored[a] - 1) * step[a];
+    }
+    const auto signedStep = [&](int a) { return flip[a] ? -std::ptrdiff_t(step[a]) : std::ptrdiff_t(step[a]); };
+    std::size_t from = 0;
+    for (int k = 0; k < stored.z; ++k) {
+      for (int j = 0; j < stored.y; ++j) {
+        std::ptrdiff_t to = std::ptrdiff_t(start) + k * signedStep(2) + j * signedStep(1);
+        for (int i = 0; i < stored.x; ++i, ++from, to += signedStep(0)) {
+          std::memcpy(&out[std::size_t(to) * bytes], &v.data[from * bytes], bytes);
         }
       }
     }
-    v.values.swap(out);
+    v.data.swap(out);
   }
 }
 
@@ -253,7 +295,7 @@ RawVolume readNrrdVolume(const std::string& path, bool allowOutsideData) {
     const std::uint64_t expected = count * scalar.bytes;
     // Where the data lies and how long it is, known before a byte of it is read.
     const nrrd::DataLocation at = nrrd::locateData(h, expected, gzip, allowOutsideData);
-    refuseOverVolumeMemory(path, v.sizes, int(scalar.bytes));
+    refuseOverVolumeMemory(path, v.sizes, scalar.bytes);
     std::vector<unsigned char> raw;
     if (gzip) {
       raw = nrrd::inflateData(at, expected);
@@ -264,7 +306,7 @@ RawVolume readNrrdVolume(const std::string& path, bool allowOutsideData) {
         throw InputError(at.shown + ": read failed in the data");
       }
     }
-    decode(scalar, bigEndian, raw.data(), count, v.values);
+    decode(scalar, bigEndian, std::move(raw), count, v);
     placeVolume(path, m, centre0, v);
     return v;
   }
@@ -304,6 +346,8 @@ RawVolume readNiftiVolume(const std::string& path) {
     fail("not a NIfTI-1 file (no 'n+1' magic)");
   }
   const int ndim = at<std::int16_t>(h, 40, swap);
+  // dim[0] counts the dimensions that follow, 1 to 7; anything else is not a NIfTI header.
+  if (ndim < 1 || ndim > 7) fail("dim[0] = " + std::to_string(ndim) + " is not a number of dimensions (1 to 7)");
   std::vector<double> sizes;
   for (int a = 0; a < 3; ++a) sizes.push_back(at<std::int16_t>(h, 42 + 2 * a, swap));
   for (int a = 3; a < ndim && a < 7; ++a) {
@@ -327,10 +371,17 @@ RawVolume readNiftiVolume(const std::string& path) {
     case 1280: s = {"uint64", 8, true, false}; break;
     default: fail("datatype " + std::to_string(datatype) + " is not a supported scalar type");
   }
+  // bitpix must say the datatype's width: a header that disagrees with itself is not trusted.
+  const int bitpix = at<std::int16_t>(h, 72, swap);
+  if (bitpix != int(8 * s.bytes)) {
+    fail("bitpix " + std::to_string(bitpix) + " does not match datatype " + std::to_string(datatype) + " (" + s.name +
+         ", " + std::to_string(8 * s.bytes) + " bits)");
+  }
   const float voxOffset = at<float>(h, 108, swap);
   const float slope = at<float>(h, 112, swap);
   const float inter = at<float>(h, 116, swap);
   const bool scaled = std::isfinite(slope) && slope != 0.0f && (slope != 1.0f || inter != 0.0f);
+  if (scaled && !std::isfinite(inter)) fail("scl_inter " + shortNum(inter) + " is not finite (scl_slope " + shortNum(slope) + ")");
   v.type = s.name;
   v.integer = s.integer && !scaled;
   v.isSigned = s.isSigned || (scaled && (slope < 0 || inter < 0));
@@ -346,10 +397,39 @@ RawVolume readNiftiVolume(const std::string& path) {
       for (int c = 0; c < 3; ++c) m[r][c] = at<float>(h, 280 + 16 * r + 4 * c, swap);
       centre0[r] = at<float>(h, 280 + 16 * r + 12, swap);
     }
+    for (int r = 0; r < 3; ++r) {
+      const char* name[3] = {"srow_x", "srow_y", "srow_z"};
+      if (!std::isfinite(m[r][0]) || !std::isfinite(m[r][1]) || !std::isfinite(m[r][2]) || !std::isfinite(centre0[r])) {
+        fail(std::string("the sform is not finite (") + name[r] + " = " + shortNum(m[r][0]) + " " + shortNum(m[r][1]) +
+             " " + shortNum(m[r][2]) + " " + shortNum(centre0[r]) + ")");
+      }
+    }
   } else if (qform > 0) {
     double b = at<float>(h, 256, swap), c = at<float>(h, 260, swap), d = at<float>(h, 264, swap);
-    double a = 1.0 - (b * b + c * c + d * d);
-    a = a < 1e-7 ? 0.0 : std::sqrt(a);
+    const glm::dvec3 offset(at<float>(h, 268, swap), at<float>(h, 272, swap), at<float>(h, 276, swap));
+    const double bcd = b * b + c * c + d * d;
+    const std::string quaternion = "(" + shortNum(b) + ", " + shortNum(c) + ", " + shortNum(d) + ")";
+    if (!std::isfinite(bcd)) fail("the qform quaternion (b, c, d) = " + quaternion + " is not finite");
+    // b, c, d are a unit quaternion's last three: their squares sum to at most 1 (float
+    // rounding aside, which niftilib normalises away as here).
+    if (bcd > 1.0 + 1e-5) {
+      fail("the qform quaternion (b, c, d) = " + quaternion + " is invalid: b^2 + c^2 + d^2 = " + shortNum(bcd) +
+           " exceeds 1");
+    }
+    if (!(std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z))) {
+      fail("the qform offset (" + shortNum(offset.x) + ", " + shortNum(offset.y) + ", " + shortNum(offset.z) +
+           ") is not finite");
+    }
+    double a = 1.0 - bcd;
+    if (a < 1e-7) {
+      const double norm = std::sqrt(bcd);
+      b /= norm;
+      c /= norm;
+      d /= norm;
+      a = 0.0;
+    } else {
+      a = std::sqrt(a);
+    }
     const double R[3][3] = {{a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)},
                             {2 * (b * c + a * d), a * a + c * c - b * b - d * d, 2 * (c * d - a * b)},
                             {2 * (b * d - a * c), 2 * (c * d + a * b), a * a + d * d - c * c - b * b}};
@@ -358,7 +438,7 @@ RawVolume readNiftiVolume(const std::string& path) {
       m[r][1] = R[r][1] * pix[1];
       m[r][2] = R[r][2] * pix[2] * qfac;
     }
-    centre0 = {at<float>(h, 268, swap), at<float>(h, 272, swap), at<float>(h, 276, swap)};
+    centre0 = offset;
   } else {
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) m[r][c] = r == c ? pix[r] : 0.0;
@@ -373,8 +453,13 @@ RawVolume readNiftiVolume(const std::string& path) {
   centre0.y = -centre0.y;
 
   if (!(voxOffset >= 348.0f) || voxOffset > 1e8f) fail("vox_offset " + shortNum(voxOffset) + " is not at or after the header");
-  std::vector<unsigned char> skip(std::size_t(voxOffset) - 348);
-  if (!skip.empty() && gzread(gz, skip.data(), unsigned(skip.size())) != int(skip.size())) fail("truncated before the data");
+  // Skipped a chunk at a time: vox_offset may be up to 1e8 bytes past the header.
+  std::vector<unsigned char> skip(65536);
+  for (std::size_t left = std::size_t(voxOffset) - 348; left > 0;) {
+    const unsigned chunk = unsigned(std::min(left, skip.size()));
+    if (gzread(gz, skip.data(), chunk) != int(chunk)) fail("truncated before the data");
+    left -= chunk;
+  }
   const std::uint64_t count = std::uint64_t(v.sizes.x) * v.sizes.y * v.sizes.z;
   const std::uint64_t expected = count * s.bytes;
   const std::uint64_t fileBytes = fs::file_size(path, ec);
@@ -399,60 +484,13 @@ RawVolume readNiftiVolume(const std::string& path) {
     int err = Z_OK;
     if (gzread(gz, &extra, 1) < 0 || (gzerror(gz, &err), err != Z_OK)) fail("truncated: the gzip stream ends before its checksum");
   }
-  decode(s, swap, raw.data(), count, v.values);
+  decode(s, swap, std::move(raw), count, v);
   if (scaled) {
-    for (double& x : v.values) x = x * slope + inter;
+    v.slope = slope;
+    v.intercept = inter;
   }
   placeVolume(path, m, centre0, v);
   return v;
-}
-
-// Chessboard distance (in voxels) from each inside voxel to the nearest outside voxel (or the
-// volume's edge), by two raster passes over the 26-neighbourhood.
-std::vector<int> insideDistance(const std::vector<unsigned char>& inside, glm::ivec3 n) {
-  const int big = 1 << 28;
-  std::vector<int> d(inside.size());
-  const auto idx = [&](int x, int y, int z) { return (std::size_t(z) * n.y + y) * n.x + x; };
-  for (std::size_t i = 0; i < d.size(); ++i) d[i] = inside[i] ? big : 0;
-  const auto pass = [&](int sign) {
-    for (int zz = 0; zz < n.z; ++zz) {
-      const int z = sign > 0 ? zz : n.z - 1 - zz;
-      for (int yy = 0; yy < n.y; ++yy) {
-        const int y = sign > 0 ? yy : n.y - 1 - yy;
-        for (int xx = 0; xx < n.x; ++xx) {
-          const int x = sign > 0 ? xx : n.x - 1 - xx;
-          int& here = d[idx(x, y, z)];
-          if (here == 0) continue;
-          for (int dz = -1; dz <= 0; ++dz) {
-            for (int dy = -1; dy <= 1; ++dy) {
-              for (int dx = -1; dx <= 1; ++dx) {
-                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                const int nx = x + sign * dx, ny = y + sign * dy, nz = z + sign * dz;
-                const int e = (nx < 0 || ny < 0 || nz < 0 || nx >= n.x || ny >= n.y || nz >= n.z)
-                                  ? 0 : d[idx(nx, ny, nz)];
-                here = std::min(here, e + 1);
-              }
-            }
-          }
-        }
-      }
-    }
-  };
-  pass(1);
-  pass(-1);
-  return d;
-}
-
-void setGrid(VoxelGrid& grid, const glm::ivec3 n, const std::vector<Fill>& fill, const std::vector<Density>& density) {
-  for (int z = 0; z < n.z; ++z) {
-    for (int y = 0; y < n.y; ++y) {
-      for (int x = 0; x < n.x; ++x) {
-        const std::size_t i = (std::size_t(z) * n.y + y) * n.x + x;
-        if (fill[i] != 0 || density[i] != 0) grid.set({x, y, z}, fill[i], density[i]);
-      }
-    }
-  }
-  grid.clearDirty();
 }
 
 }  // namespace
@@ -466,100 +504,6 @@ RawVolume readRawVolume(const std::string& path, bool allowOutsideData) {
   const std::string p = lower(path);
   if (endsWith(p, ".nii") || endsWith(p, ".nii.gz")) return readNiftiVolume(path);
   return readNrrdVolume(path, allowOutsideData);
-}
-
-VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
-  const std::string p = lower(path);
-  const bool nifti = endsWith(p, ".nii") || endsWith(p, ".nii.gz");
-  RawVolume raw = readRawVolume(path, options.allowOutsideData);
-  VolumeLoad load;
-  load.format = nifti ? "nifti" : "nrrd";
-  if (raw.osteonGrid) {
-    if (options.label || options.isoHu) {
-      throw InputError(path + ": an osteon grid (fill and density as saved): " +
-                       (options.label ? "--label" : "--iso") + " is for label maps and CTs");
-    }
-    NrrdReadResult r = readNrrd(path, options.allowOutsideData);
-    load.grid = std::move(r.grid);
-    load.densityLoaded = r.densityLoaded;
-    load.kind = "osteon grid";
-    load.type = "fill";
-    return load;
-  }
-  load.type = raw.type;
-  const glm::ivec3 n = raw.sizes;
-  std::set<double> distinct;
-  double lo = raw.values.empty() ? 0.0 : raw.values[0], hi = lo;
-  bool whole = true;
-  for (double x : raw.values) {
-    lo = std::min(lo, x);
-    hi = std::max(hi, x);
-    if (distinct.size() <= std::size_t(kMaxLabels)) distinct.insert(x);
-    if (whole && x != std::floor(x)) whole = false;
-  }
-  load.minValue = lo;
-  load.maxValue = hi;
-  const bool labelMap = raw.integer && whole && distinct.size() <= std::size_t(kMaxLabels);
-  const bool ct = !labelMap && raw.isSigned && hi - lo >= kMinCtRangeHu;
-  try {
-    load.grid = VoxelGrid(n, raw.originMm, raw.voxelSizeMm);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(path + ": " + e.what());
-  }
-  std::vector<Fill> fill(raw.values.size(), 0);
-  std::vector<Density> density(raw.values.size(), 0);
-  if (labelMap) {
-    if (options.isoHu) {
-      throw InputError(path + ": a label map (" + raw.type + ", " + std::to_string(distinct.size()) +
-                       " distinct values): --iso is for CTs; use --label");
-    }
-    load.kind = "label map";
-    for (double x : distinct) load.labels.push_back((long long)x);
-    if (options.label) {
-      if (!distinct.count(double(*options.label))) {
-        std::string found;
-        for (long long l : load.labels) found += (found.empty() ? "" : ", ") + std::to_string(l);
-        throw InputError(path + ": --label " + std::to_string(*options.label) + " is not in the label map (labels found: " +
-                         found + ")");
-      }
-      load.label = options.label;
-    }
-    std::vector<unsigned char> inside(raw.values.size());
-    for (std::size_t i = 0; i < inside.size(); ++i) {
-      inside[i] = options.label ? raw.values[i] == double(*options.label) : raw.values[i] != 0.0;
-    }
-    const std::vector<int> dist = insideDistance(inside, n);
-    const int shell = int(std::clamp(std::ceil(options.corticalThicknessMm / raw.voxelSizeMm), 1.0, 1e6));
-    for (std::size_t i = 0; i < inside.size(); ++i) {
-      if (!inside[i]) continue;
-      fill[i] = kFillFull;
-      density[i] = dist[i] <= shell ? kCtCorticalDensity : kCtCancellousDensity;
-    }
-  } else if (ct) {
-    if (options.label) {
-      throw InputError(path + ": a CT (" + raw.type + ", values " + shortNum(lo) + " to " + shortNum(hi) +
-                       "): --label is for label maps; use --iso");
-    }
-    load.kind = "ct";
-    load.isoHu = options.isoHu.value_or(kDefaultIsoHu);
-    for (std::size_t i = 0; i < raw.values.size(); ++i) {
-      const double t = (raw.values[i] - (load.isoHu - kCtRampHalfWidthHu)) / (2.0 * kCtRampHalfWidthHu);
-      const double f = std::clamp(t, 0.0, 1.0);
-      fill[i] = Fill(std::lround(f * kFillFull));
-      if (fill[i] > 0) density[i] = raw.values[i] >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
-    }
-  } else {
-    std::ostringstream s;
-    s << path << ": neither a label map nor a CT: " << raw.type << ", values " << shortNum(lo) << " to "
-      << shortNum(hi) << ", "
-      << (distinct.size() > std::size_t(kMaxLabels) ? "more than " + std::to_string(kMaxLabels)
-                                                    : std::to_string(distinct.size()))
-      << " distinct values (a label map is an integer type with at most " << kMaxLabels
-      << " values; a CT a signed type spanning at least " << kMinCtRangeHu << " HU)";
-    throw InputError(s.str());
-  }
-  setGrid(load.grid, n, fill, density);
-  return load;
 }
 
 }  // namespace osteon::geometry

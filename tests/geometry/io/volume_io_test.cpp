@@ -67,7 +67,7 @@ TEST_F(VolumeIo, LabelMapNrrdRawGzipAttachedAndDetached) {
     const VolumeLoad load = loadVolume(file(name));
     EXPECT_EQ(load.kind, "label map");
     EXPECT_EQ(load.type, "uint8");
-    EXPECT_EQ(load.labels, (std::vector<long long>{0, 1}));
+    EXPECT_EQ(load.labels, (std::vector<std::uint64_t>{0, 1}));
     EXPECT_FALSE(load.label.has_value());
     expectCubeGrid(load);
   }
@@ -106,7 +106,7 @@ TEST_F(VolumeIo, LabelsPickTheBone) {
   v.values[0] = 2;  // a second structure: one voxel of label 2
   test::writeTestNrrd(file("l.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values), false);
   const VolumeLoad all = loadVolume(file("l.nrrd"));
-  EXPECT_EQ(all.labels, (std::vector<long long>{0, 1, 2}));
+  EXPECT_EQ(all.labels, (std::vector<std::uint64_t>{0, 1, 2}));
   EXPECT_EQ(all.grid.countVoxels(kFillHalf), 65u);
   VolumeOptions two;
   two.label = 2;

@@ -1,23 +1,30 @@
-// Volumes as users have them: NRRD (attached or detached header, raw or gzip, any scalar
-// type) and NIfTI-1 (.nii, .nii.gz), turned into osteon's voxel grid with their meaning said,
-// never guessed silently:
+// Volumes as users have them: NRRD (attached or detached header, raw or gzip, any scalar type)
+// and NIfTI-1 (.nii, .nii.gz), turned into osteon's voxel grid with their meaning said, never
+// guessed silently:
 //   - osteon's own grids (NRRD with the content line and every key osteon writes) load as
 //     readNrrd reads them; one stray osteon_* key does not make a user's volume a grid;
-//   - a label map (integer type, at most kMaxLabels distinct values): the bone is one label
-//     (VolumeOptions::label) or every non-zero voxel; each voxel is 0 or full;
+//   - a label map (integer type, at most kMaxLabels distinct values, none negative): the bone
+//     is one label (VolumeOptions::label) or every voxel but the background, which is 0 when 0
+//     is among the values, else the most common value (ties: the lowest); each voxel is 0 or
+//     full. Labels stay in their integer type (64-bit labels past 2^53 stay distinct);
 //   - a CT (signed integer or floating type, values spanning at least kMinCtRangeHu): fill
 //     ramps linearly from 0 at iso - kCtRampHalfWidthHu to full at iso + kCtRampHalfWidthHu,
 //     so the surface (half full) sits at the iso HU; density comes from HU: cortical at or
-//     above kCorticalHu, cancellous below (any voxel with fill > 0);
+//     above kCorticalHu, cancellous below (any voxel with fill > 0). Negative values make a
+//     volume a CT or nothing: labels are never negative, HU are;
 //   - anything else is an InputError naming the file and what was found (type, range,
-//     distinct values).
+//     distinct values). So are NaN or infinite voxels (their count and the first one's file
+//     index), and a volume whose every voxel is bone (no surface to drill: not a bone).
 // Space is LPS in mm; NIfTI's RAS is turned to LPS. Axes that run backwards (a negative
-// direction) are flipped on loading; rotated (non-axis-aligned) or anisotropic grids are
-// refused with a clear message.
+// direction) are flipped and axes stored in another order (a permuted, still axis-aligned
+// direction matrix) are reordered on loading; rotated (non-axis-aligned) or anisotropic grids
+// are refused with a clear message.
 #pragma once
 
 #include "osteon/geometry/voxels/voxel_grid.h"
 
+#include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,42 +43,90 @@ inline constexpr Density kCtCancellousDensity = 15;
 bool isVolumePath(const std::string& path);
 
 struct VolumeOptions {
-  std::optional<long long> label;  // label maps: the bone label (default: every non-zero)
-  std::optional<double> isoHu;     // CTs: the bone threshold (default kDefaultIsoHu)
-  double corticalThicknessMm = 2.0;  // label maps: voxels this close to outside are cortical
-  bool allowOutsideData = false;   // NRRD: a `data file:` may lie outside the header's folder
+  std::optional<std::uint64_t> label;  // label maps: the bone label (default: all but the background)
+  std::optional<double> isoHu;         // CTs: the bone threshold (default kDefaultIsoHu); finite
+  double corticalThicknessMm = 2.0;    // label maps: voxels this close to outside are cortical
+  bool allowOutsideData = false;       // NRRD: a `data file:` may lie outside the header's folder
 };
 
 struct VolumeLoad {
   VoxelGrid grid;
-  std::string kind;                 // "osteon grid", "label map" or "ct"
-  std::string format;               // "nrrd" or "nifti"
-  std::string type;                 // the stored scalar type ("uint8", "int16", ...)
-  double minValue = 0.0, maxValue = 0.0;
-  std::vector<long long> labels;    // label maps: the distinct values found
-  std::optional<long long> label;   // label maps: the label used (none: every non-zero)
-  double isoHu = kDefaultIsoHu;     // CTs: the threshold used
-  bool densityLoaded = false;       // osteon grids: a density file was read
+  std::string kind;                       // "osteon grid", "label map" or "ct"
+  std::string format;                     // "nrrd" or "nifti"
+  std::string type;                       // the stored scalar type ("uint8", "int16", ...)
+  double minValue = 0.0, maxValue = 0.0;  // as numbers (label maps: exact in `labels`)
+  std::vector<std::uint64_t> labels;      // label maps: the distinct values found, ascending
+  std::optional<std::uint64_t> label;     // label maps: the label used (none: all but the background)
+  std::uint64_t background = 0;           // label maps: 0 if present, else the most common value
+  double isoHu = kDefaultIsoHu;           // CTs: the threshold used
+  bool densityLoaded = false;             // osteon grids: a density file was read
 };
 
 // NRRD headers are read once for all (src/io/nrrd_header.h): a field given twice, a
 // non-spatial kind (colour, vector, list) or a `data file:` outside the header's folder
 // (unless allowOutsideData) is refused; `line skip:` and `byte skip:` are honoured.
-// Throws InputError "<file>: <reason>" for anything it cannot honour.
+// Throws InputError "<file>: <reason>" for anything it cannot honour, and "--iso <value>: ..."
+// for an iso level that is not a finite number.
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options = {});
+
+// An upper bound of the memory loadVolume needs (bytes) for a volume of these sizes stored as
+// scalars of `scalarBytes`: its phases' per-voxel peak (a reordered copy of the values
+// included) plus the two constants below. A larger volume is refused before it is read
+// (tests/geometry/io/volume_memory_test.cpp measures the bound).
+double volumeLoadMemoryBytes(glm::ivec3 sizes, std::size_t scalarBytes);
+// osteon itself: code, libraries and thread stacks (about 70 MB of address space measured).
+inline constexpr double kVolumeLoadProcessBytes = 128e6;
+// Freed buffers glibc's allocator keeps: below its dynamic mmap threshold (at most 32 MiB) a
+// buffer comes from the heap and may stay there once freed; a load frees at most four.
+inline constexpr double kVolumeLoadHeapSlackBytes = 4.0 * 32 * 1024 * 1024;
+
+// Stored values of type T read from bytes (memcpy: no aliasing of the byte buffer).
+template <typename T>
+struct StoredValues {
+  using type = T;
+  const unsigned char* bytes = nullptr;
+  T operator[](std::size_t i) const {
+    T v;
+    std::memcpy(&v, bytes + i * sizeof(T), sizeof(T));
+    return v;
+  }
+};
 
 // The raw scalars of a volume, x fastest then y then z, in LPS with positive axes (for tests
 // and tools). voxelSizeMm is the (isotropic) edge, originMm the corner of voxel (0,0,0).
+// The values stay in their stored type (in the host's byte order): 64-bit integers stay exact,
+// and a volume costs its stored bytes, not a double per voxel.
 struct RawVolume {
   glm::ivec3 sizes{0};
   double voxelSizeMm = 1.0;
   glm::dvec3 originMm{0.0};
-  std::string type;
-  bool integer = true;
-  bool isSigned = false;
-  std::vector<double> values;
+  std::string type;          // "int8" "uint8" "int16" "uint16" "int32" "uint32" "int64" "uint64" "float" "double"
+  std::size_t scalarBytes = 1;
+  bool integer = true;       // the values are the stored integers (an integer type, unscaled)
+  bool isSigned = false;     // the values may be negative
+  double slope = 1.0, intercept = 0.0;  // NIfTI scl_slope, scl_inter: value = stored * slope + intercept
+  std::vector<unsigned char> data;      // sizes.x * sizes.y * sizes.z stored values
   bool osteonGrid = false;  // osteon's own NRRD grid: loadVolume hands it to readNrrd
+
+  // Calls f(values) with `values` a StoredValues<T> of the stored type T.
+  template <typename F>
+  decltype(auto) visit(F&& f) const;
 };
 RawVolume readRawVolume(const std::string& path, bool allowOutsideData = false);
+
+template <typename F>
+decltype(auto) RawVolume::visit(F&& f) const {
+  const unsigned char* p = data.data();
+  if (type == "int8") return f(StoredValues<std::int8_t>{p});
+  if (type == "uint8") return f(StoredValues<std::uint8_t>{p});
+  if (type == "int16") return f(StoredValues<std::int16_t>{p});
+  if (type == "uint16") return f(StoredValues<std::uint16_t>{p});
+  if (type == "int32") return f(StoredValues<std::int32_t>{p});
+  if (type == "uint32") return f(StoredValues<std::uint32_t>{p});
+  if (type == "int64") return f(StoredValues<std::int64_t>{p});
+  if (type == "uint64") return f(StoredValues<std::uint64_t>{p});
+  if (type == "float") return f(StoredValues<float>{p});
+  return f(StoredValues<double>{p});
+}
 
 }  // namespace osteon::geometry
