@@ -38,6 +38,7 @@ struct RunSetup {
   std::string outDir;
   bool json = false;
   std::string mode;           // replay, device, device-threaded
+  bool allowEmpty = false;
 };
 
 void checkRunOptions(double voxelSizeMm, int levels) {
@@ -115,6 +116,7 @@ int finish(const RunSetup& setup, sim::Session& session, const sim::RunSummary& 
   if (summary.contains("recording_out")) files["recording"] = summary["recording_out"];
   summary.erase("recording_out");
   summary["files"] = files;
+  const std::string empty = markEmptyRun(summary, run);
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   if (setup.json) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
@@ -125,6 +127,7 @@ int finish(const RunSetup& setup, sim::Session& session, const sim::RunSummary& 
               << ", jumps " << f["jumps"] << ", watchdog " << f["watchdog"] << "\n"
               << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
   }
+  if (!empty.empty()) return emptyExit(setup.mode == "replay" ? "replay" : "drill", setup.mesh, empty, setup.allowEmpty);
   return kExitOk;
 }
 
@@ -161,7 +164,7 @@ int runReplay(const ReplayCommandOptions& options) {
   forces.commit();
 
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
-                 options.json, "replay"};
+                 options.json, "replay", options.allowEmpty};
   json extra = {{"faults", faultsJson(r.safety.faults)},
                 {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
                 {"recording", {{"file", options.log}, {"rows", rows}, {"start_s", r.startS}, {"end_s", r.endS},
@@ -254,7 +257,8 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   } else {
     sim::DeviceInput input(*device, io);
     sim::RuntimeOptions ro;
-    ro.durationS = options.durationS ? *options.durationS : caps.endS;
+    // A recording runs for its length, whatever its stamps (DeviceInput shifts its clock).
+    ro.durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
     ro.onRow = logRow;
     ro.keepLog = false;
     sim::RuntimeResult r;
@@ -279,7 +283,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   extra["faults"] = faultsJson(safety.faults);
   extra["safety"] = safetyJson(safety, limitN);
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
-                 options.json, deterministic ? "device" : "device-threaded"};
+                 options.json, deterministic ? "device" : "device-threaded", options.allowEmpty};
   return finish(setup, session, run, extra, forcesPath, summaryPath, surfacePath,
                 "drilled with " + options.device);
 }
