@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/output_file.h"
 
@@ -232,10 +233,8 @@ bool nearlyEqual(double a, double b, double scale) {
 // Parses and checks a header; leaves `in` at the first data byte.
 Header readHeader(const std::string& path, std::ifstream& in, ValueType expected) {
   const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
+  requireInputFile(path);
   std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) fail("no such file");
-  if (!fs::is_regular_file(status)) fail("not a regular file");
   const std::uint64_t fileBytes = fs::file_size(path, ec);
   if (ec) fail("cannot read its size (" + ec.message() + ")");
   in.open(path, std::ios::binary);

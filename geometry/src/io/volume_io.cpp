@@ -15,6 +15,7 @@
 
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 #include "osteon/core/memory.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/io/mesh_io.h"
@@ -147,10 +148,8 @@ void decode(const Scalar& s, bool bigEndian, const unsigned char* bytes, std::si
 }
 
 std::vector<unsigned char> readFileBytes(const std::string& path, std::uint64_t offset) {
+  requireInputFile(path);
   std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw InputError(path + ": no such file");
-  if (!fs::is_regular_file(status)) throw InputError(path + ": not a regular file");
   const std::uint64_t size = fs::file_size(path, ec);
   if (ec) throw InputError(path + ": cannot read its size");
   std::ifstream in(path, std::ios::binary);
@@ -306,9 +305,7 @@ glm::ivec3 checkSizes(const std::string& path, const std::vector<double>& s) {
 
 RawVolume readNrrdVolume(const std::string& path) {
   const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail("no such file");
-  if (!fs::is_regular_file(path, ec)) fail("not a regular file");
+  requireInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("cannot open (" + std::string(std::strerror(errno)) + ")");
   std::string line;
@@ -481,9 +478,8 @@ T at(const unsigned char* h, std::size_t offset, bool swap) {
 
 RawVolume readNiftiVolume(const std::string& path) {
   const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
+  requireInputFile(path);
   std::error_code ec;
-  if (!fs::exists(path, ec)) fail("no such file");
-  if (!fs::is_regular_file(path, ec)) fail("not a regular file");
   gzFile gz = gzopen(path.c_str(), "rb");  // plain files are read as they are
   if (!gz) fail("cannot open (" + std::string(std::strerror(errno)) + ")");
   struct Closer {
