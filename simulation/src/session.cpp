@@ -138,7 +138,7 @@ const HumeralHead& BoneModel::humeralHead() const {
     try {
       head_ = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap);
     } catch (const InputError& e) {
-      headError_ = mesh_ ? e.what() : name_ + ": " + e.what() + " (fitted to the grid's surface)";
+      headError_ = name_ + ": " + e.what() + (mesh_ ? "" : " (fitted to the grid's surface)");
     }
   });
   if (!head_) throw InputError(headError_);
