@@ -6,6 +6,7 @@
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/hierarchy/fine_fill.h"
 #include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/units.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/embree_scene.h"
@@ -55,11 +56,14 @@ std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, doubl
   // Refused before voxelizing when this machine cannot hold the session (it used to run for a
   // minute and die of bad_alloc); a voxel size that is no number is the voxelizer's to name.
   if (std::isfinite(voxelSizeMm) && voxelSizeMm > 0.0) {
+    const glm::dvec3 e = geometry::bounds(*bone->mesh_).extentMm();
     std::ostringstream what;
-    what << name << ": drilling at " << (voxelizing.voxelSizeGiven ? "--voxel-size " : "voxels of ") << voxelSizeMm
-         << " mm";
-    refuseOverMemory(what.str(), estimateSessionBytes(*bone->mesh_, voxelSizeMm),
-                     voxelizing.voxelSizeGiven ? "use a larger --voxel-size" : "");
+    what << name << ": a " << e.x << " x " << e.y << " x " << e.z << " mm mesh drilled at "
+         << (voxelizing.voxelSizeGiven ? "--voxel-size " : "voxels of ") << voxelSizeMm << " mm";
+    // A mesh in metres read as millimetres is the likelier mistake than a small machine.
+    std::string advice = geometry::unitsAdvice(std::max({e.x, e.y, e.z}), loadScaleToMm);
+    if (voxelizing.voxelSizeGiven) advice += std::string(advice.empty() ? "" : "; ") + "use a larger --voxel-size";
+    refuseOverMemory(what.str(), estimateSessionBytes(*bone->mesh_, voxelSizeMm), advice);
   }
   geometry::VoxelizeOptions vo = voxelizing;
   vo.voxelSizeMm = voxelSizeMm;

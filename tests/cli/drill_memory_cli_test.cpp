@@ -37,7 +37,10 @@ TEST_F(CliTest, ADrillingSessionBeyondTheMachinesMemoryIsRefusedUpFront) {
                                       path("err"));
   EXPECT_EQ(fine.exitCode, 2) << fine.err;
   EXPECT_LT(fine.seconds, 20.0) << "refused before voxelizing";
-  EXPECT_EQ(fine.err.rfind("osteon: error: default: drilling at --voxel-size 0.05 mm would need about ", 0), 0u)
+  EXPECT_EQ(fine.err.rfind("osteon: error: default: a 52.7196 x 46.8551 x 149.449 mm mesh drilled at --voxel-size "
+                           "0.05 mm would need about ",
+                           0),
+            0u)
       << fine.err;
   EXPECT_NE(fine.err.find(" GB of memory, more than this machine's 2.15 GB; use a larger --voxel-size"),
             std::string::npos)
