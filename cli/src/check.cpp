@@ -54,8 +54,12 @@ int runCheck(const CheckCommandOptions& options) {
 
   // Why a surface is not a valid bone surface, one reason each; none means PASS.
   std::vector<std::string> failures;
-  if (!r.topology.closed()) failures.push_back("open: " + std::to_string(r.topology.borderEdges) + " border edges");
-  if (!r.topology.manifold()) failures.push_back("non-manifold edges or vertices");
+  // Open means a border; edges of three or more triangles are non-manifold, not open.
+  if (r.topology.borderEdges > 0) failures.push_back("open: " + std::to_string(r.topology.borderEdges) + " border edges");
+  if (!r.topology.manifold()) {
+    failures.push_back("non-manifold: " + std::to_string(r.topology.nonManifoldEdges) + " edges of more than two triangles, " +
+                       std::to_string(r.topology.nonManifoldVertices) + " vertices joining separate fans");
+  }
   if (r.selfIntersections > 0) failures.push_back("self-intersecting triangles");
   if (!r.topology.consistentlyOriented()) {
     failures.push_back("inconsistently oriented: " + std::to_string(r.topology.misorientedEdges) +
@@ -63,6 +67,16 @@ int runCheck(const CheckCommandOptions& options) {
   } else if (r.watertight() && r.selfIntersections == 0 && !r.outwardOriented) {
     failures.push_back("inside-out: the closed surface faces inward (negative volume), so its "
                        "outside is drawn as a crack");
+  }
+  if (r.windingNumberMax > 1) {
+    failures.push_back("nested shells: winding number " + std::to_string(r.windingNumberMax) +
+                       " (a shell inside another that faces the same way)");
+  } else if (r.windingNumberMin < 0 && r.outwardOriented) {
+    failures.push_back("nested shells: winding number " + std::to_string(r.windingNumberMin) +
+                       " (an inward shell that no outward one encloses)");
+  }
+  if (r.flat) {
+    failures.push_back("encloses no volume: the closed surface is flat (a sheet with both sides)");
   }
   const bool pass = failures.empty();
   json j = {{"mesh", options.mesh},
@@ -81,6 +95,9 @@ int runCheck(const CheckCommandOptions& options) {
             {"components", r.topology.components},
             {"euler_characteristic", r.topology.eulerCharacteristic},
             {"genus", r.genus},
+            {"winding_number_min", r.windingNumberMin},
+            {"winding_number_max", r.windingNumberMax},
+            {"flat", r.flat},
             {"volume_mm3", r.volumeMm3},
             {"crack_percent", cracks.crackPercent()},
             {"crack_pixels", {{"red", cracks.red}, {"white", cracks.white}, {"per_side", cracks.pixels}}},

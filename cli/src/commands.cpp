@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -146,6 +147,14 @@ int runInfo(const InfoOptions& options) {
 int runVoxelize(const VoxelizeCommandOptions& options) {
   if (!options.out.empty()) {
     geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)}, {inputFile(options.mesh)});
+    // The grid is written as NRRD whatever the name says: a name that promises a mesh or an
+    // image would hold NRRD bytes.
+    std::string ext = fs::path(options.out).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".nrrd" && ext != ".nhdr") {
+      throw InputError("--out " + options.out + ": the grid is written as NRRD, so the name must end in .nrrd (or .nhdr), not " +
+                       (ext.empty() ? std::string("nothing") : "'" + ext + "'"));
+    }
   }
   const Clock::time_point setupStart = Clock::now();
   const LoadedMesh loaded = load(options.mesh, options.units);

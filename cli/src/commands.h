@@ -102,6 +102,7 @@ struct ReplayCommandOptions {
   std::string tool = "drill";
   std::string outDir = ".";
   bool json = false;
+  bool allowEmpty = false;   // a recording that never meets bone exits 0 (still "empty": true), not 1
 };
 
 struct DevicesListOptions {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -40,6 +41,15 @@ void emit(const std::string& line) {
   std::fwrite(line.data(), 1, line.size(), stdout);
   std::fputc('\n', stdout);
   std::fflush(stdout);
+}
+
+// Lines out a batch at a time: one write and one flush for every event waiting, so the
+// monitor drains a fast board's queue (a flush per line could not keep up).
+void emitBatch(std::string& batch) {
+  if (batch.empty()) return;
+  std::fwrite(batch.data(), 1, batch.size(), stdout);
+  std::fflush(stdout);
+  batch.clear();
 }
 
 // t as a number with millisecond precision.
@@ -155,17 +165,49 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
     return (options.count && events >= *options.count) || (options.durationS && elapsed() >= *options.durationS);
   };
 
-  if (auto* board = dynamic_cast<dev::ButtonBoardDevice*>(device.get())) {
-    dev::BoardEvent e;
-    while (!done()) {
-      if (board->nextEvent(e)) {
-        emit(boardEventLine(e, options.json));
-        ++events;
-      } else {
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-      }
+  // The last line of --json: how many events were shown and how many were lost.
+  std::uint64_t dropped = 0;
+  const auto ended = [&] {
+    if (options.json) {
+      emit(json{{"t", roundedMs(elapsed())}, {"status", "ended"}, {"events", events}, {"events_dropped", dropped}}
+               .dump());
+    }
+    if (dropped > 0) {
+      std::fprintf(stderr, "osteon: warning: %s: %llu events dropped: the monitor fell behind the device\n",
+                   options.device.c_str(), static_cast<unsigned long long>(dropped));
     }
     return kExitOk;
+  };
+
+  if (auto* board = dynamic_cast<dev::ButtonBoardDevice*>(device.get())) {
+    dev::BoardEvent e;
+    std::string batch;
+    bool warned = false;
+    while (!done()) {
+      bool any = false;
+      while (batch.size() < (1u << 16) && !done() && board->nextEvent(e)) {
+        batch += boardEventLine(e, options.json);
+        batch += '\n';
+        ++events;
+        any = true;
+      }
+      // Events lost since the last batch (its queue was full): said where they were lost.
+      const std::uint64_t lost = board->eventsDropped();
+      if (lost > dropped) {
+        dropped = lost;
+        batch += options.json ? json{{"t", roundedMs(elapsed())}, {"status", "dropped"}, {"events_dropped", dropped}}.dump()
+                              : seconds(elapsed()) + " dropped: " + std::to_string(dropped) + " events so far";
+        batch += '\n';
+        if (!warned) {  // once now, the total at the end
+          std::fprintf(stderr, "osteon: warning: %s: events dropped: the monitor fell behind the device\n",
+                       options.device.c_str());
+          warned = true;
+        }
+      }
+      emitBatch(batch);
+      if (!any) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return ended();
   }
 
   // Any other device: its state whenever it changes, polled at 100 Hz.
@@ -184,7 +226,7 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  return kExitOk;
+  return ended();
 }
 
 }  // namespace osteon::cli

@@ -94,6 +94,14 @@ json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const
           {"peak_rss_mb", peakRssMb()}};
 }
 
+std::string markEmptyRun(json& summary, const sim::RunSummary& s) {
+  if (!(s.removedVolumeMm3 == 0.0 && s.maxForceN == 0.0)) return "";
+  const std::string reason = "the path never meets bone (no contact, nothing removed)";
+  summary["empty"] = true;
+  summary["empty_reason"] = reason;
+  return reason;
+}
+
 json runtimeStatsJson(const sim::RuntimeStats& st) {
   return {{"haptic_steps", st.hapticSteps}, {"collision_steps", st.collisionSteps},
           {"haptic_overruns", st.hapticOverruns}, {"collision_overruns", st.collisionOverruns},
@@ -235,12 +243,7 @@ int runDrill(const DrillCommandOptions& options) {
   summary["files"] = {{"forces", forcesPath}, {"summary", summaryPath}, {"surface", surfacePath}};
   if (options.threaded) summary["runtime"] = runtimeJson;
   if (!volumeInfo.is_null()) summary["volume"] = volumeInfo;
-  // A path that never meets bone: nothing removed and no force at any step.
-  const bool empty = s.removedVolumeMm3 == 0.0 && s.maxForceN == 0.0;
-  if (empty) {
-    summary["empty"] = true;
-    summary["empty_reason"] = "the path never meets bone (no contact, nothing removed)";
-  }
+  const std::string empty = markEmptyRun(summary, s);
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   outDir.commit();
   if (options.json) {
@@ -254,10 +257,7 @@ int runDrill(const DrillCommandOptions& options) {
               << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
     if (!volumeText.empty()) std::cout << volumeText << "\n";
   }
-  if (empty) {
-    return emptyExit("drill", options.mesh, "the path never meets bone (no contact, nothing removed)",
-                     options.allowEmpty);
-  }
+  if (!empty.empty()) return emptyExit("drill", options.mesh, empty, options.allowEmpty);
   return kExitOk;
 }
 

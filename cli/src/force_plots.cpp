@@ -4,9 +4,16 @@
 #include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
 
-#include <cstdlib>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace osteon::cli {
 
@@ -33,6 +40,46 @@ std::string plotScript(const std::vector<ForceFigure>& figures, const std::vecto
   return gp.str();
 }
 
+// gnuplot on `script`, its stderr into `log`, started directly: through a shell, the shell's
+// own failures (its redirection fails under a low `ulimit -n`) looked like a missing gnuplot.
+// Its log goes to logTemp, named `log` in messages. Throws InputError with the real reason: not installed, could not start (errno), or its exit
+// status and the first line of its log.
+void runGnuplot(const std::string& script, const std::string& logTemp, const std::string& log) {
+  const int logFd = ::open(logTemp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (logFd < 0) throw InputError(log + ": cannot create gnuplot's log (" + std::strerror(errno) + ")");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, logFd, 2);
+  std::string program = "gnuplot", argument = script;
+  char* argv[] = {program.data(), argument.data(), nullptr};
+  pid_t pid = -1;
+  const int started = ::posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(logFd);
+  if (started == ENOENT) {
+    throw InputError("gnuplot: not found on PATH, so the force plots cannot be drawn (scripts/setup installs "
+                     "gnuplot-nox)");
+  }
+  if (started != 0) throw InputError(std::string("gnuplot: could not start it (") + std::strerror(started) + ")");
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) throw InputError(std::string("gnuplot: could not wait for it (") + std::strerror(errno) + ")");
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  std::ifstream in(logTemp);
+  std::string first;
+  std::getline(in, first);
+  std::ostringstream s;
+  s << "gnuplot: could not draw the force plots (";
+  if (WIFEXITED(status)) {
+    s << "exit " << WEXITSTATUS(status);
+  } else {
+    s << "killed by signal " << WTERMSIG(status);
+  }
+  s << (first.empty() ? std::string() : ": " + first.substr(0, 200)) << "; see " << log << ")";
+  throw InputError(s.str());
+}
+
 }  // namespace
 
 void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& scriptPath) {
@@ -56,11 +103,12 @@ void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& 
     if (!out) throw InputError(scriptPath + ": writing failed (disk full or not writable?)");
   }
   geometry::OutputFile log(scriptPath + ".log");
-  const std::string command = "gnuplot '" + runScript.tempPath() + "' 2>'" + log.tempPath() + "'";
-  if (std::system(command.c_str()) != 0) {
-    log.commitTo(log.path());  // in place now, run folder or not: the user reads why
-    throw InputError("gnuplot: could not draw the force plots (is gnuplot installed? scripts/setup "
-                     "installs gnuplot-nox; see " + log.path() + ")");
+  try {
+    runGnuplot(runScript.tempPath(), log.tempPath(), log.path());
+  } catch (const InputError&) {
+    std::error_code ec;  // in place now, run folder or not: the user reads why
+    if (std::filesystem::exists(log.tempPath(), ec)) log.commitTo(log.path());
+    throw;
   }
   log.commit();
   for (geometry::OutputFile& image : images) image.commit();

@@ -188,6 +188,7 @@ int main(int argc, char** argv) {
   replayCmd->add_option("--out-dir", replay.outDir, "Folder for forces.csv, summary.json, surface.ply")
       ->default_val(".");
   replayCmd->add_flag("--json", replay.json, "Print the summary as JSON on stdout");
+  addAllowEmpty(*replayCmd, replay.allowEmpty);
 
   CLI::App* devicesCmd = app.add_subcommand("devices", "List attached devices, or watch one's events");
   devicesCmd->require_subcommand(1);

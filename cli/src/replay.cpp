@@ -40,6 +40,7 @@ struct RunSetup {
   std::string outDir;
   bool json = false;
   std::string mode;           // replay, device, device-threaded
+  bool allowEmpty = false;
 };
 
 void checkRunOptions(double voxelSizeMm, int levels) {
@@ -115,6 +116,7 @@ int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session,
   if (summary.contains("recording_out")) files["recording"] = summary["recording_out"];
   summary.erase("recording_out");
   summary["files"] = files;
+  const std::string empty = markEmptyRun(summary, run);
   geo::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
   outDir.commit();
   if (recording) recording->commit();  // the run is complete: the new recording replaces the old
@@ -127,6 +129,7 @@ int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session,
               << ", jumps " << f["jumps"] << ", watchdog " << f["watchdog"] << "\n"
               << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
   }
+  if (!empty.empty()) return emptyExit(setup.mode == "replay" ? "replay" : "drill", setup.mesh, empty, setup.allowEmpty);
   return kExitOk;
 }
 
@@ -164,7 +167,7 @@ int runReplay(const ReplayCommandOptions& options) {
   forces.commit();
 
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
-                 options.json, "replay"};
+                 options.json, "replay", options.allowEmpty};
   json extra = {{"faults", faultsJson(r.safety.faults)},
                 {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
                 {"recording", {{"file", options.log}, {"rows", rows}, {"start_s", r.startS}, {"end_s", r.endS},
@@ -264,7 +267,8 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   } else {
     sim::DeviceInput input(*device, io);
     sim::RuntimeOptions ro;
-    ro.durationS = options.durationS ? *options.durationS : caps.endS;
+    // A recording runs for its length, whatever its stamps (DeviceInput shifts its clock).
+    ro.durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
     ro.onRow = logRow;
     ro.keepLog = false;
     sim::RuntimeResult r;
@@ -290,7 +294,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   extra["faults"] = faultsJson(safety.faults);
   extra["safety"] = safetyJson(safety, limitN);
   RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
-                 options.json, deterministic ? "device" : "device-threaded"};
+                 options.json, deterministic ? "device" : "device-threaded", options.allowEmpty};
   return finish(setup, outDir, session, run, extra, forcesPath, summaryPath, surfacePath,
                 "drilled with " + options.device, recordFile ? &*recordFile : nullptr);
 }

@@ -30,6 +30,12 @@ nlohmann::json setupJson(const simulation::SetupTimings& setup);
 // One line for the text output: "  set-up      812 ms: load 3, voxelize 410, ...; peak RSS 95 MB".
 std::string setupLine(const simulation::SetupTimings& setup, double pathMs = -1.0);
 
+// The empty-result rule of every drilling run (a path, a device, a recording): a run that
+// never meets bone (nothing removed, no force at any step) is marked "empty": true with its
+// reason in the summary; returns the reason ("" when bone was met). The caller then exits
+// through emptyExit (1 unless --allow-empty).
+std::string markEmptyRun(nlohmann::json& summary, const simulation::RunSummary& run);
+
 // The threaded runtime's `runtime` object: steps and overruns per thread, visual updates, ...
 nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
 

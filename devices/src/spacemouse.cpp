@@ -8,9 +8,15 @@
 #include <hidapi.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cwchar>
+
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
 
 namespace osteon::devices {
 
@@ -125,6 +131,42 @@ std::string utf8(const wchar_t* text) {
   return out;
 }
 
+// What a file is, for a message saying why it is no HID device.
+const char* fileKind(mode_t mode) {
+  if (S_ISREG(mode)) return "a regular file";
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISBLK(mode)) return "a block device";
+  return "not a character device";
+}
+
+// The kernel's class of a character device (/sys/dev/char/MAJ:MIN/subsystem -> .../hidraw),
+// or "" when sysfs does not say.
+std::string charDeviceClass(dev_t device) {
+  const std::string link = "/sys/dev/char/" + std::to_string(major(device)) + ":" + std::to_string(minor(device)) +
+                           "/subsystem";
+  char target[4096];
+  const ssize_t n = ::readlink(link.c_str(), target, sizeof target - 1);
+  if (n <= 0) return "";
+  const std::string text(target, std::size_t(n));
+  const std::size_t slash = text.rfind('/');
+  return slash == std::string::npos ? text : text.substr(slash + 1);
+}
+
+// hidapi's hidraw backend crashes on a path that is not a hidraw node (/dev/null, a file, a
+// FIFO): every open goes through this check first. Empty when `path` is a hidraw device,
+// else why it is not.
+std::string notHidrawReason(const std::string& path) {
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0) return std::strerror(errno);
+  if (!S_ISCHR(st.st_mode)) return std::string("not a HID device (") + fileKind(st.st_mode) + ")";
+  const std::string cls = charDeviceClass(st.st_rdev);
+  if (cls == "hidraw") return "";
+  return "not a HID device (a character device of class " + (cls.empty() ? std::string("unknown") : cls) +
+         ", not hidraw)";
+}
+
 struct HidClose {
   void operator()(hid_device* d) const { hid_close(d); }
 };
@@ -140,6 +182,11 @@ class HidapiSource final : public HidReportSource {
     return n;
   }
   bool reopen() noexcept override {
+    try {
+      if (!notHidrawReason(path_).empty()) return false;  // gone, or another file in its place
+    } catch (...) {
+      return false;
+    }
     device_.reset(hid_open_path(path_.c_str()));
     return device_ != nullptr;
   }
@@ -185,6 +232,8 @@ std::unique_ptr<HidReportSource> openHidSource(const std::string& deviceName, co
     }
     chosen = mice.front().path;
   }
+  const std::string notHid = notHidrawReason(chosen);
+  if (!notHid.empty()) throw InputError(deviceName + ": cannot open " + chosen + ": " + notHid);
   HidDevicePtr device(hid_open_path(chosen.c_str()));
   if (!device) {
     const wchar_t* why = hid_error(nullptr);

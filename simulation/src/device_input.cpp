@@ -83,7 +83,9 @@ DeviceInput::DeviceInput(devices::Device& device, const DeviceInputOptions& opti
 }
 
 void DeviceInput::sample(double tS, ToolPose& pose, bool& drillOn) noexcept {
-  device_->poll(tS, sample_);
+  const double deviceStartS = options_.clockFromRunStart && caps_.timeDriven ? caps_.startS : 0.0;
+  device_->poll(tS + deviceStartS, sample_);
+  if (sample_.tS >= 0.0) sample_.tS = std::max(0.0, sample_.tS - deviceStartS);
   if (!caps_.worldFrame) sample_.positionMm = options_.frame.originMm + options_.frame.scale * sample_.positionMm;
   if (!options_.recordedLoop) {
     safety_.loopTick(tS);
@@ -135,6 +137,7 @@ DeviceRunResult runDevice(Session& session, devices::Device& device, const Devic
   }
   DeviceInputOptions inputOptions = options.input;
   inputOptions.recordedLoop = caps.recorded;
+  inputOptions.clockFromRunStart = false;  // t below is the device's own time
   DeviceInput input(device, inputOptions);
 
   DeviceRunResult result;

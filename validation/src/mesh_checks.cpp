@@ -9,8 +9,12 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/box_intersection_d.h>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <functional>
 #include <iterator>
 #include <stdexcept>
 #include <utility>
@@ -119,6 +123,33 @@ bool toSurfaceMesh(const Soup& soup, Mesh& mesh) {
   return true;
 }
 
+// The winding number inside each shell is its own (+1 outward, -1 inward) plus that of the
+// shell around it (CGAL's nesting of the surface's components); outside every shell it is 0.
+void windingNumbers(Mesh& surface, int& lowest, int& highest) {
+  auto volumeIds = surface.add_property_map<Mesh::Face_index, std::size_t>("f:osteon_volume", 0).first;
+  std::vector<std::size_t> levels;
+  std::vector<bool> outward;
+  std::vector<std::vector<std::size_t>> around;  // per shell: the shell(s) first met going outward
+  PMP::volume_connected_components(surface, volumeIds,
+                                   CGAL::parameters::nesting_levels(std::ref(levels))
+                                       .is_cc_outward_oriented(std::ref(outward))
+                                       .volume_inclusions(std::ref(around)));
+  lowest = 0;
+  highest = 0;
+  for (std::size_t shell = 0; shell < outward.size(); ++shell) {
+    int winding = 0;
+    // Up the chain of enclosing shells (at most one per nesting level, so this ends).
+    std::size_t k = shell;
+    for (std::size_t step = 0; step <= outward.size(); ++step) {
+      winding += outward[k] ? 1 : -1;
+      if (k >= around.size() || around[k].empty()) break;
+      k = around[k].front();
+    }
+    lowest = std::min(lowest, winding);
+    highest = std::max(highest, winding);
+  }
+}
+
 }  // namespace
 
 std::size_t selfIntersectingPairs(const geometry::TriangleMesh& mesh, std::size_t cap) {
@@ -145,6 +176,12 @@ MeshReport checkMesh(const geometry::TriangleMesh& mesh, std::size_t intersectio
   report.topology = geometry::analyzeTopology(mesh);
   report.volumeMm3 = geometry::signedVolumeMm3(mesh);
   if (mesh.triangles.empty()) return report;
+  double areaMm2 = 0.0;
+  for (const glm::u32vec3& t : mesh.triangles) {
+    const glm::dvec3 &a = mesh.positionsMm[t.x], &b = mesh.positionsMm[t.y], &c = mesh.positionsMm[t.z];
+    areaMm2 += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  report.flat = report.topology.closed() && std::abs(report.volumeMm3) <= 1e-9 * std::pow(areaMm2, 1.5);
   const Soup soup = toSoup(mesh);
   Mesh surface;
   const bool polygonMesh = toSurfaceMesh(soup, surface);
@@ -160,6 +197,7 @@ MeshReport checkMesh(const geometry::TriangleMesh& mesh, std::size_t intersectio
   // is_outward_oriented's preconditions: closed, and no self-intersection.
   if (polygonMesh && report.watertight() && report.selfIntersections == 0 && CGAL::is_closed(surface)) {
     report.outwardOriented = PMP::is_outward_oriented(surface);
+    windingNumbers(surface, report.windingNumberMin, report.windingNumberMax);
   }
   if (report.watertight() && report.topology.components == 1) {
     report.genus = (2 - report.topology.eulerCharacteristic) / 2;

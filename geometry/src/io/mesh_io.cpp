@@ -6,6 +6,7 @@
 
 #include "openmesh_soup.h"
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 #include "osteon/geometry/io/output_file.h"
 #include "preflight.h"
 
@@ -84,10 +85,8 @@ TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* i
     s << "--scale " << scaleToMm << ": must be a positive finite number";
     throw InputError(s.str());
   }
+  requireInputFile(path);
   std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw InputError(path + ": no such file");
-  if (!fs::is_regular_file(status)) throw InputError(path + ": not a regular file");
   const MeshFormat format = meshFormatFromPath(path);
   const std::uint64_t fileBytes = fs::file_size(path, ec);
   if (ec) throw InputError(path + ": cannot read its size (" + ec.message() + ")");

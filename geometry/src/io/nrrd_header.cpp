@@ -11,6 +11,7 @@
 #include <zlib.h>
 
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry::nrrd {
@@ -116,13 +117,10 @@ void failAt(const std::string& shown, const std::string& reason) {
   throw InputError(shown + ": " + reason);
 }
 
+// Every loader's check of a name (core/input_file.h), with the name as this reader shows it.
 void checkRegularFile(const std::string& path, const std::string& shown) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec && ec != std::errc::no_such_file_or_directory)
-    failAt(shown, "cannot read (" + ec.message() + ")");
-  if (!fs::exists(status)) failAt(shown, "no such file");
-  if (!fs::is_regular_file(status)) failAt(shown, "not a regular file");
+  const std::string problem = inputFileProblem(path);
+  if (!problem.empty()) failAt(printableFileName(shown), problem);
 }
 
 // A `data file:` value that names several files: "LIST" (names follow the header) or a

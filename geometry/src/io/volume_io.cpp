@@ -16,6 +16,7 @@
 
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 #include "osteon/core/memory.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/io/mesh_io.h"
@@ -328,9 +329,7 @@ T at(const unsigned char* h, std::size_t offset, bool swap) {
 
 RawVolume readNiftiVolume(const std::string& path) {
   const auto fail = [&path](const std::string& reason) { throw InputError(path + ": " + reason); };
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail("no such file");
-  if (!fs::is_regular_file(path, ec)) fail("not a regular file");
+  requireInputFile(path);
   gzFile gz = gzopen(path.c_str(), "rb");  // plain files are read as they are
   if (!gz) fail("cannot open (" + std::string(std::strerror(errno)) + ")");
   struct Closer {
@@ -462,6 +461,7 @@ RawVolume readNiftiVolume(const std::string& path) {
   }
   const std::uint64_t count = std::uint64_t(v.sizes.x) * v.sizes.y * v.sizes.z;
   const std::uint64_t expected = count * s.bytes;
+  std::error_code ec;
   const std::uint64_t fileBytes = fs::file_size(path, ec);
   const bool gzipped = gzdirect(gz) == 0;
   if (!ec && expected > (gzipped ? fileBytes * nrrd::kMaxDeflateRatio + 1024 : fileBytes)) {

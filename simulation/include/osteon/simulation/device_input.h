@@ -64,6 +64,10 @@ struct DeviceInputOptions {
   // A deterministic replay: the watchdog takes its periods from the recording's rows (the
   // recorded loop's timing), not from the virtual clock.
   bool recordedLoop = false;
+  // The threaded runtime's and the viewer's clock starts at 0 with the run: a time-driven
+  // device (a recording stamped 30-32 s, or at Unix time) is polled at its own start plus that
+  // time, and its samples come back on the run's clock. runDevice passes the device's own time.
+  bool clockFromRunStart = true;
 };
 
 // What a render loop shows of the device (published every haptic period).

@@ -25,13 +25,21 @@ struct MeshReport {
   bool outwardOriented = false;       // CGAL, on closed self-intersection-free meshes only
   double volumeMm3 = 0.0;             // signed; positive for an outward closed surface
   long long genus = -1;               // closed, manifold, one component; else -1
+  // The winding numbers of the regions the surface bounds (outside is 0): a solid has 0 and 1
+  // only. Two nested shells facing the same way give 2 inside the inner one; an inward shell
+  // inside nothing gives -1. CGAL's volume components on closed self-intersection-free
+  // polygon meshes; left 0..1 where that cannot be decided.
+  int windingNumberMin = 0, windingNumberMax = 1;
+  // Closed yet enclosing no volume (|volume| below 1e-9 of area^1.5): a sheet with both sides.
+  bool flat = false;
 
   bool watertight() const { return topology.closed() && topology.manifold(); }
   // The crack-free guarantees: closed, manifold, consistently oriented outward, no
   // self-intersection, no degenerate face.
   bool passes() const {
     return watertight() && topology.consistentlyOriented() && selfIntersections == 0 &&
-           topology.degenerateTriangles == 0 && outwardOriented;
+           topology.degenerateTriangles == 0 && outwardOriented && windingNumberMin >= 0 && windingNumberMax <= 1 &&
+           !flat;
   }
 };
 

@@ -1,0 +1,65 @@
+// A drilling session this machine cannot hold is refused before the voxelizer starts, with the
+// estimate against what there is (here a 2 GiB address-space limit stands for a small machine);
+// it used to run for a minute and die of bad_alloc.
+#include "support/cli_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+
+namespace osteon {
+namespace {
+
+struct LimitedRun {
+  int exitCode = -1;
+  std::string err;
+  double seconds = 0.0;
+};
+
+LimitedRun underTwoGiB(const std::string& args, const std::string& errPath) {
+  const std::string command = "ulimit -v 2097152; timeout 120 '" + std::string(OSTEON_CLI) + "' " + args +
+                              " >/dev/null 2>'" + errPath + "' </dev/null";
+  const auto start = std::chrono::steady_clock::now();
+  const int status = std::system(command.c_str());
+  LimitedRun run;
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.err = test::readBytes(errPath);
+  return run;
+}
+
+TEST_F(CliTest, ADrillingSessionBeyondTheMachinesMemoryIsRefusedUpFront) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "sanitizers reserve terabytes of address space; an address-space limit stops them at start";
+#else
+  const LimitedRun fine = underTwoGiB("drill default --voxel-size 0.05 --path portal-5 --out-dir '" + path("o") + "'",
+                                      path("err"));
+  EXPECT_EQ(fine.exitCode, 2) << fine.err;
+  EXPECT_LT(fine.seconds, 20.0) << "refused before voxelizing";
+  EXPECT_EQ(fine.err.rfind("osteon: error: default: a 52.7196 x 46.8551 x 149.449 mm mesh drilled at --voxel-size "
+                           "0.05 mm would need about ",
+                           0),
+            0u)
+      << fine.err;
+  EXPECT_NE(fine.err.find(" GB of memory, more than this machine's 2.15 GB; use a larger --voxel-size"),
+            std::string::npos)
+      << fine.err;
+  EXPECT_EQ(fine.err.find('\n'), fine.err.size() - 1) << fine.err;
+  EXPECT_FALSE(std::filesystem::exists(path("o/forces.csv")));
+  // The same machine holds a session at 0.6 mm (the estimate does not refuse what fits), and
+  // the threaded runtime's front end is refused the same way.
+  const LimitedRun coarse = underTwoGiB("drill default --voxel-size 0.6 --levels 0 --path portal-5 --out-dir '" +
+                                            path("c") + "'",
+                                        path("err"));
+  EXPECT_EQ(coarse.exitCode, 0) << coarse.err;
+  const LimitedRun threaded = underTwoGiB("drill default --voxel-size 0.05 --threaded --path portal-5 --out-dir '" +
+                                              path("t") + "'",
+                                          path("err"));
+  EXPECT_EQ(threaded.exitCode, 2) << threaded.err;
+  EXPECT_NE(threaded.err.find("would need about"), std::string::npos) << threaded.err;
+#endif
+}
+
+}  // namespace
+}  // namespace osteon

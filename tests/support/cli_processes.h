@@ -1,0 +1,130 @@
+// `osteon` running beside a test (its stdout read line by line as it comes) and a
+// pseudo-terminal standing in for a USB serial board: for tests of commands that watch a device.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pty.h>
+#include <sys/wait.h>
+#include <termios.h>
+#include <unistd.h>
+
+namespace osteon {
+
+// `osteon ARGS...` running beside the test, its stdout read line by line as it comes.
+class RunningOsteon {
+ public:
+  RunningOsteon(const std::vector<std::string>& args, const std::string& stderrPath) {
+    int fds[2];
+    if (::pipe(fds) != 0) return;
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const int null = ::open("/dev/null", O_RDONLY);
+      const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(null, 0);
+      ::dup2(fds[1], 1);
+      ::dup2(err, 2);
+      // Nothing else of the test's goes with it (a board's pty held open here would never hang up).
+      for (int fd = 3; fd < 1024; ++fd) ::close(fd);
+      std::vector<char*> argv;
+      argv.push_back(const_cast<char*>(OSTEON_CLI));
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::execv(OSTEON_CLI, argv.data());
+      ::_exit(127);
+    }
+    ::close(fds[1]);
+    out_ = fds[0];
+  }
+  ~RunningOsteon() {
+    if (pid_ > 0 && exit_ < 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+    if (out_ >= 0) ::close(out_);
+  }
+  // The next line of stdout, or "" when none came within timeoutMs (or the output ended).
+  std::string nextLine(int timeoutMs = 10000) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
+    while (true) {
+      const std::size_t newline = buffer_.find('\n');
+      if (newline != std::string::npos) {
+        std::string line = buffer_.substr(0, newline);
+        buffer_.erase(0, newline + 1);
+        return line;
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return "";
+      pollfd p{out_, POLLIN, 0};
+      if (::poll(&p, 1, int(left.count())) <= 0) continue;
+      char chunk[4096];
+      const ssize_t n = ::read(out_, chunk, sizeof chunk);
+      if (n <= 0) return "";
+      buffer_.append(chunk, std::size_t(n));
+    }
+  }
+  // The exit code, or -1 when it has not ended within timeoutMs (it is killed then).
+  int waitExit(int timeoutMs = 10000) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
+    int status = 0;
+    while (::waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) return -1;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return exit_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int out_ = -1;
+  int exit_ = -1;
+  std::string buffer_;
+};
+
+// A pseudo-terminal standing in for a USB serial board (raw, as such a port is).
+struct Board {
+  int master = -1, slave = -1;
+  std::string path;
+  bool open() {
+    char name[128] = {};
+    if (::openpty(&master, &slave, name, nullptr, nullptr) != 0) return false;
+    termios t{};
+    ::tcgetattr(slave, &t);
+    ::cfmakeraw(&t);
+    ::tcsetattr(slave, TCSANOW, &t);
+    ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
+    path = name;
+    return true;
+  }
+  bool write(const std::string& bytes) const {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t n = ::write(master, bytes.data() + done, bytes.size() - done);
+      if (n > 0) {
+        done += std::size_t(n);
+      } else {
+        if (std::chrono::steady_clock::now() > deadline) return false;
+        pollfd p{master, POLLOUT, 0};
+        ::poll(&p, 1, 20);
+      }
+    }
+    return true;
+  }
+  void unplug() {
+    if (master >= 0) ::close(master);
+    if (slave >= 0) ::close(slave);
+    master = slave = -1;
+  }
+  ~Board() { unplug(); }
+};
+
+}  // namespace osteon
