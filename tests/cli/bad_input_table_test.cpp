@@ -176,7 +176,8 @@ TEST_F(BadInputTableTest, EverySeedLoads) {
   for (const fs::directory_entry& e : fs::directory_iterator(kData + "/seeds")) {
     const std::string name = e.path().filename().string();
     const std::string ext = e.path().extension().string();
-    if (ext == ".raw" || ext == ".md") continue;
+    // report.json seeds the report reader's fuzzer; osteon_report_reader_tests checks it.
+    if (ext == ".raw" || ext == ".md" || ext == ".json") continue;
     std::string loader = ext.substr(1);
     if (ext == ".nhdr") loader = "nrrd";
     if (ext == ".nii" || ext == ".gz") loader = "nifti";

@@ -149,6 +149,9 @@ void refuseSeveralDataFiles(const Header& h, const std::string& value) {
 std::string dataFilePath(const Header& h, const std::string& name, bool allowOutsideData) {
   if (name.empty()) h.fail("'data file' names no file");
   // The system reads a name only up to a NUL: what follows it would be checked but not opened.
+  if (name.find('\0') != std::string::npos) {
+    h.fail("data file '" + printableFileName(name) + "': the file name contains a NUL byte");
+  }
   if (std::any_of(name.begin(), name.end(),
                   [](unsigned char c) { return c < 0x20 || c == 0x7f; })) {
     h.fail("data file " + excerpt(name) +

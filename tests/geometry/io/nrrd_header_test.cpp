@@ -232,6 +232,8 @@ TEST_F(NrrdHeader, DataFileNamesWithBlanksAreOneFile) {
   expectRefused(file("h.nhdr"), "my labels 2.raw: no such file");
   test::writeBytes(file("h.nhdr"),
                    header(std::string("data file: my labels 1.raw\0/../../x.raw\n", 40)));
+  expectRefused(file("h.nhdr"), "the file name contains a NUL byte");
+  test::writeBytes(file("h.nhdr"), header("data file: my\tlabels.raw\n"));
   expectRefused(file("h.nhdr"), "the name holds a control character");
   test::writeBytes(file("h.nhdr"), header("data file: slice%03d.raw\n"));  // no numbers: one file
   expectRefused(file("h.nhdr"), "slice%03d.raw: no such file");
