@@ -1,0 +1,347 @@
+// The proxy coupling (coupling.h): bone stops the tool, the drill eats its way in, the shaft
+// never enters bone, free space leaves the proxy on the command, the force is finite, within
+// N_max and settles, and a step allocates nothing. On a slab, and on the built-in bone at
+// 1.2 mm with 2 levels and at 0.3 mm static (a push with the drill off, then on).
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/coupling.h"
+#include "osteon/simulation/session.h"
+#include "support/shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <vector>
+
+// Every heap allocation of this program, counted, so a test can prove a loop allocates nothing.
+namespace {
+std::atomic<std::uint64_t> gAllocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace osteon::simulation {
+namespace {
+
+constexpr double kMaxN = 3.3;
+
+// A bone slab, top face z = 0, in a session (the drill, the given levels).
+Session slabSession(double voxelMm, int levels) {
+  SessionOptions o;
+  o.voxelSizeMm = voxelMm;
+  o.levels = levels;
+  o.keepSurface = false;
+  return Session::fromMesh(test::makeBox({-8, -8, -8}, {8, 8, 0}), o, "slab");
+}
+
+ToolPose down(const glm::dvec3& tipMm) { return ToolPose::pointing(tipMm, {0.0, 0.0, -1.0}); }
+
+void expectSane(const HapticStep& h) {
+  ASSERT_TRUE(std::isfinite(h.forceN.x) && std::isfinite(h.forceN.y) && std::isfinite(h.forceN.z));
+  ASSERT_LE(glm::length(h.forceN), kMaxN + 1e-9);
+}
+
+TEST(ProxyCoupling, DefaultsAreCriticallyDampedAndValidated) {
+  Session s = slabSession(1.2, 2);
+  ProxyCoupling c(s.simulation());
+  EXPECT_DOUBLE_EQ(c.options().stiffnessNPerMm, 0.5);
+  // b = 2 sqrt(k m): 2 sqrt(500 N/m x 0.05 kg) = 10 N s/m.
+  EXPECT_NEAR(c.dampingNsPerMm(), 0.010, 1e-12);
+  EXPECT_GT(c.rotationalDampingNmmSPerRad(), 0.0);
+  CouplingOptions bad;
+  bad.stiffnessNPerMm = -1.0;
+  EXPECT_THROW(validateCouplingOptions(bad), InputError);
+  EXPECT_EQ(parseCouplingMode("proxy"), CouplingMode::Proxy);
+  EXPECT_EQ(parseCouplingMode("direct"), CouplingMode::Direct);
+  EXPECT_THROW(parseCouplingMode("spring"), InputError);
+}
+
+TEST(ProxyCoupling, FreeSpaceProxyIsTheCommand) {
+  Session s = slabSession(1.2, 2);
+  ProxyCoupling c(s.simulation());
+  for (int i = 0; i < 2000; ++i) {
+    const double t = 0.001 * i;
+    // Circles and turns 6 mm above the slab, fast (about 190 mm/s).
+    const glm::dvec3 tip(5.0 * std::cos(6.0 * t), 5.0 * std::sin(6.0 * t), 6.0 + std::sin(9.0 * t));
+    const ToolPose cmd = ToolPose::pointing(tip, {std::sin(3.0 * t), 0.2, -1.0});
+    const HapticStep h = c.step({t, cmd, i % 2 == 0});
+    ASSERT_EQ(h.proxy.tipMm, cmd.tipMm) << t;
+    ASSERT_EQ(h.proxy.orientation, cmd.orientation) << t;
+    ASSERT_EQ(h.forceN, glm::dvec3(0.0)) << t;
+  }
+  EXPECT_EQ(c.totals().maxGapMm, 0.0);
+  EXPECT_EQ(s.totals().samplesRemoved, 0u);
+}
+
+// The command moves 4 mm into the slab in 50 ms and is held there (drill off).
+struct HeldPush {
+  std::vector<HapticStep> steps;
+  double surfaceDepthMm = 0.0;  // of the proxy's inner layer past z = 0 at the end
+};
+
+HeldPush heldPush(Session& s, ProxyCoupling& c, double holdS) {
+  HeldPush r;
+  const double startZ = 3.0, endZ = -4.0 + 1.46;  // the tip sphere's front 4 mm in
+  const int n = int(std::lround((0.05 + holdS) / 0.001));
+  for (int i = 0; i <= n; ++i) {
+    const double t = 0.001 * i;
+    const double z = t < 0.05 ? startZ + (endZ - startZ) * t / 0.05 : endZ;
+    r.steps.push_back(c.step({t, down({0.3, -0.2, z}), false}));
+    expectSane(r.steps.back());
+  }
+  r.surfaceDepthMm = -(c.proxy().tipMm.z - s.simulation().tool().parts[0].innerRadiusMm);
+  return r;
+}
+
+TEST(ProxyCoupling, BoneStopsTheToolWithTheDrillOff) {
+  for (int levels : {0, 2}) {
+    Session s = slabSession(levels == 0 ? 0.3 : 1.2, levels);
+    ProxyCoupling c(s.simulation());
+    const HeldPush r = heldPush(s, c, 1.0);
+    const ToolPart& tip = s.simulation().tool().parts[0];
+    const double cushionMm = tip.outerRadiusMm - tip.innerRadiusMm;
+    EXPECT_EQ(s.totals().samplesRemoved, 0u) << levels;
+    // The proxy's inner layer is within its cushion of the surface, and not far short of it.
+    EXPECT_LE(r.surfaceDepthMm, cushionMm) << levels;
+    EXPECT_GE(r.surfaceDepthMm, -cushionMm) << levels;
+    EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 0), 0.0) << levels;
+    // The force pushes the hand back out, k x the gap plus the cushion's contact, at the clamp.
+    const HapticStep& last = r.steps.back();
+    EXPECT_GT(last.forceN.z, 1.5) << levels;
+    EXPECT_GT(last.gapMm, 3.0) << levels;
+  }
+}
+
+TEST(ProxyCoupling, HeldInBoneSettlesWithin50msWithoutSignChanges) {
+  // Soft enough that the force stays under the clamp, where an oscillation would show.
+  Session s = slabSession(1.2, 2);
+  CouplingOptions o;
+  o.stiffnessNPerMm = 0.4;
+  ProxyCoupling c(s.simulation(), o);
+  const HeldPush r = heldPush(s, c, 0.5);
+  const std::size_t holdStart = 50, settled = holdStart + 50;
+  const double finalZ = r.steps.back().forceN.z;
+  EXPECT_GT(finalZ, 0.5);
+  for (std::size_t i = settled; i < r.steps.size(); ++i) {
+    // Along the push (z): the same sign, and within 1 % of the final force.
+    ASSERT_GT(r.steps[i].forceN.z, 0.0) << i;
+    ASSERT_NEAR(r.steps[i].forceN.z, finalZ, 0.01 * finalZ) << i;
+  }
+  // Continuity at contact onset: no 1 ms step past 0.1 N on the way in and after.
+  double maxStepN = 0.0;
+  for (std::size_t i = 1; i < r.steps.size(); ++i) {
+    maxStepN = std::max(maxStepN, glm::length(r.steps[i].forceN - r.steps[i - 1].forceN));
+  }
+  std::printf("held push: max 1 ms force step %.4f N, final %.3f N, gap %.3f mm\n", maxStepN, finalZ,
+              r.steps.back().gapMm);
+  EXPECT_LT(maxStepN, 0.1);
+}
+
+TEST(ProxyCoupling, ContinuousAtRelease) {
+  Session s = slabSession(1.2, 2);
+  ProxyCoupling c(s.simulation());
+  HapticStep prev = c.step({0.0, down({0.0, 0.0, 2.0}), false});
+  double maxStepN = 0.0;
+  // 2.5 mm past the slab's surface and back out at 10 mm/s.
+  for (int i = 1; i <= 600; ++i) {
+    const double t = 0.001 * i;
+    const double z = 2.0 - 10.0 * (t < 0.3 ? t : 0.6 - t);
+    const HapticStep h = c.step({t, down({0.0, 0.0, z}), false});
+    expectSane(h);
+    maxStepN = std::max(maxStepN, glm::length(h.forceN - prev.forceN));
+    prev = h;
+  }
+  std::printf("in and out at 20 mm/s: max 1 ms force step %.4f N\n", maxStepN);
+  EXPECT_LT(maxStepN, 0.1);
+  // Out of the bone: the proxy is the command again, the damping's tail has died away.
+  EXPECT_LT(glm::length(prev.forceN), 1e-3);
+  EXPECT_EQ(prev.proxy.tipMm, prev.commanded.tipMm);
+}
+
+void shaftPushedSideways(double voxelMm, int levels, double sinkMm) {
+  // The drill lies along +x, 3 mm above the slab, its tip beyond the slab's edge: the shaft
+  // alone meets bone when the command goes down 6 mm, sideways to it.
+  Session s = slabSession(voxelMm, levels);
+  ProxyCoupling c(s.simulation());
+  const ToolPart& shaft = s.simulation().tool().parts[1];
+  ASSERT_FALSE(shaft.cuts);
+  double lowestAxisZ = 1e9;
+  for (int i = 0; i <= 1000; ++i) {
+    const double t = 0.001 * i;
+    const double z = 3.0 - 6.0 * std::min(1.0, t / 0.5);
+    const ToolPose cmd = ToolPose::pointing({20.0 + 2.0 * std::sin(4.0 * t), 0.0, z}, {1.0, 0.0, 0.0});
+    const HapticStep h = c.step({t, cmd, true});
+    expectSane(h);
+    ASSERT_EQ(c.boneInsideInnerLayer(h.proxy, 1), 0.0) << t;
+    lowestAxisZ = std::min(lowestAxisZ, h.proxy.tipMm.z);
+  }
+  // The shaft rests on the slab: its inner layer no deeper than the samples it meets allow.
+  std::printf("shaft at %.1f mm / %d levels: axis %.3f mm above the slab (radius %.2f)\n", voxelMm, levels,
+              lowestAxisZ, shaft.innerRadiusMm);
+  EXPECT_GE(lowestAxisZ, shaft.innerRadiusMm - sinkMm);
+  EXPECT_GT(c.step({1.001, ToolPose::pointing({20.0, 0.0, -3.0}, {1, 0, 0}), true}).forceN.z, 1.0);
+  EXPECT_EQ(s.totals().samplesRemoved, 0u);  // the tip, in free space, cut nothing
+}
+
+// The shaft meets level-0 voxels at 1.2 mm (refinement follows the cutting parts): their
+// centres lie in rows 0.6 mm beside its axis, so its layer dips up to 0.8 mm below the faces.
+TEST(ProxyCoupling, TheShaftNeverEntersBoneCoarse) { shaftPushedSideways(1.2, 2, 0.8); }
+TEST(ProxyCoupling, TheShaftNeverEntersBoneFine) { shaftPushedSideways(0.3, 0, 0.3); }
+
+TEST(ProxyCoupling, DrillingEatsItsWayInAndAllocatesNothing) {
+  Session s = slabSession(1.2, 2);
+  ProxyCoupling c(s.simulation());
+  double depth0 = 0.0;
+  std::uint64_t allocations = 0;
+  for (int i = 0; i <= 1500; ++i) {
+    const double t = 0.001 * i;
+    const double z = t < 0.1 ? 3.0 - 60.0 * t : -3.0;  // 6 mm past the surface, held
+    const bool on = t >= 0.3;
+    const std::uint64_t before = gAllocations.load();
+    const HapticStep h = c.step({t, down({0.0, 0.0, z}), on});
+    if (t >= 0.2) allocations += gAllocations.load() - before;
+    expectSane(h);
+    if (i == 300) depth0 = -c.proxy().tipMm.z;
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(s.totals().samplesRemoved, 0u);
+  // The proxy went in as the bone went, and stays out of what is left.
+  EXPECT_GT(-c.proxy().tipMm.z, depth0 + 0.3);
+  EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 0), 0.0);
+  EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 1), 0.0);
+}
+
+TEST(ProxyCoupling, ABrokenCommandGivesNoForceAndKeepsTheProxy) {
+  Session s = slabSession(1.2, 2);
+  ProxyCoupling c(s.simulation());
+  c.step({0.0, down({0.0, 0.0, 2.0}), false});
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const HapticStep h = c.step({0.001, down({nan, 0.0, 1.0}), true});
+  EXPECT_EQ(h.forceN, glm::dvec3(0.0));
+  EXPECT_EQ(h.proxy.tipMm, glm::dvec3(0.0, 0.0, 2.0));
+  const HapticStep after = c.step({0.002, down({0.0, 0.0, 1.9}), false});
+  expectSane(after);
+  EXPECT_EQ(after.proxy.tipMm, glm::dvec3(0.0, 0.0, 1.9));
+}
+
+TEST(ProxyCoupling, DirectStepIsTheSimulationsStep) {
+  Session a = slabSession(1.2, 2), b = slabSession(1.2, 2);
+  for (int i = 0; i < 300; ++i) {
+    const StepInput in{0.001 * i, down({0.0, 0.0, 2.0 - 0.01 * i}), i > 100};
+    const HapticStep h = stepHaptic(a.simulation(), nullptr, in);
+    const StepOutput o = b.simulation().step(in);
+    ASSERT_EQ(h.forceN, o.contact.forceN);
+    ASSERT_EQ(h.proxy.tipMm, in.pose.tipMm);
+  }
+}
+
+// ---- the built-in bone: a push with the drill off for 5 s, 10 mm past the surface, then on ----
+
+// Where the ray from `from` along `dir` first meets the mesh (Moller-Trumbore); -1: never.
+double rayHitMm(const geometry::TriangleMesh& m, const glm::dvec3& from, const glm::dvec3& dir) {
+  double best = -1.0;
+  for (const glm::u32vec3& tri : m.triangles) {
+    const glm::dvec3 a = m.positionsMm[tri.x], b = m.positionsMm[tri.y], c = m.positionsMm[tri.z];
+    const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(dir, e2);
+    const double det = glm::dot(e1, p);
+    if (std::abs(det) < 1e-12) continue;
+    const glm::dvec3 s = from - a;
+    const double u = glm::dot(s, p) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const glm::dvec3 q = glm::cross(s, e1);
+    const double v = glm::dot(dir, q) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    const double t = glm::dot(e2, q) / det;
+    if (t > 0.0 && (best < 0.0 || t < best)) best = t;
+  }
+  return best;
+}
+
+struct PushResult {
+  double depthOffMm = 0.0;      // the inner layer's front past the surface after 5 s off
+  std::uint64_t removedOff = 0;
+  std::size_t components = 0, componentsBefore = 0;
+  double maxStepOnN = 0.0, maxStepN = 0.0;
+  double maxGapMm = 0.0;
+  std::uint64_t clampSteps = 0;
+  double advancedOnMm = 0.0;
+};
+
+PushResult pushIntoBone(double voxelMm, int levels) {
+  SessionOptions o;
+  o.voxelSizeMm = voxelMm;
+  o.levels = levels;
+  o.keepSurface = false;
+  Session s = Session::open("default", 1.0, o);
+  PushResult r;
+  r.componentsBefore = geometry::analyzeTopology(s.multiResolutionSurface().toTriangleMesh()).components;
+  const PortalPlan plan = s.portalPath(Portal::FiveOClock);
+  const glm::dvec3 in = -plan.normal;
+  const glm::dvec3 start = plan.entryMm - 6.0 * in;
+  const double hit = rayHitMm(*s.bone().mesh(), start, in);
+  EXPECT_GT(hit, 0.0);
+  const glm::dvec3 surface = start + hit * in;
+  const ToolPart& tip = s.simulation().tool().parts[0];
+  ProxyCoupling c(s.simulation());
+  glm::dvec3 prevF(0.0);
+  const double pushEnd = hit + 10.0;  // the tip's centre 10 mm past the surface
+  for (int i = 0; i <= 7000; ++i) {
+    const double t = 0.001 * i;
+    const double along = std::min(1.0, t / 1.0) * pushEnd;
+    const bool on = t >= 5.0;
+    const HapticStep h = c.step({t, ToolPose::pointing(start + along * in, in), on});
+    expectSane(h);
+    const double stepN = glm::length(h.forceN - prevF);
+    prevF = h.forceN;
+    r.maxStepN = std::max(r.maxStepN, stepN);
+    if (on) r.maxStepOnN = std::max(r.maxStepOnN, stepN);
+    if (i == 5000) {
+      r.removedOff = s.totals().samplesRemoved;
+      r.depthOffMm = glm::dot(c.proxy().tipMm - surface, in) + tip.innerRadiusMm;
+    }
+  }
+  r.advancedOnMm = glm::dot(c.proxy().tipMm - surface, in) + tip.innerRadiusMm - r.depthOffMm;
+  r.maxGapMm = c.totals().maxGapMm;
+  r.clampSteps = c.totals().clampSteps;
+  r.components = geometry::analyzeTopology(s.multiResolutionSurface().toTriangleMesh()).components;
+  std::printf("push %.1f mm / %d levels: depth off %.3f mm (cushion %.2f), removed off %llu, advanced on %.3f mm, "
+              "components %zu (before %zu), max 1 ms step %.4f N (drill on %.4f N), largest gap %.3f mm, "
+              "steps at clamp %llu of 7001\n",
+              voxelMm, levels, r.depthOffMm, tip.outerRadiusMm - tip.innerRadiusMm,
+              (unsigned long long)r.removedOff, r.advancedOnMm, r.components, r.componentsBefore, r.maxStepN,
+              r.maxStepOnN, r.maxGapMm, (unsigned long long)r.clampSteps);
+  return r;
+}
+
+void expectPushHolds(const PushResult& r, double cushionMm) {
+  EXPECT_EQ(r.removedOff, 0u);
+  EXPECT_LE(r.depthOffMm, cushionMm);
+  EXPECT_GE(r.depthOffMm, -cushionMm);
+  EXPECT_GT(r.advancedOnMm, 0.5);  // the drill on, the tip went in
+  EXPECT_EQ(r.components, r.componentsBefore);  // a hole from the surface, no sealed cavity
+  EXPECT_LT(r.maxStepOnN, 0.1);
+  EXPECT_LT(r.maxStepN, 0.1);
+  EXPECT_GT(r.maxGapMm, 5.0);
+}
+
+TEST(ProxyCouplingPush, DynamicCoarseBone) { expectPushHolds(pushIntoBone(1.2, 2), 0.6); }
+
+TEST(ProxyCouplingPush, StaticFineBone) { expectPushHolds(pushIntoBone(0.3, 0), 0.6); }
+
+}  // namespace
+}  // namespace osteon::simulation
