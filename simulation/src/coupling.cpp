@@ -33,6 +33,7 @@ void validateCouplingOptions(const CouplingOptions& o) {
   positive(o.rotationalInertiaKgMm2, "coupling rotational inertia (kg mm^2)");
   positive(o.rateFilterS, "coupling rate filter (s)");
   positive(o.cutRampS, "coupling cut ramp (s)");
+  positive(o.anchorSpeedMmPerS, "coupling anchor speed (mm/s)");
   if (!std::isfinite(o.dampingNsPerMm) || !std::isfinite(o.rotationalDampingNmmSPerRad)) {
     throw InputError("coupling damping: must be a finite number (< 0: critically damped)");
   }
@@ -107,6 +108,7 @@ void ProxyCoupling::reset(const ToolPose& pose) {
   proxy_ = pose;
   started_ = true;
   cutAdvanceMm_ = 0.0;
+  anchorMm_ = pose.tipMm;
   lastGapMm_ = gapRate_ = glm::dvec3(0.0);
   lastTwistRad_ = twistRate_ = glm::dvec3(0.0);
 }
@@ -311,8 +313,12 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   if (cutAdvanceMm_ > 0.0 && aheadMm > 0.0) h.stepPose.tipMm += (std::min(cutAdvanceMm_, aheadMm) / aheadMm) * ahead;
   h.step = sim_->step({commanded.tS, h.stepPose, commanded.drillOn});
 
+  // The spring's anchor: the proxy, at most anchorSpeedMmPerS behind it while in contact.
+  const glm::dvec3 lag = proxy_.tipMm - anchorMm_;
+  const double lagMm = glm::length(lag), stepMm = options_.anchorSpeedMmPerS * dtS;
+  anchorMm_ = proxy_.tipMm == cmdTip || !(lagMm > stepMm) ? proxy_.tipMm : anchorMm_ + (stepMm / lagMm) * lag;
   // The coupling: spring-damper on the gap, the damping on a low-passed gap rate.
-  const glm::dvec3 gap = proxy_.tipMm - cmdTip;
+  const glm::dvec3 gap = anchorMm_ - cmdTip;
   const glm::dvec3 twist = rotationVector(proxy_.orientation, commanded.pose.orientation);
   const double alpha = dtS / (options_.rateFilterS + dtS);
   if (totals_.steps > 0) {
@@ -321,9 +327,9 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   }
   lastGapMm_ = gap;
   lastTwistRad_ = twist;
-  h.gapMm = glm::length(gap);
+  h.gapMm = glm::length(proxy_.tipMm - cmdTip);
   h.torqueNmm = -(options_.rotationalStiffnessNmmPerRad * twist + rotationalDamping_ * twistRate_);
-  // The device is pulled toward the proxy: k (proxy - command) + b d/dt (proxy - command).
+  // The device is pulled toward the proxy: k (anchor - command) + b d/dt (anchor - command).
   glm::dvec3 force = options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + h.step.contact.forceN;
   double magnitude = glm::length(force);
   if (!finite(force) || !std::isfinite(magnitude) || !finite(h.torqueNmm)) {

@@ -88,7 +88,8 @@ TEST(ProxyCoupling, FreeSpaceProxyIsTheCommand) {
   EXPECT_EQ(s.totals().samplesRemoved, 0u);
 }
 
-// The command moves 4 mm into the slab in 50 ms and is held there (drill off).
+// The command moves 4 mm into the slab in 200 ms (35 mm/s, a firm push) and is held there
+// (drill off).
 struct HeldPush {
   std::vector<HapticStep> steps;
   double surfaceDepthMm = 0.0;  // of the proxy's inner layer past z = 0 at the end
@@ -97,10 +98,10 @@ struct HeldPush {
 HeldPush heldPush(Session& s, ProxyCoupling& c, double holdS) {
   HeldPush r;
   const double startZ = 3.0, endZ = -4.0 + 1.46;  // the tip sphere's front 4 mm in
-  const int n = int(std::lround((0.05 + holdS) / 0.001));
+  const int n = int(std::lround((0.2 + holdS) / 0.001));
   for (int i = 0; i <= n; ++i) {
     const double t = 0.001 * i;
-    const double z = t < 0.05 ? startZ + (endZ - startZ) * t / 0.05 : endZ;
+    const double z = t < 0.2 ? startZ + (endZ - startZ) * t / 0.2 : endZ;
     r.steps.push_back(c.step({t, down({0.3, -0.2, z}), false}));
     expectSane(r.steps.back());
   }
@@ -134,9 +135,13 @@ TEST(ProxyCoupling, HeldInBoneSettlesWithin50msWithoutSignChanges) {
   o.stiffnessNPerMm = 0.4;
   ProxyCoupling c(s.simulation(), o);
   const HeldPush r = heldPush(s, c, 0.5);
-  const std::size_t holdStart = 50, settled = holdStart + 50;
+  const std::size_t holdStart = 200, settled = holdStart + 50;
   const double finalZ = r.steps.back().forceN.z;
   EXPECT_GT(finalZ, 0.5);
+  // Settled: from here on within 1 % of the final force.
+  std::size_t settledAt = r.steps.size();
+  while (settledAt > holdStart && std::abs(r.steps[settledAt - 1].forceN.z - finalZ) <= 0.01 * finalZ) --settledAt;
+  std::printf("held push: settled %zu ms after the hold began\n", settledAt - holdStart);
   for (std::size_t i = settled; i < r.steps.size(); ++i) {
     // Along the push (z): the same sign, and within 1 % of the final force.
     ASSERT_GT(r.steps[i].forceN.z, 0.0) << i;
@@ -166,7 +171,7 @@ TEST(ProxyCoupling, ContinuousAtRelease) {
     maxStepN = std::max(maxStepN, glm::length(h.forceN - prev.forceN));
     prev = h;
   }
-  std::printf("in and out at 20 mm/s: max 1 ms force step %.4f N\n", maxStepN);
+  std::printf("in and out at 10 mm/s: max 1 ms force step %.4f N\n", maxStepN);
   EXPECT_LT(maxStepN, 0.1);
   // Out of the bone: the proxy is the command again, the damping's tail has died away.
   EXPECT_LT(glm::length(prev.forceN), 1e-3);

@@ -17,9 +17,10 @@
 // - The drill on, DrillingSimulation::step runs at the proxy advanced toward the command by at
 //   most the cutting part's cushion (ramped in over rampS), so the tip eats its way in as the
 //   density decrements; the drill off, it runs at the proxy and nothing is removed.
-// - Force to the device = k (proxy - command) + b d/dt(proxy - command) + the contact force of
-//   the step (seed 3.5, eqs. 1-2), clamped to N_max. Continuous at contact onset and release:
-//   the gap grows from zero and the gap rate is low-passed.
+// - Force to the device = k (anchor - command) + b d/dt(anchor - command) + the contact force
+//   of the step (seed 3.5, eqs. 1-2), clamped to N_max; the anchor is the proxy's position,
+//   rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at contact
+//   onset and release: the gap grows from zero and the gap rate is low-passed.
 // - step() allocates nothing, locks nothing, throws nothing.
 #pragma once
 
@@ -58,6 +59,11 @@ struct CouplingOptions {
   double rotationalDampingNmmSPerRad = -1.0;  // < 0: critically damped
   // The gap rate's low-pass time constant (s): a damping force that does not step at contact.
   double rateFilterS = 0.01;
+  // The spring's anchor follows the proxy at most this fast (mm/s) while the proxy is off the
+  // command: bone goes a sample layer at a time, so the proxy advances and slides in hops of
+  // up to a sample (0.3 mm); the hand feels each as a slope of at most k x this speed
+  // (0.025 N per ms at the defaults), not a step. Off the bone the anchor is the proxy.
+  double anchorSpeedMmPerS = 50.0;
   // Time (s) over which the cut pose moves out to its full advance when the drill turns on
   // (and back when it turns off), so the contact force does not jump then.
   double cutRampS = 0.05;
@@ -154,6 +160,7 @@ class ProxyCoupling {
   bool started_ = false;
   double lastS_ = 0.0;
   double cutAdvanceMm_ = 0.0;
+  glm::dvec3 anchorMm_{0.0};
   glm::dvec3 lastGapMm_{0.0}, gapRate_{0.0};
   glm::dvec3 lastTwistRad_{0.0}, twistRate_{0.0};
   CouplingTotals totals_;
