@@ -91,6 +91,7 @@ struct DrillCommandOptions {
   std::string record;        // record the device's stream to this CSV
   VolumeMeaning volume;      // when `mesh` is a volume (then --path must be a CSV)
   bool allowEmpty = false;   // a path that never meets bone exits 0 (still "empty": true), not 1
+  std::string coupling;      // proxy or direct; empty: direct for portal paths, else proxy
 };
 
 struct ReplayCommandOptions {
@@ -102,6 +103,7 @@ struct ReplayCommandOptions {
   std::string tool = "drill";
   std::string outDir = ".";
   bool json = false;
+  std::string coupling;      // proxy (the default) or direct
 };
 
 struct DevicesListOptions {
