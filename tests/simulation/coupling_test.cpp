@@ -14,7 +14,9 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -304,12 +306,15 @@ PushResult pushIntoBone(double voxelMm, int levels) {
   const ToolPart& tip = s.simulation().tool().parts[0];
   ProxyCoupling c(s.simulation());
   glm::dvec3 prevF(0.0);
+  std::vector<double> stepUs;  // reported, not asserted (a shared machine)
   const double pushEnd = hit + 10.0;  // the tip's centre 10 mm past the surface
   for (int i = 0; i <= 7000; ++i) {
     const double t = 0.001 * i;
     const double along = std::min(1.0, t / 1.0) * pushEnd;
     const bool on = t >= 5.0;
+    const auto began = std::chrono::steady_clock::now();
     const HapticStep h = c.step({t, ToolPose::pointing(start + along * in, in), on});
+    stepUs.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - began).count());
     expectSane(h);
     const double stepN = glm::length(h.forceN - prevF);
     prevF = h.forceN;
@@ -324,6 +329,14 @@ PushResult pushIntoBone(double voxelMm, int levels) {
   r.maxGapMm = c.totals().maxGapMm;
   r.clampSteps = c.totals().clampSteps;
   r.components = geometry::analyzeTopology(s.multiResolutionSurface().toTriangleMesh()).components;
+  const auto p99 = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() * 99 / 100];
+  };
+  std::printf("  step time p99 %.0f us (off %.0f us, on %.0f us); blocked %llu, slow tests %llu, lag %llu\n",
+              p99(stepUs), p99({stepUs.begin(), stepUs.begin() + 5000}), p99({stepUs.begin() + 5000, stepUs.end()}),
+              (unsigned long long)c.totals().blockedSteps, (unsigned long long)c.totals().slowTests,
+              (unsigned long long)c.totals().lagSteps);
   std::printf("push %.1f mm / %d levels: depth off %.3f mm (cushion %.2f), removed off %llu, advanced on %.3f mm, "
               "components %zu (before %zu), max 1 ms step %.4f N (drill on %.4f N), largest gap %.3f mm, "
               "steps at clamp %llu of 7001\n",
