@@ -34,6 +34,10 @@ void validateCouplingOptions(const CouplingOptions& o) {
   positive(o.rateFilterS, "coupling rate filter (s)");
   positive(o.cutRampS, "coupling cut ramp (s)");
   positive(o.anchorSpeedMmPerS, "coupling anchor speed (mm/s)");
+  positive(o.maxFeedMmPerS, "coupling feed limit (mm/s)");
+  if (!(o.frictionCoefficient >= 0.0) || !std::isfinite(o.frictionCoefficient)) {
+    throw InputError("coupling friction coefficient: must be a finite number >= 0");
+  }
   if (!std::isfinite(o.dampingNsPerMm) || !std::isfinite(o.rotationalDampingNmmSPerRad)) {
     throw InputError("coupling damping: must be a finite number (< 0: critically damped)");
   }
@@ -100,6 +104,7 @@ ProxyCoupling::ProxyCoupling(DrillingSimulation& sim, const CouplingOptions& opt
     reachMm_ = std::max(reachMm_, std::max(glm::length(part.aMm), glm::length(part.bMm)) + part.outerRadiusMm);
     if (part.cuts) cushionMm_ = std::max(cushionMm_, part.outerRadiusMm - part.innerRadiusMm);
     candidates_[std::size_t(p)].samples.reserve(options.candidateCapacity);
+    admitRadiusMm_[std::size_t(p)] = part.innerRadiusMm;
   }
   subMoveMm_ = 0.5 * thinnest;
 }
@@ -118,13 +123,13 @@ double ProxyCoupling::displacementBoundMm(const ToolPose& a, const ToolPose& b) 
   return glm::length(b.tipMm - a.tipMm) + angleBetween(a.orientation, b.orientation) * reachMm_;
 }
 
-double ProxyCoupling::boneInsideInnerLayer(const ToolPose& pose, int part) {
+double ProxyCoupling::boneInsideInnerLayer(const ToolPose& pose, int part, double radiusMm) {
   const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
   const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
   const glm::dvec3 ab = b - a;
   const double len2 = glm::dot(ab, ab);
   const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
-  const double r = tp.innerRadiusMm;
+  const double r = radiusMm > 0.0 ? radiusMm : tp.innerRadiusMm;
   double fill = 0.0;
   sim_->voxels().forEachSampleNearSegment(
       a, b, r,
@@ -149,8 +154,9 @@ bool ProxyCoupling::gather(const ToolPose& from, double reachMm) {
     const glm::dvec3 ab = b - a;
     const double len2 = glm::dot(ab, ab);
     const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
-    const double r = part.innerRadiusMm + reachMm;
-    const double inner2 = part.innerRadiusMm * part.innerRadiusMm;
+    const double admit = admitRadiusMm_[std::size_t(p)];
+    const double r = admit + reachMm;
+    const double inner2 = admit * admit;
     sim_->voxels().forEachSampleNearSegment(
         a, b, r,
         [&](const glm::dvec3& c, double h) {
@@ -175,14 +181,14 @@ double ProxyCoupling::insideFill(const ToolPose& pose, int part) {
   const PartCandidates& pc = candidates_[std::size_t(part)];
   if (!pc.complete) {
     ++totals_.slowTests;
-    return boneInsideInnerLayer(pose, part);
+    return boneInsideInnerLayer(pose, part, admitRadiusMm_[std::size_t(part)]);
   }
   const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
   const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
   const glm::dvec3 ab = b - a;
   const double len2 = glm::dot(ab, ab);
   const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
-  const double inner2 = tp.innerRadiusMm * tp.innerRadiusMm;
+  const double inner2 = admitRadiusMm_[std::size_t(part)] * admitRadiusMm_[std::size_t(part)];
   double fill = 0.0;
   for (const Candidate& c : pc.samples) {
     if (distance2ToSegment(c.centreMm, a, ab, invLen2) <= inner2) fill += c.fill;
@@ -289,15 +295,37 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   }
   lastS_ = commanded.tS;
 
+  // The layers the proxy is held out of: a cutting part's narrowed while its cut runs ahead.
+  const Tool& tool = sim_->tool();
+  for (int p = 0; p < tool.partCount; ++p) {
+    const ToolPart& part = tool.parts[std::size_t(p)];
+    const double ahead = part.cuts && commanded.drillOn ? std::min(cutAdvanceMm_, 0.5 * part.innerRadiusMm) : 0.0;
+    admitRadiusMm_[std::size_t(p)] = std::sqrt(part.innerRadiusMm * part.innerRadiusMm - ahead * ahead);
+  }
   // The proxy: as far toward the command as the bone lets it, then along the contact plane.
+  const glm::dvec3 wasMm = proxy_.tipMm;
   const MoveResult move = constrainedMove(commanded.pose);
   if (move.blocked) {
     ++totals_.blockedSteps;
     const glm::dvec3 rest = cmdTip - proxy_.tipMm;
     const double into = glm::dot(rest, move.normal);
-    if (into < 0.0) {
-      const ToolPose slideTo{proxy_.tipMm + rest - into * move.normal, commanded.pose.orientation};
+    const glm::dvec3 along = rest - into * move.normal;
+    const double alongMm = glm::length(along);
+    const double heldMm = options_.frictionCoefficient * std::max(0.0, -into);
+    if (into < 0.0 && alongMm > heldMm) {
+      const ToolPose slideTo{proxy_.tipMm + (1.0 - heldMm / alongMm) * along, commanded.pose.orientation};
       if (displacementBoundMm(proxy_, slideTo) > 1e-6) constrainedMove(slideTo);
+    }
+    // Cutting, toward the command no faster than the feed limit: the rest of the step's
+    // progress is taken back, toward where the proxy was (a slide along a plane a little off
+    // the hole's wall would otherwise carry it down the freshly cut hole).
+    const glm::dvec3 toward = cmdTip - wasMm;
+    const double towardMm = glm::length(toward);
+    if (commanded.drillOn && towardMm > 0.0) {
+      const glm::dvec3 u = toward / towardMm;
+      const double progressMm = glm::dot(proxy_.tipMm - wasMm, u);
+      const double feedMm = options_.maxFeedMmPerS * dtS;
+      if (progressMm > feedMm) proxy_.tipMm -= (progressMm - feedMm) * u;
     }
   }
   h.proxy = proxy_;

@@ -229,7 +229,8 @@ TEST(ProxyCoupling, DrillingEatsItsWayInAndAllocatesNothing) {
   EXPECT_GT(s.totals().samplesRemoved, 0u);
   // The proxy went in as the bone went, and stays out of what is left.
   EXPECT_GT(-c.proxy().tipMm.z, depth0 + 0.3);
-  EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 0), 0.0);
+  EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 0, c.admittedRadiusMm(0)), 0.0);
+  EXPECT_LT(c.admittedRadiusMm(0), s.simulation().tool().parts[0].innerRadiusMm);  // the drill cuts ahead
   EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 1), 0.0);
 }
 

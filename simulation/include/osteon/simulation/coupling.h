@@ -8,12 +8,17 @@
 // - Admissible pose: no bone sample (a level-0 voxel or refined sub-voxel with fill) has its
 //   centre inside any part's inner layer; the cushion (inner..outer) may hold bone, as it does
 //   in contact. A pose that already held bone (a pose started in bone, or samples a refinement
-//   split) may keep what it holds but take in no more.
+//   split) may keep what it holds but take in no more. While the drill cuts a cushion's
+//   advance a ahead, the cutting part's layer is tested at sqrt(r_i^2 - a^2): the cut sphere
+//   then holds every sample the proxy's front could meet, so no ring of bone at the hole's
+//   rim, beside the cut, stops the tool (a cutting part's layer may hold bone up to r_i there).
 // - The proxy moves along lerp(position)/slerp(orientation) from where it was to the command,
 //   to the furthest admissible pose (sub-moves no longer than half the thinnest part, so thin
 //   bone is not jumped, then a fixed count of bisections), then slides: the motion left is
-//   projected on the contact plane and moved along the same way, so it does not stick.
-// - In free space it reaches the command exactly.
+//   projected on the contact plane, less a friction cone, and moved along the same way, so it
+//   does not stick.
+// - In free space it reaches the command exactly. Into bone it moves no faster than the feed
+//   limit (CouplingOptions::maxFeedMmPerS).
 // - The drill on, DrillingSimulation::step runs at the proxy advanced toward the command by at
 //   most the cutting part's cushion (ramped in over rampS), so the tip eats its way in as the
 //   density decrements; the drill off, it runs at the proxy and nothing is removed.
@@ -64,6 +69,15 @@ struct CouplingOptions {
   // up to a sample (0.3 mm); the hand feels each as a slope of at most k x this speed
   // (0.025 N per ms at the defaults), not a step. Off the bone the anchor is the proxy.
   double anchorSpeedMmPerS = 50.0;
+  // The friction cone of the slide (Melder & Harwin's god-object with friction): of the motion
+  // left along the contact plane, the part within mu x the push into the bone is held. Without
+  // it a contact normal a degree off, times a gap of millimetres, slides the proxy about in a
+  // hole by a tenth of a millimetre a step.
+  double frictionCoefficient = 0.3;
+  // The fastest the drill feeds into bone (mm/s), however hard it is pushed: the seed's removal
+  // (one density unit per step) clears cancellous bone ahead of the cut at up to 50 mm/s, a
+  // plunge no burr makes; 5 mm/s is about twice the seed's scripted portal paths (2.8 mm/s).
+  double maxFeedMmPerS = 5.0;
   // Time (s) over which the cut pose moves out to its full advance when the drill turns on
   // (and back when it turns off), so the contact force does not jump then.
   double cutRampS = 0.05;
@@ -116,8 +130,10 @@ class ProxyCoupling {
   double rotationalDampingNmmSPerRad() const { return rotationalDamping_; }
   const CouplingTotals& totals() const { return totals_; }
   // Fill (grid fill units) of the bone samples whose centres lie inside part `part`'s inner
-  // layer at `pose`. Walks the hierarchy; no allocation.
-  double boneInsideInnerLayer(const ToolPose& pose, int part);
+  // layer at `pose` (radiusMm > 0: that radius instead). Walks the hierarchy; no allocation.
+  double boneInsideInnerLayer(const ToolPose& pose, int part, double radiusMm = -1.0);
+  // The radius the last step tested part `part`'s layer at (see above).
+  double admittedRadiusMm(int part) const { return admitRadiusMm_[std::size_t(part)]; }
 
   // Sub-moves and bisections per constrained move: fixed, so a step's work is bounded.
   static constexpr int kMaxSubMoves = 8;
@@ -156,6 +172,7 @@ class ProxyCoupling {
   double reachMm_;        // farthest point of any part from the tip (for rotations)
   double cushionMm_;      // the cutting part's outer - inner radius
   std::array<PartCandidates, kMaxToolParts> candidates_;
+  std::array<double, kMaxToolParts> admitRadiusMm_{};
   ToolPose proxy_;
   bool started_ = false;
   double lastS_ = 0.0;
