@@ -95,6 +95,36 @@ TEST_F(CliTest, AProxyThatBoneStopsDrillsAHoleFromTheSurface) {
               geometry::analyzeTopology(geometry::readMesh(path("direct/surface.ply"))).components);
 }
 
+// A device (the push path, scripted) and its recording replayed run under proxy coupling by
+// default: the force the coupling asks for goes through the safety layer, which limits it
+// again, and the replay gives the device run's force log byte for byte.
+TEST_F(CliTest, DevicesAndReplaysRunThroughTheProxyThenTheSafetyLayer) {
+  const std::string common = " --voxel-size 1.2 --levels 2 --json --out-dir ";
+  const CliRun portal = osteon("drill default --path portal-5" + common + quoted(path("portal")));
+  ASSERT_EQ(portal.exitCode, 0) << portal.err;
+  const json p = json::parse(portal.out);
+  test::writeBytes(path("push.csv"), pushCsv(vec(p["path"]["entry_mm"]), vec(p["path"]["head_centre_mm"])));
+
+  const CliRun device = osteon("drill default --device scripted:" + quoted(path("push.csv")) + " --record " +
+                               quoted(path("rec.csv")) + common + quoted(path("device")));
+  ASSERT_EQ(device.exitCode, 0) << device.err;
+  const json d = json::parse(device.out);
+  EXPECT_EQ(d["coupling"], "proxy");
+  EXPECT_GT(d["max_gap_mm"].get<double>(), 8.0);
+  EXPECT_GT(d["clamp_steps"].get<std::uint64_t>(), 0u);
+  // What the device was sent: within the safety layer's limit, and it did send the push back.
+  EXPECT_LE(d["safety"]["max_force_n"].get<double>(), d["safety"]["force_limit_n"].get<double>() + 1e-9);
+  EXPECT_GT(d["safety"]["max_force_n"].get<double>(), 3.0);
+  EXPECT_EQ(d["safety"]["non_finite_forces"].get<std::uint64_t>(), 0u);
+  const std::string log = test::readBytes(path("device/forces.csv"));
+  EXPECT_EQ(firstLine(log), "t,px,py,pz,cx,cy,cz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
+
+  const CliRun replay = osteon("replay " + quoted(path("rec.csv")) + " default" + common + quoted(path("replay")));
+  ASSERT_EQ(replay.exitCode, 0) << replay.err;
+  EXPECT_EQ(json::parse(replay.out)["coupling"], "proxy");
+  EXPECT_TRUE(log == test::readBytes(path("replay/forces.csv")));
+}
+
 TEST_F(CliTest, AnUnknownCouplingIsRefused) {
   expectBadInput("drill default --voxel-size 1.2 --path portal-5 --coupling spring --out-dir " + quoted(path("o")),
                  "--coupling spring", "unknown coupling");
