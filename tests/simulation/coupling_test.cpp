@@ -280,6 +280,44 @@ TEST(ProxyCoupling, DrillingEatsItsWayInAndAllocatesNothing) {
   EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 1), 0.0);
 }
 
+// Every tool pushed 4 mm into bone with the drill off for 0.5 s (nothing removed, no part's
+// layer holds bone), then on for 0.5 s (it cuts in, at most the feed limit's 5 mm/s): the drill
+// and the burr down into the slab, the shaver sideways into a plate's edge with its window (its
+// rounded ends, which do not cut, above and below the plate).
+TEST(ProxyCoupling, EveryToolIsStoppedThenCutsItsWayIn) {
+  for (const ToolKind kind : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
+    const bool shaver = kind == ToolKind::Shaver;
+    SessionOptions o;
+    o.voxelSizeMm = 1.2;
+    o.levels = 2;
+    o.tool = kind;
+    o.keepSurface = false;
+    const glm::dvec3 lo = shaver ? glm::dvec3(-8, -8, -2.4) : glm::dvec3(-8, -8, -8);
+    Session s = Session::fromMesh(test::makeBox(lo, {8, 8, 0}), o, "slab");
+    ProxyCoupling c(s.simulation());
+    const Tool& tool = s.simulation().tool();
+    const glm::dvec3 push = shaver ? glm::dvec3(-1.0, 0.0, 0.0) : glm::dvec3(0.0, 0.0, -1.0);
+    const glm::dvec3 from = shaver ? glm::dvec3(8.0 + 3.0, 0.0, -3.2) : glm::dvec3(0.0, 0.0, 3.0);
+    double atOffMm = 0.0;
+    for (int i = 0; i <= 1000; ++i) {
+      const double t = 0.001 * i;
+      const glm::dvec3 tip = from + 7.0 * std::min(1.0, t / 0.1) * push;
+      const HapticStep h = c.step({t, ToolPose::pointing(tip, {0.0, 0.0, -1.0}), t >= 0.5});
+      expectSane(h);
+      if (i == 499) {
+        EXPECT_EQ(s.totals().samplesRemoved, 0u) << toolKindName(kind);
+        for (int p = 0; p < tool.partCount; ++p) EXPECT_EQ(c.boneInsideInnerLayer(h.proxy, p), 0.0) << toolKindName(kind);
+        atOffMm = glm::dot(h.proxy.tipMm, push);
+      }
+    }
+    EXPECT_GT(s.totals().samplesRemoved, 0u) << toolKindName(kind);
+    const double inMm = glm::dot(c.proxy().tipMm, push) - atOffMm;
+    EXPECT_GT(inMm, 0.2) << toolKindName(kind);
+    EXPECT_LE(inMm, 0.5 * 5.0 + 0.6) << toolKindName(kind);  // the feed limit, plus the cushion
+    std::printf("%s: in %.3f mm in 0.5 s with the drill on\n", toolKindName(kind), inMm);
+  }
+}
+
 TEST(ProxyCoupling, ABrokenCommandGivesNoForceAndKeepsTheProxy) {
   Session s = slabSession(1.2, 2);
   ProxyCoupling c(s.simulation());
