@@ -102,7 +102,11 @@ ProxyCoupling::ProxyCoupling(DrillingSimulation& sim, const CouplingOptions& opt
     const ToolPart& part = tool.parts[std::size_t(p)];
     thinnest = std::min(thinnest, part.innerRadiusMm);
     reachMm_ = std::max(reachMm_, std::max(glm::length(part.aMm), glm::length(part.bMm)) + part.outerRadiusMm);
-    if (part.cuts) cushionMm_ = std::max(cushionMm_, part.outerRadiusMm - part.innerRadiusMm);
+    // The cut's lead: a cushion, but no more than half the inner radius (a static coarse grid's
+    // cushion of two 1.2 mm voxels would cut a sphere barely touching the proxy's).
+    if (part.cuts) {
+      cushionMm_ = std::max(cushionMm_, std::min(part.outerRadiusMm - part.innerRadiusMm, 0.5 * part.innerRadiusMm));
+    }
     candidates_[std::size_t(p)].samples.reserve(options.candidateCapacity);
     admitRadiusMm_[std::size_t(p)] = part.innerRadiusMm;
   }

@@ -431,20 +431,26 @@ PushResult pushIntoBone(double voxelMm, int levels) {
   return r;
 }
 
-void expectPushHolds(const PushResult& r, double cushionMm) {
+// maxStepN: the largest 1 ms force step allowed (in the drill's cushion the seed's contact
+// force itself is what steps).
+void expectPushHolds(const PushResult& r, double cushionMm, double maxStepN = 0.1) {
   EXPECT_EQ(r.removedOff, 0u);
   EXPECT_LE(r.depthOffMm, cushionMm);
   EXPECT_GE(r.depthOffMm, -cushionMm);
   EXPECT_GT(r.advancedOnMm, 0.5);  // the drill on, the tip went in
   EXPECT_EQ(r.components, r.componentsBefore);  // a hole from the surface, no sealed cavity
-  EXPECT_LT(r.maxStepOnN, 0.1);
-  EXPECT_LT(r.maxStepN, 0.1);
+  EXPECT_LT(r.maxStepOnN, maxStepN);
+  EXPECT_LT(r.maxStepN, maxStepN);
   EXPECT_GT(r.maxGapMm, 5.0);
 }
 
 TEST(ProxyCouplingPush, DynamicCoarseBone) { expectPushHolds(pushIntoBone(1.2, 2), 0.6); }
 
 TEST(ProxyCouplingPush, StaticFineBone) { expectPushHolds(pushIntoBone(0.3, 0), 0.6); }
+
+// At 1.2 mm static the contact force of the few voxels in the cut's shell swings by over a
+// newton as they go (the seed's coarse case): the push still holds, its steps are reported.
+TEST(ProxyCouplingPush, StaticCoarseBone) { expectPushHolds(pushIntoBone(1.2, 0), 2.4, 2.0); }
 
 }  // namespace
 }  // namespace osteon::simulation

@@ -20,8 +20,9 @@
 // - In free space it reaches the command exactly. Into bone it moves no faster than the feed
 //   limit (CouplingOptions::maxFeedMmPerS).
 // - The drill on, DrillingSimulation::step runs at the proxy advanced toward the command by at
-//   most the cutting part's cushion (ramped in over rampS), so the tip eats its way in as the
-//   density decrements; the drill off, it runs at the proxy and nothing is removed.
+//   most the cutting part's cushion (and half its inner radius; ramped in over cutRampS), so
+//   the tip eats its way in as the density decrements; the drill off, it runs at the proxy and
+//   nothing is removed.
 // - Force to the device = k (anchor - command) + b d/dt(anchor - command) + the contact force
 //   of the step (seed 3.5, eqs. 1-2), clamped to N_max; the anchor is the proxy's position,
 //   rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at contact
@@ -170,7 +171,7 @@ class ProxyCoupling {
   double rotationalDamping_;
   double subMoveMm_;      // half the thinnest part's inner radius
   double reachMm_;        // farthest point of any part from the tip (for rotations)
-  double cushionMm_;      // the cutting part's outer - inner radius
+  double cushionMm_;      // the cut's lead: the cutting part's cushion, at most half its inner radius
   std::array<PartCandidates, kMaxToolParts> candidates_;
   std::array<double, kMaxToolParts> admitRadiusMm_{};
   ToolPose proxy_;
