@@ -360,7 +360,8 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   lastGapMm_ = gap;
   lastTwistRad_ = twist;
   h.gapMm = glm::length(proxy_.tipMm - cmdTip);
-  h.torqueNmm = -(options_.rotationalStiffnessNmmPerRad * twist + rotationalDamping_ * twistRate_);
+  // As the force: toward the proxy, about the rotation that takes the command to it.
+  h.torqueNmm = options_.rotationalStiffnessNmmPerRad * twist + rotationalDamping_ * twistRate_;
   // The device is pulled toward the proxy: k (anchor - command) + b d/dt (anchor - command).
   glm::dvec3 force = options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + h.step.contact.forceN;
   double magnitude = glm::length(force);

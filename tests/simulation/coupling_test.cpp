@@ -256,6 +256,39 @@ void shaftPushedSideways(double voxelMm, int levels, double sinkMm) {
 TEST(ProxyCoupling, TheShaftNeverEntersBoneCoarse) { shaftPushedSideways(1.2, 2, 0.8); }
 TEST(ProxyCoupling, TheShaftNeverEntersBoneFine) { shaftPushedSideways(0.3, 0, 0.3); }
 
+// Turned about its tip, the drill's shaft swings down onto the slab: the proxy's turn stops
+// there (its shaft holds no bone), and the rotational coupling's torque turns the command back
+// toward it; the tip stays on the command.
+TEST(ProxyCoupling, AShaftTurnedIntoBoneIsStoppedAndTwisted) {
+  Session s = slabSession(1.2, 2);
+  ProxyCoupling c(s.simulation());
+  const glm::dvec3 tip(20.0, 0.0, 3.0);  // beyond the slab's edge, the shaft over it
+  HapticStep h;
+  for (int i = 0; i <= 400; ++i) {
+    const double t = 0.001 * i;
+    // Up to 15 degrees about y: the handle (toward -x) goes down.
+    const double a = glm::radians(15.0) * std::min(1.0, t / 0.2);
+    h = c.step({t, ToolPose::pointing(tip, {std::cos(a), 0.0, std::sin(a)}), false});
+    expectSane(h);
+    ASSERT_EQ(c.boneInsideInnerLayer(h.proxy, 1), 0.0) << t;
+    ASSERT_EQ(h.proxy.tipMm, tip) << t;
+    if (i == 0) {
+      EXPECT_EQ(h.torqueNmm, glm::dvec3(0.0));
+    }
+  }
+  // The proxy turned less than the command; the torque pulls the command's handle back up.
+  const double proxyDeg = glm::degrees(std::asin(h.proxy.forward().z));
+  std::printf("turned shaft: proxy %.2f deg of 15, torque %.2f N mm\n", proxyDeg, glm::length(h.torqueNmm));
+  EXPECT_LT(proxyDeg, 14.0);
+  EXPECT_GT(proxyDeg, 0.5);
+  EXPECT_GT(glm::length(h.torqueNmm), 1.0);
+  // The command's handle (toward -x) went down past the proxy's: the torque lifts it back.
+  const glm::dvec3 handleCommand = -ToolPose::pointing(tip, {std::cos(glm::radians(15.0)), 0.0,
+                                                             std::sin(glm::radians(15.0))}).forward();
+  const glm::dvec3 pushOnHandle = glm::cross(h.torqueNmm, handleCommand);  // where the torque moves it
+  EXPECT_GT(pushOnHandle.z, 0.0);
+}
+
 TEST(ProxyCoupling, DrillingEatsItsWayInAndAllocatesNothing) {
   Session s = slabSession(1.2, 2);
   ProxyCoupling c(s.simulation());
