@@ -120,6 +120,8 @@ void apply(VoxelGrid& grid, const BrickMessage& msg) {
 struct DisplayCore {
   double tS = -1.0;
   ToolPose pose;
+  ToolPose commanded;
+  double gapMm = 0.0;
   bool drillOn = false;
   ContactForce contact;
   std::uint64_t removedFill = 0;
@@ -341,7 +343,8 @@ struct LiveRuntime::Impl {
       if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
         logDropped.fetch_add(1, std::memory_order_relaxed);
       }
-      displayCore.write({m.tS, h.proxy, m.drillOn, sent, totals.removedFill, sim->removedVolumeMm3(), totals.steps});
+      displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent, totals.removedFill,
+                         sim->removedVolumeMm3(), totals.steps});
       if (totals.steps % kRefinedEverySteps == 0) {
         const geometry::RefinedVoxels& voxels = sim->voxels();
         refined.depth = voxels.depth();
@@ -578,6 +581,8 @@ const DisplayState& LiveRuntime::display() {
   DisplayState& d = m.shown;
   d.tS = core.tS;
   d.pose = core.pose;
+  d.commanded = core.commanded;
+  d.gapMm = core.gapMm;
   d.drillOn = core.drillOn;
   d.contact = core.contact;
   d.removedFill = core.removedFill;

@@ -7,6 +7,7 @@
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/coupling.h"
+#include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 #include "support/shapes.h"
 
@@ -373,6 +374,44 @@ TEST(ProxyCoupling, DirectStepIsTheSimulationsStep) {
     ASSERT_EQ(h.forceN, o.contact.forceN);
     ASSERT_EQ(h.proxy.tipMm, in.pose.tipMm);
   }
+}
+
+// The deterministic runner and the threaded runtime of a session under proxy coupling both
+// step through it: the log's tip is the proxy's, its command the path's, the summary has the
+// gap and the clamp count, and bone stops the tool in both.
+TEST(ProxyCoupling, DeterministicAndThreadedRunsStepThroughTheSessionsCoupling) {
+  SessionOptions o;
+  o.voxelSizeMm = 1.2;
+  o.levels = 2;
+  o.keepSurface = false;
+  o.coupling = CouplingMode::Proxy;
+  // 8 mm into the slab in 0.2 s, held for 0.6 s, the drill off.
+  const DrillPath path({{0.0, {0.0, 0.0, 3.0}, {1, 0, 0, 0}, false},
+                        {0.2, {0.0, 0.0, -5.0}, {1, 0, 0, 0}, false},
+                        {0.8, {0.0, 0.0, -5.0}, {1, 0, 0, 0}, false}});
+  Session a = Session::fromMesh(test::makeBox({-8, -8, -8}, {8, 8, 0}), o, "slab");
+  ASSERT_NE(a.coupling(), nullptr);
+  const RunResult r = a.run(path);
+  EXPECT_EQ(r.summary.coupling, CouplingMode::Proxy);
+  EXPECT_GT(r.summary.maxGapMm, 5.0);
+  EXPECT_GT(r.summary.clampSteps, 0u);
+  EXPECT_EQ(r.summary.totals.samplesRemoved, 0u);
+  EXPECT_GT(r.log.back().tipMm.z, 1.46 - 0.6);  // the tool on the surface
+  EXPECT_DOUBLE_EQ(r.log.back().commandMm.z, -5.0);
+  EXPECT_GT(r.log.back().forceN.z, 3.0);
+
+  Session b = Session::fromMesh(test::makeBox({-8, -8, -8}, {8, 8, 0}), o, "slab");
+  PathPoseSource source(path);
+  RuntimeOptions ro;
+  ro.durationS = 0.8;
+  ro.realtimePriority = false;
+  const RuntimeResult t = b.runThreaded(source, nullptr, ro);
+  EXPECT_EQ(t.run.summary.coupling, CouplingMode::Proxy);
+  EXPECT_GT(t.run.summary.maxGapMm, 5.0);
+  EXPECT_EQ(t.run.summary.totals.samplesRemoved, 0u);
+  ASSERT_FALSE(t.run.log.empty());
+  EXPECT_GT(t.run.log.back().tipMm.z, 1.46 - 0.6);
+  EXPECT_DOUBLE_EQ(t.run.log.back().commandMm.z, -5.0);
 }
 
 // ---- the built-in bone: a push with the drill off for 5 s, 10 mm past the surface, then on ----
