@@ -1,13 +1,13 @@
 #include "osteon/simulation/coupling.h"
 
-#include "osteon/core/error.h"
+#include <algorithm>
+#include <cmath>
+#include <sstream>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include <algorithm>
-#include <cmath>
-#include <sstream>
+#include "osteon/core/error.h"
 
 namespace osteon::simulation {
 
@@ -17,7 +17,9 @@ CouplingMode parseCouplingMode(const std::string& text) {
   throw InputError("--coupling " + text + ": unknown coupling (use proxy or direct)");
 }
 
-const char* couplingModeName(CouplingMode mode) { return mode == CouplingMode::Proxy ? "proxy" : "direct"; }
+const char* couplingModeName(CouplingMode mode) {
+  return mode == CouplingMode::Proxy ? "proxy" : "direct";
+}
 
 void validateCouplingOptions(const CouplingOptions& o) {
   const auto positive = [](double v, const char* name) {
@@ -46,7 +48,9 @@ void validateCouplingOptions(const CouplingOptions& o) {
 
 namespace {
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 ToolPose interpolate(const ToolPose& a, const ToolPose& b, double t) {
   if (t >= 1.0) return b;
@@ -74,8 +78,8 @@ glm::dvec3 rotationVector(const glm::dquat& from, const glm::dquat& to) {
 }
 
 // Squared distance from c to the segment a-b (ab = b - a, invLen2 = 1 / |ab|^2 or 0).
-double distance2ToSegment(const glm::dvec3& c, const glm::dvec3& a, const glm::dvec3& ab, double invLen2,
-                          glm::dvec3* toCore = nullptr) {
+double distance2ToSegment(const glm::dvec3& c, const glm::dvec3& a, const glm::dvec3& ab,
+                          double invLen2, glm::dvec3* toCore = nullptr) {
   const double t = std::clamp(glm::dot(c - a, ab) * invLen2, 0.0, 1.0);
   const glm::dvec3 d = a + t * ab - c;
   if (toCore) *toCore = d;
@@ -88,12 +92,16 @@ ProxyCoupling::ProxyCoupling(DrillingSimulation& sim, const CouplingOptions& opt
     : sim_(&sim), options_(options) {
   validateCouplingOptions(options);
   const double k = options.stiffnessNPerMm * 1e3;  // N/m
-  dampingNsPerMm_ = options.dampingNsPerMm >= 0.0 ? options.dampingNsPerMm
-                                                   : 2.0 * std::sqrt(k * options.virtualMassKg) * 1e-3;
+  dampingNsPerMm_ = options.dampingNsPerMm >= 0.0
+                        ? options.dampingNsPerMm
+                        : 2.0 * std::sqrt(k * options.virtualMassKg) * 1e-3;
   // N mm/rad and kg mm^2: 2 sqrt(kr I) in N m s/rad is 2 sqrt(kr[N mm] I[kg mm^2] 1e-9) 1e3 N mm s.
   rotationalDamping_ = options.rotationalDampingNmmSPerRad >= 0.0
                            ? options.rotationalDampingNmmSPerRad
-                           : 2.0 * std::sqrt(options.rotationalStiffnessNmmPerRad * options.rotationalInertiaKgMm2 * 1e-9) * 1e3;
+                           : 2.0 *
+                                 std::sqrt(options.rotationalStiffnessNmmPerRad *
+                                           options.rotationalInertiaKgMm2 * 1e-9) *
+                                 1e3;
   const Tool& tool = sim.tool();
   double thinnest = 1e300;
   reachMm_ = 0.0;
@@ -101,11 +109,13 @@ ProxyCoupling::ProxyCoupling(DrillingSimulation& sim, const CouplingOptions& opt
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     thinnest = std::min(thinnest, part.innerRadiusMm);
-    reachMm_ = std::max(reachMm_, std::max(glm::length(part.aMm), glm::length(part.bMm)) + part.outerRadiusMm);
+    reachMm_ = std::max(
+        reachMm_, std::max(glm::length(part.aMm), glm::length(part.bMm)) + part.outerRadiusMm);
     // The cut's lead: a cushion, but no more than half the inner radius (a static coarse grid's
     // cushion of two 1.2 mm voxels would cut a sphere barely touching the proxy's).
     if (part.cuts) {
-      cushionMm_ = std::max(cushionMm_, std::min(part.outerRadiusMm - part.innerRadiusMm, 0.5 * part.innerRadiusMm));
+      cushionMm_ = std::max(
+          cushionMm_, std::min(part.outerRadiusMm - part.innerRadiusMm, 0.5 * part.innerRadiusMm));
     }
     candidates_[std::size_t(p)].samples.reserve(options.candidateCapacity);
     admitRadiusMm_[std::size_t(p)] = part.innerRadiusMm;
@@ -169,7 +179,8 @@ bool ProxyCoupling::gather(const ToolPose& from, double reachMm) {
         },
         [&](const geometry::VoxelSample& s) {
           if (s.fill == 0) return;
-          if (distance2ToSegment(s.centreMm, a, ab, invLen2) <= inner2) pc.allowance += double(s.fill);
+          if (distance2ToSegment(s.centreMm, a, ab, invLen2) <= inner2)
+            pc.allowance += double(s.fill);
           if (pc.samples.size() < pc.samples.capacity()) {
             pc.samples.push_back({s.centreMm, double(s.fill)});
           } else {
@@ -303,8 +314,10 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   const Tool& tool = sim_->tool();
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
-    const double ahead = part.cuts && commanded.drillOn ? std::min(cutAdvanceMm_, 0.5 * part.innerRadiusMm) : 0.0;
-    admitRadiusMm_[std::size_t(p)] = std::sqrt(part.innerRadiusMm * part.innerRadiusMm - ahead * ahead);
+    const double ahead =
+        part.cuts && commanded.drillOn ? std::min(cutAdvanceMm_, 0.5 * part.innerRadiusMm) : 0.0;
+    admitRadiusMm_[std::size_t(p)] =
+        std::sqrt(part.innerRadiusMm * part.innerRadiusMm - ahead * ahead);
   }
   // The proxy: as far toward the command as the bone lets it, then along the contact plane.
   const glm::dvec3 wasMm = proxy_.tipMm;
@@ -317,7 +330,8 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
     const double alongMm = glm::length(along);
     const double heldMm = options_.frictionCoefficient * std::max(0.0, -into);
     if (into < 0.0 && alongMm > heldMm) {
-      const ToolPose slideTo{proxy_.tipMm + (1.0 - heldMm / alongMm) * along, commanded.pose.orientation};
+      const ToolPose slideTo{proxy_.tipMm + (1.0 - heldMm / alongMm) * along,
+                             commanded.pose.orientation};
       if (displacementBoundMm(proxy_, slideTo) > 1e-6) constrainedMove(slideTo);
     }
     // Cutting, toward the command no faster than the feed limit: the rest of the step's
@@ -342,13 +356,15 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   h.stepPose = proxy_;
   const glm::dvec3 ahead = cmdTip - proxy_.tipMm;
   const double aheadMm = glm::length(ahead);
-  if (cutAdvanceMm_ > 0.0 && aheadMm > 0.0) h.stepPose.tipMm += (std::min(cutAdvanceMm_, aheadMm) / aheadMm) * ahead;
+  if (cutAdvanceMm_ > 0.0 && aheadMm > 0.0)
+    h.stepPose.tipMm += (std::min(cutAdvanceMm_, aheadMm) / aheadMm) * ahead;
   h.step = sim_->step({commanded.tS, h.stepPose, commanded.drillOn});
 
   // The spring's anchor: the proxy, at most anchorSpeedMmPerS behind it while in contact.
   const glm::dvec3 lag = proxy_.tipMm - anchorMm_;
   const double lagMm = glm::length(lag), stepMm = options_.anchorSpeedMmPerS * dtS;
-  anchorMm_ = proxy_.tipMm == cmdTip || !(lagMm > stepMm) ? proxy_.tipMm : anchorMm_ + (stepMm / lagMm) * lag;
+  anchorMm_ = proxy_.tipMm == cmdTip || !(lagMm > stepMm) ? proxy_.tipMm
+                                                          : anchorMm_ + (stepMm / lagMm) * lag;
   // The coupling: spring-damper on the gap, the damping on a low-passed gap rate.
   const glm::dvec3 gap = anchorMm_ - cmdTip;
   const glm::dvec3 twist = rotationVector(proxy_.orientation, commanded.pose.orientation);
@@ -363,7 +379,8 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   // As the force: toward the proxy, about the rotation that takes the command to it.
   h.torqueNmm = options_.rotationalStiffnessNmmPerRad * twist + rotationalDamping_ * twistRate_;
   // The device is pulled toward the proxy: k (anchor - command) + b d/dt (anchor - command).
-  glm::dvec3 force = options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + h.step.contact.forceN;
+  glm::dvec3 force =
+      options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + h.step.contact.forceN;
   double magnitude = glm::length(force);
   if (!finite(force) || !std::isfinite(magnitude) || !finite(h.torqueNmm)) {
     ++totals_.nonFiniteForces;
@@ -387,7 +404,8 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   return h;
 }
 
-HapticStep stepHaptic(DrillingSimulation& sim, ProxyCoupling* coupling, const StepInput& commanded) {
+HapticStep stepHaptic(DrillingSimulation& sim, ProxyCoupling* coupling,
+                      const StepInput& commanded) {
   if (coupling) return coupling->step(commanded);
   HapticStep h;
   h.step = sim.step(commanded);

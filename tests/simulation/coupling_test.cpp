@@ -2,18 +2,7 @@
 // never enters bone, free space leaves the proxy on the command, the force is finite, within
 // N_max and settles, and a step allocates nothing. On a slab, and on the built-in bone at
 // 1.2 mm with 2 levels and at 0.3 mm static (a push with the drill off, then on).
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/coupling.h"
-#include "osteon/simulation/runtime.h"
-#include "osteon/simulation/session.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -24,6 +13,17 @@
 #include <limits>
 #include <new>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
+#include "support/shapes.h"
 
 // Every heap allocation of this program, counted, so a test can prove a loop allocates nothing.
 namespace {
@@ -36,8 +36,12 @@ __attribute__((noinline)) void* operator new(std::size_t size) {
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
-__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
-__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p) noexcept {
+  std::free(p);
+}
+__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 namespace osteon::simulation {
 namespace {
@@ -53,7 +57,9 @@ Session slabSession(double voxelMm, int levels) {
   return Session::fromMesh(test::makeBox({-8, -8, -8}, {8, 8, 0}), o, "slab");
 }
 
-ToolPose down(const glm::dvec3& tipMm) { return ToolPose::pointing(tipMm, {0.0, 0.0, -1.0}); }
+ToolPose down(const glm::dvec3& tipMm) {
+  return ToolPose::pointing(tipMm, {0.0, 0.0, -1.0});
+}
 
 void expectSane(const HapticStep& h) {
   ASSERT_TRUE(std::isfinite(h.forceN.x) && std::isfinite(h.forceN.y) && std::isfinite(h.forceN.z));
@@ -144,7 +150,9 @@ TEST(ProxyCoupling, HeldInBoneSettlesWithin50msWithoutSignChanges) {
   EXPECT_GT(finalZ, 0.5);
   // Settled: from here on within 1 % of the final force.
   std::size_t settledAt = r.steps.size();
-  while (settledAt > holdStart && std::abs(r.steps[settledAt - 1].forceN.z - finalZ) <= 0.01 * finalZ) --settledAt;
+  while (settledAt > holdStart &&
+         std::abs(r.steps[settledAt - 1].forceN.z - finalZ) <= 0.01 * finalZ)
+    --settledAt;
   std::printf("held push: settled %zu ms after the hold began\n", settledAt - holdStart);
   for (std::size_t i = settled; i < r.steps.size(); ++i) {
     // Along the push (z): the same sign, and within 1 % of the final force.
@@ -156,8 +164,8 @@ TEST(ProxyCoupling, HeldInBoneSettlesWithin50msWithoutSignChanges) {
   for (std::size_t i = 1; i < r.steps.size(); ++i) {
     maxStepN = std::max(maxStepN, glm::length(r.steps[i].forceN - r.steps[i - 1].forceN));
   }
-  std::printf("held push: max 1 ms force step %.4f N, final %.3f N, gap %.3f mm\n", maxStepN, finalZ,
-              r.steps.back().gapMm);
+  std::printf("held push: max 1 ms force step %.4f N, final %.3f N, gap %.3f mm\n", maxStepN,
+              finalZ, r.steps.back().gapMm);
   EXPECT_LT(maxStepN, 0.1);
 }
 
@@ -199,8 +207,10 @@ TEST(ProxyCoupling, AHandOnTheStylusSettlesWithoutOscillating) {
   for (std::size_t i = stylusZ.size() - 200; i < stylusZ.size(); ++i) {
     lateSwingMm = std::max(lateSwingMm, std::abs(stylusZ[i] - stylusZ.back()));
   }
-  std::printf("hand on the stylus: final %.3f N; stylus within %.4f mm of rest from 50 ms after the hold, "
-              "%.5f mm over the last 200 ms\n", finalN, swingMm, lateSwingMm);
+  std::printf(
+      "hand on the stylus: final %.3f N; stylus within %.4f mm of rest from 50 ms after the hold, "
+      "%.5f mm over the last 200 ms\n",
+      finalN, swingMm, lateSwingMm);
   EXPECT_LT(swingMm, 0.05);
   EXPECT_LT(lateSwingMm, 0.001);
   EXPECT_EQ(s.totals().samplesRemoved, 0u);
@@ -238,15 +248,16 @@ void shaftPushedSideways(double voxelMm, int levels, double sinkMm) {
   for (int i = 0; i <= 1000; ++i) {
     const double t = 0.001 * i;
     const double z = 3.0 - 6.0 * std::min(1.0, t / 0.5);
-    const ToolPose cmd = ToolPose::pointing({20.0 + 2.0 * std::sin(4.0 * t), 0.0, z}, {1.0, 0.0, 0.0});
+    const ToolPose cmd =
+        ToolPose::pointing({20.0 + 2.0 * std::sin(4.0 * t), 0.0, z}, {1.0, 0.0, 0.0});
     const HapticStep h = c.step({t, cmd, true});
     expectSane(h);
     ASSERT_EQ(c.boneInsideInnerLayer(h.proxy, 1), 0.0) << t;
     lowestAxisZ = std::min(lowestAxisZ, h.proxy.tipMm.z);
   }
   // The shaft rests on the slab: its inner layer no deeper than the samples it meets allow.
-  std::printf("shaft at %.1f mm / %d levels: axis %.3f mm above the slab (radius %.2f)\n", voxelMm, levels,
-              lowestAxisZ, shaft.innerRadiusMm);
+  std::printf("shaft at %.1f mm / %d levels: axis %.3f mm above the slab (radius %.2f)\n", voxelMm,
+              levels, lowestAxisZ, shaft.innerRadiusMm);
   EXPECT_GE(lowestAxisZ, shaft.innerRadiusMm - sinkMm);
   EXPECT_GT(c.step({1.001, ToolPose::pointing({20.0, 0.0, -3.0}, {1, 0, 0}), true}).forceN.z, 1.0);
   EXPECT_EQ(s.totals().samplesRemoved, 0u);  // the tip, in free space, cut nothing
@@ -254,8 +265,12 @@ void shaftPushedSideways(double voxelMm, int levels, double sinkMm) {
 
 // The shaft meets level-0 voxels at 1.2 mm (refinement follows the cutting parts): their
 // centres lie in rows 0.6 mm beside its axis, so its layer dips up to 0.8 mm below the faces.
-TEST(ProxyCoupling, TheShaftNeverEntersBoneCoarse) { shaftPushedSideways(1.2, 2, 0.8); }
-TEST(ProxyCoupling, TheShaftNeverEntersBoneFine) { shaftPushedSideways(0.3, 0, 0.3); }
+TEST(ProxyCoupling, TheShaftNeverEntersBoneCoarse) {
+  shaftPushedSideways(1.2, 2, 0.8);
+}
+TEST(ProxyCoupling, TheShaftNeverEntersBoneFine) {
+  shaftPushedSideways(0.3, 0, 0.3);
+}
 
 // Turned about its tip, the drill's shaft swings down onto the slab: the proxy's turn stops
 // there (its shaft holds no bone), and the rotational coupling's torque turns the command back
@@ -279,14 +294,17 @@ TEST(ProxyCoupling, AShaftTurnedIntoBoneIsStoppedAndTwisted) {
   }
   // The proxy turned less than the command; the torque pulls the command's handle back up.
   const double proxyDeg = glm::degrees(std::asin(h.proxy.forward().z));
-  std::printf("turned shaft: proxy %.2f deg of 15, torque %.2f N mm\n", proxyDeg, glm::length(h.torqueNmm));
+  std::printf("turned shaft: proxy %.2f deg of 15, torque %.2f N mm\n", proxyDeg,
+              glm::length(h.torqueNmm));
   EXPECT_LT(proxyDeg, 14.0);
   EXPECT_GT(proxyDeg, 0.5);
   EXPECT_GT(glm::length(h.torqueNmm), 1.0);
   // The command's handle (toward -x) went down past the proxy's: the torque lifts it back.
-  const glm::dvec3 handleCommand = -ToolPose::pointing(tip, {std::cos(glm::radians(15.0)), 0.0,
-                                                             std::sin(glm::radians(15.0))}).forward();
-  const glm::dvec3 pushOnHandle = glm::cross(h.torqueNmm, handleCommand);  // where the torque moves it
+  const glm::dvec3 handleCommand =
+      -ToolPose::pointing(tip, {std::cos(glm::radians(15.0)), 0.0, std::sin(glm::radians(15.0))})
+           .forward();
+  const glm::dvec3 pushOnHandle =
+      glm::cross(h.torqueNmm, handleCommand);  // where the torque moves it
   EXPECT_GT(pushOnHandle.z, 0.0);
 }
 
@@ -310,7 +328,8 @@ TEST(ProxyCoupling, DrillingEatsItsWayInAndAllocatesNothing) {
   // The proxy went in as the bone went, and stays out of what is left.
   EXPECT_GT(-c.proxy().tipMm.z, depth0 + 0.3);
   EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 0, c.admittedRadiusMm(0)), 0.0);
-  EXPECT_LT(c.admittedRadiusMm(0), s.simulation().tool().parts[0].innerRadiusMm);  // the drill cuts ahead
+  EXPECT_LT(c.admittedRadiusMm(0),
+            s.simulation().tool().parts[0].innerRadiusMm);  // the drill cuts ahead
   EXPECT_EQ(c.boneInsideInnerLayer(c.proxy(), 1), 0.0);
 }
 
@@ -340,7 +359,8 @@ TEST(ProxyCoupling, EveryToolIsStoppedThenCutsItsWayIn) {
       expectSane(h);
       if (i == 499) {
         EXPECT_EQ(s.totals().samplesRemoved, 0u) << toolKindName(kind);
-        for (int p = 0; p < tool.partCount; ++p) EXPECT_EQ(c.boneInsideInnerLayer(h.proxy, p), 0.0) << toolKindName(kind);
+        for (int p = 0; p < tool.partCount; ++p)
+          EXPECT_EQ(c.boneInsideInnerLayer(h.proxy, p), 0.0) << toolKindName(kind);
         atOffMm = glm::dot(h.proxy.tipMm, push);
       }
     }
@@ -437,7 +457,7 @@ double rayHitMm(const geometry::TriangleMesh& m, const glm::dvec3& from, const g
 }
 
 struct PushResult {
-  double depthOffMm = 0.0;      // the inner layer's front past the surface after 5 s off
+  double depthOffMm = 0.0;  // the inner layer's front past the surface after 5 s off
   std::uint64_t removedOff = 0;
   std::size_t components = 0, componentsBefore = 0;
   double maxStepOnN = 0.0, maxStepN = 0.0;
@@ -453,7 +473,8 @@ PushResult pushIntoBone(double voxelMm, int levels) {
   o.keepSurface = false;
   Session s = Session::open("default", 1.0, o);
   PushResult r;
-  r.componentsBefore = geometry::analyzeTopology(s.multiResolutionSurface().toTriangleMesh()).components;
+  r.componentsBefore =
+      geometry::analyzeTopology(s.multiResolutionSurface().toTriangleMesh()).components;
   const PortalPlan plan = s.portalPath(Portal::FiveOClock);
   const glm::dvec3 in = -plan.normal;
   const glm::dvec3 start = plan.entryMm - 6.0 * in;
@@ -463,7 +484,7 @@ PushResult pushIntoBone(double voxelMm, int levels) {
   const ToolPart& tip = s.simulation().tool().parts[0];
   ProxyCoupling c(s.simulation());
   glm::dvec3 prevF(0.0);
-  std::vector<double> stepUs;  // reported, not asserted (a shared machine)
+  std::vector<double> stepUs;         // reported, not asserted (a shared machine)
   const double pushEnd = hit + 10.0;  // the tip's centre 10 mm past the surface
   for (int i = 0; i <= 7000; ++i) {
     const double t = 0.001 * i;
@@ -471,7 +492,9 @@ PushResult pushIntoBone(double voxelMm, int levels) {
     const bool on = t >= 5.0;
     const auto began = std::chrono::steady_clock::now();
     const HapticStep h = c.step({t, ToolPose::pointing(start + along * in, in), on});
-    stepUs.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - began).count());
+    stepUs.push_back(
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - began)
+            .count());
     expectSane(h);
     const double stepN = glm::length(h.forceN - prevF);
     prevF = h.forceN;
@@ -490,16 +513,20 @@ PushResult pushIntoBone(double voxelMm, int levels) {
     std::sort(v.begin(), v.end());
     return v[v.size() * 99 / 100];
   };
-  std::printf("  step time p99 %.0f us (off %.0f us, on %.0f us); blocked %llu, slow tests %llu, lag %llu\n",
-              p99(stepUs), p99({stepUs.begin(), stepUs.begin() + 5000}), p99({stepUs.begin() + 5000, stepUs.end()}),
-              (unsigned long long)c.totals().blockedSteps, (unsigned long long)c.totals().slowTests,
-              (unsigned long long)c.totals().lagSteps);
-  std::printf("push %.1f mm / %d levels: depth off %.3f mm (cushion %.2f), removed off %llu, advanced on %.3f mm, "
-              "components %zu (before %zu), max 1 ms step %.4f N (drill on %.4f N), largest gap %.3f mm, "
-              "steps at clamp %llu of 7001\n",
-              voxelMm, levels, r.depthOffMm, tip.outerRadiusMm - tip.innerRadiusMm,
-              (unsigned long long)r.removedOff, r.advancedOnMm, r.components, r.componentsBefore, r.maxStepN,
-              r.maxStepOnN, r.maxGapMm, (unsigned long long)r.clampSteps);
+  std::printf(
+      "  step time p99 %.0f us (off %.0f us, on %.0f us); blocked %llu, slow tests %llu, lag "
+      "%llu\n",
+      p99(stepUs), p99({stepUs.begin(), stepUs.begin() + 5000}),
+      p99({stepUs.begin() + 5000, stepUs.end()}), (unsigned long long)c.totals().blockedSteps,
+      (unsigned long long)c.totals().slowTests, (unsigned long long)c.totals().lagSteps);
+  std::printf(
+      "push %.1f mm / %d levels: depth off %.3f mm (cushion %.2f), removed off %llu, advanced on "
+      "%.3f mm, "
+      "components %zu (before %zu), max 1 ms step %.4f N (drill on %.4f N), largest gap %.3f mm, "
+      "steps at clamp %llu of 7001\n",
+      voxelMm, levels, r.depthOffMm, tip.outerRadiusMm - tip.innerRadiusMm,
+      (unsigned long long)r.removedOff, r.advancedOnMm, r.components, r.componentsBefore,
+      r.maxStepN, r.maxStepOnN, r.maxGapMm, (unsigned long long)r.clampSteps);
   return r;
 }
 
@@ -509,20 +536,26 @@ void expectPushHolds(const PushResult& r, double cushionMm, double maxStepN = 0.
   EXPECT_EQ(r.removedOff, 0u);
   EXPECT_LE(r.depthOffMm, cushionMm);
   EXPECT_GE(r.depthOffMm, -cushionMm);
-  EXPECT_GT(r.advancedOnMm, 0.5);  // the drill on, the tip went in
+  EXPECT_GT(r.advancedOnMm, 0.5);               // the drill on, the tip went in
   EXPECT_EQ(r.components, r.componentsBefore);  // a hole from the surface, no sealed cavity
   EXPECT_LT(r.maxStepOnN, maxStepN);
   EXPECT_LT(r.maxStepN, maxStepN);
   EXPECT_GT(r.maxGapMm, 5.0);
 }
 
-TEST(ProxyCouplingPush, DynamicCoarseBone) { expectPushHolds(pushIntoBone(1.2, 2), 0.6); }
+TEST(ProxyCouplingPush, DynamicCoarseBone) {
+  expectPushHolds(pushIntoBone(1.2, 2), 0.6);
+}
 
-TEST(ProxyCouplingPush, StaticFineBone) { expectPushHolds(pushIntoBone(0.3, 0), 0.6); }
+TEST(ProxyCouplingPush, StaticFineBone) {
+  expectPushHolds(pushIntoBone(0.3, 0), 0.6);
+}
 
 // At 1.2 mm static the contact force of the few voxels in the cut's shell swings by over a
 // newton as they go (the seed's coarse case): the push still holds, its steps are reported.
-TEST(ProxyCouplingPush, StaticCoarseBone) { expectPushHolds(pushIntoBone(1.2, 0), 2.4, 2.0); }
+TEST(ProxyCouplingPush, StaticCoarseBone) {
+  expectPushHolds(pushIntoBone(1.2, 0), 2.4, 2.0);
+}
 
 }  // namespace
 }  // namespace osteon::simulation

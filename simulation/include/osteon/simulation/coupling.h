@@ -30,14 +30,14 @@
 // - step() allocates nothing, locks nothing, throws nothing.
 #pragma once
 
-#include "osteon/simulation/drilling.h"
-
-#include <glm/vec3.hpp>
-
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "osteon/simulation/drilling.h"
 
 namespace osteon::simulation {
 
@@ -92,24 +92,24 @@ void validateCouplingOptions(const CouplingOptions& options);
 
 // What one haptic step gave, in either mode.
 struct HapticStep {
-  StepOutput step;                 // the simulation's step (contact at stepPose)
-  ToolPose commanded;              // the device's (or path's) pose
-  ToolPose proxy;                  // the simulated tool (direct: the commanded pose)
-  ToolPose stepPose;               // the pose step() ran at
-  glm::dvec3 forceN{0.0};          // sent to the device: coupling + contact, clamped
+  StepOutput step;         // the simulation's step (contact at stepPose)
+  ToolPose commanded;      // the device's (or path's) pose
+  ToolPose proxy;          // the simulated tool (direct: the commanded pose)
+  ToolPose stepPose;       // the pose step() ran at
+  glm::dvec3 forceN{0.0};  // sent to the device: coupling + contact, clamped
   double magnitudeN = 0.0;
-  glm::dvec3 torqueNmm{0.0};       // the rotational coupling's torque (not rendered)
-  double gapMm = 0.0;              // |proxy tip - commanded tip|
-  bool clamped = false;            // the force was at N_max
+  glm::dvec3 torqueNmm{0.0};  // the rotational coupling's torque (not rendered)
+  double gapMm = 0.0;         // |proxy tip - commanded tip|
+  bool clamped = false;       // the force was at N_max
 };
 
 struct CouplingTotals {
   std::uint64_t steps = 0;
-  std::uint64_t clampSteps = 0;        // steps whose force was at N_max
-  std::uint64_t blockedSteps = 0;      // steps where bone stopped the proxy
-  std::uint64_t lagSteps = 0;          // commands too far for one step's sub-moves (a jump)
-  std::uint64_t slowTests = 0;         // tests past the candidate capacity (walked instead)
-  std::uint64_t nonFiniteForces = 0;   // zero force sent in place of a NaN or Inf
+  std::uint64_t clampSteps = 0;       // steps whose force was at N_max
+  std::uint64_t blockedSteps = 0;     // steps where bone stopped the proxy
+  std::uint64_t lagSteps = 0;         // commands too far for one step's sub-moves (a jump)
+  std::uint64_t slowTests = 0;        // tests past the candidate capacity (walked instead)
+  std::uint64_t nonFiniteForces = 0;  // zero force sent in place of a NaN or Inf
   double maxGapMm = 0.0;
 };
 
@@ -169,9 +169,9 @@ class ProxyCoupling {
   CouplingOptions options_;
   double dampingNsPerMm_;
   double rotationalDamping_;
-  double subMoveMm_;      // half the thinnest part's inner radius
-  double reachMm_;        // farthest point of any part from the tip (for rotations)
-  double cushionMm_;      // the cut's lead: the cutting part's cushion, at most half its inner radius
+  double subMoveMm_;  // half the thinnest part's inner radius
+  double reachMm_;    // farthest point of any part from the tip (for rotations)
+  double cushionMm_;  // the cut's lead: the cutting part's cushion, at most half its inner radius
   std::array<PartCandidates, kMaxToolParts> candidates_;
   std::array<double, kMaxToolParts> admitRadiusMm_{};
   ToolPose proxy_;
