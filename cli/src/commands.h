@@ -91,6 +91,7 @@ struct DrillCommandOptions {
   std::string record;        // record the device's stream to this CSV
   VolumeMeaning volume;      // when `mesh` is a volume (then --path must be a CSV)
   bool allowEmpty = false;   // a path that never meets bone exits 0 (still "empty": true), not 1
+  std::string coupling;      // proxy or direct; empty: direct for portal paths, else proxy
 };
 
 struct ReplayCommandOptions {
@@ -103,6 +104,7 @@ struct ReplayCommandOptions {
   std::string outDir = ".";
   bool json = false;
   bool allowEmpty = false;   // a recording that never meets bone exits 0 (still "empty": true), not 1
+  std::string coupling;      // proxy (the default) or direct
 };
 
 struct DevicesListOptions {

@@ -69,9 +69,17 @@ std::string setupLine(const sim::SetupTimings& t, double pathMs) {
   return text + line;
 }
 
+sim::CouplingMode couplingFor(const std::string& option, bool portalPath) {
+  if (option.empty()) return portalPath ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy;
+  return sim::parseCouplingMode(option);
+}
+
 json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
                     const std::string& mode, const std::string& tool, double voxelSizeMm, int levels) {
   return {{"jitter_n", s.jitterN},
+          {"coupling", sim::couplingModeName(s.coupling)},
+          {"max_gap_mm", s.maxGapMm},
+          {"clamp_steps", s.clampSteps},
           {"max_step_change_n", s.maxStepChangeN},
           {"max_force_n", s.maxForceN},
           {"removed_volume_mm3", s.removedVolumeMm3},
@@ -123,6 +131,7 @@ int runDrill(const DrillCommandOptions& options) {
   sim::validateDrillingOptions(drilling);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   const bool csvPath = endsWithCsv(options.path);
+  const sim::CouplingMode coupling = couplingFor(options.coupling, !csvPath);
   const bool volumeInput = geo::isVolumePath(options.mesh);
   if (!volumeInput && (options.volume.label || options.volume.isoHu)) {
     throw InputError(std::string(options.volume.label ? "--label" : "--iso") +
@@ -154,6 +163,7 @@ int runDrill(const DrillCommandOptions& options) {
   so.levels = options.levels;
   so.tool = kind;
   so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
+  so.coupling = coupling;
   json volumeInfo;
   std::string volumeText;
   // Set-up, from the file to the first step: the session's stages plus the path (head fit and
@@ -198,7 +208,7 @@ int runDrill(const DrillCommandOptions& options) {
   const std::size_t setupVoxels = session.hierarchy().voxelCount();  // every voxel with bone, before drilling
 
   // Streamed as the run goes (memory does not grow with the path), put in place when complete.
-  sim::ForceLogWriter forces(forcesPath);
+  sim::ForceLogWriter forces(forcesPath, coupling == sim::CouplingMode::Proxy);
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunResult run;
   json runtimeJson;

@@ -164,6 +164,9 @@ int main(int argc, char** argv) {
   drillCmd->add_flag("--threaded", drill.threaded,
                      "Run the haptic, collision and visual threads in real time (not bit-identical)");
   drillCmd->add_flag("--json", drill.json, "Print the summary as JSON on stdout");
+  drillCmd->add_option("--coupling", drill.coupling,
+                       "proxy: bone stops the tool, a spring joins it to the command (default, but for "
+                       "portal paths); direct: the tool is where the path puts it");
   addVolumeMeaning(*drillCmd, drill.volume);
   addAllowEmpty(*drillCmd, drill.allowEmpty);
   drillCmd->add_option("--device", drill.device,
@@ -189,6 +192,8 @@ int main(int argc, char** argv) {
       ->default_val(".");
   replayCmd->add_flag("--json", replay.json, "Print the summary as JSON on stdout");
   addAllowEmpty(*replayCmd, replay.allowEmpty);
+  replayCmd->add_option("--coupling", replay.coupling,
+                        "proxy (default): bone stops the tool, a spring joins it to the recording; direct");
 
   CLI::App* devicesCmd = app.add_subcommand("devices", "List attached devices, or watch one's events");
   devicesCmd->require_subcommand(1);

@@ -133,8 +133,9 @@ int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session,
   return kExitOk;
 }
 
-sim::SessionOptions sessionOptions(double voxelSizeMm, int levels, sim::ToolKind kind) {
+sim::SessionOptions sessionOptions(double voxelSizeMm, int levels, sim::ToolKind kind, sim::CouplingMode coupling) {
   sim::SessionOptions so;
+  so.coupling = coupling;
   so.voxelSizeMm = voxelSizeMm;
   so.levels = levels;
   so.tool = kind;
@@ -148,6 +149,7 @@ int runReplay(const ReplayCommandOptions& options) {
   // Everything that can be refused is refused before the work.
   checkRunOptions(options.voxelSizeMm, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
+  const sim::CouplingMode coupling = couplingFor(options.coupling, false);
   dev::Recording recording = dev::loadRecording(options.log);
   geo::OutputDir outDir = openOutDir(options.outDir);
   const std::string forcesPath = options.outDir + "/forces.csv";
@@ -156,10 +158,10 @@ int runReplay(const ReplayCommandOptions& options) {
   geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath}, {inputFile(options.mesh), options.log});
 
   sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units),
-                                            sessionOptions(options.voxelSizeMm, options.levels, kind));
+                                            sessionOptions(options.voxelSizeMm, options.levels, kind, coupling));
   const std::size_t rows = recording.rows.size();
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
-  sim::ForceLogWriter forces(forcesPath);
+  sim::ForceLogWriter forces(forcesPath, coupling == sim::CouplingMode::Proxy);
   sim::DeviceRunOptions ro;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   const sim::DeviceRunResult r = sim::runDevice(session, device, ro);
@@ -179,6 +181,7 @@ int runReplay(const ReplayCommandOptions& options) {
 int runDrillWithDevice(const DrillCommandOptions& options) {
   checkRunOptions(options.voxelSizeMm, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
+  const sim::CouplingMode coupling = couplingFor(options.coupling, false);
   if (options.durationS && !(*options.durationS > 0.0 && *options.durationS <= sim::kMaxPathDurationS)) {
     std::ostringstream s;
     s << "--duration " << *options.durationS << ": must be a number of seconds in (0, " << sim::kMaxPathDurationS << "]";
@@ -217,7 +220,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   geo::refuseOverwritingInputs(outputs, inputs);
 
   sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units),
-                                            sessionOptions(options.voxelSizeMm, options.levels, kind));
+                                            sessionOptions(options.voxelSizeMm, options.levels, kind, coupling));
   std::unique_ptr<dev::Device> device = sim::openSessionDevice(options.device, session);
   const dev::Capabilities caps = device->capabilities();
   if (!caps.pose) {
@@ -245,7 +248,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
     recorder.emplace(recordFile->tempPath(), recorderOptions);
   }
 
-  sim::ForceLogWriter forces(forcesPath);
+  sim::ForceLogWriter forces(forcesPath, coupling == sim::CouplingMode::Proxy);
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::DeviceInputOptions io;
   io.frame = sim::defaultDeviceFrame(session);

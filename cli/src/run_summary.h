@@ -8,6 +8,7 @@
 #include <string>
 
 namespace osteon::simulation {
+enum class CouplingMode;
 struct RunSummary;
 struct RuntimeStats;
 struct SetupTimings;
@@ -20,6 +21,11 @@ namespace osteon::cli {
 // {p50, p99, max}, overruns, steps, the simulation's counters (non_finite_forces, ...), mode,
 // mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the session's setup_ms and peak_rss_mb
 // (setupJson).
+// --coupling as given, or its default when empty: direct for the seed's portal paths (their
+// force logs stay the seed experiment's), proxy for everything a hand drives. Throws
+// InputError naming a bad value.
+simulation::CouplingMode couplingFor(const std::string& option, bool portalPath);
+
 nlohmann::json runSummaryJson(const simulation::RunSummary& summary, const simulation::Session& session,
                               const std::string& mesh, const std::string& mode, const std::string& tool,
                               double voxelSizeMm, int levels);

@@ -159,12 +159,13 @@ DeviceRunResult runDevice(Session& session, devices::Device& device, const Devic
       continue;
     }
     const Clock::time_point start = Clock::now();
-    const StepOutput out = session.step(in);
+    const HapticStep h = session.hapticStep(in);  // through the session's coupling
     stepNs.add(std::chrono::nanoseconds(Clock::now() - start).count());
-    const ForceLogRow row = logRowOf(in.tS, in.pose, out, session.totals().samplesRemoved);
+    result.run.summary.tally(h);
+    const ForceLogRow row = logRowOf(in.tS, h, session.totals().samplesRemoved);
     metrics.add(row.tS, row.magnitudeN);
     if (options.onRow) options.onRow(row);
-    input.apply(in.tS, out.contact.forceN);
+    input.apply(in.tS, h.forceN);  // the safety layer, after the coupling
     ++ran;
     if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
   }
@@ -176,6 +177,7 @@ DeviceRunResult runDevice(Session& session, devices::Device& device, const Devic
   s.hapticStepUs = stepNs.percentiles(1e3);
   s.steps = ran;
   s.totals = session.totals();
+  s.coupling = session.coupling() ? CouplingMode::Proxy : CouplingMode::Direct;
   result.safety = input.safety().stats();
   return result;
 }

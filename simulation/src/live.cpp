@@ -120,6 +120,8 @@ void apply(VoxelGrid& grid, const BrickMessage& msg) {
 struct DisplayCore {
   double tS = -1.0;
   ToolPose pose;
+  ToolPose commanded;
+  double gapMm = 0.0;
   bool drillOn = false;
   ContactForce contact;
   std::uint64_t removedFill = 0;
@@ -170,6 +172,9 @@ std::string currentErrorLine() {
 struct LiveRuntime::Impl {
   Session* session = nullptr;
   DrillingSimulation* sim;
+  ProxyCoupling* coupling = nullptr;  // null: direct
+  double maxGapMm = 0.0;              // collision thread's, read after it is joined
+  std::uint64_t clampSteps = 0;
   VoxelGrid* grid;
   PoseSource* source;
   ForceSink* sink;
@@ -215,7 +220,7 @@ struct LiveRuntime::Impl {
 
   Impl(DrillingSimulation& s, VoxelGrid& g, PoseSource& src, ForceSink* snk, const geometry::SurfaceOptions& so,
        const RuntimeOptions& o, std::uint64_t n)
-      : sim(&s), grid(&g), source(&src), sink(snk), options(o),
+      : sim(&s), coupling(o.coupling), grid(&g), source(&src), sink(snk), options(o),
         periods(n == 0 ? std::numeric_limits<std::uint64_t>::max() : n),
         periodNs(std::int64_t(std::llround(o.periodS * 1e9))), bricks(o.brickRingCapacity),
         logRows(o.logRingCapacity) {
@@ -325,13 +330,21 @@ struct LiveRuntime::Impl {
       const std::int64_t begin = nowNs();
       const PoseMessage& m = poses.read();
       if (m.tS < 0.0) return;
-      const StepOutput out = sim->step({m.tS, m.pose, m.drillOn});
-      forces.write(out.contact);
+      const HapticStep h = stepHaptic(*sim, coupling, {m.tS, m.pose, m.drillOn});
+      const StepOutput& out = h.step;
+      // The haptic thread sends the coupling's force (direct: the contact force).
+      ContactForce sent = out.contact;
+      sent.forceN = h.forceN;
+      sent.magnitudeN = h.magnitudeN;
+      forces.write(sent);
+      maxGapMm = std::max(maxGapMm, h.gapMm);
+      clampSteps += h.clamped ? 1 : 0;
       const DrillingTotals& totals = sim->totals();
-      if (!logRows.push(logRowOf(m.tS, m.pose, out, totals.samplesRemoved))) {
+      if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
         logDropped.fetch_add(1, std::memory_order_relaxed);
       }
-      displayCore.write({m.tS, m.pose, m.drillOn, out.contact, totals.removedFill, sim->removedVolumeMm3(), totals.steps});
+      displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent, totals.removedFill,
+                         sim->removedVolumeMm3(), totals.steps});
       if (totals.steps % kRefinedEverySteps == 0) {
         const geometry::RefinedVoxels& voxels = sim->voxels();
         refined.depth = voxels.depth();
@@ -339,7 +352,11 @@ struct LiveRuntime::Impl {
         for (std::size_t i = 0; i < refined.count; ++i) refined.voxels[i] = voxels.refinedVoxelAt(i);
         refinedList.write(refined);
       }
-      if (out.removal.removedFill > 0) handOver(m, handover);
+      if (out.removal.removedFill > 0) {
+        PoseMessage at = m;  // the bone changed where the step ran (the cut pose)
+        at.pose = h.stepPose;
+        handOver(at, handover);
+      }
       lastStepNs.store(nowNs() - begin, std::memory_order_relaxed);
     });
   }
@@ -435,6 +452,7 @@ LiveRuntime::LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, 
     : impl_(std::make_unique<Impl>(session.simulation(), session.mutableGrid(), source, sink,
                                    session.options().surface, options, 0)) {
   impl_->session = &session;
+  if (!impl_->coupling) impl_->coupling = session.coupling();
 }
 
 LiveRuntime::LiveRuntime(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source, ForceSink* sink,
@@ -531,6 +549,9 @@ RuntimeResult LiveRuntime::stop() {
   s.overruns = stats.hapticOverruns + stats.collisionOverruns;
   s.steps = stats.collisionSteps;
   s.totals = m.sim->totals();
+  s.coupling = m.coupling ? CouplingMode::Proxy : CouplingMode::Direct;
+  s.maxGapMm = m.maxGapMm;
+  s.clampSteps = m.clampSteps;
   return result;
 }
 
@@ -560,6 +581,8 @@ const DisplayState& LiveRuntime::display() {
   DisplayState& d = m.shown;
   d.tS = core.tS;
   d.pose = core.pose;
+  d.commanded = core.commanded;
+  d.gapMm = core.gapMm;
   d.drillOn = core.drillOn;
   d.contact = core.contact;
   d.removedFill = core.removedFill;

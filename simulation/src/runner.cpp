@@ -135,9 +135,11 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
     input.tS = t;
     path.sample(t, input.pose, input.drillOn);  // haptic: the device (here the path) gives the pose
     const Clock::time_point start = Clock::now();
-    const StepOutput out = sim.step(input);    // collision, force, removal
+    const HapticStep h = stepHaptic(sim, options.coupling, input);  // coupling, collision, force, removal
     stepNs.add(std::chrono::nanoseconds(Clock::now() - start).count());
-    const ForceLogRow row = logRowOf(t, input.pose, out, sim.totals().samplesRemoved);
+    const StepOutput& out = h.step;
+    result.summary.tally(h);
+    const ForceLogRow row = logRowOf(t, h, sim.totals().samplesRemoved);
     metrics.add(row.tS, row.magnitudeN);
     if (options.onRow) options.onRow(row);
     if (options.keepLog) result.log.push_back(row);
@@ -148,7 +150,7 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
         grid.clearDirty();
       }
     }
-    if (options.afterStep) options.afterStep(i, input, out);
+    if (options.afterStep) options.afterStep(i, {input.tS, h.proxy, input.drillOn}, out);
     if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
   }
   RunSummary& s = result.summary;
@@ -160,11 +162,12 @@ RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, c
   s.remeshMs = remeshNs.percentiles(1e6);
   s.steps = steps;
   s.totals = sim.totals();
+  s.coupling = options.coupling ? CouplingMode::Proxy : CouplingMode::Direct;
   return result;
 }
 
-void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path) {
-  ForceLogWriter writer(path);
+void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path, bool commandColumns) {
+  ForceLogWriter writer(path, commandColumns);
   for (const ForceLogRow& r : log) writer.write(r);
   writer.commit();
 }
@@ -172,17 +175,21 @@ void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path)
 namespace {
 
 constexpr char kForceLogHeader[] = "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
+constexpr char kForceLogHeaderWithCommand[] =
+    "t,px,py,pz,cx,cy,cz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
 // The longest row the format can give (every %f at 1e308): formatted only with this much room,
 // a row is never cut.
-constexpr std::size_t kMaxRowBytes = 2048;
+constexpr std::size_t kMaxRowBytes = 4096;
 
 }  // namespace
 
-ForceLogWriter::ForceLogWriter(const std::string& path) : file_(path), buffer_(std::size_t(1) << 16) {
+ForceLogWriter::ForceLogWriter(const std::string& path, bool commandColumns)
+    : file_(path), buffer_(std::size_t(1) << 16), commandColumns_(commandColumns) {
   fd_ = ::open(file_.tempPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd_ < 0) throw InputError(path + ": cannot write the force log (" + std::strerror(errno) + ")");
-  used_ = sizeof(kForceLogHeader) - 1;
-  std::memcpy(buffer_.data(), kForceLogHeader, used_);
+  const char* header = commandColumns ? kForceLogHeaderWithCommand : kForceLogHeader;
+  used_ = std::strlen(header);
+  std::memcpy(buffer_.data(), header, used_);
   linesInBuffer_ = 1;
 }
 
@@ -205,10 +212,17 @@ void ForceLogWriter::write(const ForceLogRow& r) noexcept {
     flush();
     if (error_ != 0) return;
   }
-  const int n = std::snprintf(buffer_.data() + used_, buffer_.size() - used_,
-                              "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x, r.tipMm.y,
-                              r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
-                              static_cast<unsigned long long>(r.removedVoxels), r.level);
+  const int n =
+      commandColumns_
+          ? std::snprintf(buffer_.data() + used_, buffer_.size() - used_,
+                          "%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x,
+                          r.tipMm.y, r.tipMm.z, r.commandMm.x, r.commandMm.y, r.commandMm.z, r.forceN.x, r.forceN.y,
+                          r.forceN.z, r.magnitudeN, r.contactVoxels, static_cast<unsigned long long>(r.removedVoxels),
+                          r.level)
+          : std::snprintf(buffer_.data() + used_, buffer_.size() - used_,
+                          "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x, r.tipMm.y,
+                          r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
+                          static_cast<unsigned long long>(r.removedVoxels), r.level);
   if (n > 0 && std::size_t(n) < buffer_.size() - used_) {
     used_ += std::size_t(n);
     ++linesInBuffer_;

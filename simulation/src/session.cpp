@@ -157,6 +157,7 @@ struct Session::State {
   geometry::VoxelGrid grid;
   geometry::DynamicProximityHierarchy hierarchy;
   std::optional<DrillingSimulation> simulation;
+  std::optional<ProxyCoupling> coupling;  // under proxy coupling
   std::unique_ptr<geometry::SurfaceUpdater> updater;
   geometry::SurfaceMesh surface;
   bool surfaceStale = true;
@@ -183,6 +184,7 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   s.setup.hierarchyMs = msSince(hierarchyStart);
   s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr, options.tool,
                        options.toolOptions, drilling);
+  if (options.coupling == CouplingMode::Proxy) s.coupling.emplace(*s.simulation, options.couplingOptions);
   if (options.keepSurface) {
     const Clock::time_point surfaceStart = Clock::now();
     s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
@@ -213,11 +215,15 @@ Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& option
   return Session(BoneModel::fromGrid(std::move(grid), name, loadMs), options);
 }
 
-StepOutput Session::step(const StepInput& input) {
+StepOutput Session::step(const StepInput& input) { return hapticStep(input).step; }
+
+HapticStep Session::hapticStep(const StepInput& input) {
   State& s = *state_;
-  const StepOutput out = s.simulation->step(input);
-  lastPose_ = input.pose;
-  lastContact_ = out.contact;
+  const HapticStep h = stepHaptic(*s.simulation, coupling(), input);
+  lastPose_ = h.proxy;
+  lastContact_ = h.step.contact;
+  lastContact_.forceN = h.forceN;
+  lastContact_.magnitudeN = h.magnitudeN;
   ++s.steps;
   if (s.updater && surfaceEverySteps > 0 && s.steps % std::uint64_t(surfaceEverySteps) == 0) {
     const std::vector<std::size_t> dirty = s.grid.dirtyBricks();
@@ -227,13 +233,14 @@ StepOutput Session::step(const StepInput& input) {
       s.surfaceStale = true;
     }
   }
-  return out;
+  return h;
 }
 
 RunResult Session::run(const DrillPath& path, DeterministicOptions options) {
   State& s = *state_;
   // The last step's pose and force, for a front end that reads them after the run.
   std::function<void(std::size_t, const StepInput&, const StepOutput&)> after = std::move(options.afterStep);
+  if (!options.coupling) options.coupling = coupling();
   options.afterStep = [&](std::size_t i, const StepInput& in, const StepOutput& out) {
     lastPose_ = in.pose;
     lastContact_ = out.contact;
@@ -251,7 +258,9 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const Ru
   RuntimeResult r;
   try {
     // Only a session that keeps its surface keeps the visual thread's last one (a copy).
-    r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, options,
+    RuntimeOptions coupled = options;
+    if (!coupled.coupling) coupled.coupling = coupling();
+    r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, coupled,
                                 s.options.keepSurface ? &visual : nullptr);
   } catch (const RuntimeFault&) {
     // Drilled up to the fault: the session's surface starts again from the grid as it is.
@@ -317,6 +326,7 @@ geometry::VoxelGrid& Session::mutableGrid() { return state_->grid; }
 const geometry::VoxelGrid& Session::grid() const { return state_->grid; }
 const geometry::DynamicProximityHierarchy& Session::hierarchy() const { return state_->hierarchy; }
 DrillingSimulation& Session::simulation() { return *state_->simulation; }
+ProxyCoupling* Session::coupling() { return state_->coupling ? &*state_->coupling : nullptr; }
 const DrillingSimulation& Session::simulation() const { return *state_->simulation; }
 const SessionOptions& Session::options() const { return state_->options; }
 const SetupTimings& Session::setupTimings() const { return state_->setup; }

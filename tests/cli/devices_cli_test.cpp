@@ -136,10 +136,12 @@ TEST_F(CliTest, ARecordedPortal5ReplaysToDrillsForcesByteForByte) {
   const std::string common = " --voxel-size 1.2 --levels 2 --json --out-dir ";
   const CliRun drill = osteon("drill default --path portal-5" + common + quoted(path("drill")));
   ASSERT_EQ(drill.exitCode, 0) << drill.err;
-  const CliRun scripted = osteon("drill default --device scripted:portal-5 --record " + quoted(path("portal5.csv")) +
-                                 common + quoted(path("scripted")));
+  // Devices and recordings default to proxy coupling; the portal path is direct.
+  const CliRun scripted = osteon("drill default --device scripted:portal-5 --coupling direct --record " +
+                                 quoted(path("portal5.csv")) + common + quoted(path("scripted")));
   ASSERT_EQ(scripted.exitCode, 0) << scripted.err;
-  const CliRun replay = osteon("replay " + quoted(path("portal5.csv")) + " default" + common + quoted(path("replay")));
+  const CliRun replay =
+      osteon("replay " + quoted(path("portal5.csv")) + " default --coupling direct" + common + quoted(path("replay")));
   ASSERT_EQ(replay.exitCode, 0) << replay.err;
 
   const std::string forces = test::readBytes(path("drill/forces.csv"));

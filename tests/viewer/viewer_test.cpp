@@ -115,9 +115,10 @@ TEST_F(ViewerTest, LevelViewShowsTheRefinedLevelsAroundTheHole) {
 TEST_F(ViewerTest, ARecordedPathReplaysInDrillToTheSameRemovedVolume) {
   const nlohmann::json live = viewer("default --path portal-5 --levels 2 --frames 5 --record '" + path("r.csv") + "'");
   ASSERT_GT(live["recorded_samples"].get<std::size_t>(), 7000u);
-  const ViewerRun replay = run(OSTEON_CLI, "drill default --voxel-size 1.2 --levels 2 --path '" + path("r.csv") +
-                                         "' --out-dir '" + path("replay") + "' --json",
-                         false);
+  // The recording is the portal path's poses: replayed as they were, without a proxy.
+  const ViewerRun replay = run(OSTEON_CLI, "drill default --voxel-size 1.2 --levels 2 --coupling direct --path '" +
+                                               path("r.csv") + "' --out-dir '" + path("replay") + "' --json",
+                               false);
   ASSERT_EQ(replay.exitCode, 0) << replay.err;
   const nlohmann::json summary = nlohmann::json::parse(replay.out);
   const double liveMm3 = live["removed_volume_mm3"].get<double>();

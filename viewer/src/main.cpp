@@ -76,6 +76,9 @@ int main(int argc, char** argv) {
   app.add_option("--tool", tool, "drill, burr or shaver")->default_val("drill");
   app.add_option("--path", path, "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
   std::string device;
+  std::string coupling;
+  app.add_option("--coupling", coupling,
+                 "proxy: bone stops the tool, a spring joins it to the hand (default, but for portal paths); direct");
   app.add_option("--device", device, "Drive the tool from a device (spacemouse, serial:PORT, touch, replay:LOG.csv, ...)");
   app.add_option("--frames", options.frames, "Render N frames and exit (with --path, the last waits for its end)");
   app.add_option("--screenshot", options.screenshot, "Write the last frame to this PNG");
@@ -120,6 +123,7 @@ int main(int argc, char** argv) {
     options.load.label = label;
     options.load.isoHu = isoHu;
     options.load.allowOutsideData = allowOutsideData;
+    if (!coupling.empty()) options.load.coupling = osteon::simulation::parseCouplingMode(coupling);
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);
     options.camera = viewer::parseAxisView(camera);

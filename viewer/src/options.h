@@ -4,6 +4,7 @@
 
 #include "camera.h"
 
+#include "osteon/simulation/coupling.h"
 #include "osteon/simulation/tool.h"
 
 #include <cstdint>
@@ -41,6 +42,8 @@ struct LoadRequest {
   std::optional<std::uint64_t> label;   // label maps: the bone label (default: all but the background)
   std::optional<double> isoHu;          // CTs: the bone threshold (default 300 HU)
   bool allowOutsideData = false;        // NRRD: a `data file:` may lie outside the header's folder
+  // --coupling; unset: direct for portal paths, proxy for the mouse, devices and CSV paths.
+  std::optional<simulation::CouplingMode> coupling;
 };
 
 inline constexpr double kDefaultVoxelSizeMm = 1.2;

@@ -72,6 +72,7 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   options.levels = request.levels;
   options.tool = request.tool;
   options.keepSurface = false;  // the live runtime's visual side keeps its own surface
+  options.coupling = request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
   scene->session_ = openSession(request, options);
   sim::Session& session = *scene->session_;
   if (portal) scene->path_ = session.portalPath(*portal).path;

@@ -24,9 +24,11 @@ namespace osteon::simulation {
 struct DisplayState {
   static constexpr std::size_t kMaxRefined = 4096;
   double tS = -1.0;                  // < 0: no step yet
-  ToolPose pose;
+  ToolPose pose;                     // the tool: the proxy under proxy coupling
+  ToolPose commanded;                // the device's pose (the tool's under direct coupling)
+  double gapMm = 0.0;                // between the two tips
   bool drillOn = false;
-  ContactForce contact;
+  ContactForce contact;              // its forceN: what the device is sent (before the safety layer)
   std::uint64_t removedFill = 0;     // grid fill units removed so far
   double removedVolumeMm3 = 0.0;
   std::uint64_t steps = 0;

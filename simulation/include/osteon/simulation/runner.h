@@ -5,9 +5,11 @@
 
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/simulation/coupling.h"
 #include "osteon/simulation/drilling.h"
 #include "osteon/simulation/path.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
@@ -24,12 +26,20 @@ struct ForceLogRow {
   double contactVoxels = 0.0;       // n of eq. (2)
   std::uint64_t removedVoxels = 0;  // samples removed so far (at the level they were cut)
   int level = 0;                    // finest level in contact
+  glm::dvec3 commandMm{0.0};        // the commanded tip (proxy coupling; tipMm is the proxy's)
 };
 
 // The log row of one step: the pose it took, its force, the samples removed so far.
 inline ForceLogRow logRowOf(double tS, const ToolPose& pose, const StepOutput& out, std::uint64_t samplesRemoved) {
   return {tS, pose.tipMm, out.contact.forceN, out.contact.magnitudeN, out.contact.contactVoxels, samplesRemoved,
           out.contact.level};
+}
+
+// The log row of one haptic step (coupling.h): the proxy's tip, the force sent to the device,
+// the commanded tip. Under direct coupling the same row as logRowOf(tS, pose, out, ...).
+inline ForceLogRow logRowOf(double tS, const HapticStep& h, std::uint64_t samplesRemoved) {
+  return {tS, h.proxy.tipMm, h.forceN, h.magnitudeN, h.step.contact.contactVoxels, samplesRemoved,
+          h.step.contact.level, h.commanded.tipMm};
 }
 
 struct Percentiles {
@@ -72,6 +82,14 @@ struct RunSummary {
   std::uint64_t overruns = 0;     // steps over their period (threaded runtime; 0 here)
   std::uint64_t steps = 0;
   DrillingTotals totals;  // the simulation's counters at the end of the run (drilling.h)
+  CouplingMode coupling = CouplingMode::Direct;
+  double maxGapMm = 0.0;          // largest proxy-to-commanded tip distance (0 under direct)
+  std::uint64_t clampSteps = 0;   // steps whose force to the device was at N_max
+  // Counts one haptic step in maxGapMm and clampSteps.
+  void tally(const HapticStep& h) {
+    maxGapMm = std::max(maxGapMm, h.gapMm);
+    clampSteps += h.clamped ? 1 : 0;
+  }
 };
 
 // Jitter as design.md defines it; 0 when no sample lies in [fromS, toS].
@@ -112,6 +130,9 @@ struct DeterministicOptions {
   std::function<void(std::size_t step, const StepInput& input, const StepOutput& output)> afterStep;
   // Rows as they come (e.g. ForceLogWriter::write); must not throw.
   std::function<void(const ForceLogRow& row)> onRow;
+  // The proxy coupling the run steps through (coupling.h); null: direct, the path's pose is
+  // the tool's. afterStep then sees the proxy's pose.
+  ProxyCoupling* coupling = nullptr;
   // Also collects every row in RunResult::log: for short paths (tests, experiments); the CLI
   // streams through onRow instead, so memory does not grow with the path.
   bool keepLog = true;
@@ -127,9 +148,11 @@ struct RunResult {
 RunResult runDeterministic(DrillingSimulation& sim, geometry::VoxelGrid& grid, const DrillPath& path,
                            geometry::SurfaceUpdater* surface, const DeterministicOptions& options = {});
 
-// CSV with a header row: t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level.
+// CSV with a header row: t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level
+// (with commandColumns, as proxy coupling writes it: t,px,py,pz,cx,cy,cz,fx,...: the proxy's
+// tip, then the commanded one).
 // Throws InputError naming the file when it cannot be written.
-void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path);
+void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path, bool commandColumns = false);
 
 // The same CSV row by row as a run goes: written to a temporary file beside `path` and put in
 // place by commit(), so path() only ever holds a complete log. write() neither allocates, locks
@@ -140,7 +163,8 @@ void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path)
 // unless the run was stopped by SIGINT/SIGTERM (core/interrupt.h): then it keeps nothing.
 class ForceLogWriter {
  public:
-  explicit ForceLogWriter(const std::string& path);  // throws InputError naming path
+  // throws InputError naming path; commandColumns: cx,cy,cz after px,py,pz (proxy coupling)
+  explicit ForceLogWriter(const std::string& path, bool commandColumns = false);
   virtual ~ForceLogWriter();
   ForceLogWriter(const ForceLogWriter&) = delete;
   ForceLogWriter& operator=(const ForceLogWriter&) = delete;
@@ -179,6 +203,7 @@ class ForceLogWriter {
   int error_ = 0;      // errno of the first failed write
   bool torn_ = false;  // a failed write's tail could not be cut off: the file is not kept
   bool done_ = false;  // committed or kept
+  bool commandColumns_ = false;
 };
 
 }  // namespace osteon::simulation

@@ -66,6 +66,9 @@ struct RuntimeOptions {
   // Rows as they come, on the logging thread (not a 1 kHz loop); must not throw.
   std::function<void(const ForceLogRow& row)> onRow;
   bool keepLog = true;  // also collect every row in RuntimeResult::run.log
+  // The proxy coupling the collision thread steps through (coupling.h); null: direct (a
+  // LiveRuntime on a session then takes the session's own coupling, if it has one).
+  ProxyCoupling* coupling = nullptr;
   // Called on the visual side before each surface update, never in a 1 kHz loop: the seam
   // through which tests make the update throw. The environment's
   // OSTEON_INJECT_FAULT=surface-update does the same for whole programs (live.h).

@@ -16,6 +16,7 @@
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/coupling.h"
 #include "osteon/simulation/drilling.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/runner.h"
@@ -49,6 +50,10 @@ struct SessionOptions {
   DrillingOptions drilling;            // its `levels` is replaced by `levels` above
   geometry::SurfaceOptions surface;    // the incremental surface kept by step() and run()
   bool keepSurface = true;             // false: no visual work (faster batch runs)
+  // How the commanded pose moves the tool (coupling.h): direct (the seed's scripted paths, the
+  // library's default) or through a proxy that bone stops (hands: devices, recordings).
+  CouplingMode coupling = CouplingMode::Direct;
+  CouplingOptions couplingOptions;
 };
 
 // How long set-up took, stage by stage, in wall-clock milliseconds (osteon/core/timing.h), so
@@ -154,6 +159,9 @@ class Session {
   // Refine, force, removal (drilling.h); then the surface follows the changed bricks when
   // keepSurface (the visual work, done here every surfaceEverySteps steps).
   StepOutput step(const StepInput& input);
+  // The same step as the device sees it: the proxy (under proxy coupling), the commanded pose
+  // and the force to send. step() is this step's simulation output.
+  HapticStep hapticStep(const StepInput& input);
   int surfaceEverySteps = 1;
 
   // A whole path in the deterministic mode (runner.h): the same input, the same log bit for bit.
@@ -176,7 +184,8 @@ class Session {
   void releaseSurface();
   // The drilled bone with its refined regions at their own resolution (for export).
   geometry::SurfaceMesh multiResolutionSurface() const;
-  // Tool pose and contact force of the latest step.
+  // Tool pose (the proxy's) and the force sent (contact, or coupling and contact) of the
+  // latest step.
   const ToolPose& toolPose() const { return lastPose_; }
   const ContactForce& contact() const { return lastContact_; }
   // Per-voxel display values: the finest level present (0, -1, -2; 1 where there is no bone)
@@ -191,6 +200,8 @@ class Session {
   const geometry::DynamicProximityHierarchy& hierarchy() const;
   DrillingSimulation& simulation();
   const DrillingSimulation& simulation() const;
+  // The proxy coupling every run of this session steps through; null under direct coupling.
+  ProxyCoupling* coupling();
   const SessionOptions& options() const;
   // Set-up, stage by stage: the bone's stages (shared by every session drilling it) and this
   // session's hierarchy and surface; totalMs is the bone's total plus this session's construction.
