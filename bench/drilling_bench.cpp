@@ -1,4 +1,6 @@
 // osteon_bench_drilling [--runtime-s S] [--runtime-only] [--floor-only S] [--query-skin VOXELS]
+//                       [--motions | --motions-only] [--tilts DEG,DEG...] [--cutting-refine-only]
+//                       [--refine-budget VOXELS]
 //                       [--query-slice NODES] [--standby on|off|both] [--repeat N]
 //                       [--cpu-stalls S]:
 // the drilling figures of
@@ -18,8 +20,14 @@
 //      minute's difference is within the minute-to-minute spread, N minutes' is not.
 //   3. --cpu-stalls S alone: a no-work loop pinned to each CPU for S seconds, and how many of
 //      one CPU's overruns another CPU shares.
+//   4. --motions (before 1.; --motions-only alone; --tilts 40,60 picks the tilts): the motions a
+//      hand makes (motions.h), each at static 0.3 mm, static 1.2 mm and dynamic 1.2 mm / 2:
+//      max 1 ms step, jitter, step p99 and max, steps at the clamp, refinement deferred.
+//      --cutting-refine-only refines around the cutting parts alone (as the seed), to compare;
+//      --refine-budget sets DrillingOptions::refineBudgetVoxels (0: no limit).
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/experiment.h"
+#include "osteon/simulation/motions.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 
@@ -46,6 +54,10 @@ using namespace osteon::simulation;
 
 namespace {
 
+// --cutting-refine-only: refinement around the cutting parts alone (the seed's), to compare.
+bool gRefineShells = true;
+std::size_t gRefineBudget = DrillingOptions{}.refineBudgetVoxels;
+
 // A session on the built-in humerus; sessions of one voxel size share their bone.
 Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
                     double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
@@ -54,6 +66,8 @@ Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
   options.levels = levels;
   options.drilling.querySkinVoxels = querySkinVoxels;
   options.drilling.querySliceNodes = querySliceNodes;
+  options.drilling.refineShells = gRefineShells;
+  options.drilling.refineBudgetVoxels = gRefineBudget;
   options.keepSurface = false;  // the haptic step alone; the runtime keeps its own surface
   return Session(bone, options);
 }
@@ -246,6 +260,66 @@ void cpuStalls(double seconds) {
   }
 }
 
+// The motions a hand makes beyond the seed's straight paths (motions.h), each at static
+// 0.3 mm, static 1.2 mm and dynamic 1.2 mm / 2 levels: a tilt sweep of 0-75 degrees on both
+// portals, a lateral shaving sweep with each tool, a fast push. Per run: the largest 1 ms
+// change of |F|, the jitter, the step's p99 and max, the steps at the clamp, and the shell
+// refinement the budget spread over later steps (steps, voxel-steps).
+void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_ptr<const BoneModel>& bone03,
+             const std::vector<double>& tilts) {
+  struct Config {
+    const char* name;
+    const std::shared_ptr<const BoneModel>* bone;
+    int levels;
+  };
+  const Config configs[] = {{"static 0.3 mm", &bone03, 0}, {"static 1.2 mm", &bone12, 0}, {"dynamic 1.2 mm / 2", &bone12, 2}};
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 0) load[0] = -1.0;
+  std::printf("\nmotions (deterministic, one thread), built-in humerus; load average at start %.2f %.2f %.2f\n", load[0],
+              load[1], load[2]);
+  std::printf("| motion | case | max 1 ms step N | jitter N | p99 us | max us | steps at clamp | deferred steps / voxel-steps |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|\n");
+  const auto report = [](const std::string& motion, const Config& c, Session& session, const RunResult& r) {
+    const RunSummary& s = r.summary;
+    const double maxForceN = session.simulation().tool().maxForceN;
+    std::size_t clamped = 0;
+    for (const ForceLogRow& row : r.log) clamped += row.magnitudeN >= maxForceN - 1e-9 ? 1 : 0;
+    std::printf("| %s | %s | %.3f | %.4f | %.1f | %.1f | %zu | %llu / %llu |\n", motion.c_str(), c.name, s.maxStepChangeN,
+                s.jitterN, s.hapticStepUs.p99, s.hapticStepUs.max, clamped, (unsigned long long)s.totals.stepsDeferred,
+                (unsigned long long)s.totals.voxelsDeferred);
+    std::fflush(stdout);
+  };
+  for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
+    for (const double tilt : tilts) {
+      for (const Config& c : configs) {
+        Session session = makeSession(*c.bone, c.levels);
+        PortalPathOptions po;
+        po.tiltDeg = tilt;
+        const RunResult r = session.run(session.portalPath(portal, po).path);
+        report(std::string(portalName(portal)) + " tilt " + std::to_string(int(tilt)), c, session, r);
+      }
+    }
+  }
+  for (const ToolKind tool : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
+    for (const Config& c : configs) {
+      SessionOptions options;
+      options.levels = c.levels;
+      options.tool = tool;
+      options.keepSurface = false;
+      options.drilling.refineShells = gRefineShells;
+      options.drilling.refineBudgetVoxels = gRefineBudget;
+      Session session(*c.bone, options);
+      const RunResult r = session.run(lateralSweepPath(session.portalPath(Portal::FiveOClock)));
+      report(std::string("lateral sweep, ") + toolKindName(tool), c, session, r);
+    }
+  }
+  for (const Config& c : configs) {
+    Session session = makeSession(*c.bone, c.levels);
+    const RunResult r = session.run(fastPushPath(session.portalPath(Portal::FiveOClock)));
+    report("fast push (6 mm in 0.1 s)", c, session, r);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -253,6 +327,8 @@ int main(int argc, char** argv) {
   double skin = DrillingOptions{}.querySkinVoxels;
   std::size_t slices = DrillingOptions{}.querySliceNodes;
   bool haptic = true;
+  bool withMotions = false, motionsOnly = false;
+  std::vector<double> tilts = {0, 15, 30, 40, 45, 60, 75};
   std::vector<bool> standbyModes = {true};
   int rounds = 1;
   for (int i = 1; i < argc; ++i) {
@@ -260,6 +336,20 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) slices = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
+    if (std::strcmp(argv[i], "--motions") == 0) withMotions = true;
+    if (std::strcmp(argv[i], "--cutting-refine-only") == 0) gRefineShells = false;
+    if (std::strcmp(argv[i], "--refine-budget") == 0 && i + 1 < argc) gRefineBudget = std::size_t(std::atol(argv[i + 1]));
+    if (std::strcmp(argv[i], "--motions-only") == 0) withMotions = motionsOnly = true;
+    if (std::strcmp(argv[i], "--tilts") == 0 && i + 1 < argc) {
+      // Comma-separated degrees, e.g. 40,60.
+      tilts.clear();
+      for (const char* p = argv[i + 1]; *p;) {
+        char* end = nullptr;
+        tilts.push_back(std::strtod(p, &end));
+        if (end == p) break;
+        p = *end == ',' ? end + 1 : end;
+      }
+    }
     if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) {
       rounds = std::atoi(argv[i + 1]);
       if (rounds < 1 || rounds > 1000) {
@@ -295,6 +385,8 @@ int main(int argc, char** argv) {
   const std::shared_ptr<const BoneModel> bone12 = BoneModel::fromMesh(model.mesh, 1.2, "default");
   const std::shared_ptr<const BoneModel> bone03 = BoneModel::fromMesh(model.mesh, 0.3, "default", 1.0, {}, false);
   const HumeralHead head = bone12->humeralHead();
+  if (withMotions) motions(bone12, bone03, tilts);
+  if (motionsOnly) return 0;
 
   if (haptic) std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
   if (haptic) std::printf("query caches: skin %g base voxels, %zu nodes per slice\n", skin, slices);
