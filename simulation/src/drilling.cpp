@@ -45,11 +45,17 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
       removal_(*voxels_, std::max<std::size_t>(options.refinement.capacity, 4096)),
       model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()),
       refineShells_(options.refineShells && options.levels > 0),
-      refineBudget_(options.refineBudgetVoxels) {
+      refineBudget_(options.refineBudgetVoxels),
+      shellSkinMm_(options.shellRefineSkinVoxels * grid.voxelSizeMm()),
+      shellWalkEveryS_(0.5 * options.refinement.timeoutS) {
   grid.reserveSpareBricks(options.spareBricks);
   spareMissesAtStart_ = grid.spareMisses();
   if (!(options.querySkinVoxels >= 0.0) || !std::isfinite(options.querySkinVoxels)) {
     throw InputError("query skin " + std::to_string(options.querySkinVoxels) + " voxels: must be a finite number >= 0");
+  }
+  if (!(options.shellRefineSkinVoxels >= 0.0) || !(options.shellRefineSkinVoxels <= 4.0)) {
+    throw InputError("shell refinement skin " + std::to_string(options.shellRefineSkinVoxels) +
+                     " voxels: must be a number from 0 to 4");
   }
   cached_ = options.querySkinVoxels > 0.0;
   const double vs = grid.voxelSizeMm();
@@ -62,7 +68,8 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (cached_ && refineShells_ && !part.cuts) {
       shellRefineCaches_[std::size_t(p)] = voxels_->makeNearCache(
-          part.lengthMm(), voxels_->segmentRefineReachMm(part.outerRadiusMm), skinMm, options.querySliceNodes);
+          part.lengthMm(), voxels_->segmentRefineReachMm(part.outerRadiusMm + shellSkinMm_), skinMm,
+          options.querySliceNodes);
     }
     if (!part.cuts) continue;
     const double cutReach = voxels_->cutReachMm(part.innerRadiusMm);
@@ -103,17 +110,27 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     for (int p = 0; p < tool.partCount; ++p) {
       const ToolPart& part = tool.parts[std::size_t(p)];
       if (part.cuts) continue;
+      const glm::dvec3 a = input.pose.toWorld(part.aMm), b = input.pose.toWorld(part.bMm);
+      ShellWalk& last = shellWalks_[std::size_t(p)];
+      // Since the last walk the core moved less than the skin: every voxel the shell can reach
+      // now lay within the walk's reach then (a point's distance to a segment moves no more
+      // than the segment's ends), and was refined and kept alive.
+      const double moved = std::max(glm::length(a - last.aMm), glm::length(b - last.bMm));
+      if (last.walked && !last.deferred && moved < shellSkinMm_ && input.tS >= last.tS &&
+          input.tS - last.tS < shellWalkEveryS_) {
+        continue;
+      }
       const std::size_t spent = std::size_t(out.refined);
       const std::size_t budget = refineBudget_ == 0       ? std::numeric_limits<std::size_t>::max()
                                  : refineBudget_ > spent ? refineBudget_ - spent
                                                          : 0;
       int deferred = 0;
-      const int created = voxels_->refineNearSegment(input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm),
-                                                     part.outerRadiusMm, input.tS,
+      const int created = voxels_->refineNearSegment(a, b, part.outerRadiusMm + shellSkinMm_, input.tS,
                                                      cached_ ? &shellRefineCaches_[std::size_t(p)] : nullptr,
                                                      budget, deferred);
       out.refined += created;
       out.deferred += deferred;
+      last = ShellWalk{a, b, input.tS, true, deferred > 0};
     }
   }
   out.contact = model_.compute(*voxels_, input.pose, cached_ ? &contactCaches_ : nullptr);

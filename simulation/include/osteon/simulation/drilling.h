@@ -39,6 +39,10 @@ struct DrillingOptions {
   // following steps, the force using their coarser samples (the same bone volume) meanwhile.
   // The cutting parts' refinement is never deferred: a cut acts on the finest samples.
   std::size_t refineBudgetVoxels = 48;
+  // The shells' refinement reaches this many base voxels further and walks again only once a
+  // part has moved that far (or half the refinement timeout has passed, or voxels were left
+  // for later): the voxels a shell can reach meanwhile are already refined. 0: every step.
+  double shellRefineSkinVoxels = 0.25;
 };
 
 // Throws InputError naming the value for levels outside 0..2 or a decrement below 1.
@@ -109,6 +113,16 @@ class DrillingSimulation {
   std::array<geometry::DphNearCache, kMaxToolParts> shellRefineCaches_;
   bool refineShells_ = true;
   std::size_t refineBudget_ = 0;
+  double shellSkinMm_ = 0.0;
+  double shellWalkEveryS_ = 1.0;
+  // Per part: where its core was at its shell refinement's last walk, when, and whether that
+  // walk left voxels for later.
+  struct ShellWalk {
+    glm::dvec3 aMm{0.0}, bMm{0.0};
+    double tS = 0.0;
+    bool walked = false, deferred = false;
+  };
+  std::array<ShellWalk, kMaxToolParts> shellWalks_{};
   bool cached_ = false;
   DrillingTotals totals_;
   std::uint64_t spareMissesAtStart_ = 0;
