@@ -39,12 +39,13 @@ RunResult tilted(double voxelMm, const SessionOptions& options, Portal portal, d
   return r;
 }
 
-// The shaft levered against the hole's rim and wall: with 1.2 mm voxels and 2 levels the force
-// is static 0.3 mm's (the same finest samples where any part touches bone), where refining
-// around the cutting part alone let the shaft push with 1.2 mm voxels (steps of 0.5-0.9 N).
+// The shaft levered against the hole's rim and wall (positive tilts) or laid into the bone
+// (negative): with 1.2 mm voxels and 2 levels the force is static 0.3 mm's (the same finest
+// samples where any part touches bone), where refining around the cutting part alone let the
+// shaft push with 1.2 mm voxels (steps of 0.5-0.9 N).
 TEST(ShellRefinement, ATiltedShaftPushesWithTheFinestSamples) {
   for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
-    for (const double tilt : {40.0, 60.0}) {
+    for (const double tilt : {40.0, 60.0, -40.0, -60.0}) {
       SCOPED_TRACE(std::string(portalName(portal)) + " tilted " + std::to_string(tilt));
       const RunSummary fine = tilted(0.3, optionsFor(0), portal, tilt).summary;
       const RunSummary dynamic = tilted(1.2, optionsFor(2), portal, tilt).summary;
