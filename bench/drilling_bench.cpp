@@ -339,14 +339,23 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
   }
   // Pushed fast along the portal, the tool upright and tilted both ways: the shaft meets new
   // bone along its length at once, more than one step's refinement budget.
-  for (const double tilt : {0.0, 60.0, -40.0}) {
-    for (const Config& c : configs) {
-      if (gDynamicOnly && c.levels == 0) continue;
-      Session session = makeSession(*c.bone, c.levels);
-      PortalPathOptions po;
-      po.tiltDeg = tilt;
-      const RunResult r = run(session, fastPushPath(session.portalPath(Portal::FiveOClock, po)));
-      report("fast push (6 mm in 0.1 s), tilt " + std::to_string(int(tilt)), c, session, r);
+  // And in one step (a device's pose jumping): the most new bone a step can meet, which the
+  // refinement budget spreads over the following steps.
+  for (const double pushS : {0.1, 0.001}) {
+    for (const double tilt : {0.0, 60.0, -40.0}) {
+      for (const Config& c : configs) {
+        if (gDynamicOnly && c.levels == 0) continue;
+        Session session = makeSession(*c.bone, c.levels);
+        PortalPathOptions po;
+        po.tiltDeg = tilt;
+        FastPushOptions fo;
+        fo.pushS = pushS;
+        const RunResult r = run(session, fastPushPath(session.portalPath(Portal::FiveOClock, po), fo));
+        char name[96];
+        std::snprintf(name, sizeof name, "%s (6 mm in %g ms), tilt %d", pushS < 0.01 ? "jump" : "fast push",
+                      pushS * 1000.0, int(tilt));
+        report(name, c, session, r);
+      }
     }
   }
 }

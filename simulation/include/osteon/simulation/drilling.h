@@ -31,8 +31,9 @@ struct DrillingOptions {
   // skin (0: walk at once when it does), so that no step pays a whole walk from cold memory.
   std::size_t querySliceNodes = 256;
   // Refine wherever bone touches a part: every part's shell (the drill's shaft too) gets the
-  // finest level over the bone it reaches. false: only around the cutting parts (the seed's
-  // scripted runs, whose force logs are pinned).
+  // finest level over the bone it reaches. false: only around the cutting parts, as the seed
+  // describes (a tilted shaft then pushes with base voxels). The seed's scripted runs give the
+  // same force logs either way: their shaft follows the tip through its hole.
   bool refineShells = true;
   // Voxels newly refined per step for the shells at most (0: no limit), so that a pose
   // meeting much new bone at once does not overrun the step; the rest are refined in the
