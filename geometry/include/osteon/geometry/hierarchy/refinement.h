@@ -1,5 +1,6 @@
 // Dynamic refinement near the tool (seed section 3.5, sharpened): level-0 voxels within a
-// margin of the tool's outer sphere split into 8 (level -1) or 64 (level -2) sub-voxels, so
+// margin of a cutting part's outer sphere, or within reach of another part's shell, split
+// into 8 (level -1) or 64 (level -2) sub-voxels, so
 // collision, forces and material removal work at half or a quarter of the base voxel size.
 //
 // Rules (ours, stricter than the seed's):
@@ -14,9 +15,10 @@
 //   removed leaves the grid and the hierarchy at once.
 // - A refined voxel the tool has not come near for `timeoutS` expires: its cell returns to the
 //   pool, its parent keeps the summed fill and the mean density of its remaining sub-voxels.
-//   Near means within the refinement margin of a cutting part (refineAround) or opened by a
-//   sample query of any part (a drill's shaft pushing on a tunnel's wall keeps the wall
-//   refined where it pushes, so the force there does not drop a level under it).
+//   Near means within the refinement margin of a cutting part (refineAround), within reach of
+//   another part's shell (refineNearSegment: a drill's shaft refines the bone it touches), or
+//   opened by a sample query of any part (a drill's shaft pushing on a tunnel's wall keeps the
+//   wall refined where it pushes, so the force there does not drop a level under it).
 //
 // Everything after construction runs without allocating, locking or throwing: cells come from
 // a fixed pool and are found through a fixed open-addressing table. When the pool is full,
