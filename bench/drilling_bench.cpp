@@ -1,4 +1,6 @@
 // osteon_bench_drilling [--runtime-s S] [--runtime-only] [--floor-only S] [--query-skin VOXELS]
+//                       [--motions | --motions-only] [--tilts DEG,DEG...] [--cutting-refine-only]
+//                       [--refine-budget VOXELS] [--dynamic-only]
 //                       [--query-slice NODES] [--standby on|off|both] [--repeat N]
 //                       [--cpu-stalls S]:
 // the drilling figures of
@@ -18,8 +20,14 @@
 //      minute's difference is within the minute-to-minute spread, N minutes' is not.
 //   3. --cpu-stalls S alone: a no-work loop pinned to each CPU for S seconds, and how many of
 //      one CPU's overruns another CPU shares.
+//   4. --motions (before 1.; --motions-only alone; --tilts 40,60 picks the tilts): the motions a
+//      hand makes (motions.h), each at static 0.3 mm, static 1.2 mm and dynamic 1.2 mm / 2:
+//      max 1 ms step, jitter, step p99 and max, steps at the clamp, refinement deferred.
+//      --cutting-refine-only refines around the cutting parts alone (as the seed), to compare;
+//      --refine-budget sets DrillingOptions::refineBudgetVoxels (0: no limit).
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/experiment.h"
+#include "osteon/simulation/motions.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 
@@ -46,6 +54,11 @@ using namespace osteon::simulation;
 
 namespace {
 
+// --cutting-refine-only: refinement around the cutting parts alone (the seed's), to compare.
+bool gRefineShells = true;
+bool gDynamicOnly = false;  // --dynamic-only: the motions at 1.2 mm / 2 levels alone
+std::size_t gRefineBudget = DrillingOptions{}.refineBudgetVoxels;
+
 // A session on the built-in humerus; sessions of one voxel size share their bone.
 Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
                     double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
@@ -54,6 +67,8 @@ Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
   options.levels = levels;
   options.drilling.querySkinVoxels = querySkinVoxels;
   options.drilling.querySliceNodes = querySliceNodes;
+  options.drilling.refineShells = gRefineShells;
+  options.drilling.refineBudgetVoxels = gRefineBudget;
   options.keepSurface = false;  // the haptic step alone; the runtime keeps its own surface
   return Session(bone, options);
 }
@@ -246,6 +261,105 @@ void cpuStalls(double seconds) {
   }
 }
 
+// The motions a hand makes beyond the seed's straight paths (motions.h), each at static
+// 0.3 mm, static 1.2 mm and dynamic 1.2 mm / 2 levels: a tilt sweep of 0-75 degrees on both
+// portals, a lateral shaving sweep with each tool, a fast push. Per run: the largest 1 ms
+// change of |F|, the jitter, the step's p99 and max, the steps at the clamp, and the shell
+// refinement the budget spread over later steps (steps, voxel-steps).
+void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_ptr<const BoneModel>& bone03,
+             const std::vector<double>& tilts) {
+  struct Config {
+    const char* name;
+    const std::shared_ptr<const BoneModel>* bone;
+    int levels;
+  };
+  const Config configs[] = {{"static 0.3 mm", &bone03, 0}, {"static 1.2 mm", &bone12, 0}, {"dynamic 1.2 mm / 2", &bone12, 2}};
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 0) load[0] = -1.0;
+  std::printf("\nmotions (deterministic, one thread), built-in humerus; load average at start %.2f %.2f %.2f\n", load[0],
+              load[1], load[2]);
+  std::printf("| motion | case | max 1 ms step N | jitter N | p50 us | p99 us | max us | CPU p50 / p99 / max us | steps at clamp | deferred steps / voxel-steps | pool full | refined at end |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  // The thread's CPU time from one step's end to the next (the step and the runner's few
+  // bookkeeping lines): on a shared machine the wall-clock p99 counts the 4 ms slices the
+  // scheduler gives to others; this does not.
+  std::vector<double> cpuUs;
+  cpuUs.reserve(8000);
+  const auto run = [&cpuUs](Session& session, const DrillPath& path) {
+    cpuUs.clear();
+    DeterministicOptions o;
+    timespec last{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &last);
+    o.afterStep = [&](std::size_t, const StepInput&, const StepOutput&) {
+      timespec now{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+      cpuUs.push_back(double(now.tv_sec - last.tv_sec) * 1e6 + double(now.tv_nsec - last.tv_nsec) * 1e-3);
+      last = now;
+    };
+    return session.run(path, o);
+  };
+  const auto report = [&cpuUs](const std::string& motion, const Config& c, Session& session, const RunResult& r) {
+    const RunSummary& s = r.summary;
+    const Percentiles cpu = percentilesOf(cpuUs);
+    const double maxForceN = session.simulation().tool().maxForceN;
+    std::size_t clamped = 0;
+    for (const ForceLogRow& row : r.log) clamped += row.magnitudeN >= maxForceN - 1e-9 ? 1 : 0;
+    std::printf("| %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %zu | %llu / %llu | %llu | %zu |\n",
+                motion.c_str(), c.name, s.maxStepChangeN, s.jitterN, s.hapticStepUs.p50, s.hapticStepUs.p99,
+                s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max, clamped,
+                (unsigned long long)s.totals.stepsDeferred, (unsigned long long)s.totals.voxelsDeferred,
+                (unsigned long long)s.totals.refinePoolExhausted, session.simulation().voxels().refinedCount());
+    std::fflush(stdout);
+  };
+  for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
+    for (const double tilt : tilts) {
+      for (const Config& c : configs) {
+        if (gDynamicOnly && c.levels == 0) continue;
+        Session session = makeSession(*c.bone, c.levels);
+        PortalPathOptions po;
+        po.tiltDeg = tilt;
+        const RunResult r = run(session, session.portalPath(portal, po).path);
+        report(std::string(portalName(portal)) + " tilt " + std::to_string(int(tilt)), c, session, r);
+      }
+    }
+  }
+  for (const ToolKind tool : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
+    for (const Config& c : configs) {
+      if (gDynamicOnly && c.levels == 0) continue;
+      SessionOptions options;
+      options.levels = c.levels;
+      options.tool = tool;
+      options.keepSurface = false;
+      options.drilling.refineShells = gRefineShells;
+      options.drilling.refineBudgetVoxels = gRefineBudget;
+      Session session(*c.bone, options);
+      const RunResult r = run(session, lateralSweepPath(session.portalPath(Portal::FiveOClock)));
+      report(std::string("lateral sweep, ") + toolKindName(tool), c, session, r);
+    }
+  }
+  // Pushed fast along the portal, the tool upright and tilted both ways: the shaft meets new
+  // bone along its length at once, more than one step's refinement budget.
+  // And in one step (a device's pose jumping): the most new bone a step can meet, which the
+  // refinement budget spreads over the following steps.
+  for (const double pushS : {0.1, 0.001}) {
+    for (const double tilt : {0.0, 60.0, -40.0}) {
+      for (const Config& c : configs) {
+        if (gDynamicOnly && c.levels == 0) continue;
+        Session session = makeSession(*c.bone, c.levels);
+        PortalPathOptions po;
+        po.tiltDeg = tilt;
+        FastPushOptions fo;
+        fo.pushS = pushS;
+        const RunResult r = run(session, fastPushPath(session.portalPath(Portal::FiveOClock, po), fo));
+        char name[96];
+        std::snprintf(name, sizeof name, "%s (6 mm in %g ms), tilt %d", pushS < 0.01 ? "jump" : "fast push",
+                      pushS * 1000.0, int(tilt));
+        report(name, c, session, r);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -253,6 +367,8 @@ int main(int argc, char** argv) {
   double skin = DrillingOptions{}.querySkinVoxels;
   std::size_t slices = DrillingOptions{}.querySliceNodes;
   bool haptic = true;
+  bool withMotions = false, motionsOnly = false;
+  std::vector<double> tilts = {0, 15, 30, 40, 45, 60, 75};
   std::vector<bool> standbyModes = {true};
   int rounds = 1;
   for (int i = 1; i < argc; ++i) {
@@ -260,6 +376,21 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) slices = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) haptic = false;
+    if (std::strcmp(argv[i], "--motions") == 0) withMotions = true;
+    if (std::strcmp(argv[i], "--cutting-refine-only") == 0) gRefineShells = false;
+    if (std::strcmp(argv[i], "--dynamic-only") == 0) gDynamicOnly = true;
+    if (std::strcmp(argv[i], "--refine-budget") == 0 && i + 1 < argc) gRefineBudget = std::size_t(std::atol(argv[i + 1]));
+    if (std::strcmp(argv[i], "--motions-only") == 0) withMotions = motionsOnly = true;
+    if (std::strcmp(argv[i], "--tilts") == 0 && i + 1 < argc) {
+      // Comma-separated degrees, e.g. 40,60.
+      tilts.clear();
+      for (const char* p = argv[i + 1]; *p;) {
+        char* end = nullptr;
+        tilts.push_back(std::strtod(p, &end));
+        if (end == p) break;
+        p = *end == ',' ? end + 1 : end;
+      }
+    }
     if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) {
       rounds = std::atoi(argv[i + 1]);
       if (rounds < 1 || rounds > 1000) {
@@ -295,6 +426,8 @@ int main(int argc, char** argv) {
   const std::shared_ptr<const BoneModel> bone12 = BoneModel::fromMesh(model.mesh, 1.2, "default");
   const std::shared_ptr<const BoneModel> bone03 = BoneModel::fromMesh(model.mesh, 0.3, "default", 1.0, {}, false);
   const HumeralHead head = bone12->humeralHead();
+  if (withMotions) motions(bone12, bone03, tilts);
+  if (motionsOnly) return 0;
 
   if (haptic) std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
   if (haptic) std::printf("query caches: skin %g base voxels, %zu nodes per slice\n", skin, slices);

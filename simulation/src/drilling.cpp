@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace osteon::simulation {
@@ -42,11 +43,19 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
       voxels_(std::make_unique<geometry::RefinedVoxels>(grid, hierarchy, source,
                                                         withDepth(options.refinement, options.levels))),
       removal_(*voxels_, std::max<std::size_t>(options.refinement.capacity, 4096)),
-      model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()) {
+      model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()),
+      refineShells_(options.refineShells && options.levels > 0),
+      refineBudget_(options.refineBudgetVoxels),
+      shellSkinMm_(options.shellRefineSkinVoxels * grid.voxelSizeMm()),
+      shellWalkEveryS_(0.5 * options.refinement.timeoutS) {
   grid.reserveSpareBricks(options.spareBricks);
   spareMissesAtStart_ = grid.spareMisses();
   if (!(options.querySkinVoxels >= 0.0) || !std::isfinite(options.querySkinVoxels)) {
     throw InputError("query skin " + std::to_string(options.querySkinVoxels) + " voxels: must be a finite number >= 0");
+  }
+  if (!(options.shellRefineSkinVoxels >= 0.0) || !(options.shellRefineSkinVoxels <= 4.0)) {
+    throw InputError("shell refinement skin " + std::to_string(options.shellRefineSkinVoxels) +
+                     " voxels: must be a number from 0 to 4");
   }
   cached_ = options.querySkinVoxels > 0.0;
   const double vs = grid.voxelSizeMm();
@@ -57,6 +66,11 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
   const Tool& tool = model_.tool();
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
+    if (cached_ && refineShells_ && !part.cuts) {
+      shellRefineCaches_[std::size_t(p)] = voxels_->makeNearCache(
+          part.lengthMm(), voxels_->segmentRefineReachMm(part.outerRadiusMm + shellSkinMm_), skinMm,
+          options.querySliceNodes);
+    }
     if (!part.cuts) continue;
     const double cutReach = voxels_->cutReachMm(part.innerRadiusMm);
     removal_.reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), cutReach, vs));
@@ -81,14 +95,43 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     ++totals_.nonFiniteForces;
     return out;
   }
-  // Refine around the cutting parts only: the drill's shaft pushes with whatever level is
-  // there, so a long shaft does not refine a tunnel's length of voxels.
+  // Around the cutting parts, everything within the margin of their outer sphere, at once: a
+  // cut acts on the finest samples present.
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
     const glm::dvec3 a = input.pose.toWorld(part.aMm), b = input.pose.toWorld(part.bMm);
     out.refined += voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm, input.tS,
                                          cached_ ? &refineCaches_[std::size_t(p)] : nullptr);
+  }
+  // Around the other parts (the drill's shaft), the bone their shell reaches along their core,
+  // within what is left of the step's budget; the rest in the following steps.
+  if (refineShells_) {
+    for (int p = 0; p < tool.partCount; ++p) {
+      const ToolPart& part = tool.parts[std::size_t(p)];
+      if (part.cuts) continue;
+      const glm::dvec3 a = input.pose.toWorld(part.aMm), b = input.pose.toWorld(part.bMm);
+      ShellWalk& last = shellWalks_[std::size_t(p)];
+      // Since the last walk the core moved less than the skin: every voxel the shell can reach
+      // now lay within the walk's reach then (a point's distance to a segment moves no more
+      // than the segment's ends), and was refined and kept alive.
+      const double moved = std::max(glm::length(a - last.aMm), glm::length(b - last.bMm));
+      if (last.walked && !last.deferred && moved < shellSkinMm_ && input.tS >= last.tS &&
+          input.tS - last.tS < shellWalkEveryS_) {
+        continue;
+      }
+      const std::size_t spent = std::size_t(out.refined);
+      const std::size_t budget = refineBudget_ == 0       ? std::numeric_limits<std::size_t>::max()
+                                 : refineBudget_ > spent ? refineBudget_ - spent
+                                                         : 0;
+      int deferred = 0;
+      const int created = voxels_->refineNearSegment(a, b, part.outerRadiusMm + shellSkinMm_, input.tS,
+                                                     cached_ ? &shellRefineCaches_[std::size_t(p)] : nullptr,
+                                                     budget, deferred);
+      out.refined += created;
+      out.deferred += deferred;
+      last = ShellWalk{a, b, input.tS, true, deferred > 0};
+    }
   }
   out.contact = model_.compute(*voxels_, input.pose, cached_ ? &contactCaches_ : nullptr);
   if (input.drillOn) {
@@ -108,12 +151,18 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
   if (cached_) {
     std::uint64_t walks = 0, reuses = 0;
     for (std::size_t p = 0; p < std::size_t(kMaxToolParts); ++p) {
-      walks += contactCaches_.shell[p].walks() + cutCaches_[p].walks() + refineCaches_[p].walks();
-      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses() + refineCaches_[p].reuses();
+      walks += contactCaches_.shell[p].walks() + cutCaches_[p].walks() + refineCaches_[p].walks() +
+               shellRefineCaches_[p].walks();
+      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses() + refineCaches_[p].reuses() +
+                shellRefineCaches_[p].reuses();
     }
     totals_.stepsThatWalked += walks > totals_.queryWalks ? 1 : 0;
     totals_.queryWalks = walks;
     totals_.queryReuses = reuses;
+  }
+  if (out.deferred > 0) {
+    ++totals_.stepsDeferred;
+    totals_.voxelsDeferred += std::uint64_t(out.deferred);
   }
   totals_.removedFill += out.removal.removedFill;
   totals_.samplesRemoved += out.removal.samplesRemoved;

@@ -274,7 +274,12 @@ PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry
   const glm::dvec3 start = plan.entryMm - approachMm * plan.direction;
   const glm::dvec3 end = plan.entryMm + options.depthMm * plan.direction;
   plan.speedMmPerS = (approachMm + options.depthMm) / options.durationS;
-  const glm::dquat q = ToolPose::pointing(start, plan.direction).orientation;
+  glm::dquat q = ToolPose::pointing(start, plan.direction).orientation;
+  if (options.tiltDeg != 0.0) {
+    // About the tip (the tool frame's origin): the forward direction turns towards -normal.
+    const glm::dvec3 axis = glm::normalize(glm::cross(plan.normal, plan.direction));
+    q = glm::normalize(glm::angleAxis(options.tiltDeg * M_PI / 180.0, axis) * q);
+  }
   plan.path = DrillPath({Waypoint{0.0, start, q, true}, Waypoint{options.durationS, end, q, true}});
   return plan;
 }

@@ -248,6 +248,34 @@ int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadi
   return created;
 }
 
+int RefinedVoxels::refineNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double outerRadiusMm, double nowS,
+                                     DphNearCache* cache, std::size_t budget, int& deferred) {
+  deferred = 0;
+  if (depth_ == 0) return 0;
+  lastRefineS_ = nowS;
+  int created = 0;
+  const auto visit = [&](const glm::ivec3& v) {
+    const std::uint32_t cell = findCell(v);
+    if (cell != kNoCell) {
+      cells_[cell].lastNearS = nowS;
+    } else if (std::size_t(created) >= budget) {
+      ++deferred;  // the walk's fixed order: a later call refines these first
+    } else if (freeTop_ > 0) {
+      createCell(v, nowS);
+      ++created;
+    } else {
+      ++poolExhausted_;
+    }
+  };
+  const double reachMm = segmentRefineReachMm(outerRadiusMm);
+  if (aMm == bMm) {
+    hierarchy_->forEachVoxelInSphere(aMm, reachMm, scratch_, cache, visit);
+  } else {
+    hierarchy_->forEachVoxelInCapsule(aMm, bMm, reachMm, scratch_, cache, visit);
+  }
+  return created;
+}
+
 int RefinedVoxels::expire(double nowS) {
   int expired = 0;
   for (std::size_t i = active_; i-- > 0;) {

@@ -30,6 +30,20 @@ struct DrillingOptions {
   // Hierarchy nodes per step spent gathering a query's next answer before the tool leaves the
   // skin (0: walk at once when it does), so that no step pays a whole walk from cold memory.
   std::size_t querySliceNodes = 256;
+  // Refine wherever bone touches a part: every part's shell (the drill's shaft too) gets the
+  // finest level over the bone it reaches. false: only around the cutting parts, as the seed
+  // describes (a tilted shaft then pushes with base voxels). The seed's scripted runs give the
+  // same force logs either way: their shaft follows the tip through its hole.
+  bool refineShells = true;
+  // Voxels newly refined per step for the shells at most (0: no limit), so that a pose
+  // meeting much new bone at once does not overrun the step; the rest are refined in the
+  // following steps, the force using their coarser samples (the same bone volume) meanwhile.
+  // The cutting parts' refinement is never deferred: a cut acts on the finest samples.
+  std::size_t refineBudgetVoxels = 48;
+  // The shells' refinement reaches this many base voxels further and walks again only once a
+  // part has moved that far (or half the refinement timeout has passed, or voxels were left
+  // for later): the voxels a shell can reach meanwhile are already refined. 0: every step.
+  double shellRefineSkinVoxels = 0.25;
 };
 
 // Throws InputError naming the value for levels outside 0..2 or a decrement below 1.
@@ -45,6 +59,7 @@ struct StepOutput {
   ContactForce contact;            // from the bone before this step's removal
   RemovalResult removal;
   int refined = 0;                 // voxels newly refined this step
+  int deferred = 0;                // voxels a shell reached but left for later steps (the budget)
 };
 
 struct DrillingTotals {
@@ -60,6 +75,9 @@ struct DrillingTotals {
   // Hierarchy queries (contact shells and cuts): walked, or answered from their caches.
   std::uint64_t queryWalks = 0, queryReuses = 0;
   std::uint64_t stepsThatWalked = 0;
+  // Shell refinement spread over later steps by the budget: steps that left voxels coarse,
+  // and those voxels summed over the steps (a voxel left for 3 steps counts 3).
+  std::uint64_t stepsDeferred = 0, voxelsDeferred = 0;
 };
 
 class DrillingSimulation {
@@ -93,6 +111,19 @@ class DrillingSimulation {
   ContactCaches contactCaches_;
   std::array<geometry::DphNearCache, kMaxToolParts> cutCaches_;
   std::array<geometry::DphNearCache, kMaxToolParts> refineCaches_;
+  std::array<geometry::DphNearCache, kMaxToolParts> shellRefineCaches_;
+  bool refineShells_ = true;
+  std::size_t refineBudget_ = 0;
+  double shellSkinMm_ = 0.0;
+  double shellWalkEveryS_ = 1.0;
+  // Per part: where its core was at its shell refinement's last walk, when, and whether that
+  // walk left voxels for later.
+  struct ShellWalk {
+    glm::dvec3 aMm{0.0}, bMm{0.0};
+    double tS = 0.0;
+    bool walked = false, deferred = false;
+  };
+  std::array<ShellWalk, kMaxToolParts> shellWalks_{};
   bool cached_ = false;
   DrillingTotals totals_;
   std::uint64_t spareMissesAtStart_ = 0;

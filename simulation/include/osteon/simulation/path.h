@@ -86,6 +86,10 @@ struct PortalPathOptions {
   double entryAngleDeg = 45.0; // to the surface normal
   double clearanceMm = 1.0;    // between the cushion and the surface at the start
   double clockConeDeg = 45.0;  // the clock face's angle from the head axis
+  // The tool turned about its tip by this much, in the plane of travel and the surface
+  // normal, its tip towards the inward normal (the handle rising past the perpendicular at
+  // 45): the tip follows the same path, the shaft levers against the hole's rim and wall.
+  double tiltDeg = 0.0;
 };
 
 struct PortalPlan {

@@ -1,5 +1,6 @@
 // Dynamic refinement near the tool (seed section 3.5, sharpened): level-0 voxels within a
-// margin of the tool's outer sphere split into 8 (level -1) or 64 (level -2) sub-voxels, so
+// margin of a cutting part's outer sphere, or within reach of another part's shell, split
+// into 8 (level -1) or 64 (level -2) sub-voxels, so
 // collision, forces and material removal work at half or a quarter of the base voxel size.
 //
 // Rules (ours, stricter than the seed's):
@@ -14,9 +15,10 @@
 //   removed leaves the grid and the hierarchy at once.
 // - A refined voxel the tool has not come near for `timeoutS` expires: its cell returns to the
 //   pool, its parent keeps the summed fill and the mean density of its remaining sub-voxels.
-//   Near means within the refinement margin of a cutting part (refineAround) or opened by a
-//   sample query of any part (a drill's shaft pushing on a tunnel's wall keeps the wall
-//   refined where it pushes, so the force there does not drop a level under it).
+//   Near means within the refinement margin of a cutting part (refineAround), within reach of
+//   another part's shell (refineNearSegment: a drill's shaft refines the bone it touches), or
+//   opened by a sample query of any part (a drill's shaft pushing on a tunnel's wall keeps the
+//   wall refined where it pushes, so the force there does not drop a level under it).
 //
 // Everything after construction runs without allocating, locking or throwing: cells come from
 // a fixed pool and are found through a fixed open-addressing table. When the pool is full,
@@ -65,12 +67,24 @@ class RefinedVoxels {
   // Returns the number of voxels newly refined.
   // `cache` (may be null): the hierarchy query's cache for this call site (dph.h).
   int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS, DphNearCache* cache = nullptr);
+  // Refines (or keeps alive) the voxels with bone that a part's shell around the segment a-b
+  // (a point when a == b) of outer radius outerRadiusMm may reach: those whose centre lies
+  // within segmentRefineReachMm(outerRadiusMm) of the segment, so a long shaft refines the
+  // bone it touches, not its length. At most `budget` voxels are newly refined;
+  // the others are left as they are and counted in `deferred`, for a later call to continue
+  // (the query's voxels already refined are only kept alive). Returns the number newly refined.
+  int refineNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double outerRadiusMm, double nowS,
+                        DphNearCache* cache, std::size_t budget, int& deferred);
   // The radii the hierarchy queries reach: refineAround's for a tool of outerRadiusMm,
   // forEachSampleInShell's for a shell of outerMm (refined voxels hold samples half their
   // samples' diagonal from their centre), a cut's of radiusMm (every voxel that may hold a
   // sample whose centre lies in it).
   double refineReachMm(double outerRadiusMm) const {
     return outerRadiusMm + marginMm_ + 0.5 * std::sqrt(3.0) * grid_->voxelSizeMm();
+  }
+  // Every cube that comes within outerRadiusMm of a segment has its centre within this.
+  double segmentRefineReachMm(double outerRadiusMm) const {
+    return outerRadiusMm + 0.5 * std::sqrt(3.0) * grid_->voxelSizeMm();
   }
   double shellReachMm(double outerMm) const { return outerMm + (depth_ > 0 ? sampleHalfDiagonalMm() : 0.0); }
   double cutReachMm(double radiusMm) const;
