@@ -14,19 +14,7 @@
 #include <limits>
 #include <new>
 #include <vector>
-
-// Every heap allocation of this program, counted, so a test can prove a loop allocates nothing.
-namespace {
-std::atomic<std::uint64_t> gAllocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  gAllocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/allocation_counter.h"
 
 namespace osteon::devices {
 namespace {
@@ -63,7 +51,7 @@ std::vector<Step> faultyRun(SafetyLayer& safety, std::uint64_t* allocationsInLoo
   std::vector<Step> steps;
   steps.reserve(6000);
   DeviceSample sample;
-  const std::uint64_t before = gAllocations.load();
+  const std::uint64_t before = test::allocations();
   for (int ms = 0; ms <= 5000; ++ms) {
     const double t = ms * 0.001;
     if (ms > 4000 && ms < 4030 && ms % 3 != 0) continue;  // the loop does not run these periods
@@ -81,7 +69,7 @@ std::vector<Step> faultyRun(SafetyLayer& safety, std::uint64_t* allocationsInLoo
     const glm::dvec3 sent = safety.limitForce(t, askedForce(t));
     steps.push_back({t, sent, safety.forceState(), v.faults, v});
   }
-  if (allocationsInLoop) *allocationsInLoop = gAllocations.load() - before;
+  if (allocationsInLoop) *allocationsInLoop = test::allocations() - before;
   return steps;
 }
 

@@ -24,24 +24,7 @@
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 #include "support/shapes.h"
-
-// Every heap allocation of this program, counted, so a test can prove a loop allocates nothing.
-namespace {
-std::atomic<std::uint64_t> gAllocations{0};
-}  // namespace
-
-// Out of line, so the compiler does not pair an inlined malloc with the library's delete.
-__attribute__((noinline)) void* operator new(std::size_t size) {
-  gAllocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-__attribute__((noinline)) void operator delete(void* p) noexcept {
-  std::free(p);
-}
-__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "support/allocation_counter.h"
 
 namespace osteon::simulation {
 namespace {
@@ -317,9 +300,9 @@ TEST(ProxyCoupling, DrillingEatsItsWayInAndAllocatesNothing) {
     const double t = 0.001 * i;
     const double z = t < 0.1 ? 3.0 - 60.0 * t : -3.0;  // 6 mm past the surface, held
     const bool on = t >= 0.3;
-    const std::uint64_t before = gAllocations.load();
+    const std::uint64_t before = test::allocations();
     const HapticStep h = c.step({t, down({0.0, 0.0, z}), on});
-    if (t >= 0.2) allocations += gAllocations.load() - before;
+    if (t >= 0.2) allocations += test::allocations() - before;
     expectSane(h);
     if (i == 300) depth0 = -c.proxy().tipMm.z;
   }

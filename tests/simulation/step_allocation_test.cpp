@@ -11,25 +11,7 @@
 #include <cstdlib>
 #include <new>
 #include <string>
-
-namespace {
-std::atomic<std::uint64_t> gAllocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  gAllocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  gAllocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "support/allocation_counter.h"
 
 namespace osteon::simulation {
 namespace {
@@ -48,9 +30,9 @@ std::uint64_t allocationsInSteps(Session& session, const DrillPath& path) {
     StepInput in;
     in.tS = double(i) * 0.001;
     path.sample(in.tS, in.pose, in.drillOn);
-    const std::uint64_t before = gAllocations.load();
+    const std::uint64_t before = test::allocations();
     sim.step(in);
-    inSteps += gAllocations.load() - before;
+    inSteps += test::allocations() - before;
   }
   return inSteps;
 }
@@ -68,9 +50,9 @@ TEST(StepAllocation, TiltedShaftsWithAndWithoutDeferral) {
   for (const std::size_t budget : {std::size_t(0), std::size_t(1), DrillingOptions{}.refineBudgetVoxels}) {
     for (const double tilt : {0.0, 40.0, 75.0}) {
       SCOPED_TRACE("budget " + std::to_string(budget) + ", tilt " + std::to_string(tilt));
-      const std::uint64_t beforeSetUp = gAllocations.load();
+      const std::uint64_t beforeSetUp = test::allocations();
       Session session(bone(), options(ToolKind::Drill, budget));
-      EXPECT_GT(gAllocations.load(), beforeSetUp);  // the count does see the set-up's allocations
+      EXPECT_GT(test::allocations(), beforeSetUp);  // the count does see the set-up's allocations
       PortalPathOptions po;
       po.tiltDeg = tilt;
       const DrillPath path = session.portalPath(Portal::SevenOClock, po).path;

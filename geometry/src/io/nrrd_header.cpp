@@ -18,10 +18,6 @@ namespace osteon::geometry::nrrd {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-constexpr std::size_t kMaxHeaderLine = 65536;
-
 std::string trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r");
   if (first == std::string::npos) return "";
@@ -41,6 +37,18 @@ std::string normaliseWords(const std::string& s) {
   return out;
 }
 
+std::string excerpt(const std::string& s) {
+  std::string out = "'";
+  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
+  return out + (s.size() > 60 ? "...'" : "'");
+}
+
+namespace {
+
+constexpr std::size_t kMaxHeaderLine = 65536;
+
+
+
 std::vector<std::string> words(const std::string& s) {
   std::vector<std::string> out;
   std::size_t pos = 0;
@@ -53,11 +61,6 @@ std::vector<std::string> words(const std::string& s) {
 }
 
 // File text echoed in a message: one short printable line, whatever the file holds.
-std::string excerpt(const std::string& s) {
-  std::string out = "'";
-  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
-  return out + (s.size() > 60 ? "...'" : "'");
-}
 
 bool parseInteger(const std::string& text, long long& v) {
   const std::string t = trim(text);

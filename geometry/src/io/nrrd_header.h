@@ -32,6 +32,12 @@ struct Header {
   [[noreturn]] void fail(const std::string& reason) const;
 };
 
+// Text helpers every NRRD reader shares: blanks trimmed; lowercase with runs of blanks made one
+// space ("Unsigned  Char" -> "unsigned char"); file text as one short printable quoted excerpt.
+std::string trim(const std::string& s);
+std::string normaliseWords(const std::string& s);
+std::string excerpt(const std::string& s);
+
 // Reads the header of `path`: the magic (NRRD0001..NRRD0005), field and key lines up to the
 // blank line. Refuses a file that is missing or not regular, a line longer than 64 KiB, a
 // malformed line, a field or key given twice, and an attached header with no blank line.

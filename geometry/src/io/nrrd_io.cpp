@@ -41,6 +41,10 @@ std::string densityPathFor(const std::string& fillPath) {
 
 namespace {
 
+using nrrd::excerpt;
+using nrrd::normaliseWords;
+using nrrd::trim;
+
 
 // %.17g without the C locale's say over the decimal point: reads back to the same double.
 std::string num(double v) {
@@ -146,24 +150,7 @@ struct Header {
   std::string dataShown;       // the data's file, as messages name it
 };
 
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
 
-// Lowercase, runs of blanks made one space: "Unsigned  Char" -> "unsigned char".
-std::string normaliseWords(const std::string& s) {
-  std::string out;
-  for (unsigned char c : trim(s)) {
-    if (std::isspace(c)) {
-      if (!out.empty() && out.back() != ' ') out += ' ';
-    } else {
-      out += static_cast<char>(std::tolower(c));
-    }
-  }
-  return out;
-}
 
 bool parseDouble(const std::string& token, double& v) {
   const char* first = token.data();
@@ -190,12 +177,6 @@ bool parseNumbers(std::string text, std::vector<double>& values) {
   return true;
 }
 
-// File text echoed in a message: one short printable line, whatever the file holds.
-std::string excerpt(const std::string& s) {
-  std::string out = "'";
-  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
-  return out + (s.size() > 60 ? "...'" : "'");
-}
 
 // Shortest form for messages ("3e+300", "1.2e+09").
 std::string shortNum(double v) {

@@ -28,6 +28,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using nrrd::excerpt;
+using nrrd::trim;
+
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return s;
@@ -37,11 +40,6 @@ bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
 
 std::string shortNum(double v) {
   std::ostringstream s;
@@ -49,11 +47,6 @@ std::string shortNum(double v) {
   return s.str();
 }
 
-std::string excerpt(const std::string& s) {
-  std::string out = "'";
-  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? char(c) : '?';
-  return out + (s.size() > 60 ? "...'" : "'");
-}
 
 bool parseNumbers(std::string text, std::vector<double>& values) {
   for (char& c : text) {

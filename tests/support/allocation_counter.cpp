@@ -1,0 +1,27 @@
+#include "support/allocation_counter.h"
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<std::uint64_t> gAllocations{0};
+
+void* counted(std::size_t size) {
+  gAllocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+}  // namespace
+
+// Out of line, so the compiler does not pair an inlined malloc with the library's delete.
+__attribute__((noinline)) void* operator new(std::size_t size) { return counted(size); }
+__attribute__((noinline)) void* operator new[](std::size_t size) { return counted(size); }
+__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete[](void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace osteon::test {
+std::uint64_t allocations() { return gAllocations.load(std::memory_order_relaxed); }
+}  // namespace osteon::test
