@@ -24,11 +24,13 @@ double toolOffsetMm(const simulation::Tool& tool, const simulation::ToolPose& a,
 bool showGhost(const simulation::Tool& tool, const simulation::ToolPose& proxy,
                const simulation::ToolPose& commanded, double thresholdMm = kGhostThresholdMm);
 
-// How deep the tool at `pose` sits in bone: how far it would have to back out along its own
-// axis (every part of osteon's tools lies on it) until no voxel at least half full has its
-// centre inside a part's inner layer; 0 when none has. A proxy in contact keeps this within
-// about its cushion and half a voxel (level-0 centres stand for their sub-voxels); a pose
-// pushed 10 mm into intact bone gives 10 mm and more.
+// How deep the tool at `pose` sits in bone: how far a part would have to back out along the
+// tool's axis (every part of osteon's tools lies on it) until no voxel at least half full has
+// its centre inside that part's inner layer, the largest over the parts; 0 when no part holds
+// such a voxel. Each part on its own: bone the tip would meet on its way out beside the thinner
+// shaft is not counted. A proxy in contact keeps this within about its cushion and half a voxel
+// (level-0 centres stand for their sub-voxels); a pose pushed 10 mm into intact bone gives
+// about 10 mm less the shaft's offset behind the tip.
 double boneDepthMm(const geometry::VoxelGrid& grid, const simulation::Tool& tool, const simulation::ToolPose& pose);
 
 // Frame by frame: what was drawn and how deep each pose reached (the --json fields).
