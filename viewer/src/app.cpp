@@ -358,7 +358,10 @@ void App::finishReport() {
   r.ghostFrames = toolView_.ghostFrames;
   r.proxyDepthMm = toolView_.maxProxyDepthMm;
   r.commandedDepthMm = toolView_.maxCommandedDepthMm;
-  r.toolCushionMm = scene_->tool().parts[0].outerRadiusMm - scene_->tool().parts[0].innerRadiusMm;
+  for (int i = scene_->tool().partCount - 1; i >= 0; --i) {
+    const simulation::ToolPart& part = scene_->tool().parts[std::size_t(i)];
+    if (part.cuts) r.toolCushionMm = part.outerRadiusMm - part.innerRadiusMm;  // the first cutting part's
+  }
   if (options_.json) {
     // The drilled bone's surface as the window shows it: a sealed cavity is a second component.
     const geometry::MeshTopology topology =
