@@ -27,10 +27,11 @@ bool showGhost(const simulation::Tool& tool, const simulation::ToolPose& proxy,
 // How deep the tool at `pose` sits in bone: how far a part would have to back out along the
 // tool's axis (every part of osteon's tools lies on it) until no voxel at least half full has
 // its centre inside that part's inner layer, the largest over the parts; 0 when no part holds
-// such a voxel. Each part on its own: bone the tip would meet on its way out beside the thinner
-// shaft is not counted. A proxy in contact keeps this within about its cushion and half a voxel
-// (level-0 centres stand for their sub-voxels); a pose pushed 10 mm into intact bone gives
-// about 10 mm less the shaft's offset behind the tip.
+// such a voxel. Each part on its own, and only the bone inside it now, so the value is at most
+// a part's length plus its diameter: the drill's 30 mm shaft measures a push of 10 mm into
+// bone (about 10 mm less the shaft's offset behind the tip); the burr's lone sphere says 2.9 mm
+// for any push past that. A proxy in contact keeps this within about its cushion (level-0
+// centres stand for their sub-voxels, so inside a drilled hole half-cut voxels add to it).
 double boneDepthMm(const geometry::VoxelGrid& grid, const simulation::Tool& tool, const simulation::ToolPose& pose);
 
 // Frame by frame: what was drawn and how deep each pose reached (the --json fields).
