@@ -11,7 +11,9 @@
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
 #include "osteon/core/timing.h"
+#include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/image/image_writer.h"
 
 #include <chrono>
@@ -123,6 +125,8 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   camera_.magnify(options_.zoom);
   target_ = scene_->initialPose();
   drillOn_ = false;
+  toolView_ = {};
+  panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
   panel_.sceneName = scene_->request().input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
   panel_.followsPath = scene_->path() != nullptr;
   panel_.pathDurationS = scene_->pathDurationS();
@@ -133,19 +137,23 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
 }
 
 int App::run() {
-  while (!glfwWindowShouldClose(window_)) {
+  while (true) {
     if (options_.frames > 0 && frame_ >= std::size_t(options_.frames)) break;
     glfwPollEvents();
     pollLoading();
     handleRequests();
-    const bool last = options_.frames > 0 && frame_ + 1 == std::size_t(options_.frames);
-    if (last) waitForPath();
+    // Closed by hand (Esc, the window's button): one more frame, the last, so --screenshot and
+    // the metric still see what the hand left.
+    const bool closing = glfwWindowShouldClose(window_);
+    const bool last = closing || (options_.frames > 0 && frame_ + 1 == std::size_t(options_.frames));
+    if (last && !closing) waitForPath();
     const Clock::time_point start = Clock::now();
     frame(last);
     const double ms = msSince(start) - report_.screenshotMs;  // writing the PNG is not rendering
     frameMs_.add(ms);
     lastFrameMs_ = ms;
     ++frame_;
+    if (closing) break;
   }
   finishReport();
   return kExitOk;
@@ -209,9 +217,15 @@ void App::frame(bool last) {
     overlay_->drawLines(camera, lines, glm::vec4(0.3f, 0.9f, 1.0f, 0.8f));
   }
   const simulation::ToolPose pose = d.tS >= 0.0 ? d.pose : scene_->initialPose();
+  const simulation::ToolPose commanded = d.tS >= 0.0 ? d.commanded : pose;
+  // The depth walk is for the report only.
+  toolView_.add(scene_->tool(), pose, commanded, d.gapMm, options_.json ? &live.visualGrid() : nullptr);
+  panel_.ghost = toolView_.ghostLast;
   if (panel_.showTool) {
     overlay_->drawTool(camera, scene_->tool(), pose, d.drillOn);
     overlay_->drawArrow(camera, pose.tipMm, d.contact.forceN * kArrowMmPerN, glm::vec4(0.95f, 0.9f, 0.2f, 1.0f));
+    // Translucent, after everything opaque: where the hand is, when bone holds the tool back.
+    if (toolView_.ghostLast) overlay_->drawGhost(camera, scene_->tool(), commanded, pose);
   }
 
   fillStatus(lastFrameMs_);
@@ -299,6 +313,7 @@ void App::fillStatus(double frameMs) {
   s.removedVolumeMm3 = d.removedVolumeMm3;
   s.forceN = d.contact.magnitudeN;
   s.level = d.contact.level;
+  s.gapMm = d.gapMm;
   s.simTimeS = d.tS;
   s.frameMs = frameMs;
   s.frameP99Ms = frameMs_.recentP99();
@@ -335,6 +350,25 @@ void App::finishReport() {
   r.realtimePriority = result.stats.realtimeGranted;
   r.removedVolumeMm3 = result.run.summary.removedVolumeMm3;
   r.maxForceN = result.run.summary.maxForceN;
+  r.coupling = simulation::couplingModeName(result.run.summary.coupling);
+  r.maxGapMm = result.run.summary.maxGapMm;
+  r.clampSteps = result.run.summary.clampSteps;
+  r.gapMm = toolView_.gapLastMm;
+  r.ghost = toolView_.ghostLast;
+  r.ghostFrames = toolView_.ghostFrames;
+  r.proxyDepthMm = toolView_.maxProxyDepthMm;
+  r.commandedDepthMm = toolView_.maxCommandedDepthMm;
+  for (int i = scene_->tool().partCount - 1; i >= 0; --i) {
+    const simulation::ToolPart& part = scene_->tool().parts[std::size_t(i)];
+    if (part.cuts) r.toolCushionMm = part.outerRadiusMm - part.innerRadiusMm;  // the first cutting part's
+  }
+  if (options_.json) {
+    // The drilled bone's surface as the window shows it: a sealed cavity is a second component.
+    const geometry::MeshTopology topology =
+        geometry::analyzeTopology(scene_->live().visualSurface().mesh().toTriangleMesh());
+    r.surfaceComponents = topology.components;
+    r.surfaceBorderEdges = topology.borderEdges;
+  }
   r.pathDurationS = scene_->pathDurationS();
   r.waitedForPath = waitedForPath_;
   r.loadMs = scene_->loadMs();

@@ -12,6 +12,7 @@
 #include "renderer.h"
 #include "report.h"
 #include "scene.h"
+#include "tool_view.h"
 
 #include <future>
 #include <memory>
@@ -99,6 +100,7 @@ class App {
   double lastRateS_ = 0.0;
   std::uint64_t lastRateSteps_ = 0;
   bool waitedForPath_ = false;
+  ToolViewTally toolView_;  // the ghost and how deep the proxy and the hand reached, per frame
   ViewerReport report_;
 };
 

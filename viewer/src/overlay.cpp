@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <utility>
 
 namespace osteon::viewer {
 
@@ -175,6 +176,36 @@ void OverlayRenderer::drawTool(const FrameCamera& camera, const simulation::Tool
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
   glUseProgram(0);
+}
+
+void OverlayRenderer::drawGhost(const FrameCamera& camera, const simulation::Tool& tool,
+                                const simulation::ToolPose& commanded, const simulation::ToolPose& proxy) {
+  begin(camera);
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);  // front faces only: one layer of tint, however the parts overlap
+  // Hidden by the bone (depth greater than what is drawn) faint, in the open a little stronger.
+  const std::pair<GLenum, float> passes[] = {{GL_GREATER, 0.3f}, {GL_LEQUAL, 0.45f}};
+  for (const auto& [depthFunc, alpha] : passes) {
+    glDepthFunc(depthFunc);
+    for (int i = 0; i < tool.partCount; ++i) {
+      const simulation::ToolPart& part = tool.parts[std::size_t(i)];
+      drawCapsule(commanded.toWorld(part.aMm), commanded.toWorld(part.bMm), part.innerRadiusMm,
+                  glm::vec4(0.62f, 0.76f, 1.0f, alpha));
+    }
+  }
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(0);
+  // The spring, over everything: from the proxy's tip to the hand's.
+  drawLines(camera, {glm::vec3(proxy.tipMm), glm::vec3(commanded.tipMm)}, glm::vec4(0.85f, 0.9f, 1.0f, 0.75f));
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
 }
 
 void OverlayRenderer::drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,

@@ -1,6 +1,7 @@
 // What is drawn over the bone: the tool (each part's core at its inner radius, opaque, and its
-// contact shell at the outer radius, translucent), the force as an arrow at the tool, and
-// world-space lines (the hierarchy's boxes).
+// contact shell at the outer radius, translucent), the ghost of the commanded pose when bone
+// holds the tool back, the force as an arrow at the tool, and world-space lines (the
+// hierarchy's boxes).
 #pragma once
 
 #include "gl_util.h"
@@ -20,6 +21,11 @@ class OverlayRenderer {
 
   void drawTool(const FrameCamera& camera, const simulation::Tool& tool, const simulation::ToolPose& pose,
                 bool drillOn);
+  // The commanded pose as a ghost: the same cores, pale and translucent, without writing depth,
+  // after everything opaque. Where bone hides it, it shows fainter through the bone, and a line
+  // (the coupling's spring) joins its tip to the proxy's.
+  void drawGhost(const FrameCamera& camera, const simulation::Tool& tool, const simulation::ToolPose& commanded,
+                 const simulation::ToolPose& proxy);
   // An arrow from `fromMm` along `vectorMm` (its length in mm).
   void drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,
                  const glm::vec4& colour);

@@ -20,9 +20,9 @@ void statusLine(const PanelModel& m) {
   if (ImGui::Begin("status", nullptr, flags)) {
     const StatusNumbers& s = m.status;
     ImGui::Text("haptic %.0f Hz | step p99 %.0f us | overruns %llu | remesh %.2f ms | upload %.3f ms | "
-                "%zu triangles | removed %.1f mm3 | |F| %.2f N (level %d) | frame %.1f ms (p99 %.1f)",
+                "%zu triangles | removed %.1f mm3 | |F| %.2f N (level %d) | gap %.1f mm | frame %.1f ms (p99 %.1f)",
                 s.hapticRateHz, s.stepP99Us, static_cast<unsigned long long>(s.overruns), s.remeshMs, s.uploadMs,
-                s.triangles, s.removedVolumeMm3, s.forceN, s.level, s.frameMs, s.frameP99Ms);
+                s.triangles, s.removedVolumeMm3, s.forceN, s.level, s.gapMm, s.frameMs, s.frameP99Ms);
   }
   ImGui::End();
 }
@@ -90,6 +90,14 @@ void toolSection(PanelModel& m) {
     if (ImGui::Button("reset tool (T)")) m.resetTool = true;
   }
   ImGui::Checkbox("show the tool (G)", &m.showTool);
+  if (!m.proxyCoupling) {
+    ImGui::TextDisabled("coupling: direct (the tool goes where it is put)");
+  } else if (m.ghost) {
+    ImGui::TextColored(ImVec4(0.8f, 0.87f, 0.95f, 1.0f), "bone holds the tool back %.1f mm (ghost: the hand)",
+                       m.status.gapMm);
+  } else {
+    ImGui::TextDisabled("coupling: proxy (bone stops the tool)");
+  }
   if (m.force && !m.force->values().empty()) {
     char label[48];
     std::snprintf(label, sizeof label, "|F| %.2f N", double(m.force->values().back()));

@@ -26,6 +26,7 @@ struct StatusNumbers {
   double forceN = 0.0;
   double simTimeS = 0.0;
   int level = 0;               // finest level in contact
+  double gapMm = 0.0;          // the proxy's tip to the commanded tip (0 under direct coupling)
 };
 
 struct PanelModel {
@@ -33,6 +34,8 @@ struct PanelModel {
   std::string sceneName;
   bool followsPath = false;
   double pathDurationS = 0.0;
+  bool proxyCoupling = false;
+  bool ghost = false;            // the commanded pose is drawn beside the proxy
   bool drillOn = false;
   StatusNumbers status;
   const TimeSeries* force = nullptr;

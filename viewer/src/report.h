@@ -27,6 +27,16 @@ struct ViewerReport {
   bool realtimePriority = false;
   double removedVolumeMm3 = 0.0;
   double maxForceN = 0.0;
+  std::string coupling;                 // proxy or direct
+  double maxGapMm = 0.0;                // the run's largest proxy-to-commanded tip distance
+  std::uint64_t clampSteps = 0;         // haptic steps whose force was at N_max
+  double gapMm = 0.0;                   // on the last frame
+  bool ghost = false;                   // the commanded pose drawn as a ghost on the last frame
+  std::uint64_t ghostFrames = 0;
+  double proxyDepthMm = 0.0;            // deepest the drawn tool sat in bone (boneDepthMm), over the frames
+  double commandedDepthMm = 0.0;        // the same for the commanded pose
+  double toolCushionMm = 0.0;           // the cutting part's shell: outer minus inner radius
+  std::size_t surfaceComponents = 0, surfaceBorderEdges = 0;  // the visual surface at exit
   double pathDurationS = 0.0;
   bool waitedForPath = false;
   double loadMs = 0.0;
