@@ -126,9 +126,10 @@ TremorRun tremorRun(double voxelMm, int levels) {
 }
 
 // Under proxy coupling the tremored portal-5 path at dynamic 1.2 mm / 2 levels feels as static
-// 0.3 mm does: jitter within 1.25x of it, and a 1 ms step no larger. (Neither is under 0.1 N
-// here: the proxy's hops as a tremor drags it along the hole's wall step the force; both
-// figures are printed, and docs/performance.md gives them.)
+// 0.3 mm does: jitter within 1.25x of it, and a 1 ms step no larger. (At neither is the step
+// under 0.1 N: where the proxy, held 0.3 mm off the command, reaches it in one step, the
+// coupling's spring and damping drop at once, 0.38 N at 6.167 s; printed, and given in
+// docs/performance.md.)
 TEST(HandMotions, ATremorThroughTheProxyFeelsAsStaticFineBoneDoes) {
   const TremorRun fine = tremorRun(0.3, 0);
   const TremorRun dynamic = tremorRun(1.2, 2);
