@@ -66,7 +66,9 @@ bool gDynamicOnly = false;  // --dynamic-only: the motions at 1.2 mm / 2 levels 
 std::size_t gRefineBudget = DrillingOptions{}.refineBudgetVoxels;
 std::vector<CouplingMode> gCouplings = {CouplingMode::Proxy, CouplingMode::Direct};
 std::string gMotionSet = "all";
-bool wanted(const char* family) { return gMotionSet == "all" || gMotionSet == family; }
+bool wanted(const char* family) {
+  return gMotionSet == "all" || gMotionSet == family;
+}
 
 // A session on the built-in humerus; sessions of one voxel size share their bone.
 Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
@@ -293,7 +295,10 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
   if (getloadavg(load, 3) < 0) load[0] = -1.0;
   std::printf("\nmotions (deterministic, one thread), built-in humerus; load average at start %.2f %.2f %.2f\n", load[0],
               load[1], load[2]);
-  std::printf("| motion | coupling | case | max 1 ms step N | jitter N | p50 us | p99 us | max us | CPU p50 / p99 / max us | largest gap mm | steps at clamp | deferred steps / voxel-steps | pool full | refined at end | removed mm3 |\n");
+  std::printf(
+      "| motion | coupling | case | max 1 ms step N | jitter N | p50 us | p99 us | max us | CPU "
+      "p50 / p99 / max us | largest gap mm | steps at clamp | deferred steps / voxel-steps | pool "
+      "full | refined at end | removed mm3 |\n");
   std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   // The thread's CPU time from one step's end to the next (the step and the runner's few
   // bookkeeping lines): on a shared machine the wall-clock p99 counts the 4 ms slices the
@@ -316,12 +321,15 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
   const auto report = [&cpuUs](const std::string& motion, const Config& c, Session& session, const RunResult& r) {
     const RunSummary& s = r.summary;
     const Percentiles cpu = percentilesOf(cpuUs);
-    std::printf("| %s | %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %.3f | %llu | %llu / %llu | %llu | %zu | %.1f |\n",
-                motion.c_str(), couplingModeName(s.coupling), c.name, s.maxStepChangeN, s.jitterN, s.hapticStepUs.p50,
-                s.hapticStepUs.p99, s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max, s.maxGapMm,
-                (unsigned long long)s.clampSteps, (unsigned long long)s.totals.stepsDeferred,
-                (unsigned long long)s.totals.voxelsDeferred, (unsigned long long)s.totals.refinePoolExhausted,
-                session.simulation().voxels().refinedCount(), s.removedVolumeMm3);
+    std::printf(
+        "| %s | %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %.3f | %llu | "
+        "%llu / %llu | %llu | %zu | %.1f |\n",
+        motion.c_str(), couplingModeName(s.coupling), c.name, s.maxStepChangeN, s.jitterN,
+        s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max,
+        s.maxGapMm, (unsigned long long)s.clampSteps, (unsigned long long)s.totals.stepsDeferred,
+        (unsigned long long)s.totals.voxelsDeferred,
+        (unsigned long long)s.totals.refinePoolExhausted,
+        session.simulation().voxels().refinedCount(), s.removedVolumeMm3);
     std::fflush(stdout);
   };
   // Every run: a fresh session per coupling and case, the path made on it.
@@ -342,21 +350,28 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
     for (const double tilt : tilts) {
       PortalPathOptions po;
       po.tiltDeg = tilt;
-      each("tilt", ToolKind::Drill, [&](Session& s) { return s.portalPath(portal, po).path; },
-           [&] { return std::string(portalName(portal)) + " tilt " + std::to_string(int(tilt)); });
+      each(
+          "tilt", ToolKind::Drill, [&](Session& s) { return s.portalPath(portal, po).path; },
+          [&] { return std::string(portalName(portal)) + " tilt " + std::to_string(int(tilt)); });
     }
   }
   for (const ToolKind tool : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
-    each("lateral", tool, [&](Session& s) { return lateralSweepPath(s.portalPath(Portal::FiveOClock)); },
-         [&] { return std::string("lateral sweep, ") + toolKindName(tool); });
+    each(
+        "lateral", tool,
+        [&](Session& s) { return lateralSweepPath(s.portalPath(Portal::FiveOClock)); },
+        [&] { return std::string("lateral sweep, ") + toolKindName(tool); });
   }
   // Into intact bone at portal 5's entry, 10 mm past the surface, the drill off 5 s then on 2 s.
-  each("push", ToolKind::Drill, [&](Session& s) { return intactPushPath(s.portalPath(Portal::FiveOClock)); },
-       [] { return std::string("push, drill off 5 s then on 2 s"); });
+  each(
+      "push", ToolKind::Drill,
+      [&](Session& s) { return intactPushPath(s.portalPath(Portal::FiveOClock)); },
+      [] { return std::string("push, drill off 5 s then on 2 s"); });
   // A hand's tremor (1-9 Hz, 0.3 mm, 3 degrees) on both portal paths.
   for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
-    each("tremor", ToolKind::Drill, [&](Session& s) { return tremorPath(s.portalPath(portal).path); },
-         [&] { return std::string("tremor on ") + portalName(portal); });
+    each(
+        "tremor", ToolKind::Drill,
+        [&](Session& s) { return tremorPath(s.portalPath(portal).path); },
+        [&] { return std::string("tremor on ") + portalName(portal); });
   }
   // Pushed fast along the portal, the tool upright and tilted both ways: the shaft meets new
   // bone along its length at once, more than one step's refinement budget.
@@ -368,13 +383,15 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
       po.tiltDeg = tilt;
       FastPushOptions fo;
       fo.pushS = pushS;
-      each("fast", ToolKind::Drill,
-           [&](Session& s) { return fastPushPath(s.portalPath(Portal::FiveOClock, po), fo); }, [&] {
-             char name[96];
-             std::snprintf(name, sizeof name, "%s (6 mm in %g ms), tilt %d", pushS < 0.01 ? "jump" : "fast push",
-                           pushS * 1000.0, int(tilt));
-             return std::string(name);
-           });
+      each(
+          "fast", ToolKind::Drill,
+          [&](Session& s) { return fastPushPath(s.portalPath(Portal::FiveOClock, po), fo); },
+          [&] {
+            char name[96];
+            std::snprintf(name, sizeof name, "%s (6 mm in %g ms), tilt %d",
+                          pushS < 0.01 ? "jump" : "fast push", pushS * 1000.0, int(tilt));
+            return std::string(name);
+          });
     }
   }
   if (getloadavg(load, 3) < 0) load[0] = -1.0;

@@ -1,11 +1,11 @@
 #include "osteon/simulation/motions.h"
 
-#include <glm/geometric.hpp>
-#include <glm/gtc/quaternion.hpp>
-
 #include <cmath>
 #include <random>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace osteon::simulation {
 
@@ -63,7 +63,8 @@ DrillPath tremorPath(const DrillPath& base, const TremorOptions& o) {
   }
   const auto wave = [&](int axis, double t) {
     double sum = 0.0;
-    for (int k = 0; k < 4; ++k) sum += o.weights[k] * std::sin(2.0 * M_PI * o.frequenciesHz[k] * t + phase[axis][k]);
+    for (int k = 0; k < 4; ++k)
+      sum += o.weights[k] * std::sin(2.0 * M_PI * o.frequenciesHz[k] * t + phase[axis][k]);
     return sum;
   };
   std::vector<Waypoint> points;
@@ -79,7 +80,8 @@ DrillPath tremorPath(const DrillPath& base, const TremorOptions& o) {
     const glm::dvec3 u = pose.orientation * glm::dvec3(1.0, 0.0, 0.0);
     const glm::dvec3 v = pose.orientation * glm::dvec3(0.0, 1.0, 0.0);
     const double rad = o.amplitudeDeg * M_PI / 180.0;
-    const glm::dquat turn = glm::angleAxis(rad * wave(3, t), u) * glm::angleAxis(rad * wave(4, t), v);
+    const glm::dquat turn =
+        glm::angleAxis(rad * wave(3, t), u) * glm::angleAxis(rad * wave(4, t), v);
     points.push_back({t, pose.tipMm + shift, glm::normalize(turn * pose.orientation), on});
     if (t >= durationS) break;
   }

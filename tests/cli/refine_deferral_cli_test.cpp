@@ -33,24 +33,26 @@ std::string jumpCsv(const glm::dvec3& entryMm, const glm::dvec3& directionIn) {
   s << "t,x,y,z,drill_on,qw,qx,qy,qz\n";
   for (const auto& [t, alongMm] : {std::pair{0.0, -6.0}, {0.5, -6.0}, {0.501, 6.0}, {2.0, 6.0}}) {
     const glm::dvec3 p = entryMm + alongMm * d;
-    s << t << "," << p.x << "," << p.y << "," << p.z << ",1," << (1.0 + c) / qn << "," << axis.x / qn << ","
-      << axis.y / qn << "," << axis.z / qn << "\n";
+    s << t << "," << p.x << "," << p.y << "," << p.z << ",1," << (1.0 + c) / qn << ","
+      << axis.x / qn << "," << axis.y / qn << "," << axis.z / qn << "\n";
   }
   return s.str();
 }
 
 TEST_F(CliTest, TheSummaryCountsTheRefinementTheStepBudgetDeferred) {
   const std::string common = " --voxel-size 1.2 --levels 2 --json --out-dir ";
-  const CliRun portal = osteon("drill default --path portal-5" + common + "'" + path("portal") + "'");
+  const CliRun portal =
+      osteon("drill default --path portal-5" + common + "'" + path("portal") + "'");
   ASSERT_EQ(portal.exitCode, 0) << portal.err;
   const json p = json::parse(portal.out);
   // The seed's path meets bone gradually: nothing deferred, and the fields are there.
   EXPECT_EQ(p["refine_steps_deferred"].get<std::uint64_t>(), 0u);
   EXPECT_EQ(p["refine_voxels_deferred"].get<std::uint64_t>(), 0u);
 
-  test::writeBytes(path("jump.csv"), jumpCsv(vec(p["path"]["entry_mm"]), vec(p["path"]["direction"])));
-  const CliRun direct =
-      osteon("drill default --coupling direct --path '" + path("jump.csv") + "'" + common + "'" + path("direct") + "'");
+  test::writeBytes(path("jump.csv"),
+                   jumpCsv(vec(p["path"]["entry_mm"]), vec(p["path"]["direction"])));
+  const CliRun direct = osteon("drill default --coupling direct --path '" + path("jump.csv") + "'" +
+                               common + "'" + path("direct") + "'");
   ASSERT_EQ(direct.exitCode, 0) << direct.err;
   const json d = json::parse(direct.out);
   const auto steps = d["refine_steps_deferred"].get<std::uint64_t>();
@@ -64,8 +66,8 @@ TEST_F(CliTest, TheSummaryCountsTheRefinementTheStepBudgetDeferred) {
   EXPECT_EQ(file["refine_voxels_deferred"].get<std::uint64_t>(), voxels);
 
   // Under proxy coupling the bone stops the jump: the gap opens, the force goes to the clamp.
-  const CliRun proxy =
-      osteon("drill default --coupling proxy --path '" + path("jump.csv") + "'" + common + "'" + path("proxy") + "'");
+  const CliRun proxy = osteon("drill default --coupling proxy --path '" + path("jump.csv") + "'" +
+                              common + "'" + path("proxy") + "'");
   ASSERT_EQ(proxy.exitCode, 0) << proxy.err;
   const json x = json::parse(proxy.out);
   EXPECT_GT(x["max_gap_mm"].get<double>(), 5.0);

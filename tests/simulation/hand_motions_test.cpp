@@ -1,16 +1,15 @@
 // The motions of a hand beyond the seed's straight paths (motions.h): the push into intact
 // bone with the drill off, then on, and a tremor on a portal path; and the tremor path run
 // through the proxy coupling at dynamic 1.2 mm / 2 levels against static 0.3 mm.
-#include "osteon/simulation/motions.h"
-#include "osteon/simulation/session.h"
-
-#include <gtest/gtest.h>
-
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "osteon/simulation/motions.h"
+#include "osteon/simulation/session.h"
 
 namespace osteon::simulation {
 namespace {
@@ -30,7 +29,8 @@ const Session& session12() {
 }
 
 double angleDeg(const glm::dvec3& u, const glm::dvec3& v) {
-  return std::acos(std::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 / M_PI;
+  return std::acos(std::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 /
+         M_PI;
 }
 
 TEST(HandMotions, AnIntactPushGoesTenMillimetresPastTheSurfaceWithTheDrillOffThenOn) {
@@ -118,10 +118,12 @@ TremorRun tremorRun(double voxelMm, int levels) {
     prev = row.magnitudeN;
   }
   std::printf(
-      "tremor on portal-5, proxy, %g mm / %d levels: max 1 ms step %.4f N (at %.3f s), jitter %.4f N, largest "
+      "tremor on portal-5, proxy, %g mm / %d levels: max 1 ms step %.4f N (at %.3f s), jitter %.4f "
+      "N, largest "
       "gap %.3f mm, steps at clamp %llu, refinement deferred %llu steps\n",
-      voxelMm, levels, r.summary.maxStepChangeN, t.maxStepAtS, r.summary.jitterN, r.summary.maxGapMm,
-      (unsigned long long)r.summary.clampSteps, (unsigned long long)r.summary.totals.stepsDeferred);
+      voxelMm, levels, r.summary.maxStepChangeN, t.maxStepAtS, r.summary.jitterN,
+      r.summary.maxGapMm, (unsigned long long)r.summary.clampSteps,
+      (unsigned long long)r.summary.totals.stepsDeferred);
   return t;
 }
 

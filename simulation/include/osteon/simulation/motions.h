@@ -34,10 +34,10 @@ struct FastPushOptions {
 DrillPath fastPushPath(const PortalPlan& plan, const FastPushOptions& options = {});
 
 struct IntactPushOptions {
-  double outsideMm = 6.0;   // the tip's centre starts this far outside the entry point
-  double depthMm = 10.0;    // and is pushed to this far past it (the entry is on the surface)
-  double pushS = 1.0;       // at constant speed over this long, then held
-  double drillOnS = 5.0;    // the drill off until here, then on
+  double outsideMm = 6.0;  // the tip's centre starts this far outside the entry point
+  double depthMm = 10.0;   // and is pushed to this far past it (the entry is on the surface)
+  double pushS = 1.0;      // at constant speed over this long, then held
+  double drillOnS = 5.0;   // the drill off until here, then on
   double durationS = 7.0;
 };
 
@@ -55,8 +55,8 @@ struct TremorOptions {
   // 1-9 Hz, the lower the larger (a hand's drift under its physiological tremor).
   double frequenciesHz[4] = {1.0, 3.0, 5.5, 9.0};
   double weights[4] = {0.4, 0.3, 0.2, 0.1};  // of the amplitudes; sum to 1
-  unsigned seed = 31;                         // the phases (std::mt19937's raw output)
-  double sampleS = 0.002;                     // waypoint spacing
+  unsigned seed = 31;                        // the phases (std::mt19937's raw output)
+  double sampleS = 0.002;                    // waypoint spacing
 };
 
 // A hand's path: `base` (e.g. a portal path) with a tremor of sines on top, its tip displaced
