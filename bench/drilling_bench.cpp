@@ -2,7 +2,8 @@
 //                       [--motions | --motions-only] [--tilts DEG,DEG...] [--cutting-refine-only]
 //                       [--refine-budget VOXELS] [--dynamic-only]
 //                       [--query-slice NODES] [--standby on|off|both] [--repeat N]
-//                       [--cpu-stalls S]:
+//                       [--cpu-stalls S] [--coupling proxy|direct|both]
+//                       [--motion-set tilt|lateral|push|tremor|fast|all]:
 // the drilling figures of
 // docs/performance.md.
 //   1. Haptic step (refinement + contact force + removal) on both portals of the built-in
@@ -25,6 +26,11 @@
 //      max 1 ms step, jitter, step p99 and max, steps at the clamp, refinement deferred.
 //      --cutting-refine-only refines around the cutting parts alone (as the seed), to compare;
 //      --refine-budget sets DrillingOptions::refineBudgetVoxels (0: no limit).
+//      --coupling (default both) runs each motion through the proxy coupling, directly (the
+//      tool where the path puts it), or both; either way through stepHaptic, the one haptic
+//      step every run mode takes, and the step time is the coupling's and the drilling's.
+//      --motion-set picks one family: tilt sweeps, lateral sweeps, the push into intact bone
+//      (drill off 5 s, then on), the tremor path, or the fast pushes and jumps.
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/motions.h"
@@ -58,13 +64,21 @@ namespace {
 bool gRefineShells = true;
 bool gDynamicOnly = false;  // --dynamic-only: the motions at 1.2 mm / 2 levels alone
 std::size_t gRefineBudget = DrillingOptions{}.refineBudgetVoxels;
+std::vector<CouplingMode> gCouplings = {CouplingMode::Proxy, CouplingMode::Direct};
+std::string gMotionSet = "all";
+bool wanted(const char* family) {
+  return gMotionSet == "all" || gMotionSet == family;
+}
 
 // A session on the built-in humerus; sessions of one voxel size share their bone.
 Session makeSession(const std::shared_ptr<const BoneModel>& bone, int levels,
                     double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
-                    std::size_t querySliceNodes = DrillingOptions{}.querySliceNodes) {
+                    std::size_t querySliceNodes = DrillingOptions{}.querySliceNodes,
+                    CouplingMode coupling = CouplingMode::Direct, ToolKind tool = ToolKind::Drill) {
   SessionOptions options;
   options.levels = levels;
+  options.coupling = coupling;
+  options.tool = tool;
   options.drilling.querySkinVoxels = querySkinVoxels;
   options.drilling.querySliceNodes = querySliceNodes;
   options.drilling.refineShells = gRefineShells;
@@ -263,9 +277,12 @@ void cpuStalls(double seconds) {
 
 // The motions a hand makes beyond the seed's straight paths (motions.h), each at static
 // 0.3 mm, static 1.2 mm and dynamic 1.2 mm / 2 levels: a tilt sweep of 0-75 degrees on both
-// portals, a lateral shaving sweep with each tool, a fast push. Per run: the largest 1 ms
-// change of |F|, the jitter, the step's p99 and max, the steps at the clamp, and the shell
-// refinement the budget spread over later steps (steps, voxel-steps).
+// portals, a lateral shaving sweep with each tool, a push into intact bone with the drill off
+// then on, a hand's tremor on the portal paths, fast pushes and jumps; each under the couplings
+// asked for. Per run, of the force sent to the device: the largest 1 ms change of |F|, the
+// jitter; the step's (coupling + drilling) p99 and max; the largest proxy-to-command gap, the
+// steps at the clamp, and the shell refinement the budget spread over later steps (steps,
+// voxel-steps).
 void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_ptr<const BoneModel>& bone03,
              const std::vector<double>& tilts) {
   struct Config {
@@ -278,8 +295,11 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
   if (getloadavg(load, 3) < 0) load[0] = -1.0;
   std::printf("\nmotions (deterministic, one thread), built-in humerus; load average at start %.2f %.2f %.2f\n", load[0],
               load[1], load[2]);
-  std::printf("| motion | case | max 1 ms step N | jitter N | p50 us | p99 us | max us | CPU p50 / p99 / max us | steps at clamp | deferred steps / voxel-steps | pool full | refined at end |\n");
-  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| motion | coupling | case | max 1 ms step N | jitter N | p50 us | p99 us | max us | CPU "
+      "p50 / p99 / max us | largest gap mm | steps at clamp | deferred steps / voxel-steps | pool "
+      "full | refined at end | removed mm3 |\n");
+  std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   // The thread's CPU time from one step's end to the next (the step and the runner's few
   // bookkeeping lines): on a shared machine the wall-clock p99 counts the 4 ms slices the
   // scheduler gives to others; this does not.
@@ -301,41 +321,57 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
   const auto report = [&cpuUs](const std::string& motion, const Config& c, Session& session, const RunResult& r) {
     const RunSummary& s = r.summary;
     const Percentiles cpu = percentilesOf(cpuUs);
-    const double maxForceN = session.simulation().tool().maxForceN;
-    std::size_t clamped = 0;
-    for (const ForceLogRow& row : r.log) clamped += row.magnitudeN >= maxForceN - 1e-9 ? 1 : 0;
-    std::printf("| %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %zu | %llu / %llu | %llu | %zu |\n",
-                motion.c_str(), c.name, s.maxStepChangeN, s.jitterN, s.hapticStepUs.p50, s.hapticStepUs.p99,
-                s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max, clamped,
-                (unsigned long long)s.totals.stepsDeferred, (unsigned long long)s.totals.voxelsDeferred,
-                (unsigned long long)s.totals.refinePoolExhausted, session.simulation().voxels().refinedCount());
+    std::printf(
+        "| %s | %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %.3f | %llu | "
+        "%llu / %llu | %llu | %zu | %.1f |\n",
+        motion.c_str(), couplingModeName(s.coupling), c.name, s.maxStepChangeN, s.jitterN,
+        s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max,
+        s.maxGapMm, (unsigned long long)s.clampSteps, (unsigned long long)s.totals.stepsDeferred,
+        (unsigned long long)s.totals.voxelsDeferred,
+        (unsigned long long)s.totals.refinePoolExhausted,
+        session.simulation().voxels().refinedCount(), s.removedVolumeMm3);
     std::fflush(stdout);
+  };
+  // Every run: a fresh session per coupling and case, the path made on it.
+  const auto each = [&](const char* family, ToolKind tool, auto&& makePath, auto&& name) {
+    if (!wanted(family)) return;
+    for (const CouplingMode coupling : gCouplings) {
+      for (const Config& c : configs) {
+        if (gDynamicOnly && c.levels == 0) continue;
+        Session session = makeSession(*c.bone, c.levels, DrillingOptions{}.querySkinVoxels,
+                                      DrillingOptions{}.querySliceNodes, coupling, tool);
+        const DrillPath path = makePath(session);
+        const RunResult r = run(session, path);
+        report(name(), c, session, r);
+      }
+    }
   };
   for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
     for (const double tilt : tilts) {
-      for (const Config& c : configs) {
-        if (gDynamicOnly && c.levels == 0) continue;
-        Session session = makeSession(*c.bone, c.levels);
-        PortalPathOptions po;
-        po.tiltDeg = tilt;
-        const RunResult r = run(session, session.portalPath(portal, po).path);
-        report(std::string(portalName(portal)) + " tilt " + std::to_string(int(tilt)), c, session, r);
-      }
+      PortalPathOptions po;
+      po.tiltDeg = tilt;
+      each(
+          "tilt", ToolKind::Drill, [&](Session& s) { return s.portalPath(portal, po).path; },
+          [&] { return std::string(portalName(portal)) + " tilt " + std::to_string(int(tilt)); });
     }
   }
   for (const ToolKind tool : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
-    for (const Config& c : configs) {
-      if (gDynamicOnly && c.levels == 0) continue;
-      SessionOptions options;
-      options.levels = c.levels;
-      options.tool = tool;
-      options.keepSurface = false;
-      options.drilling.refineShells = gRefineShells;
-      options.drilling.refineBudgetVoxels = gRefineBudget;
-      Session session(*c.bone, options);
-      const RunResult r = run(session, lateralSweepPath(session.portalPath(Portal::FiveOClock)));
-      report(std::string("lateral sweep, ") + toolKindName(tool), c, session, r);
-    }
+    each(
+        "lateral", tool,
+        [&](Session& s) { return lateralSweepPath(s.portalPath(Portal::FiveOClock)); },
+        [&] { return std::string("lateral sweep, ") + toolKindName(tool); });
+  }
+  // Into intact bone at portal 5's entry, 10 mm past the surface, the drill off 5 s then on 2 s.
+  each(
+      "push", ToolKind::Drill,
+      [&](Session& s) { return intactPushPath(s.portalPath(Portal::FiveOClock)); },
+      [] { return std::string("push, drill off 5 s then on 2 s"); });
+  // A hand's tremor (1-9 Hz, 0.3 mm, 3 degrees) on both portal paths.
+  for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
+    each(
+        "tremor", ToolKind::Drill,
+        [&](Session& s) { return tremorPath(s.portalPath(portal).path); },
+        [&] { return std::string("tremor on ") + portalName(portal); });
   }
   // Pushed fast along the portal, the tool upright and tilted both ways: the shaft meets new
   // bone along its length at once, more than one step's refinement budget.
@@ -343,21 +379,23 @@ void motions(const std::shared_ptr<const BoneModel>& bone12, const std::shared_p
   // refinement budget spreads over the following steps.
   for (const double pushS : {0.1, 0.001}) {
     for (const double tilt : {0.0, 60.0, -40.0}) {
-      for (const Config& c : configs) {
-        if (gDynamicOnly && c.levels == 0) continue;
-        Session session = makeSession(*c.bone, c.levels);
-        PortalPathOptions po;
-        po.tiltDeg = tilt;
-        FastPushOptions fo;
-        fo.pushS = pushS;
-        const RunResult r = run(session, fastPushPath(session.portalPath(Portal::FiveOClock, po), fo));
-        char name[96];
-        std::snprintf(name, sizeof name, "%s (6 mm in %g ms), tilt %d", pushS < 0.01 ? "jump" : "fast push",
-                      pushS * 1000.0, int(tilt));
-        report(name, c, session, r);
-      }
+      PortalPathOptions po;
+      po.tiltDeg = tilt;
+      FastPushOptions fo;
+      fo.pushS = pushS;
+      each(
+          "fast", ToolKind::Drill,
+          [&](Session& s) { return fastPushPath(s.portalPath(Portal::FiveOClock, po), fo); },
+          [&] {
+            char name[96];
+            std::snprintf(name, sizeof name, "%s (6 mm in %g ms), tilt %d",
+                          pushS < 0.01 ? "jump" : "fast push", pushS * 1000.0, int(tilt));
+            return std::string(name);
+          });
     }
   }
+  if (getloadavg(load, 3) < 0) load[0] = -1.0;
+  std::printf("load average at end %.2f %.2f %.2f\n", load[0], load[1], load[2]);
 }
 
 }  // namespace
@@ -368,7 +406,7 @@ int main(int argc, char** argv) {
   std::size_t slices = DrillingOptions{}.querySliceNodes;
   bool haptic = true;
   bool withMotions = false, motionsOnly = false;
-  std::vector<double> tilts = {0, 15, 30, 40, 45, 60, 75};
+  std::vector<double> tilts = {0, 20, 40, 60, 75, -40, -60};
   std::vector<bool> standbyModes = {true};
   int rounds = 1;
   for (int i = 1; i < argc; ++i) {
@@ -381,6 +419,18 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--dynamic-only") == 0) gDynamicOnly = true;
     if (std::strcmp(argv[i], "--refine-budget") == 0 && i + 1 < argc) gRefineBudget = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--motions-only") == 0) withMotions = motionsOnly = true;
+    if (std::strcmp(argv[i], "--motion-set") == 0 && i + 1 < argc) gMotionSet = argv[i + 1];
+    if (std::strcmp(argv[i], "--coupling") == 0 && i + 1 < argc) {
+      const std::string mode = argv[i + 1];
+      if (mode == "both") {
+        gCouplings = {CouplingMode::Proxy, CouplingMode::Direct};
+      } else if (mode == "proxy" || mode == "direct") {
+        gCouplings = {parseCouplingMode(mode)};
+      } else {
+        std::fprintf(stderr, "--coupling %s: not proxy, direct or both\n", mode.c_str());
+        return 2;
+      }
+    }
     if (std::strcmp(argv[i], "--tilts") == 0 && i + 1 < argc) {
       // Comma-separated degrees, e.g. 40,60.
       tilts.clear();

@@ -80,6 +80,8 @@ json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const
           {"coupling", sim::couplingModeName(s.coupling)},
           {"max_gap_mm", s.maxGapMm},
           {"clamp_steps", s.clampSteps},
+          {"refine_steps_deferred", s.totals.stepsDeferred},
+          {"refine_voxels_deferred", s.totals.voxelsDeferred},
           {"max_step_change_n", s.maxStepChangeN},
           {"max_force_n", s.maxForceN},
           {"removed_volume_mm3", s.removedVolumeMm3},

@@ -21,6 +21,7 @@
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/motions.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 #include "support/shapes.h"
@@ -459,22 +460,26 @@ PushResult pushIntoBone(double voxelMm, int levels) {
   r.componentsBefore =
       geometry::analyzeTopology(s.multiResolutionSurface().toTriangleMesh()).components;
   const PortalPlan plan = s.portalPath(Portal::FiveOClock);
+  // The path the drilling bench pushes too (motions.h): along the inward normal at the entry.
+  const IntactPushOptions po;
+  const DrillPath path = intactPushPath(plan, po);
   const glm::dvec3 in = -plan.normal;
-  const glm::dvec3 start = plan.entryMm - 6.0 * in;
+  const glm::dvec3 start = plan.entryMm - po.outsideMm * in;
   const double hit = rayHitMm(*s.bone().mesh(), start, in);
   EXPECT_GT(hit, 0.0);
   const glm::dvec3 surface = start + hit * in;
   const ToolPart& tip = s.simulation().tool().parts[0];
   ProxyCoupling c(s.simulation());
   glm::dvec3 prevF(0.0);
-  std::vector<double> stepUs;         // reported, not asserted (a shared machine)
-  const double pushEnd = hit + 10.0;  // the tip's centre 10 mm past the surface
+  std::vector<double> stepUs;  // reported, not asserted (a shared machine)
   for (int i = 0; i <= 7000; ++i) {
     const double t = 0.001 * i;
-    const double along = std::min(1.0, t / 1.0) * pushEnd;
-    const bool on = t >= 5.0;
+    StepInput input;
+    input.tS = t;
+    path.sample(t, input.pose, input.drillOn);
+    const bool on = input.drillOn;
     const auto began = std::chrono::steady_clock::now();
-    const HapticStep h = c.step({t, ToolPose::pointing(start + along * in, in), on});
+    const HapticStep h = c.step(input);
     stepUs.push_back(
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - began)
             .count());

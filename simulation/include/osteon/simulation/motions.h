@@ -33,4 +33,35 @@ struct FastPushOptions {
 // The tool pushed fast along the plan's direction into the bone and held there.
 DrillPath fastPushPath(const PortalPlan& plan, const FastPushOptions& options = {});
 
+struct IntactPushOptions {
+  double outsideMm = 6.0;  // the tip's centre starts this far outside the entry point
+  double depthMm = 10.0;   // and is pushed to this far past it (the entry is on the surface)
+  double pushS = 1.0;      // at constant speed over this long, then held
+  double drillOnS = 5.0;   // the drill off until here, then on
+  double durationS = 7.0;
+};
+
+// A push into intact bone with the drill off, then on: the tool pointing along the inward
+// normal at the portal's entry, pushed from outsideMm outside to depthMm past the surface and
+// held; the drill turns on at drillOnS (off at that instant, on from the next step). Under
+// proxy coupling the bone stops the tool until the drill cuts its way in from the surface.
+DrillPath intactPushPath(const PortalPlan& plan, const IntactPushOptions& options = {});
+
+struct TremorOptions {
+  // Per axis, the sines' amplitudes sum to these: at most amplitudeMm along each of the three
+  // axes, and at most amplitudeDeg about each of the two axes across the shaft (about the tip).
+  double amplitudeMm = 0.3;
+  double amplitudeDeg = 3.0;
+  // 1-9 Hz, the lower the larger (a hand's drift under its physiological tremor).
+  double frequenciesHz[4] = {1.0, 3.0, 5.5, 9.0};
+  double weights[4] = {0.4, 0.3, 0.2, 0.1};  // of the amplitudes; sum to 1
+  unsigned seed = 31;                        // the phases (std::mt19937's raw output)
+  double sampleS = 0.002;                    // waypoint spacing
+};
+
+// A hand's path: `base` (e.g. a portal path) with a tremor of sines on top, its tip displaced
+// and the tool turned about its tip; the drill as `base` has it. The same seed gives the same
+// path bit for bit.
+DrillPath tremorPath(const DrillPath& base, const TremorOptions& options = {});
+
 }  // namespace osteon::simulation
