@@ -14,13 +14,27 @@ void* counted(std::size_t size) {
 }
 }  // namespace
 
-// Out of line, so the compiler does not pair an inlined malloc with the library's delete.
+// Out of line, so the compiler does not pair an inlined malloc with the library's delete. Every
+// form that pairs with the plain delete (nothrow too: std::stable_sort's buffer) is replaced,
+// or a sanitizer sees its own operator new freed by this free.
 __attribute__((noinline)) void* operator new(std::size_t size) { return counted(size); }
 __attribute__((noinline)) void* operator new[](std::size_t size) { return counted(size); }
+__attribute__((noinline)) void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return counted(size);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+__attribute__((noinline)) void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  return operator new(size, std::nothrow);
+}
 __attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
 __attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 __attribute__((noinline)) void operator delete[](void* p) noexcept { std::free(p); }
 __attribute__((noinline)) void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace osteon::test {
 std::uint64_t allocations() { return gAllocations.load(std::memory_order_relaxed); }
