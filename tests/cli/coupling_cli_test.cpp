@@ -12,8 +12,10 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/io/mesh_io.h"
+#include "osteon/simulation/motions.h"
 #include "support/cli_fixture.h"
 
 namespace osteon {
@@ -29,31 +31,22 @@ std::string firstLine(const std::string& text) {
   return text.substr(0, text.find('\n'));
 }
 
-glm::dvec3 vec(const json& j) {
-  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
-}
-
-// The push path at portal 5's entry: from 6 mm outside to the tip's centre 10 mm inside along
-// the inward normal in 1 s, held there, the drill on from 5 s to 7 s.
-std::string pushCsv(const glm::dvec3& entryMm, const glm::dvec3& headCentreMm) {
-  const glm::dvec3 in = glm::normalize(headCentreMm - entryMm);
-  // The tool's -z onto `in` by the shortest arc (ToolPose::pointing).
-  const glm::dvec3 from(0.0, 0.0, -1.0), axis = glm::cross(from, in);
-  const double c = glm::dot(from, in);
-  const double qn = std::sqrt((1.0 + c) * (1.0 + c) + glm::dot(axis, axis));
+// The push path the coupling tests and the drilling bench drive (simulation::intactPushPath)
+// at portal 5's entry on the built-in humerus (`default`): from 6 mm outside to the tip's
+// centre 10 mm inside along the inward normal in 1 s, held there, the drill on from 5 s to 7 s.
+std::string pushCsv() {
+  const geometry::HumerusModel model = geometry::buildHumerusModel();
+  const simulation::PortalPlan plan = simulation::makePortalPath(
+      simulation::Portal::FiveOClock, simulation::fitHumeralHead(model.mesh), model.mesh, 1.5);
   std::ostringstream s;
-  s.precision(9);
+  s.precision(17);
   s << "t,x,y,z,drill_on,qw,qx,qy,qz\n";
-  const auto row = [&](double t, double alongMm, int on) {
-    const glm::dvec3 p = entryMm + alongMm * in;
-    s << t << "," << p.x << "," << p.y << "," << p.z << "," << on << "," << (1.0 + c) / qn << ","
-      << axis.x / qn << "," << axis.y / qn << "," << axis.z / qn << "\n";
-  };
-  row(0.0, -6.0, 0);
-  row(1.0, 10.0, 0);
-  row(4.999, 10.0, 0);
-  row(5.0, 10.0, 1);
-  row(7.0, 10.0, 1);
+  const simulation::DrillPath push = simulation::intactPushPath(plan);
+  for (const simulation::Waypoint& w : push.points()) {
+    s << w.tS << "," << w.tipMm.x << "," << w.tipMm.y << "," << w.tipMm.z << ","
+      << (w.drillOn ? 1 : 0) << "," << w.orientation.w << "," << w.orientation.x << ","
+      << w.orientation.y << "," << w.orientation.z << "\n";
+  }
   return s.str();
 }
 
@@ -67,8 +60,7 @@ TEST_F(CliTest, AProxyThatBoneStopsDrillsAHoleFromTheSurface) {
   EXPECT_EQ(firstLine(test::readBytes(path("portal/forces.csv"))),
             "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
 
-  test::writeBytes(path("push.csv"),
-                   pushCsv(vec(p["path"]["entry_mm"]), vec(p["path"]["head_centre_mm"])));
+  test::writeBytes(path("push.csv"), pushCsv());
   const CliRun proxy =
       osteon("drill default --path " + quoted(path("push.csv")) + common + quoted(path("proxy")));
   ASSERT_EQ(proxy.exitCode, 0) << proxy.err;
@@ -113,11 +105,7 @@ TEST_F(CliTest, AProxyThatBoneStopsDrillsAHoleFromTheSurface) {
 // again, and the replay gives the device run's force log byte for byte.
 TEST_F(CliTest, DevicesAndReplaysRunThroughTheProxyThenTheSafetyLayer) {
   const std::string common = " --voxel-size 1.2 --levels 2 --json --out-dir ";
-  const CliRun portal = osteon("drill default --path portal-5" + common + quoted(path("portal")));
-  ASSERT_EQ(portal.exitCode, 0) << portal.err;
-  const json p = json::parse(portal.out);
-  test::writeBytes(path("push.csv"),
-                   pushCsv(vec(p["path"]["entry_mm"]), vec(p["path"]["head_centre_mm"])));
+  test::writeBytes(path("push.csv"), pushCsv());
 
   const CliRun device =
       osteon("drill default --device scripted:" + quoted(path("push.csv")) + " --record " +
