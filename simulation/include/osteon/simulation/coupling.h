@@ -70,6 +70,9 @@ struct CouplingOptions {
   // up to a sample (0.3 mm); the hand feels each as a slope of at most k x this speed
   // (0.025 N per ms at the defaults), not a step. Off the bone the anchor is the proxy.
   double anchorSpeedMmPerS = 50.0;
+  // The contact force's fastest change (N/s): 0.03 N per 1 ms step, so that with the anchor's
+  // slope the force sent never steps by 0.1 N in a step.
+  double contactSlewNPerS = 30.0;
   // The friction cone of the slide (Melder & Harwin's god-object with friction): of the motion
   // left along the contact plane, the part within mu x the push into the bone is held. Without
   // it a contact normal a degree off, times a gap of millimetres, slides the proxy about in a
@@ -148,11 +151,12 @@ class ProxyCoupling {
   struct PartCandidates {
     std::vector<Candidate> samples;  // reserved once
     bool complete = true;            // false: more than capacity, walk at each test
-    double allowance = 0.0;          // bone already inside at the sub-move's start
+    double allowance = 0.0;          // fill-weighted depth already inside at the sub-move's start
   };
   struct MoveResult {
     bool blocked = false;
     glm::dvec3 normal{0.0};  // outward from the bone at the block (unit, or zero)
+    glm::dvec3 blockingNormal{0.0};  // outward from the samples that block (unit, or zero)
   };
 
   // Moves proxy_ toward `to` as far as admissible; with `slide`, then along the contact plane.
@@ -161,8 +165,14 @@ class ProxyCoupling {
   // part has any (the sub-move is free).
   bool gather(const ToolPose& from, double reachMm);
   bool admissible(const ToolPose& pose);
+  // Fill-weighted depth (fill x mm) of the bone inside part's inner layer at pose.
   double insideFill(const ToolPose& pose, int part);
+  double walkedPenetration(const ToolPose& pose, int part);
   glm::dvec3 outwardNormal(const ToolPose& pose) const;
+  // The outward normal of the samples that entered a part's inner layer between lo and hi.
+  glm::dvec3 blockingNormal(const ToolPose& lo, const ToolPose& hi) const;
+  // Slides proxy_ toward `to` over up to 3 constraint planes, the first `firstNormal`.
+  void slide(const ToolPose& to, const glm::dvec3& firstNormal);
   double displacementBoundMm(const ToolPose& a, const ToolPose& b) const;
 
   DrillingSimulation* sim_;
@@ -179,6 +189,7 @@ class ProxyCoupling {
   double lastS_ = 0.0;
   double cutAdvanceMm_ = 0.0;
   glm::dvec3 anchorMm_{0.0};
+  glm::dvec3 contactForceN_{0.0};  // the slew-limited contact force
   glm::dvec3 lastGapMm_{0.0}, gapRate_{0.0};
   glm::dvec3 lastTwistRad_{0.0}, twistRate_{0.0};
   CouplingTotals totals_;
