@@ -7,16 +7,19 @@
 // Rules, each 1 ms step, given the commanded pose and drillOn:
 // - Admissible pose: no bone sample (a level-0 voxel or refined sub-voxel with fill) has its
 //   centre inside any part's inner layer; the cushion (inner..outer) may hold bone, as it does
-//   in contact. A pose that already held bone (a pose started in bone, or samples a refinement
-//   split) may keep what it holds but take in no more. While the drill cuts a cushion's
-//   advance a ahead, the cutting part's layer is tested at sqrt(r_i^2 - a^2): the cut sphere
+//   in contact. No part moves further into bone: a move may not deepen the fill-weighted depth
+//   of the bone inside the parts' inner layers, so a pose that touches or holds samples (a hole
+//   cut off the tool's axis, samples a refinement split) may move along or out of them.
+//   While the drill cuts a cushion's advance a ahead, the cutting part's layer is tested at sqrt(r_i^2 - a^2): the cut sphere
 //   then holds every sample the proxy's front could meet, so no ring of bone at the hole's
 //   rim, beside the cut, stops the tool (a cutting part's layer may hold bone up to r_i there).
 // - The proxy moves along lerp(position)/slerp(orientation) from where it was to the command,
 //   to the furthest admissible pose (sub-moves no longer than half the thinnest part, so thin
 //   bone is not jumped, then a fixed count of bisections), then slides: the motion left is
 //   projected on the contact plane, less a friction cone, and moved along the same way, so it
-//   does not stick.
+//   does not stick. Drawn back with the drill off (the command behind the proxy along its
+//   axis), the slide uses the planes of the samples that block the move instead, up to 3 (the
+//   motion left projected on two planes' line), so the tool backs out the way its hole goes.
 // - In free space it reaches the command exactly. Into bone it moves no faster than the feed
 //   limit (CouplingOptions::maxFeedMmPerS).
 // - The drill on, DrillingSimulation::step runs at the proxy advanced toward the command by at
@@ -24,8 +27,8 @@
 //   the tip eats its way in as the density decrements; the drill off, it runs at the proxy and
 //   nothing is removed.
 // - Force to the device = k (anchor - command) + b d/dt(anchor - command) + the contact force
-//   of the step (seed 3.5, eqs. 1-2), clamped to N_max; the anchor is the proxy's position,
-//   rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at contact
+//   of the step (seed 3.5, eqs. 1-2, slew-limited), clamped to N_max; the anchor is the proxy's
+//   position, rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at contact
 //   onset and release: the gap grows from zero and the gap rate is low-passed.
 // - step() allocates nothing, locks nothing, throws nothing.
 #pragma once
