@@ -10,7 +10,8 @@
 //   in contact. No part moves further into bone: a move may not deepen the fill-weighted depth
 //   of the bone inside the parts' inner layers, so a pose that touches or holds samples (a hole
 //   cut off the tool's axis, samples a refinement split) may move along or out of them.
-//   While the drill cuts a cushion's advance a ahead, the cutting part's layer is tested at sqrt(r_i^2 - a^2): the cut sphere
+//   While the drill cuts a cushion's advance a ahead, the cutting part's layer is tested at
+//   sqrt(r_i^2 - a^2): the cut sphere
 //   then holds every sample the proxy's front could meet, so no ring of bone at the hole's
 //   rim, beside the cut, stops the tool (a cutting part's layer may hold bone up to r_i there).
 // - The proxy moves along lerp(position)/slerp(orientation) from where it was to the command,
@@ -28,7 +29,8 @@
 //   nothing is removed.
 // - Force to the device = k (anchor - command) + b d/dt(anchor - command) + the contact force
 //   of the step (seed 3.5, eqs. 1-2, slew-limited), clamped to N_max; the anchor is the proxy's
-//   position, rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at contact
+//   position, rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at
+//   contact
 //   onset and release: the gap grows from zero and the gap rate is low-passed.
 // - step() allocates nothing, locks nothing, throws nothing.
 #pragma once
