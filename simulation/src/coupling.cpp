@@ -32,6 +32,7 @@ void validateCouplingOptions(const CouplingOptions& o) {
   positive(o.stiffnessNPerMm, "coupling stiffness (N/mm)");
   positive(o.virtualMassKg, "coupling virtual mass (kg)");
   positive(o.rotationalStiffnessNmmPerRad, "coupling rotational stiffness (N mm/rad)");
+  positive(o.contactSlewNPerS, "coupling contact slew (N/s)");
   positive(o.rotationalInertiaKgMm2, "coupling rotational inertia (kg mm^2)");
   positive(o.rateFilterS, "coupling rate filter (s)");
   positive(o.cutRampS, "coupling cut ramp (s)");
@@ -128,6 +129,7 @@ void ProxyCoupling::reset(const ToolPose& pose) {
   started_ = true;
   cutAdvanceMm_ = 0.0;
   anchorMm_ = pose.tipMm;
+  contactForceN_ = glm::dvec3(0.0);
   lastGapMm_ = gapRate_ = glm::dvec3(0.0);
   lastTwistRad_ = twistRate_ = glm::dvec3(0.0);
 }
@@ -179,8 +181,8 @@ bool ProxyCoupling::gather(const ToolPose& from, double reachMm) {
         },
         [&](const geometry::VoxelSample& s) {
           if (s.fill == 0) return;
-          if (distance2ToSegment(s.centreMm, a, ab, invLen2) <= inner2)
-            pc.allowance += double(s.fill);
+          const double d2 = distance2ToSegment(s.centreMm, a, ab, invLen2);
+          if (d2 <= inner2) pc.allowance += double(s.fill) * (admit - std::sqrt(d2));
           if (pc.samples.size() < pc.samples.capacity()) {
             pc.samples.push_back({s.centreMm, double(s.fill)});
           } else {
@@ -196,7 +198,7 @@ double ProxyCoupling::insideFill(const ToolPose& pose, int part) {
   const PartCandidates& pc = candidates_[std::size_t(part)];
   if (!pc.complete) {
     ++totals_.slowTests;
-    return boneInsideInnerLayer(pose, part, admitRadiusMm_[std::size_t(part)]);
+    return walkedPenetration(pose, part);
   }
   const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
   const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
@@ -206,20 +208,78 @@ double ProxyCoupling::insideFill(const ToolPose& pose, int part) {
   const double inner2 = admitRadiusMm_[std::size_t(part)] * admitRadiusMm_[std::size_t(part)];
   double fill = 0.0;
   for (const Candidate& c : pc.samples) {
-    if (distance2ToSegment(c.centreMm, a, ab, invLen2) <= inner2) fill += c.fill;
+    const double d2 = distance2ToSegment(c.centreMm, a, ab, invLen2);
+    if (d2 <= inner2) fill += c.fill * (admitRadiusMm_[std::size_t(part)] - std::sqrt(d2));
   }
   return fill;
 }
 
 bool ProxyCoupling::admissible(const ToolPose& pose) {
+  // No part moves further into bone: the fill-weighted depth of the bone inside the parts'
+  // inner layers may not grow. A pose that touches or holds a sample (after a cut off the
+  // tool's axis, or a refinement split) may then move on along it or out of it; a count of
+  // samples held would refuse a move that brushes one more while leaving another.
   const Tool& tool = sim_->tool();
+  double depth = 0.0, allowance = 0.0;
   for (int p = 0; p < tool.partCount; ++p) {
     const PartCandidates& pc = candidates_[std::size_t(p)];
     if (pc.samples.empty()) continue;
-    // Half a fill unit: fills are whole numbers, sums of them exact in a double.
-    if (insideFill(pose, p) > pc.allowance + 0.5) return false;
+    depth += insideFill(pose, p);
+    allowance += pc.allowance;
   }
-  return true;
+  // A millionth of a full finest sample's millimetre: the sums' rounding, not a sinking.
+  return depth <= allowance + 1e-6 * (1.0 + allowance);
+}
+
+double ProxyCoupling::walkedPenetration(const ToolPose& pose, int part) {
+  const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
+  const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  const double r = admitRadiusMm_[std::size_t(part)];
+  double depth = 0.0;
+  sim_->voxels().forEachSampleNearSegment(
+      a, b, r,
+      [&](const glm::dvec3& c, double h) {
+        const double far = r + h;
+        return distance2ToSegment(c, a, ab, invLen2) <= far * far;
+      },
+      [&](const geometry::VoxelSample& s) {
+        const double d2 = distance2ToSegment(s.centreMm, a, ab, invLen2);
+        if (s.fill != 0 && d2 <= r * r) depth += double(s.fill) * (r - std::sqrt(d2));
+      });
+  return depth;
+}
+
+glm::dvec3 ProxyCoupling::blockingNormal(const ToolPose& lo, const ToolPose& hi) const {
+  // The constraint plane of this block: the samples the move's end takes deeper into a part's
+  // inner layer than its start (the ones that stop it), each pushing from its centre toward
+  // the part's core. A normal averaged over the whole shell points out of a hole cut a little
+  // off the tool's axis, and the slide along it never clears the one sample on the wall.
+  const Tool& tool = sim_->tool();
+  glm::dvec3 sum(0.0);
+  for (int p = 0; p < tool.partCount; ++p) {
+    const ToolPart& part = tool.parts[std::size_t(p)];
+    const glm::dvec3 la = lo.toWorld(part.aMm), lb = lo.toWorld(part.bMm);
+    const glm::dvec3 ha = hi.toWorld(part.aMm), hb = hi.toWorld(part.bMm);
+    const glm::dvec3 lab = lb - la, hab = hb - ha;
+    const double lLen2 = glm::dot(lab, lab), hLen2 = glm::dot(hab, hab);
+    const double lInv = lLen2 > 0.0 ? 1.0 / lLen2 : 0.0, hInv = hLen2 > 0.0 ? 1.0 / hLen2 : 0.0;
+    const double r = admitRadiusMm_[std::size_t(p)], r2 = r * r;
+    for (const Candidate& c : candidates_[std::size_t(p)].samples) {
+      glm::dvec3 toCore;
+      const double dh2 = distance2ToSegment(c.centreMm, ha, hab, hInv, &toCore);
+      if (dh2 > r2 || !(dh2 > 0.0)) continue;
+      // Deeper at hi than at lo (or newly inside): weighted by how much deeper.
+      const double dl = std::min(r, std::sqrt(distance2ToSegment(c.centreMm, la, lab, lInv)));
+      const double dh = std::sqrt(dh2);
+      if (!(dh < dl)) continue;
+      sum += (c.fill * (dl - dh) / dh) * toCore;
+    }
+  }
+  const double len = glm::length(sum);
+  return len > 0.0 && std::isfinite(len) ? sum / len : outwardNormal(hi);
 }
 
 glm::dvec3 ProxyCoupling::outwardNormal(const ToolPose& pose) const {
@@ -283,11 +343,35 @@ ProxyCoupling::MoveResult ProxyCoupling::constrainedMove(const ToolPose& to) {
     proxy_ = interpolate(from, to, lo);
     result.blocked = true;
     result.normal = outwardNormal(interpolate(from, to, hi));
+    result.blockingNormal = blockingNormal(interpolate(from, to, lo), interpolate(from, to, hi));
     return result;
   }
   proxy_ = interpolate(from, to, t0);
   if (t0 < 1.0) ++totals_.lagSteps;
   return result;
+}
+
+void ProxyCoupling::slide(const ToolPose& to, const glm::dvec3& firstNormal) {
+  // The god-object's slide over up to 3 constraint planes (Zilles & Salisbury; CHAI3D): along
+  // the first plane; blocked again, along the line where it meets the second; a third block
+  // is a corner and holds the proxy. Each plane is that block's own (blockingNormal).
+  if (!(displacementBoundMm(proxy_, to) > 1e-6)) return;
+  const MoveResult second = constrainedMove(to);
+  if (!second.blocked || second.blockingNormal == glm::dvec3(0.0)) return;
+  const glm::dvec3 rest = to.tipMm - proxy_.tipMm;
+  glm::dvec3 next(0.0);
+  const glm::dvec3 line = glm::cross(firstNormal, second.blockingNormal);
+  const double lineLen = glm::length(line);
+  if (lineLen > 1e-3) {
+    const glm::dvec3 u = line / lineLen;
+    next = glm::dot(rest, u) * u;
+  } else {
+    // The same plane again (a curved wall): along it once more.
+    const double into = glm::dot(rest, second.blockingNormal);
+    if (into < 0.0) next = rest - into * second.blockingNormal;
+  }
+  const ToolPose along{proxy_.tipMm + next, to.orientation};
+  if (displacementBoundMm(proxy_, along) > 1e-6) constrainedMove(along);
 }
 
 HapticStep ProxyCoupling::step(const StepInput& commanded) {
@@ -329,7 +413,22 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
     const glm::dvec3 along = rest - into * move.normal;
     const double alongMm = glm::length(along);
     const double heldMm = options_.frictionCoefficient * std::max(0.0, -into);
-    if (into < 0.0 && alongMm > heldMm) {
+    // Drawn back with the drill off (the command behind the proxy along the tool's axis), the
+    // samples that block are not where the shell's plane says: a sample on the wall of a hole
+    // cut off the tool's axis (or split by refinement) while the motion leaves the bone as a
+    // whole. Slide over their own planes, up to 3, so the tool backs out the way the hole
+    // goes. Pushed in, or cutting, along the shell's plane as before.
+    const bool drawnBack = glm::dot(rest, proxy_.forward()) < 0.0;
+    if (drawnBack && !commanded.drillOn) {
+      const glm::dvec3 nb = move.blockingNormal;
+      const double intoB = glm::dot(rest, nb);
+      const glm::dvec3 alongB = rest - intoB * nb;
+      const double alongBMm = glm::length(alongB);
+      const double heldBMm = options_.frictionCoefficient * std::max(0.0, -intoB);
+      if (intoB < 0.0 && alongBMm > heldBMm)
+        slide({proxy_.tipMm + (1.0 - heldBMm / alongBMm) * alongB, commanded.pose.orientation},
+              nb);
+    } else if (into < 0.0 && alongMm > heldMm) {
       const ToolPose slideTo{proxy_.tipMm + (1.0 - heldMm / alongMm) * along,
                              commanded.pose.orientation};
       if (displacementBoundMm(proxy_, slideTo) > 1e-6) constrainedMove(slideTo);
@@ -379,8 +478,18 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   // As the force: toward the proxy, about the rotation that takes the command to it.
   h.torqueNmm = options_.rotationalStiffnessNmmPerRad * twist + rotationalDamping_ * twistRate_;
   // The device is pulled toward the proxy: k (anchor - command) + b d/dt (anchor - command).
+  // The contact force (seed eqs. 1-2) at the proxy, slew-limited: drawn back through its own
+  // hole the proxy's shell holds bone all round, and eq. (1)'s direction turns over within a
+  // sample's travel; the hand feels the turn as a slope, not a step.
+  if (totals_.steps == 0) {
+    contactForceN_ = h.step.contact.forceN;
+  } else if (finite(h.step.contact.forceN)) {
+    const glm::dvec3 change = h.step.contact.forceN - contactForceN_;
+    const double changeN = glm::length(change), slewN = options_.contactSlewNPerS * dtS;
+    contactForceN_ += changeN > slewN ? (slewN / changeN) * change : change;
+  }
   glm::dvec3 force =
-      options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + h.step.contact.forceN;
+      options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + contactForceN_;
   double magnitude = glm::length(force);
   if (!finite(force) || !std::isfinite(magnitude) || !finite(h.torqueNmm)) {
     ++totals_.nonFiniteForces;

@@ -547,3 +547,54 @@ TEST(ProxyCouplingPush, StaticCoarseBone) {
 
 }  // namespace
 }  // namespace osteon::simulation
+
+namespace osteon::simulation {
+namespace {
+
+// A hole drilled a little off the line the hand draws the tool back along: the drill (off)
+// pushed into the built-in bone's cortex slides sideways along the surface, drilled on from
+// there the hole runs from that point to the command, and drawn back along the line it came
+// in on, the tip and shaft meet the hole's wall on one side (a recording from the viewer,
+// cut to its motion). The proxy must follow the command back out to free space.
+TEST(ProxyCouplingBackOut, AToolDrawnBackOutOfAnOffAxisHoleFollowsTheCommand) {
+  SessionOptions o;
+  o.voxelSizeMm = 1.2;
+  o.levels = 2;
+  o.keepSurface = false;
+  Session s = Session::open("default", 1.0, o);
+  ProxyCoupling c(s.simulation());
+  const glm::dquat q = glm::normalize(
+      glm::dquat(0.4289392158057467, 0.1595914322109081, 0.8891241330145202, 0.0));
+  const glm::dvec3 outside(31.616845944339527, 5.93581095759857, 24.067886378669606);
+  const glm::dvec3 deep(20.17543969326307, 7.989461671054483, 33.54822085298818);
+  const auto lerp = [](const glm::dvec3& a, const glm::dvec3& b, double u) {
+    return a + std::clamp(u, 0.0, 1.0) * (b - a);
+  };
+  // In at 1.8 mm/s (the drill off) from 2 s to 10.3 s, on from 12 s to 15 s, back out at
+  // 3 mm/s from 16.5 s to 21.5 s, held outside the bone until 22.5 s.
+  const double outS = 21.5;
+  glm::dvec3 prevF(0.0);
+  double maxBackStepN = 0.0, lastStuckS = 0.0;
+  for (int i = 0; i <= 22500; ++i) {
+    const double t = 0.001 * i;
+    const glm::dvec3 tip = t < 16.5 ? lerp(outside, deep, (t - 2.0) / 8.3)
+                                    : lerp(deep, outside, (t - 16.5) / (outS - 16.5));
+    const HapticStep h = c.step({t, ToolPose{tip, q}, t >= 12.0 && t < 15.0});
+    expectSane(h);
+    if (t > 16.5) maxBackStepN = std::max(maxBackStepN, glm::length(h.forceN - prevF));
+    prevF = h.forceN;
+    if (h.gapMm >= 0.1) lastStuckS = t;
+  }
+  std::printf("back out: removed %.1f mm3, gap at the end %.3f mm, last gap >= 0.1 mm at %.3f s, "
+              "max 1 ms force step drawing back %.3f N\n",
+              s.removedVolumeMm3(), glm::length(c.proxy().tipMm - outside), lastStuckS,
+              maxBackStepN);
+  EXPECT_GT(s.removedVolumeMm3(), 20.0);  // the hole was drilled
+  // Back with the command within 0.2 s of its leaving the bone, and staying there.
+  EXPECT_LT(lastStuckS, outS + 0.2);
+  EXPECT_LT(glm::length(c.proxy().tipMm - outside), 0.1);
+  EXPECT_LT(maxBackStepN, 0.1);
+}
+
+}  // namespace
+}  // namespace osteon::simulation

@@ -7,16 +7,20 @@
 // Rules, each 1 ms step, given the commanded pose and drillOn:
 // - Admissible pose: no bone sample (a level-0 voxel or refined sub-voxel with fill) has its
 //   centre inside any part's inner layer; the cushion (inner..outer) may hold bone, as it does
-//   in contact. A pose that already held bone (a pose started in bone, or samples a refinement
-//   split) may keep what it holds but take in no more. While the drill cuts a cushion's
-//   advance a ahead, the cutting part's layer is tested at sqrt(r_i^2 - a^2): the cut sphere
+//   in contact. No part moves further into bone: a move may not deepen the fill-weighted depth
+//   of the bone inside the parts' inner layers, so a pose that touches or holds samples (a hole
+//   cut off the tool's axis, samples a refinement split) may move along or out of them.
+//   While the drill cuts a cushion's advance a ahead, the cutting part's layer is tested at
+//   sqrt(r_i^2 - a^2): the cut sphere
 //   then holds every sample the proxy's front could meet, so no ring of bone at the hole's
 //   rim, beside the cut, stops the tool (a cutting part's layer may hold bone up to r_i there).
 // - The proxy moves along lerp(position)/slerp(orientation) from where it was to the command,
 //   to the furthest admissible pose (sub-moves no longer than half the thinnest part, so thin
 //   bone is not jumped, then a fixed count of bisections), then slides: the motion left is
 //   projected on the contact plane, less a friction cone, and moved along the same way, so it
-//   does not stick.
+//   does not stick. Drawn back with the drill off (the command behind the proxy along its
+//   axis), the slide uses the planes of the samples that block the move instead, up to 3 (the
+//   motion left projected on two planes' line), so the tool backs out the way its hole goes.
 // - In free space it reaches the command exactly. Into bone it moves no faster than the feed
 //   limit (CouplingOptions::maxFeedMmPerS).
 // - The drill on, DrillingSimulation::step runs at the proxy advanced toward the command by at
@@ -24,8 +28,9 @@
 //   the tip eats its way in as the density decrements; the drill off, it runs at the proxy and
 //   nothing is removed.
 // - Force to the device = k (anchor - command) + b d/dt(anchor - command) + the contact force
-//   of the step (seed 3.5, eqs. 1-2), clamped to N_max; the anchor is the proxy's position,
-//   rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at contact
+//   of the step (seed 3.5, eqs. 1-2, slew-limited), clamped to N_max; the anchor is the proxy's
+//   position, rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at
+//   contact
 //   onset and release: the gap grows from zero and the gap rate is low-passed.
 // - step() allocates nothing, locks nothing, throws nothing.
 #pragma once
@@ -70,6 +75,9 @@ struct CouplingOptions {
   // up to a sample (0.3 mm); the hand feels each as a slope of at most k x this speed
   // (0.025 N per ms at the defaults), not a step. Off the bone the anchor is the proxy.
   double anchorSpeedMmPerS = 50.0;
+  // The contact force's fastest change (N/s): 0.03 N per 1 ms step, so that with the anchor's
+  // slope the force sent never steps by 0.1 N in a step.
+  double contactSlewNPerS = 30.0;
   // The friction cone of the slide (Melder & Harwin's god-object with friction): of the motion
   // left along the contact plane, the part within mu x the push into the bone is held. Without
   // it a contact normal a degree off, times a gap of millimetres, slides the proxy about in a
@@ -148,11 +156,12 @@ class ProxyCoupling {
   struct PartCandidates {
     std::vector<Candidate> samples;  // reserved once
     bool complete = true;            // false: more than capacity, walk at each test
-    double allowance = 0.0;          // bone already inside at the sub-move's start
+    double allowance = 0.0;          // fill-weighted depth already inside at the sub-move's start
   };
   struct MoveResult {
     bool blocked = false;
     glm::dvec3 normal{0.0};  // outward from the bone at the block (unit, or zero)
+    glm::dvec3 blockingNormal{0.0};  // outward from the samples that block (unit, or zero)
   };
 
   // Moves proxy_ toward `to` as far as admissible; with `slide`, then along the contact plane.
@@ -161,8 +170,14 @@ class ProxyCoupling {
   // part has any (the sub-move is free).
   bool gather(const ToolPose& from, double reachMm);
   bool admissible(const ToolPose& pose);
+  // Fill-weighted depth (fill x mm) of the bone inside part's inner layer at pose.
   double insideFill(const ToolPose& pose, int part);
+  double walkedPenetration(const ToolPose& pose, int part);
   glm::dvec3 outwardNormal(const ToolPose& pose) const;
+  // The outward normal of the samples that entered a part's inner layer between lo and hi.
+  glm::dvec3 blockingNormal(const ToolPose& lo, const ToolPose& hi) const;
+  // Slides proxy_ toward `to` over up to 3 constraint planes, the first `firstNormal`.
+  void slide(const ToolPose& to, const glm::dvec3& firstNormal);
   double displacementBoundMm(const ToolPose& a, const ToolPose& b) const;
 
   DrillingSimulation* sim_;
@@ -179,6 +194,7 @@ class ProxyCoupling {
   double lastS_ = 0.0;
   double cutAdvanceMm_ = 0.0;
   glm::dvec3 anchorMm_{0.0};
+  glm::dvec3 contactForceN_{0.0};  // the slew-limited contact force
   glm::dvec3 lastGapMm_{0.0}, gapRate_{0.0};
   glm::dvec3 lastTwistRad_{0.0}, twistRate_{0.0};
   CouplingTotals totals_;
