@@ -459,11 +459,12 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
     h.stepPose.tipMm += (std::min(cutAdvanceMm_, aheadMm) / aheadMm) * ahead;
   h.step = sim_->step({commanded.tS, h.stepPose, commanded.drillOn});
 
-  // The spring's anchor: the proxy, at most anchorSpeedMmPerS behind it while in contact.
+  // The spring's anchor follows the proxy at most anchorSpeedMmPerS, also as the proxy catches
+  // up with the command: were the anchor set onto it then, the spring's force would drop in one
+  // step (a hand's tremor out of a cut felt as 0.4 N knocks).
   const glm::dvec3 lag = proxy_.tipMm - anchorMm_;
   const double lagMm = glm::length(lag), stepMm = options_.anchorSpeedMmPerS * dtS;
-  anchorMm_ = proxy_.tipMm == cmdTip || !(lagMm > stepMm) ? proxy_.tipMm
-                                                          : anchorMm_ + (stepMm / lagMm) * lag;
+  anchorMm_ = !(lagMm > stepMm) ? proxy_.tipMm : anchorMm_ + (stepMm / lagMm) * lag;
   // The coupling: spring-damper on the gap, the damping on a low-passed gap rate.
   const glm::dvec3 gap = anchorMm_ - cmdTip;
   const glm::dvec3 twist = rotationVector(proxy_.orientation, commanded.pose.orientation);

@@ -29,9 +29,8 @@
 //   nothing is removed.
 // - Force to the device = k (anchor - command) + b d/dt(anchor - command) + the contact force
 //   of the step (seed 3.5, eqs. 1-2, slew-limited), clamped to N_max; the anchor is the proxy's
-//   position, rate-limited while in contact (CouplingOptions::anchorSpeedMmPerS). Continuous at
-//   contact
-//   onset and release: the gap grows from zero and the gap rate is low-passed.
+//   position, followed at most CouplingOptions::anchorSpeedMmPerS. Continuous at contact onset
+//   and release: the gap grows from zero, the anchor never jumps, the gap rate is low-passed.
 // - step() allocates nothing, locks nothing, throws nothing.
 #pragma once
 
@@ -73,7 +72,7 @@ struct CouplingOptions {
   // The spring's anchor follows the proxy at most this fast (mm/s) while the proxy is off the
   // command: bone goes a sample layer at a time, so the proxy advances and slides in hops of
   // up to a sample (0.3 mm); the hand feels each as a slope of at most k x this speed
-  // (0.025 N per ms at the defaults), not a step. Off the bone the anchor is the proxy.
+  // (0.025 N per ms at the defaults), not a step. It also follows the proxy back onto the command.
   double anchorSpeedMmPerS = 50.0;
   // The contact force's fastest change (N/s): 0.03 N per 1 ms step, so that with the anchor's
   // slope the force sent never steps by 0.1 N in a step.
