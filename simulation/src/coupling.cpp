@@ -78,13 +78,37 @@ glm::dvec3 rotationVector(const glm::dquat& from, const glm::dquat& to) {
   return (2.0 * std::atan2(s, q.w) / s) * v;
 }
 
-// Squared distance from c to the segment a-b (ab = b - a, invLen2 = 1 / |ab|^2 or 0).
-double distance2ToSegment(const glm::dvec3& c, const glm::dvec3& a, const glm::dvec3& ab,
-                          double invLen2, glm::dvec3* toCore = nullptr) {
-  const double t = std::clamp(glm::dot(c - a, ab) * invLen2, 0.0, 1.0);
-  const glm::dvec3 d = a + t * ab - c;
-  if (toCore) *toCore = d;
-  return glm::dot(d, d);
+// A part's core segment at a pose, for distances from sample centres to it.
+struct CoreSegment {
+  glm::dvec3 a, b, ab;
+  double invLen2 = 0.0;  // 1 / |ab|^2, or 0 for a point
+
+  CoreSegment(const ToolPose& pose, const ToolPart& part)
+      : a(pose.toWorld(part.aMm)), b(pose.toWorld(part.bMm)), ab(b - a) {
+    const double len2 = glm::dot(ab, ab);
+    invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  }
+  // Squared distance from c to the segment; toCore, when given, runs from c to its nearest point.
+  double distance2(const glm::dvec3& c, glm::dvec3* toCore = nullptr) const {
+    const double t = std::clamp(glm::dot(c - a, ab) * invLen2, 0.0, 1.0);
+    const glm::dvec3 d = a + t * ab - c;
+    if (toCore) *toCore = d;
+    return glm::dot(d, d);
+  }
+};
+
+// fn(sample) for every bone sample whose centre may lie within rMm of the core (the hierarchy
+// walk opens only voxels that reach that far).
+template <typename Fn>
+void forEachSampleNearCore(geometry::RefinedVoxels& voxels, const CoreSegment& core, double rMm,
+                           Fn&& fn) {
+  voxels.forEachSampleNearSegment(
+      core.a, core.b, rMm,
+      [&](const glm::dvec3& c, double h) {
+        const double far = rMm + h;
+        return core.distance2(c) <= far * far;
+      },
+      fn);
 }
 
 }  // namespace
@@ -141,19 +165,11 @@ double ProxyCoupling::displacementBoundMm(const ToolPose& a, const ToolPose& b) 
 
 double ProxyCoupling::boneInsideInnerLayer(const ToolPose& pose, int part, double radiusMm) {
   const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
-  const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
-  const glm::dvec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  const CoreSegment core(pose, tp);
   const double r = radiusMm > 0.0 ? radiusMm : tp.innerRadiusMm;
   double fill = 0.0;
-  sim_->voxels().forEachSampleNearSegment(
-      a, b, r,
-      [&](const glm::dvec3& c, double h) {
-        const double far = r + h;
-        return distance2ToSegment(c, a, ab, invLen2) <= far * far;
-      },
-      [&](const geometry::VoxelSample& s) { fill += double(s.fill); });
+  forEachSampleNearCore(sim_->voxels(), core, r,
+                        [&](const geometry::VoxelSample& s) { fill += double(s.fill); });
   return fill;
 }
 
@@ -166,29 +182,21 @@ bool ProxyCoupling::gather(const ToolPose& from, double reachMm) {
     pc.samples.clear();
     pc.complete = true;
     pc.allowance = 0.0;
-    const glm::dvec3 a = from.toWorld(part.aMm), b = from.toWorld(part.bMm);
-    const glm::dvec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    const CoreSegment core(from, part);
     const double admit = admitRadiusMm_[std::size_t(p)];
-    const double r = admit + reachMm;
     const double inner2 = admit * admit;
-    sim_->voxels().forEachSampleNearSegment(
-        a, b, r,
-        [&](const glm::dvec3& c, double h) {
-          const double far = r + h;
-          return distance2ToSegment(c, a, ab, invLen2) <= far * far;
-        },
-        [&](const geometry::VoxelSample& s) {
-          if (s.fill == 0) return;
-          const double d2 = distance2ToSegment(s.centreMm, a, ab, invLen2);
-          if (d2 <= inner2) pc.allowance += double(s.fill) * (admit - std::sqrt(d2));
-          if (pc.samples.size() < pc.samples.capacity()) {
-            pc.samples.push_back({s.centreMm, double(s.fill)});
-          } else {
-            pc.complete = false;
-          }
-        });
+    forEachSampleNearCore(sim_->voxels(), core, admit + reachMm,
+                          [&](const geometry::VoxelSample& s) {
+                            if (s.fill == 0) return;
+                            const double d2 = core.distance2(s.centreMm);
+                            if (d2 <= inner2)
+                              pc.allowance += double(s.fill) * (admit - std::sqrt(d2));
+                            if (pc.samples.size() < pc.samples.capacity()) {
+                              pc.samples.push_back({s.centreMm, double(s.fill)});
+                            } else {
+                              pc.complete = false;
+                            }
+                          });
     any = any || !pc.samples.empty();
   }
   return any;
@@ -200,15 +208,11 @@ double ProxyCoupling::insideFill(const ToolPose& pose, int part) {
     ++totals_.slowTests;
     return walkedPenetration(pose, part);
   }
-  const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
-  const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
-  const glm::dvec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  const CoreSegment core(pose, sim_->tool().parts[std::size_t(part)]);
   const double inner2 = admitRadiusMm_[std::size_t(part)] * admitRadiusMm_[std::size_t(part)];
   double fill = 0.0;
   for (const Candidate& c : pc.samples) {
-    const double d2 = distance2ToSegment(c.centreMm, a, ab, invLen2);
+    const double d2 = core.distance2(c.centreMm);
     if (d2 <= inner2) fill += c.fill * (admitRadiusMm_[std::size_t(part)] - std::sqrt(d2));
   }
   return fill;
@@ -232,23 +236,13 @@ bool ProxyCoupling::admissible(const ToolPose& pose) {
 }
 
 double ProxyCoupling::walkedPenetration(const ToolPose& pose, int part) {
-  const ToolPart& tp = sim_->tool().parts[std::size_t(part)];
-  const glm::dvec3 a = pose.toWorld(tp.aMm), b = pose.toWorld(tp.bMm);
-  const glm::dvec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  const CoreSegment core(pose, sim_->tool().parts[std::size_t(part)]);
   const double r = admitRadiusMm_[std::size_t(part)];
   double depth = 0.0;
-  sim_->voxels().forEachSampleNearSegment(
-      a, b, r,
-      [&](const glm::dvec3& c, double h) {
-        const double far = r + h;
-        return distance2ToSegment(c, a, ab, invLen2) <= far * far;
-      },
-      [&](const geometry::VoxelSample& s) {
-        const double d2 = distance2ToSegment(s.centreMm, a, ab, invLen2);
-        if (s.fill != 0 && d2 <= r * r) depth += double(s.fill) * (r - std::sqrt(d2));
-      });
+  forEachSampleNearCore(sim_->voxels(), core, r, [&](const geometry::VoxelSample& s) {
+    const double d2 = core.distance2(s.centreMm);
+    if (s.fill != 0 && d2 <= r * r) depth += double(s.fill) * (r - std::sqrt(d2));
+  });
   return depth;
 }
 
@@ -261,18 +255,14 @@ glm::dvec3 ProxyCoupling::blockingNormal(const ToolPose& lo, const ToolPose& hi)
   glm::dvec3 sum(0.0);
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
-    const glm::dvec3 la = lo.toWorld(part.aMm), lb = lo.toWorld(part.bMm);
-    const glm::dvec3 ha = hi.toWorld(part.aMm), hb = hi.toWorld(part.bMm);
-    const glm::dvec3 lab = lb - la, hab = hb - ha;
-    const double lLen2 = glm::dot(lab, lab), hLen2 = glm::dot(hab, hab);
-    const double lInv = lLen2 > 0.0 ? 1.0 / lLen2 : 0.0, hInv = hLen2 > 0.0 ? 1.0 / hLen2 : 0.0;
+    const CoreSegment low(lo, part), high(hi, part);
     const double r = admitRadiusMm_[std::size_t(p)], r2 = r * r;
     for (const Candidate& c : candidates_[std::size_t(p)].samples) {
       glm::dvec3 toCore;
-      const double dh2 = distance2ToSegment(c.centreMm, ha, hab, hInv, &toCore);
+      const double dh2 = high.distance2(c.centreMm, &toCore);
       if (dh2 > r2 || !(dh2 > 0.0)) continue;
       // Deeper at hi than at lo (or newly inside): weighted by how much deeper.
-      const double dl = std::min(r, std::sqrt(distance2ToSegment(c.centreMm, la, lab, lInv)));
+      const double dl = std::min(r, std::sqrt(low.distance2(c.centreMm)));
       const double dh = std::sqrt(dh2);
       if (!(dh < dl)) continue;
       sum += (c.fill * (dl - dh) / dh) * toCore;
@@ -289,13 +279,10 @@ glm::dvec3 ProxyCoupling::outwardNormal(const ToolPose& pose) const {
   glm::dvec3 sum(0.0);
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
-    const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
-    const glm::dvec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double invLen2 = len2 > 0.0 ? 1.0 / len2 : 0.0;
+    const CoreSegment core(pose, part);
     for (const Candidate& c : candidates_[std::size_t(p)].samples) {
       glm::dvec3 toCore;
-      const double d2 = distance2ToSegment(c.centreMm, a, ab, invLen2, &toCore);
+      const double d2 = core.distance2(c.centreMm, &toCore);
       if (d2 > 0.0) sum += (c.fill / std::sqrt(d2)) * toCore;
     }
   }
@@ -426,8 +413,7 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
       const double alongBMm = glm::length(alongB);
       const double heldBMm = options_.frictionCoefficient * std::max(0.0, -intoB);
       if (intoB < 0.0 && alongBMm > heldBMm)
-        slide({proxy_.tipMm + (1.0 - heldBMm / alongBMm) * alongB, commanded.pose.orientation},
-              nb);
+        slide({proxy_.tipMm + (1.0 - heldBMm / alongBMm) * alongB, commanded.pose.orientation}, nb);
     } else if (into < 0.0 && alongMm > heldMm) {
       const ToolPose slideTo{proxy_.tipMm + (1.0 - heldMm / alongMm) * along,
                              commanded.pose.orientation};
@@ -489,8 +475,7 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
     const double changeN = glm::length(change), slewN = options_.contactSlewNPerS * dtS;
     contactForceN_ += changeN > slewN ? (slewN / changeN) * change : change;
   }
-  glm::dvec3 force =
-      options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + contactForceN_;
+  glm::dvec3 force = options_.stiffnessNPerMm * gap + dampingNsPerMm_ * gapRate_ + contactForceN_;
   double magnitude = glm::length(force);
   if (!finite(force) || !std::isfinite(magnitude) || !finite(h.torqueNmm)) {
     ++totals_.nonFiniteForces;
