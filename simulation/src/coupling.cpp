@@ -318,8 +318,15 @@ ProxyCoupling::MoveResult ProxyCoupling::constrainedMove(const ToolPose& to) {
       t0 = t1;
       continue;
     }
-    double lo = t0, hi = t1;
-    for (int k = 0; k < kBisections; ++k) {
+    // Held against the bone (most blocked steps), the bisection's answer is the sub-move's
+    // start: one test of its first 1/2^kBisections says so in place of kBisections.
+    const double first = t0 + (t1 - t0) / double(1 << kBisections);
+    double lo = t0, hi = first;
+    if (admissible(interpolate(from, to, first))) {
+      lo = first;
+      hi = t1;
+    }
+    for (int k = 0; k < kBisections && lo > t0; ++k) {
       const double mid = 0.5 * (lo + hi);
       if (admissible(interpolate(from, to, mid))) {
         lo = mid;
