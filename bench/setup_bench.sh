@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Set-up, from the file to the first step (issue 23): for each bone and voxel size, the stages
+# Set-up, from the file to the first step: for each bone and voxel size, the stages
 # `osteon drill --levels 0 --json` reports in `setup_ms` (load, voxelize, density, hierarchy,
 # surface, path, total), the peak RSS when ready to step and at exit, the voxels with bone, and
 # how the stages grow with the voxel count from one size to the next:

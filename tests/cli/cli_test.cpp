@@ -27,7 +27,7 @@ std::string binaryStlHeader(std::uint32_t count) {
   return bytes;
 }
 
-// Set-up reported (issue 23): setup_ms has every stage, none negative, the total at least its
+// Set-up reported: setup_ms has every stage, none negative, the total at least its
 // largest part, the stages the command does not run 0; peak_rss_mb is positive. No timed
 // assertions: the machine may be busy.
 void expectSetupReported(const nlohmann::json& j, std::initializer_list<const char*> notRun) {

@@ -1,5 +1,5 @@
 // Volumes as users have them (label maps and CTs, NRRD and NIfTI) through the commands that
-// take a grid, and empty results that are not success (issue 22, items 1 and 2).
+// take a grid, and empty results that are not success (exit 1, not 0).
 #include "support/cli_fixture.h"
 #include "support/bone_volumes.h"
 #include "support/volume_files.h"
@@ -66,7 +66,7 @@ class VolumesCliTest : public CliTest {
 };
 
 TEST_F(VolumesCliTest, ASlicerLabelMapMeshesAndSaysWhichLabelsItFound) {
-  // The issue's case: uint8 voxels 0 and 1 meshed to 0 triangles with exit 0.
+  // A Slicer segmentation (uint8 voxels 0 and 1) once meshed to 0 triangles with exit 0.
   const TestVolume v = block(12, 6, 1, 0);
   test::writeTestNrrd(path("seg.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values), true);
   const nlohmann::json j = runJson("mesh " + quoted(path("seg.nrrd")) + " --json");

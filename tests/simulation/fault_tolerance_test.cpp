@@ -1,4 +1,4 @@
-// Faults around the 1 kHz loops (issue 22): a visual thread that stalls, a surface update that
+// Faults around the 1 kHz loops: a visual thread that stalls, a surface update that
 // throws, a force log whose disk fills. The loops keep their rate, the force stays finite and
 // clamped, the error is one line, and the rows logged before a fault stay on disk whole.
 // Timing on a shared machine is noisy: rates are asserted as ratios with wide margins.

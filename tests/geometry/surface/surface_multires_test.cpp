@@ -1,5 +1,5 @@
 // The multi-resolution surface: refined regions extracted at their own size and joined to the
-// level-0 surface without cracks (issue item 6).
+// level-0 surface without cracks.
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/voxels/embree_scene.h"
