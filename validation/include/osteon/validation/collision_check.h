@@ -1,6 +1,7 @@
-// The collision-miss cross-check (design.md "Metrics"): along a drill path, the voxel model's
-// contact (bone samples between the tool's layers, which give the force) against the surface
-// the trainee sees: would a collision against that mesh find the same bone?
+// The collision-miss cross-check (docs/validation.md, "Collision-miss cross-check"): along a
+// drill path, the voxel model's contact (bone samples between the tool's layers, which give
+// the force) against the surface the trainee sees: would a collision against that mesh find
+// the same bone?
 //
 // A miss is bone in the shell that the surface does not shield: an Embree ray from the tool's
 // body to the sample's centre that meets no triangle, where a mesh-based collision would let

@@ -1,8 +1,9 @@
-// The seed's pixel crack metric (section 3.4): the surface seen from the six axis directions
-// at N x N pixels, orthographic and double-sided, front faces white, back faces red,
-// background black; crack % = 100 red / (red + white). A red pixel is a ray that entered the
-// surface through a hole and saw an inside. Rendered by Embree ray casting (no GPU), so the
-// number is the same on every machine.
+// The seed's pixel crack metric (section 3.4; docs/validation.md, "The seed's pixel crack
+// metric"): the surface seen from the six axis directions at N x N pixels, orthographic and
+// double-sided, front faces white, back faces red, background black;
+// crack % = 100 red / (red + white). A red pixel is a ray that entered the surface through a
+// hole and saw an inside. Rendered by Embree ray casting (no GPU), so the number is the same on
+// every machine.
 #pragma once
 
 #include "osteon/geometry/io/mesh.h"

@@ -1,5 +1,5 @@
-// Exact checks of a triangle surface (design.md "Metrics"): the crack-free guarantees as
-// numbers. Combinatorial facts (borders, non-manifold elements, components, Euler
+// Exact checks of a triangle surface (docs/validation.md, "The exact checks"): the crack-free
+// guarantees as numbers. Combinatorial facts (borders, non-manifold elements, components, Euler
 // characteristic) come from osteon's own topology pass; geometric ones (self-intersection,
 // outward orientation, Hausdorff distance) from CGAL with exact predicates, kept in this one
 // translation unit (CGAL is slow to compile and spreads its flags).
