@@ -91,10 +91,10 @@ void gatherSlice(const VoxelGrid& grid, int z, std::vector<T>& slice, BrickValue
       T* dst = slice.data() + std::size_t(y0) * std::size_t(n.x) + std::size_t(x0);
       if (const VoxelGrid::Brick* b = grid.brickData(brick)) {
         const T* src = brickValues(*b) + VoxelGrid::voxelInBrick({0, 0, lz});
-        for (int y = 0; y < h; ++y) std::copy_n(src + y * kBrickEdge, w, dst + std::size_t(y) * n.x);
+        for (int y = 0; y < h; ++y) std::copy_n(src + y * kBrickEdge, w, dst + std::size_t(y) * std::size_t(n.x));
       } else {
         const T value = uniformValue(brick);
-        for (int y = 0; y < h; ++y) std::fill_n(dst + std::size_t(y) * n.x, w, value);
+        for (int y = 0; y < h; ++y) std::fill_n(dst + std::size_t(y) * std::size_t(n.x), w, value);
       }
     }
   }
@@ -238,12 +238,12 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     const double scale = std::max({std::abs(m[0]), std::abs(m[4]), std::abs(m[8])});
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) {
-        if (r != c && !nearlyEqual(m[r * 3 + c], 0.0, scale)) {
+        if (r != c && !nearlyEqual(m[std::size_t(r * 3 + c)], 0.0, scale)) {
           fail("space directions " + excerpt(*dirs) +
                " are not axis-aligned (rotated grids are not supported)");
         }
       }
-      if (!(m[r * 4] > 0.0)) {
+      if (!(m[std::size_t(r * 4)] > 0.0)) {
         fail("space directions " + excerpt(*dirs) + " have a non-positive axis");
       }
     }
@@ -487,7 +487,7 @@ NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData) {
           for (int y = 0; y < h && uniform; ++y) {
             const std::size_t row = at(x0, y0 + y, lz);
             for (int x = 0; x < w; ++x) {
-              if (fills[row + x] != f0 || densities[row + x] != d0) {
+              if (fills[row + std::size_t(x)] != f0 || densities[row + std::size_t(x)] != d0) {
                 uniform = false;
                 break;
               }

@@ -200,7 +200,7 @@ std::uint64_t VoxelGrid::countVoxels(Fill minFill) const {
       for (int z = 0; z < hi.z; ++z)
         for (int y = 0; y < hi.y; ++y)
           for (int x = 0; x < hi.x; ++x)
-            count += b->fill[std::size_t(voxelInBrick({x, y, z}))] >= minFill ? 1 : 0;
+            count += b->fill[std::size_t(voxelInBrick({x, y, z}))] >= minFill ? 1u : 0u;
     } else if (uniformFill_[i] >= minFill) {
       count += voxelsInBrick(bc, dims_);
     }
