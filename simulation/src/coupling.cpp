@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "osteon/core/checks.h"
 #include "osteon/core/error.h"
 
 namespace osteon::simulation {
@@ -22,22 +22,15 @@ const char* couplingModeName(CouplingMode mode) {
 }
 
 void validateCouplingOptions(const CouplingOptions& o) {
-  const auto positive = [](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) {
-      std::ostringstream s;
-      s << name << " " << v << ": must be a positive number";
-      throw InputError(s.str());
-    }
-  };
-  positive(o.stiffnessNPerMm, "coupling stiffness (N/mm)");
-  positive(o.virtualMassKg, "coupling virtual mass (kg)");
-  positive(o.rotationalStiffnessNmmPerRad, "coupling rotational stiffness (N mm/rad)");
-  positive(o.contactSlewNPerS, "coupling contact slew (N/s)");
-  positive(o.rotationalInertiaKgMm2, "coupling rotational inertia (kg mm^2)");
-  positive(o.rateFilterS, "coupling rate filter (s)");
-  positive(o.cutRampS, "coupling cut ramp (s)");
-  positive(o.anchorSpeedMmPerS, "coupling anchor speed (mm/s)");
-  positive(o.maxFeedMmPerS, "coupling feed limit (mm/s)");
+  requirePositive(o.stiffnessNPerMm, "coupling stiffness (N/mm)");
+  requirePositive(o.virtualMassKg, "coupling virtual mass (kg)");
+  requirePositive(o.rotationalStiffnessNmmPerRad, "coupling rotational stiffness (N mm/rad)");
+  requirePositive(o.contactSlewNPerS, "coupling contact slew (N/s)");
+  requirePositive(o.rotationalInertiaKgMm2, "coupling rotational inertia (kg mm^2)");
+  requirePositive(o.rateFilterS, "coupling rate filter (s)");
+  requirePositive(o.cutRampS, "coupling cut ramp (s)");
+  requirePositive(o.anchorSpeedMmPerS, "coupling anchor speed (mm/s)");
+  requirePositive(o.maxFeedMmPerS, "coupling feed limit (mm/s)");
   if (!(o.frictionCoefficient >= 0.0) || !std::isfinite(o.frictionCoefficient)) {
     throw InputError("coupling friction coefficient: must be a finite number >= 0");
   }
