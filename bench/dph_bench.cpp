@@ -48,7 +48,7 @@ std::vector<glm::dvec3> surfacePoints(std::size_t count) {
 
 void report(benchmark::State& state, std::vector<double>& us, const char* prefix) {
   std::sort(us.begin(), us.end());
-  const auto at = [&](double q) { return us[std::min(us.size() - 1, std::size_t(q * us.size()))]; };
+  const auto at = [&](double q) { return us[std::min(us.size() - 1, std::size_t(q * double(us.size())))]; };
   state.counters[std::string(prefix) + "p50_us"] = at(0.50);
   state.counters[std::string(prefix) + "p99_us"] = at(0.99);
   state.counters[std::string(prefix) + "max_us"] = us.back();

@@ -257,7 +257,7 @@ void cpuStalls(double seconds) {
   sched_getaffinity(0, sizeof allowed, &allowed);
   std::vector<int> cpus;
   for (int c = 0; c < CPU_SETSIZE; ++c) {
-    if (CPU_ISSET(c, &allowed)) cpus.push_back(c);
+    if (CPU_ISSET(std::size_t(c), &allowed)) cpus.push_back(c);
   }
   std::vector<std::vector<std::int64_t>> at(cpus.size());
   const auto startAt = Clock::now() + std::chrono::milliseconds(5);
@@ -268,7 +268,7 @@ void cpuStalls(double seconds) {
     loops.emplace_back([&, i] {
       cpu_set_t one;
       CPU_ZERO(&one);
-      CPU_SET(cpus[i], &one);
+      CPU_SET(std::size_t(cpus[i]), &one);
       pthread_setaffinity_np(pthread_self(), sizeof one, &one);
       at[i].reserve(RuntimeStats::kOverrunInstantsKept);
       const auto offset = std::chrono::microseconds(1000 * std::int64_t(i) / std::int64_t(cpus.size()));

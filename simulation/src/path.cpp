@@ -36,20 +36,20 @@ SphereFit fitSphere(const std::vector<glm::dvec3>& points, const glm::dvec3& shi
     const glm::dvec3 p = q - shift;  // centred for conditioning
     const std::array<double, 4> row = {2 * p.x, 2 * p.y, 2 * p.z, 1.0};
     const double rhs = glm::dot(p, p);
-    for (int i = 0; i < 4; ++i) {
-      for (int j = 0; j < 4; ++j) m[i][j] += row[i] * row[j];
+    for (std::size_t i = 0; i < 4; ++i) {
+      for (std::size_t j = 0; j < 4; ++j) m[i][j] += row[i] * row[j];
       m[i][4] += row[i] * rhs;
     }
   }
-  for (int col = 0; col < 4; ++col) {
-    int pivot = col;
-    for (int r = col + 1; r < 4; ++r) if (std::abs(m[r][col]) > std::abs(m[pivot][col])) pivot = r;
+  for (std::size_t col = 0; col < 4; ++col) {
+    std::size_t pivot = col;
+    for (std::size_t r = col + 1; r < 4; ++r) if (std::abs(m[r][col]) > std::abs(m[pivot][col])) pivot = r;
     if (std::abs(m[pivot][col]) < 1e-12) return fit;
     std::swap(m[col], m[pivot]);
-    for (int r = 0; r < 4; ++r) {
+    for (std::size_t r = 0; r < 4; ++r) {
       if (r == col) continue;
       const double f = m[r][col] / m[col][col];
-      for (int c = col; c < 5; ++c) m[r][c] -= f * m[col][c];
+      for (std::size_t c = col; c < 5; ++c) m[r][c] -= f * m[col][c];
     }
   }
   const glm::dvec3 c(m[0][4] / m[0][0], m[1][4] / m[1][1], m[2][4] / m[2][2]);
@@ -85,7 +85,8 @@ SphereFit robustEndFit(const std::vector<glm::dvec3>& points, const std::vector<
     std::vector<double> residuals;
     for (const glm::dvec3& p : subset) residuals.push_back(std::abs(glm::length(p - fit.centre) - fit.radius));
     if (residuals.empty()) break;
-    std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+    const auto middle = residuals.begin() + std::ptrdiff_t(residuals.size() / 2);
+    std::nth_element(residuals.begin(), middle, residuals.end());
     const double tolerance = std::max(0.005 * fit.radius, 2.0 * residuals[residuals.size() / 2]);
     subset.clear();
     double areaMm2 = 0.0;
@@ -113,12 +114,15 @@ glm::dvec3 principalAxis(const std::vector<glm::dvec3>& points, const glm::dvec3
   for (const glm::dvec3& q : points) {
     const glm::dvec3 d = q - mean;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) cov[i][j] += d[i] * d[j];
+      for (int j = 0; j < 3; ++j) cov[std::size_t(i)][std::size_t(j)] += d[i] * d[j];
   }
   glm::dvec3 v(1.0, 0.7, 0.3);  // power iteration; the long axis dominates a long bone
   for (int i = 0; i < 100; ++i) {
     glm::dvec3 w(0.0);
-    for (int r = 0; r < 3; ++r) w[r] = cov[r][0] * v.x + cov[r][1] * v.y + cov[r][2] * v.z;
+    for (int r = 0; r < 3; ++r) {
+      const std::array<double, 3>& row = cov[std::size_t(r)];
+      w[r] = row[0] * v.x + row[1] * v.y + row[2] * v.z;
+    }
     const double len = glm::length(w);
     if (!(len > 0.0)) break;
     v = w / len;

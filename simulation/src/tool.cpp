@@ -1,5 +1,6 @@
 #include "osteon/simulation/tool.h"
 
+#include "osteon/core/checks.h"
 #include "osteon/core/error.h"
 
 #include <glm/geometric.hpp>
@@ -33,19 +34,12 @@ double ToolPart::shellVolumeMm3() const {
 }
 
 void validateToolOptions(const ToolOptions& o) {
-  const auto positive = [](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) {
-      std::ostringstream s;
-      s << name << " " << v << ": must be a positive number";
-      throw InputError(s.str());
-    }
-  };
-  positive(o.tipDiameterMm, "tool tip diameter (mm)");
-  positive(o.cushionVoxels, "tool cushion (finest voxels)");
-  positive(o.shaftDiameterMm, "drill shaft diameter (mm)");
-  positive(o.shaftLengthMm, "drill shaft length (mm)");
-  positive(o.shaverWindowMm, "shaver window length (mm)");
-  positive(o.maxForceN, "maximum force (N)");
+  requirePositive(o.tipDiameterMm, "tool tip diameter (mm)");
+  requirePositive(o.cushionVoxels, "tool cushion (finest voxels)");
+  requirePositive(o.shaftDiameterMm, "drill shaft diameter (mm)");
+  requirePositive(o.shaftLengthMm, "drill shaft length (mm)");
+  requirePositive(o.shaverWindowMm, "shaver window length (mm)");
+  requirePositive(o.maxForceN, "maximum force (N)");
   if (o.outerRadiusMm > 0.0 && o.outerRadiusMm <= 0.5 * o.tipDiameterMm) {
     std::ostringstream s;
     s << "tool outer radius " << o.outerRadiusMm << " mm: must exceed the inner radius "

@@ -67,7 +67,7 @@ TEST_F(ReportReaderTest, TheFuzzSeedIsAReportBothReadersTake) {
 
 TEST_F(ReportReaderTest, NestingIsBoundedAtTheLimitExactly) {
   const auto nested = [](int levels) {
-    return std::string(levels, '[') + std::string(levels, ']');
+    return std::string(std::size_t(levels), '[') + std::string(std::size_t(levels), ']');
   };
   EXPECT_TRUE(readReportJson(write("ok.json", nested(kMaxReportDepth)), "--compare x").is_array());
   try {

@@ -22,7 +22,7 @@ std::string quoted(const std::string& s) { return "'" + s + "'"; }
 TestVolume cube(int n, double value) {
   TestVolume v;
   v.sizes = {n, n, n};
-  v.values.assign(std::size_t(n) * n * n, value);
+  v.values.assign(std::size_t(n) * std::size_t(n) * std::size_t(n), value);
   return v;
 }
 

@@ -198,7 +198,7 @@ TEST_F(VolumesCliTest, TheBuiltInBoneAsLabelMapAndCtMeshesAndDrills) {
   test::writeTestNrrd(path("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(labels), true);
   v.values = hu;
   test::writeTestNifti(path("ct.nii.gz"), v, 4, 16, test::encodeAs<std::int16_t>(hu), true);
-  const long long inside = bone.countVoxels(geometry::kFillHalf);
+  const auto inside = static_cast<long long>(bone.countVoxels(geometry::kFillHalf));
   const nlohmann::json l = runJson("mesh " + quoted(path("labels.nrrd")) + " --json");
   EXPECT_EQ(l["voxels_inside"].get<long long>(), inside);
   EXPECT_EQ(l["components"].get<int>(), 1);

@@ -191,7 +191,7 @@ TEST(Removal, AShaverInsideBoneAtFineVoxelsRemovesEveryVoxelInItsCut) {
         for (int x = 0; x < dims.x; ++x) {
           if (!cut.contains(slab.grid.voxelCentreMm({x, y, z}))) continue;
           ++inCut;
-          left += slab.grid.fill({x, y, z}) != 0 ? 1 : 0;
+          left += slab.grid.fill({x, y, z}) != 0 ? 1u : 0u;
         }
   }
   // The cut's query (its bounding sphere, 3.46 mm) holds about 21,000 voxels here, five times

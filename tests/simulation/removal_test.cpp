@@ -66,7 +66,7 @@ TEST_F(RemovalTest, EqualsTheReferenceOnRandomCuts) {
     RefinedVoxels fast(grid_, hierarchy_, &source_, options);
     RefinedVoxels slow(referenceGrid, referenceHierarchy, &source_, options);
     MaterialRemoval removal(fast);
-    std::mt19937 rng(1234 + depth);
+    std::mt19937 rng(std::mt19937::result_type(1234 + depth));
     std::uniform_real_distribution<double> at(-9.0, 9.0), radius(0.6, 2.5);
     std::uint64_t removed = 0;
     for (int k = 0; k < 150; ++k) {

@@ -104,7 +104,7 @@ inline void writeTestNifti(const std::string& path, const TestVolume& v, std::in
                             {0, -v.spacingMm, 0, -v.firstCentreMm.y},
                             {0, 0, v.spacingMm, v.firstCentreMm.z}};
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c) put(280 + 16 * r + 4 * c, float(ras[r][c]));
+    for (int c = 0; c < 4; ++c) put(std::size_t(280 + 16 * r + 4 * c), float(ras[r][c]));
   }
   std::memcpy(h + 344, "n+1\0", 4);
   const std::string file = std::string(reinterpret_cast<const char*>(h), 352) + bytes;

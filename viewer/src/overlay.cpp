@@ -164,7 +164,7 @@ void OverlayRenderer::drawTool(const FrameCamera& camera, const simulation::Tool
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDepthMask(GL_FALSE);
   glEnable(GL_CULL_FACE);
-  for (const GLenum face : {GL_FRONT, GL_BACK}) {
+  for (const GLenum face : {GLenum(GL_FRONT), GLenum(GL_BACK)}) {
     glCullFace(face);
     for (int i = 0; i < tool.partCount; ++i) {
       const simulation::ToolPart& part = tool.parts[std::size_t(i)];

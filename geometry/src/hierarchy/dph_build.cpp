@@ -256,7 +256,7 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
         const int z = lo.z + 3 * cz + dz;
         if (z > hi.z) break;
         for (int y = lo.y; y <= hi.y; ++y) {
-          std::uint64_t* row = &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) * words];
+          std::uint64_t* row = &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) * std::size_t(words)];
           for (int bx = lo.x / B; bx <= hi.x / B; ++bx) {
             const std::size_t brick = grid.brickIndex({bx, y / B, z / B});
             const VoxelGrid::Brick* b = grid.brickData(brick);
@@ -279,7 +279,7 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
           for (int dz = 0; dz < 3; ++dz) {
             for (int dy = 0; dy < 3; ++dy) {
               const std::uint64_t* row =
-                  &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) * words];
+                  &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) * std::size_t(words)];
               std::uint64_t three = row[bit >> 6] >> (bit & 63);
               if ((bit & 63) > 61 && (bit >> 6) + 1 < words) three |= row[(bit >> 6) + 1] << (64 - (bit & 63));
               mask |= std::uint32_t(three & 7u) << (3 * (dy + 3 * dz));

@@ -106,7 +106,7 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh) {
     std::size_t j = i;
     std::size_t forward = 0;
     while (j < halfEdges.size() && halfEdges[j].key == halfEdges[i].key) {
-      forward += halfEdges[j].forward ? 1 : 0;
+      forward += halfEdges[j].forward ? 1u : 0u;
       ++j;
     }
     const std::size_t uses = j - i;

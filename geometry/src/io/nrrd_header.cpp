@@ -27,7 +27,8 @@ std::string trim(const std::string& s) {
 // Lowercase, runs of blanks made one space: "Unsigned  Char" -> "unsigned char".
 std::string normaliseWords(const std::string& s) {
   std::string out;
-  for (unsigned char c : trim(s)) {
+  for (const char ch : trim(s)) {
+    const auto c = static_cast<unsigned char>(ch);
     if (std::isspace(c)) {
       if (!out.empty() && out.back() != ' ') out += ' ';
     } else {
@@ -39,7 +40,10 @@ std::string normaliseWords(const std::string& s) {
 
 std::string excerpt(const std::string& s) {
   std::string out = "'";
-  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
+  for (const char ch : s.substr(0, 60)) {
+    const auto c = static_cast<unsigned char>(ch);
+    out += std::isprint(c) ? static_cast<char>(c) : '?';
+  }
   return out + (s.size() > 60 ? "...'" : "'");
 }
 
@@ -99,7 +103,8 @@ LineRead readLine(std::istream& in, std::string& line, std::uint64_t& consumed) 
 // "data_file" are one field, so a header cannot give it twice under two spellings.
 std::string fieldName(const std::string& text) {
   std::string name;
-  for (unsigned char c : text) {
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
     if (!std::isspace(c) && c != '_') name += static_cast<char>(std::tolower(c));
   }
   return name;
@@ -306,10 +311,11 @@ glm::ivec3 readSizes(const Header& h) {
   glm::ivec3 n;
   std::uint64_t voxels = 1;
   for (int a = 0; a < 3; ++a) {
-    if (!(sizes[a] >= 1 && sizes[a] <= double(1 << 30) && sizes[a] == std::floor(sizes[a]))) {
+    const double size = sizes[std::size_t(a)];
+    if (!(size >= 1 && size <= double(1 << 30) && size == std::floor(size))) {
       h.fail("sizes " + excerpt(sizesText) + " are not three integers from 1 to 2^30");
     }
-    n[a] = int(sizes[a]);
+    n[a] = int(size);
     voxels *= std::uint64_t(n[a]);
     if (voxels > VoxelGrid::kMaxVoxels)
       h.fail("sizes " + excerpt(sizesText) + " exceed 2^32 voxels");
@@ -319,9 +325,10 @@ glm::ivec3 readSizes(const Header& h) {
     const std::vector<std::string> k = words(*kinds);
     if (k.size() != 3) h.fail("kinds " + excerpt(*kinds) + " are not three (one per axis)");
     for (int a = 0; a < 3; ++a) {
-      const std::string kind = normaliseWords(k[a]);
+      const std::string& word = k[std::size_t(a)];
+      const std::string kind = normaliseWords(word);
       if (kind != "domain" && kind != "space" && kind != "???" && kind != "none") {
-        h.fail("kinds " + excerpt(*kinds) + ": axis " + std::to_string(a) + " is " + excerpt(k[a]) +
+        h.fail("kinds " + excerpt(*kinds) + ": axis " + std::to_string(a) + " is " + excerpt(word) +
                ", not a spatial axis (only domain, space or ??? axes; colour, vector and list "
                "volumes are "
                "not supported)");

@@ -73,31 +73,79 @@ std::string header(const VoxelGrid& grid, const char* type, const char* content)
   return h;
 }
 
-// One z-slice of a grid's values (x fastest), gathered brick row by brick row.
-template <typename T, typename BrickValues, typename UniformValue>
-void gatherSlice(const VoxelGrid& grid, int z, std::vector<T>& slice, BrickValues brickValues,
-                 UniformValue uniformValue) {
+// fn(brick, x0, y0, w, h) for each brick of the grid's brick layer bz: its index, its first
+// voxel's x and y, and its width and height inside the grid.
+template <typename Fn>
+void forEachBrickInLayer(const VoxelGrid& grid, int bz, Fn&& fn) {
   const glm::ivec3 n = grid.dims();
   const glm::ivec3 nb = grid.brickDims();
-  const int bz = z / kBrickEdge;
-  const int lz = z % kBrickEdge;
   for (int by = 0; by < nb.y; ++by) {
     const int y0 = by * kBrickEdge;
     const int h = std::min(kBrickEdge, n.y - y0);
     for (int bx = 0; bx < nb.x; ++bx) {
       const int x0 = bx * kBrickEdge;
-      const int w = std::min(kBrickEdge, n.x - x0);
-      const std::size_t brick = grid.brickIndex({bx, by, bz});
-      T* dst = slice.data() + std::size_t(y0) * std::size_t(n.x) + std::size_t(x0);
-      if (const VoxelGrid::Brick* b = grid.brickData(brick)) {
-        const T* src = brickValues(*b) + VoxelGrid::voxelInBrick({0, 0, lz});
-        for (int y = 0; y < h; ++y) std::copy_n(src + y * kBrickEdge, w, dst + std::size_t(y) * n.x);
-      } else {
-        const T value = uniformValue(brick);
-        for (int y = 0; y < h; ++y) std::fill_n(dst + std::size_t(y) * n.x, w, value);
-      }
+      fn(grid.brickIndex({bx, by, bz}), x0, y0, std::min(kBrickEdge, n.x - x0), h);
     }
   }
+}
+
+// One z-slice of a grid's values (x fastest), gathered brick row by brick row.
+template <typename T, typename BrickValues, typename UniformValue>
+void gatherSlice(const VoxelGrid& grid, int z, std::vector<T>& slice, BrickValues brickValues,
+                 UniformValue uniformValue) {
+  const std::size_t nx = std::size_t(grid.dims().x);
+  const int lz = z % kBrickEdge;
+  forEachBrickInLayer(grid, z / kBrickEdge, [&](std::size_t brick, int x0, int y0, int w, int h) {
+    T* dst = slice.data() + std::size_t(y0) * nx + std::size_t(x0);
+    if (const VoxelGrid::Brick* b = grid.brickData(brick)) {
+      const T* src = brickValues(*b) + VoxelGrid::voxelInBrick({0, 0, lz});
+      for (int y = 0; y < h; ++y) std::copy_n(src + y * kBrickEdge, w, dst + std::size_t(y) * nx);
+    } else {
+      const T value = uniformValue(brick);
+      for (int y = 0; y < h; ++y) std::fill_n(dst + std::size_t(y) * nx, w, value);
+    }
+  });
+}
+
+// Puts one brick layer of z-slices (x fastest, depth slices) into the grid: a brick whose
+// voxels are all alike stays uniform, any other is stored.
+void placeBrickLayer(VoxelGrid& grid, int bz, int depth, const std::vector<Fill>& fills,
+                     const std::vector<Density>& densities) {
+  const glm::ivec3 n = grid.dims();
+  const std::size_t sliceVoxels = std::size_t(n.x) * std::size_t(n.y);
+  const auto at = [&](int x, int y, int lz) {
+    return std::size_t(lz) * sliceVoxels + std::size_t(y) * std::size_t(n.x) + std::size_t(x);
+  };
+  forEachBrickInLayer(grid, bz, [&](std::size_t brick, int x0, int y0, int w, int h) {
+    const Fill f0 = fills[at(x0, y0, 0)];
+    const Density d0 = densities[at(x0, y0, 0)];
+    bool uniform = true;
+    for (int lz = 0; lz < depth && uniform; ++lz) {
+      for (int y = 0; y < h && uniform; ++y) {
+        const std::size_t row = at(x0, y0 + y, lz);
+        for (int x = 0; x < w; ++x) {
+          if (fills[row + std::size_t(x)] != f0 || densities[row + std::size_t(x)] != d0) {
+            uniform = false;
+            break;
+          }
+        }
+      }
+    }
+    if (uniform) {
+      grid.setBrickUniform(brick, f0, d0);
+      return;
+    }
+    VoxelGrid::Brick& b = grid.materialiseBrick(brick);
+    for (int lz = 0; lz < depth; ++lz) {
+      for (int y = 0; y < h; ++y) {
+        const std::size_t row = at(x0, y0 + y, lz);
+        const std::size_t local = std::size_t(VoxelGrid::voxelInBrick({0, y, lz}));
+        std::copy_n(fills.begin() + std::ptrdiff_t(row), w, b.fill.begin() + std::ptrdiff_t(local));
+        std::copy_n(densities.begin() + std::ptrdiff_t(row), w,
+                    b.density.begin() + std::ptrdiff_t(local));
+      }
+    }
+  });
 }
 
 // Byte order is spelt out rather than taken from the host.
@@ -238,12 +286,12 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     const double scale = std::max({std::abs(m[0]), std::abs(m[4]), std::abs(m[8])});
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) {
-        if (r != c && !nearlyEqual(m[r * 3 + c], 0.0, scale)) {
+        if (r != c && !nearlyEqual(m[std::size_t(r * 3 + c)], 0.0, scale)) {
           fail("space directions " + excerpt(*dirs) +
                " are not axis-aligned (rotated grids are not supported)");
         }
       }
-      if (!(m[r * 4] > 0.0)) {
+      if (!(m[std::size_t(r * 4)] > 0.0)) {
         fail("space directions " + excerpt(*dirs) + " have a non-positive axis");
       }
     }
@@ -470,47 +518,7 @@ NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData) {
     } else {
       densities.assign(count, 0);
     }
-    const auto at = [&](int x, int y, int lz) {
-      return std::size_t(lz) * sliceVoxels + std::size_t(y) * std::size_t(n.x) + std::size_t(x);
-    };
-    for (int by = 0; by < nb.y; ++by) {
-      const int y0 = by * kBrickEdge;
-      const int h = std::min(kBrickEdge, n.y - y0);
-      for (int bx = 0; bx < nb.x; ++bx) {
-        const int x0 = bx * kBrickEdge;
-        const int w = std::min(kBrickEdge, n.x - x0);
-        const std::size_t brick = grid.brickIndex({bx, by, bz});
-        const Fill f0 = fills[at(x0, y0, 0)];
-        const Density d0 = densities[at(x0, y0, 0)];
-        bool uniform = true;
-        for (int lz = 0; lz < depth && uniform; ++lz) {
-          for (int y = 0; y < h && uniform; ++y) {
-            const std::size_t row = at(x0, y0 + y, lz);
-            for (int x = 0; x < w; ++x) {
-              if (fills[row + x] != f0 || densities[row + x] != d0) {
-                uniform = false;
-                break;
-              }
-            }
-          }
-        }
-        if (uniform) {
-          grid.setBrickUniform(brick, f0, d0);
-          continue;
-        }
-        VoxelGrid::Brick& b = grid.materialiseBrick(brick);
-        for (int lz = 0; lz < depth; ++lz) {
-          for (int y = 0; y < h; ++y) {
-            const std::size_t row = at(x0, y0 + y, lz);
-            const std::size_t local = std::size_t(VoxelGrid::voxelInBrick({0, y, lz}));
-            std::copy_n(fills.begin() + std::ptrdiff_t(row), w,
-                        b.fill.begin() + std::ptrdiff_t(local));
-            std::copy_n(densities.begin() + std::ptrdiff_t(row), w,
-                        b.density.begin() + std::ptrdiff_t(local));
-          }
-        }
-      }
-    }
+    placeBrickLayer(grid, bz, depth, fills, densities);
   }
   grid.clearDirty();  // freshly loaded: nothing to re-mesh yet
   return result;

@@ -27,7 +27,8 @@ std::string readPrefix(const std::string& path, std::size_t maxBytes) {
 
 // Text: no control bytes but whitespace (UTF-8 names and comments are fine).
 bool looksLikeText(const std::string& bytes) {
-  for (unsigned char c : bytes) {
+  for (const char ch : bytes) {
+    const auto c = static_cast<unsigned char>(ch);
     const bool whitespace = c >= 0x09 && c <= 0x0d;
     if (!whitespace && (c < 0x20 || c == 0x7f)) return false;
   }
@@ -385,7 +386,8 @@ bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
   while (std::getline(in, line)) {
     if (++lineNo > 10000) throw InputError(path + ": PLY header has no end_header");
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    for (unsigned char c : line) {
+    for (const char ch : line) {
+      const auto c = static_cast<unsigned char>(ch);
       if (c < 0x20 || c > 0x7e) throw bad(lineNo, "non-printable byte in the header");
     }
     std::istringstream words(line);

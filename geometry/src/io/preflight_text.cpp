@@ -31,7 +31,8 @@ bool equalsNoCase(std::string_view token, std::string_view word) {
 // True when only NUL bytes and whitespace remain in `rest` and in the stream after it.
 bool onlyPaddingFollows(std::string_view rest, std::istream& in) {
   const auto padding = [](unsigned char c) { return c == 0 || std::isspace(c); };
-  for (unsigned char c : rest) {
+  for (const char ch : rest) {
+    const auto c = static_cast<unsigned char>(ch);
     if (!padding(c)) return false;
   }
   for (int c; (c = in.get()) != EOF;) {
@@ -76,7 +77,8 @@ bool looksLikeAsciiStl(const std::string& head) {
   }
   std::string lower;
   std::size_t controls = 0;
-  for (unsigned char c : text) {
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
     lower += static_cast<char>(std::tolower(c));
     if (isControl(c)) ++controls;
   }

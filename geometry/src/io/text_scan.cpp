@@ -80,7 +80,10 @@ std::string lineExcerpt(std::string_view line) {
   while (!line.empty() && isBlank(line.front())) line.remove_prefix(1);
   while (!line.empty() && isBlank(line.back())) line.remove_suffix(1);
   std::string out;
-  for (unsigned char c : line.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
+  for (const char ch : line.substr(0, 60)) {
+    const auto c = static_cast<unsigned char>(ch);
+    out += std::isprint(c) ? static_cast<char>(c) : '?';
+  }
   return line.size() > 60 ? out + "..." : out;
 }
 

@@ -43,8 +43,10 @@ constexpr double kBrickBytes = double(sizeof(VoxelGrid::Brick)) + 16.0 + 13.0;
 // the smallest edge (below 1626 for 2^32 voxels), so 16 bits hold it.
 template <typename Inside>
 std::vector<std::uint16_t> insideDistance(glm::ivec3 n, Inside inside) {
-  std::vector<std::uint16_t> d(std::size_t(n.x) * n.y * n.z);
-  const auto idx = [&](int x, int y, int z) { return (std::size_t(z) * n.y + y) * n.x + x; };
+  std::vector<std::uint16_t> d(std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z));
+  const auto idx = [&](int x, int y, int z) {
+    return (std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x) + std::size_t(x);
+  };
   for (std::size_t i = 0; i < d.size(); ++i) d[i] = inside(i) ? 0xffff : 0;
   const auto pass = [&](int sign) {
     for (int zz = 0; zz < n.z; ++zz) {
@@ -100,7 +102,8 @@ std::uint64_t buildGrid(VoxelGrid& grid, Voxel voxel) {
           for (int y = lo.y; y < hi.y; ++y) {
             for (int x = lo.x; x < hi.x; ++x) {
               const std::size_t local = std::size_t(VoxelGrid::voxelInBrick({x - lo.x, y - lo.y, z - lo.z}));
-              voxel((std::size_t(z) * n.y + y) * n.x + x, fill[local], density[local]);
+              voxel((std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x) + std::size_t(x),
+                    fill[local], density[local]);
               inside += fill[local] >= kFillHalf;
               uniform = uniform && fill[local] == fill[0] && density[local] == density[0];
             }
@@ -131,7 +134,7 @@ template <typename T>
 void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> values, const VolumeOptions& options,
                  VolumeLoad& load) {
   const glm::ivec3 n = raw.sizes;
-  const std::size_t count = std::size_t(n.x) * n.y * n.z;
+  const std::size_t count = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
   // One pass: the range and, up to kMaxLabels + 1 of them, the distinct values and their counts
   // (runs of equal values counted at once: volumes are mostly runs).
   T lo = values[0], hi = lo;

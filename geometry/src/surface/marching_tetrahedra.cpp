@@ -30,8 +30,8 @@ class TetPolygoniser {
   void addTetrahedron(const std::array<std::uint32_t, 4>& ids) {
     std::array<std::uint32_t, 4> inside{};
     std::array<std::uint32_t, 4> outside{};
-    int nIn = 0;
-    int nOut = 0;
+    std::size_t nIn = 0;
+    std::size_t nOut = 0;
     for (std::uint32_t id : ids) {
       if (values_[id] < 0.0) {
         inside[nIn++] = id;
@@ -151,7 +151,7 @@ TriangleMesh marchingTetrahedra(const ImplicitFunction& f, const Aabb& box, doub
   // Values exactly (or nearly) zero would put mesh vertices on grid vertices and make
   // zero-area triangles; nudging them outward moves the surface by a negligible amount.
   const double tiny = 1e-6 * spacingMm;
-  std::vector<glm::dvec3> positions(std::size_t(nx) * ny * nz);
+  std::vector<glm::dvec3> positions(std::size_t(nx) * std::size_t(ny) * std::size_t(nz));
   std::vector<double> values(positions.size());
   for (int k = 0; k < nz; ++k) {
     for (int j = 0; j < ny; ++j) {
@@ -175,13 +175,14 @@ TriangleMesh marchingTetrahedra(const ImplicitFunction& f, const Aabb& box, doub
         bool anyIn = false;
         bool anyOut = false;
         for (int c = 0; c < 8; ++c) {
-          corner[c] = id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
-          (values[corner[c]] < 0.0 ? anyIn : anyOut) = true;
+          const std::uint32_t at = id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+          corner[std::size_t(c)] = at;
+          (values[at] < 0.0 ? anyIn : anyOut) = true;
         }
         if (!anyIn || !anyOut) continue;
         for (const auto& order : kAxisOrders) {
-          const int b1 = 1 << order[0];
-          const int b2 = b1 | (1 << order[1]);
+          const std::size_t b1 = std::size_t(1) << order[0];
+          const std::size_t b2 = b1 | (std::size_t(1) << order[1]);
           polygoniser.addTetrahedron({corner[0], corner[b1], corner[b2], corner[7]});
         }
       }

@@ -190,38 +190,38 @@ std::uint64_t voxelsInBrick(const glm::ivec3& brickCoord, const glm::ivec3& dims
 
 }  // namespace
 
-std::uint64_t VoxelGrid::countVoxels(Fill minFill) const {
-  std::uint64_t count = 0;
-  for (std::size_t i = 0; i < bricks_.size(); ++i) {
-    const glm::ivec3 bc = brickCoord(i);
-    if (const Brick* b = bricks_[i].get()) {
-      const glm::ivec3 lo = bc * kBrickSize;
-      const glm::ivec3 hi = glm::min(lo + kBrickSize, dims_) - lo;
+namespace {
+
+// fn(fill, voxels) over the grid: each stored brick's voxels one by one (voxels 1), each uniform
+// brick once with its voxel count inside the grid.
+template <typename Fn>
+void forEachFill(const VoxelGrid& grid, Fn&& fn) {
+  for (std::size_t i = 0; i < grid.brickCount(); ++i) {
+    const glm::ivec3 bc = grid.brickCoord(i);
+    if (const VoxelGrid::Brick* b = grid.brickData(i)) {
+      const glm::ivec3 lo = bc * VoxelGrid::kBrickSize;
+      const glm::ivec3 hi = glm::min(lo + VoxelGrid::kBrickSize, grid.dims()) - lo;
       for (int z = 0; z < hi.z; ++z)
         for (int y = 0; y < hi.y; ++y)
           for (int x = 0; x < hi.x; ++x)
-            count += b->fill[std::size_t(voxelInBrick({x, y, z}))] >= minFill ? 1 : 0;
-    } else if (uniformFill_[i] >= minFill) {
-      count += voxelsInBrick(bc, dims_);
+            fn(b->fill[std::size_t(VoxelGrid::voxelInBrick({x, y, z}))], std::uint64_t(1));
+    } else {
+      fn(grid.brickUniformFill(i), voxelsInBrick(bc, grid.dims()));
     }
   }
+}
+
+}  // namespace
+
+std::uint64_t VoxelGrid::countVoxels(Fill minFill) const {
+  std::uint64_t count = 0;
+  forEachFill(*this, [&](Fill fill, std::uint64_t voxels) { count += fill >= minFill ? voxels : 0u; });
   return count;
 }
 
 std::uint64_t VoxelGrid::totalFill() const {
   std::uint64_t total = 0;
-  for (std::size_t i = 0; i < bricks_.size(); ++i) {
-    const glm::ivec3 bc = brickCoord(i);
-    if (const Brick* b = bricks_[i].get()) {
-      const glm::ivec3 lo = bc * kBrickSize;
-      const glm::ivec3 hi = glm::min(lo + kBrickSize, dims_) - lo;
-      for (int z = 0; z < hi.z; ++z)
-        for (int y = 0; y < hi.y; ++y)
-          for (int x = 0; x < hi.x; ++x) total += b->fill[std::size_t(voxelInBrick({x, y, z}))];
-    } else {
-      total += std::uint64_t(uniformFill_[i]) * std::uint64_t(voxelsInBrick(bc, dims_));
-    }
-  }
+  forEachFill(*this, [&](Fill fill, std::uint64_t voxels) { total += std::uint64_t(fill) * voxels; });
   return total;
 }
 

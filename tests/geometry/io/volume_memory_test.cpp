@@ -120,7 +120,7 @@ TEST_F(VolumeMemory, ALabelMapWithEveryBrickAllocatedStaysWithinTheEstimate) {
   v.sizes = {256, 256, 128};
   std::mt19937 rng(30);
   std::uint64_t ones = 0;
-  v.values.resize(std::size_t(v.sizes.x) * v.sizes.y * v.sizes.z);
+  v.values.resize(std::size_t(v.sizes.x) * std::size_t(v.sizes.y) * std::size_t(v.sizes.z));
   for (double& x : v.values) {
     x = double(rng() & 1u);
     ones += x > 0.0;
@@ -135,7 +135,7 @@ TEST_F(VolumeMemory, ANoisyCtStaysWithinTheEstimate) {
   std::mt19937 rng(31);
   std::normal_distribution<double> noise(0.0, 30.0);
   std::uint64_t bone = 0;
-  v.values.resize(std::size_t(v.sizes.x) * v.sizes.y * v.sizes.z);
+  v.values.resize(std::size_t(v.sizes.x) * std::size_t(v.sizes.y) * std::size_t(v.sizes.z));
   for (std::size_t i = 0; i < v.values.size(); ++i) {
     const bool in = (rng() & 1u) != 0;  // bone and air at random: no brick is uniform
     v.values[i] = std::round((in ? 1200.0 : -900.0) + noise(rng));
@@ -152,7 +152,7 @@ TEST_F(VolumeMemory, ADoubleVolumeWhoseAxesAreReorderedStaysWithinTheEstimate) {
   std::mt19937 rng(32);
   std::uniform_real_distribution<double> hu(-1000.0, 1500.0);
   std::uint64_t bone = 0;
-  v.values.resize(std::size_t(v.sizes.x) * v.sizes.y * v.sizes.z);
+  v.values.resize(std::size_t(v.sizes.x) * std::size_t(v.sizes.y) * std::size_t(v.sizes.z));
   for (double& x : v.values) {
     x = std::round(hu(rng));  // whole HU: inside exactly at or above the iso level
     bone += x >= kDefaultIsoHu;

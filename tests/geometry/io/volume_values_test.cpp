@@ -44,12 +44,13 @@ TestVolume box(glm::ivec3 sizes, double value) {
   v.sizes = sizes;
   v.spacingMm = 0.5;
   v.firstCentreMm = {10.25, -4.75, 3.25};
-  v.values.assign(std::size_t(sizes.x) * sizes.y * sizes.z, value);
+  v.values.assign(std::size_t(sizes.x) * std::size_t(sizes.y) * std::size_t(sizes.z), value);
   return v;
 }
 
 std::size_t at(const TestVolume& v, int i, int j, int k) {
-  return (std::size_t(k) * v.sizes.y + j) * v.sizes.x + i;
+  return (std::size_t(k) * std::size_t(v.sizes.y) + std::size_t(j)) * std::size_t(v.sizes.x) +
+         std::size_t(i);
 }
 
 // Little-endian bytes of exact 64-bit integers (encodeAs goes through double).

@@ -195,7 +195,7 @@ TEST(VoxelGrid, TotalsMatchBruteForce) {
     std::uint64_t expected = 0;
     for (int z = 0; z < n.z; ++z)
       for (int y = 0; y < n.y; ++y)
-        for (int x = 0; x < n.x; ++x) expected += grid.fill({x, y, z}) >= minFill ? 1 : 0;
+        for (int x = 0; x < n.x; ++x) expected += grid.fill({x, y, z}) >= minFill ? 1u : 0u;
     EXPECT_EQ(grid.countVoxels(minFill), expected) << int(minFill);
   }
   EXPECT_EQ(grid.countVoxels(0), grid.voxelCount());

@@ -119,7 +119,7 @@ void expectPacketsMatchSingleRays(const TriangleMesh& mesh, double voxelSizeMm, 
               detail::pairByParity(single.hits(), intervals);
             }
             ++rays;
-            withHits += intervals.empty() ? 0 : 1;
+            withHits += intervals.empty() ? 0u : 1u;
             ASSERT_EQ(int(outcomes[i]), int(outcome)) << "axis " << axis << " column " << iu << ", " << iv;
             ASSERT_EQ(attempts[i], singleAttempts);
             ASSERT_EQ(packed[i].size(), intervals.size());

@@ -163,7 +163,9 @@ class ProxyCoupling {
     glm::dvec3 blockingNormal{0.0};  // outward from the samples that block (unit, or zero)
   };
 
-  // Moves proxy_ toward `to` as far as admissible; with `slide`, then along the contact plane.
+  // The step's move of the proxy toward the command (coupling_move.cpp).
+  void moveProxy(const StepInput& commanded, double dtS);
+  // Moves proxy_ toward `to` as far as admissible.
   MoveResult constrainedMove(const ToolPose& to);
   // Gathers each part's samples within reach of its inner layer at `from`; false when no
   // part has any (the sub-move is free).
