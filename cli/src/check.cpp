@@ -1,4 +1,4 @@
-// `osteon check`: the crack-free guarantees of one surface as numbers (issue: validation).
+// `osteon check`: the crack-free guarantees of one surface as numbers (docs/validation.md).
 #include "commands.h"
 
 #include "osteon/core/error.h"
