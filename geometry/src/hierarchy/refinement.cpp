@@ -1,5 +1,6 @@
 #include "osteon/geometry/hierarchy/refinement.h"
 
+#include "osteon/core/assert.h"
 #include "osteon/core/error.h"
 #include "sub_fill.h"
 
@@ -218,6 +219,7 @@ void RefinedVoxels::releaseCell(std::uint32_t cell) {
   const std::uint32_t last = activeList_[--active_];
   activeList_[slot] = last;
   activeSlot_[last] = slot;
+  OSTEON_ASSERT(freeTop_ < freeCells_.size(), "a cell goes back to the pool once");
   freeCells_[freeTop_++] = cell;
 }
 
