@@ -20,11 +20,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 namespace osteon::cli {
 
@@ -119,6 +121,17 @@ json runtimeStatsJson(const sim::RuntimeStats& st) {
           {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
           {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
           {"haptic_standby_steps", st.standbySteps}, {"realtime_priority", st.realtimeGranted}};
+}
+
+sim::RuntimeOptions threadedRunOptions() {
+  sim::RuntimeOptions ro;
+  const char* fault = std::getenv("OSTEON_INJECT_FAULT");
+  if (!fault || !*fault) return ro;
+  if (std::string(fault) != "surface-update") {
+    throw InputError(std::string("OSTEON_INJECT_FAULT=") + fault + ": unknown fault (known: surface-update)");
+  }
+  ro.beforeSurfaceUpdate = [] { throw std::runtime_error("injected fault (OSTEON_INJECT_FAULT=surface-update)"); };
+  return ro;
 }
 
 int runDrill(const DrillCommandOptions& options) {
@@ -216,7 +229,7 @@ int runDrill(const DrillCommandOptions& options) {
   json runtimeJson;
   if (options.threaded) {
     sim::PathPoseSource device(path);
-    sim::RuntimeOptions ro;
+    sim::RuntimeOptions ro = threadedRunOptions();
     ro.durationS = path.durationS();
     ro.onRow = logRow;
     ro.keepLog = false;

@@ -10,6 +10,7 @@
 namespace osteon::simulation {
 enum class CouplingMode;
 struct RunSummary;
+struct RuntimeOptions;
 struct RuntimeStats;
 struct SetupTimings;
 class Session;
@@ -45,5 +46,10 @@ std::string markEmptyRun(nlohmann::json& summary, const simulation::RunSummary& 
 
 // The threaded runtime's `runtime` object: steps and overruns per thread, visual updates, ...
 nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
+
+// The threaded runtime's options for a drilling run, with the fault tests of the whole program
+// inject: OSTEON_INJECT_FAULT=surface-update makes every visual surface update throw. Throws
+// InputError for an unknown fault.
+simulation::RuntimeOptions threadedRunOptions();
 
 }  // namespace osteon::cli

@@ -164,10 +164,13 @@ class Session {
   HapticStep hapticStep(const StepInput& input);
   int surfaceEverySteps = 1;
 
-  // A whole path in the deterministic mode (runner.h): the same input, the same log bit for bit.
-  RunResult run(const DrillPath& path, DeterministicOptions options = {});
-  // The haptic, collision and visual threads in real time for options.durationS (runtime.h);
-  // afterwards the session's surface is the visual thread's.
+  // A whole path in the deterministic mode (runner.h), one step() after another from t = 0 to
+  // its end, or until SIGINT/SIGTERM is recorded (core/interrupt.h: the caller then throws
+  // Interrupted): the same input, the same log bit for bit.
+  RunResult run(const DrillPath& path, const DeterministicOptions& options = {});
+  // The haptic, collision and visual threads in real time for options.durationS (runtime.h): a
+  // LiveRuntime (live.h) with a visual thread of its own. Afterwards the session's surface is
+  // the visual thread's.
   RuntimeResult runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options);
 
   // ---- each frame ----
@@ -216,8 +219,11 @@ class Session {
   PortalPlan portalPath(Portal portal, const PortalPathOptions& options = {}) const;
 
  private:
-  friend class LiveRuntime;  // drives the grid and simulation from its own threads
-  geometry::VoxelGrid& mutableGrid();
+  // The one step every path takes (step(), hapticStep(), run()): the coupling (null: direct)
+  // and the simulation, timed into stepNs; then, with followSurface, the kept surface follows
+  // the bricks the step changed, timed into surfaceNs. Either may be null.
+  HapticStep advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface, Durations* stepNs,
+                     Durations* surfaceNs);
   struct State;
   explicit Session(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
