@@ -78,32 +78,28 @@ sim::CouplingMode couplingFor(const std::string& option, bool portalPath) {
 
 json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
                     const std::string& mode, const std::string& tool, double voxelSizeMm, int levels) {
-  return {{"jitter_n", s.jitterN},
-          {"coupling", sim::couplingModeName(s.coupling)},
-          {"max_gap_mm", s.maxGapMm},
-          {"clamp_steps", s.clampSteps},
-          {"refine_steps_deferred", s.totals.stepsDeferred},
-          {"refine_voxels_deferred", s.totals.voxelsDeferred},
-          {"max_step_change_n", s.maxStepChangeN},
-          {"max_force_n", s.maxForceN},
-          {"removed_volume_mm3", s.removedVolumeMm3},
-          {"haptic_step_us", percentilesJson(s.hapticStepUs)},
-          {"remesh_ms", percentilesJson(s.remeshMs)},
-          {"overruns", s.overruns},
-          {"steps", s.steps},
-          {"non_finite_forces", s.totals.nonFiniteForces},
-          {"brick_allocations", s.totals.brickAllocations},
-          {"cut_overflows", s.totals.cutOverflows},
-          {"refine_pool_exhausted", s.totals.refinePoolExhausted},
-          {"mask_overflows", s.totals.maskOverflows},
-          {"mode", mode},
-          {"mesh", mesh},
-          {"tool", tool},
-          {"voxel_size_mm", voxelSizeMm},
-          {"levels", levels},
-          {"finest_voxel_mm", session.simulation().finestVoxelMm()},
-          {"setup_ms", setupJson(session.setupTimings())},
-          {"peak_rss_mb", peakRssMb()}};
+  json summary = {{"jitter_n", s.jitterN},
+                  {"coupling", sim::couplingModeName(s.coupling)},
+                  {"max_gap_mm", s.maxGapMm},
+                  {"max_step_change_n", s.maxStepChangeN},
+                  {"max_force_n", s.maxForceN},
+                  {"removed_volume_mm3", s.removedVolumeMm3},
+                  {"haptic_step_us", percentilesJson(s.hapticStepUs)},
+                  {"remesh_ms", percentilesJson(s.remeshMs)},
+                  {"steps", s.steps},
+                  {"degraded", sim::degraded(s)},
+                  {"mode", mode},
+                  {"mesh", mesh},
+                  {"tool", tool},
+                  {"voxel_size_mm", voxelSizeMm},
+                  {"levels", levels},
+                  {"finest_voxel_mm", session.simulation().finestVoxelMm()},
+                  {"setup_ms", setupJson(session.setupTimings())},
+                  {"peak_rss_mb", peakRssMb()}};
+  for (const sim::DegradationCounter& c : sim::kDegradationCounters) {
+    if (!c.runtimeOnly) summary[c.key] = c.count(s);
+  }
+  return summary;
 }
 
 std::string markEmptyRun(json& summary, const sim::RunSummary& s) {

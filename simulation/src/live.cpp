@@ -440,6 +440,8 @@ RuntimeResult LiveRuntime::stop() {
   s.steps = stats.collisionSteps;
   s.maxGapMm = m.tallies.maxGapMm;
   s.clampSteps = m.tallies.clampSteps;
+  s.ringFull = stats.ringFull;
+  s.logDropped = stats.logDropped;
   return result;
 }
 

@@ -11,6 +11,7 @@
 #include "osteon/simulation/run_metrics.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -30,12 +31,59 @@ struct RunSummary {
   CouplingMode coupling = CouplingMode::Direct;
   double maxGapMm = 0.0;          // largest proxy-to-commanded tip distance (0 under direct)
   std::uint64_t clampSteps = 0;   // steps whose force to the device was at N_max
+  // The threaded runtime's hand-offs (RuntimeStats; 0 in the deterministic mode).
+  std::uint64_t ringFull = 0;     // changed bricks the visual side had to wait for
+  std::uint64_t logDropped = 0;   // force log rows lost on the way to the logging thread
   // Counts one haptic step in maxGapMm and clampSteps.
   void tally(const HapticStep& h) {
     maxGapMm = std::max(maxGapMm, h.gapMm);
     clampSteps += h.clamped ? 1 : 0;
   }
 };
+
+// Every counter by which a run says it fell back on less than its design (a coarser or clamped
+// force, a zeroed one, a late period, a brick or row that had to wait or was lost), in one
+// table: summary.json reports each under its key (the threaded runtime's own in its "runtime"
+// object) and "degraded" is true when any is non-zero.
+struct DegradationCounter {
+  const char* key;  // the summary.json field
+  const char* meaning;
+  bool runtimeOnly;  // reported in the threaded runtime's "runtime" object
+  std::uint64_t (*count)(const RunSummary& summary);
+};
+
+inline constexpr std::array<DegradationCounter, 11> kDegradationCounters{{
+    {"clamp_steps", "steps whose force to the device was at N_max", false,
+     [](const RunSummary& s) { return s.clampSteps; }},
+    {"refine_steps_deferred", "steps that left shell voxels coarse (the refinement budget)", false,
+     [](const RunSummary& s) { return s.totals.stepsDeferred; }},
+    {"refine_voxels_deferred", "shell voxels left coarse, summed over the steps", false,
+     [](const RunSummary& s) { return s.totals.voxelsDeferred; }},
+    {"refine_pool_exhausted", "voxels left coarse because the refinement pool was full", false,
+     [](const RunSummary& s) { return s.totals.refinePoolExhausted; }},
+    {"brick_allocations", "bricks a step allocated (the spare pool ran out)", false,
+     [](const RunSummary& s) { return s.totals.brickAllocations; }},
+    {"cut_overflows", "cuts that found more voxels than reserved (the rest left)", false,
+     [](const RunSummary& s) { return s.totals.cutOverflows; }},
+    {"mask_overflows", "removal masks the table had no room for", false,
+     [](const RunSummary& s) { return s.totals.maskOverflows; }},
+    {"non_finite_forces", "steps whose force was not finite (zero sent)", false,
+     [](const RunSummary& s) { return s.totals.nonFiniteForces; }},
+    {"overruns", "periods whose work ended past their deadline (threaded)", false,
+     [](const RunSummary& s) { return s.overruns; }},
+    {"ring_full", "changed bricks the visual side had to wait for (threaded)", true,
+     [](const RunSummary& s) { return s.ringFull; }},
+    {"log_dropped", "force log rows lost on the way to the logging thread (threaded)", true,
+     [](const RunSummary& s) { return s.logDropped; }},
+}};
+
+// True when any counter of kDegradationCounters is non-zero.
+inline bool degraded(const RunSummary& summary) {
+  for (const DegradationCounter& c : kDegradationCounters) {
+    if (c.count(summary) > 0) return true;
+  }
+  return false;
+}
 
 struct DeterministicOptions {
   double stepS = 0.001;
