@@ -36,16 +36,16 @@ RefinedVoxels::RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarc
                                        : options.marginMm),
       timeoutS_(options.timeoutS) {
   if (options.depth < 0 || options.depth > kMaxRefineDepth) {
-    throw InputError("--levels " + std::to_string(options.depth) + ": refinement depth is 0, 1 or 2");
+    throw InputError("RefinementOptions::depth " + std::to_string(options.depth) + ": must be 0, 1 or 2");
   }
   if (!std::isfinite(options.timeoutS) || options.timeoutS <= 0.0) {
     std::ostringstream s;
-    s << "--refine-timeout " << options.timeoutS << ": must be a positive number of seconds";
+    s << "RefinementOptions::timeoutS " << options.timeoutS << ": must be a positive number of seconds";
     throw InputError(s.str());
   }
   if (!std::isfinite(marginMm_)) throw InputError("refinement margin must be finite");
   if (options.capacity == 0 || options.capacity > (1u << 24)) {
-    throw InputError("refinement capacity must be 1 .. 2^24 voxels");
+    throw InputError("RefinementOptions::capacity " + std::to_string(options.capacity) + ": must be 1 .. 2^24 voxels");
   }
   cells_.resize(options.capacity);
   freeCells_.resize(options.capacity);
