@@ -1,6 +1,6 @@
 #include "osteon/simulation/live.h"
 
-#include "brick_message.h"
+#include "live_messages.h"
 #include "realtime_thread.h"
 #include "run_recorder.h"
 
@@ -22,34 +22,10 @@ namespace osteon::simulation {
 namespace {
 
 using geometry::VoxelGrid;
+using namespace messages;
 using realtime::nowNs;
 using realtime::prefaultStack;
 using realtime::sleepUntilNs;
-
-struct PoseMessage {
-  double tS = -1.0;  // < 0: no pose yet
-  ToolPose pose;
-  bool drillOn = false;
-};
-
-// The display state without the refined voxels (published every step).
-struct DisplayCore {
-  double tS = -1.0;
-  ToolPose pose;
-  ToolPose commanded;
-  double gapMm = 0.0;
-  bool drillOn = false;
-  ContactForce contact;
-  std::uint64_t removedFill = 0;
-  double removedVolumeMm3 = 0.0;
-  std::uint64_t steps = 0;
-};
-
-struct RefinedList {
-  int depth = 0;
-  std::size_t count = 0;
-  std::array<glm::ivec3, DisplayState::kMaxRefined> voxels;
-};
 
 // The haptic standby wakes this long after each period's start: late enough that the first
 // thread has nearly always run the period, early enough to run it well inside it.

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 
@@ -175,7 +176,7 @@ struct Session::State {
 Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options)
     : state_(std::make_unique<State>()) {
   const Clock::time_point start = Clock::now();
-  if (!bone) throw InputError("session: no bone");
+  if (!bone) throw std::logic_error("Session: constructed without a bone");
   DrillingOptions drilling = options.drilling;
   drilling.levels = options.levels;
   validateDrillingOptions(drilling);
@@ -332,7 +333,9 @@ const geometry::SurfaceMesh& Session::surface() {
 
 void Session::resetSurface() {
   State& s = *state_;
-  if (!s.options.keepSurface) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  if (!s.options.keepSurface) {
+    throw std::logic_error(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  }
   s.grid.clearDirty();
   s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
   s.surfaceStale = true;
@@ -347,7 +350,9 @@ void Session::releaseSurface() {
 
 SurfaceChanges Session::takeSurfaceChanges() {
   State& s = *state_;
-  if (!s.updater) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  if (!s.updater) {
+    throw std::logic_error(s.bone->name() + ": the session keeps no surface (keepSurface off, or released)");
+  }
   return s.updater->takeChanges();
 }
 

@@ -176,11 +176,11 @@ class Session {
   // ---- each frame ----
   // The surface as the visual work left it (the level-0 crack-free surface).
   const geometry::SurfaceMesh& surface();
-  // What changed since the last call (everything on the first). Throws InputError when the
-  // session keeps no surface.
+  // What changed since the last call (everything on the first). Calling it on a session that
+  // keeps no surface is a programming error: std::logic_error.
   SurfaceChanges takeSurfaceChanges();
   // Extracts the surface again from the grid as it is now (a full extraction; the changes
-  // start over with everything). keepSurface sessions only.
+  // start over with everything). keepSurface sessions only (else std::logic_error).
   void resetSurface();
   // Frees the kept surface (the incremental updater and the last mesh), for the memory a final
   // extraction needs; surface() then extracts from the grid, and resetSurface() keeps one again.
