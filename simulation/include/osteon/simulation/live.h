@@ -53,7 +53,7 @@ struct LiveStats {
 class LiveRuntime {
  public:
   // The session must outlive the runtime and must not be stepped by anyone else while it runs.
-  // options.durationS is start()'s to give.
+  // options.durationS is not read: start() takes the duration.
   LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options = {});
   ~LiveRuntime();  // stops
   LiveRuntime(const LiveRuntime&) = delete;
@@ -63,7 +63,7 @@ class LiveRuntime {
   // t = durationS) and then end by themselves (loopsDone()).
   void start(double durationS = std::numeric_limits<double>::infinity());
   // Joins the loops; hands over what is left; the session's own surface starts again from its
-  // grid. Returns the run as runThreaded would (force log metrics, step percentiles, and a
+  // grid. Returns the run as Session::runThreaded does (force log metrics, step percentiles, and a
   // visual fault in visualFault rather than thrown).
   RuntimeResult stop();
   bool running() const;
