@@ -20,11 +20,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 namespace osteon::cli {
 
@@ -76,32 +78,28 @@ sim::CouplingMode couplingFor(const std::string& option, bool portalPath) {
 
 json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
                     const std::string& mode, const std::string& tool, double voxelSizeMm, int levels) {
-  return {{"jitter_n", s.jitterN},
-          {"coupling", sim::couplingModeName(s.coupling)},
-          {"max_gap_mm", s.maxGapMm},
-          {"clamp_steps", s.clampSteps},
-          {"refine_steps_deferred", s.totals.stepsDeferred},
-          {"refine_voxels_deferred", s.totals.voxelsDeferred},
-          {"max_step_change_n", s.maxStepChangeN},
-          {"max_force_n", s.maxForceN},
-          {"removed_volume_mm3", s.removedVolumeMm3},
-          {"haptic_step_us", percentilesJson(s.hapticStepUs)},
-          {"remesh_ms", percentilesJson(s.remeshMs)},
-          {"overruns", s.overruns},
-          {"steps", s.steps},
-          {"non_finite_forces", s.totals.nonFiniteForces},
-          {"brick_allocations", s.totals.brickAllocations},
-          {"cut_overflows", s.totals.cutOverflows},
-          {"refine_pool_exhausted", s.totals.refinePoolExhausted},
-          {"mask_overflows", s.totals.maskOverflows},
-          {"mode", mode},
-          {"mesh", mesh},
-          {"tool", tool},
-          {"voxel_size_mm", voxelSizeMm},
-          {"levels", levels},
-          {"finest_voxel_mm", session.simulation().finestVoxelMm()},
-          {"setup_ms", setupJson(session.setupTimings())},
-          {"peak_rss_mb", peakRssMb()}};
+  json summary = {{"jitter_n", s.jitterN},
+                  {"coupling", sim::couplingModeName(s.coupling)},
+                  {"max_gap_mm", s.maxGapMm},
+                  {"max_step_change_n", s.maxStepChangeN},
+                  {"max_force_n", s.maxForceN},
+                  {"removed_volume_mm3", s.removedVolumeMm3},
+                  {"haptic_step_us", percentilesJson(s.hapticStepUs)},
+                  {"remesh_ms", percentilesJson(s.remeshMs)},
+                  {"steps", s.steps},
+                  {"degraded", sim::degraded(s)},
+                  {"mode", mode},
+                  {"mesh", mesh},
+                  {"tool", tool},
+                  {"voxel_size_mm", voxelSizeMm},
+                  {"levels", levels},
+                  {"finest_voxel_mm", session.simulation().finestVoxelMm()},
+                  {"setup_ms", setupJson(session.setupTimings())},
+                  {"peak_rss_mb", peakRssMb()}};
+  for (const sim::DegradationCounter& c : sim::kDegradationCounters) {
+    if (!c.runtimeOnly) summary[c.key] = c.count(s);
+  }
+  return summary;
 }
 
 std::string markEmptyRun(json& summary, const sim::RunSummary& s) {
@@ -119,6 +117,17 @@ json runtimeStatsJson(const sim::RuntimeStats& st) {
           {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
           {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
           {"haptic_standby_steps", st.standbySteps}, {"realtime_priority", st.realtimeGranted}};
+}
+
+sim::RuntimeOptions threadedRunOptions() {
+  sim::RuntimeOptions ro;
+  const char* fault = std::getenv("OSTEON_INJECT_FAULT");
+  if (!fault || !*fault) return ro;
+  if (std::string(fault) != "surface-update") {
+    throw InputError(std::string("OSTEON_INJECT_FAULT=") + fault + ": unknown fault (known: surface-update)");
+  }
+  ro.beforeSurfaceUpdate = [] { throw std::runtime_error("injected fault (OSTEON_INJECT_FAULT=surface-update)"); };
+  return ro;
 }
 
 int runDrill(const DrillCommandOptions& options) {
@@ -216,7 +225,7 @@ int runDrill(const DrillCommandOptions& options) {
   json runtimeJson;
   if (options.threaded) {
     sim::PathPoseSource device(path);
-    sim::RuntimeOptions ro;
+    sim::RuntimeOptions ro = threadedRunOptions();
     ro.durationS = path.durationS();
     ro.onRow = logRow;
     ro.keepLog = false;

@@ -269,7 +269,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
                        {"steps_before_pose", r.stepsBeforePose}};
   } else {
     sim::DeviceInput input(*device, io);
-    sim::RuntimeOptions ro;
+    sim::RuntimeOptions ro = threadedRunOptions();
     // A recording runs for its length, whatever its stamps (DeviceInput shifts its clock).
     ro.durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
     ro.onRow = logRow;

@@ -10,6 +10,7 @@
 namespace osteon::simulation {
 enum class CouplingMode;
 struct RunSummary;
+struct RuntimeOptions;
 struct RuntimeStats;
 struct SetupTimings;
 class Session;
@@ -17,11 +18,11 @@ class Session;
 
 namespace osteon::cli {
 
-// jitter_n, coupling, max_gap_mm, clamp_steps, refine_steps_deferred, refine_voxels_deferred,
-// max_step_change_n, max_force_n, removed_volume_mm3, haptic_step_us and remesh_ms
-// {p50, p99, max}, overruns, steps, the simulation's counters (non_finite_forces, ...), mode,
-// mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the session's setup_ms and peak_rss_mb
-// (setupJson).
+// jitter_n, coupling, max_gap_mm, max_step_change_n, max_force_n, removed_volume_mm3,
+// haptic_step_us and remesh_ms {p50, p99, max}, steps, the degradation counters of runner.h
+// (clamp_steps, refine_steps_deferred, overruns, non_finite_forces, ...) and "degraded" (any
+// of them non-zero), mode, mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the
+// session's setup_ms and peak_rss_mb (setupJson).
 // --coupling as given, or its default when empty: direct for the seed's portal paths (their
 // force logs stay the seed experiment's), proxy for everything a hand drives. Throws
 // InputError naming a bad value.
@@ -45,5 +46,10 @@ std::string markEmptyRun(nlohmann::json& summary, const simulation::RunSummary& 
 
 // The threaded runtime's `runtime` object: steps and overruns per thread, visual updates, ...
 nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
+
+// The threaded runtime's options for a drilling run, with the fault tests of the whole program
+// inject: OSTEON_INJECT_FAULT=surface-update makes every visual surface update throw. Throws
+// InputError for an unknown fault.
+simulation::RuntimeOptions threadedRunOptions();
 
 }  // namespace osteon::cli

@@ -1,20 +1,16 @@
 #include "osteon/simulation/live.h"
 
-#include "osteon/core/error.h"
-#include "osteon/simulation/handoff.h"
+#include "live_messages.h"
+#include "realtime_thread.h"
+#include "run_recorder.h"
 
-#include <malloc.h>
-#include <pthread.h>
-#include <sched.h>
-#include <time.h>
+#include "osteon/simulation/handoff.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <exception>
-#include <mutex>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -26,114 +22,10 @@ namespace osteon::simulation {
 namespace {
 
 using geometry::VoxelGrid;
-
-std::int64_t nowNs() {
-  timespec t{};
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec;
-}
-
-void sleepUntilNs(std::int64_t deadline) {
-  timespec t{};
-  t.tv_sec = time_t(deadline / 1000000000);
-  t.tv_nsec = long(deadline % 1000000000);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &t, nullptr) == EINTR) {
-  }
-}
-
-// Writes the stack pages a loop may reach, so that none is first touched (a page fault)
-// inside a period.
-__attribute__((noinline)) void prefaultStack() {
-  volatile std::uint8_t pages[128 * 1024];
-  for (std::size_t i = 0; i < sizeof pages; i += 4096) pages[i] = 0;
-}
-
-// While the 1 kHz loops run, freed memory stays in the process: each munmap of a freed
-// surface buffer (and each page fault of a fresh one) in the visual thread stalled the
-// collision thread up to 4 ms and doubled the haptic thread's overruns at 0.3 mm
-// (docs/performance.md, "Threaded runtime"). Process-wide and once: RSS stays at its peak.
-void keepFreedMemory() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    mallopt(M_MMAP_MAX, 0);         // large blocks from the heap too, not from fresh mappings
-    mallopt(M_TRIM_THRESHOLD, -1);  // and the heap's top never given back
-  });
-}
-
-// The CPUs this process may run on, in order.
-std::vector<int> allowedCpus() {
-  std::vector<int> cpus;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return cpus;
-  for (int c = 0; c < CPU_SETSIZE; ++c) {
-    if (CPU_ISSET(c, &set)) cpus.push_back(c);
-  }
-  return cpus;
-}
-
-void pinTo(int cpu) {
-  if (cpu < 0) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  pthread_setaffinity_np(pthread_self(), sizeof set, &set);  // best effort: unpinned still runs
-}
-
-bool askRealtime(int priority) {
-  sched_param p{};
-  p.sched_priority = priority;
-  return pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) == 0;
-}
-
-struct PoseMessage {
-  double tS = -1.0;  // < 0: no pose yet
-  ToolPose pose;
-  bool drillOn = false;
-};
-
-struct BrickMessage {
-  std::uint32_t brick = 0;
-  std::array<geometry::Fill, VoxelGrid::kBrickVoxels> fill{};
-  std::array<geometry::Density, VoxelGrid::kBrickVoxels> density{};
-};
-
-void snapshot(const VoxelGrid& grid, std::size_t brick, BrickMessage& msg) {
-  msg.brick = std::uint32_t(brick);
-  if (const VoxelGrid::Brick* data = grid.brickData(brick)) {
-    msg.fill = data->fill;
-    msg.density = data->density;
-  } else {
-    msg.fill.fill(grid.brickUniformFill(brick));
-    msg.density.fill(grid.brickUniformDensity(brick));
-  }
-}
-
-void apply(VoxelGrid& grid, const BrickMessage& msg) {
-  VoxelGrid::Brick& b = grid.materialiseBrick(msg.brick);
-  b.fill = msg.fill;
-  b.density = msg.density;
-  grid.markBrickDirty(msg.brick);
-}
-
-// The display state without the refined voxels (published every step).
-struct DisplayCore {
-  double tS = -1.0;
-  ToolPose pose;
-  ToolPose commanded;
-  double gapMm = 0.0;
-  bool drillOn = false;
-  ContactForce contact;
-  std::uint64_t removedFill = 0;
-  double removedVolumeMm3 = 0.0;
-  std::uint64_t steps = 0;
-};
-
-struct RefinedList {
-  int depth = 0;
-  std::size_t count = 0;
-  std::array<glm::ivec3, DisplayState::kMaxRefined> voxels;
-};
+using namespace messages;
+using realtime::nowNs;
+using realtime::prefaultStack;
+using realtime::sleepUntilNs;
 
 // The haptic standby wakes this long after each period's start: late enough that the first
 // thread has nearly always run the period, early enough to run it well inside it.
@@ -142,15 +34,6 @@ constexpr std::int64_t kStandbyLagNs = 250000;
 constexpr std::uint64_t kRefinedEverySteps = 16;
 // Step timings kept for percentiles: ten minutes at 1 kHz, then only the latest is known.
 constexpr std::uint64_t kMaxTimedPeriods = 600000;
-
-// OSTEON_INJECT_FAULT=surface-update: every visual surface update throws, so that tests of a
-// whole program (the command line) see how a threaded run fails. Anything else is refused.
-bool surfaceFaultFromEnvironment() {
-  const char* fault = std::getenv("OSTEON_INJECT_FAULT");
-  if (!fault || !*fault) return false;
-  if (std::string(fault) == "surface-update") return true;
-  throw InputError(std::string("OSTEON_INJECT_FAULT=") + fault + ": unknown fault (known: surface-update)");
-}
 
 // The exception being handled, as one line.
 std::string currentErrorLine() {
@@ -170,16 +53,15 @@ std::string currentErrorLine() {
 }  // namespace
 
 struct LiveRuntime::Impl {
-  Session* session = nullptr;
+  Session* session;
   DrillingSimulation* sim;
-  ProxyCoupling* coupling = nullptr;  // null: direct
-  double maxGapMm = 0.0;              // collision thread's, read after it is joined
-  std::uint64_t clampSteps = 0;
+  ProxyCoupling* coupling;  // null: direct
+  RunSummary tallies;       // the collision thread's (gap, clamps), read after it is joined
   VoxelGrid* grid;
   PoseSource* source;
   ForceSink* sink;
   RuntimeOptions options;
-  std::uint64_t periods;  // per loop; max: until stop()
+  std::uint64_t periods = std::numeric_limits<std::uint64_t>::max();  // per loop; max: until stop()
   std::int64_t periodNs;
 
   TripleBuffer<PoseMessage> poses;
@@ -188,8 +70,7 @@ struct LiveRuntime::Impl {
   TripleBuffer<RefinedList> refinedList;
   SpscRing<BrickMessage> bricks;
   SpscRing<ForceLogRow> logRows;
-  std::vector<ForceLogRow> log;
-  ForceMetrics metrics;
+  RunRecorder recorder;  // the logging thread's
   Durations hapticNs, collisionNs, remeshNs;
 
   VoxelGrid visualGrid;
@@ -198,7 +79,6 @@ struct LiveRuntime::Impl {
   BrickMessage drainMsg;
   DisplayState shown;
   std::uint64_t visualUpdates = 0;
-  bool injectSurfaceFault = surfaceFaultFromEnvironment();
   std::string visualFault;  // set once; the visual surface is left as it was from then on
 
   std::atomic<bool> stopFlag{false};
@@ -218,22 +98,15 @@ struct LiveRuntime::Impl {
   std::thread haptic, standby, collision, logger;
   bool started = false, stopped = false;
 
-  Impl(DrillingSimulation& s, VoxelGrid& g, PoseSource& src, ForceSink* snk, const geometry::SurfaceOptions& so,
-       const RuntimeOptions& o, std::uint64_t n)
-      : sim(&s), coupling(o.coupling), grid(&g), source(&src), sink(snk), options(o),
-        periods(n == 0 ? std::numeric_limits<std::uint64_t>::max() : n),
+  Impl(Session& se, PoseSource& src, ForceSink* snk, const RuntimeOptions& o)
+      : session(&se), sim(&se.simulation()), coupling(o.coupling ? o.coupling : se.coupling()),
+        grid(&se.simulation().grid()), source(&src), sink(snk), options(o),
         periodNs(std::int64_t(std::llround(o.periodS * 1e9))), bricks(o.brickRingCapacity),
-        logRows(o.logRingCapacity) {
-    // Everything the 1 kHz loops touch is sized here.
-    const std::uint64_t timed = std::min<std::uint64_t>(periods, kMaxTimedPeriods) + 1;
-    if (options.keepLog) log.reserve(timed);
-    metrics.reserveForStep(options.periodS);
-    hapticNs.reserve(timed);
-    collisionNs.reserve(timed);
+        logRows(o.logRingCapacity), recorder(o.onRow, o.keepLog, o.periodS) {
     hapticOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     collisionOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     changed.reserve(1024);
-    const std::vector<int> cpus = allowedCpus();
+    const std::vector<int> cpus = realtime::allowedCpus();
     if (options.hapticStandby && cpus.size() >= 2) {
       hapticCpu = cpus.back();
       standbyCpu = cpus.front();
@@ -242,7 +115,16 @@ struct LiveRuntime::Impl {
     // never reads a brick mid-write.
     grid->clearDirty();
     visualGrid = *grid;
-    updater = std::make_unique<geometry::SurfaceUpdater>(visualGrid, so);
+    updater = std::make_unique<geometry::SurfaceUpdater>(visualGrid, se.options().surface);
+  }
+
+  // Everything the loops touch is sized here, before they start (periods known).
+  void size(double durationS) {
+    if (std::isfinite(durationS)) periods = std::uint64_t(std::llround(durationS / options.periodS)) + 1;
+    const std::uint64_t timed = std::min<std::uint64_t>(periods, kMaxTimedPeriods) + 1;
+    recorder.reserve(timed);
+    hapticNs.reserve(timed);
+    collisionNs.reserve(timed);
   }
 
   // A fixed-period loop: runs work(k, tS) at each period k until `periods` or stop; counts
@@ -275,8 +157,8 @@ struct LiveRuntime::Impl {
   // CPU the hypervisor or kernel holds for a millisecond stalls one thread, not the loop
   // (docs/performance.md, "Threaded runtime"). Overruns and skipped periods as in periodic().
   void hapticLoop(std::int64_t startNs, std::int64_t lagNs, int cpu, bool isStandby) {
-    pinTo(cpu);
-    if (options.realtimePriority && askRealtime(80)) granted.fetch_add(1);
+    realtime::pinTo(cpu);
+    if (options.realtimePriority && realtime::askRealtime(80)) granted.fetch_add(1);
     prefaultStack();
     for (std::uint64_t k = 0; !stopFlag.load(std::memory_order_relaxed);) {
       sleepUntilNs(startNs + std::int64_t(k) * periodNs + lagNs);
@@ -323,7 +205,7 @@ struct LiveRuntime::Impl {
   }
 
   void collisionLoop(std::int64_t startNs) {
-    if (options.realtimePriority && askRealtime(79)) granted.fetch_add(1);
+    if (options.realtimePriority && realtime::askRealtime(79)) granted.fetch_add(1);
     BrickMessage handover;
     RefinedList refined;
     periodic(startNs, collisionSteps, collisionOverruns, collisionOverrunNs, collisionNs, [&](double) {
@@ -337,8 +219,7 @@ struct LiveRuntime::Impl {
       sent.forceN = h.forceN;
       sent.magnitudeN = h.magnitudeN;
       forces.write(sent);
-      maxGapMm = std::max(maxGapMm, h.gapMm);
-      clampSteps += h.clamped ? 1 : 0;
+      tallies.tally(h);
       const DrillingTotals& totals = sim->totals();
       if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
         logDropped.fetch_add(1, std::memory_order_relaxed);
@@ -394,9 +275,7 @@ struct LiveRuntime::Impl {
       bool any = false;
       while (logRows.pop(row)) {
         any = true;
-        metrics.add(row.tS, row.magnitudeN);
-        if (options.onRow) options.onRow(row);
-        if (options.keepLog) log.push_back(row);
+        recorder.add(row);
       }
       return any;
     };
@@ -432,7 +311,6 @@ struct LiveRuntime::Impl {
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
     if (options.beforeSurfaceUpdate) options.beforeSurfaceUpdate();
-    if (injectSurfaceFault) throw std::runtime_error("injected fault (OSTEON_INJECT_FAULT=surface-update)");
     const double ms = updater->update(changed).ms;
     remeshNs.addMs(ms);
     visualGrid.clearDirty();
@@ -449,16 +327,7 @@ struct LiveRuntime::Impl {
 };
 
 LiveRuntime::LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options)
-    : impl_(std::make_unique<Impl>(session.simulation(), session.mutableGrid(), source, sink,
-                                   session.options().surface, options, 0)) {
-  impl_->session = &session;
-  if (!impl_->coupling) impl_->coupling = session.coupling();
-}
-
-LiveRuntime::LiveRuntime(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source, ForceSink* sink,
-                         const geometry::SurfaceOptions& surfaceOptions, const RuntimeOptions& options,
-                         std::uint64_t periods)
-    : impl_(std::make_unique<Impl>(sim, grid, source, sink, surfaceOptions, options, periods)) {}
+    : impl_(std::make_unique<Impl>(session, source, sink, options)) {}
 
 LiveRuntime::~LiveRuntime() {
   if (!impl_ || !impl_->started || impl_->stopped) return;
@@ -470,11 +339,12 @@ LiveRuntime::~LiveRuntime() {
   }
 }
 
-void LiveRuntime::start() {
+void LiveRuntime::start(double durationS) {
   Impl& m = *impl_;
   if (m.started) return;
   m.started = true;
-  keepFreedMemory();
+  m.size(durationS);
+  realtime::keepFreedMemory();
   const std::int64_t startNs = nowNs() + 5000000;  // 5 ms for the threads to start
   m.hapticThreadsLeft.store(m.standbyCpu >= 0 ? 2 : 1);
   m.haptic = std::thread([&m, startNs] { m.hapticLoop(startNs, 0, m.hapticCpu, false); });
@@ -514,7 +384,7 @@ RuntimeResult LiveRuntime::stop() {
     m.noteVisualFault();
   }
   m.grid->clearDirty();
-  if (m.session && m.session->options().keepSurface) m.session->resetSurface();
+  if (m.session->options().keepSurface) m.session->resetSurface();
 
   RuntimeStats& stats = result.stats;
   stats.hapticSteps = m.hapticSteps.load();
@@ -538,20 +408,16 @@ RuntimeResult LiveRuntime::stop() {
   stats.collisionStepUs = m.collisionNs.percentiles(1e3);
   stats.remeshMs = m.remeshNs.percentiles(1e6);
   result.visualFault = m.visualFault;
-  result.run.log = std::move(m.log);
+  result.run = m.recorder.finish(*m.sim, m.coupling != nullptr);
   RunSummary& s = result.run.summary;
-  s.jitterN = m.metrics.jitterN();
-  s.maxStepChangeN = m.metrics.maxStepChangeN();
-  s.maxForceN = m.metrics.maxForceN();
-  s.removedVolumeMm3 = m.sim->removedVolumeMm3();
   s.hapticStepUs = stats.collisionStepUs;  // the step the haptic target is about: collision + force + removal
   s.remeshMs = stats.remeshMs;
   s.overruns = stats.hapticOverruns + stats.collisionOverruns;
   s.steps = stats.collisionSteps;
-  s.totals = m.sim->totals();
-  s.coupling = m.coupling ? CouplingMode::Proxy : CouplingMode::Direct;
-  s.maxGapMm = m.maxGapMm;
-  s.clampSteps = m.clampSteps;
+  s.maxGapMm = m.tallies.maxGapMm;
+  s.clampSteps = m.tallies.clampSteps;
+  s.ringFull = stats.ringFull;
+  s.logDropped = stats.logDropped;
   return result;
 }
 

@@ -1,6 +1,9 @@
 #include "osteon/simulation/session.h"
 
+#include "run_recorder.h"
+
 #include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 #include "osteon/core/memory.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/dph.h"
@@ -10,13 +13,18 @@
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/simulation/live.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
+#include <thread>
 #include <utility>
 
 namespace osteon::simulation {
@@ -168,7 +176,7 @@ struct Session::State {
 Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options)
     : state_(std::make_unique<State>()) {
   const Clock::time_point start = Clock::now();
-  if (!bone) throw InputError("session: no bone");
+  if (!bone) throw std::logic_error("Session: constructed without a bone");
   DrillingOptions drilling = options.drilling;
   drilling.levels = options.levels;
   validateDrillingOptions(drilling);
@@ -218,64 +226,100 @@ Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& option
 StepOutput Session::step(const StepInput& input) { return hapticStep(input).step; }
 
 HapticStep Session::hapticStep(const StepInput& input) {
+  const bool follow = surfaceEverySteps > 0 && (state_->steps + 1) % std::uint64_t(surfaceEverySteps) == 0;
+  return advance(input, coupling(), follow, nullptr, nullptr);
+}
+
+HapticStep Session::advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface, Durations* stepNs,
+                            Durations* surfaceNs) {
   State& s = *state_;
-  const HapticStep h = stepHaptic(*s.simulation, coupling(), input);
+  const Clock::time_point start = Clock::now();
+  const HapticStep h = stepHaptic(*s.simulation, coupling, input);
+  if (stepNs) stepNs->add(std::chrono::nanoseconds(Clock::now() - start).count());
   lastPose_ = h.proxy;
   lastContact_ = h.step.contact;
   lastContact_.forceN = h.forceN;
   lastContact_.magnitudeN = h.magnitudeN;
   ++s.steps;
-  if (s.updater && surfaceEverySteps > 0 && s.steps % std::uint64_t(surfaceEverySteps) == 0) {
+  s.surfaceStale = true;
+  if (followSurface && s.updater) {  // the visual work: the surface follows the changed bricks
     const std::vector<std::size_t> dirty = s.grid.dirtyBricks();
     if (!dirty.empty()) {
-      s.updater->update(dirty);
+      const double ms = s.updater->update(dirty).ms;
+      if (surfaceNs) surfaceNs->addMs(ms);
       s.grid.clearDirty();
-      s.surfaceStale = true;
     }
   }
   return h;
 }
 
-RunResult Session::run(const DrillPath& path, DeterministicOptions options) {
-  State& s = *state_;
-  // The last step's pose and force, for a front end that reads them after the run.
-  std::function<void(std::size_t, const StepInput&, const StepOutput&)> after = std::move(options.afterStep);
-  if (!options.coupling) options.coupling = coupling();
-  options.afterStep = [&](std::size_t i, const StepInput& in, const StepOutput& out) {
-    lastPose_ = in.pose;
-    lastContact_ = out.contact;
-    s.surfaceStale = true;
-    if (after) after(i, in, out);
-  };
-  RunResult r = runDeterministic(*s.simulation, s.grid, path, s.updater.get(), options);
-  s.surfaceStale = true;
-  return r;
+RunResult Session::run(const DrillPath& path, const DeterministicOptions& options) {
+  ProxyCoupling* const proxy = options.coupling ? options.coupling : coupling();
+  const auto steps = std::size_t(std::llround(path.durationS() / options.stepS)) + 1;
+  RunRecorder recorder(options.onRow, options.keepLog, options.stepS);
+  recorder.reserve(steps);
+  Durations stepNs, surfaceNs;
+  stepNs.reserve(steps);
+  RunSummary tallies;
+  for (std::size_t i = 0; i < steps; ++i) {
+    StepInput input;
+    input.tS = double(i) * options.stepS;
+    path.sample(input.tS, input.pose, input.drillOn);  // haptic: the device (here the path) gives the pose
+    const bool follow = options.remeshEverySteps > 0 && i % std::size_t(options.remeshEverySteps) == 0;
+    const HapticStep h = advance(input, proxy, follow, &stepNs, &surfaceNs);
+    tallies.tally(h);
+    recorder.add(logRowOf(input.tS, h, totals().samplesRemoved));
+    if (options.afterStep) options.afterStep(i, {input.tS, h.proxy, input.drillOn}, h.step);
+    if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
+  }
+  RunResult result = recorder.finish(simulation(), proxy != nullptr);
+  RunSummary& s = result.summary;
+  s.hapticStepUs = stepNs.percentiles(1e3);
+  s.remeshMs = surfaceNs.percentiles(1e6);
+  s.steps = steps;
+  s.maxGapMm = tallies.maxGapMm;
+  s.clampSteps = tallies.clampSteps;
+  return result;
 }
 
 RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options) {
   State& s = *state_;
-  geometry::SurfaceMesh visual;
-  RuntimeResult r;
-  try {
-    // Only a session that keeps its surface keeps the visual thread's last one (a copy).
-    RuntimeOptions coupled = options;
-    if (!coupled.coupling) coupled.coupling = coupling();
-    r = simulation::runThreaded(*s.simulation, s.grid, source, sink, s.options.surface, coupled,
-                                s.options.keepSurface ? &visual : nullptr);
-  } catch (const RuntimeFault&) {
-    // Drilled up to the fault: the session's surface starts again from the grid as it is.
-    s.updater.reset();
-    s.grid.clearDirty();
-    s.surfaceStale = true;
-    if (s.options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
-    throw;
+  LiveRuntime live(*this, source, sink, options);
+  live.start(options.durationS);
+  // The visual thread: as fast as it can, the handed-over bricks into the surface. A surface
+  // that failed will not be right again: the run has failed, so the loops stop now.
+  std::atomic<bool> loopsOver{false}, visualFailed{false};
+  std::thread visual([&] {
+    while (!loopsOver.load(std::memory_order_acquire)) {
+      try {
+        if (live.updateSurface() == 0.0) std::this_thread::sleep_for(std::chrono::microseconds(500));
+      } catch (...) {  // RuntimeFault: the error is kept in live.visualFault()
+        visualFailed.store(true, std::memory_order_release);
+        return;
+      }
+    }
+  });
+  // SIGINT/SIGTERM stop the loops early; the caller throws Interrupted.
+  while (!live.loopsDone() && !visualFailed.load(std::memory_order_acquire) && !interrupted()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  // The visual thread kept its own surface; the session's updater starts again from the grid.
-  if (s.options.keepSurface) s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
-  s.grid.clearDirty();
-  s.surface = std::move(visual);
-  s.surfaceStale = !s.options.keepSurface;
-  return r;
+  loopsOver.store(true, std::memory_order_release);
+  visual.join();
+  // Drilled up to here; stop() starts the session's own surface again from the grid.
+  RuntimeResult result = live.stop();
+  s.surfaceStale = true;
+  if (!result.visualFault.empty()) {
+    std::ostringstream m;
+    m.precision(3);
+    m << std::fixed << result.visualFault << "; the haptic and collision loops were stopped cleanly after "
+      << result.stats.collisionSteps << " steps (t = " << live.display().tS << " s)";
+    throw RuntimeFault(m.str());
+  }
+  if (s.options.keepSurface) {  // only a session that keeps its surface keeps the visual thread's (a copy)
+    s.surface = live.visualSurface().mesh();
+    s.surfaceStale = false;
+  }
+  return result;
 }
 
 const geometry::SurfaceMesh& Session::surface() {
@@ -289,7 +333,9 @@ const geometry::SurfaceMesh& Session::surface() {
 
 void Session::resetSurface() {
   State& s = *state_;
-  if (!s.options.keepSurface) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  if (!s.options.keepSurface) {
+    throw std::logic_error(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  }
   s.grid.clearDirty();
   s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
   s.surfaceStale = true;
@@ -304,7 +350,9 @@ void Session::releaseSurface() {
 
 SurfaceChanges Session::takeSurfaceChanges() {
   State& s = *state_;
-  if (!s.updater) throw InputError(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
+  if (!s.updater) {
+    throw std::logic_error(s.bone->name() + ": the session keeps no surface (keepSurface off, or released)");
+  }
   return s.updater->takeChanges();
 }
 
@@ -322,7 +370,6 @@ int Session::levelAt(const glm::ivec3& voxel) const {
 geometry::Density Session::densityAt(const glm::ivec3& voxel) const { return state_->grid.density(voxel); }
 
 const BoneModel& Session::bone() const { return *state_->bone; }
-geometry::VoxelGrid& Session::mutableGrid() { return state_->grid; }
 const geometry::VoxelGrid& Session::grid() const { return state_->grid; }
 const geometry::DynamicProximityHierarchy& Session::hierarchy() const { return state_->hierarchy; }
 DrillingSimulation& Session::simulation() { return *state_->simulation; }

@@ -48,6 +48,7 @@ TEST_F(CliTest, TheSummaryCountsTheRefinementTheStepBudgetDeferred) {
   // The seed's path meets bone gradually: nothing deferred, and the fields are there.
   EXPECT_EQ(p["refine_steps_deferred"].get<std::uint64_t>(), 0u);
   EXPECT_EQ(p["refine_voxels_deferred"].get<std::uint64_t>(), 0u);
+  EXPECT_FALSE(p["degraded"].get<bool>());  // no counter of runner.h moved
 
   test::writeBytes(path("jump.csv"),
                    jumpCsv(vec(p["path"]["entry_mm"]), vec(p["path"]["direction"])));
@@ -64,6 +65,7 @@ TEST_F(CliTest, TheSummaryCountsTheRefinementTheStepBudgetDeferred) {
   const json file = json::parse(test::readBytes(path("direct/summary.json")));
   EXPECT_EQ(file["refine_steps_deferred"].get<std::uint64_t>(), steps);
   EXPECT_EQ(file["refine_voxels_deferred"].get<std::uint64_t>(), voxels);
+  EXPECT_TRUE(file["degraded"].get<bool>());  // the deferrals made it so
 
   // Under proxy coupling the bone stops the jump: the gap opens, the force goes to the clamp.
   const CliRun proxy = osteon("drill default --coupling proxy --path '" + path("jump.csv") + "'" +

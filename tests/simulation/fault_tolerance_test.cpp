@@ -8,6 +8,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/live.h"
 #include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -33,24 +34,23 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// The built-in humerus at 1.2 mm, static, and a portal-5 path in bone from its first second.
+// The built-in humerus voxelized at 1.2 mm (a bone from a grid), and a portal-5 path in bone
+// from its first second.
+Session humerusSession(const geometry::HumerusModel& model) {
+  geometry::VoxelizeOptions vo;
+  vo.voxelSizeMm = 1.2;
+  return Session::fromGrid(geometry::voxelize(model.mesh, vo), SessionOptions{}, "humerus");
+}
+
 struct Humerus {
   const geometry::HumerusModel& model = geometry::defaultHumerusModel();
-  geometry::VoxelGrid grid;
-  geometry::DynamicProximityHierarchy hierarchy;
-  std::unique_ptr<DrillingSimulation> sim;
+  Session session = humerusSession(model);
   DrillPath path;
   explicit Humerus(double pathS) {
-    geometry::VoxelizeOptions vo;
-    vo.voxelSizeMm = 1.2;
-    grid = geometry::voxelize(model.mesh, vo);
-    hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    sim = std::make_unique<DrillingSimulation>(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{},
-                                               DrillingOptions{});
     PortalPathOptions po;
     po.durationS = pathS;
     path = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                          sim->tool().parts[0].outerRadiusMm, po)
+                          session.simulation().tool().parts[0].outerRadiusMm, po)
                .path;
   }
 };
@@ -121,10 +121,9 @@ TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCat
   RuntimeOptions ro;
   ro.realtimePriority = false;
   ro.keepLog = false;
-  const auto periods = std::uint64_t(std::llround(4.0 / ro.periodS)) + 1;
-  LiveRuntime live(*h.sim, h.grid, source, &sink, geometry::SurfaceOptions{}, ro, periods);
+  LiveRuntime live(h.session, source, &sink, ro);
   const Clock::time_point start = Clock::now();
-  live.start();
+  live.start(4.0);
   while (secondsSince(start) < 1.0) {  // a 60 Hz render loop while the drill enters the bone
     live.updateSurface();
     std::this_thread::sleep_for(std::chrono::milliseconds(16));
@@ -143,7 +142,7 @@ TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCat
   }
   // The loops have ended: the grid is still, and one more update takes what is left in the ring.
   live.updateSurface();
-  const geometry::SurfaceMesh full = geometry::extractSurface(h.grid, geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh full = geometry::extractSurface(h.session.grid(), geometry::SurfaceOptions{});
   const std::size_t visualTriangles = live.visualSurface().triangleCount();
   const RuntimeResult r = live.stop();
 
@@ -252,7 +251,7 @@ TEST(RuntimeFaults, ASurfaceUpdateThatThrowsStopsTheRunCleanlyWithOneLine) {
   ro.beforeSurfaceUpdate = [] { throw std::runtime_error("injected"); };
   std::string message;
   try {
-    runThreaded(*h.sim, h.grid, source, &sink, geometry::SurfaceOptions{}, ro);
+    h.session.runThreaded(source, &sink, ro);
     ADD_FAILURE() << "the run did not report its failed surface";
   } catch (const RuntimeFault& e) {
     message = e.what();
@@ -368,7 +367,7 @@ TEST(ForceLogFaults, TheHapticLoopKeepsItsRateWhileTheDiskFails) {
     forces.write(row);
     ++rowsGiven;
   };
-  const RuntimeResult r = runThreaded(*h.sim, h.grid, source, &sink, geometry::SurfaceOptions{}, ro);
+  const RuntimeResult r = h.session.runThreaded(source, &sink, ro);
   const double periods = ro.durationS / ro.periodS + 1.0;
   const double hapticRatio = double(r.stats.hapticSteps) / periods;
   EXPECT_TRUE(forces.failed());

@@ -5,6 +5,7 @@
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
+#include "osteon/simulation/session.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -56,23 +57,23 @@ class PortalRuns : public ::testing::Test {
   static void TearDownTestSuite() { delete model_; }
 
   // fromMesh: sub-voxel fills sampled from the mesh (as the CLI does), else split evenly.
-  RunResult run(Portal portal, int levels, double voxelSizeMm = 1.2, bool fromMesh = false) {
+  RunResult run(Portal portal, int levels, double voxelSizeMm = 1.2, bool fromMesh = false,
+                const DeterministicOptions& runOptions = {}) {
+    Session session = makeSession(levels, voxelSizeMm, fromMesh);
+    const PortalPlan plan = makePortalPath(portal, fitHumeralHead(model_->mesh), model_->mesh,
+                                           session.simulation().tool().parts[0].outerRadiusMm);
+    return session.run(plan.path, runOptions);
+  }
+  // A bone from a grid (fromMesh false) has no mesh to sample: its refined voxels split evenly.
+  static Session makeSession(int levels, double voxelSizeMm, bool fromMesh) {
+    SessionOptions options;
+    options.voxelSizeMm = voxelSizeMm;
+    options.levels = levels;
+    options.keepSurface = false;
+    if (fromMesh) return Session::fromMesh(model_->mesh, options);
     geometry::VoxelizeOptions o;
     o.voxelSizeMm = voxelSizeMm;
-    geometry::VoxelGrid grid = geometry::voxelize(model_->mesh, o);
-    auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    DrillingOptions options;
-    options.levels = levels;
-    std::unique_ptr<geometry::EmbreeScene> scene;
-    geometry::FineFillSource source;
-    if (fromMesh) {
-      scene = std::make_unique<geometry::EmbreeScene>(model_->mesh);
-      source = geometry::FineFillSource::sample(grid, model_->mesh, *scene);
-    }
-    DrillingSimulation sim(grid, hierarchy, fromMesh ? &source : nullptr, ToolKind::Drill, ToolOptions{}, options);
-    const PortalPlan plan = makePortalPath(portal, fitHumeralHead(model_->mesh), model_->mesh,
-                                           sim.tool().parts[0].outerRadiusMm);
-    return runDeterministic(sim, grid, plan.path, nullptr);
+    return Session::fromGrid(geometry::voxelize(model_->mesh, o), options);
   }
   static geometry::HumerusModel* model_;
 };
@@ -113,19 +114,10 @@ TEST_F(PortalRuns, DynamicTwoLevelsIsNoRougherThanStaticAtTheSubVoxelSize) {
 // streaming summary equals the metrics of the whole log.
 TEST_F(PortalRuns, StreamedRunsKeepNoLogAndGiveTheSameRowsAndSummary) {
   const auto make = [&](bool keepLog, std::vector<ForceLogRow>* rows) {
-    geometry::VoxelizeOptions o;
-    o.voxelSizeMm = 1.2;
-    geometry::VoxelGrid grid = geometry::voxelize(model_->mesh, o);
-    auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    DrillingOptions drilling;
-    drilling.levels = 1;
-    DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, drilling);
-    const PortalPlan plan = makePortalPath(Portal::SevenOClock, fitHumeralHead(model_->mesh), model_->mesh,
-                                           sim.tool().parts[0].outerRadiusMm);
     DeterministicOptions options;
     options.keepLog = keepLog;
     if (rows) options.onRow = [rows](const ForceLogRow& r) { rows->push_back(r); };
-    return runDeterministic(sim, grid, plan.path, nullptr, options);
+    return run(Portal::SevenOClock, 1, 1.2, false, options);
   };
   std::vector<ForceLogRow> streamed;
   const RunResult kept = make(true, nullptr);
@@ -153,14 +145,15 @@ TEST_F(PortalRuns, StreamedRunsKeepNoLogAndGiveTheSameRowsAndSummary) {
   }
 }
 
-// A long path must not cost memory per step beyond a few bytes: the heap in use at the last
-// step of a 600 s run (600001 steps, the tool in the air) stays within a few MB.
+// A long path costs no memory per step: the heap in use is the same at the first and the last
+// step of a 600 s run (600001 steps, the tool in the air), and what the run sized up front is
+// its step times (4 bytes a step) and the jitter window's rows, not a row per step.
 TEST(Deterministic, AStreamedLongPathKeepsMemoryBounded) {
   geometry::VoxelizeOptions o;
   o.voxelSizeMm = 1.0;
-  geometry::VoxelGrid grid = geometry::voxelize(test::makeBox({-8, -8, -8}, {8, 8, 0}), o);
-  auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-  DrillingSimulation sim(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
+  SessionOptions so;
+  so.keepSurface = false;
+  Session session = Session::fromGrid(geometry::voxelize(test::makeBox({-8, -8, -8}, {8, 8, 0}), o), so);
   const glm::dquat q = ToolPose::pointing({0, 0, 50}, {0, 0, -1}).orientation;
   const DrillPath path({Waypoint{0.0, {0, 0, 50}, q, true}, Waypoint{600.0, {0, 0, 40}, q, true}});
   DeterministicOptions options;
@@ -177,17 +170,21 @@ TEST(Deterministic, AStreamedLongPathKeepsMemoryBounded) {
 #endif
   };
   const std::size_t before = heapInUse();
-  std::size_t atEnd = 0;
+  std::size_t atFirst = 0, atEnd = 0;
   options.afterStep = [&](std::size_t step, const StepInput&, const StepOutput&) {
+    if (step == 0) atFirst = heapInUse();
     if (step == 600000) atEnd = heapInUse();
   };
-  const RunResult r = runDeterministic(sim, grid, path, nullptr, options);
+  const RunResult r = session.run(path, options);
   EXPECT_EQ(rows, 600001u);
   EXPECT_EQ(r.summary.steps, 600001u);
   EXPECT_TRUE(r.log.empty());
   ASSERT_GT(atEnd, 0u);
-  // One float-sized step time per step is allowed (2.4 MB); rows of 88 bytes are not.
-  EXPECT_LT(double(atEnd) - double(before), 8e6);
+  EXPECT_EQ(atEnd, atFirst);  // not a byte per step
+  // Sized before the first step: 600001 step times of 4 bytes, the jitter window's rows (3 s
+  // and 50 ms at 1 ms, 24 bytes each) and the options' copies; rows of 88 bytes are not kept.
+  const double windowRows = (3.05 / options.stepS + 3.0) * 24.0;
+  EXPECT_LT(double(atFirst) - double(before), 600001.0 * 4.0 + windowRows + 16384.0);
 }
 
 TEST(ForceLog, HasTheHeaderAndOneRowPerStep) {

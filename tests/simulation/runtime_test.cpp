@@ -4,6 +4,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/handoff.h"
 #include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
 
 #include <gtest/gtest.h>
 
@@ -61,32 +62,28 @@ TEST(Handoff, TripleBufferAcrossThreadsIsMonotoneAndUntorn) {
   EXPECT_FALSE(backwards);
 }
 
-// The built-in humerus at 1.2 mm, static, and a short, fast portal-5 path: bone within the
-// first second.
+// The built-in humerus voxelized at 1.2 mm (a bone from a grid: refined voxels split their
+// fill evenly), and a short, fast portal-5 path: bone within the first second.
+Session humerusSession(const geometry::HumerusModel& model) {
+  geometry::VoxelizeOptions vo;
+  vo.voxelSizeMm = 1.2;
+  return Session::fromGrid(geometry::voxelize(model.mesh, vo), SessionOptions{}, "humerus");
+}
+
 struct HumerusRun {
   geometry::HumerusModel model = geometry::buildHumerusModel();
-  geometry::VoxelGrid grid;
-  geometry::DynamicProximityHierarchy hierarchy;
-  std::unique_ptr<DrillingSimulation> sim;
+  Session session = humerusSession(model);
   PortalPlan plan;
   HumerusRun() {
-    geometry::VoxelizeOptions vo;
-    vo.voxelSizeMm = 1.2;
-    grid = geometry::voxelize(model.mesh, vo);
-    hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    sim = std::make_unique<DrillingSimulation>(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{},
-                                               DrillingOptions{});
     PortalPathOptions po;
     po.durationS = 1.5;
     plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                          sim->tool().parts[0].outerRadiusMm, po);
+                          session.simulation().tool().parts[0].outerRadiusMm, po);
   }
 };
 
 TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   HumerusRun h;
-  DrillingSimulation& sim = *h.sim;
-  geometry::VoxelGrid& grid = h.grid;
   PathPoseSource source(h.plan.path);
   struct Sink : ForceSink {
     double maxN = 0.0;
@@ -95,9 +92,8 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   RuntimeOptions options;
   options.durationS = 1.5;
   options.realtimePriority = false;
-  geometry::SurfaceMesh surface;
   const std::int64_t beganNs = std::chrono::steady_clock::now().time_since_epoch().count();
-  const RuntimeResult r = runThreaded(sim, grid, source, &sink, geometry::SurfaceOptions{}, options, &surface);
+  const RuntimeResult r = h.session.runThreaded(source, &sink, options);
   const std::int64_t endedNs = std::chrono::steady_clock::now().time_since_epoch().count();
   // Shared, noisy machines miss periods; the loops skip them rather than fall behind. Each
   // overrun's instant is kept, in order, within the run.
@@ -110,12 +106,13 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   EXPECT_GT(r.stats.collisionSteps, 750u);
   EXPECT_LE(r.stats.collisionSteps, 1501u);
   EXPECT_EQ(r.stats.logDropped, 0u);
-  EXPECT_GT(sim.totals().removedFill, 0u);
+  EXPECT_GT(h.session.totals().removedFill, 0u);
   EXPECT_GT(r.stats.bricksHandedOver, 0u);
   EXPECT_GT(sink.maxN, 0.1);  // forces reached the device
   EXPECT_LE(sink.maxN, 3.3 + 1e-12);
   // The visual thread's incremental surface equals a full extraction of the drilled grid.
-  const geometry::SurfaceMesh full = geometry::extractSurface(grid, geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh& surface = h.session.surface();
+  const geometry::SurfaceMesh full = geometry::extractSurface(h.session.grid(), geometry::SurfaceOptions{});
   EXPECT_EQ(surface.triangleCount(), full.triangleCount());
   EXPECT_EQ(surface.vertexCount(), full.vertexCount());
   EXPECT_NEAR(geometry::signedVolumeMm3(surface.toTriangleMesh()), geometry::signedVolumeMm3(full.toTriangleMesh()),
@@ -126,8 +123,6 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
 // every row reaches onRow in order, and the summary is the metrics of those rows.
 TEST(Runtime, StreamsTheForceLogWithoutKeepingIt) {
   HumerusRun h;
-  DrillingSimulation& sim = *h.sim;
-  geometry::VoxelGrid& grid = h.grid;
   PathPoseSource source(h.plan.path);
   RuntimeOptions options;
   options.durationS = 2.2;  // past 2 s, so the jitter window has rows
@@ -136,7 +131,7 @@ TEST(Runtime, StreamsTheForceLogWithoutKeepingIt) {
   std::vector<ForceLogRow> rows;
   rows.reserve(3000);
   options.onRow = [&](const ForceLogRow& r) { rows.push_back(r); };
-  const RuntimeResult r = runThreaded(sim, grid, source, nullptr, geometry::SurfaceOptions{}, options);
+  const RuntimeResult r = h.session.runThreaded(source, nullptr, options);
   EXPECT_TRUE(r.run.log.empty());
   EXPECT_EQ(r.run.log.capacity(), 0u);
   EXPECT_EQ(r.stats.logDropped, 0u);

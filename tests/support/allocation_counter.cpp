@@ -6,9 +6,11 @@
 
 namespace {
 std::atomic<std::uint64_t> gAllocations{0};
+thread_local std::uint64_t tAllocations = 0;  // constant-initialised: its first use allocates nothing
 
 void* counted(std::size_t size) {
   gAllocations.fetch_add(1, std::memory_order_relaxed);
+  ++tAllocations;
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
@@ -38,4 +40,5 @@ __attribute__((noinline)) void operator delete[](void* p, const std::nothrow_t&)
 
 namespace osteon::test {
 std::uint64_t allocations() { return gAllocations.load(std::memory_order_relaxed); }
+std::uint64_t threadAllocations() { return tAllocations; }
 }  // namespace osteon::test

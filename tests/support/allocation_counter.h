@@ -9,5 +9,7 @@ namespace osteon::test {
 
 // Allocations through operator new (and new[]) since the program started.
 std::uint64_t allocations();
+// Those made by the calling thread: allocations() minus this is every other thread's.
+std::uint64_t threadAllocations();
 
 }  // namespace osteon::test

@@ -1,5 +1,6 @@
 #include "osteon/geometry/hierarchy/refinement.h"
 
+#include "osteon/core/assert.h"
 #include "osteon/core/error.h"
 #include "sub_fill.h"
 
@@ -35,16 +36,16 @@ RefinedVoxels::RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarc
                                        : options.marginMm),
       timeoutS_(options.timeoutS) {
   if (options.depth < 0 || options.depth > kMaxRefineDepth) {
-    throw InputError("--levels " + std::to_string(options.depth) + ": refinement depth is 0, 1 or 2");
+    throw InputError("RefinementOptions::depth " + std::to_string(options.depth) + ": must be 0, 1 or 2");
   }
   if (!std::isfinite(options.timeoutS) || options.timeoutS <= 0.0) {
     std::ostringstream s;
-    s << "--refine-timeout " << options.timeoutS << ": must be a positive number of seconds";
+    s << "RefinementOptions::timeoutS " << options.timeoutS << ": must be a positive number of seconds";
     throw InputError(s.str());
   }
   if (!std::isfinite(marginMm_)) throw InputError("refinement margin must be finite");
   if (options.capacity == 0 || options.capacity > (1u << 24)) {
-    throw InputError("refinement capacity must be 1 .. 2^24 voxels");
+    throw InputError("RefinementOptions::capacity " + std::to_string(options.capacity) + ": must be 1 .. 2^24 voxels");
   }
   cells_.resize(options.capacity);
   freeCells_.resize(options.capacity);
@@ -218,6 +219,7 @@ void RefinedVoxels::releaseCell(std::uint32_t cell) {
   const std::uint32_t last = activeList_[--active_];
   activeList_[slot] = last;
   activeSlot_[last] = slot;
+  OSTEON_ASSERT(freeTop_ < freeCells_.size(), "a cell goes back to the pool once");
   freeCells_[freeTop_++] = cell;
 }
 

@@ -1,5 +1,7 @@
 #include "osteon/geometry/voxels/voxel_grid.h"
 
+#include "osteon/core/assert.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -128,6 +130,7 @@ void VoxelGrid::setBrickUniform(std::size_t brick, Fill fill, Density density) {
 }
 
 VoxelGrid::Brick& VoxelGrid::materialiseBrick(std::size_t brick) {
+  OSTEON_ASSERT(brick < bricks_.size(), "a brick of this grid");
   if (!bricks_[brick]) {
     auto b = std::make_unique<Brick>();
     b->fill.fill(uniformFill_[brick]);

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include <random>
+#include <string>
 
 namespace osteon::geometry {
 namespace {
@@ -317,16 +318,25 @@ TEST_F(RefinementTest, AFullPoolLeavesVoxelsUnrefinedAndSaysSo) {
   EXPECT_GT(refined.poolExhausted(), 0u);
 }
 
+// Each names the option field and its value (the front ends turn fields into their flags).
 TEST_F(RefinementTest, BadOptionsAreInputErrors) {
+  const auto message = [this](const RefinementOptions& options) -> std::string {
+    try {
+      RefinedVoxels refined(grid_, hierarchy_, nullptr, options);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
   RefinementOptions options;
   options.depth = 3;
-  EXPECT_THROW(RefinedVoxels(grid_, hierarchy_, nullptr, options), InputError);
+  EXPECT_EQ(message(options).rfind("RefinementOptions::depth 3: ", 0), 0u) << message(options);
   options.depth = 2;
   options.timeoutS = 0.0;
-  EXPECT_THROW(RefinedVoxels(grid_, hierarchy_, nullptr, options), InputError);
+  EXPECT_EQ(message(options).rfind("RefinementOptions::timeoutS 0: ", 0), 0u) << message(options);
   options.timeoutS = 2.0;
   options.capacity = 0;
-  EXPECT_THROW(RefinedVoxels(grid_, hierarchy_, nullptr, options), InputError);
+  EXPECT_EQ(message(options).rfind("RefinementOptions::capacity 0: ", 0), 0u) << message(options);
 }
 
 }  // namespace

@@ -99,6 +99,8 @@ class DrillingSimulation {
   geometry::RefinedVoxels& voxels() { return *voxels_; }
   const geometry::RefinedVoxels& voxels() const { return *voxels_; }
   const geometry::VoxelGrid& grid() const { return *grid_; }
+  // The grid it drills, for a runtime that hands its changed bricks on (live.h).
+  geometry::VoxelGrid& grid() { return *grid_; }
 
  private:
   geometry::VoxelGrid* grid_;

@@ -5,6 +5,7 @@
 
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/path.h"
 #include "osteon/simulation/runner.h"
 
 #include <functional>

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -48,22 +49,21 @@ struct LiveStats {
   int hapticCpu = -1, standbyCpu = -1;
 };
 
+// The one threaded runtime: Session::runThreaded is this with a visual thread of its own.
 class LiveRuntime {
  public:
   // The session must outlive the runtime and must not be stepped by anyone else while it runs.
-  // options.durationS is ignored: the loops run until stop().
+  // options.durationS is not read: start() takes the duration.
   LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options = {});
-  // The parts without a session (runThreaded): the loops stop by themselves after `periods`
-  // periods (0: at stop()).
-  LiveRuntime(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source, ForceSink* sink,
-              const geometry::SurfaceOptions& surfaceOptions, const RuntimeOptions& options, std::uint64_t periods);
   ~LiveRuntime();  // stops
   LiveRuntime(const LiveRuntime&) = delete;
   LiveRuntime& operator=(const LiveRuntime&) = delete;
 
-  void start();
+  // Starts the loops; they run until stop(), or for durationS (whole periods, the last one at
+  // t = durationS) and then end by themselves (loopsDone()).
+  void start(double durationS = std::numeric_limits<double>::infinity());
   // Joins the loops; hands over what is left; the session's own surface starts again from its
-  // grid. Returns the run as runThreaded would (force log metrics, step percentiles, and a
+  // grid. Returns the run as Session::runThreaded does (force log metrics, step percentiles, and a
   // visual fault in visualFault rather than thrown).
   RuntimeResult stop();
   bool running() const;
@@ -73,8 +73,8 @@ class LiveRuntime {
   // visual surface. Returns the update's milliseconds (0 when nothing changed).
   // If the update throws, the 1 kHz loops go on untouched and the call throws RuntimeFault
   // (runtime.h), once, naming the error; from then on the visual surface stays as it was and
-  // later calls only keep the hand-over drained (returning 0). The environment's
-  // OSTEON_INJECT_FAULT=surface-update makes every update throw (read at construction).
+  // later calls only keep the hand-over drained (returning 0). RuntimeOptions::
+  // beforeSurfaceUpdate is called before each update (tests make it throw).
   double updateSurface();
   // The visual surface's changes since the last call (everything on the first).
   SurfaceChanges takeSurfaceChanges();
@@ -88,7 +88,8 @@ class LiveRuntime {
 
   // ---- any thread ----
   LiveStats stats() const;
-  // True once the loops have run their periods (never for a session's runtime before stop()).
+  // True once the loops have run for the duration start() was given (never before stop()
+  // without one).
   bool loopsDone() const;
 
  private:

@@ -14,11 +14,14 @@
 // after its deadline is an overrun, and missed periods are skipped, not run late.
 // Faults stay off the 1 kHz loops: a visual side that stalls only delays the surface, one whose
 // surface update throws stops the run cleanly (RuntimeFault), and the force log is written by
-// the logging thread, whose failures (a full disk) the writer keeps to itself (runner.h).
+// the logging thread, whose failures (a full disk) the writer keeps to itself (force_log.h).
+// LiveRuntime (live.h) is the runtime; Session::runThreaded runs one for durationS with a
+// visual thread of its own.
 #pragma once
 
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/simulation/drilling.h"
+#include "osteon/simulation/path.h"
 #include "osteon/simulation/runner.h"
 
 #include <cstdint>
@@ -55,7 +58,7 @@ class PathPoseSource : public PoseSource {
 };
 
 struct RuntimeOptions {
-  double durationS = 7.0;
+  double durationS = 7.0;  // Session::runThreaded's run (a LiveRuntime's is start()'s)
   double periodS = 0.001;
   bool realtimePriority = true;  // ask for SCHED_FIFO (granted only with the privilege)
   // With two or more CPUs, the haptic loop runs on two threads pinned to different CPUs: the
@@ -70,8 +73,8 @@ struct RuntimeOptions {
   // LiveRuntime on a session then takes the session's own coupling, if it has one).
   ProxyCoupling* coupling = nullptr;
   // Called on the visual side before each surface update, never in a 1 kHz loop: the seam
-  // through which tests make the update throw. The environment's
-  // OSTEON_INJECT_FAULT=surface-update does the same for whole programs (live.h).
+  // through which tests make the update throw (the CLI's OSTEON_INJECT_FAULT=surface-update
+  // sets it, for tests of the whole program).
   std::function<void()> beforeSurfaceUpdate;
 };
 
@@ -104,14 +107,5 @@ class RuntimeFault : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
-
-// Runs the three threads for options.durationS (less once SIGINT/SIGTERM is recorded,
-// core/interrupt.h); `grid` is the grid `sim` drills. `sink` may be
-// null. The visual thread's surface ends equal to a full extraction of the drilled grid unless
-// stats.ringFull > 0. When the visual surface update throws, the loops are stopped at once and
-// RuntimeFault says what failed and when; the rows logged so far have reached options.onRow.
-RuntimeResult runThreaded(DrillingSimulation& sim, geometry::VoxelGrid& grid, PoseSource& source,
-                          ForceSink* sink, const geometry::SurfaceOptions& surfaceOptions,
-                          const RuntimeOptions& options, geometry::SurfaceMesh* finalSurface = nullptr);
 
 }  // namespace osteon::simulation

@@ -164,20 +164,23 @@ class Session {
   HapticStep hapticStep(const StepInput& input);
   int surfaceEverySteps = 1;
 
-  // A whole path in the deterministic mode (runner.h): the same input, the same log bit for bit.
-  RunResult run(const DrillPath& path, DeterministicOptions options = {});
-  // The haptic, collision and visual threads in real time for options.durationS (runtime.h);
-  // afterwards the session's surface is the visual thread's.
+  // A whole path in the deterministic mode (runner.h), one step() after another from t = 0 to
+  // its end, or until SIGINT/SIGTERM is recorded (core/interrupt.h: the caller then throws
+  // Interrupted): the same input, the same log bit for bit.
+  RunResult run(const DrillPath& path, const DeterministicOptions& options = {});
+  // The haptic, collision and visual threads in real time for options.durationS (runtime.h): a
+  // LiveRuntime (live.h) with a visual thread of its own. Afterwards the session's surface is
+  // the visual thread's.
   RuntimeResult runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options);
 
   // ---- each frame ----
   // The surface as the visual work left it (the level-0 crack-free surface).
   const geometry::SurfaceMesh& surface();
-  // What changed since the last call (everything on the first). Throws InputError when the
-  // session keeps no surface.
+  // What changed since the last call (everything on the first). Calling it on a session that
+  // keeps no surface is a programming error: std::logic_error.
   SurfaceChanges takeSurfaceChanges();
   // Extracts the surface again from the grid as it is now (a full extraction; the changes
-  // start over with everything). keepSurface sessions only.
+  // start over with everything). keepSurface sessions only (else std::logic_error).
   void resetSurface();
   // Frees the kept surface (the incremental updater and the last mesh), for the memory a final
   // extraction needs; surface() then extracts from the grid, and resetSurface() keeps one again.
@@ -216,8 +219,11 @@ class Session {
   PortalPlan portalPath(Portal portal, const PortalPathOptions& options = {}) const;
 
  private:
-  friend class LiveRuntime;  // drives the grid and simulation from its own threads
-  geometry::VoxelGrid& mutableGrid();
+  // The one step every path takes (step(), hapticStep(), run()): the coupling (null: direct)
+  // and the simulation, timed into stepNs; then, with followSurface, the kept surface follows
+  // the bricks the step changed, timed into surfaceNs. Either may be null.
+  HapticStep advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface, Durations* stepNs,
+                     Durations* surfaceNs);
   struct State;
   explicit Session(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
