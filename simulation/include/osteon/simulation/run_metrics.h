@@ -1,5 +1,6 @@
-// The metrics of a run (design.md): step-time percentiles kept in little memory, the force
-// jitter and the largest step change, over a whole log or row by row as a run goes.
+// The metrics of a run (defined in docs/validation.md, "Force metrics"): step-time percentiles
+// kept in little memory, the force jitter and the largest step change, over a whole log or row by
+// row as a run goes.
 #pragma once
 
 #include "osteon/simulation/force_log.h"
@@ -40,7 +41,7 @@ class Durations {
   std::int64_t maxNs_ = 0;
 };
 
-// Jitter as design.md defines it; 0 when no sample lies in [fromS, toS].
+// Jitter as docs/validation.md defines it; 0 when no sample lies in [fromS, toS].
 double forceJitterN(const std::vector<ForceLogRow>& log, double fromS = 2.0, double toS = 5.0,
                     double windowS = 0.05);
 double maxStepChangeN(const std::vector<ForceLogRow>& log);

@@ -19,7 +19,7 @@
 namespace osteon::simulation {
 
 struct RunSummary {
-  double jitterN = 0.0;           // design.md: RMS of |F| minus its 50 ms centred moving average, t in [2, 5] s
+  double jitterN = 0.0;           // docs/validation.md, "Force metrics" (t in [2, 5] s)
   double maxStepChangeN = 0.0;    // largest |F| change between consecutive samples
   double maxForceN = 0.0;
   double removedVolumeMm3 = 0.0;
