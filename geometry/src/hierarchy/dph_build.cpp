@@ -208,11 +208,21 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
   return true;
 }
 
-bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
+namespace {
+
+// A non-empty cell of the lattice found by the grid's scan.
+struct LatticeCell {
+  glm::ivec3 corner;
+  std::uint32_t mask;  // bit x + 3y + 9z: that voxel of the cell is occupied
+};
+
+// Bounds of the occupied voxels (uniform bricks whole, the others voxel by voxel), and their
+// count.
+std::uint64_t occupiedBounds(const VoxelGrid& grid, glm::ivec3& lo, glm::ivec3& hi) {
   constexpr int B = VoxelGrid::kBrickSize;
   const glm::ivec3 dims = grid.dims();
-  // Bounds of the occupied voxels: uniform bricks whole, the others voxel by voxel.
-  glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+  lo = glm::ivec3(std::numeric_limits<int>::max());
+  hi = glm::ivec3(std::numeric_limits<int>::min());
   std::uint64_t occupied = 0;
   for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
     const VoxelGrid::Brick* b = grid.brickData(brick);
@@ -234,70 +244,82 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
           ++occupied;
         }
   }
+  return occupied;
+}
+
+// One layer of cells (xi voxels in z): its rows of occupancy bits (bit x of row (y, z)) in
+// `rows`, and the non-empty cells it holds appended to `cells`, in scan order. A layer has
+// 3 cellDims.y rows per z, so a cell's last row never runs past them.
+void scanLayer(const VoxelGrid& grid, const glm::ivec3& lo, const glm::ivec3& hi,
+               const glm::ivec3& cellDims, int words, int cz, std::vector<std::uint64_t>& rows,
+               std::vector<LatticeCell>& cells) {
+  constexpr int B = VoxelGrid::kBrickSize;
+  std::fill(rows.begin(), rows.end(), 0);
+  for (int dz = 0; dz < 3; ++dz) {
+    const int z = lo.z + 3 * cz + dz;
+    if (z > hi.z) break;
+    for (int y = lo.y; y <= hi.y; ++y) {
+      std::uint64_t* row = &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) * std::size_t(words)];
+      for (int bx = lo.x / B; bx <= hi.x / B; ++bx) {
+        const std::size_t brick = grid.brickIndex({bx, y / B, z / B});
+        const VoxelGrid::Brick* b = grid.brickData(brick);
+        if (!b && grid.brickUniformFill(brick) == 0) continue;
+        const int x0 = std::max(bx * B, lo.x), x1 = std::min(bx * B + B - 1, hi.x);
+        const int local = VoxelGrid::voxelInBrick({0, y % B, z % B});
+        for (int x = x0; x <= x1; ++x) {
+          if (b && b->fill[std::size_t(local + x - bx * B)] == 0) continue;
+          const int bit = x - lo.x;
+          row[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+        }
+      }
+    }
+  }
+  
+  for (int cy = 0; cy < cellDims.y; ++cy) {
+    for (int cx = 0; cx < cellDims.x; ++cx) {
+      std::uint32_t mask = 0;
+      const int bit = 3 * cx;
+      for (int dz = 0; dz < 3; ++dz) {
+        for (int dy = 0; dy < 3; ++dy) {
+          const std::uint64_t* row =
+              &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) * std::size_t(words)];
+          std::uint64_t three = row[bit >> 6] >> (bit & 63);
+          if ((bit & 63) > 61 && (bit >> 6) + 1 < words) three |= row[(bit >> 6) + 1] << (64 - (bit & 63));
+          mask |= std::uint32_t(three & 7u) << (3 * (dy + 3 * dz));
+        }
+      }
+      if (mask != 0) cells.push_back({lo + 3 * glm::ivec3(cx, cy, cz), mask});
+    }
+  }
+}
+
+}  // namespace
+
+bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
+  glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+  const std::uint64_t occupied = occupiedBounds(grid, lo, hi);
   if (occupied < 2 || occupied >= kNone) return false;  // the voxel-list build handles these
   int keyBits = 0;
   if (!prepareLattice(lo, hi, keyBits)) return false;
 
-  // One layer of cells (xi voxels in z) at a time, in parallel: each writes its rows of
-  // occupancy bits (bit x of row (y, z)) and the non-empty cells it finds, in scan order.
-  // A layer has 3 cellDims.y rows per z, so a cell's last row never runs past them.
-  struct Cell {
-    glm::ivec3 corner;
-    std::uint32_t mask;  // bit x + 3y + 9z: that voxel of the cell is occupied
-  };
+  // One layer of cells at a time, in parallel (scanLayer).
   const glm::ivec3 cellDims = (hi - lo) / 3 + 1;
   const int words = (cellDims.x * 3 + 63) / 64;
-  std::vector<std::vector<Cell>> layers(std::size_t(cellDims.z));
+  std::vector<std::vector<LatticeCell>> layers(std::size_t(cellDims.z));
   tbb::parallel_for(tbb::blocked_range<int>(0, cellDims.z), [&](const tbb::blocked_range<int>& r) {
     std::vector<std::uint64_t> rows(std::size_t(3 * cellDims.y * 3) * std::size_t(words));
     for (int cz = r.begin(); cz < r.end(); ++cz) {
-      std::fill(rows.begin(), rows.end(), 0);
-      for (int dz = 0; dz < 3; ++dz) {
-        const int z = lo.z + 3 * cz + dz;
-        if (z > hi.z) break;
-        for (int y = lo.y; y <= hi.y; ++y) {
-          std::uint64_t* row = &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) * std::size_t(words)];
-          for (int bx = lo.x / B; bx <= hi.x / B; ++bx) {
-            const std::size_t brick = grid.brickIndex({bx, y / B, z / B});
-            const VoxelGrid::Brick* b = grid.brickData(brick);
-            if (!b && grid.brickUniformFill(brick) == 0) continue;
-            const int x0 = std::max(bx * B, lo.x), x1 = std::min(bx * B + B - 1, hi.x);
-            const int local = VoxelGrid::voxelInBrick({0, y % B, z % B});
-            for (int x = x0; x <= x1; ++x) {
-              if (b && b->fill[std::size_t(local + x - bx * B)] == 0) continue;
-              const int bit = x - lo.x;
-              row[bit >> 6] |= std::uint64_t(1) << (bit & 63);
-            }
-          }
-        }
-      }
-      std::vector<Cell>& cells = layers[std::size_t(cz)];
-      for (int cy = 0; cy < cellDims.y; ++cy) {
-        for (int cx = 0; cx < cellDims.x; ++cx) {
-          std::uint32_t mask = 0;
-          const int bit = 3 * cx;
-          for (int dz = 0; dz < 3; ++dz) {
-            for (int dy = 0; dy < 3; ++dy) {
-              const std::uint64_t* row =
-                  &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) * std::size_t(words)];
-              std::uint64_t three = row[bit >> 6] >> (bit & 63);
-              if ((bit & 63) > 61 && (bit >> 6) + 1 < words) three |= row[(bit >> 6) + 1] << (64 - (bit & 63));
-              mask |= std::uint32_t(three & 7u) << (3 * (dy + 3 * dz));
-            }
-          }
-          if (mask != 0) cells.push_back({lo + 3 * glm::ivec3(cx, cy, cz), mask});
-        }
-      }
+      scanLayer(grid, lo, hi, cellDims, words, cz, rows, layers[std::size_t(cz)]);
     }
   });
 
   std::size_t cellCount = 0;
-  for (const std::vector<Cell>& layer : layers) cellCount += layer.size();
-  std::vector<Cell> scanned;
+  for (const std::vector<LatticeCell>& layer : layers) cellCount += layer.size();
+  std::vector<LatticeCell> scanned;
   scanned.reserve(cellCount);
-  for (std::vector<Cell>& layer : layers) {
+  for (std::vector<LatticeCell>& layer : layers) {
     scanned.insert(scanned.end(), layer.begin(), layer.end());
-    std::vector<Cell>().swap(layer);
+    std::vector<LatticeCell>().swap(layer);
   }
   std::vector<std::uint64_t> cells(cellCount);
   for (std::size_t i = 0; i < cellCount; ++i) {
@@ -330,7 +352,7 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
   level0.aliveCount = n;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cellCount, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t p = r.begin(); p < r.end(); ++p) {
-      const Cell& c = scanned[order[p]];
+      const LatticeCell& c = scanned[order[p]];
       std::uint16_t* digit = &level0.digit[level1.childBegin[p]];
       for (std::uint32_t m = c.mask; m != 0; m &= m - 1) *digit++ = std::uint16_t(__builtin_ctz(m));
       glm::ivec3 bMin, bMax;

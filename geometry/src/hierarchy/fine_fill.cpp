@@ -20,20 +20,15 @@ std::uint64_t linearIndex(const glm::ivec3& v, const glm::ivec3& dims) {
   return std::uint64_t(v.x) + std::uint64_t(dims.x) * (std::uint64_t(v.y) + std::uint64_t(dims.y) * std::uint64_t(v.z));
 }
 
-}  // namespace
+struct Entry {
+  std::uint64_t column;  // x + nx * y
+  int z;
+};
 
-FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh& mesh,
-                                      const EmbreeScene& surface, int raysPerSubAxis) {
-  FineFillSource source;
-  source.dims_ = grid.dims();
+// The grid's partial voxels (0 < fill < full), sorted by (x, y) column, then z.
+std::vector<Entry> partialVoxels(const VoxelGrid& grid) {
   const glm::ivec3 dims = grid.dims();
   constexpr int B = VoxelGrid::kBrickSize;
-
-  // The partial voxels, grouped by (x, y) column so one set of rays serves a whole column.
-  struct Entry {
-    std::uint64_t column;  // x + nx * y
-    int z;
-  };
   std::vector<Entry> entries;
   for (std::size_t brick = 0; brick < grid.brickCount(); ++brick) {
     const VoxelGrid::Brick* b = grid.brickData(brick);
@@ -52,6 +47,19 @@ FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh&
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     return a.column != b.column ? a.column < b.column : a.z < b.z;
   });
+  return entries;
+}
+
+}  // namespace
+
+FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh& mesh,
+                                      const EmbreeScene& surface, int raysPerSubAxis) {
+  FineFillSource source;
+  source.dims_ = grid.dims();
+  const glm::ivec3 dims = grid.dims();
+
+  // The partial voxels, grouped by (x, y) column so one set of rays serves a whole column.
+  const std::vector<Entry> entries = partialVoxels(grid);
   std::vector<std::size_t> columnStart;
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (i == 0 || entries[i].column != entries[i - 1].column) columnStart.push_back(i);

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "surface/marching_tetrahedra.h"
+#include "osteon/core/checks.h"
 #include "osteon/core/error.h"
 
 namespace osteon::geometry {
@@ -190,13 +191,6 @@ struct Humerus {
   double grooveRadiusMm = 0.0;
   double shaftTopMm = 0.0;
 };
-
-void requirePositive(double value, const char* name) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw InputError(std::string(name) + ": must be a positive finite number, got " +
-                     std::to_string(value));
-  }
-}
 
 void validate(const HumerusModelParams& params) {
   requirePositive(params.headDiameterMm, "headDiameterMm");

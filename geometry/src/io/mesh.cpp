@@ -66,6 +66,55 @@ struct DisjointSets {
   void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
 };
 
+// Pinched vertices: the triangles around a vertex must form one fan, i.e. the edges opposite
+// the vertex (its link) must be connected.
+std::size_t countPinchedVertices(const TriangleMesh& mesh) {
+  std::size_t pinched = 0;
+  const std::size_t nv = mesh.positionsMm.size();
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  for (const glm::u32vec3& t : mesh.triangles) {
+    for (int c = 0; c < 3; ++c) ++start[t[c] + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<std::uint32_t> link(2 * std::size_t(start[nv]));
+  std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+  for (const glm::u32vec3& t : mesh.triangles) {
+    for (int c = 0; c < 3; ++c) {
+      const std::size_t slot = at[t[c]]++;
+      link[2 * slot] = t[(c + 1) % 3];
+      link[2 * slot + 1] = t[(c + 2) % 3];
+    }
+  }
+  std::vector<std::uint32_t> local;  // link vertices, union-find over their positions
+  std::vector<std::uint32_t> parent;
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::uint32_t b = start[v];
+    const std::uint32_t e = start[v + 1];
+    if (e - b < 2) continue;
+    local.assign(link.begin() + 2 * b, link.begin() + 2 * e);
+    std::sort(local.begin(), local.end());
+    local.erase(std::unique(local.begin(), local.end()), local.end());
+    parent.resize(local.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    const auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::size_t groups = local.size();
+    for (std::uint32_t k = b; k < e; ++k) {
+      const auto i = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k]) - local.begin());
+      const auto j = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k + 1]) - local.begin());
+      const std::uint32_t ri = find(i), rj = find(j);
+      if (ri != rj) {
+        parent[ri] = rj;
+        --groups;
+      }
+    }
+    if (groups > 1) ++pinched;
+  }
+  return pinched;
+}
+
 }  // namespace
 
 MeshTopology analyzeTopology(const TriangleMesh& mesh) {
@@ -117,52 +166,7 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh) {
     i = j;
   }
 
-  // Pinched vertices: the triangles around a vertex must form one fan, i.e. the edges
-  // opposite the vertex (its link) must be connected.
-  {
-    const std::size_t nv = mesh.positionsMm.size();
-    std::vector<std::uint32_t> start(nv + 1, 0);
-    for (const glm::u32vec3& t : mesh.triangles) {
-      for (int c = 0; c < 3; ++c) ++start[t[c] + 1];
-    }
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<std::uint32_t> link(2 * std::size_t(start[nv]));
-    std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
-    for (const glm::u32vec3& t : mesh.triangles) {
-      for (int c = 0; c < 3; ++c) {
-        const std::size_t slot = at[t[c]]++;
-        link[2 * slot] = t[(c + 1) % 3];
-        link[2 * slot + 1] = t[(c + 2) % 3];
-      }
-    }
-    std::vector<std::uint32_t> local;  // link vertices, union-find over their positions
-    std::vector<std::uint32_t> parent;
-    for (std::size_t v = 0; v < nv; ++v) {
-      const std::uint32_t b = start[v];
-      const std::uint32_t e = start[v + 1];
-      if (e - b < 2) continue;
-      local.assign(link.begin() + 2 * b, link.begin() + 2 * e);
-      std::sort(local.begin(), local.end());
-      local.erase(std::unique(local.begin(), local.end()), local.end());
-      parent.resize(local.size());
-      std::iota(parent.begin(), parent.end(), 0u);
-      const auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-      };
-      std::size_t groups = local.size();
-      for (std::uint32_t k = b; k < e; ++k) {
-        const auto i = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k]) - local.begin());
-        const auto j = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k + 1]) - local.begin());
-        const std::uint32_t ri = find(i), rj = find(j);
-        if (ri != rj) {
-          parent[ri] = rj;
-          --groups;
-        }
-      }
-      if (groups > 1) ++topo.nonManifoldVertices;
-    }
-  }
+  topo.nonManifoldVertices = countPinchedVertices(mesh);
 
   long long vertices = 0;
   for (std::size_t v = 0; v < referenced.size(); ++v) {

@@ -256,44 +256,45 @@ std::uint64_t readCount(const unsigned char* p, const std::string& type, bool bi
 // Walks the body record by record as the header describes it, so no list count can send the
 // parser past the end of the file: binary counts must fit the bytes left, ASCII counts the
 // tokens left; ASCII values must be numbers of their declared type, floats finite.
-void checkPlyBody(const std::string& path, std::ifstream& in, std::size_t headerLines, bool binary,
-                  bool bigEndian, const std::vector<PlyElement>& elements) {
-  if (binary) {
-    const std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const auto* bytes = reinterpret_cast<const unsigned char*>(body.data());
-    std::uint64_t at = 0;
-    const std::uint64_t size = body.size();
-    for (const PlyElement& e : elements) {
-      for (long long r = 0; r < e.count; ++r) {
-        for (const PlyProperty& p : e.properties) {
-          if (!p.list) {
-            at += std::uint64_t(plyTypeBytes(p.type));
-            continue;
-          }
-          const int countBytes = plyTypeBytes(p.countType);
-          if (at + std::uint64_t(countBytes) > size) break;
-          const std::uint64_t n = readCount(bytes + at, p.countType, bigEndian);
-          if (n > std::uint64_t(kMaxCorners)) {
-            throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
-                             " has a list of " + std::to_string(n) + " items (corrupt count?)");
-          }
-          at += std::uint64_t(countBytes) + n * std::uint64_t(plyTypeBytes(p.type));
+void checkBinaryPlyBody(const std::string& path, std::ifstream& in, bool bigEndian,
+                        const std::vector<PlyElement>& elements) {
+  const std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto* bytes = reinterpret_cast<const unsigned char*>(body.data());
+  std::uint64_t at = 0;
+  const std::uint64_t size = body.size();
+  for (const PlyElement& e : elements) {
+    for (long long r = 0; r < e.count; ++r) {
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          at += std::uint64_t(plyTypeBytes(p.type));
+          continue;
         }
-        if (at > size) {
-          throw InputError(path + ": truncated PLY: element '" + e.name + "' record " +
-                           std::to_string(r) + " runs past the end of the file");
+        const int countBytes = plyTypeBytes(p.countType);
+        if (at + std::uint64_t(countBytes) > size) break;
+        const std::uint64_t n = readCount(bytes + at, p.countType, bigEndian);
+        if (n > std::uint64_t(kMaxCorners)) {
+          throw InputError(path + ": element '" + e.name + "' record " + std::to_string(r) +
+                           " has a list of " + std::to_string(n) + " items (corrupt count?)");
         }
+        at += std::uint64_t(countBytes) + n * std::uint64_t(plyTypeBytes(p.type));
+      }
+      if (at > size) {
+        throw InputError(path + ": truncated PLY: element '" + e.name + "' record " +
+                         std::to_string(r) + " runs past the end of the file");
       }
     }
-    // More data than the header describes means header and data disagree (a wrong count or
-    // type); a trailing newline some writers add is not data.
-    const std::size_t extra = std::size_t(size - at);
-    if (extra > 2 || body.find_first_not_of("\r\n", std::size_t(at)) != std::string::npos) {
-      throw InputError(path + ": binary PLY has " + std::to_string(extra) +
-                       " bytes after the elements its header describes (wrong count or type?)");
-    }
-    return;
   }
+  // More data than the header describes means header and data disagree (a wrong count or
+  // type); a trailing newline some writers add is not data.
+  const std::size_t extra = std::size_t(size - at);
+  if (extra > 2 || body.find_first_not_of("\r\n", std::size_t(at)) != std::string::npos) {
+    throw InputError(path + ": binary PLY has " + std::to_string(extra) +
+                     " bytes after the elements its header describes (wrong count or type?)");
+  }
+}
+
+void checkAsciiPlyBody(const std::string& path, std::ifstream& in, std::size_t headerLines,
+                       const std::vector<PlyElement>& elements) {
   // ASCII: once a token fails OpenMesh's stream extraction, its reader loops over every count
   // and list length that follows unread; so each value must be a number of its declared type.
   TokenReader tokens(in, headerLines);
@@ -360,6 +361,15 @@ void checkPlyBody(const std::string& path, std::ifstream& in, std::size_t header
   if (tokens.next(token)) {
     throw InputError(path + ": line " + std::to_string(tokens.lineNo()) + ": extra value '" +
                      lineExcerpt(token) + "' after the last element");
+  }
+}
+
+void checkPlyBody(const std::string& path, std::ifstream& in, std::size_t headerLines, bool binary,
+                  bool bigEndian, const std::vector<PlyElement>& elements) {
+  if (binary) {
+    checkBinaryPlyBody(path, in, bigEndian, elements);
+  } else {
+    checkAsciiPlyBody(path, in, headerLines, elements);
   }
 }
 

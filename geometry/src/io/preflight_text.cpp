@@ -87,6 +87,24 @@ bool looksLikeAsciiStl(const std::string& head) {
          controls * 16 <= text.size();
 }
 
+// Throws `error` for a control byte in an ASCII STL line; NUL padding after the last line, as
+// some exporters write it, ends the file: the line is cut there and true returned.
+template <typename Error>
+bool cutAtPadding(std::string_view& text, std::istream& in, const Error& error) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (!isControl(c)) continue;
+    if (c == 0 && onlyPaddingFollows(text.substr(i), in)) {
+      text = text.substr(0, i);
+      return true;
+    }
+    char hex[8];
+    std::snprintf(hex, sizeof(hex), "0x%02x", c);
+    throw error(std::string("control byte ") + hex + " in an ASCII STL");
+  }
+  return false;
+}
+
 void checkAsciiStl(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open for reading");
@@ -106,19 +124,7 @@ void checkAsciiStl(const std::string& path) {
     ++lineNo;
     std::string_view text(line);
     if (lineNo == 1 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-    for (std::size_t i = 0; i < text.size(); ++i) {
-      const auto c = static_cast<unsigned char>(text[i]);
-      if (!isControl(c)) continue;
-      // NUL padding after the last line, as some exporters write it, ends the file.
-      if (c == 0 && onlyPaddingFollows(text.substr(i), in)) {
-        text = text.substr(0, i);
-        end = true;
-        break;
-      }
-      char hex[8];
-      std::snprintf(hex, sizeof(hex), "0x%02x", c);
-      throw error(std::string("control byte ") + hex + " in an ASCII STL");
-    }
+    end = cutAtPadding(text, in, error);
     splitTokens(text, tokens);
     const auto found = [&](const std::string& expected) {
       return error("expected " + expected + ", found '" + lineExcerpt(text) + "'");

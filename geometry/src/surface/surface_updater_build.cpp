@@ -23,6 +23,16 @@ struct PendingCentre {
 
 }  // namespace
 
+void SurfaceUpdater::Impl::reserveSlots(std::size_t slots) {
+  info.reserve(slots);
+  centreLoop.reserve(slots);
+  position.reserve(slots);
+  normal.reserve(slots);
+  alive.reserve(slots);
+  mark.reserve(slots);
+  local.reserve(slots);
+}
+
 void SurfaceUpdater::Impl::buildAll() {
   const std::size_t count = bricks.size();
   constexpr std::size_t kGrain = 16;
@@ -66,13 +76,7 @@ void SurfaceUpdater::Impl::buildAll() {
   });
   std::size_t slots = 0;
   for (std::size_t bi = 0; bi < count; ++bi) slots += edges[bi].size() + centreCount[bi];
-  info.reserve(slots);
-  centreLoop.reserve(slots);
-  position.reserve(slots);
-  normal.reserve(slots);
-  alive.reserve(slots);
-  mark.reserve(slots);
-  local.reserve(slots);
+  reserveSlots(slots);
   for (std::size_t bi = 0; bi < count; ++bi) {
     for (const auto& [k, v] : edges[bi]) bricks[bi]->owned[k] = allocate(v);
     std::vector<std::pair<std::uint32_t, VertexInfo>>().swap(edges[bi]);

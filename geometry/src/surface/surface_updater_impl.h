@@ -452,6 +452,8 @@ struct SurfaceUpdater::Impl {
   // The first extraction, of every cell brick, with the same vertex slots, triangles and
   // positions as update() of every brick would give (surface_updater_build.cpp).
   void buildAll();
+  // Room for this many vertex slots in every per-slot array, sized once.
+  void reserveSlots(std::size_t slots);
   void smoothAll();
   glm::ivec3 cellBrickOf(std::size_t index) const {
     return {int(index % std::size_t(cellBricks.x)) - 1, int(index / std::size_t(cellBricks.x) % std::size_t(cellBricks.y)) - 1,

@@ -108,8 +108,56 @@ inline double distanceWithinNear(const std::vector<NearTriangle>& near, const gl
   return found ? best : -1.0;
 }
 
+// Distance of each voxel centre of a whole brick from the brick's centre (mm).
+std::array<double, VoxelGrid::kBrickVoxels> brickRadii(double voxelSizeMm) {
+  std::array<double, VoxelGrid::kBrickVoxels> radius{};
+  for (int z = 0; z < kBrickEdge; ++z)
+    for (int y = 0; y < kBrickEdge; ++y)
+      for (int x = 0; x < kBrickEdge; ++x) {
+        const glm::dvec3 offset = glm::dvec3(x, y, z) + 0.5 - 0.5 * double(kBrickEdge);
+        radius[std::size_t(VoxelGrid::voxelInBrick({x, y, z}))] = voxelSizeMm * glm::length(offset);
+      }
+  return radius;
+}
+
+// The triangles within reachMm of a brick's centre, nearest box first, in `near`; false (and
+// `near` unspecified) when there are more than kMaxNearTriangles.
+bool gatherNear(const EmbreeScene& surface, const glm::dvec3& centre, double reachMm,
+                std::vector<std::uint32_t>& nearIds, std::vector<NearTriangle>& near) {
+  near.clear();
+  nearIds.clear();
+  surface.trianglesNear(centre, reachMm, nearIds);
+  std::sort(nearIds.begin(), nearIds.end());
+  nearIds.erase(std::unique(nearIds.begin(), nearIds.end()), nearIds.end());
+  if (nearIds.size() > kMaxNearTriangles) return false;
+  const TriangleMesh& mesh = surface.mesh();
+  for (const std::uint32_t id : nearIds) {
+    const glm::u32vec3& t = mesh.triangles[id];
+    const glm::dvec3& pa = mesh.positionsMm[t.x];
+    const glm::dvec3& pb = mesh.positionsMm[t.y];
+    const glm::dvec3& pc = mesh.positionsMm[t.z];
+    const glm::dvec3 tlo = glm::min(pa, glm::min(pb, pc));
+    const glm::dvec3 thi = glm::max(pa, glm::max(pb, pc));
+    near.push_back({std::sqrt(boxDistance(centre, tlo, thi)), pa, pb, pc, tlo, thi});
+  }
+  std::sort(near.begin(), near.end(), [](const NearTriangle& p, const NearTriangle& q) {
+    return p.fromCentre < q.fromCentre;
+  });
+  return true;
+}
+
 }  // namespace
 
+// Brick by brick: a brick whose centre is deep inside stays uniform and cancellous. In any
+// other, bounds on each voxel centre's distance to the surface (the distance is 1-Lipschitz)
+// come from the brick centre's distance (or, when that found nothing within brickReachMm, from
+// that reach), and from the 13 neighbours already visited in this brick, widened by the
+// distance to them (1, sqrt 2 or sqrt 3 voxels). A voxel whose bounds do not decide it gets one
+// exact distance, which then bounds the voxels after it. Every triangle within queryReachMm of
+// a voxel centre is within that plus the farthest centre's distance of the brick centre: they
+// are gathered once for the brick and scanned for each voxel's query. Large bricks (coarse
+// voxels, whose gather would be wider than twice a voxel's reach) or crowded ones are left to
+// Embree's closest-first search for each voxel instead.
 DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const DensityRule& rule) {
   validateDensityRule(rule);
   const glm::ivec3 dims = grid.dims();
@@ -119,16 +167,8 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
   const double brickReachMm = shellMm + 0.5 * std::sqrt(3.0) * kBrickEdge * vs;
   // Voxel queries look a little past the shell so that a miss still bounds the next voxels.
   const double queryReachMm = shellMm + 2.0 * vs;
-  const TriangleMesh& mesh = surface.mesh();
   const double stepMm[3] = {vs, std::sqrt(2.0) * vs, std::sqrt(3.0) * vs};
-  // Distance of each voxel centre of a whole brick from the brick's centre.
-  std::array<double, VoxelGrid::kBrickVoxels> fullBrickRadius;
-  for (int z = 0; z < kBrickEdge; ++z)
-    for (int y = 0; y < kBrickEdge; ++y)
-      for (int x = 0; x < kBrickEdge; ++x) {
-        const glm::dvec3 offset = glm::dvec3(x, y, z) + 0.5 - 0.5 * double(kBrickEdge);
-        fullBrickRadius[std::size_t(VoxelGrid::voxelInBrick({x, y, z}))] = vs * glm::length(offset);
-      }
+  const std::array<double, VoxelGrid::kBrickVoxels> fullBrickRadius = brickRadii(vs);
   int neighbourDelta[13];
   for (std::size_t n = 0; n < kVisitedNeighbours.size(); ++n) {
     const glm::ivec3 o = kVisitedNeighbours[n].offset;
@@ -161,11 +201,6 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
         continue;
       }
       VoxelGrid::Brick& b = grid.materialiseBrick(brick);
-      // Bounds on each voxel centre's distance to the surface (the distance is 1-Lipschitz):
-      // from the brick centre's distance (or, when that found nothing within brickReachMm,
-      // from that reach), and from the 13 neighbours already visited in this brick, widened
-      // by the distance to them (1, sqrt 2 or sqrt 3 voxels). A voxel whose bounds do not
-      // decide it gets one exact distance, which then bounds the voxels after it.
       const glm::dvec3 centreGrid = glm::dvec3(lo) + 0.5 * glm::dvec3(span);
       const bool fullBrick = span == glm::ivec3(kBrickEdge);
       if (!fullBrick || interiorStale) {
@@ -174,35 +209,10 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
         std::fill(upperMm.begin(), upperMm.end(), kUnbounded);
       }
       interiorStale = !fullBrick;
-      // Every triangle within queryReachMm of a voxel centre is within that plus the
-      // farthest centre's distance of the brick centre: gather them once for the brick, and
-      // scan them for each voxel's query. Large bricks (coarse voxels, whose gather would be
-      // wider than twice a voxel's reach) or crowded ones are left to Embree's closest-first
-      // search for each voxel instead.
       const double farthestMm = vs * glm::length(0.5 * glm::dvec3(span) - 0.5);
-      near.clear();
-      bool useNear = farthestMm <= queryReachMm;
-      if (useNear) {
-        nearIds.clear();
-        surface.trianglesNear(centre, queryReachMm + farthestMm, nearIds);
-        std::sort(nearIds.begin(), nearIds.end());
-        nearIds.erase(std::unique(nearIds.begin(), nearIds.end()), nearIds.end());
-        useNear = nearIds.size() <= kMaxNearTriangles;
-      }
-      if (useNear) {
-        for (const std::uint32_t id : nearIds) {
-          const glm::u32vec3& t = mesh.triangles[id];
-          const glm::dvec3& pa = mesh.positionsMm[t.x];
-          const glm::dvec3& pb = mesh.positionsMm[t.y];
-          const glm::dvec3& pc = mesh.positionsMm[t.z];
-          const glm::dvec3 tlo = glm::min(pa, glm::min(pb, pc));
-          const glm::dvec3 thi = glm::max(pa, glm::max(pb, pc));
-          near.push_back({std::sqrt(boxDistance(centre, tlo, thi)), pa, pb, pc, tlo, thi});
-        }
-        std::sort(near.begin(), near.end(), [](const NearTriangle& p, const NearTriangle& q) {
-          return p.fromCentre < q.fromCentre;
-        });
-      }
+      const bool useNear = farthestMm <= queryReachMm &&
+                           gatherNear(surface, centre, queryReachMm + farthestMm, nearIds, near);
+      if (!useNear) near.clear();
       for (int z = lo.z; z < hi.z; ++z)
         for (int y = lo.y; y < hi.y; ++y)
           for (int x = lo.x; x < hi.x; ++x) {
