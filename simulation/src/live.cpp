@@ -1,7 +1,7 @@
 #include "osteon/simulation/live.h"
 
 #include "osteon/core/error.h"
-#include "osteon/simulation/handoff.h"
+#include "osteon/core/handoff.h"
 
 #include <malloc.h>
 #include <pthread.h>
@@ -140,6 +140,10 @@ struct RefinedList {
 constexpr std::int64_t kStandbyLagNs = 250000;
 // How many steps apart the refined voxels are published (a 48 KiB copy).
 constexpr std::uint64_t kRefinedEverySteps = 16;
+// Changed bricks in flight to the visual thread, and force log rows on their way to the logging
+// thread; past these the ring is full and the loss is counted (ringFull, logDropped).
+constexpr std::size_t kBrickRingCapacity = 4096;
+constexpr std::size_t kLogRingCapacity = 65536;
 // Step timings kept for percentiles: ten minutes at 1 kHz, then only the latest is known.
 constexpr std::uint64_t kMaxTimedPeriods = 600000;
 
@@ -182,12 +186,12 @@ struct LiveRuntime::Impl {
   std::uint64_t periods;  // per loop; max: until stop()
   std::int64_t periodNs;
 
-  TripleBuffer<PoseMessage> poses;
-  TripleBuffer<ContactForce> forces;
-  TripleBuffer<DisplayCore> displayCore;
-  TripleBuffer<RefinedList> refinedList;
-  SpscRing<BrickMessage> bricks;
-  SpscRing<ForceLogRow> logRows;
+  core::TripleBuffer<PoseMessage> poses;
+  core::TripleBuffer<ContactForce> forces;
+  core::TripleBuffer<DisplayCore> displayCore;
+  core::TripleBuffer<RefinedList> refinedList;
+  core::SpscRing<BrickMessage, kBrickRingCapacity> bricks;
+  core::SpscRing<ForceLogRow, kLogRingCapacity> logRows;
   std::vector<ForceLogRow> log;
   ForceMetrics metrics;
   Durations hapticNs, collisionNs, remeshNs;
@@ -222,8 +226,7 @@ struct LiveRuntime::Impl {
        const RuntimeOptions& o, std::uint64_t n)
       : sim(&s), coupling(o.coupling), grid(&g), source(&src), sink(snk), options(o),
         periods(n == 0 ? std::numeric_limits<std::uint64_t>::max() : n),
-        periodNs(std::int64_t(std::llround(o.periodS * 1e9))), bricks(o.brickRingCapacity),
-        logRows(o.logRingCapacity) {
+        periodNs(std::int64_t(std::llround(o.periodS * 1e9))) {
     // Everything the 1 kHz loops touch is sized here.
     const std::uint64_t timed = std::min<std::uint64_t>(periods, kMaxTimedPeriods) + 1;
     if (options.keepLog) log.reserve(timed);
