@@ -18,36 +18,9 @@ namespace osteon::geometry::nrrd {
 
 namespace fs = std::filesystem;
 
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
-
-// Lowercase, runs of blanks made one space: "Unsigned  Char" -> "unsigned char".
-std::string normaliseWords(const std::string& s) {
-  std::string out;
-  for (unsigned char c : trim(s)) {
-    if (std::isspace(c)) {
-      if (!out.empty() && out.back() != ' ') out += ' ';
-    } else {
-      out += static_cast<char>(std::tolower(c));
-    }
-  }
-  return out;
-}
-
-std::string excerpt(const std::string& s) {
-  std::string out = "'";
-  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
-  return out + (s.size() > 60 ? "...'" : "'");
-}
-
 namespace {
 
 constexpr std::size_t kMaxHeaderLine = 65536;
-
-
 
 std::vector<std::string> words(const std::string& s) {
   std::vector<std::string> out;
@@ -59,8 +32,6 @@ std::vector<std::string> words(const std::string& s) {
   }
   return out;
 }
-
-// File text echoed in a message: one short printable line, whatever the file holds.
 
 bool parseInteger(const std::string& text, long long& v) {
   const std::string t = trim(text);
@@ -75,8 +46,7 @@ bool parseSizes(const std::string& text, std::vector<double>& values) {
   values.clear();
   for (const std::string& w : words(text)) {
     double v;
-    const auto r = std::from_chars(w.data(), w.data() + w.size(), v);
-    if (r.ec != std::errc() || r.ptr != w.data() + w.size() || !std::isfinite(v)) return false;
+    if (!parseNumber(w, v)) return false;
     values.push_back(v);
   }
   return true;

@@ -32,11 +32,20 @@ struct Header {
   [[noreturn]] void fail(const std::string& reason) const;
 };
 
-// Text helpers every NRRD reader shares: blanks trimmed; lowercase with runs of blanks made one
+// Text helpers every NRRD reader shares (nrrd_text.cpp): blanks trimmed; lowercase with runs of blanks made one
 // space ("Unsigned  Char" -> "unsigned char"); file text as one short printable quoted excerpt.
 std::string trim(const std::string& s);
 std::string normaliseWords(const std::string& s);
 std::string excerpt(const std::string& s);
+
+// The one number parser of every NRRD field: a finite decimal in the C locale (a leading '+'
+// allowed, nothing after it), as std::from_chars reads it.
+bool parseNumber(const std::string& token, double& v);
+// Whitespace- and/or comma-separated numbers, parentheses dropped: "(1, 2,3)" -> 1 2 3. False
+// when any token is not a number.
+bool parseNumbers(std::string text, std::vector<double>& values);
+// A number in a message, in its shortest form ("3e+300", "1.2e+09").
+std::string shortNum(double v);
 
 // Reads the header of `path`: the magic (NRRD0001..NRRD0005), field and key lines up to the
 // blank line. Refuses a file that is missing or not regular, a line longer than 64 KiB, a
