@@ -2,6 +2,7 @@
 // hand-made cases of tests/data/bad/table.tsv and the generated ones of osteon_bad_inputs.
 // Every case runs as its own process: exit code as listed, one line on stderr naming the
 // file (and the reason where the table gives one), nothing on stdout, and at most 200 MB.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"

@@ -1,6 +1,7 @@
 // A drilling session this machine cannot hold is refused before the voxelizer starts, with the
 // estimate against what there is (here a 2 GiB address-space limit stands for a small machine);
 // it used to run for a minute and die of bad_alloc.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 #include <gtest/gtest.h>

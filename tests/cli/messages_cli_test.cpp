@@ -2,6 +2,7 @@
 // closed but no solid, `voxelize --out` with a name that is not NRRD, a link loop and a NUL
 // byte in a file name, a head fit that names its mesh, and gnuplot's real trouble (not
 // "is gnuplot installed?" when the shell around it failed under a low `ulimit -n`).
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 #include <gtest/gtest.h>

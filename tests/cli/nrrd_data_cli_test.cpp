@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 

@@ -3,6 +3,7 @@
 // no temporary left), a killed run's temporaries staying forever, two runs filling one folder
 // at once, two models of the same file stem writing over each other's force logs, and
 // `--record` destroying an existing recording before the new one is complete.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 #include <gtest/gtest.h>

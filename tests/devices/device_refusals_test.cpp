@@ -6,7 +6,8 @@
 #include "osteon/devices/spacemouse.h"
 
 #include "osteon/core/error.h"
-#include "devices/devices_test_support.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
@@ -39,7 +40,7 @@ TEST_F(DeviceRefusalsTest, ASpaceMousePathThatIsNoHidrawDeviceIsRefusedWithWhatI
   const std::string fifo = dir_ + "/fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string file = dir_ + "/report.bin";
-  test::writeFile(file, std::string("\x01\x02\x03", 3));
+  test::writeBytes(file, std::string("\x01\x02\x03", 3));
   struct Case {
     std::string path, reason;
   };

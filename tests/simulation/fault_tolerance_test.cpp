@@ -8,6 +8,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/live.h"
 #include "osteon/simulation/runtime.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

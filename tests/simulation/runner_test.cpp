@@ -5,6 +5,7 @@
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

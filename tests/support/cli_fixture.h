@@ -3,6 +3,7 @@
 // instead of the machine.
 #pragma once
 
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

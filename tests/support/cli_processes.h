@@ -1,6 +1,8 @@
-// `osteon` running beside a test (its stdout read line by line as it comes) and a
-// pseudo-terminal standing in for a USB serial board: for tests of commands that watch a device.
+// `osteon` running beside a test (its stdout read line by line as it comes), with the fake
+// serial board (serial_board.h): for tests of commands that watch a device.
 #pragma once
+
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
@@ -12,9 +14,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <pty.h>
 #include <sys/wait.h>
-#include <termios.h>
 #include <unistd.h>
 
 namespace osteon {
@@ -88,43 +88,6 @@ class RunningOsteon {
   int out_ = -1;
   int exit_ = -1;
   std::string buffer_;
-};
-
-// A pseudo-terminal standing in for a USB serial board (raw, as such a port is).
-struct Board {
-  int master = -1, slave = -1;
-  std::string path;
-  bool open() {
-    char name[128] = {};
-    if (::openpty(&master, &slave, name, nullptr, nullptr) != 0) return false;
-    termios t{};
-    ::tcgetattr(slave, &t);
-    ::cfmakeraw(&t);
-    ::tcsetattr(slave, TCSANOW, &t);
-    ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
-    path = name;
-    return true;
-  }
-  bool write(const std::string& bytes) const {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    for (std::size_t done = 0; done < bytes.size();) {
-      const ssize_t n = ::write(master, bytes.data() + done, bytes.size() - done);
-      if (n > 0) {
-        done += std::size_t(n);
-      } else {
-        if (std::chrono::steady_clock::now() > deadline) return false;
-        pollfd p{master, POLLOUT, 0};
-        ::poll(&p, 1, 20);
-      }
-    }
-    return true;
-  }
-  void unplug() {
-    if (master >= 0) ::close(master);
-    if (slave >= 0) ::close(slave);
-    master = slave = -1;
-  }
-  ~Board() { unplug(); }
 };
 
 }  // namespace osteon

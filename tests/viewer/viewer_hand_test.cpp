@@ -6,6 +6,7 @@
 //
 // Set OSTEON_VIEWER_SHOTS=DIR to keep the screenshots (they show the ghost inside the bone with
 // the proxy at the surface, and the hole drilled from the surface).
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

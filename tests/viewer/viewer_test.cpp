@@ -1,6 +1,7 @@
 // osteon-viewer in a real window under Xvfb (Mesa llvmpipe): what it draws, read back from the
 // framebuffer and reported by --json, and what it records. Skipped, with the reason, only when
 // no X server can be started here.
+#include "support/files.h"
 #include "support/shapes.h"
 #include "support/bone_volumes.h"
 
