@@ -2,6 +2,7 @@
 // serial board (serial_board.h): for tests of commands that watch a device.
 #pragma once
 
+#include "support/process.h"
 #include "support/serial_board.h"
 
 #include <gtest/gtest.h>
@@ -25,22 +26,9 @@ class RunningOsteon {
   RunningOsteon(const std::vector<std::string>& args, const std::string& stderrPath) {
     int fds[2];
     if (::pipe(fds) != 0) return;
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const int null = ::open("/dev/null", O_RDONLY);
-      const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(null, 0);
-      ::dup2(fds[1], 1);
-      ::dup2(err, 2);
-      // Nothing else of the test's goes with it (a board's pty held open here would never hang up).
-      for (int fd = 3; fd < 1024; ++fd) ::close(fd);
-      std::vector<char*> argv;
-      argv.push_back(const_cast<char*>(OSTEON_CLI));
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(OSTEON_CLI, argv.data());
-      ::_exit(127);
-    }
+    const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    pid_ = test::spawnProgram(OSTEON_CLI, args, fds[1], err);
+    ::close(err);
     ::close(fds[1]);
     out_ = fds[0];
   }
@@ -79,7 +67,7 @@ class RunningOsteon {
       if (std::chrono::steady_clock::now() > deadline) return -1;
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    exit_ = test::exitCodeOf(status);
     return exit_;
   }
 
