@@ -9,6 +9,7 @@
 #include "osteon/simulation/live.h"
 #include "osteon/simulation/runtime.h"
 #include "support/files.h"
+#include "support/humerus_session.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -33,28 +34,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// The built-in humerus at 1.2 mm, static, and a portal-5 path in bone from its first second.
-struct Humerus {
-  const geometry::HumerusModel& model = geometry::defaultHumerusModel();
-  geometry::VoxelGrid grid;
-  geometry::DynamicProximityHierarchy hierarchy;
-  std::unique_ptr<DrillingSimulation> sim;
-  DrillPath path;
-  explicit Humerus(double pathS) {
-    geometry::VoxelizeOptions vo;
-    vo.voxelSizeMm = 1.2;
-    grid = geometry::voxelize(model.mesh, vo);
-    hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    sim = std::make_unique<DrillingSimulation>(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{},
-                                               DrillingOptions{});
-    PortalPathOptions po;
-    po.durationS = pathS;
-    path = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                          sim->tool().parts[0].outerRadiusMm, po)
-               .path;
-  }
-};
 
 // What the device would get, counted on the haptic thread (read after the loops are joined).
 struct RecordingSink : ForceSink {
@@ -116,8 +95,8 @@ std::vector<ForceLogRow> syntheticLog(std::size_t rows) {
 bool oneLine(const std::string& text) { return !text.empty() && text.find_first_of("\r\n") == std::string::npos; }
 
 TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCatchesUp) {
-  Humerus h(4.0);
-  PathPoseSource source(h.path);
+  test::HumerusParts h(4.0);
+  PathPoseSource source(h.plan.path);
   RecordingSink sink;
   RuntimeOptions ro;
   ro.realtimePriority = false;
@@ -180,10 +159,8 @@ TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCat
 TEST(LiveFaults, ASurfaceUpdateThatThrowsIsOneErrorAndTheHapticLoopGoesOn) {
   SessionOptions options;
   options.levels = 0;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
-  PortalPathOptions po;
-  po.durationS = 3.0;
-  const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;
+  Session session = test::humerusSession(options);
+  const DrillPath path = test::portalFivePath(session, 3.0);
   PathPoseSource source(path);
   RecordingSink sink;
   RuntimeOptions ro;
@@ -240,8 +217,8 @@ TEST(LiveFaults, ASurfaceUpdateThatThrowsIsOneErrorAndTheHapticLoopGoesOn) {
 // `drill --threaded`'s case: the visual thread's update throws; no std::terminate, the loops are
 // stopped at once, and the caller gets one line saying what failed and when.
 TEST(RuntimeFaults, ASurfaceUpdateThatThrowsStopsTheRunCleanlyWithOneLine) {
-  Humerus h(4.0);
-  PathPoseSource source(h.path);
+  test::HumerusParts h(4.0);
+  PathPoseSource source(h.plan.path);
   RecordingSink sink;
   RuntimeOptions ro;
   ro.durationS = 4.0;
@@ -278,10 +255,8 @@ TEST(RuntimeFaults, ASurfaceUpdateThatThrowsStopsTheRunCleanlyWithOneLine) {
 TEST(RuntimeFaults, ASessionsSurfaceFollowsItsGridAfterAFault) {
   SessionOptions options;
   options.levels = 0;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
-  PortalPathOptions po;
-  po.durationS = 2.0;
-  const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;
+  Session session = test::humerusSession(options);
+  const DrillPath path = test::portalFivePath(session, 2.0);
   PathPoseSource source(path);
   RuntimeOptions ro;
   ro.durationS = 2.0;
@@ -354,8 +329,8 @@ TEST(ForceLogFaults, ADiskThatFillsKeepsTheWholeRowsWrittenBeforeIt) {
 // The disk fills 50 KB into a threaded run: the logging thread's writer drops the later rows
 // without blocking anyone, the haptic loop keeps its rate and the force stays finite.
 TEST(ForceLogFaults, TheHapticLoopKeepsItsRateWhileTheDiskFails) {
-  Humerus h(3.0);
-  PathPoseSource source(h.path);
+  test::HumerusParts h(3.0);
+  PathPoseSource source(h.plan.path);
   RecordingSink sink;
   const std::string dir = test::makeTempDir("force_log_threaded");
   const std::string path = dir + "/forces.csv";

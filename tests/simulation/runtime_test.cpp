@@ -3,6 +3,7 @@
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runtime.h"
+#include "support/humerus_session.h"
 
 #include <gtest/gtest.h>
 
@@ -13,30 +14,8 @@
 namespace osteon::simulation {
 namespace {
 
-// The built-in humerus at 1.2 mm, static, and a short, fast portal-5 path: bone within the
-// first second.
-struct HumerusRun {
-  geometry::HumerusModel model = geometry::buildHumerusModel();
-  geometry::VoxelGrid grid;
-  geometry::DynamicProximityHierarchy hierarchy;
-  std::unique_ptr<DrillingSimulation> sim;
-  PortalPlan plan;
-  HumerusRun() {
-    geometry::VoxelizeOptions vo;
-    vo.voxelSizeMm = 1.2;
-    grid = geometry::voxelize(model.mesh, vo);
-    hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-    sim = std::make_unique<DrillingSimulation>(grid, hierarchy, nullptr, ToolKind::Drill, ToolOptions{},
-                                               DrillingOptions{});
-    PortalPathOptions po;
-    po.durationS = 1.5;
-    plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                          sim->tool().parts[0].outerRadiusMm, po);
-  }
-};
-
 TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
-  HumerusRun h;
+  test::HumerusParts h(1.5);  // bone within the first second
   DrillingSimulation& sim = *h.sim;
   geometry::VoxelGrid& grid = h.grid;
   PathPoseSource source(h.plan.path);
@@ -77,7 +56,7 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
 // The collision thread hands rows to a logging thread: with keepLog off nothing is collected,
 // every row reaches onRow in order, and the summary is the metrics of those rows.
 TEST(Runtime, StreamsTheForceLogWithoutKeepingIt) {
-  HumerusRun h;
+  test::HumerusParts h(1.5);  // bone within the first second
   DrillingSimulation& sim = *h.sim;
   geometry::VoxelGrid& grid = h.grid;
   PathPoseSource source(h.plan.path);
