@@ -46,8 +46,16 @@ bool parseNumber(const std::string& token, double& v);
 bool parseNumbers(std::string text, std::vector<double>& values);
 // A number in a message, in its shortest form ("3e+300", "1.2e+09").
 std::string shortNum(double v);
+// Blank-separated words; a whole number (a leading '+' allowed, blanks around it trimmed).
+std::vector<std::string> words(const std::string& s);
+bool parseInteger(const std::string& text, long long& v);
 
-// Reads the header of `path`: the magic (NRRD0001..NRRD0005), field and key lines up to the
+// "<shown>: <reason>" as an InputError; every loader's check that a name is a regular file
+// (core/input_file.h), with the name as this reader shows it.
+[[noreturn]] void failAt(const std::string& shown, const std::string& reason);
+void checkRegularFile(const std::string& path, const std::string& shown);
+
+// Reads the header of `path` (nrrd_header.cpp): the magic (NRRD0001..NRRD0005), field and key lines up to the
 // blank line. Refuses a file that is missing or not regular, a line longer than 64 KiB, a
 // malformed line, a field or key given twice, and an attached header with no blank line.
 Header readHeader(const std::string& path);
@@ -79,7 +87,7 @@ struct Layout {
 };
 Layout readLayout(const Header& h);
 
-// Where the data lies: the header's own file after its blank line, or its `data file:`, then
+// Where the data lies (nrrd_data.cpp): the header's own file after its blank line, or its `data file:`, then
 // `line skip:` lines and `byte skip:` bytes on (byte skip -1: the last bytes of a raw file;
 // for gzip the byte skip is of the inflated stream). Checked before any data is read: a data
 // file outside the header's folder (after `..` and symlinks) unless allowOutsideData, a list

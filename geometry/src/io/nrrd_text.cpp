@@ -2,6 +2,7 @@
 // messages, and the one number parser every field goes through.
 #include "io/nrrd_header.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -33,6 +34,26 @@ std::string excerpt(const std::string& s) {
   std::string out = "'";
   for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
   return out + (s.size() > 60 ? "...'" : "'");
+}
+
+std::vector<std::string> words(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t pos = 0;
+  while ((pos = s.find_first_not_of(" \t\r", pos)) != std::string::npos) {
+    const std::size_t end = std::min(s.find_first_of(" \t\r", pos), s.size());
+    out.push_back(s.substr(pos, end - pos));
+    pos = end;
+  }
+  return out;
+}
+
+bool parseInteger(const std::string& text, long long& v) {
+  const std::string t = trim(text);
+  const char* first = t.data();
+  const char* last = first + t.size();
+  if (first != last && *first == '+') ++first;
+  const auto r = std::from_chars(first, last, v);
+  return first != last && r.ec == std::errc() && r.ptr == last;
 }
 
 bool parseNumber(const std::string& token, double& v) {
