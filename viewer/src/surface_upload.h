@@ -71,8 +71,7 @@ class SurfaceUploader {
   // Forgets the surface (a new bone); the next delta must have `everything`.
   void reset();
 
-  // The mirror of the GPU buffers, and what to draw: indices [0, indexEnd()).
-  const std::vector<GpuVertex>& vertices() const { return vertices_; }
+  // The mirror of the GPU's index buffer, and what to draw: indices [0, indexEnd()).
   const std::vector<std::uint32_t>& indices() const { return indices_; }
   std::size_t indexEnd() const { return 3 * endTriangles_; }
   std::size_t triangleCount() const { return liveTriangles_; }
