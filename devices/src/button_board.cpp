@@ -105,8 +105,7 @@ bool BoardLineParser::finishLine(BoardEvent& e) {
 // ---- the device ----
 
 ButtonBoardDevice::ButtonBoardDevice(const std::string& name, const std::string& port, const ButtonBoardOptions& options)
-    : Device(name), port_(port), options_(options), serial_(SerialPort::open(port, options.baud, name)),
-      events_(options.eventCapacity) {
+    : Device(name), port_(port), options_(options), serial_(SerialPort::open(port, options.baud, name)) {
   reader_ = std::thread([this] { readLoop(); });
 }
 
@@ -142,7 +141,7 @@ void ButtonBoardDevice::readLoop() {
     connected = on;
     connected_.store(on, std::memory_order_relaxed);
     state.connected = on;
-    state_.publish(state);
+    state_.write(state);
     BoardEvent e;
     e.kind = on ? BoardEvent::Kind::Connected : BoardEvent::Kind::Disconnected;
     e.tS = t;
@@ -154,7 +153,7 @@ void ButtonBoardDevice::readLoop() {
       state.pedal = e.pedal;
       state.knob += e.knob;
       ++state.lines;
-      state_.publish(state);
+      state_.write(state);
       lines_.fetch_add(1, std::memory_order_relaxed);
     } else {
       malformed_.fetch_add(1, std::memory_order_relaxed);
@@ -193,8 +192,7 @@ void ButtonBoardDevice::readLoop() {
 }
 
 void ButtonBoardDevice::poll(double nowS, DeviceSample& sample) noexcept {
-  State s;
-  state_.read(s);
+  const State s = state_.read();
   if (s.lines != polledLines_) {
     polledLines_ = s.lines;
     polledAtS_ = nowS;

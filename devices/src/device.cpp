@@ -187,11 +187,11 @@ Capabilities MouseDevice::capabilities() const {
 
 void MouseDevice::feed(const glm::dvec3& positionMm, const glm::dquat& orientation, std::uint32_t buttons,
                        bool drillOn) noexcept {
-  state_.publish(MouseState{positionMm, orientation, buttons, drillOn, steadyNowS()});
+  state_.write(MouseState{positionMm, orientation, buttons, drillOn, steadyNowS()});
 }
 
 void MouseDevice::poll(double nowS, DeviceSample& sample) noexcept {
-  state_.read(last_);
+  last_ = state_.read();
   if (last_.fedAtS < 0.0) {
     sample = DeviceSample{};
     return;

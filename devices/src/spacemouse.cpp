@@ -271,7 +271,7 @@ void SpaceMouseDevice::readLoop() {
     if (n > 0) {
       if (parseSpaceMouseReport(report, std::size_t(n), state.axes) != SpaceMouseReport::Unknown) {
         state.connected = true;
-        state_.publish(state);
+        state_.write(state);
         reports_.fetch_add(1, std::memory_order_relaxed);
       }
       continue;
@@ -280,19 +280,19 @@ void SpaceMouseDevice::readLoop() {
     // Gone: the cap is at rest until the device comes back (tried every half second).
     state = State{};
     state.connected = false;
-    state_.publish(state);
+    state_.write(state);
     while (!stop_.load(std::memory_order_relaxed) && !source_->reopen()) {
       for (int i = 0; i < 10 && !stop_.load(std::memory_order_relaxed); ++i) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
       }
     }
     state.connected = true;
-    state_.publish(state);
+    state_.write(state);
   }
 }
 
 void SpaceMouseDevice::poll(double nowS, DeviceSample& sample) noexcept {
-  state_.read(polled_);
+  polled_ = state_.read();
   const double dt = polledOnce_ ? std::clamp(nowS - lastPollS_, 0.0, integrator_.options().maxStepS) : 0.0;
   polledOnce_ = true;
   lastPollS_ = nowS;

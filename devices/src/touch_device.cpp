@@ -4,7 +4,7 @@
 #include "osteon/devices/touch.h"
 
 #include "osteon/core/error.h"
-#include "osteon/devices/handoff.h"
+#include "osteon/core/handoff.h"
 
 #include <HD/hd.h>
 
@@ -54,8 +54,9 @@ class TouchDevice final : public Device {
   }
 
   void poll(double nowS, DeviceSample& sample) noexcept override {
-    ServoState s;
-    if (fromServo_.read(s) && s.ticks != polledTicks_) {
+    bool fresh = false;
+    const ServoState s = fromServo_.read(&fresh);
+    if (fresh && s.ticks != polledTicks_) {
       polledTicks_ = s.ticks;
       polledAtS_ = nowS;
     }
@@ -74,7 +75,7 @@ class TouchDevice final : public Device {
 
   void setForce(double, const glm::dvec3& forceN) noexcept override {
     ++forceSeq_;
-    toServo_.publish(ForceCommand{forceN, forceSeq_});
+    toServo_.write(ForceCommand{forceN, forceSeq_});
   }
 
  private:
@@ -108,8 +109,7 @@ class TouchDevice final : public Device {
     ++state_.ticks;
 
     // The force: the haptic loop's latest, unless it stopped sending (then ramped out here).
-    ForceCommand command;
-    toServo_.read(command);
+    const ForceCommand command = toServo_.read();
     if (command.seq != lastSeq_) {
       lastSeq_ = command.seq;
       staleTicks_ = 0;
@@ -132,7 +132,7 @@ class TouchDevice final : public Device {
 
     const HDErrorInfo error = hdGetError();
     if (HD_DEVICE_ERROR(error)) ++state_.errors;  // reported as a disconnected sample
-    fromServo_.publish(state_);
+    fromServo_.write(state_);
     return HD_CALLBACK_CONTINUE;
   }
 
@@ -158,8 +158,8 @@ class TouchDevice final : public Device {
   std::uint64_t errorsSeen_ = 0;
   double polledAtS_ = -1.0;
   std::uint64_t forceSeq_ = 0;
-  LatestValue<ServoState> fromServo_;
-  LatestValue<ForceCommand> toServo_;
+  core::TripleBuffer<ServoState> fromServo_;
+  core::TripleBuffer<ForceCommand> toServo_;
 };
 
 }  // namespace

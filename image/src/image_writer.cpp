@@ -119,9 +119,4 @@ std::string writeImageU8(const std::string& path, int width, int height, int cha
 
 std::string openImageIOVersion() { return plugin().libraryVersion(); }
 
-std::string loadedPluginPath() {
-  const std::lock_guard<std::mutex> lock(gMutex);
-  return gPlugin.path;
-}
-
 }  // namespace osteon::image

@@ -117,13 +117,11 @@ void DeviceInput::apply(double tS, const glm::dvec3& forceN) noexcept {
   status_.faults = safety_.stats().faults;
   status_.forceState = safety_.forceState();
   status_.forceN = std::sqrt(out.x * out.x + out.y * out.y + out.z * out.z);
-  published_.publish(status_);
+  published_.write(status_);
 }
 
 DeviceStatus DeviceInput::status() noexcept {
-  DeviceStatus s;
-  published_.read(s);
-  return s;
+  return published_.read();
 }
 
 // ---- device-driven deterministic runs ----

@@ -4,7 +4,7 @@
 #include "realtime_thread.h"
 #include "run_recorder.h"
 
-#include "osteon/simulation/handoff.h"
+#include "osteon/core/handoff.h"
 
 #include <algorithm>
 #include <atomic>
@@ -32,6 +32,10 @@ using realtime::sleepUntilNs;
 constexpr std::int64_t kStandbyLagNs = 250000;
 // How many steps apart the refined voxels are published (a 48 KiB copy).
 constexpr std::uint64_t kRefinedEverySteps = 16;
+// Changed bricks in flight to the visual thread, and force log rows on their way to the logging
+// thread; past these the ring is full and the loss is counted (ringFull, logDropped).
+constexpr std::size_t kBrickRingCapacity = 4096;
+constexpr std::size_t kLogRingCapacity = 65536;
 // Step timings kept for percentiles: ten minutes at 1 kHz, then only the latest is known.
 constexpr std::uint64_t kMaxTimedPeriods = 600000;
 
@@ -64,12 +68,12 @@ struct LiveRuntime::Impl {
   std::uint64_t periods = std::numeric_limits<std::uint64_t>::max();  // per loop; max: until stop()
   std::int64_t periodNs;
 
-  TripleBuffer<PoseMessage> poses;
-  TripleBuffer<ContactForce> forces;
-  TripleBuffer<DisplayCore> displayCore;
-  TripleBuffer<RefinedList> refinedList;
-  SpscRing<BrickMessage> bricks;
-  SpscRing<ForceLogRow> logRows;
+  core::TripleBuffer<PoseMessage> poses;
+  core::TripleBuffer<ContactForce> forces;
+  core::TripleBuffer<DisplayCore> displayCore;
+  core::TripleBuffer<RefinedList> refinedList;
+  core::SpscRing<BrickMessage, kBrickRingCapacity> bricks;
+  core::SpscRing<ForceLogRow, kLogRingCapacity> logRows;
   RunRecorder recorder;  // the logging thread's
   Durations hapticNs, collisionNs, remeshNs;
 
@@ -101,8 +105,8 @@ struct LiveRuntime::Impl {
   Impl(Session& se, PoseSource& src, ForceSink* snk, const RuntimeOptions& o)
       : session(&se), sim(&se.simulation()), coupling(o.coupling ? o.coupling : se.coupling()),
         grid(&se.simulation().grid()), source(&src), sink(snk), options(o),
-        periodNs(std::int64_t(std::llround(o.periodS * 1e9))), bricks(o.brickRingCapacity),
-        logRows(o.logRingCapacity), recorder(o.onRow, o.keepLog, o.periodS) {
+        periodNs(std::int64_t(std::llround(o.periodS * 1e9))),
+        recorder(o.onRow, o.keepLog, o.periodS) {
     hapticOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     collisionOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     changed.reserve(1024);

@@ -2,7 +2,9 @@
 // hand-made cases of tests/data/bad/table.tsv and the generated ones of osteon_bad_inputs.
 // Every case runs as its own process: exit code as listed, one line on stderr naming the
 // file (and the reason where the table gives one), nothing on stdout, and at most 200 MB.
+#include "support/files.h"
 #include "support/cli_fixture.h"
+#include "support/process.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
 
@@ -70,24 +72,11 @@ Outcome runOsteon(const std::vector<std::string>& args, const std::string& scrat
                   rlim_t addressSpaceBytes = RLIM_INFINITY) {
   const std::string outPath = scratch + "/stdout", errPath = scratch + "/stderr";
   const auto start = std::chrono::steady_clock::now();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int o = open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int n = open("/dev/null", O_RDONLY);
-    dup2(o, 1);
-    dup2(e, 2);
-    dup2(n, 0);
-    if (addressSpaceBytes != RLIM_INFINITY) {
-      const rlimit limit{addressSpaceBytes, addressSpaceBytes};
-      setrlimit(RLIMIT_AS, &limit);
-    }
-    std::vector<char*> argv{const_cast<char*>(OSTEON_CLI)};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(OSTEON_CLI, argv.data());
-    _exit(127);
-  }
+  const int o = open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const int e = open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const pid_t pid = test::spawnProgram(OSTEON_CLI, args, o, e, addressSpaceBytes);
+  close(o);
+  close(e);
   Outcome r;
   int status = 0;
   rusage usage{};
@@ -100,7 +89,7 @@ Outcome runOsteon(const std::vector<std::string>& args, const std::string& scrat
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.exitCode = test::exitCodeOf(status);
   r.peakMb = double(usage.ru_maxrss) / 1024.0;
   r.out = test::readBytes(outPath);
   r.err = test::readBytes(errPath);

@@ -1,6 +1,7 @@
 // The command line as users and scripts meet it: exit codes, one-line errors naming the file
 // or value, JSON on stdout.
 #include "osteon/geometry/io/mesh_io.h"
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 

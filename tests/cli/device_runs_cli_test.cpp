@@ -3,6 +3,7 @@
 // replayed through the threaded runtime (it ran until its absolute last stamp), runs that never
 // meet bone through a device or a recording (exit 0 where --path gives 1), and a board monitored
 // at 115,200 baud (events dropped from a full queue, silently).
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/cli_processes.h"
 #include "support/shapes.h"
@@ -122,10 +123,10 @@ TEST_F(CliTest, RunsThatNeverMeetBoneAreEmptyWhateverDrivesThem) {
 // A board at 115,200 baud: N lines as fast as the line rate allows, every one printed while the
 // monitor's output is read as it comes, and the last line says none was dropped.
 TEST_F(CliTest, DevicesMonitorKeepsUpWithABoardAt115200Baud) {
-  Board board;
+  test::FakeBoard board;
   ASSERT_TRUE(board.open());
   constexpr int kLines = 6000;
-  RunningOsteon monitor({"devices", "monitor", "serial:" + board.path + "@115200", "--count", std::to_string(kLines),
+  RunningOsteon monitor({"devices", "monitor", "serial:" + board.slavePath + "@115200", "--count", std::to_string(kLines),
                          "--json"},
                         path("monitor.err"));
   std::thread writer([&board] {
@@ -171,9 +172,9 @@ TEST_F(CliTest, DevicesMonitorKeepsUpWithABoardAt115200Baud) {
 // A consumer that stops reading: the board's queue fills and events are lost, which the
 // monitor now says (a line in the stream, the count at the end, a warning on stderr).
 TEST_F(CliTest, DevicesMonitorReportsEventsItDropped) {
-  Board board;
+  test::FakeBoard board;
   ASSERT_TRUE(board.open());
-  RunningOsteon monitor({"devices", "monitor", "serial:" + board.path, "--duration", "4", "--json"},
+  RunningOsteon monitor({"devices", "monitor", "serial:" + board.slavePath, "--duration", "4", "--json"},
                         path("monitor.err"));
   std::string lines;
   constexpr int kLines = 20000;

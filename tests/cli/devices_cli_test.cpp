@@ -2,6 +2,7 @@
 // a pseudo-terminal as it runs, `drill --device` and `--record`, and `replay`: a recorded
 // portal-5 replays to drill's forces.csv byte for byte, a log with every fault kind is survived
 // and counted, and files that are not recordings are exit 2 with one line.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/cli_processes.h"
 #include "support/shapes.h"
@@ -38,12 +39,6 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
-void pointLink(const std::string& link, const std::string& target) {
-  std::filesystem::remove(link + ".new");
-  std::filesystem::create_symlink(target, link + ".new");
-  std::filesystem::rename(link + ".new", link);
-}
-
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 TEST_F(CliTest, DevicesListFindsNoneHereAndSucceeds) {
@@ -62,9 +57,9 @@ TEST_F(CliTest, DevicesListFindsNoneHereAndSucceeds) {
 
 TEST_F(CliTest, DevicesMonitorDecodesABoardOnAPseudoTerminal) {
   const std::string link = path("ttyBoard");
-  auto board = std::make_unique<Board>();
+  auto board = std::make_unique<test::FakeBoard>();
   ASSERT_TRUE(board->open());
-  pointLink(link, board->path);
+  test::pointLink(link, board->slavePath);
   RunningOsteon monitor({"devices", "monitor", "serial:" + link, "--count", "8", "--json"}, path("monitor.err"));
 
   ASSERT_TRUE(board->write("B=5,P=512\n"));
@@ -93,9 +88,9 @@ TEST_F(CliTest, DevicesMonitorDecodesABoardOnAPseudoTerminal) {
   const std::string gone = monitor.nextLine();
   ASSERT_FALSE(gone.empty());
   EXPECT_EQ(json::parse(gone)["status"], "disconnected");
-  board = std::make_unique<Board>();
+  board = std::make_unique<test::FakeBoard>();
   ASSERT_TRUE(board->open());
-  pointLink(link, board->path);
+  test::pointLink(link, board->slavePath);
   ASSERT_TRUE(board->write("B=2,P=1023\n"));
   const std::string back = monitor.nextLine();
   ASSERT_FALSE(back.empty());
@@ -107,20 +102,20 @@ TEST_F(CliTest, DevicesMonitorDecodesABoardOnAPseudoTerminal) {
 }
 
 TEST_F(CliTest, DevicesMonitorTextAndItsLimits) {
-  Board board;
+  test::FakeBoard board;
   ASSERT_TRUE(board.open());
   ASSERT_TRUE(board.write("B=3,P=7\n"));
-  const CliRun run = osteon("devices monitor serial:" + board.path + "@115200 --count 1");
+  const CliRun run = osteon("devices monitor serial:" + board.slavePath + "@115200 --count 1");
   EXPECT_EQ(run.exitCode, 0) << run.err;
   EXPECT_NE(run.out.find("buttons=0x3 pedal=7 knob=0"), std::string::npos) << run.out;
   // A board that says nothing: --duration ends the watch, exit 0.
   const auto start = std::chrono::steady_clock::now();
-  const CliRun quiet = osteon("devices monitor serial:" + board.path + " --duration 0.3");
+  const CliRun quiet = osteon("devices monitor serial:" + board.slavePath + " --duration 0.3");
   EXPECT_EQ(quiet.exitCode, 0) << quiet.err;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
   expectBadInput("devices monitor serial:" + path("ttyNone") + " --count 1", "serial:" + path("ttyNone"), "cannot open");
-  expectBadInput("devices monitor serial:" + board.path + " --count 0", "--count 0", "at least 1");
-  expectBadInput("devices monitor serial:" + board.path + "@1234 --count 1", "@1234", "not a standard rate");
+  expectBadInput("devices monitor serial:" + board.slavePath + " --count 0", "--count 0", "at least 1");
+  expectBadInput("devices monitor serial:" + board.slavePath + "@1234 --count 1", "@1234", "not a standard rate");
   expectBadInput("devices monitor scripted:portal-5 --count 1", "scripted:portal-5", "session");
   expectBadInput("devices monitor joystick --count 1", "joystick", "unknown device");
   expectBadInput("devices monitor mouse --count 1", "mouse", "viewer");
@@ -259,9 +254,9 @@ TEST_F(CliTest, DrillWithADeviceRefusesWhatCannotDriveIt) {
   expectBadInput("drill default" + tail, "--path or --device", "required");
   expectBadInput("drill default --path portal-5 --record " + quoted(path("r.csv")) + tail, "--record", "only with --device");
   // A board gives no pose: it cannot drive the tool alone.
-  Board board;
+  test::FakeBoard board;
   ASSERT_TRUE(board.open());
-  expectBadInput("drill default --device serial:" + board.path + " --duration 1" + tail, "serial:" + board.path,
+  expectBadInput("drill default --device serial:" + board.slavePath + " --duration 1" + tail, "serial:" + board.slavePath,
                  "gives no pose");
   // A live device needs --duration.
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");

@@ -1,6 +1,7 @@
 // A drilling session this machine cannot hold is refused before the voxelizer starts, with the
 // estimate against what there is (here a 2 GiB address-space limit stands for a small machine);
 // it used to run for a minute and die of bad_alloc.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 #include <gtest/gtest.h>
@@ -11,22 +12,11 @@
 namespace osteon {
 namespace {
 
-struct LimitedRun {
-  int exitCode = -1;
-  std::string err;
-  double seconds = 0.0;
-};
+using LimitedRun = test::ProcessRun;
 
 LimitedRun underTwoGiB(const std::string& args, const std::string& errPath) {
-  const std::string command = "ulimit -v 2097152; timeout 120 '" + std::string(OSTEON_CLI) + "' " + args +
-                              " >/dev/null 2>'" + errPath + "' </dev/null";
-  const auto start = std::chrono::steady_clock::now();
-  const int status = std::system(command.c_str());
-  LimitedRun run;
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  run.err = test::readBytes(errPath);
-  return run;
+  return test::runShell("ulimit -v 2097152; timeout 120 '" + std::string(OSTEON_CLI) + "' " + args, "/dev/null",
+                        errPath);
 }
 
 TEST_F(CliTest, ADrillingSessionBeyondTheMachinesMemoryIsRefusedUpFront) {

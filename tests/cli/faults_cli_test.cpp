@@ -1,6 +1,7 @@
 // Faults in a drilling run as a user meets them: a disk that fills while forces.csv is
 // written, a visual surface update that throws. One line on stderr naming what failed, a
 // non-zero exit, and the force log's rows from before the fault whole in forces.csv.partial.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,6 @@
 // Inputs a hostile tester tries: each gets exit 2 (1 for a failed check) and one true line on
 // stderr, within bounded time and memory (the fixture's limits), and no input is ever lost.
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 

@@ -2,6 +2,7 @@
 // closed but no solid, `voxelize --out` with a name that is not NRRD, a link loop and a NUL
 // byte in a file name, a head fit that names its mesh, and gnuplot's real trouble (not
 // "is gnuplot installed?" when the shell around it failed under a low `ulimit -n`).
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 #include <gtest/gtest.h>
@@ -112,21 +113,18 @@ TEST_F(CliTest, ExperimentSaysWhyGnuplotCouldNotDraw) {
   // Under `ulimit -n 8` the shell around gnuplot failed and was blamed on gnuplot; gnuplot itself
   // draws fine with that many files.
   const std::string dir = path("exp");
-  // (The redirections are made before the limit: this shell's own would fail under it.)
-  const int status = std::system(("(ulimit -n 8; exec '" + std::string(OSTEON_CLI) + "' experiment seed --out-dir " +
-                                  quoted(dir) + ") >/dev/null 2>" + quoted(path("err")))
-                                     .c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << test::readBytes(path("err"));
+  // (runShell makes the redirections before the limit: this shell's own would fail under it.)
+  const CliRun limited = test::runShell("ulimit -n 8; exec '" + std::string(OSTEON_CLI) + "' experiment seed --out-dir " +
+                                            quoted(dir),
+                                        "/dev/null", path("err"));
+  EXPECT_EQ(limited.exitCode, 0) << limited.err;
   EXPECT_TRUE(std::filesystem::exists(dir + "/fig6_1.2mm_portal-5.png"));
   // No gnuplot on PATH: said so, not guessed.
-  const int missing = std::system(("PATH=/nonexistent '" + std::string(OSTEON_CLI) + "' experiment seed --out-dir " +
-                                   quoted(path("exp3")) + " >/dev/null 2>" + quoted(path("err3")))
-                                      .c_str());
-  ASSERT_TRUE(WIFEXITED(missing));
-  EXPECT_EQ(WEXITSTATUS(missing), 2);
-  EXPECT_NE(test::readBytes(path("err3")).find("gnuplot: not found on PATH"), std::string::npos)
-      << test::readBytes(path("err3"));
+  const CliRun missing = test::runShell("PATH=/nonexistent '" + std::string(OSTEON_CLI) +
+                                           "' experiment seed --out-dir " + quoted(path("exp3")),
+                                       "/dev/null", path("err3"));
+  EXPECT_EQ(missing.exitCode, 2);
+  EXPECT_NE(missing.err.find("gnuplot: not found on PATH"), std::string::npos) << missing.err;
 }
 
 }  // namespace

@@ -6,11 +6,11 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 
@@ -53,14 +53,9 @@ class NrrdDataCli : public CliTest {
     (void)limitMb;  // sanitizers reserve terabytes of address space at start-up
     const CliRun run = osteon(args);
 #else
-    const std::string command = "ulimit -v " + std::to_string(limitMb * 1024) + "; timeout 60 '" +
-                                OSTEON_CLI + "' " + args + " >'" + path("stdout") + "' 2>'" +
-                                path("stderr") + "' </dev/null";
-    const int status = std::system(command.c_str());
-    CliRun run;
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    run.out = test::readBytes(path("stdout"));
-    run.err = test::readBytes(path("stderr"));
+    const CliRun run = test::runShell("ulimit -v " + std::to_string(limitMb * 1024) + "; timeout 60 '" +
+                                          OSTEON_CLI + "' " + args,
+                                      path("stdout"), path("stderr"));
 #endif
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return run;

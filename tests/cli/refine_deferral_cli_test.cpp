@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "support/files.h"
 #include "support/cli_fixture.h"
 
 namespace osteon {

@@ -4,6 +4,7 @@
 #include "report_reader.h"
 
 #include "osteon/core/error.h"
+#include "support/files.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -22,9 +23,7 @@ using nlohmann::json;
 
 class ReportReaderTest : public ::testing::Test {
  protected:
-  std::string dir_ =
-      (fs::temp_directory_path() / ("osteon_report_reader_" + std::to_string(::getpid()))).string();
-  void SetUp() override { fs::create_directories(dir_); }
+  std::string dir_ = osteon::test::makeTempDir("report_reader");
   void TearDown() override { fs::remove_all(dir_); }
 
   std::string write(const std::string& name, const std::string& text) const {

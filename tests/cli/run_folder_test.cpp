@@ -3,7 +3,9 @@
 // no temporary left), a killed run's temporaries staying forever, two runs filling one folder
 // at once, two models of the same file stem writing over each other's force logs, and
 // `--record` destroying an existing recording before the new one is complete.
+#include "support/files.h"
 #include "support/cli_fixture.h"
+#include "support/process.h"
 
 #include <gtest/gtest.h>
 
@@ -47,19 +49,7 @@ class Child {
     int out[2], err[2];
     EXPECT_EQ(::pipe(out), 0);
     EXPECT_EQ(::pipe(err), 0);
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(out[1], 1);
-      ::dup2(err[1], 2);
-      const int null = ::open("/dev/null", O_RDONLY);
-      ::dup2(null, 0);
-      for (const int fd : {out[0], out[1], err[0], err[1], null}) ::close(fd);
-      std::vector<char*> argv{const_cast<char*>(OSTEON_CLI)};
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(OSTEON_CLI, argv.data());
-      ::_exit(127);
-    }
+    pid_ = test::spawnProgram(OSTEON_CLI, args, out[1], err[1]);
     ::close(out[1]);
     ::close(err[1]);
     fds_[0] = out[0];

@@ -2,6 +2,7 @@
 // libraries); commands that do load it through the osteon::image plugin and still write real
 // PNGs; a missing plugin is a one-line error only where an image is wanted.
 #include "osteon/geometry/io/mesh_io.h"
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 

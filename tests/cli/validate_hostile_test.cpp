@@ -3,6 +3,7 @@
 // naming the file, the case and the field), never crash, never write outside --out-dir, and
 // report.html never carries markup from a report.
 #include "osteon/geometry/io/mesh_io.h"
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 

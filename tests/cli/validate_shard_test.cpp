@@ -2,6 +2,7 @@
 // `validate --merge` joins their reports into the report the whole run writes, and refuses
 // shards that do not make one run.
 #include "osteon/geometry/io/mesh_io.h"
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/shapes.h"
 

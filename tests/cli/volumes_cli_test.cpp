@@ -1,5 +1,6 @@
 // Volumes as users have them (label maps and CTs, NRRD and NIfTI) through the commands that
 // take a grid, and empty results that are not success (exit 1, not 0).
+#include "support/files.h"
 #include "support/cli_fixture.h"
 #include "support/bone_volumes.h"
 #include "support/volume_files.h"

@@ -4,7 +4,8 @@
 #include "osteon/devices/button_board.h"
 
 #include "osteon/core/error.h"
-#include "devices/devices_test_support.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
@@ -256,7 +257,7 @@ TEST_F(BoardDeviceTest, APortThatIsNotThereIsAnInputErrorNamingTheDevice) {
     EXPECT_NE(what.find("No such file"), std::string::npos) << what;
   }
   // A file that is not a terminal.
-  test::writeFile(dir_ + "/plain", "B=1,P=1\n");
+  test::writeBytes(dir_ + "/plain", "B=1,P=1\n");
   EXPECT_THROW(ButtonBoardDevice("serial:" + dir_ + "/plain", dir_ + "/plain"), InputError);
   ButtonBoardOptions odd;
   odd.baud = 12345;

@@ -6,11 +6,13 @@
 #include "osteon/devices/spacemouse.h"
 
 #include "osteon/core/error.h"
-#include "devices/devices_test_support.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <thread>
 
@@ -38,7 +40,7 @@ TEST_F(DeviceRefusalsTest, ASpaceMousePathThatIsNoHidrawDeviceIsRefusedWithWhatI
   const std::string fifo = dir_ + "/fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string file = dir_ + "/report.bin";
-  test::writeFile(file, std::string("\x01\x02\x03", 3));
+  test::writeBytes(file, std::string("\x01\x02\x03", 3));
   struct Case {
     std::string path, reason;
   };
@@ -59,26 +61,29 @@ TEST_F(DeviceRefusalsTest, EventsPastAFullQueueAreCountedAsDropped) {
   test::FakeBoard board;
   ASSERT_TRUE(board.open());
   ButtonBoardOptions options;
-  options.eventCapacity = 16;
   options.silentS = 60.0;  // no disconnect event while the test looks
   ButtonBoardDevice device("serial:" + board.slavePath, board.slavePath, options);
+  constexpr int kCapacity = int(kBoardEventCapacity);
+  constexpr int kLines = kCapacity + 84;
   std::string lines;
-  for (int i = 0; i < 100; ++i) lines += "B=" + std::to_string(i % 8) + ",P=" + std::to_string(i) + "\n";
+  for (int i = 0; i < kLines; ++i) {
+    lines += "B=" + std::to_string(i % 8) + ",P=" + std::to_string(i % (kBoardPedalMax + 1)) + "\n";
+  }
   ASSERT_TRUE(board.write(lines));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (device.lines() < 100 && std::chrono::steady_clock::now() < deadline) {
+  while (device.lines() < std::uint64_t(kLines) && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  ASSERT_EQ(device.lines(), 100u);
-  // Nobody drained: the queue holds the first 16, the other 84 were counted as they were lost.
+  ASSERT_EQ(device.lines(), std::uint64_t(kLines));
+  // Nobody drained: the queue holds the first kCapacity, the other 84 were counted as they were lost.
   EXPECT_EQ(device.eventsDropped(), 84u);
   BoardEvent e;
   int kept = 0;
   while (device.nextEvent(e)) {
-    EXPECT_EQ(e.pedal, kept);
+    EXPECT_EQ(e.pedal, kept % (kBoardPedalMax + 1));
     ++kept;
   }
-  EXPECT_EQ(kept, 16);
+  EXPECT_EQ(kept, kCapacity);
   // Drained, the queue takes events again and the count stands.
   ASSERT_TRUE(board.write("B=1,P=7\n"));
   const auto again = std::chrono::steady_clock::now() + std::chrono::seconds(10);

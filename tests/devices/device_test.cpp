@@ -9,7 +9,8 @@
 #include "osteon/devices/mouse.h"
 #include "osteon/devices/recording.h"
 #include "osteon/devices/touch.h"
-#include "devices/devices_test_support.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
@@ -108,7 +109,7 @@ TEST_F(FactoryTest, NamesThatCannotBeOpenedAreOneLineErrors) {
 }
 
 TEST_F(FactoryTest, OpensRecordingsAndJoinsAPoseDeviceWithAButtonBoard) {
-  test::writeFile(dir_ + "/r.csv", std::string(kRecordingHeader) + "\n0,1,2,3,1,0,0,0,0,0,0\n0.001,1,2,3,1,0,0,0,0,0,0\n");
+  test::writeBytes(dir_ + "/r.csv", std::string(kRecordingHeader) + "\n0,1,2,3,1,0,0,0,0,0,0\n0.001,1,2,3,1,0,0,0,0,0,0\n");
   std::unique_ptr<Device> replay = openDevice("replay:" + dir_ + "/r.csv");
   EXPECT_TRUE(replay->capabilities().recorded);
   EXPECT_EQ(replay->capabilities().endS, 0.001);

@@ -4,7 +4,8 @@
 #include "osteon/devices/recording.h"
 
 #include "osteon/core/error.h"
-#include "devices/devices_test_support.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
@@ -51,7 +52,7 @@ TEST_F(RecordingTest, RowsReadBackBitForBit) {
     EXPECT_EQ(recorder.rows(), 3000u);
     EXPECT_EQ(recorder.dropped(), 0u);
   }
-  const std::string text = test::readFile(path("log.csv"));
+  const std::string text = test::readBytes(path("log.csv"));
   EXPECT_EQ(text.substr(0, text.find('\n')), kRecordingHeader);
   const Recording r = loadRecording(path("log.csv"));
   ASSERT_EQ(r.rows.size(), written.size());
@@ -148,7 +149,7 @@ TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
       {"long.csv", header + std::string(5000, '1') + "\n", "long.csv:2", "line longer than 1024 bytes"},
   };
   for (const auto& c : cases) {
-    test::writeFile(path(c.name), c.bytes);
+    test::writeBytes(path(c.name), c.bytes);
     try {
       loadRecording(path(c.name));
       ADD_FAILURE() << c.name << " was accepted";
@@ -161,7 +162,7 @@ TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
   }
   EXPECT_THROW(loadRecording(path("missing.csv")), InputError);
   // A byte order mark, CRLF, spaces and blank lines are fine; nan in a pose is a device fault.
-  test::writeFile(path("ok.csv"), "\xEF\xBB\xBF" + std::string(kRecordingHeader) + "\r\n0, 1,2,3 ,1,0,0,0,0,0,1\r\n\r\n"
+  test::writeBytes(path("ok.csv"), "\xEF\xBB\xBF" + std::string(kRecordingHeader) + "\r\n0, 1,2,3 ,1,0,0,0,0,0,1\r\n\r\n"
                                                                                     "0.001,nan,2,3,1,0,0,0,0,0.5,0\n");
   const Recording ok = loadRecording(path("ok.csv"));
   ASSERT_EQ(ok.rows.size(), 2u);

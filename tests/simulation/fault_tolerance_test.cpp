@@ -9,6 +9,7 @@
 #include "osteon/simulation/live.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

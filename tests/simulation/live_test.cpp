@@ -2,6 +2,7 @@
 // caller's thread through hand-offs only.
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/live.h"
+#include "support/humerus_session.h"
 
 #include <gtest/gtest.h>
 
@@ -18,10 +19,8 @@ namespace {
 
 TEST(LiveRuntime, DrillsWhileTheCallerRendersAndEndsEqualToTheGrid) {
   SessionOptions options;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
-  PortalPathOptions po;
-  po.durationS = 1.2;
-  const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;
+  Session session = test::humerusSession(options);
+  const DrillPath path = test::portalFivePath(session, 1.2);
   PathPoseSource source(path);
   RuntimeOptions ro;
   ro.realtimePriority = false;
@@ -85,7 +84,7 @@ class WatchingSource : public PoseSource {
 Session coarseHumerus() {
   SessionOptions options;
   options.voxelSizeMm = 2.4;
-  return Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  return test::humerusSession(options);
 }
 
 RuntimeOptions withoutLog() {

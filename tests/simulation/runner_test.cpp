@@ -6,6 +6,7 @@
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/session.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,6 @@
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/simulation/handoff.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 
@@ -15,52 +14,6 @@
 
 namespace osteon::simulation {
 namespace {
-
-TEST(Handoff, TripleBufferGivesTheLatestValueAndRingKeepsOrder) {
-  TripleBuffer<int> buffer;
-  bool fresh = true;
-  EXPECT_EQ(buffer.read(&fresh), 0);
-  EXPECT_FALSE(fresh);
-  buffer.write(1);
-  buffer.write(2);
-  EXPECT_EQ(buffer.read(&fresh), 2);
-  EXPECT_TRUE(fresh);
-  EXPECT_EQ(buffer.read(&fresh), 2);
-  EXPECT_FALSE(fresh);
-
-  SpscRing<int> ring(3);
-  EXPECT_TRUE(ring.push(1) && ring.push(2) && ring.push(3));
-  EXPECT_FALSE(ring.push(4));  // full: refused, nothing lost
-  int v = 0;
-  for (int expected = 1; expected <= 3; ++expected) {
-    ASSERT_TRUE(ring.pop(v));
-    EXPECT_EQ(v, expected);
-  }
-  EXPECT_FALSE(ring.pop(v));
-}
-
-// A writer and a reader on two threads: the reader never sees a torn or older value.
-TEST(Handoff, TripleBufferAcrossThreadsIsMonotoneAndUntorn) {
-  struct Pair {
-    long a = 0, b = 0;
-  };
-  TripleBuffer<Pair> buffer;
-  constexpr long kLast = 200000;
-  std::thread writer([&] {
-    for (long i = 1; i <= kLast; ++i) buffer.write({i, -i});
-  });
-  long last = 0;
-  bool torn = false, backwards = false;
-  while (last < kLast) {
-    const Pair p = buffer.read();
-    torn |= p.a != -p.b;
-    backwards |= p.a < last;
-    last = p.a;
-  }
-  writer.join();
-  EXPECT_FALSE(torn);
-  EXPECT_FALSE(backwards);
-}
 
 // The built-in humerus voxelized at 1.2 mm (a bone from a grid: refined voxels split their
 // fill evenly), and a short, fast portal-5 path: bone within the first second.

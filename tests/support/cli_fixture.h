@@ -3,6 +3,8 @@
 // instead of the machine.
 #pragma once
 
+#include "support/files.h"
+#include "support/process.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -11,15 +13,10 @@
 #include <filesystem>
 #include <string>
 
-#include <sys/wait.h>
 
 namespace osteon {
 
-struct CliRun {
-  int exitCode = -1;
-  std::string out;
-  std::string err;
-};
+using CliRun = test::ProcessRun;
 
 class CliTest : public ::testing::Test {
  protected:
@@ -43,14 +40,8 @@ class CliTest : public ::testing::Test {
 #else
     const std::string seconds = "120";
 #endif
-    const std::string command = limit + "timeout " + seconds + " '" + OSTEON_CLI + "' " +
-                                args + " >'" + path("stdout") + "' 2>'" + path("stderr") + "' </dev/null";
-    const int status = std::system(command.c_str());
-    CliRun run;
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    run.out = test::readBytes(path("stdout"));
-    run.err = test::readBytes(path("stderr"));
-    return run;
+    return test::runShell(limit + "timeout " + seconds + " '" + OSTEON_CLI + "' " + args, path("stdout"),
+                          path("stderr"));
   }
 
   // Bad input: exit 2, nothing on stdout, one line on stderr that names `needle`.

@@ -1,6 +1,9 @@
-// `osteon` running beside a test (its stdout read line by line as it comes) and a
-// pseudo-terminal standing in for a USB serial board: for tests of commands that watch a device.
+// `osteon` running beside a test (its stdout read line by line as it comes), with the fake
+// serial board (serial_board.h): for tests of commands that watch a device.
 #pragma once
+
+#include "support/process.h"
+#include "support/serial_board.h"
 
 #include <gtest/gtest.h>
 
@@ -12,9 +15,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <pty.h>
 #include <sys/wait.h>
-#include <termios.h>
 #include <unistd.h>
 
 namespace osteon {
@@ -25,22 +26,9 @@ class RunningOsteon {
   RunningOsteon(const std::vector<std::string>& args, const std::string& stderrPath) {
     int fds[2];
     if (::pipe(fds) != 0) return;
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const int null = ::open("/dev/null", O_RDONLY);
-      const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(null, 0);
-      ::dup2(fds[1], 1);
-      ::dup2(err, 2);
-      // Nothing else of the test's goes with it (a board's pty held open here would never hang up).
-      for (int fd = 3; fd < 1024; ++fd) ::close(fd);
-      std::vector<char*> argv;
-      argv.push_back(const_cast<char*>(OSTEON_CLI));
-      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(OSTEON_CLI, argv.data());
-      ::_exit(127);
-    }
+    const int err = ::open(stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    pid_ = test::spawnProgram(OSTEON_CLI, args, fds[1], err);
+    ::close(err);
     ::close(fds[1]);
     out_ = fds[0];
   }
@@ -79,7 +67,7 @@ class RunningOsteon {
       if (std::chrono::steady_clock::now() > deadline) return -1;
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    exit_ = test::exitCodeOf(status);
     return exit_;
   }
 
@@ -88,43 +76,6 @@ class RunningOsteon {
   int out_ = -1;
   int exit_ = -1;
   std::string buffer_;
-};
-
-// A pseudo-terminal standing in for a USB serial board (raw, as such a port is).
-struct Board {
-  int master = -1, slave = -1;
-  std::string path;
-  bool open() {
-    char name[128] = {};
-    if (::openpty(&master, &slave, name, nullptr, nullptr) != 0) return false;
-    termios t{};
-    ::tcgetattr(slave, &t);
-    ::cfmakeraw(&t);
-    ::tcsetattr(slave, TCSANOW, &t);
-    ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
-    path = name;
-    return true;
-  }
-  bool write(const std::string& bytes) const {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    for (std::size_t done = 0; done < bytes.size();) {
-      const ssize_t n = ::write(master, bytes.data() + done, bytes.size() - done);
-      if (n > 0) {
-        done += std::size_t(n);
-      } else {
-        if (std::chrono::steady_clock::now() > deadline) return false;
-        pollfd p{master, POLLOUT, 0};
-        ::poll(&p, 1, 20);
-      }
-    }
-    return true;
-  }
-  void unplug() {
-    if (master >= 0) ::close(master);
-    if (slave >= 0) ::close(slave);
-    master = slave = -1;
-  }
-  ~Board() { unplug(); }
 };
 
 }  // namespace osteon

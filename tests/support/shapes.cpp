@@ -82,27 +82,4 @@ TriangleMesh makeTorus(double majorMm, double minorMm, int majorSegments, int mi
   return m;
 }
 
-std::string makeTempDir(const std::string& tag) {
-  static std::atomic<int> counter{0};
-  std::ostringstream name;
-  name << "osteon_" << tag << "_" << ::getpid() << "_" << counter++;
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / name.str();
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
-
-void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  if (!out) throw std::runtime_error("cannot write " + path);
-}
-
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace osteon::test

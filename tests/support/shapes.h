@@ -1,4 +1,4 @@
-// Analytic test shapes as closed, outward triangle meshes, and small file helpers.
+// Analytic test shapes as closed, outward triangle meshes (file helpers: files.h).
 #pragma once
 
 #include "osteon/geometry/io/mesh.h"
@@ -15,10 +15,5 @@ geometry::TriangleMesh makeBox(glm::dvec3 minMm, glm::dvec3 maxMm);
 // Torus around z: major radius R (centre to tube centre), minor radius r.
 geometry::TriangleMesh makeTorus(double majorMm, double minorMm, int majorSegments,
                                  int minorSegments);
-
-// A fresh empty folder under the system temp dir, unique per call.
-std::string makeTempDir(const std::string& tag);
-void writeBytes(const std::string& path, const std::string& bytes);
-std::string readBytes(const std::string& path);
 
 }  // namespace osteon::test

@@ -2,6 +2,8 @@
 // .nii.gz), for tests that read them back through osteon's volume loader.
 #pragma once
 
+#include "support/files.h"
+
 #include <zlib.h>
 
 #include <cstdint>
@@ -48,12 +50,6 @@ inline std::string gzipBytes(const std::string& data) {
   return out;
 }
 
-inline void writeAll(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  if (!out) throw std::runtime_error("cannot write " + path);
-}
-
 // nrrdType: "short", "uint8", "float", ...; bytes: the values already encoded.
 // dataFile: empty for an attached header, else the detached data's file name (beside `path`).
 // directions: the "space directions" text; empty for the isotropic default.
@@ -71,11 +67,11 @@ inline void writeTestNrrd(const std::string& path, const TestVolume& v, const st
        std::to_string(v.firstCentreMm.z) + ")\n";
   const std::string data = gzip ? gzipBytes(bytes) : bytes;
   if (dataFile.empty()) {
-    writeAll(path, h + "\n" + data);
+    writeBytes(path, h + "\n" + data);
   } else {
-    writeAll(path, h + "data file: " + dataFile + "\n");
+    writeBytes(path, h + "data file: " + dataFile + "\n");
     const std::string dir = path.substr(0, path.find_last_of('/') + 1);
-    writeAll(dir + dataFile, data);
+    writeBytes(dir + dataFile, data);
   }
 }
 
@@ -108,7 +104,7 @@ inline void writeTestNifti(const std::string& path, const TestVolume& v, std::in
   }
   std::memcpy(h + 344, "n+1\0", 4);
   const std::string file = std::string(reinterpret_cast<const char*>(h), 352) + bytes;
-  writeAll(path, gz ? gzipBytes(file) : file);
+  writeBytes(path, gz ? gzipBytes(file) : file);
 }
 
 }  // namespace osteon::test

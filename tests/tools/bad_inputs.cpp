@@ -24,7 +24,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-using osteon::test::writeAll;
+using osteon::test::writeBytes;
 
 namespace {
 
@@ -91,10 +91,10 @@ osteon::test::TestVolume blockVolume(double outside, double inside) {
 
 void writeSeeds(const std::string& dir) {
   fs::create_directories(dir);
-  writeAll(dir + "/tetra_binary.stl", binaryStl("osteon seed: binary STL tetrahedron", 4, 4));
+  writeBytes(dir + "/tetra_binary.stl", binaryStl("osteon seed: binary STL tetrahedron", 4, 4));
   // Binary, though its header starts with "solid" (as some exporters write): its size decides.
-  writeAll(dir + "/tetra_binary_solid_header.stl", binaryStl("solid tetra (binary)", 4, 4));
-  writeAll(dir + "/tetra_binary.ply", binaryPly());
+  writeBytes(dir + "/tetra_binary_solid_header.stl", binaryStl("solid tetra (binary)", 4, 4));
+  writeBytes(dir + "/tetra_binary.ply", binaryPly());
   using osteon::test::encodeAs;
   const osteon::test::TestVolume labels = blockVolume(0, 1);
   osteon::test::writeTestNrrd(dir + "/labels.nrrd", labels, "uint8", encodeAs<std::uint8_t>(labels.values), false);
@@ -113,7 +113,7 @@ struct Table {
   void add(const std::string& loader, const std::string& name, const std::string& bytes, int exitCode = 2,
            const std::string& reason = "") {
     fs::create_directories(out + "/" + loader);
-    writeAll(out + "/" + loader + "/" + name, bytes);
+    writeBytes(out + "/" + loader + "/" + name, bytes);
     row(loader, loader + "/" + name, exitCode, reason);
   }
   void row(const std::string& loader, const std::string& file, int exitCode, const std::string& reason) {

@@ -6,6 +6,8 @@
 //
 // Set OSTEON_VIEWER_SHOTS=DIR to keep the screenshots (they show the ghost inside the bone with
 // the proxy at the surface, and the hole drilled from the surface).
+#include "support/files.h"
+#include "support/process.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +17,6 @@
 #include <filesystem>
 #include <string>
 
-#include <sys/wait.h>
 
 namespace osteon {
 namespace {
@@ -62,9 +63,9 @@ class ViewerHandTest : public ::testing::Test {
         "xdotool key Escape\n"
         "wait $pid\n";
     test::writeBytes(path("hand.sh"), script);
-    const std::string command = "xvfb-run -a -s '-screen 0 1280x800x24' timeout 300 sh '" + path("hand.sh") + "'";
-    const int status = std::system(command.c_str());
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    const int code = test::runShell("xvfb-run -a -s '-screen 0 1280x800x24' timeout 300 sh '" + path("hand.sh") + "'",
+                                    path("xvfb.out"), path("xvfb.err"))
+                         .exitCode;
     EXPECT_EQ(code, 0) << args << "\n" << test::readBytes(path("stderr"));
     if (const char* keep = std::getenv("OSTEON_VIEWER_SHOTS")) {
       std::filesystem::create_directories(keep);

@@ -1,6 +1,8 @@
 // osteon-viewer in a real window under Xvfb (Mesa llvmpipe): what it draws, read back from the
 // framebuffer and reported by --json, and what it records. Skipped, with the reason, only when
 // no X server can be started here.
+#include "support/files.h"
+#include "support/process.h"
 #include "support/shapes.h"
 #include "support/bone_volumes.h"
 
@@ -14,15 +16,11 @@
 #include <fstream>
 #include <string>
 
-#include <sys/wait.h>
 
 namespace osteon {
 namespace {
 
-struct ViewerRun {
-  int exitCode = -1;
-  std::string out, err;
-};
+using ViewerRun = test::ProcessRun;
 
 class ViewerTest : public ::testing::Test {
  protected:
@@ -37,14 +35,7 @@ class ViewerTest : public ::testing::Test {
 
   ViewerRun run(const std::string& program, const std::string& args, bool window = true) const {
     const std::string prefix = window ? "xvfb-run -a -s '-screen 0 1280x800x24' " : "env -u DISPLAY ";
-    const std::string command = prefix + "timeout 300 '" + program + "' " + args + " >'" + path("stdout") +
-                                "' 2>'" + path("stderr") + "' </dev/null";
-    const int status = std::system(command.c_str());
-    ViewerRun r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = test::readBytes(path("stdout"));
-    r.err = test::readBytes(path("stderr"));
-    return r;
+    return test::runShell(prefix + "timeout 300 '" + program + "' " + args, path("stdout"), path("stderr"));
   }
   nlohmann::json viewer(const std::string& args) const {
     const ViewerRun r = run(OSTEON_VIEWER, args + " --size 640x480 --json");

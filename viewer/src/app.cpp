@@ -30,13 +30,6 @@ constexpr int kLiveMetricEveryFrames = 10;
 // the last steps' bricks reach the visual side within a few milliseconds.
 constexpr double kPathSettleS = 0.25;
 
-std::string& glfwError() {
-  static std::string text = "unknown GLFW error";
-  return text;
-}
-
-void onGlfwError(int, const char* text) { glfwError() = text ? text : "unknown GLFW error"; }
-
 App* appOf(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
 
 std::string timestampedRecordName() {
@@ -48,38 +41,20 @@ std::string timestampedRecordName() {
 
 }  // namespace
 
-App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene) : options_(options) {
-  glfwSetErrorCallback(onGlfwError);
-  if (!glfwInit()) throw WindowError("cannot open a window: " + glfwError());
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_DEPTH_BITS, 24);
-  glfwWindowHint(GLFW_SAMPLES, 0);  // no multisampling: the crack metric counts exact colours
-  const std::string title = "osteon-viewer: " + scene->request().input;
-  window_ = glfwCreateWindow(options_.width, options_.height, title.c_str(), nullptr, nullptr);
-  if (!window_) {
-    glfwTerminate();
-    throw WindowError("cannot open a window: " + glfwError());
-  }
-  glfwMakeContextCurrent(window_);
-  glfwSwapInterval(options_.frames > 0 ? 0 : 1);  // a scripted run renders as fast as it can
-  glfwSetWindowUserPointer(window_, this);
-  glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) { appOf(w)->onKey(key, action, mods); });
-  glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int b, int a, int m) { appOf(w)->onMouseButton(b, a, m); });
-  glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) { appOf(w)->onCursor(x, y); });
-  glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) { appOf(w)->onScroll(dy); });
-  glfwSetDropCallback(window_, [](GLFWwindow* w, int n, const char** paths) {
+App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
+    : options_(options),
+      window_(openWindow(options_.width, options_.height, "osteon-viewer: " + scene->request().input,
+                         options_.frames > 0)) {  // a scripted run renders as fast as it can
+  GLFWwindow* win = window_.get();
+  glfwSetWindowUserPointer(win, this);
+  glfwSetKeyCallback(win, [](GLFWwindow* w, int key, int, int action, int mods) { appOf(w)->onKey(key, action, mods); });
+  glfwSetMouseButtonCallback(win, [](GLFWwindow* w, int b, int a, int m) { appOf(w)->onMouseButton(b, a, m); });
+  glfwSetCursorPosCallback(win, [](GLFWwindow* w, double x, double y) { appOf(w)->onCursor(x, y); });
+  glfwSetScrollCallback(win, [](GLFWwindow* w, double, double dy) { appOf(w)->onScroll(dy); });
+  glfwSetDropCallback(win, [](GLFWwindow* w, int n, const char** paths) {
     if (n > 0) appOf(w)->onDrop(paths[0]);
   });
-
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
-  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
-  ImGui::StyleColorsDark();
-  ImGui_ImplGlfw_InitForOpenGL(window_, true);  // chains to the callbacks above
-  ImGui_ImplOpenGL3_Init("#version 330 core");
+  imgui_ = std::make_unique<ImGuiSession>(win);  // after the callbacks above, which it chains to
 
   renderer_ = std::make_unique<BoneRenderer>();
   overlay_ = std::make_unique<OverlayRenderer>();
@@ -101,11 +76,7 @@ App::~App() {
   hierarchy_.clear();
   renderer_.reset();
   overlay_.reset();
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
-  glfwDestroyWindow(window_);
-  glfwTerminate();
+  imgui_.reset();  // the window, then GLFW, go after it (members)
 }
 
 void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
@@ -144,7 +115,7 @@ int App::run() {
     handleRequests();
     // Closed by hand (Esc, the window's button): one more frame, the last, so --screenshot and
     // the metric still see what the hand left.
-    const bool closing = glfwWindowShouldClose(window_);
+    const bool closing = glfwWindowShouldClose(window_.get());
     const bool last = closing || (options_.frames > 0 && frame_ + 1 == std::size_t(options_.frames));
     if (last && !closing) waitForPath();
     const Clock::time_point start = Clock::now();
@@ -163,7 +134,7 @@ void App::waitForPath() {
   if (!scene_->path()) return;
   const double needS = scene_->pathDurationS() + kPathSettleS;
   const double giveUpS = glfwGetTime() + needS + 30.0;
-  while (scene_->live().display().tS < needS && glfwGetTime() < giveUpS && !glfwWindowShouldClose(window_)) {
+  while (scene_->live().display().tS < needS && glfwGetTime() < giveUpS && !glfwWindowShouldClose(window_.get())) {
     glfwPollEvents();
     // Keeps the ring drained; the changes add up for the frame.
     if (scene_->live().updateSurface() > 0.0) naiveStale_ = true;
@@ -173,7 +144,7 @@ void App::waitForPath() {
 }
 
 void App::frame(bool last) {
-  glfwGetFramebufferSize(window_, &width_, &height_);
+  glfwGetFramebufferSize(window_.get(), &width_, &height_);
   simulation::LiveRuntime& live = scene_->live();
   updateSurfaces();
   const simulation::DisplayState& d = live.display();
@@ -244,7 +215,7 @@ void App::frame(bool last) {
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   }
   if (last && !options_.screenshot.empty()) writeScreenshot();
-  glfwSwapBuffers(window_);
+  glfwSwapBuffers(window_.get());
 }
 
 // The visual side's update and the upload of what changed (the naive view extracts whole).

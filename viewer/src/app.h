@@ -13,21 +13,13 @@
 #include "report.h"
 #include "scene.h"
 #include "tool_view.h"
+#include "window.h"
 
 #include <future>
 #include <memory>
-#include <stdexcept>
 #include <string>
 
-struct GLFWwindow;
-
 namespace osteon::viewer {
-
-// A window that cannot open (no DISPLAY, no GL 3.3): exit 2 with this one line.
-class WindowError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 class App {
  public:
@@ -69,7 +61,10 @@ class App {
   void finishReport();
 
   ViewerOptions options_;
-  GLFWwindow* window_ = nullptr;
+  // Released last, in this reverse order, after every GL object below (window.h).
+  GlfwLibrary glfw_;
+  GlfwWindowPtr window_;
+  std::unique_ptr<ImGuiSession> imgui_;
   std::unique_ptr<Scene> scene_;
   std::unique_ptr<BoneRenderer> renderer_;
   std::unique_ptr<OverlayRenderer> overlay_;

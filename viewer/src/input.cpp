@@ -55,7 +55,7 @@ void App::onKey(int key, int action, int mods) {
     return;
   }
   switch (key) {
-    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.get(), GLFW_TRUE); break;
     case GLFW_KEY_TAB: options_.ui = !options_.ui; break;
     case GLFW_KEY_SPACE: panel_.toggleDrill = true; break;
     case GLFW_KEY_R: panel_.toggleRecord = true; break;
@@ -95,10 +95,10 @@ void App::onCursor(double x, double y) {
   cursorX_ = x;
   cursorY_ = y;
   int w = 0, h = 0;
-  glfwGetWindowSize(window_, &w, &h);
-  const bool shift = held(window_, GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
-  const bool turn = held(window_, GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL) ||
-                    held(window_, GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT);
+  glfwGetWindowSize(window_.get(), &w, &h);
+  const bool shift = held(window_.get(), GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
+  const bool turn = held(window_.get(), GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL) ||
+                    held(window_.get(), GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT);
   if (middleDown_ || (leftDown_ && shift)) {
     camera_.pan(dx, dy, h);
   } else if (leftDown_) {
@@ -111,9 +111,9 @@ void App::onCursor(double x, double y) {
 void App::onScroll(double dy) {
   if (options_.ui && ImGui::GetIO().WantCaptureMouse) return;
   const bool mouseTool = !scene_->poseSource().followsPath();
-  if (mouseTool && held(window_, GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL)) {
+  if (mouseTool && held(window_.get(), GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL)) {
     moveToolAlong(camera_.forward(), -dy * kDepthStepMm);  // wheel away: deeper into the view
-  } else if (mouseTool && held(window_, GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT)) {
+  } else if (mouseTool && held(window_.get(), GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT)) {
     moveToolAlong(target_.forward(), dy * kAdvanceStepMm);
   } else {
     camera_.zoom(dy);
@@ -131,7 +131,7 @@ void App::publishTarget() {
 
 void App::moveToolInView(double dxPixels, double dyPixels) {
   int w = 0, h = 0;
-  glfwGetWindowSize(window_, &w, &h);
+  glfwGetWindowSize(window_.get(), &w, &h);
   const double mm = camera_.mmPerPixelAt(target_.tipMm, h);
   target_.tipMm += (dxPixels * camera_.right() - dyPixels * camera_.up()) * mm;
   publishTarget();
@@ -229,7 +229,7 @@ void App::pollLoading() {
     std::unique_ptr<Scene> scene = loading_.get();
     installScene(std::move(scene), false);
     panel_.loadMessage.clear();
-    glfwSetWindowTitle(window_, ("osteon-viewer: " + loadingName_).c_str());
+    glfwSetWindowTitle(window_.get(), ("osteon-viewer: " + loadingName_).c_str());
   } catch (const InputError& e) {
     panel_.loadMessage = e.what();
   } catch (const std::bad_alloc&) {

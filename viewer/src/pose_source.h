@@ -7,7 +7,7 @@
 
 #include "recorder.h"
 
-#include "osteon/simulation/handoff.h"
+#include "osteon/core/handoff.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/runtime.h"
 
@@ -36,7 +36,7 @@ class ViewerPoseSource : public simulation::PoseSource {
     bool drillOn = false;
   };
   const simulation::DrillPath* path_;
-  simulation::TripleBuffer<Target> target_;
+  core::TripleBuffer<Target> target_;
   // The haptic thread's own state.
   simulation::ToolPose current_;
   double lastTS_ = -1.0;

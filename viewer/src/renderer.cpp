@@ -69,7 +69,6 @@ BoneRenderer::BoneRenderer()
 std::string BoneRenderer::resetScene(const geometry::VoxelGrid& grid) {
   uploader_.reset();
   wholeIndexCount_ = 0;
-  wholeUploaded_ = false;
   return textures_.reset(grid);
 }
 
@@ -87,7 +86,6 @@ void BoneRenderer::uploadWhole(const geometry::SurfaceMesh& mesh) {
   glBindVertexArray(0);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
   wholeIndexCount_ = 3 * mesh.triangleCount();
-  wholeUploaded_ = true;
 }
 
 void BoneRenderer::drawElements(SurfaceChoice surface) {

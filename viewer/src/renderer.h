@@ -47,7 +47,6 @@ class BoneRenderer {
   const UploadStats& applyChanges(const geometry::SurfaceDelta& delta) { return uploader_.apply(delta); }
   // The naive comparison surface, uploaded whole (glBufferData).
   void uploadWhole(const geometry::SurfaceMesh& mesh);
-  bool hasWhole() const { return wholeUploaded_; }
 
   // Draws the chosen surface in `view` (Hierarchy draws as Shaded; the boxes are overlays);
   // wire: the edges on top.
@@ -56,7 +55,6 @@ class BoneRenderer {
   std::size_t triangles(SurfaceChoice surface) const {
     return surface == SurfaceChoice::Naive ? wholeIndexCount_ / 3 : uploader_.triangleCount();
   }
-  const SurfaceUploader& uploader() const { return uploader_; }
   VoxelTextures& textures() { return textures_; }
 
  private:
@@ -68,7 +66,6 @@ class BoneRenderer {
   GlVertexArray wholeVao_;
   GlBuffer wholeVbo_, wholeIbo_;
   std::size_t wholeIndexCount_ = 0;
-  bool wholeUploaded_ = false;
   VoxelTextures textures_;
 };
 

@@ -205,18 +205,4 @@ void SurfaceUploader::repack(std::size_t extraTriangles, std::int64_t skipKey) {
   stats_.indicesWritten += 3 * capacityTriangles_;
 }
 
-std::vector<glm::u32vec3> SurfaceUploader::liveTriangles() const {
-  std::vector<std::pair<std::int64_t, Region>> order(regions_.begin(), regions_.end());
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<glm::u32vec3> out;
-  out.reserve(liveTriangles_);
-  for (const auto& [key, r] : order) {
-    for (std::size_t t = 0; t < r.count; ++t) {
-      const std::size_t i = 3 * (r.first + t);
-      out.emplace_back(indices_[i], indices_[i + 1], indices_[i + 2]);
-    }
-  }
-  return out;
-}
-
 }  // namespace osteon::viewer

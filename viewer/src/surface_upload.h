@@ -71,19 +71,10 @@ class SurfaceUploader {
   // Forgets the surface (a new bone); the next delta must have `everything`.
   void reset();
 
-  // The mirror of the GPU buffers, and what to draw: indices [0, indexEnd()).
-  const std::vector<GpuVertex>& vertices() const { return vertices_; }
+  // The mirror of the GPU's index buffer, and what to draw: indices [0, indexEnd()).
   const std::vector<std::uint32_t>& indices() const { return indices_; }
   std::size_t indexEnd() const { return 3 * endTriangles_; }
-  std::size_t vertexCapacity() const { return vertexCapacity_; }
-  std::size_t indexCapacity() const { return 3 * capacityTriangles_; }
-  std::size_t slotCount() const { return slotCount_; }
   std::size_t triangleCount() const { return liveTriangles_; }
-  std::size_t brickCount() const { return regions_.size(); }
-  const UploadStats& lastStats() const { return stats_; }
-
-  // The triangles drawn, without the padding, brick by brick in key order (for tests).
-  std::vector<glm::u32vec3> liveTriangles() const;
 
  private:
   struct Region {

@@ -36,9 +36,6 @@ class VoxelTextures {
 
   // Binds the textures to units 0 (levels) and 1 (density) and sets the shader's uniforms.
   void bind(GLuint program) const;
-  // The positive densities of the grid as loaded: cancellous near the low end, cortical high.
-  int densityLow() const { return densityLow_; }
-  int densityHigh() const { return densityHigh_; }
 
  private:
   GlTexture levels_, density_;

@@ -32,13 +32,30 @@ struct Header {
   [[noreturn]] void fail(const std::string& reason) const;
 };
 
-// Text helpers every NRRD reader shares: blanks trimmed; lowercase with runs of blanks made one
+// Text helpers every NRRD reader shares (nrrd_text.cpp): blanks trimmed; lowercase with runs of blanks made one
 // space ("Unsigned  Char" -> "unsigned char"); file text as one short printable quoted excerpt.
 std::string trim(const std::string& s);
 std::string normaliseWords(const std::string& s);
 std::string excerpt(const std::string& s);
 
-// Reads the header of `path`: the magic (NRRD0001..NRRD0005), field and key lines up to the
+// The one number parser of every NRRD field: a finite decimal in the C locale (a leading '+'
+// allowed, nothing after it), as std::from_chars reads it.
+bool parseNumber(const std::string& token, double& v);
+// Whitespace- and/or comma-separated numbers, parentheses dropped: "(1, 2,3)" -> 1 2 3. False
+// when any token is not a number.
+bool parseNumbers(std::string text, std::vector<double>& values);
+// A number in a message, in its shortest form ("3e+300", "1.2e+09").
+std::string shortNum(double v);
+// Blank-separated words; a whole number (a leading '+' allowed, blanks around it trimmed).
+std::vector<std::string> words(const std::string& s);
+bool parseInteger(const std::string& text, long long& v);
+
+// "<shown>: <reason>" as an InputError; every loader's check that a name is a regular file
+// (core/input_file.h), with the name as this reader shows it.
+[[noreturn]] void failAt(const std::string& shown, const std::string& reason);
+void checkRegularFile(const std::string& path, const std::string& shown);
+
+// Reads the header of `path` (nrrd_header.cpp): the magic (NRRD0001..NRRD0005), field and key lines up to the
 // blank line. Refuses a file that is missing or not regular, a line longer than 64 KiB, a
 // malformed line, a field or key given twice, and an attached header with no blank line.
 Header readHeader(const std::string& path);
@@ -70,7 +87,7 @@ struct Layout {
 };
 Layout readLayout(const Header& h);
 
-// Where the data lies: the header's own file after its blank line, or its `data file:`, then
+// Where the data lies (nrrd_data.cpp): the header's own file after its blank line, or its `data file:`, then
 // `line skip:` lines and `byte skip:` bytes on (byte skip -1: the last bytes of a raw file;
 // for gzip the byte skip is of the inflated stream). Checked before any data is read: a data
 // file outside the header's folder (after `..` and symlinks) unless allowOutsideData, a list

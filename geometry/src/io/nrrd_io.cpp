@@ -43,6 +43,9 @@ namespace {
 
 using nrrd::excerpt;
 using nrrd::normaliseWords;
+using nrrd::parseNumber;
+using nrrd::parseNumbers;
+using nrrd::shortNum;
 using nrrd::trim;
 
 
@@ -200,39 +203,6 @@ struct Header {
 
 
 
-bool parseDouble(const std::string& token, double& v) {
-  const char* first = token.data();
-  const char* last = first + token.size();
-  if (first != last && *first == '+') ++first;
-  const auto r = std::from_chars(first, last, v);
-  return r.ec == std::errc() && r.ptr == last && first != last && std::isfinite(v);
-}
-
-// Whitespace- and/or comma-separated numbers, parentheses dropped: "(1, 2,3)" -> 1 2 3.
-bool parseNumbers(std::string text, std::vector<double>& values) {
-  for (char& c : text) {
-    if (c == '(' || c == ')' || c == ',') c = ' ';
-  }
-  values.clear();
-  std::size_t pos = 0;
-  while ((pos = text.find_first_not_of(" \t", pos)) != std::string::npos) {
-    const std::size_t end = std::min(text.find_first_of(" \t", pos), text.size());
-    double v;
-    if (!parseDouble(text.substr(pos, end - pos), v)) return false;
-    values.push_back(v);
-    pos = end;
-  }
-  return true;
-}
-
-
-// Shortest form for messages ("3e+300", "1.2e+09").
-std::string shortNum(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 bool nearlyEqual(double a, double b, double scale) {
   return std::abs(a - b) <= 1e-6 * scale;
 }
@@ -328,7 +298,7 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
   // osteon's own keys carry the exact doubles; the standard fields, when present, must agree.
   if (const auto it = keys.find("osteon_voxel_size_mm"); it != keys.end()) {
     double vs;
-    if (!parseDouble(trim(it->second), vs) || vs <= 0.0) {
+    if (!parseNumber(trim(it->second), vs) || vs <= 0.0) {
       fail("osteon_voxel_size_mm is not a positive number");
     }
     if (haveSpacing && !nearlyEqual(vs, h.voxelSizeMm, vs)) {

@@ -79,14 +79,6 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
   file.commit();
 }
 
-void copyFileAtomically(const std::string& from, const std::string& to) {
-  OutputFile file(to);
-  std::error_code ec;
-  fs::copy_file(from, file.tempPath(), fs::copy_options::overwrite_existing, ec);
-  if (ec) throw InputError(to + ": cannot copy " + from + " (" + ec.message() + ")");
-  file.commit();
-}
-
 bool sameFile(const std::string& a, const std::string& b) {
   std::error_code ec;
   const bool same = fs::equivalent(a, b, ec);

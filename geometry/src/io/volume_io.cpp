@@ -29,6 +29,8 @@ namespace fs = std::filesystem;
 namespace {
 
 using nrrd::excerpt;
+using nrrd::parseNumbers;
+using nrrd::shortNum;
 using nrrd::trim;
 
 std::string lower(std::string s) {
@@ -40,30 +42,6 @@ bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-
-std::string shortNum(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-
-bool parseNumbers(std::string text, std::vector<double>& values) {
-  for (char& c : text) {
-    if (c == '(' || c == ')' || c == ',') c = ' ';
-  }
-  values.clear();
-  std::istringstream in(text);
-  in.imbue(std::locale::classic());
-  std::string token;
-  while (in >> token) {
-    char* end = nullptr;
-    const double v = std::strtod(token.c_str(), &end);
-    if (end != token.c_str() + token.size() || !std::isfinite(v)) return false;
-    values.push_back(v);
-  }
-  return true;
-}
 
 using nrrd::Scalar;  // a scalar type: its name, width and how to read one value
 

@@ -2,8 +2,6 @@
 
 #include "osteon/core/assert.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -55,11 +53,6 @@ std::uint64_t VoxelGrid::voxelCount() const {
 
 glm::ivec3 VoxelGrid::voxelFromWorld(const glm::dvec3& pMm) const {
   return glm::ivec3(glm::floor(gridFromWorld(pMm)));
-}
-
-glm::dmat4 VoxelGrid::worldFromGridMatrix() const {
-  glm::dmat4 m = glm::translate(glm::dmat4(1.0), originMm_);
-  return glm::scale(m, glm::dvec3(voxelSizeMm_));
 }
 
 glm::ivec3 VoxelGrid::brickCoord(std::size_t brick) const {
@@ -237,30 +230,6 @@ std::size_t VoxelGrid::memoryBytes() const {
                               sizeof(std::uint8_t);
   return sizeof(*this) + bricks_.size() * perSlot + allocatedBrickCount() * sizeof(Brick) +
          spare_.capacity() * sizeof(std::unique_ptr<Brick>) + spare_.size() * sizeof(Brick);
-}
-
-bool VoxelGrid::Accessor::locate(const glm::ivec3& ijk, int& local) {
-  if (!grid_->inBounds(ijk)) return false;
-  const glm::ivec3 bc = ijk >> kBrickLog2;
-  if (bc != brickCoord_) {
-    brickCoord_ = bc;
-    brick_ = grid_->brickIndex(bc);
-    data_ = grid_->bricks_[brick_].get();
-  }
-  local = voxelInBrick(ijk & (kBrickSize - 1));
-  return true;
-}
-
-Fill VoxelGrid::Accessor::fill(const glm::ivec3& ijk) {
-  int local;
-  if (!locate(ijk, local)) return 0;
-  return data_ ? data_->fill[std::size_t(local)] : grid_->uniformFill_[brick_];
-}
-
-Density VoxelGrid::Accessor::density(const glm::ivec3& ijk) {
-  int local;
-  if (!locate(ijk, local)) return 0;
-  return data_ ? data_->density[std::size_t(local)] : grid_->uniformDensity_[brick_];
 }
 
 }  // namespace osteon::geometry

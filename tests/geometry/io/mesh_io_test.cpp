@@ -1,6 +1,7 @@
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/mesh_source.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

@@ -10,6 +10,7 @@
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/io/volume_io.h"
+#include "support/files.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
 

@@ -9,6 +9,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "support/files.h"
+
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
@@ -18,43 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() /
-            ("osteon_nrrd_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
-void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-  ASSERT_TRUE(out.good()) << path;
-}
-
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string headerOf(const std::string& path) {
-  const std::string bytes = readBytes(path);
+  const std::string bytes = test::readBytes(path);
   const std::size_t end = bytes.find("\n\n");
   return end == std::string::npos ? std::string() : bytes.substr(0, end + 2);
 }
@@ -112,7 +79,7 @@ TEST(NrrdIo, DensityPathSitsBesideTheFill) {
 class NrrdRoundTrip : public ::testing::TestWithParam<int> {};
 
 TEST_P(NrrdRoundTrip, IsExact) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("grid.nrrd");
   const VoxelGrid grid = makeTestGrid(Fill(GetParam()));
   EXPECT_NE(headerOf((writeNrrd(grid, path), path))
@@ -143,7 +110,7 @@ TEST_P(NrrdRoundTrip, IsExact) {
 INSTANTIATE_TEST_SUITE_P(FillUnits, NrrdRoundTrip, ::testing::Values(int(kFillPerStep), 1));
 
 TEST(NrrdIo, FileIsHeaderPlusRawVoxels) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("grid.nrrd");
   const VoxelGrid grid = makeTestGrid();
   writeNrrd(grid, path);
@@ -156,8 +123,8 @@ TEST(NrrdIo, FileIsHeaderPlusRawVoxels) {
   EXPECT_EQ(fs::file_size(densityPathFor(path)), densityHeader.size() + 2 * voxels);
 
   // x fastest, then y, then z; density little-endian.
-  const std::string fillBytes = readBytes(path).substr(fillHeader.size());
-  const std::string densityBytes = readBytes(densityPathFor(path)).substr(densityHeader.size());
+  const std::string fillBytes = test::readBytes(path).substr(fillHeader.size());
+  const std::string densityBytes = test::readBytes(densityPathFor(path)).substr(densityHeader.size());
   const glm::ivec3 n = grid.dims();
   for (const glm::ivec3 p :
        {glm::ivec3(0), glm::ivec3(12, 0, 0), glm::ivec3(3, 8, 0), glm::ivec3(5, 4, 20), n - 1}) {
@@ -170,7 +137,7 @@ TEST(NrrdIo, FileIsHeaderPlusRawVoxels) {
 }
 
 TEST(NrrdIo, HeaderIsNrrdWithVoxelCentreOrigin) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("grid.nrrd");
   const VoxelGrid grid = makeTestGrid();
   writeNrrd(grid, path);
@@ -202,7 +169,7 @@ TEST(NrrdIo, HeaderIsNrrdWithVoxelCentreOrigin) {
 }
 
 TEST(NrrdIo, WithoutDensityFileDensityIsZero) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("grid.nrrd");
   const VoxelGrid grid = makeTestGrid();
   writeNrrd(grid, path);                         // leaves a density file ...
@@ -215,7 +182,7 @@ TEST(NrrdIo, WithoutDensityFileDensityIsZero) {
 }
 
 TEST(NrrdIo, UniformGridStaysSparse) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("empty.nrrd");
   VoxelGrid grid({40, 33, 17}, glm::dvec3(0.0), 0.25);
   grid.setBrickUniform(7, kFillFull, 900);
@@ -234,11 +201,11 @@ std::string handHeader(const std::string& type, const std::string& extra) {
 }
 
 TEST(NrrdIo, ReadsForeignFiles) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("foreign.nrrd");
   std::string fill;
   for (int i = 0; i < 12; ++i) fill += char(i * 20);
-  writeBytes(path, handHeader("unsigned char",
+  test::writeBytes(path, handHeader("unsigned char",
                               "space: left-posterior-superior\r\n"
                               "space directions: (0.5,0,0) (0,0.5,0) (0,0,0.5)\r\n"
                               "space origin: (1,2,3)\r\n") +
@@ -252,14 +219,14 @@ TEST(NrrdIo, ReadsForeignFiles) {
   EXPECT_FALSE(read.densityLoaded);
 
   // spacings instead of space directions; big-endian int16 density, byte-swapped on reading.
-  writeBytes(path, handHeader("uchar", "spacings: 2 2 2\n") + fill);
+  test::writeBytes(path, handHeader("uchar", "spacings: 2 2 2\n") + fill);
   std::string density;
   for (int i = 0; i < 12; ++i) {
     const auto v = std::uint16_t(Density(-300 + 100 * i));
     density += char(v >> 8);
     density += char(v & 0xff);
   }
-  writeBytes(densityPathFor(path),
+  test::writeBytes(densityPathFor(path),
              handHeader("signed short", "endian: big\nspacings: 2 2 2\n") + density);
   read = readNrrd(path);
   EXPECT_TRUE(read.densityLoaded);
@@ -289,7 +256,7 @@ const std::string kGoodFields =
     "space origin: (0,0,0)\n";
 
 TEST(NrrdIo, RejectsBadFiles) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("bad.nrrd");
   const std::string data(12, '\x01');
   expectInputError(dir.file("missing.nrrd"), "no such file");
@@ -332,7 +299,7 @@ TEST(NrrdIo, RejectsBadFiles) {
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.reason);
-    writeBytes(path, c.bytes);
+    test::writeBytes(path, c.bytes);
     expectInputError(path, c.reason);
   }
 }
@@ -340,7 +307,7 @@ TEST(NrrdIo, RejectsBadFiles) {
 // Spacing and origin are checked after they are combined: a grid beyond 1000 km would mesh to
 // infinite coordinates.
 TEST(NrrdIo, GridMustLieWithinAThousandKilometres) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("far.nrrd");
   const std::string data(12, '\x01');
   const struct {
@@ -363,18 +330,18 @@ TEST(NrrdIo, GridMustLieWithinAThousandKilometres) {
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.reason);
-    writeBytes(path, handHeader("uint8", c.fields) + data);
+    test::writeBytes(path, handHeader("uint8", c.fields) + data);
     expectInputError(path, c.reason);
   }
-  writeBytes(path, handHeader("uint8", "spacings: 1e8 1e8 1e8\n") + data);  // 300 km: fine
+  test::writeBytes(path, handHeader("uint8", "spacings: 1e8 1e8 1e8\n") + data);  // 300 km: fine
   EXPECT_DOUBLE_EQ(readNrrd(path).grid.voxelSizeMm(), 1e8);
 }
 
 TEST(NrrdIo, OverlongHeaderLineIsNamed) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("long.nrrd");
   const auto start = std::chrono::steady_clock::now();
-  writeBytes(path, "NRRD0004\ntype: uint8\n# " + std::string(10 << 20, 'x') +
+  test::writeBytes(path, "NRRD0004\ntype: uint8\n# " + std::string(10 << 20, 'x') +
                        "\ndimension: 3\nsizes: 3 2 2\nencoding: raw\nspacings: 1 1 1\n\n" +
                        std::string(12, '\0'));
   expectInputError(path, "header line 3 is longer than 64 KiB");
@@ -384,12 +351,12 @@ TEST(NrrdIo, OverlongHeaderLineIsNamed) {
 }
 
 TEST(NrrdIo, LyingHeaderFailsFastWithoutAllocating) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("liar.nrrd");
   const auto start = std::chrono::steady_clock::now();
   // Beyond 2^32 voxels, and within it but far beyond the 10 bytes present.
   for (const char* sizes : {"100000 100000 100000", "1024 1024 1024", "1073741824 4 1"}) {
-    writeBytes(path, std::string("NRRD0004\ntype: uint8\ndimension: 3\nsizes: ") + sizes +
+    test::writeBytes(path, std::string("NRRD0004\ntype: uint8\ndimension: 3\nsizes: ") + sizes +
                          "\nencoding: raw\nspacings: 1 1 1\n\n" + std::string(10, '\0'));
     EXPECT_THROW(readNrrd(path), InputError) << sizes;
   }
@@ -399,11 +366,11 @@ TEST(NrrdIo, LyingHeaderFailsFastWithoutAllocating) {
 }
 
 TEST(NrrdIo, DensityMustMatchFill) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("grid.nrrd");
   writeNrrd(makeTestGrid(), path);
   const std::string densityPath = densityPathFor(path);
-  writeBytes(densityPath,
+  test::writeBytes(densityPath,
              "NRRD0004\ntype: int16\ndimension: 3\nsizes: 4 4 4\nendian: little\nencoding: raw\n"
              "space directions: (0.54,0,0) (0,0.54,0) (0,0,0.54)\n\n" +
                  std::string(128, '\0'));
@@ -411,13 +378,13 @@ TEST(NrrdIo, DensityMustMatchFill) {
 
   // A uint8 density file is as wrong as a mismatched one.
   writeNrrd(makeTestGrid(), path, false);
-  const std::string fillBytes = readBytes(path);
-  writeBytes(densityPath, fillBytes);
+  const std::string fillBytes = test::readBytes(path);
+  test::writeBytes(densityPath, fillBytes);
   expectInputError(path, "density must be int16", densityPath);
 }
 
 TEST(NrrdIo, WriteFailureIsAnInputError) {
-  TempDir dir;
+  test::ScopedTempDir dir("nrrd");
   const std::string path = dir.file("no/such/folder/grid.nrrd");
   try {
     writeNrrd(VoxelGrid({2, 2, 2}, glm::dvec3(0.0), 1.0), path);

@@ -2,6 +2,7 @@
 #include "osteon/core/interrupt.h"
 #include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,6 @@
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 #include <gtest/gtest.h>

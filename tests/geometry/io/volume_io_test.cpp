@@ -11,6 +11,7 @@
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/voxels/voxelizer.h"
+#include "support/files.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
 
@@ -216,7 +217,7 @@ TEST_F(VolumeIo, TruncatedAndCorruptDataAreRefused) {
   test::writeTestNrrd(file("nodata.nhdr"), v, "uint8", bytes, false, "x.raw");
   fs::remove(file("x.raw"));
   EXPECT_THROW(loadVolume(file("nodata.nhdr")), InputError);
-  test::writeAll(file("bad.nii"), std::string(100, 'x'));
+  test::writeBytes(file("bad.nii"), std::string(100, 'x'));
   EXPECT_THROW(loadVolume(file("bad.nii")), InputError);
   // Sizes asking for 2^32 voxels over a few bytes: refused before anything that large is allocated.
   TestVolume huge = v;

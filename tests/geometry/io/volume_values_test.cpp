@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
+#include "support/files.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
 
@@ -90,7 +91,7 @@ TEST_F(VolumeValues, NonFiniteVoxelsAnywhereAreRefusedWithTheirCountAndFirstPosi
   std::string scaled = test::readBytes(file("scaled.nii"));
   const float slope = 10.0f;
   std::memcpy(&scaled[112], &slope, sizeof slope);
-  test::writeAll(file("scaled.nii"), scaled);
+  test::writeBytes(file("scaled.nii"), scaled);
   EXPECT_NE(refusal("scaled.nii").find("scl_slope 10 and scl_inter 0 scale values -1000 to 1e+308 past any number"),
             std::string::npos)
       << refusal("scaled.nii");
@@ -217,7 +218,7 @@ TEST_F(VolumeValues, AxesStoredInAnotherOrderAreReordered) {
   std::string nii = test::readBytes(file("perm.nii"));
   const float srow[3][4] = {{0, -0.5f, 0, -10.25f}, {-0.5f, 0, 0, 4.75f}, {0, 0, 0.5f, 3.25f}};
   std::memcpy(&nii[280], srow, sizeof srow);
-  test::writeAll(file("perm.nii"), nii);
+  test::writeBytes(file("perm.nii"), nii);
   VolumeOptions two;
   two.label = 2;
   for (const char* name : {"perm.nrrd", "perm.nii"}) {
@@ -247,7 +248,7 @@ TEST_F(VolumeValues, NiftiHeadersThatDisagreeWithThemselvesAreRefusedSayingHow) 
     test::writeTestNifti(file(name), v, 2, 8, bytes, false);
     std::string nii = test::readBytes(file(name));
     std::memcpy(&nii[offset], &value, sizeof value);
-    test::writeAll(file(name), nii);
+    test::writeBytes(file(name), nii);
   };
   patched("bitpix.nii", 72, std::int16_t(16));
   EXPECT_NE(refusal("bitpix.nii").find("bitpix 16 does not match datatype 2 (uint8, 8 bits)"), std::string::npos);
@@ -264,11 +265,11 @@ TEST_F(VolumeValues, NiftiHeadersThatDisagreeWithThemselvesAreRefusedSayingHow) 
   std::memcpy(&q[254], &sform, 2);
   const float bcd[3] = {0.0f, 0.0f, 1.0f};  // 180 degrees about z: RAS x, y negated = LPS as is
   std::memcpy(&q[256], bcd, sizeof bcd);
-  test::writeAll(file("q.nii"), q);
+  test::writeBytes(file("q.nii"), q);
   EXPECT_EQ(loadVolume(file("q.nii")).grid.countVoxels(kFillHalf), 1u);
   const float bad[3] = {0.6f, 0.6f, 0.6f};
   std::memcpy(&q[256], bad, sizeof bad);
-  test::writeAll(file("qbad.nii"), q);
+  test::writeBytes(file("qbad.nii"), q);
   EXPECT_NE(refusal("qbad.nii").find("the qform quaternion (b, c, d) = (0.6, 0.6, 0.6) is invalid: b^2 + c^2 + d^2 = 1.08"),
             std::string::npos)
       << refusal("qbad.nii");

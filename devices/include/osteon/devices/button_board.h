@@ -12,7 +12,7 @@
 #pragma once
 
 #include "osteon/devices/device.h"
-#include "osteon/devices/handoff.h"
+#include "osteon/core/handoff.h"
 #include "osteon/devices/serial_port.h"
 
 #include <array>
@@ -85,8 +85,10 @@ struct ButtonBoardOptions {
   double reopenEveryS = 0.1;     // a port that went away is tried again this often
   std::uint32_t drillButtonMask = 1;
   double drillPedalAbove = 0.5;  // the pedal past half way drills too
-  std::size_t eventCapacity = 4096;
 };
+
+// Events kept for a monitor that has not read them yet; past this they are counted dropped.
+inline constexpr std::size_t kBoardEventCapacity = 4096;
 
 class ButtonBoardDevice final : public Device {
  public:
@@ -119,10 +121,10 @@ class ButtonBoardDevice final : public Device {
   std::string port_;
   ButtonBoardOptions options_;
   SerialPort serial_;
-  LatestValue<State> state_;
+  core::TripleBuffer<State> state_;
   std::uint64_t polledLines_ = 0;
   double polledAtS_ = -1.0;
-  SpscQueue<BoardEvent> events_;
+  core::SpscRing<BoardEvent, kBoardEventCapacity> events_;
   std::atomic<std::uint64_t> lines_{0}, malformed_{0}, eventsDropped_{0};
   std::atomic<bool> connected_{true};
   std::atomic<bool> stop_{false};

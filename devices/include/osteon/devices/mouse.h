@@ -5,7 +5,7 @@
 #pragma once
 
 #include "osteon/devices/device.h"
-#include "osteon/devices/handoff.h"
+#include "osteon/core/handoff.h"
 
 namespace osteon::devices {
 
@@ -27,7 +27,7 @@ class MouseDevice final : public Device {
   void poll(double nowS, DeviceSample& sample) noexcept override;
 
  private:
-  LatestValue<MouseState> state_;
+  core::TripleBuffer<MouseState> state_;
   MouseState last_;
   double staleAfterS_;
 };

@@ -95,7 +95,6 @@ class SafetyLayer {
   const SafetyStats& stats() const { return stats_; }
   const PoseVerdict& verdict() const { return verdict_; }
   ForceState forceState() const { return state_; }
-  std::uint32_t activeFaults() const { return verdict_.faults; }
 
  private:
   void raise(std::uint32_t bit, std::uint32_t wasActive, std::uint64_t& counter) noexcept;

@@ -10,7 +10,7 @@
 #pragma once
 
 #include "osteon/devices/device.h"
-#include "osteon/devices/handoff.h"
+#include "osteon/core/handoff.h"
 
 #include <array>
 #include <atomic>
@@ -116,7 +116,7 @@ class SpaceMouseDevice final : public Device {
   void readLoop();
 
   std::unique_ptr<HidReportSource> source_;
-  LatestValue<State> state_;
+  core::TripleBuffer<State> state_;
   State polled_;
   SpaceMouseIntegrator integrator_;
   double lastPollS_ = 0.0;

@@ -31,7 +31,4 @@ namespace osteon::image {
 // when it cannot be loaded.
 std::string openImageIOVersion();
 
-// The file the plugin was loaded from, or empty when this process has not loaded it.
-std::string loadedPluginPath();
-
 }  // namespace osteon::image

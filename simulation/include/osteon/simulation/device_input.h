@@ -14,7 +14,7 @@
 #pragma once
 
 #include "osteon/devices/device.h"
-#include "osteon/devices/handoff.h"
+#include "osteon/core/handoff.h"
 #include "osteon/devices/recording.h"
 #include "osteon/devices/safety.h"
 #include "osteon/simulation/path.h"
@@ -106,7 +106,7 @@ class DeviceInput final : public PoseSource, public ForceSink {
   double recordedS_ = -1.0;    // the newest sample recorded
   double loopS_ = -1.0;        // the newest recorded loop period (recordedLoop)
   DeviceStatus status_;
-  devices::LatestValue<DeviceStatus> published_;
+  core::TripleBuffer<DeviceStatus> published_;
 };
 
 struct DeviceRunOptions {

@@ -9,7 +9,7 @@
 //   logging    every few ms: the collision thread's force log rows to RuntimeOptions::onRow and
 //              the summary's metrics, so the log is streamed, not kept
 // The 1 kHz loops never allocate, lock or throw: hand-offs are triple buffers and bounded
-// rings (runtime/handoff.h), timings go to arrays sized before the start. Periods are
+// rings (core/handoff.h), timings go to arrays sized before the start. Periods are
 // kept with clock_nanosleep on CLOCK_MONOTONIC to absolute deadlines; a period whose work ends
 // after its deadline is an overrun, and missed periods are skipped, not run late.
 // Faults stay off the 1 kHz loops: a visual side that stalls only delays the surface, one whose
@@ -64,8 +64,6 @@ struct RuntimeOptions {
   // With two or more CPUs, the haptic loop runs on two threads pinned to different CPUs: the
   // standby runs a period the first has not begun 250 us into it.
   bool hapticStandby = true;
-  std::size_t brickRingCapacity = 4096;
-  std::size_t logRingCapacity = 65536;  // force log rows on their way to the logging thread
   // Rows as they come, on the logging thread (not a 1 kHz loop); must not throw.
   std::function<void(const ForceLogRow& row)> onRow;
   bool keepLog = true;  // also collect every row in RuntimeResult::run.log

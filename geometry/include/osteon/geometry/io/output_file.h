@@ -37,9 +37,6 @@ class OutputFile {
 // Writes `bytes` to path through an OutputFile.
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 
-// Copies `from` to `to` through an OutputFile.
-void copyFileAtomically(const std::string& from, const std::string& to);
-
 // True when both name the same existing file (after symlinks, and hard links alike).
 bool sameFile(const std::string& a, const std::string& b);
 

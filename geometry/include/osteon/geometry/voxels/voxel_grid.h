@@ -71,7 +71,6 @@ class VoxelGrid {
     return worldFromGrid(glm::dvec3(ijk) + 0.5);
   }
   glm::ivec3 voxelFromWorld(const glm::dvec3& pMm) const;  // floor; may lie outside
-  glm::dmat4 worldFromGridMatrix() const;
   bool inBounds(const glm::ivec3& ijk) const {
     return ijk.x >= 0 && ijk.y >= 0 && ijk.z >= 0 && ijk.x < dims_.x && ijk.y < dims_.y &&
            ijk.z < dims_.z;
@@ -134,23 +133,6 @@ class VoxelGrid {
   std::uint64_t totalFill() const;                // sum of fill, exact (removal accounting)
   double filledVolumeMm3() const;                 // totalFill / kFillFull x voxel volume
   std::size_t memoryBytes() const;
-
-  // Cached read access for neighbourhood walks: remembers the last brick it touched. Valid
-  // while the grid's brick storage does not change (materialiseBrick, setBrickUniform and
-  // compact invalidate it); make a new one after writes.
-  class Accessor {
-   public:
-    explicit Accessor(const VoxelGrid& grid) : grid_(&grid) {}
-    Fill fill(const glm::ivec3& ijk);
-    Density density(const glm::ivec3& ijk);
-
-   private:
-    bool locate(const glm::ivec3& ijk, int& local);
-    const VoxelGrid* grid_;
-    glm::ivec3 brickCoord_{-1};
-    std::size_t brick_ = 0;
-    const Brick* data_ = nullptr;
-  };
 
  private:
   bool locate(const glm::ivec3& ijk, std::size_t& brick, int& local) const;

@@ -1,17 +1,12 @@
-// Small helpers for the devices suite, which links osteon::devices alone (no geometry, so not
-// tests/support): scratch folders, files, pseudo-terminals standing in for serial boards.
+// A pseudo-terminal standing in for a USB serial board (a button board, a foot pedal): the test
+// writes the board's bytes to the master; the code under test opens the slave by name. The
+// slave is raw (no CR/LF translation, no echo), as a USB serial port is. Header-only and POSIX
+// alone, for the devices suite and the command-line tests alike.
 #pragma once
 
-#include <gtest/gtest.h>
-
-#include <atomic>
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
-#include <thread>
 
 #include <fcntl.h>
 #include <poll.h>
@@ -19,33 +14,8 @@
 #include <termios.h>
 #include <unistd.h>
 
-namespace osteon::devices::test {
+namespace osteon::test {
 
-inline std::string makeTempDir(const std::string& tag) {
-  static std::atomic<int> counter{0};
-  std::ostringstream name;
-  name << "osteon_devices_" << tag << "_" << ::getpid() << "_" << counter++;
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / name.str();
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
-
-inline void writeFile(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), std::streamsize(bytes.size()));
-}
-
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// A pseudo-terminal as a simulated serial device: the test writes the board's bytes to the
-// master; the code under test opens the slave by name. The slave is raw (no CR/LF
-// translation, no echo), as a USB serial port is.
 struct FakeBoard {
   int master = -1;
   int slave = -1;
@@ -63,7 +33,7 @@ struct FakeBoard {
     return true;
   }
   // Writes every byte within timeoutMs (the reader drains the pty's small buffer as it goes).
-  bool write(const std::string& bytes, int timeoutMs = 10000) const {
+  bool write(const std::string& bytes, int timeoutMs = 20000) const {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
     std::size_t done = 0;
     while (done < bytes.size()) {
@@ -84,6 +54,9 @@ struct FakeBoard {
     if (slave >= 0) ::close(slave);
     master = slave = -1;
   }
+  FakeBoard() = default;
+  FakeBoard(const FakeBoard&) = delete;
+  FakeBoard& operator=(const FakeBoard&) = delete;
   ~FakeBoard() { unplug(); }
 };
 
@@ -95,4 +68,4 @@ inline void pointLink(const std::string& link, const std::string& target) {
   std::filesystem::rename(tmp, link);
 }
 
-}  // namespace osteon::devices::test
+}  // namespace osteon::test
