@@ -36,6 +36,7 @@
 //      --phases N adds the mean jitter over N phases of the sampling lattice (gPhases);
 //      --log-dir D writes each run's force log there.
 #include "osteon/geometry/io/humerus_model.h"
+#include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/motions.h"
 #include "osteon/simulation/runtime.h"
@@ -526,8 +527,15 @@ int main(int argc, char** argv) {
     }
   }
   const geometry::HumerusModel model = geometry::buildHumerusModel();
-  const std::shared_ptr<const BoneModel> bone12 = BoneModel::fromMesh(model.mesh, 1.2, "default");
-  const std::shared_ptr<const BoneModel> bone03 = BoneModel::fromMesh(model.mesh, 0.3, "default", 1.0, {}, false);
+  // The built-in humerus, opened as `drill default` opens it (0.3 mm: static only, no fine fills).
+  const auto openDefault = [](double voxelSizeMm, bool fineFills) {
+    BoneSource source;
+    source.voxelSizeMm = voxelSizeMm;
+    source.sampleFineFills = fineFills;
+    return BoneModel::open(source).bone;
+  };
+  const std::shared_ptr<const BoneModel> bone12 = openDefault(1.2, true);
+  const std::shared_ptr<const BoneModel> bone03 = openDefault(0.3, false);
   const HumeralHead head = bone12->humeralHead();
   if (withMotions) motions(bone12, bone03, tilts);
   if (motionsOnly) return 0;

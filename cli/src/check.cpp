@@ -18,10 +18,13 @@
 namespace osteon::cli {
 
 using nlohmann::json;
+namespace sim = osteon::simulation;
 namespace val = osteon::validation;
 
 int runCheck(const CheckCommandOptions& options) {
-  const double scale = scaleToMm(options.units);
+  BoneSource reference = options.bone;  // the same units
+  reference.input = options.reference;
+  options.bone.check();
   if (options.cracks < 16 || options.cracks > 4096) {
     throw InputError("--cracks " + std::to_string(options.cracks) + ": pixels per side must be 16..4096");
   }
@@ -32,11 +35,15 @@ int runCheck(const CheckCommandOptions& options) {
       viewNames.push_back(std::string("cracks_") + v + ".png");
       views.push_back(options.images + "/" + viewNames.back());
     }
-    geometry::refuseOverwritingInputs(views, {inputFile(options.mesh), inputFile(options.reference)});
+    std::vector<std::string> inputs = options.bone.inputFiles();
+    if (!options.reference.empty()) {
+      for (const std::string& file : reference.inputFiles()) inputs.push_back(file);
+    }
+    geometry::refuseOverwritingInputs(views, inputs);
   }
-  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
-  geometry::TriangleMesh reference;
-  if (!options.reference.empty()) reference = geometry::loadMeshArgument(options.reference, scale);
+  const geometry::TriangleMesh mesh = sim::loadBoneMesh(options.bone).mesh;
+  const geometry::TriangleMesh referenceMesh =
+      options.reference.empty() ? geometry::TriangleMesh{} : sim::loadBoneMesh(reference).mesh;
   // The six views are one set, put in place together (output_dir.h).
   std::optional<geometry::OutputDir> imagesDir;
   if (!options.images.empty()) imagesDir.emplace(options.images, viewNames, "--images");
@@ -79,7 +86,7 @@ int runCheck(const CheckCommandOptions& options) {
     failures.push_back("encloses no volume: the closed surface is flat (a sheet with both sides)");
   }
   const bool pass = failures.empty();
-  json j = {{"mesh", options.mesh},
+  json j = {{"mesh", options.bone.input},
             {"verdict", pass ? "PASS" : "FAIL"},
             {"vertices", mesh.vertexCount()},
             {"triangles", mesh.triangleCount()},
@@ -105,7 +112,7 @@ int runCheck(const CheckCommandOptions& options) {
             {"failures", failures}};
   if (!options.reference.empty()) {
     try {
-      const val::Accuracy a = val::compareMeshes(mesh, reference);
+      const val::Accuracy a = val::compareMeshes(mesh, referenceMesh);
       j["reference"] = options.reference;
       j["hausdorff_mm"] = a.hausdorffMm;
       j["hausdorff_surface_to_reference_mm"] = a.surfaceToReferenceMm;
@@ -113,14 +120,14 @@ int runCheck(const CheckCommandOptions& options) {
       j["volume_difference_mm3"] = a.volumeDifferenceMm3;
       j["volume_difference_percent"] = a.volumeDifferencePercent;
     } catch (const std::invalid_argument&) {
-      throw InputError("--reference: " + options.mesh + " or " + options.reference +
+      throw InputError("--reference: " + options.bone.input + " or " + options.reference +
                        " is not a polygon mesh (non-manifold), so the Hausdorff distance is undefined");
     }
   }
   if (options.json) {
     std::cout << j.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {
-    std::cout << options.mesh << ": " << (pass ? "PASS" : "FAIL") << " - border edges "
+    std::cout << options.bone.input << ": " << (pass ? "PASS" : "FAIL") << " - border edges "
               << r.topology.borderEdges << ", non-manifold edges " << r.topology.nonManifoldEdges
               << ", vertices " << r.topology.nonManifoldVertices << ", self-intersections "
               << r.selfIntersections << (r.selfIntersectionsCapped ? "+" : "") << ", cracks "

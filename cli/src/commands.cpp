@@ -37,22 +37,6 @@ namespace sim = osteon::simulation;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-double scaleToMm(const MeshUnits& units) {
-  if (units.scale) {
-    if (!std::isfinite(*units.scale) || *units.scale <= 0.0) {
-      std::ostringstream s;
-      s << "--scale " << *units.scale << ": must be a positive finite number";
-      throw InputError(s.str());
-    }
-    return *units.scale;
-  }
-  return geo::millimetresPer(geo::parseLengthUnit(units.units));
-}
-
-std::string inputFile(const std::string& meshArgument) {
-  return meshArgument == geo::kDefaultModelArgument ? std::string() : meshArgument;
-}
-
 namespace {
 
 
@@ -64,34 +48,18 @@ void printJson(const json& j) {
   std::cout << j.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
 }
 
-struct LoadedMesh {
-  geo::TriangleMesh mesh;
-  geo::MeshFileInfo info;
-  double scale = 1.0;
-  double loadMs = 0.0;
-};
-
-LoadedMesh load(const std::string& argument, const MeshUnits& units) {
-  LoadedMesh loaded;
-  loaded.scale = scaleToMm(units);
-  const Clock::time_point start = Clock::now();
-  loaded.mesh = geo::loadMeshArgument(argument, loaded.scale, &loaded.info);
-  loaded.loadMs = msSince(start);
-  return loaded;
-}
-
-json meshJson(const std::string& argument, const LoadedMesh& loaded) {
+json meshJson(const std::string& argument, const sim::BoneMesh& loaded) {
   const bool builtIn = argument == geo::kDefaultModelArgument;
   json j = {{"path", argument},
             {"built_in", builtIn},
-            {"scale_to_mm", loaded.scale},
+            {"scale_to_mm", loaded.read.scaleToMm},
             {"vertices", loaded.mesh.vertexCount()},
             {"triangles", loaded.mesh.triangleCount()}};
   if (!builtIn) {
-    j["format"] = geo::meshFormatName(loaded.info.format);
-    j["binary"] = loaded.info.binary;
-    j["polygons_triangulated"] = loaded.info.polygonsTriangulated;
-    j["degenerate_faces_dropped"] = loaded.info.degenerateDropped;
+    j["format"] = geo::meshFormatName(loaded.read.meshFile.format);
+    j["binary"] = loaded.read.meshFile.binary;
+    j["polygons_triangulated"] = loaded.read.meshFile.polygonsTriangulated;
+    j["degenerate_faces_dropped"] = loaded.read.meshFile.degenerateDropped;
   }
   return j;
 }
@@ -99,13 +67,13 @@ json meshJson(const std::string& argument, const LoadedMesh& loaded) {
 }  // namespace
 
 int runInfo(const InfoOptions& options) {
-  const LoadedMesh loaded = load(options.mesh, options.units);
+  const sim::BoneMesh loaded = sim::loadBoneMesh(options.bone);
   const geo::Aabb box = geo::bounds(loaded.mesh);
   const geo::MeshTopology topo = geo::analyzeTopology(loaded.mesh);
   const double volume = geo::signedVolumeMm3(loaded.mesh);
   const double area = geo::surfaceAreaMm2(loaded.mesh);
   if (options.json) {
-    json j = meshJson(options.mesh, loaded);
+    json j = meshJson(options.bone.input, loaded);
     j["bounds_min_mm"] = vec3(box.minMm);
     j["bounds_max_mm"] = vec3(box.maxMm);
     j["extent_mm"] = vec3(box.extentMm());
@@ -120,16 +88,16 @@ int runInfo(const InfoOptions& options) {
     j["euler_characteristic"] = topo.eulerCharacteristic;
     j["closed"] = topo.closed();
     j["consistently_oriented"] = topo.consistentlyOriented();
-    j["load_ms"] = loaded.loadMs;
+    j["load_ms"] = loaded.read.loadMs;
     printJson(j);
     return kExitOk;
   }
   const glm::dvec3 e = box.extentMm();
-  std::printf("%s: %zu vertices, %zu triangles", options.mesh.c_str(), loaded.mesh.vertexCount(),
+  std::printf("%s: %zu vertices, %zu triangles", options.bone.input.c_str(), loaded.mesh.vertexCount(),
               loaded.mesh.triangleCount());
-  if (options.mesh != geo::kDefaultModelArgument) {
-    std::printf(" (%s %s)", loaded.info.binary ? "binary" : "text",
-                geo::meshFormatName(loaded.info.format));
+  if (!options.bone.isBuiltIn()) {
+    std::printf(" (%s %s)", loaded.read.meshFile.binary ? "binary" : "text",
+                geo::meshFormatName(loaded.read.meshFile.format));
   }
   std::printf("\n  extent     %.3f x %.3f x %.3f mm\n", e.x, e.y, e.z);
   std::printf("  bounds     [%.3f, %.3f, %.3f] .. [%.3f, %.3f, %.3f] mm\n", box.minMm.x,
@@ -146,7 +114,7 @@ int runInfo(const InfoOptions& options) {
 
 int runVoxelize(const VoxelizeCommandOptions& options) {
   if (!options.out.empty()) {
-    geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)}, {inputFile(options.mesh)});
+    geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)}, options.bone.inputFiles());
     // The grid is written as NRRD whatever the name says: a name that promises a mesh or an
     // image would hold NRRD bytes.
     std::string ext = fs::path(options.out).extension().string();
@@ -157,11 +125,11 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
     }
   }
   const Clock::time_point setupStart = Clock::now();
-  const LoadedMesh loaded = load(options.mesh, options.units);
+  const sim::BoneMesh loaded = sim::loadBoneMesh(options.bone);
   geo::VoxelizeOptions vo;
-  vo.voxelSizeMm = options.voxelSizeMm;
-  vo.meshName = options.mesh;
-  vo.loadScaleToMm = loaded.scale;
+  vo.voxelSizeMm = options.bone.voxelSizeMm.value_or(0.0);
+  vo.meshName = options.bone.input;
+  vo.loadScaleToMm = loaded.read.scaleToMm;
   vo.raysPerAxis = options.raysPerAxis;
   vo.robust = options.robust;
   vo.density.corticalThicknessMm = options.corticalMm;
@@ -179,7 +147,7 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
   const geo::VoxelGrid grid = geo::voxelize(loaded.mesh, vo, &stats);
   // Set-up ends with the grid (writing it is output, not set-up).
   sim::SetupTimings setup;
-  setup.loadMs = loaded.loadMs;
+  setup.loadMs = loaded.read.loadMs;
   setup.voxelizeMs = std::max(0.0, stats.totalMs - stats.densityMs);
   setup.densityMs = stats.densityMs;
   setup.totalMs = msSince(setupStart);
@@ -199,7 +167,7 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
 
   if (options.json) {
     json j;
-    j["mesh"] = meshJson(options.mesh, loaded);
+    j["mesh"] = meshJson(options.bone.input, loaded);
     j["dims"] = ivec3(grid.dims());
     j["voxel_size_mm"] = grid.voxelSizeMm();
     j["origin_mm"] = vec3(grid.originMm());
@@ -227,7 +195,7 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
                     {"cancellous_voxels", stats.density.cancellousVoxels},
                     {"distance_queries", stats.density.distanceQueries}};
     j["time_ms"] = stats.totalMs;
-    j["timings_ms"] = {{"load", loaded.loadMs},   {"bvh", stats.bvhMs},
+    j["timings_ms"] = {{"load", loaded.read.loadMs},   {"bvh", stats.bvhMs},
                        {"rays", stats.raysMs},    {"combine", stats.combineMs},
                        {"density", stats.densityMs}, {"write", writeMs}};
     j["setup_ms"] = setupJson(setup);
@@ -241,11 +209,11 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
       j["empty_reason"] = "no voxel inside";
     }
     printJson(j);
-    if (inside == 0) return emptyExit("voxelize", options.mesh, "no voxel inside", options.allowEmpty);
+    if (inside == 0) return emptyExit("voxelize", options.bone.input, "no voxel inside", options.allowEmpty);
     return kExitOk;
   }
   const glm::ivec3 d = grid.dims();
-  std::printf("osteon voxelize %s at %.4g mm%s\n", options.mesh.c_str(), grid.voxelSizeMm(),
+  std::printf("osteon voxelize %s at %.4g mm%s\n", options.bone.input.c_str(), grid.voxelSizeMm(),
               options.robust ? " (robust: 3 axes, majority vote)" : "");
   std::printf("  mesh          %zu triangles, volume %.1f mm^3\n", loaded.mesh.triangleCount(),
               meshVolume);
@@ -270,13 +238,13 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
                 static_cast<unsigned long long>(stats.abstainedColumns));
   }
   std::printf("  time          %.1f ms (bvh %.1f, rays %.1f, density %.1f); load %.1f ms\n",
-              stats.totalMs, stats.bvhMs, stats.raysMs, stats.densityMs, loaded.loadMs);
+              stats.totalMs, stats.bvhMs, stats.raysMs, stats.densityMs, loaded.read.loadMs);
   std::printf("%s\n", setupLine(setup).c_str());
   if (!options.out.empty()) {
     std::printf("  wrote         %s and %s\n", options.out.c_str(),
                 geo::densityPathFor(options.out).c_str());
   }
-  if (inside == 0) return emptyExit("voxelize", options.mesh, "no voxel inside", options.allowEmpty);
+  if (inside == 0) return emptyExit("voxelize", options.bone.input, "no voxel inside", options.allowEmpty);
   return kExitOk;
 }
 
@@ -311,19 +279,8 @@ int runModel(const ModelOptions& options) {
   return kExitOk;
 }
 
-namespace {
-
-bool isNrrdPath(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return ext == ".nrrd";
-}
-
-}  // namespace
-
 // What a volume was read as, for the JSON ("volume") and the text output (one line).
-json volumeJson(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
+json volumeJson(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning) {
   json j = {{"kind", v.kind}, {"format", v.format}, {"type", v.type}};
   if (v.kind == "osteon grid") {
     j["density_loaded"] = v.densityLoaded;
@@ -347,7 +304,7 @@ json volumeJson(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
   return j;
 }
 
-std::string volumeLine(const geo::VolumeLoad& v, const VolumeMeaning& meaning) {
+std::string volumeLine(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning) {
   if (v.kind == "osteon grid") return "";  // osteon's own grids: the output as it always was
   std::ostringstream s;
   s << "  volume      " << v.format << " " << v.type << ", read as " << v.kind;
@@ -374,10 +331,6 @@ int emptyExit(const char* command, const std::string& input, const std::string& 
   return allowEmpty ? kExitOk : kExitCheckFailed;
 }
 
-namespace {
-
-}  // namespace
-
 // Refuses inputs inside a folder the run fills with files of its own naming.
 void refuseInputsInside(const std::string& folder, const std::vector<std::string>& inputs) {
   std::error_code ec;
@@ -397,72 +350,39 @@ void refuseInputsInside(const std::string& folder, const std::vector<std::string
 
 namespace {
 
-// The files a grid argument reads: a mesh file, or a grid and its density beside it.
-std::vector<std::string> gridInputFiles(const std::string& input) {
-  if (isNrrdPath(input)) return {input, geo::densityPathFor(input)};
-  if (geo::isVolumePath(input)) return {input};
-  return {inputFile(input)};
-}
-
 // The grid a command works on, what it was read from, and its set-up so far.
 struct LoadedGrid {
   Clock::time_point start = Clock::now();  // the command's set-up starts here
-  geo::VoxelGrid grid;
+  std::shared_ptr<const sim::BoneModel> bone;
   double voxelizeMs = 0.0;
   json volume;              // a volume's meaning, null for a mesh
   std::string volumeText;
   sim::SetupTimings setup;  // a volume's whole read, its density included, is its load
 };
 
-// A GRID.nrrd or other volume as read, or a mesh voxelized at --voxel-size.
-LoadedGrid loadGrid(const std::string& input, const MeshUnits& units, const std::optional<double>& voxelSizeMm,
-                    const VolumeMeaning& meaning) {
+// A GRID.nrrd or other volume as read, or a mesh voxelized at --voxel-size: the bone as it is,
+// empty or not (the commands report an empty result), without a session's fine fills.
+LoadedGrid loadGrid(BoneSource source) {
   LoadedGrid out;
-  sim::SetupTimings& setup = out.setup;
-  if (geo::isVolumePath(input)) {
-    const Clock::time_point start = Clock::now();
-    geo::VolumeOptions vo;
-    vo.label = meaning.label;
-    vo.isoHu = meaning.isoHu;
-    vo.allowOutsideData = meaning.allowOutsideData;
-    geo::VolumeLoad read = geo::loadVolume(input, vo);
-    setup.loadMs = msSince(start);
-    if (voxelSizeMm && std::abs(*voxelSizeMm - read.grid.voxelSizeMm()) > 1e-9 * *voxelSizeMm) {
-      std::ostringstream s;
-      s << "--voxel-size " << *voxelSizeMm << ": " << input << " has voxels of "
-        << read.grid.voxelSizeMm() << " mm (omit --voxel-size for a grid)";
-      throw InputError(s.str());
-    }
-    out.volume = volumeJson(read, meaning);
-    out.volumeText = volumeLine(read, meaning);
-    out.grid = std::move(read.grid);
-    return out;
+  source.forSession = false;
+  source.sampleFineFills = false;
+  sim::OpenedBone opened = sim::BoneModel::open(source);
+  out.bone = std::move(opened.bone);
+  out.setup = out.bone->setupTimings();
+  out.voxelizeMs = out.setup.voxelizeMs + out.setup.densityMs;
+  if (opened.read.volume) {
+    out.volume = volumeJson(*opened.read.volume, source.volume);
+    out.volumeText = volumeLine(*opened.read.volume, source.volume);
   }
-  if (meaning.label || meaning.isoHu) {
-    throw InputError(std::string(meaning.label ? "--label" : "--iso") + ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " +
-                     input + " is a mesh");
-  }
-  if (!voxelSizeMm) throw InputError("--voxel-size: required when the input is a mesh");
-  const LoadedMesh loaded = load(input, units);
-  geo::VoxelizeOptions options;
-  options.voxelSizeMm = *voxelSizeMm;
-  options.meshName = input;
-  options.loadScaleToMm = loaded.scale;
-  geo::VoxelizeStats stats;
-  out.grid = geo::voxelize(loaded.mesh, options, &stats);
-  out.voxelizeMs = stats.totalMs;
-  setup.loadMs = loaded.loadMs;
-  setup.voxelizeMs = std::max(0.0, stats.totalMs - stats.densityMs);
-  setup.densityMs = stats.densityMs;
   return out;
 }
 
 }  // namespace
 
 int runHierarchy(const HierarchyOptions& options) {
-  if (!options.svg.empty()) geo::refuseOverwritingInputs({options.svg}, gridInputFiles(options.input));
-  LoadedGrid loaded = loadGrid(options.input, options.units, options.voxelSizeMm, options.volume);
-  const geo::VoxelGrid& grid = loaded.grid;
+  if (!options.svg.empty()) geo::refuseOverwritingInputs({options.svg}, options.bone.inputFiles());
+  LoadedGrid loaded = loadGrid(options.bone);
+  const geo::VoxelGrid& grid = loaded.bone->grid();
   sim::SetupTimings& setup = loaded.setup;
   geo::DphBuildOptions build;
   build.expansionRatio = options.xi;
@@ -486,7 +406,7 @@ int runHierarchy(const HierarchyOptions& options) {
   }
   if (!options.svg.empty()) {
     std::ostringstream title;
-    title << "DPH of " << options.input << ", xi " << options.xi << ", voxel "
+    title << "DPH of " << options.bone.input << ", xi " << options.xi << ", voxel "
           << grid.voxelSizeMm() << " mm";
     writeHierarchySvg(hierarchy, grid, sliceZ, title.str(), options.svg);
   }
@@ -498,7 +418,7 @@ int runHierarchy(const HierarchyOptions& options) {
                       {"cell_voxels", 2 * hierarchy.halfWidth(level) + 1}});
   }
   if (options.json) {
-    json j = {{"input", options.input},
+    json j = {{"input", options.bone.input},
               {"voxel_size_mm", grid.voxelSizeMm()},
               {"dims", ivec3(grid.dims())},
               {"xi", options.xi},
@@ -522,7 +442,7 @@ int runHierarchy(const HierarchyOptions& options) {
     printJson(j);
   } else {
     std::printf("osteon hierarchy %s: %zu voxels at %.4g mm, xi %d, seed %llu\n",
-                options.input.c_str(), hierarchy.voxelCount(), grid.voxelSizeMm(), options.xi,
+                options.bone.input.c_str(), hierarchy.voxelCount(), grid.voxelSizeMm(), options.xi,
                 static_cast<unsigned long long>(options.seed));
     for (int level = 0; level < hierarchy.levelCount(); ++level) {
       std::printf("  level %2d  %9zu nodes   cells of %lld voxels\n", level,
@@ -535,7 +455,7 @@ int runHierarchy(const HierarchyOptions& options) {
     if (!options.svg.empty()) std::printf("  wrote %s (slice z = %d)\n", options.svg.c_str(), sliceZ);
   }
   if (!problem.empty()) return kExitCheckFailed;
-  if (hierarchy.voxelCount() == 0) return emptyExit("hierarchy", options.input, "no voxel inside", options.allowEmpty);
+  if (hierarchy.voxelCount() == 0) return emptyExit("hierarchy", options.bone.input, "no voxel inside", options.allowEmpty);
   return kExitOk;
 }
 
@@ -560,10 +480,10 @@ int runMesh(const MeshCommandOptions& options) {
   so.taubin = options.taubin;
   if (!options.out.empty()) {
     geo::meshFormatFromPath(options.out);  // fail before the work
-    geo::refuseOverwritingInputs({options.out}, gridInputFiles(options.input));
+    geo::refuseOverwritingInputs({options.out}, options.bone.inputFiles());
   }
-  LoadedGrid loaded = loadGrid(options.input, options.units, options.voxelSizeMm, options.volume);
-  const geo::VoxelGrid& grid = loaded.grid;
+  LoadedGrid loaded = loadGrid(options.bone);
+  const geo::VoxelGrid& grid = loaded.bone->grid();
   sim::SetupTimings& setup = loaded.setup;
   geo::SurfaceTimings t;
   const Clock::time_point surfaceStart = Clock::now();
@@ -574,7 +494,7 @@ int runMesh(const MeshCommandOptions& options) {
   const geo::MeshTopology topo = geo::analyzeTopology(mesh);
   if (!options.out.empty()) geo::writeMesh(mesh, options.out);
   if (options.json) {
-    json j = {{"input", options.input},
+    json j = {{"input", options.bone.input},
               {"method", options.method},
               {"voxel_size_mm", grid.voxelSizeMm()},
               {"voxels_inside", grid.countVoxels(geo::kFillHalf)},
@@ -604,10 +524,10 @@ int runMesh(const MeshCommandOptions& options) {
       j["empty_reason"] = emptyMeshReason(grid);
     }
     printJson(j);
-    if (surface.triangleCount() == 0) return emptyExit("mesh", options.input, emptyMeshReason(grid), options.allowEmpty);
+    if (surface.triangleCount() == 0) return emptyExit("mesh", options.bone.input, emptyMeshReason(grid), options.allowEmpty);
     return kExitOk;
   }
-  std::printf("osteon mesh %s (%s, %d smoothing passes%s) at %.4g mm\n", options.input.c_str(),
+  std::printf("osteon mesh %s (%s, %d smoothing passes%s) at %.4g mm\n", options.bone.input.c_str(),
               options.method.c_str(), options.smooth, options.taubin ? ", Taubin" : "",
               grid.voxelSizeMm());
   std::printf("  surface     %zu vertices, %zu triangles, %.1f mm^3 (grid %.1f mm^3)\n",
@@ -622,7 +542,7 @@ int runMesh(const MeshCommandOptions& options) {
   std::printf("%s\n", setupLine(setup).c_str());
   if (!loaded.volumeText.empty()) std::printf("%s\n", loaded.volumeText.c_str());
   if (!options.out.empty()) std::printf("  wrote       %s\n", options.out.c_str());
-  if (surface.triangleCount() == 0) return emptyExit("mesh", options.input, emptyMeshReason(grid), options.allowEmpty);
+  if (surface.triangleCount() == 0) return emptyExit("mesh", options.bone.input, emptyMeshReason(grid), options.allowEmpty);
   return kExitOk;
 }
 

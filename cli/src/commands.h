@@ -3,6 +3,7 @@
 #pragma once
 
 #include "osteon/core/error.h"
+#include "osteon/simulation/bone_source.h"
 
 #include <cstdint>
 #include <optional>
@@ -12,29 +13,17 @@
 namespace osteon::cli {
 
 
-// How a mesh argument's coordinates become millimetres: --units or --scale, never both.
-struct MeshUnits {
-  std::string units = "mm";
-  std::optional<double> scale;
-};
-
-// What a volume (NRRD or NIfTI that is not osteon's own grid) means (volume_io.h).
-struct VolumeMeaning {
-  std::optional<std::uint64_t> label;  // label maps: the bone label (default: all but the background)
-  std::optional<double> isoHu;         // CTs: the bone threshold in HU (default 300)
-  bool allowOutsideData = false;       // NRRD: read a `data file:` outside the header's folder
-};
+// Every command's bone (its input, units or scale, voxel size, volume options) is a
+// simulation::BoneSource, opened by BoneModel::open or loadBoneMesh.
+using simulation::BoneSource;
 
 struct InfoOptions {
-  std::string mesh;
-  MeshUnits units;
+  BoneSource bone;  // a mesh or `default`
   bool json = false;
 };
 
 struct VoxelizeCommandOptions {
-  std::string mesh;
-  MeshUnits units;
-  double voxelSizeMm = 0.0;
+  BoneSource bone;  // a mesh or `default`, its units and voxel size
   bool robust = false;
   int raysPerAxis = 4;
   double corticalMm = 2.0;
@@ -46,28 +35,22 @@ struct VoxelizeCommandOptions {
 };
 
 struct HierarchyOptions {
-  std::string input;  // mesh, `default`, or GRID.nrrd
-  MeshUnits units;
-  std::optional<double> voxelSizeMm;
+  BoneSource bone;  // a mesh, `default`, a GRID.nrrd or another volume
   int xi = 3;
   std::uint64_t seed = 1;
   std::string svg;     // a slice of the hierarchy as SVG, empty for none
   std::optional<double> sliceZMm;
   bool json = false;
-  VolumeMeaning volume;
   bool allowEmpty = false;
 };
 
 struct MeshCommandOptions {
-  std::string input;  // mesh, `default`, or GRID.nrrd
-  MeshUnits units;
-  std::optional<double> voxelSizeMm;
+  BoneSource bone;  // a mesh, `default`, a GRID.nrrd or another volume
   std::string method = "crackfree";
   int smooth = 2;
   bool taubin = false;
   std::string out;
   bool json = false;
-  VolumeMeaning volume;
   bool allowEmpty = false;
 };
 
@@ -77,9 +60,7 @@ struct ModelOptions {
 };
 
 struct DrillCommandOptions {
-  std::string mesh;
-  MeshUnits units;
-  double voxelSizeMm = 0.0;
+  BoneSource bone;           // a mesh, `default` or a volume (then --path must be a CSV)
   int levels = 2;
   std::string path;          // portal-5, portal-7 or a CSV file
   std::string tool = "drill";
@@ -89,16 +70,13 @@ struct DrillCommandOptions {
   std::string device;        // drive the run from a device instead of --path (devices.md)
   std::optional<double> durationS;  // a live device's run length
   std::string record;        // record the device's stream to this CSV
-  VolumeMeaning volume;      // when `mesh` is a volume (then --path must be a CSV)
   bool allowEmpty = false;   // a path that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;      // proxy or direct; empty: direct for portal paths, else proxy
 };
 
 struct ReplayCommandOptions {
   std::string log;           // a recording: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on
-  std::string mesh;
-  MeshUnits units;
-  double voxelSizeMm = 0.0;
+  BoneSource bone;           // a mesh or `default`
   int levels = 2;
   std::string tool = "drill";
   std::string outDir = ".";
@@ -119,8 +97,7 @@ struct DevicesMonitorOptions {
 };
 
 struct CheckCommandOptions {
-  std::string mesh;
-  MeshUnits units;
+  BoneSource bone;        // the surface to check; its units are the reference's too
   std::string reference;  // empty: no accuracy
   int cracks = 512;       // pixels per side of each crack view
   std::string images;     // folder for the six crack views, empty for none
@@ -129,31 +106,23 @@ struct CheckCommandOptions {
 
 struct ValidateCommandOptions {
   std::string models = "default";      // comma-separated: default or mesh paths
-  MeshUnits units;
+  BoneSource source;                   // each model's units or scale and volume options (input: each of models)
   std::string voxelSizes = "1.2,0.9,0.72,0.54";
   bool voxelSizesGiven = false;        // --voxel-sizes on the command line (overrides --quick's)
   bool quick = false;
   std::string outDir = "validation-report";
   std::string compare;                 // a previous report.json
   std::string shard;                   // "K/N": run the K-th (0-based) of N shards; empty: all
-  bool allowOutsideData = false;       // NRRD volumes in --models: a data file may lie outside its header's folder
   std::vector<std::string> merge;      // shard out-dirs to merge into --out-dir instead of a run
   std::vector<std::string> runOptionsGiven;  // options of a run given on the command line (--models ...)
 };
 
 struct ExperimentCommandOptions {
   std::string name;               // "seed"
-  std::string mesh = "default";
-  MeshUnits units;
+  BoneSource bone;                // the humerus, `default` by default
   std::string outDir = "experiment-seed";
   bool json = false;
 };
-
-// Millimetres per file unit from --units or --scale; throws InputError for bad values.
-double scaleToMm(const MeshUnits& units);
-
-// The file a mesh argument reads: itself, or nothing for `default`.
-std::string inputFile(const std::string& meshArgument);
 
 // Refuses (InputError) any existing input inside `folder`, which a command fills with files of
 // its own naming (run logs, images).

@@ -33,16 +33,10 @@ namespace sim = osteon::simulation;
 using nlohmann::json;
 
 // commands.cpp: what a volume was read as.
-json volumeJson(const geo::VolumeLoad& v, const VolumeMeaning& meaning);
-std::string volumeLine(const geo::VolumeLoad& v, const VolumeMeaning& meaning);
+json volumeJson(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning);
+std::string volumeLine(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning);
 
 namespace {
-
-bool endsWithCsv(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".csv";
-}
 
 json percentilesJson(const sim::Percentiles& p) { return {{"p50", p.p50}, {"p99", p.p99}, {"max", p.max}}; }
 
@@ -132,13 +126,9 @@ int runDrill(const DrillCommandOptions& options) {
   drilling.levels = options.levels;
   sim::validateDrillingOptions(drilling);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
-  const bool csvPath = endsWithCsv(options.path);
+  const bool csvPath = sim::isPathCsv(options.path);
   const sim::CouplingMode coupling = couplingFor(options.coupling, !csvPath);
-  const bool volumeInput = geo::isVolumePath(options.mesh);
-  if (!volumeInput && (options.volume.label || options.volume.isoHu)) {
-    throw InputError(std::string(options.volume.label ? "--label" : "--iso") +
-                     ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + options.mesh + " is a mesh");
-  }
+  options.bone.check();
   sim::DrillPath path;
   sim::Portal portal = sim::Portal::FiveOClock;
   if (csvPath) {
@@ -146,22 +136,16 @@ int runDrill(const DrillCommandOptions& options) {
   } else {
     portal = sim::parsePortal(options.path);
   }
-  if (!(options.voxelSizeMm > 0.0)) {
-    std::ostringstream s;
-    s << "--voxel-size " << options.voxelSizeMm << ": must be a positive number of mm";
-    throw InputError(s.str());
-  }
   // The run's three files are one set: put in place together at the end (output_dir.h).
   geo::OutputDir outDir(options.outDir, {"forces.csv", "summary.json", "surface.ply"});
   const std::string forcesPath = options.outDir + "/forces.csv";
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
-  geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath},
-                               {volumeInput ? options.mesh : inputFile(options.mesh),
-                                csvPath ? options.path : std::string()});
+  std::vector<std::string> inputs = options.bone.inputFiles();
+  if (csvPath) inputs.push_back(options.path);
+  geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath}, inputs);
 
   sim::SessionOptions so;
-  so.voxelSizeMm = options.voxelSizeMm;
   so.levels = options.levels;
   so.tool = kind;
   so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
@@ -171,25 +155,14 @@ int runDrill(const DrillCommandOptions& options) {
   // Set-up, from the file to the first step: the session's stages plus the path (head fit and
   // portal plan), timed as one wall-clock total.
   const Clock::time_point setupStart = Clock::now();
-  const auto openSession = [&]() {
-    if (!volumeInput) return sim::Session::open(options.mesh, scaleToMm(options.units), so);
-    geo::VolumeOptions vo;
-    vo.label = options.volume.label;
-    vo.isoHu = options.volume.isoHu;
-    vo.allowOutsideData = options.volume.allowOutsideData;
-    geo::VolumeLoad load = geo::loadVolume(options.mesh, vo);
-    const double loadMs = msSince(setupStart);
-    if (std::abs(load.grid.voxelSizeMm() - options.voxelSizeMm) > 1e-6 * options.voxelSizeMm) {
-      std::ostringstream s;
-      s << "--voxel-size " << options.voxelSizeMm << ": " << options.mesh << " has voxels of "
-        << load.grid.voxelSizeMm() << " mm (give its own voxel size)";
-      throw InputError(s.str());
-    }
-    volumeInfo = volumeJson(load, options.volume);
-    volumeText = volumeLine(load, options.volume);
-    return sim::Session::fromGrid(std::move(load.grid), so, options.mesh, loadMs);
-  };
-  sim::Session session = openSession();
+  BoneSource source = options.bone;
+  source.sampleFineFills = options.levels > 0;
+  sim::OpenedBone opened = sim::BoneModel::open(source);
+  if (opened.read.volume) {
+    volumeInfo = volumeJson(*opened.read.volume, source.volume);
+    volumeText = volumeLine(*opened.read.volume, source.volume);
+  }
+  sim::Session session(std::move(opened.bone), so);
   const Clock::time_point pathStart = Clock::now();
   json pathJson = {{"name", options.path}};
   if (!csvPath) {
@@ -244,8 +217,8 @@ int runDrill(const DrillCommandOptions& options) {
   geo::writeMesh(surface.toTriangleMesh(), surfacePath);
 
   const sim::RunSummary& s = run.summary;
-  json summary = runSummaryJson(s, session, options.mesh, options.threaded ? "threaded" : "deterministic",
-                                sim::toolKindName(kind), options.voxelSizeMm, options.levels);
+  json summary = runSummaryJson(s, session, options.bone.input, options.threaded ? "threaded" : "deterministic",
+                                sim::toolKindName(kind), *options.bone.voxelSizeMm, options.levels);
   summary["path"] = pathJson;
   summary["setup_ms"] = setupJson(setup);
   summary["setup_ms"]["path"] = pathMs;
@@ -262,14 +235,14 @@ int runDrill(const DrillCommandOptions& options) {
     std::cout << summary.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
   } else {
     std::cout << "drilled " << options.path << " with the " << sim::toolKindName(kind) << " at "
-              << options.voxelSizeMm << " mm, " << options.levels << " level(s): " << s.steps
+              << *options.bone.voxelSizeMm << " mm, " << options.levels << " level(s): " << s.steps
               << " steps, max force " << s.maxForceN << " N, jitter " << s.jitterN << " N, removed "
               << s.removedVolumeMm3 << " mm3\n"
               << setupLine(setup, pathMs) << "\n"
               << "wrote " << forcesPath << ", " << summaryPath << ", " << surfacePath << "\n";
     if (!volumeText.empty()) std::cout << volumeText << "\n";
   }
-  if (!empty.empty()) return emptyExit("drill", options.mesh, empty, options.allowEmpty);
+  if (!empty.empty()) return emptyExit("drill", options.bone.input, empty, options.allowEmpty);
   return kExitOk;
 }
 

@@ -84,8 +84,8 @@ int runExperiment(const ExperimentCommandOptions& options) {
   std::vector<std::string> plannedImages;
   figuresOf(options.outDir, planned, plannedImages);
   for (const std::string& image : plannedImages) outputs.push_back(options.outDir + "/" + image);
-  geometry::refuseOverwritingInputs(outputs, {inputFile(options.mesh)});
-  refuseInputsInside(options.outDir + "/runs", {inputFile(options.mesh)});
+  geometry::refuseOverwritingInputs(outputs, options.bone.inputFiles());
+  refuseInputsInside(options.outDir + "/runs", options.bone.inputFiles());
 
   // The logs, the table and the plots are one set, put in place together when the run is
   // complete (output_dir.h). plots.gp.log is gnuplot's own say, not part of it.
@@ -95,10 +95,11 @@ int runExperiment(const ExperimentCommandOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/runs", ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
-  const double scale = scaleToMm(options.units);
-  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
+  const sim::BoneMesh loaded = sim::loadBoneMesh(options.bone);
+  const geometry::TriangleMesh& mesh = loaded.mesh;
+  const double scale = loaded.read.scaleToMm;
   geometry::VoxelizeOptions voxelizing;
-  voxelizing.meshName = options.mesh;
+  voxelizing.meshName = options.bone.input;
   voxelizing.loadScaleToMm = scale;
 
   const std::vector<sim::ExperimentRun> runs = sim::runSeedExperiment(
@@ -134,7 +135,7 @@ int runExperiment(const ExperimentCommandOptions& options) {
   }
   std::vector<std::string> images;
   const std::vector<ForceFigure> figures = figuresOf(options.outDir, runs, images);
-  const json table = {{"experiment", "seed"}, {"mesh", options.mesh}, {"runs", rows}, {"plots", images}};
+  const json table = {{"experiment", "seed"}, {"mesh", options.bone.input}, {"runs", rows}, {"plots", images}};
   geometry::writeFileAtomically(options.outDir + "/experiment.json", table.dump(2) + "\n");
   geometry::writeFileAtomically(options.outDir + "/jitter.md", md.str());
   // The logs and the table are kept when the plotting fails (gnuplot missing): a set without

@@ -18,24 +18,23 @@ using osteon::kExitBadInput;
 using osteon::kExitInternal;
 using osteon::kExitOk;
 
-void addUnits(CLI::App& cmd, osteon::cli::MeshUnits& units) {
-  CLI::Option* u = cmd.add_option("--units", units.units,
+void addUnits(CLI::App& cmd, osteon::cli::BoneSource& source) {
+  CLI::Option* u = cmd.add_option("--units", source.units,
                                   "Unit of the mesh file's coordinates: mm, cm, m or in")
                        ->default_str("mm");
-  CLI::Option* s = cmd.add_option("--scale", units.scale,
+  CLI::Option* s = cmd.add_option("--scale", source.scale,
                                   "Multiply coordinates by S to get millimetres");
   u->excludes(s);
 }
 
 // Commands that work on a grid take a mesh (voxelized at --voxel-size) or a saved grid.
-void addGridInput(CLI::App& cmd, std::string& input, osteon::cli::MeshUnits& units,
-                  std::optional<double>& voxelSizeMm) {
-  cmd.add_option("MESH", input,
+void addGridInput(CLI::App& cmd, osteon::cli::BoneSource& source) {
+  cmd.add_option("MESH", source.input,
                  "Mesh file, 'default', a GRID.nrrd written by osteon voxelize, or a volume "
                  "(.nrrd .nhdr .nii .nii.gz: label map or CT)")
       ->required();
-  addUnits(cmd, units);
-  cmd.add_option("--voxel-size", voxelSizeMm,
+  addUnits(cmd, source);
+  cmd.add_option("--voxel-size", source.voxelSizeMm,
                  "Voxel edge in mm (required for a mesh; a grid has its own)");
 }
 
@@ -52,7 +51,7 @@ CLI::Validator nonNegativeInteger(const char* name) {
 }
 
 // What a volume (NRRD or NIfTI) means, and whether an empty result is accepted.
-void addVolumeMeaning(CLI::App& cmd, osteon::cli::VolumeMeaning& meaning) {
+void addVolumeMeaning(CLI::App& cmd, osteon::geometry::VolumeOptions& meaning) {
   cmd.add_option("--label", meaning.label,
                  "Label map volumes: the bone label, 0 .. 2^64-1 (default: every voxel but the background, "
                  "0 or else the most common value)")
@@ -67,8 +66,8 @@ void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
                "An empty result (no voxel inside, no triangles, no bone met) exits 0, not 1");
 }
 
-void addMesh(CLI::App& cmd, std::string& mesh) {
-  cmd.add_option("MESH", mesh, "Mesh file (.stl .obj .ply .off) or 'default' for the built-in humerus")
+void addMesh(CLI::App& cmd, osteon::cli::BoneSource& source) {
+  cmd.add_option("MESH", source.input, "Mesh file (.stl .obj .ply .off) or 'default' for the built-in humerus")
       ->required();
 }
 
@@ -94,15 +93,15 @@ int main(int argc, char** argv) {
 
   osteon::cli::InfoOptions info;
   CLI::App* infoCmd = app.add_subcommand("info", "Print a mesh's size, bounds, volume and topology");
-  addMesh(*infoCmd, info.mesh);
-  addUnits(*infoCmd, info.units);
+  addMesh(*infoCmd, info.bone);
+  addUnits(*infoCmd, info.bone);
   infoCmd->add_flag("--json", info.json, "Print one JSON object on stdout");
 
   osteon::cli::VoxelizeCommandOptions vox;
   CLI::App* voxCmd = app.add_subcommand("voxelize", "Voxelize a mesh by Embree ray projection (seed 3.2)");
-  addMesh(*voxCmd, vox.mesh);
-  addUnits(*voxCmd, vox.units);
-  voxCmd->add_option("--voxel-size", vox.voxelSizeMm, "Voxel edge length in mm")->required();
+  addMesh(*voxCmd, vox.bone);
+  addUnits(*voxCmd, vox.bone);
+  voxCmd->add_option("--voxel-size", vox.bone.voxelSizeMm, "Voxel edge length in mm")->required();
   voxCmd->add_flag("--robust", vox.robust,
                    "Cast along all three axes and take a majority vote (meshes with holes)");
   voxCmd->add_option("--rays", vox.raysPerAxis, "Rays per column along each side (R x R rays)")
@@ -121,7 +120,7 @@ int main(int argc, char** argv) {
   osteon::cli::HierarchyOptions dph;
   CLI::App* dphCmd = app.add_subcommand(
       "hierarchy", "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)");
-  addGridInput(*dphCmd, dph.input, dph.units, dph.voxelSizeMm);
+  addGridInput(*dphCmd, dph.bone);
   dphCmd->add_option("--xi", dph.xi, "Expansion ratio (odd, 3..15)")->default_val(3);
   dphCmd->add_option("--seed", dph.seed, "Seed of the insertion order (0 .. 2^64-1)")
       ->default_val(1)
@@ -129,30 +128,30 @@ int main(int argc, char** argv) {
   dphCmd->add_option("--svg", dph.svg, "Draw a z-slice of the hierarchy into this SVG file");
   dphCmd->add_option("--slice-z", dph.sliceZMm, "Height of the --svg slice in mm (default: middle)");
   dphCmd->add_flag("--json", dph.json, "Print one JSON object on stdout");
-  addVolumeMeaning(*dphCmd, dph.volume);
+  addVolumeMeaning(*dphCmd, dph.bone.volume);
   addAllowEmpty(*dphCmd, dph.allowEmpty);
 
   osteon::cli::MeshCommandOptions meshOpt;
   CLI::App* meshCmd = app.add_subcommand(
       "mesh", "Extract the crack-free (or the seed's naive) surface of a voxelized mesh or grid");
-  addGridInput(*meshCmd, meshOpt.input, meshOpt.units, meshOpt.voxelSizeMm);
+  addGridInput(*meshCmd, meshOpt.bone);
   meshCmd->add_option("--method", meshOpt.method, "crackfree (shared vertices) or naive (seed's MC)")
       ->default_val("crackfree");
   meshCmd->add_option("--smooth", meshOpt.smooth, "Laplacian passes")->default_val(2);
   meshCmd->add_flag("--taubin", meshOpt.taubin, "Alternate shrink-free Taubin lambda/mu passes");
   meshCmd->add_option("--out", meshOpt.out, "Write the surface (.ply .obj .stl .off)");
   meshCmd->add_flag("--json", meshOpt.json, "Print one JSON object on stdout");
-  addVolumeMeaning(*meshCmd, meshOpt.volume);
+  addVolumeMeaning(*meshCmd, meshOpt.bone.volume);
   addAllowEmpty(*meshCmd, meshOpt.allowEmpty);
 
   osteon::cli::DrillCommandOptions drill;
   CLI::App* drillCmd = app.add_subcommand(
       "drill", "Drill a path into the bone at 1 kHz (deterministic): force log, summary, surface");
-  addMesh(*drillCmd, drill.mesh);
+  addMesh(*drillCmd, drill.bone);
   drillCmd->get_option("MESH")->description(
       "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz)");
-  addUnits(*drillCmd, drill.units);
-  drillCmd->add_option("--voxel-size", drill.voxelSizeMm, "Base voxel edge in mm")->required();
+  addUnits(*drillCmd, drill.bone);
+  drillCmd->add_option("--voxel-size", drill.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   drillCmd->add_option("--levels", drill.levels,
                        "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
@@ -167,7 +166,7 @@ int main(int argc, char** argv) {
   drillCmd->add_option("--coupling", drill.coupling,
                        "proxy: bone stops the tool, a spring joins it to the command (default, but for "
                        "portal paths); direct: the tool is where the path puts it");
-  addVolumeMeaning(*drillCmd, drill.volume);
+  addVolumeMeaning(*drillCmd, drill.bone.volume);
   addAllowEmpty(*drillCmd, drill.allowEmpty);
   drillCmd->add_option("--device", drill.device,
                        "Drive the run from a device instead of --path: mouse, spacemouse[:PATH], "
@@ -181,9 +180,9 @@ int main(int argc, char** argv) {
   CLI::App* replayCmd = app.add_subcommand(
       "replay", "Replay a device recording through the safety layer into a deterministic session");
   replayCmd->add_option("LOG", replay.log, "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on")->required();
-  addMesh(*replayCmd, replay.mesh);
-  addUnits(*replayCmd, replay.units);
-  replayCmd->add_option("--voxel-size", replay.voxelSizeMm, "Base voxel edge in mm")->required();
+  addMesh(*replayCmd, replay.bone);
+  addUnits(*replayCmd, replay.bone);
+  replayCmd->add_option("--voxel-size", replay.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   replayCmd->add_option("--levels", replay.levels,
                         "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
@@ -211,8 +210,8 @@ int main(int argc, char** argv) {
   osteon::cli::CheckCommandOptions check;
   CLI::App* checkCmd = app.add_subcommand(
       "check", "Prove a surface crack-free: exact checks (CGAL), pixel crack metric, accuracy");
-  addMesh(*checkCmd, check.mesh);
-  addUnits(*checkCmd, check.units);
+  addMesh(*checkCmd, check.bone);
+  addUnits(*checkCmd, check.bone);
   checkCmd->add_option("--reference", check.reference,
                        "Mesh the surface came from (same units): Hausdorff distance, volume difference");
   checkCmd->add_option("--cracks", check.cracks, "Pixels per side of each of the six crack views")
@@ -227,7 +226,7 @@ int main(int argc, char** argv) {
                           "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii .nii.gz: "
                           "at their own voxel size, every non-background label or 300 HU)")
       ->default_val("default");
-  addUnits(*validateCmd, validate.units);
+  addUnits(*validateCmd, validate.source);
   validateCmd->add_option("--voxel-sizes", validate.voxelSizes, "Comma-separated voxel sizes in mm")
       ->default_val("1.2,0.9,0.72,0.54");
   validateCmd->add_flag("--quick", validate.quick,
@@ -235,7 +234,7 @@ int main(int argc, char** argv) {
   validateCmd->add_option("--out-dir", validate.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   validateCmd->add_option("--compare", validate.compare, "A previous report.json: mark regressions");
-  validateCmd->add_flag("--allow-outside-data", validate.allowOutsideData,
+  validateCmd->add_flag("--allow-outside-data", validate.source.volume.allowOutsideData,
                         "NRRD volumes in --models: read a 'data file:' outside the header's folder");
   validateCmd->add_option("--shard", validate.shard,
                           "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "
@@ -248,8 +247,8 @@ int main(int argc, char** argv) {
   CLI::App* experimentCmd = app.add_subcommand(
       "experiment", "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)");
   experimentCmd->add_option("NAME", experiment.name, "Experiment: seed")->required();
-  experimentCmd->add_option("--mesh", experiment.mesh, "Humerus mesh, or 'default'")->default_val("default");
-  addUnits(*experimentCmd, experiment.units);
+  experimentCmd->add_option("--mesh", experiment.bone.input, "Humerus mesh, or 'default'")->default_val("default");
+  addUnits(*experimentCmd, experiment.bone);
   experimentCmd->add_option("--out-dir", experiment.outDir, "Folder for plots, table and logs")
       ->default_val("experiment-seed");
   experimentCmd->add_flag("--json", experiment.json, "Print the table as JSON on stdout");
@@ -314,7 +313,7 @@ int main(int argc, char** argv) {
     std::cerr << "osteon: " << e.what() << ": the run stopped; its output folder keeps what it held before\n";
     return e.exitCode();
   } catch (const osteon::InputError& e) {
-    std::cerr << "osteon: error: " << oneLine(e.what()) << "\n";
+    std::cerr << "osteon: error: " << oneLine(osteon::simulation::commandLineMessage(e)) << "\n";
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr << "osteon: error: out of memory: the input needs more memory than this machine "

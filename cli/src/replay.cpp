@@ -43,26 +43,28 @@ struct RunSetup {
   bool allowEmpty = false;
 };
 
-void checkRunOptions(double voxelSizeMm, int levels) {
+void checkRunOptions(const BoneSource& bone, int levels) {
   sim::DrillingOptions drilling;
   drilling.levels = levels;
   sim::validateDrillingOptions(drilling);
-  if (!(voxelSizeMm > 0.0)) {
-    std::ostringstream s;
-    s << "--voxel-size " << voxelSizeMm << ": must be a positive number of mm";
-    throw InputError(s.str());
-  }
+  bone.check();
+}
+
+// The session a device run drills: the bone opened from its source, then drilled.
+sim::Session openSession(const BoneSource& bone, int levels, sim::ToolKind kind, sim::CouplingMode coupling) {
+  BoneSource source = bone;
+  source.sampleFineFills = levels > 0;
+  sim::SessionOptions so;
+  so.coupling = coupling;
+  so.levels = levels;
+  so.tool = kind;
+  so.keepSurface = false;  // batch runs: the surface is extracted once at the end
+  return sim::Session(sim::BoneModel::open(source).bone, so);
 }
 
 // The run's files are one set, put in place together at the end (output_dir.h).
 geo::OutputDir openOutDir(const std::string& dir) {
   return geo::OutputDir(dir, {"forces.csv", "summary.json", "surface.ply"});
-}
-
-bool isCsv(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".csv";
 }
 
 // The files a device name reads (recordings, path CSVs), which no output may overwrite.
@@ -75,7 +77,7 @@ std::vector<std::string> deviceInputs(const std::string& name) {
     const std::size_t colon = part.find(':');
     if (colon != std::string::npos) {
       const std::string kind = part.substr(0, colon), argument = part.substr(colon + 1);
-      if (kind == "replay" || (kind == "scripted" && isCsv(argument))) files.push_back(argument);
+      if (kind == "replay" || (kind == "scripted" && sim::isPathCsv(argument))) files.push_back(argument);
     }
     if (plus == std::string::npos) break;
     start = plus + 1;
@@ -133,21 +135,11 @@ int finish(const RunSetup& setup, geo::OutputDir& outDir, sim::Session& session,
   return kExitOk;
 }
 
-sim::SessionOptions sessionOptions(double voxelSizeMm, int levels, sim::ToolKind kind, sim::CouplingMode coupling) {
-  sim::SessionOptions so;
-  so.coupling = coupling;
-  so.voxelSizeMm = voxelSizeMm;
-  so.levels = levels;
-  so.tool = kind;
-  so.keepSurface = false;  // batch runs: the surface is extracted once at the end
-  return so;
-}
-
 }  // namespace
 
 int runReplay(const ReplayCommandOptions& options) {
   // Everything that can be refused is refused before the work.
-  checkRunOptions(options.voxelSizeMm, options.levels);
+  checkRunOptions(options.bone, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   const sim::CouplingMode coupling = couplingFor(options.coupling, false);
   dev::Recording recording = dev::loadRecording(options.log);
@@ -155,10 +147,11 @@ int runReplay(const ReplayCommandOptions& options) {
   const std::string forcesPath = options.outDir + "/forces.csv";
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
-  geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath}, {inputFile(options.mesh), options.log});
+  std::vector<std::string> inputs = options.bone.inputFiles();
+  inputs.push_back(options.log);
+  geo::refuseOverwritingInputs({forcesPath, summaryPath, surfacePath}, inputs);
 
-  sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units),
-                                            sessionOptions(options.voxelSizeMm, options.levels, kind, coupling));
+  sim::Session session = openSession(options.bone, options.levels, kind, coupling);
   const std::size_t rows = recording.rows.size();
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
   sim::ForceLogWriter forces(forcesPath, coupling == sim::CouplingMode::Proxy);
@@ -168,8 +161,8 @@ int runReplay(const ReplayCommandOptions& options) {
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
 
-  RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
-                 options.json, "replay", options.allowEmpty};
+  RunSetup setup{options.bone.input, sim::toolKindName(kind), *options.bone.voxelSizeMm, options.levels,
+                 options.outDir, options.json, "replay", options.allowEmpty};
   json extra = {{"faults", faultsJson(r.safety.faults)},
                 {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
                 {"recording", {{"file", options.log}, {"rows", rows}, {"start_s", r.startS}, {"end_s", r.endS},
@@ -179,7 +172,7 @@ int runReplay(const ReplayCommandOptions& options) {
 }
 
 int runDrillWithDevice(const DrillCommandOptions& options) {
-  checkRunOptions(options.voxelSizeMm, options.levels);
+  checkRunOptions(options.bone, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   const sim::CouplingMode coupling = couplingFor(options.coupling, false);
   if (options.durationS && !(*options.durationS > 0.0 && *options.durationS <= sim::kMaxPathDurationS)) {
@@ -204,7 +197,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   const std::string summaryPath = options.outDir + "/summary.json";
   const std::string surfacePath = options.outDir + "/surface.ply";
   std::vector<std::string> inputs = deviceInputs(options.device);
-  inputs.push_back(inputFile(options.mesh));
+  for (const std::string& file : options.bone.inputFiles()) inputs.push_back(file);
   std::vector<std::string> outputs = {forcesPath, summaryPath, surfacePath};
   if (!options.record.empty()) {
     for (const std::string& out : outputs) {
@@ -219,8 +212,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   }
   geo::refuseOverwritingInputs(outputs, inputs);
 
-  sim::Session session = sim::Session::open(options.mesh, scaleToMm(options.units),
-                                            sessionOptions(options.voxelSizeMm, options.levels, kind, coupling));
+  sim::Session session = openSession(options.bone, options.levels, kind, coupling);
   std::unique_ptr<dev::Device> device = sim::openSessionDevice(options.device, session);
   const dev::Capabilities caps = device->capabilities();
   if (!caps.pose) {
@@ -296,8 +288,8 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   }
   extra["faults"] = faultsJson(safety.faults);
   extra["safety"] = safetyJson(safety, limitN);
-  RunSetup setup{options.mesh, sim::toolKindName(kind), options.voxelSizeMm, options.levels, options.outDir,
-                 options.json, deterministic ? "device" : "device-threaded", options.allowEmpty};
+  RunSetup setup{options.bone.input, sim::toolKindName(kind), *options.bone.voxelSizeMm, options.levels,
+                 options.outDir, options.json, deterministic ? "device" : "device-threaded", options.allowEmpty};
   return finish(setup, outDir, session, run, extra, forcesPath, summaryPath, surfacePath,
                 "drilled with " + options.device, recordFile ? &*recordFile : nullptr);
 }

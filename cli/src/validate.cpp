@@ -43,6 +43,7 @@
 namespace osteon::cli {
 
 using nlohmann::json;
+namespace sim = osteon::simulation;
 namespace val = osteon::validation;
 
 namespace {
@@ -383,6 +384,7 @@ int printVerdict(const json& j, const std::string& outDir) {
 
 int runValidate(const ValidateCommandOptions& options) {
   if (!options.merge.empty()) return runValidateMerge(options);
+  options.source.check();  // the models' units or scale, before any work
   // Plain values, not an optional pair: GCC's -Wmaybe-uninitialized misreads the latter.
   const bool sharded = !options.shard.empty();
   const auto [shardIndex, shardCount] = sharded ? parseShard(options.shard) : std::pair<std::size_t, std::size_t>{0, 1};
@@ -394,7 +396,11 @@ int runValidate(const ValidateCommandOptions& options) {
   if (names.empty()) throw InputError("--models " + options.models + ": no model given");
   const json old = options.compare.empty() ? json() : readComparable(options.compare);
   std::vector<std::string> inputs;
-  for (const std::string& name : names) inputs.push_back(inputFile(name));
+  for (const std::string& name : names) {
+    BoneSource model = options.source;
+    model.input = name;
+    for (const std::string& file : model.inputFiles()) inputs.push_back(file);
+  }
   inputs.push_back(options.compare);
   const std::string reportJsonPath = options.outDir + "/report.json";
   const std::string reportHtmlPath = options.outDir + "/report.html";
@@ -409,23 +415,22 @@ int runValidate(const ValidateCommandOptions& options) {
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
   const std::map<std::string, std::string> fileNameOf = modelFileNames(names);
   std::vector<val::ValidationModel> models;
-  const double scale = scaleToMm(options.units);
   for (const std::string& name : names) {
-    if (geometry::isVolumePath(name)) {
+    BoneSource model = options.source;
+    model.input = name;
+    models.emplace_back();
+    models.back().name = name;
+    if (model.isVolume()) {
       // Its own voxel size, every non-background label or 300 HU (`osteon mesh VOLUME` says what it holds).
-      models.emplace_back();
-      models.back().name = name;
-      geometry::VolumeOptions volumeOptions;
-      volumeOptions.allowOutsideData = options.allowOutsideData;
-      models.back().volume = std::move(geometry::loadVolume(name, volumeOptions).grid);
+      model.forSession = false;
+      models.back().volume = sim::BoneModel::open(model).bone->grid();
       if (models.back().volume->countVoxels(geometry::kFillHalf) == 0) {
         throw InputError(name + ": no voxel inside (nothing to validate)");
       }
     } else {
-      models.emplace_back();
-      models.back().name = name;
-      models.back().mesh = geometry::loadMeshArgument(name, scale);
-      models.back().loadScaleToMm = scale;
+      sim::BoneMesh loaded = sim::loadBoneMesh(model);
+      models.back().mesh = std::move(loaded.mesh);
+      models.back().loadScaleToMm = loaded.read.scaleToMm;
     }
   }
 

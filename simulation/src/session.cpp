@@ -1,11 +1,11 @@
 #include "osteon/simulation/session.h"
+#include "osteon/simulation/bone_source.h"
 
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/hierarchy/fine_fill.h"
-#include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/units.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
@@ -48,14 +48,14 @@ BoneModel::~BoneModel() = default;
 
 std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
                                             double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
-                                            bool sampleFineFills) {
+                                            bool sampleFineFills, bool forSession) {
   const Clock::time_point start = Clock::now();
   std::shared_ptr<BoneModel> bone(new BoneModel());
   bone->name_ = name;
   bone->mesh_ = std::move(meshMm);
   // Refused before voxelizing when this machine cannot hold the session (it used to run for a
   // minute and die of bad_alloc); a voxel size that is no number is the voxelizer's to name.
-  if (std::isfinite(voxelSizeMm) && voxelSizeMm > 0.0) {
+  if (forSession && std::isfinite(voxelSizeMm) && voxelSizeMm > 0.0) {
     const glm::dvec3 e = geometry::bounds(*bone->mesh_).extentMm();
     std::ostringstream what;
     what << name << ": a " << e.x << " x " << e.y << " x " << e.z << " mm mesh drilled at "
@@ -67,7 +67,7 @@ std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, doubl
   }
   geometry::VoxelizeOptions vo = voxelizing;
   vo.voxelSizeMm = voxelSizeMm;
-  vo.requireInside = true;
+  vo.requireInside = forSession;
   vo.meshName = name;
   vo.loadScaleToMm = loadScaleToMm;
   geometry::VoxelizeStats stats;
@@ -94,16 +94,13 @@ std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh mesh
   return build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
 }
 
-std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
-                                                 double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
-                                                 bool sampleFineFills) {
-  const Clock::time_point start = Clock::now();
-  geometry::TriangleMesh mesh = geometry::loadMeshArgument(meshArgument, scaleToMm);
-  const double loadMs = msSince(start);
-  std::shared_ptr<BoneModel> bone =
-      build(std::move(mesh), voxelSizeMm, meshArgument, scaleToMm, voxelizing, sampleFineFills);
+std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const std::string& name, double loadMs) {
+  std::shared_ptr<BoneModel> bone(new BoneModel());
+  bone->name_ = name;
+  bone->grid_ = std::move(grid);
+  bone->grid_.clearDirty();
   bone->setup_.loadMs = loadMs;
-  bone->setup_.totalMs = msSince(start);
+  bone->setup_.totalMs = loadMs;
   return bone;
 }
 
@@ -112,13 +109,7 @@ std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, c
   if (grid.countVoxels(geometry::kFillHalf) == 0) {
     throw InputError(name + ": the grid has no voxel inside (nothing to drill)");
   }
-  std::shared_ptr<BoneModel> bone(new BoneModel());
-  bone->name_ = name;
-  bone->grid_ = std::move(grid);
-  bone->grid_.clearDirty();
-  bone->setup_.loadMs = loadMs;
-  bone->setup_.totalMs = loadMs;
-  return bone;
+  return wrapGrid(std::move(grid), name, loadMs);
 }
 
 const geometry::TriangleMesh& BoneModel::headMesh() const {
@@ -206,8 +197,13 @@ Session Session::fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& o
 }
 
 Session Session::open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options) {
-  return Session(BoneModel::open(meshArgument, scaleToMm, options.voxelSizeMm, options.voxelizing, options.levels > 0),
-                 options);
+  BoneSource source;
+  source.input = meshArgument;
+  source.scale = scaleToMm;
+  source.voxelSizeMm = options.voxelSizeMm;
+  source.voxelizing = options.voxelizing;
+  source.sampleFineFills = options.levels > 0;
+  return Session(BoneModel::open(source).bone, options);
 }
 
 Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name,

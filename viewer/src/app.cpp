@@ -57,7 +57,7 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene) : options_(
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_DEPTH_BITS, 24);
   glfwWindowHint(GLFW_SAMPLES, 0);  // no multisampling: the crack metric counts exact colours
-  const std::string title = "osteon-viewer: " + scene->request().input;
+  const std::string title = "osteon-viewer: " + scene->request().bone.input;
   window_ = glfwCreateWindow(options_.width, options_.height, title.c_str(), nullptr, nullptr);
   if (!window_) {
     glfwTerminate();
@@ -88,9 +88,9 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene) : options_(
   panel_.showTool = options_.tool;
   recordTarget_ = options_.record.empty() ? timestampedRecordName() : options_.record;
   std::snprintf(panel_.recordPath, sizeof panel_.recordPath, "%s", recordTarget_.c_str());
-  std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().input.c_str());
-  panel_.openScaleToMm = scene->request().scaleToMm;
-  panel_.openVoxelMm = scene->request().voxelSizeMm.value_or(kDefaultVoxelSizeMm);
+  std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().bone.input.c_str());
+  panel_.openScaleToMm = scene->request().bone.scaleToMm();
+  panel_.openVoxelMm = scene->request().bone.voxelSizeMm.value_or(kDefaultVoxelSizeMm);
   installScene(std::move(scene), !options_.record.empty());
 }
 
@@ -127,7 +127,7 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   drillOn_ = false;
   toolView_ = {};
   panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
-  panel_.sceneName = scene_->request().input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
+  panel_.sceneName = scene_->request().bone.input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
   panel_.followsPath = scene_->path() != nullptr;
   panel_.pathDurationS = scene_->pathDurationS();
   if (recordFromStart) scene_->poseSource().recorder().start();
@@ -324,7 +324,7 @@ void App::finishReport() {
   ViewerReport& r = report_;
   r.recordedSamples = scene_->poseSource().recorder().sampleCount();
   finishRecording(true);
-  r.input = scene_->request().input;
+  r.input = scene_->request().bone.input;
   r.view = viewName(panel_.view);
   r.method = surfaceChoiceName(panel_.method);
   r.path = scene_->request().path;
