@@ -196,14 +196,21 @@ Session Session::fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& o
                  options);
 }
 
-Session Session::open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options) {
+std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
+                                                 double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
+                                                 bool sampleFineFills) {
   BoneSource source;
   source.input = meshArgument;
   source.scale = scaleToMm;
-  source.voxelSizeMm = options.voxelSizeMm;
-  source.voxelizing = options.voxelizing;
-  source.sampleFineFills = options.levels > 0;
-  return Session(BoneModel::open(source).bone, options);
+  source.voxelSizeMm = voxelSizeMm;
+  source.voxelizing = voxelizing;
+  source.sampleFineFills = sampleFineFills;
+  return open(source).bone;
+}
+
+Session Session::open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options) {
+  return Session(BoneModel::open(meshArgument, scaleToMm, options.voxelSizeMm, options.voxelizing, options.levels > 0),
+                 options);
 }
 
 Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name,

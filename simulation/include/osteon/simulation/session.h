@@ -98,6 +98,10 @@ class BoneModel {
   // From a source as front ends take it: a mesh file, `default` or a volume (bone_source.h),
   // with what it was read as. Every check of the source is made here.
   static OpenedBone open(const BoneSource& source);
+  // Convenience: open() of a mesh argument (a mesh file or `default`), scaled to mm.
+  static std::shared_ptr<const BoneModel> open(const std::string& meshArgument, double scaleToMm, double voxelSizeMm,
+                                               const geometry::VoxelizeOptions& voxelizing = {},
+                                               bool sampleFineFills = true);
   // From a saved grid: no mesh, so refined voxels split their fill evenly.
   // loadMs: how long reading the grid took, reported by setupTimings().
   static std::shared_ptr<const BoneModel> fromGrid(geometry::VoxelGrid grid, const std::string& name = "grid",
