@@ -1,7 +1,10 @@
 // `osteon experiment seed`: the seed's section 4 rerun. Force logs per run, the jitter table
 // (Markdown and JSON) and force plots in the manner of the seed's Figs. 6-8, drawn by gnuplot.
-#include "commands.h"
-#include "force_plots.h"
+#include "commands/experiment.h"
+
+#include "support/files.h"
+#include "support/force_plots.h"
+#include "support/output.h"
 
 #include "osteon/core/error.h"
 #include "osteon/core/interrupt.h"
@@ -148,7 +151,7 @@ int runExperiment(const ExperimentCommandOptions& options) {
   }
   outDir.commit();
   if (options.json) {
-    std::cout << table.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+    printJson(table);
   } else {
     std::cout << md.str() << "plots: ";
     for (const std::string& i : images) std::cout << options.outDir << "/" << i << " ";

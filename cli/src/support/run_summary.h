@@ -1,6 +1,5 @@
 // The summary.json fields every drilling run shares (drill, drill --device, replay), so the
-// three write the same names. Defined in drill.cpp; nlohmann/json stays out of this header
-// but for its forward declarations.
+// three write the same names.
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -11,7 +10,6 @@ namespace osteon::simulation {
 enum class CouplingMode;
 struct RunSummary;
 struct RuntimeStats;
-struct SetupTimings;
 class Session;
 }  // namespace osteon::simulation
 
@@ -22,20 +20,14 @@ namespace osteon::cli {
 // {p50, p99, max}, overruns, steps, the simulation's counters (non_finite_forces, ...), mode,
 // mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the session's setup_ms and peak_rss_mb
 // (setupJson).
-// --coupling as given, or its default when empty: direct for the seed's portal paths (their
-// force logs stay the seed experiment's), proxy for everything a hand drives. Throws
-// InputError naming a bad value.
-simulation::CouplingMode couplingFor(const std::string& option, bool portalPath);
-
 nlohmann::json runSummaryJson(const simulation::RunSummary& summary, const simulation::Session& session,
                               const std::string& mesh, const std::string& mode, const std::string& tool,
                               double voxelSizeMm, int levels);
 
-// `setup_ms` {load, voxelize, density, fine_fills, hierarchy, surface, total} (stages a command
-// does not run are 0), as drill, hierarchy, voxelize and mesh report their set-up.
-nlohmann::json setupJson(const simulation::SetupTimings& setup);
-// One line for the text output: "  set-up      812 ms: load 3, voxelize 410, ...; peak RSS 95 MB".
-std::string setupLine(const simulation::SetupTimings& setup, double pathMs = -1.0);
+// --coupling as given, or its default when empty: direct for the seed's portal paths (their
+// force logs stay the seed experiment's), proxy for everything a hand drives. Throws
+// InputError naming a bad value.
+simulation::CouplingMode couplingFor(const std::string& option, bool portalPath);
 
 // The empty-result rule of every drilling run (a path, a device, a recording): a run that
 // never meets bone (nothing removed, no force at any step) is marked "empty": true with its
