@@ -1,4 +1,4 @@
-// `osteon check`: the crack-free guarantees of one surface as numbers (issue: validation).
+// `osteon check`: the crack-free guarantees of one surface as numbers.
 #include "commands/check.h"
 
 #include "support/output.h"

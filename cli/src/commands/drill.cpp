@@ -117,12 +117,7 @@ sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool thr
   ro.durationS = path.durationS();
   ro.onRow = logRow;
   ro.keepLog = false;
-  sim::RuntimeResult r;
-  try {
-    r = session.runThreaded(device, nullptr, ro);
-  } catch (const sim::RuntimeFault& e) {  // one line: what failed, and where the rows logged are
-    throw sim::RuntimeFault(std::string(e.what()) + "; " + forces.abandon());
-  }
+  const sim::RuntimeResult r = runThreadedLogged(session, device, nullptr, ro, forces);
   runtime = runtimeStatsJson(r.stats);
   return r.run;
 }

@@ -116,12 +116,7 @@ DeviceOutcome drive(const DrillCommandOptions& options, sim::Session& session, d
   ro.durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
   ro.onRow = logRow;
   ro.keepLog = false;
-  sim::RuntimeResult r;
-  try {
-    r = session.runThreaded(input, &input, ro);
-  } catch (const sim::RuntimeFault& e) {  // one line: what failed, and where the rows logged are
-    throw sim::RuntimeFault(std::string(e.what()) + "; " + forces.abandon());
-  }
+  const sim::RuntimeResult r = runThreadedLogged(session, input, &input, ro, forces);
   out.run = r.run.summary;
   out.safety = input.safety().stats();
   out.extra["runtime"] = runtimeStatsJson(r.stats);

@@ -64,4 +64,13 @@ json runtimeStatsJson(const sim::RuntimeStats& st) {
           {"haptic_standby_steps", st.standbySteps}, {"realtime_priority", st.realtimeGranted}};
 }
 
+sim::RuntimeResult runThreadedLogged(sim::Session& session, sim::PoseSource& source, sim::ForceSink* sink,
+                                     const sim::RuntimeOptions& options, sim::ForceLogWriter& forces) {
+  try {
+    return session.runThreaded(source, sink, options);
+  } catch (const sim::RuntimeFault& e) {
+    throw sim::RuntimeFault(std::string(e.what()) + "; " + forces.abandon());
+  }
+}
+
 }  // namespace osteon::cli

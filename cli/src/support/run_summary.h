@@ -10,6 +10,11 @@ namespace osteon::simulation {
 enum class CouplingMode;
 struct RunSummary;
 struct RuntimeStats;
+struct RuntimeResult;
+struct RuntimeOptions;
+class ForceLogWriter;
+class ForceSink;
+class PoseSource;
 class Session;
 }  // namespace osteon::simulation
 
@@ -37,5 +42,11 @@ std::string markEmptyRun(nlohmann::json& summary, const simulation::RunSummary& 
 
 // The threaded runtime's `runtime` object: steps and overruns per thread, visual updates, ...
 nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
+
+// session.runThreaded, its rows logged by `forces`: a RuntimeFault is told in one line that
+// also says where the rows logged so far are.
+simulation::RuntimeResult runThreadedLogged(simulation::Session& session, simulation::PoseSource& source,
+                                            simulation::ForceSink* sink, const simulation::RuntimeOptions& options,
+                                            simulation::ForceLogWriter& forces);
 
 }  // namespace osteon::cli
