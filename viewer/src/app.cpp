@@ -90,7 +90,8 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene) : options_(
   std::snprintf(panel_.recordPath, sizeof panel_.recordPath, "%s", recordTarget_.c_str());
   std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().bone.input.c_str());
   panel_.openScaleToMm = scene->request().bone.scaleToMm();
-  panel_.openVoxelMm = scene->request().bone.voxelSizeMm.value_or(kDefaultVoxelSizeMm);
+  const simulation::BoneSource& bone = scene->request().bone;
+  panel_.openVoxelMm = bone.voxelSizeMm.value_or(bone.defaultVoxelSizeMm.value_or(kDefaultVoxelSizeMm));
   installScene(std::move(scene), !options_.record.empty());
 }
 
