@@ -46,6 +46,7 @@
 #include "drilling_bench.h"
 #include "drilling_machine.h"
 #include "osteon/geometry/io/humerus_model.h"
+#include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/experiment.h"
 #include "osteon/simulation/session.h"
 
@@ -133,8 +134,15 @@ int main(int argc, char** argv) {
   BenchOptions o;
   if (const int code = parseOptions(argc, argv, o); code >= 0) return code;
   const geometry::HumerusModel model = geometry::buildHumerusModel();
-  const std::shared_ptr<const BoneModel> bone12 = BoneModel::fromMesh(model.mesh, 1.2, "default");
-  const std::shared_ptr<const BoneModel> bone03 = BoneModel::fromMesh(model.mesh, 0.3, "default", 1.0, {}, false);
+  // The built-in humerus, opened as `drill default` opens it (0.3 mm: static only, no fine fills).
+  const auto openDefault = [](double voxelSizeMm, bool fineFills) {
+    BoneSource source;
+    source.voxelSizeMm = voxelSizeMm;
+    source.sampleFineFills = fineFills;
+    return BoneModel::open(source).bone;
+  };
+  const std::shared_ptr<const BoneModel> bone12 = openDefault(1.2, true);
+  const std::shared_ptr<const BoneModel> bone03 = openDefault(0.3, false);
   if (o.withMotions) motions(o, bone12, bone03);
   if (o.motionsOnly) return 0;
 

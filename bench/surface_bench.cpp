@@ -5,6 +5,7 @@
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/removal.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
@@ -389,7 +390,10 @@ BENCHMARK(BM_IncrementalSphereRemoved)->Arg(250)->ArgName("voxel_um")
 void BM_SeedTables(benchmark::State& state, const std::string& which) {
   static const TriangleMesh shared = [] {
     const std::string path = std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
-    return std::filesystem::exists(path) ? readMesh(path, 1000.0) : TriangleMesh{};
+    osteon::simulation::BoneSource source;  // in metres
+    source.input = path;
+    source.units = "m";
+    return std::filesystem::exists(path) ? osteon::simulation::loadBoneMesh(source).mesh : TriangleMesh{};
   }();
   const TriangleMesh& mesh = which == "humerus_shared" ? shared : model().mesh;
   if (mesh.triangles.empty()) {

@@ -1,6 +1,7 @@
 // Embedding osteon: drill the 5 o'clock portal of the built-in humerus for one second in the
 // deterministic mode (1 kHz) and print the peak force and the bone removed.
 #include "osteon/core/error.h"
+#include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/session.h"
 
@@ -10,12 +11,17 @@
 int main() {
   using namespace osteon::simulation;
   try {
+    // What to open: `default` is the built-in right proximal humerus, already in millimetres
+    // (a mesh file takes its units, e.g. source.units = "m"; a volume has its own voxel size).
+    BoneSource source;
+    source.input = "default";
+    source.voxelSizeMm = 1.2;  // base voxels
+    const OpenedBone bone = BoneModel::open(source);
+
     SessionOptions options;
-    options.voxelSizeMm = 1.2;  // base voxels
-    options.levels = 2;         // refined to 0.6 and 0.3 mm near the tool
+    options.levels = 2;  // refined to 0.6 and 0.3 mm near the tool
     options.tool = ToolKind::Drill;
-    // `default` is the built-in right proximal humerus, already in millimetres.
-    Session session = Session::open("default", 1.0, options);
+    Session session(bone.bone, options);
 
     PortalPathOptions pathOptions;
     pathOptions.durationS = 1.0;

@@ -39,20 +39,10 @@ void ScriptedDevice::poll(double nowS, devices::DeviceSample& sample) noexcept {
   sample.connected = true;
 }
 
-namespace {
-
-bool isCsv(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".csv";
-}
-
-}  // namespace
-
 std::unique_ptr<devices::Device> openSessionDevice(const std::string& name, const Session& session) {
   devices::DeviceOpeners extra;
   extra["scripted"] = [&session](const devices::DeviceName& n) -> std::unique_ptr<devices::Device> {
-    if (isCsv(n.argument)) return std::make_unique<ScriptedDevice>(n.text, loadPathCsv(n.argument));
+    if (isPathCsv(n.argument)) return std::make_unique<ScriptedDevice>(n.text, loadPathCsv(n.argument));
     Portal portal = Portal::FiveOClock;
     try {
       portal = parsePortal(n.argument);

@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -335,6 +337,12 @@ bool unitQuaternion(const glm::dquat& q, glm::dquat& unit) {
 }
 
 }  // namespace
+
+bool isPathCsv(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".csv";
+}
 
 DrillPath loadPathCsv(const std::string& path) {
   requireRegularFile(path, "the path file");

@@ -1,4 +1,5 @@
 #include "osteon/simulation/session.h"
+#include "osteon/simulation/bone_source.h"
 
 #include "run_recorder.h"
 
@@ -8,7 +9,6 @@
 #include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/hierarchy/fine_fill.h"
-#include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/units.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
@@ -56,14 +56,14 @@ BoneModel::~BoneModel() = default;
 
 std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
                                             double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
-                                            bool sampleFineFills) {
+                                            bool sampleFineFills, bool forSession) {
   const Clock::time_point start = Clock::now();
   std::shared_ptr<BoneModel> bone(new BoneModel());
   bone->name_ = name;
   bone->mesh_ = std::move(meshMm);
   // Refused before voxelizing when this machine cannot hold the session (it used to run for a
   // minute and die of bad_alloc); a voxel size that is no number is the voxelizer's to name.
-  if (std::isfinite(voxelSizeMm) && voxelSizeMm > 0.0) {
+  if (forSession && std::isfinite(voxelSizeMm) && voxelSizeMm > 0.0) {
     const glm::dvec3 e = geometry::bounds(*bone->mesh_).extentMm();
     std::ostringstream what;
     what << name << ": a " << e.x << " x " << e.y << " x " << e.z << " mm mesh drilled at "
@@ -75,7 +75,7 @@ std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, doubl
   }
   geometry::VoxelizeOptions vo = voxelizing;
   vo.voxelSizeMm = voxelSizeMm;
-  vo.requireInside = true;
+  vo.requireInside = forSession;
   vo.meshName = name;
   vo.loadScaleToMm = loadScaleToMm;
   geometry::VoxelizeStats stats;
@@ -102,16 +102,13 @@ std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh mesh
   return build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
 }
 
-std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
-                                                 double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
-                                                 bool sampleFineFills) {
-  const Clock::time_point start = Clock::now();
-  geometry::TriangleMesh mesh = geometry::loadMeshArgument(meshArgument, scaleToMm);
-  const double loadMs = msSince(start);
-  std::shared_ptr<BoneModel> bone =
-      build(std::move(mesh), voxelSizeMm, meshArgument, scaleToMm, voxelizing, sampleFineFills);
+std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const std::string& name, double loadMs) {
+  std::shared_ptr<BoneModel> bone(new BoneModel());
+  bone->name_ = name;
+  bone->grid_ = std::move(grid);
+  bone->grid_.clearDirty();
   bone->setup_.loadMs = loadMs;
-  bone->setup_.totalMs = msSince(start);
+  bone->setup_.totalMs = loadMs;
   return bone;
 }
 
@@ -120,13 +117,7 @@ std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, c
   if (grid.countVoxels(geometry::kFillHalf) == 0) {
     throw InputError(name + ": the grid has no voxel inside (nothing to drill)");
   }
-  std::shared_ptr<BoneModel> bone(new BoneModel());
-  bone->name_ = name;
-  bone->grid_ = std::move(grid);
-  bone->grid_.clearDirty();
-  bone->setup_.loadMs = loadMs;
-  bone->setup_.totalMs = loadMs;
-  return bone;
+  return wrapGrid(std::move(grid), name, loadMs);
 }
 
 const geometry::TriangleMesh& BoneModel::headMesh() const {
@@ -211,6 +202,18 @@ Session Session::fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& o
   return Session(BoneModel::fromMesh(std::move(meshMm), options.voxelSizeMm, name, loadScaleToMm, options.voxelizing,
                                      options.levels > 0),
                  options);
+}
+
+std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
+                                                 double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
+                                                 bool sampleFineFills) {
+  BoneSource source;
+  source.input = meshArgument;
+  source.scale = scaleToMm;
+  source.voxelSizeMm = voxelSizeMm;
+  source.voxelizing = voxelizing;
+  source.sampleFineFills = sampleFineFills;
+  return open(source).bone;
 }
 
 Session Session::open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options) {

@@ -43,7 +43,7 @@ std::string timestampedRecordName() {
 
 App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
     : options_(options),
-      window_(openWindow(options_.width, options_.height, "osteon-viewer: " + scene->request().input,
+      window_(openWindow(options_.width, options_.height, "osteon-viewer: " + scene->request().bone.input,
                          options_.frames > 0)) {  // a scripted run renders as fast as it can
   GLFWwindow* win = window_.get();
   glfwSetWindowUserPointer(win, this);
@@ -63,9 +63,10 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
   panel_.showTool = options_.tool;
   recordTarget_ = options_.record.empty() ? timestampedRecordName() : options_.record;
   std::snprintf(panel_.recordPath, sizeof panel_.recordPath, "%s", recordTarget_.c_str());
-  std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().input.c_str());
-  panel_.openScaleToMm = scene->request().scaleToMm;
-  panel_.openVoxelMm = scene->request().voxelSizeMm.value_or(kDefaultVoxelSizeMm);
+  std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().bone.input.c_str());
+  panel_.openScaleToMm = scene->request().bone.scaleToMm();
+  const simulation::BoneSource& bone = scene->request().bone;
+  panel_.openVoxelMm = bone.voxelSizeMm.value_or(bone.defaultVoxelSizeMm.value_or(kDefaultVoxelSizeMm));
   installScene(std::move(scene), !options_.record.empty());
 }
 
@@ -98,7 +99,7 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   drillOn_ = false;
   toolView_ = {};
   panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
-  panel_.sceneName = scene_->request().input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
+  panel_.sceneName = scene_->request().bone.input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
   panel_.followsPath = scene_->path() != nullptr;
   panel_.pathDurationS = scene_->pathDurationS();
   if (recordFromStart) scene_->poseSource().recorder().start();
@@ -295,7 +296,7 @@ void App::finishReport() {
   ViewerReport& r = report_;
   r.recordedSamples = scene_->poseSource().recorder().sampleCount();
   finishRecording(true);
-  r.input = scene_->request().input;
+  r.input = scene_->request().bone.input;
   r.view = viewName(panel_.view);
   r.method = surfaceChoiceName(panel_.method);
   r.path = scene_->request().path;

@@ -191,8 +191,8 @@ void App::finishRecording(bool atExit) {
   const std::size_t samples = recorder.sampleCount();
   const bool full = recorder.overflowed();
   try {
-    std::vector<std::string> inputs = {scene_->request().input};
-    if (isCsvPath(scene_->request().path)) inputs.push_back(scene_->request().path);
+    std::vector<std::string> inputs = scene_->request().bone.inputFiles();
+    if (simulation::isPathCsv(scene_->request().path)) inputs.push_back(scene_->request().path);
     geometry::refuseOverwritingInputs({recordTarget_}, inputs);
     recorder.write(recordTarget_, scene_->periodS());
     panel_.recordMessage = "wrote " + std::to_string(samples) + " samples (" + std::to_string(samples / 1000) +
@@ -207,15 +207,12 @@ void App::finishRecording(bool atExit) {
 void App::startLoading(const std::string& input) {
   if (loading_.valid() || input.empty()) return;
   LoadRequest request = scene_->request();
-  request.input = input;
   request.path.clear();  // another bone is drilled with the mouse
-  if (!(panel_.openScaleToMm > 0.0) || !(panel_.openVoxelMm > 0.0)) {
-    panel_.loadMessage = "mm per file unit and voxel mm must be positive";
-    return;
-  }
-  request.scaleToMm = panel_.openScaleToMm;
-  request.voxelSizeMm = panel_.openVoxelMm;
-  if (isGridPath(input)) request.voxelSizeMm.reset();  // a grid has its own
+  // The panel's mm per file unit and voxel mm (a grid keeps its own); BoneModel::open checks them.
+  request.bone.input = input;
+  request.bone.scale = panel_.openScaleToMm;
+  request.bone.voxelSizeMm.reset();
+  request.bone.defaultVoxelSizeMm = panel_.openVoxelMm;
   loadingName_ = input;
   panel_.loading = true;
   panel_.loadMessage = input;
@@ -231,7 +228,7 @@ void App::pollLoading() {
     panel_.loadMessage.clear();
     glfwSetWindowTitle(window_.get(), ("osteon-viewer: " + loadingName_).c_str());
   } catch (const InputError& e) {
-    panel_.loadMessage = e.what();
+    panel_.loadMessage = simulation::commandLineMessage(e);
   } catch (const std::bad_alloc&) {
     panel_.loadMessage = loadingName_ + ": out of memory (a larger --voxel-size needs less)";
   } catch (const std::exception& e) {

@@ -113,16 +113,17 @@ int main(int argc, char** argv) {
   std::unique_ptr<viewer::Scene> scene;
   try {
     // Everything about the input is settled before a window opens.
-    options.load.input = input;
-    options.load.scaleToMm = viewer::scaleToMmFrom(units, scale);
-    options.load.voxelSizeMm = voxelSize;
+    options.load.bone.input = input;
+    options.load.bone.units = units.value_or("mm");
+    options.load.bone.scale = scale;
+    options.load.bone.voxelSizeMm = voxelSize;
     options.load.levels = levels;
     options.load.tool = osteon::simulation::parseToolKind(tool);
     options.load.path = path;
     options.load.device = device;
-    options.load.label = label;
-    options.load.isoHu = isoHu;
-    options.load.allowOutsideData = allowOutsideData;
+    options.load.bone.volume.label = label;
+    options.load.bone.volume.isoHu = isoHu;
+    options.load.bone.volume.allowOutsideData = allowOutsideData;
     if (!coupling.empty()) options.load.coupling = osteon::simulation::parseCouplingMode(coupling);
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);
@@ -137,7 +138,7 @@ int main(int argc, char** argv) {
     viewer::validateOptions(options);
     scene = viewer::Scene::load(options.load);
   } catch (const osteon::InputError& e) {
-    return fail(kExitBadInput, e.what());
+    return fail(kExitBadInput, osteon::simulation::commandLineMessage(e));
   } catch (const std::bad_alloc&) {
     return fail(kExitBadInput, "out of memory: the input needs more memory than this machine has (a larger "
                                "--voxel-size needs less)");

@@ -1,11 +1,8 @@
 #include "options.h"
 
 #include "osteon/core/error.h"
-#include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/output_file.h"
-#include "osteon/geometry/io/units.h"
-#include "osteon/geometry/io/nrrd_io.h"
-#include "osteon/geometry/io/volume_io.h"
+#include "osteon/simulation/path.h"
 
 #include <algorithm>
 #include <cctype>
@@ -75,29 +72,9 @@ void parseWindowSize(const std::string& text, int& width, int& height) {
   height = h;
 }
 
-double scaleToMmFrom(const std::optional<std::string>& units, const std::optional<double>& scale) {
-  if (scale) {
-    if (!std::isfinite(*scale) || *scale <= 0.0) {
-      std::ostringstream s;
-      s << "--scale " << *scale << ": must be a positive finite number";
-      throw InputError(s.str());
-    }
-    return *scale;
-  }
-  return geometry::millimetresPer(geometry::parseLengthUnit(units.value_or("mm")));
-}
-
-bool isGridPath(const std::string& path) { return geometry::isVolumePath(path); }
-
-bool isCsvPath(const std::string& path) { return lowerExtension(path) == ".csv"; }
-
 void validateOptions(const ViewerOptions& options) {
   const LoadRequest& load = options.load;
-  if (load.voxelSizeMm && !(std::isfinite(*load.voxelSizeMm) && *load.voxelSizeMm > 0.0)) {
-    std::ostringstream s;
-    s << "--voxel-size " << *load.voxelSizeMm << ": must be a positive number of mm";
-    throw InputError(s.str());
-  }
+  load.bone.check();
   if (load.levels < 0 || load.levels > 2) {
     throw InputError("--levels " + std::to_string(load.levels) + ": must be 0, 1 or 2");
   }
@@ -124,19 +101,11 @@ void validateOptions(const ViewerOptions& options) {
   if (!options.screenshot.empty() && lowerExtension(options.screenshot) != ".png") {
     throw InputError("--screenshot " + options.screenshot + ": must be a .png file");
   }
-  if (!options.record.empty() && !isCsvPath(options.record)) {
+  if (!options.record.empty() && !simulation::isPathCsv(options.record)) {
     throw InputError("--record " + options.record + ": must be a .csv file");
   }
-  if ((load.label || load.isoHu) && !isGridPath(load.input)) {
-    throw InputError(std::string(load.label ? "--label" : "--iso") + ": only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " +
-                     load.input + " is a mesh");
-  }
-  std::vector<std::string> inputs;
-  if (load.input != geometry::kDefaultModelArgument) {
-    inputs.push_back(load.input);
-    if (isGridPath(load.input)) inputs.push_back(geometry::densityPathFor(load.input));
-  }
-  if (isCsvPath(load.path)) inputs.push_back(load.path);
+  std::vector<std::string> inputs = load.bone.inputFiles();
+  if (simulation::isPathCsv(load.path)) inputs.push_back(load.path);
   std::vector<std::string> outputs;
   for (const std::string& out : {options.screenshot, options.record}) {
     if (!out.empty()) outputs.push_back(out);

@@ -4,6 +4,7 @@
 
 #include "camera.h"
 
+#include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/coupling.h"
 #include "osteon/simulation/tool.h"
 
@@ -31,22 +32,25 @@ SurfaceChoice parseSurfaceChoice(const std::string& text);
 AxisView parseAxisView(const std::string& text);
 
 // What a bone is opened from (the command line, the File panel, a dropped file).
+inline constexpr double kDefaultVoxelSizeMm = 1.2;
+
 struct LoadRequest {
-  std::string input = "default";        // a mesh file, `default`, or a volume (.nrrd .nhdr .nii .nii.gz)
-  double scaleToMm = 1.0;               // mesh coordinates to millimetres
-  std::optional<double> voxelSizeMm;    // a mesh without it is voxelized at kDefaultVoxelSizeMm
+  // A mesh file, `default`, or a volume, with its units, voxel size and meaning; a mesh without
+  // a voxel size is voxelized at kDefaultVoxelSizeMm.
+  simulation::BoneSource bone = defaultBone();
   int levels = 2;                       // 0 static, 1 or 2 refined near the tool
   simulation::ToolKind tool = simulation::ToolKind::Drill;
   std::string path;                     // "" (the mouse), portal-5, portal-7 or a PATH.csv
   std::string device;                   // "" (the mouse or the path), or a device name (docs/devices.md)
-  std::optional<std::uint64_t> label;   // label maps: the bone label (default: all but the background)
-  std::optional<double> isoHu;          // CTs: the bone threshold (default 300 HU)
-  bool allowOutsideData = false;        // NRRD: a `data file:` may lie outside the header's folder
   // --coupling; unset: direct for portal paths, proxy for the mouse, devices and CSV paths.
   std::optional<simulation::CouplingMode> coupling;
-};
 
-inline constexpr double kDefaultVoxelSizeMm = 1.2;
+  static simulation::BoneSource defaultBone() {
+    simulation::BoneSource bone;
+    bone.defaultVoxelSizeMm = kDefaultVoxelSizeMm;
+    return bone;
+  }
+};
 
 struct ViewerOptions {
   LoadRequest load;
@@ -67,17 +71,9 @@ struct ViewerOptions {
 // Parses "WxH" (e.g. 1280x800), each 64..8192; throws InputError naming the value otherwise.
 void parseWindowSize(const std::string& text, int& width, int& height);
 
-// Millimetres per file unit from --units or --scale; throws InputError for bad values.
-double scaleToMmFrom(const std::optional<std::string>& units, const std::optional<double>& scale);
-
-// True for a volume (an osteon grid, a label map or a CT: .nrrd .nhdr .nii .nii.gz), which
-// has its own voxel size.
-bool isGridPath(const std::string& path);
-// True when a --path argument names a CSV file rather than a portal.
-bool isCsvPath(const std::string& path);
-
-// Everything that can be refused without loading: voxel size, levels, frame count, zoom, outputs
-// that would overwrite an input. Throws InputError "<value>: <reason>".
+// Everything that can be refused without loading: the bone's options (BoneSource::check),
+// levels, frame count, zoom, outputs that would overwrite an input. Throws InputError
+// "<value>: <reason>" (the bone's options named by their flags).
 void validateOptions(const ViewerOptions& options);
 
 }  // namespace osteon::viewer

@@ -2,10 +2,6 @@
 
 #include "osteon/core/error.h"
 #include "osteon/core/timing.h"
-#include "osteon/geometry/io/volume_io.h"
-
-#include <cmath>
-#include <sstream>
 
 namespace osteon::viewer {
 
@@ -13,28 +9,10 @@ namespace sim = osteon::simulation;
 
 namespace {
 
-std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim::SessionOptions& base) {
-  sim::SessionOptions options = base;
-  if (isGridPath(request.input)) {
-    geometry::VolumeOptions volume;
-    volume.label = request.label;
-    volume.isoHu = request.isoHu;
-    volume.allowOutsideData = request.allowOutsideData;
-    const Clock::time_point start = Clock::now();
-    geometry::VolumeLoad read = geometry::loadVolume(request.input, volume);
-    const double loadMs = msSince(start);  // the session's set-up timings report it
-    const double vs = read.grid.voxelSizeMm();
-    if (request.voxelSizeMm && std::abs(*request.voxelSizeMm - vs) > 1e-9 * *request.voxelSizeMm) {
-      std::ostringstream s;
-      s << "--voxel-size " << *request.voxelSizeMm << ": " << request.input << " has voxels of " << vs
-        << " mm (omit --voxel-size for a grid)";
-      throw InputError(s.str());
-    }
-    options.voxelSizeMm = vs;
-    return std::make_unique<sim::Session>(sim::Session::fromGrid(std::move(read.grid), options, request.input, loadMs));
-  }
-  options.voxelSizeMm = request.voxelSizeMm.value_or(kDefaultVoxelSizeMm);
-  return std::make_unique<sim::Session>(sim::Session::open(request.input, request.scaleToMm, options));
+std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim::SessionOptions& options) {
+  sim::BoneSource source = request.bone;
+  source.sampleFineFills = options.levels > 0;
+  return std::make_unique<sim::Session>(sim::BoneModel::open(source).bone, options);
 }
 
 // Without a path: aimed at the humeral head as the 5 o'clock portal starts (clear of the bone),
@@ -63,7 +41,7 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   scene->request_ = request;
   // What can be refused cheaply is refused first.
   std::optional<sim::Portal> portal;
-  if (isCsvPath(request.path)) {
+  if (sim::isPathCsv(request.path)) {
     scene->path_ = sim::loadPathCsv(request.path);
   } else if (!request.path.empty()) {
     portal = sim::parsePortal(request.path);

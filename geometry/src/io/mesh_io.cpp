@@ -8,6 +8,7 @@
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/io/units.h"
 #include "preflight.h"
 
 #include <algorithm>
@@ -80,11 +81,7 @@ void checkScaledCoordinates(const TriangleMesh& mesh, const std::string& name, d
 }
 
 TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* info) {
-  if (!std::isfinite(scaleToMm) || scaleToMm <= 0.0) {
-    std::ostringstream s;
-    s << "--scale " << scaleToMm << ": must be a positive finite number";
-    throw InputError(s.str());
-  }
+  resolveScaleToMm("mm", scaleToMm);
   requireInputFile(path);
   std::error_code ec;
   const MeshFormat format = meshFormatFromPath(path);

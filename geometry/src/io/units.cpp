@@ -1,6 +1,6 @@
 #include "osteon/geometry/io/units.h"
 
-#include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 
 #include <cmath>
 #include <sstream>
@@ -22,7 +22,17 @@ LengthUnit parseLengthUnit(const std::string& text) {
   if (text == "cm") return LengthUnit::Centimetre;
   if (text == "m") return LengthUnit::Metre;
   if (text == "in") return LengthUnit::Inch;
-  throw InputError("--units " + text + ": unknown unit (expected mm, cm, m or in)");
+  throw OptionError("units", text, "unknown unit (expected mm, cm, m or in)");
+}
+
+double resolveScaleToMm(const std::string& units, const std::optional<double>& scale) {
+  if (!scale) return millimetresPer(parseLengthUnit(units));
+  if (!std::isfinite(*scale) || *scale <= 0.0) {
+    std::ostringstream s;
+    s << *scale;
+    throw OptionError("scale", s.str(), "must be a positive finite number");
+  }
+  return *scale;
 }
 
 const char* unitName(LengthUnit unit) {

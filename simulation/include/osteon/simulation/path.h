@@ -114,5 +114,7 @@ PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry
 // of travel), optionally after a UTF-8 byte order mark. Times from 0 to kMaxPathDurationS.
 // Throws InputError naming the file and line for anything else.
 DrillPath loadPathCsv(const std::string& path);
+// True when a path argument names a CSV file (its extension, any case) rather than a portal.
+bool isPathCsv(const std::string& path);
 
 }  // namespace osteon::simulation

@@ -5,7 +5,7 @@
 // caller. Move-only; moving keeps every internal reference valid.
 //
 //   Session s = Session::open("default", 1.0, SessionOptions{});   // 1.2 mm, 2 levels, drill
-//   (or: auto bone = BoneModel::open(...); Session a(bone, options), b(bone, options);)
+//   (or: auto bone = BoneModel::open(source).bone; Session a(bone, options), b(bone, options);)
 //   const DrillPath path = s.portalPath(Portal::FiveOClock).path;
 //   RunResult r = s.run(path);                                     // deterministic, 1 kHz
 //   const geometry::SurfaceMesh& bone = s.surface();
@@ -36,6 +36,9 @@ class FineFillSource;
 }  // namespace osteon::geometry
 
 namespace osteon::simulation {
+
+struct BoneSource;  // bone_source.h
+struct OpenedBone;
 
 struct SessionOptions {
   // The bone (used by the convenience constructors, which build a BoneModel).
@@ -92,7 +95,10 @@ class BoneModel {
                                                    const std::string& name = "mesh", double loadScaleToMm = 1.0,
                                                    const geometry::VoxelizeOptions& voxelizing = {},
                                                    bool sampleFineFills = true);
-  // From a mesh argument as commands take it: a mesh file or `default`, scaled to mm.
+  // From a source as front ends take it: a mesh file, `default` or a volume (bone_source.h),
+  // with what it was read as. Every check of the source is made here.
+  static OpenedBone open(const BoneSource& source);
+  // Convenience: open() of a mesh argument (a mesh file or `default`), scaled to mm.
   static std::shared_ptr<const BoneModel> open(const std::string& meshArgument, double scaleToMm, double voxelSizeMm,
                                                const geometry::VoxelizeOptions& voxelizing = {},
                                                bool sampleFineFills = true);
@@ -120,9 +126,11 @@ class BoneModel {
 
  private:
   BoneModel() = default;
+  // forSession: refuse a bone with no voxel inside, or past this machine's memory for a session.
   static std::shared_ptr<BoneModel> build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
                                           double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
-                                          bool sampleFineFills);
+                                          bool sampleFineFills, bool forSession = true);
+  static std::shared_ptr<BoneModel> wrapGrid(geometry::VoxelGrid grid, const std::string& name, double loadMs);
   std::string name_;
   SetupTimings setup_;
   std::optional<geometry::TriangleMesh> mesh_;
@@ -142,7 +150,8 @@ class Session {
  public:
   // Drills a fresh copy of `bone` (options.voxelSizeMm and voxelizing are the bone's own).
   Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options);
-  // Convenience: the bone made from a mesh, a mesh argument or a grid, then the session.
+  // Convenience: the bone made from a mesh, a mesh argument (BoneModel::open) or a grid, then
+  // the session.
   static Session fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options,
                           const std::string& name = "mesh", double loadScaleToMm = 1.0);
   static Session open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options);

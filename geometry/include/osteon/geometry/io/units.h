@@ -2,6 +2,7 @@
 // file (or a scale) and never guesses.
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace osteon::geometry {
@@ -11,8 +12,13 @@ enum class LengthUnit { Millimetre, Centimetre, Metre, Inch };
 // Millimetres in one unit: 1, 10, 1000, 25.4.
 double millimetresPer(LengthUnit unit);
 
-// Parses "mm", "cm", "m", "in"; throws InputError naming the value otherwise.
+// Parses "mm", "cm", "m", "in"; throws OptionError (field "units") naming the value otherwise.
 LengthUnit parseLengthUnit(const std::string& text);
+
+// Millimetres per coordinate of a mesh: `scale` when given, else the unit's. The one check of
+// both: throws OptionError "scale 0: must be a positive finite number" (field "scale") or the
+// unit's.
+double resolveScaleToMm(const std::string& units, const std::optional<double>& scale = std::nullopt);
 
 const char* unitName(LengthUnit unit);
 

@@ -1,6 +1,8 @@
 // `osteon validate --merge`: the reports of a run's shards (`--shard K/N`) as the one report
 // the whole run writes, after checking that they are one run.
-#include "validate_report.h"
+#include "commands/validate_report.h"
+
+#include "support/files.h"
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_dir.h"
@@ -182,20 +184,8 @@ std::string shardLog(const std::string& dir) {
   return bytes;
 }
 
-}  // namespace
-
-// --merge: the shards' reports as one, as the whole run would have written it.
-int runValidateMerge(const ValidateCommandOptions& options) {
-  namespace fs = std::filesystem;
-  if (!options.runOptionsGiven.empty()) {
-    throw InputError("--merge: " + options.runOptionsGiven.front() +
-                     " is an option of a run, not of a merge (each shard's report holds its run's options)");
-  }
-  const json old = options.compare.empty() ? json() : readComparable(options.compare);
-  std::vector<ShardReport> shards;
-  for (const std::string& dir : options.merge) shards.push_back(readShard(dir, dir + "/report.json"));
-
-  // One run: the same osteon, options, shard count and case list in every report.
+// One run: the same osteon, options, shard count and case list in every report.
+void checkSameRun(const std::vector<ShardReport>& shards) {
   const ShardReport& first = shards.front();
   for (const ShardReport& s : shards) {
     const std::string pair = first.dir + " and " + s.dir;
@@ -215,6 +205,11 @@ int runValidateMerge(const ValidateCommandOptions& options) {
       throw InputError("--merge: " + pair + " are shards of different runs (their options differ)");
     }
   }
+}
+
+// The shards in index order: each once, none missing.
+std::vector<const ShardReport*> shardsByIndex(const std::vector<ShardReport>& shards) {
+  const ShardReport& first = shards.front();
   // Each shard once. A map, not a table of N: N may be as large as --shard takes.
   std::map<std::size_t, const ShardReport*> slots;
   for (const ShardReport& s : shards) {
@@ -241,8 +236,13 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   }
   std::vector<const ShardReport*> byIndex;
   for (const auto& slot : slots) byIndex.push_back(slot.second);
+  return byIndex;
 
-  // Every case of the run in exactly one shard, then in the run's order.
+}
+
+// Every case of the run in exactly one shard, then in the run's order.
+json mergedCases(const std::vector<ShardReport>& shards) {
+  const ShardReport& first = shards.front();
   std::map<std::string, const json*> caseOf;
   std::map<std::string, std::string> dirOf;
   for (const ShardReport& s : shards) {
@@ -261,7 +261,12 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   }
   if (cases.size() != caseOf.size()) throw InputError("--merge: a shard holds a case outside its run's case list");
 
-  // Outputs: never into a shard's own folder, never over an input.
+  return cases;
+}
+
+// Outputs: never into a shard's own folder, never over an input.
+void refuseMergeOutputs(const ValidateCommandOptions& options, const std::vector<ShardReport>& shards) {
+  namespace fs = std::filesystem;
   std::vector<std::string> inputs{options.compare};
   for (const ShardReport& s : shards) {
     std::error_code ec;
@@ -274,6 +279,26 @@ int runValidateMerge(const ValidateCommandOptions& options) {
   geometry::refuseOverwritingInputs({options.outDir + "/report.json", options.outDir + "/report.html",
                                      options.outDir + "/validate.log"}, inputs);
   for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
+}
+
+}  // namespace
+
+// --merge: the shards' reports as one, as the whole run would have written it.
+int runValidateMerge(const ValidateCommandOptions& options) {
+  namespace fs = std::filesystem;
+  if (!options.runOptionsGiven.empty()) {
+    throw InputError("--merge: " + options.runOptionsGiven.front() +
+                     " is an option of a run, not of a merge (each shard's report holds its run's options)");
+  }
+  const json old = options.compare.empty() ? json() : readComparable(options.compare);
+  std::vector<ShardReport> shards;
+  for (const std::string& dir : options.merge) shards.push_back(readShard(dir, dir + "/report.json"));
+
+  const ShardReport& first = shards.front();
+  checkSameRun(shards);
+  const std::vector<const ShardReport*> byIndex = shardsByIndex(shards);
+  const json cases = mergedCases(shards);
+  refuseMergeOutputs(options, shards);
   // What each shard brings, checked before anything is written.
   std::vector<std::vector<std::string>> files;
   std::vector<std::string> logs;

@@ -1,38 +1,17 @@
-// `osteon validate`: the nightly run and its report (report.json with a stable schema,
-// report.html, validate.log, crack images), or a shard of the run (--shard K/N); merging the
-// shards' reports is validate_merge.cpp.
-#include "validate_report.h"
-
-#include "commands.h"
-#include "force_plots.h"
+// report.json and report.html of `osteon validate` (a run or a merge of shards): the cases as
+// JSON, the environment, regressions against an older report, the HTML page.
+#include "commands/validate_report.h"
 
 #include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
 #include "osteon/geometry/io/library_versions.h"
-#include "osteon/geometry/io/mesh_source.h"
-#include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
-#include "osteon/geometry/io/volume_io.h"
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/simulation/runner.h"
 #include "osteon/validation/library_versions.h"
-#include "osteon/validation/shard.h"
-#include "osteon/validation/validate.h"
 
-#include <nlohmann/json.hpp>
-
-#include <algorithm>
-#include <cctype>
-#include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <ctime>
-#include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
+#include <iomanip>
 #include <map>
 #include <set>
 #include <sstream>
@@ -47,35 +26,6 @@ namespace val = osteon::validation;
 
 namespace {
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream s(text);
-  std::string item;
-  while (std::getline(s, item, ',')) {
-    if (!item.empty()) items.push_back(item);
-  }
-  return items;
-}
-
-std::vector<double> parseVoxelSizes(const std::string& text) {
-  std::vector<double> sizes;
-  for (const std::string& item : splitList(text)) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != item.size() || !(v >= 0.1 && v <= 10.0)) {
-      throw InputError("--voxel-sizes " + text + ": '" + item + "' is not a voxel size in 0.1..10 mm");
-    }
-    sizes.push_back(v);
-  }
-  if (sizes.empty()) throw InputError("--voxel-sizes " + text + ": no voxel size given");
-  return sizes;
-}
-
 json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
   return {{"border_edges", r.topology.borderEdges},
           {"non_manifold", r.topology.nonManifoldEdges + r.topology.nonManifoldVertices},
@@ -87,6 +37,8 @@ json surfaceJson(const val::MeshReport& r, const val::CrackMetric& c) {
           {"crack_percent", c.crackPercent()},
           {"red_pixels", c.red}};
 }
+
+}  // namespace
 
 json caseJson(const val::ValidationCase& c) {
   std::uint64_t misses = 0, falseContacts = 0, checked = 0, nonFinite = 0, rays = 0, missedSamples = 0;
@@ -177,6 +129,8 @@ json environmentJson() {
 
 // Regressions against an older report: a case that passed and fails, or a crack-free metric
 // that got worse (counts up at all; distances and jitter by more than 10 %).
+namespace {
+
 json compareReports(const json& now, const json& old) {
   std::map<std::string, const json*> before;
   for (const json& c : old["cases"]) before[caseKey(c)] = &c;
@@ -313,49 +267,6 @@ void writeHtml(const std::string& path, const json& report, const std::vector<st
 // digits, '.', '-', '_'), plus a short hash of its argument when two models would share it
 // (default and big/default.obj), so no model's logs overwrite another's. The same --models
 // give the same names in every shard of a run.
-std::map<std::string, std::string> modelFileNames(const std::vector<std::string>& models) {
-  std::map<std::string, std::string> stemOf;
-  std::map<std::string, std::set<std::string>> argumentsOf;
-  for (const std::string& model : models) {
-    std::string stem;
-    for (const char ch : std::filesystem::path(model).stem().string()) {
-      stem += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-' || ch == '_' ? ch : '_';
-    }
-    if (stem.empty()) stem = "model";
-    stemOf[model] = stem;
-    argumentsOf[stem].insert(model);
-  }
-  std::map<std::string, std::string> names;
-  for (const auto& [model, stem] : stemOf) {
-    if (argumentsOf[stem].size() == 1) {
-      names[model] = stem;
-      continue;
-    }
-    std::uint32_t hash = 2166136261u;  // FNV-1a: stable across runs, machines and shards
-    for (const char ch : model) hash = (hash ^ static_cast<unsigned char>(ch)) * 16777619u;
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, "-%08x", hash);
-    names[model] = stem + suffix;
-  }
-  return names;
-}
-
-// --shard K/N: whole decimal numbers, K counted from 0 (as a Slurm array's task ids).
-std::pair<std::size_t, std::size_t> parseShard(const std::string& text) {
-  const auto bad = [&](const std::string& why) { return InputError("--shard " + text + ": " + why); };
-  const std::size_t slash = text.find('/');
-  const auto whole = [](const std::string& t) {
-    return !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
-  };
-  if (slash == std::string::npos || !whole(text.substr(0, slash)) || !whole(text.substr(slash + 1))) {
-    throw bad("not K/N with whole numbers, K counted from 0 (0/4 .. 3/4)");
-  }
-  const std::size_t k = std::stoul(text.substr(0, slash)), n = std::stoul(text.substr(slash + 1));
-  if (n == 0) throw bad("N must be at least 1");
-  if (k >= n) throw bad("K must be below N (shards are counted from 0: 0.." + std::to_string(n - 1) + ")");
-  return {k, n};
-}
-
 }  // namespace
 
 void writeReport(json& j, const ValidateCommandOptions& options, const json& old, const std::vector<std::string>& images) {
@@ -380,197 +291,5 @@ int printVerdict(const json& j, const std::string& outDir) {
   return j["verdict"] == "PASS" ? kExitOk : kExitCheckFailed;
 }
 
-
-int runValidate(const ValidateCommandOptions& options) {
-  if (!options.merge.empty()) return runValidateMerge(options);
-  // Plain values, not an optional pair: GCC's -Wmaybe-uninitialized misreads the latter.
-  const bool sharded = !options.shard.empty();
-  const auto [shardIndex, shardCount] = sharded ? parseShard(options.shard) : std::pair<std::size_t, std::size_t>{0, 1};
-  // Sizes given with --quick replace its 1.2 mm; given or not, they are checked.
-  const std::vector<double> parsedSizes = parseVoxelSizes(options.voxelSizes);
-  const std::vector<double> sizes =
-      options.quick && !options.voxelSizesGiven ? std::vector<double>{1.2} : parsedSizes;
-  const std::vector<std::string> names = splitList(options.models);
-  if (names.empty()) throw InputError("--models " + options.models + ": no model given");
-  const json old = options.compare.empty() ? json() : readComparable(options.compare);
-  std::vector<std::string> inputs;
-  for (const std::string& name : names) inputs.push_back(inputFile(name));
-  inputs.push_back(options.compare);
-  const std::string reportJsonPath = options.outDir + "/report.json";
-  const std::string reportHtmlPath = options.outDir + "/report.html";
-  const std::string logPath = options.outDir + "/validate.log";
-  geometry::refuseOverwritingInputs({reportJsonPath, reportHtmlPath, logPath}, inputs);
-  for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
-  // The report, the log, the force logs, plots and images are one set, put in place together
-  // when the run is complete (output_dir.h).
-  geometry::OutputDir outDir(options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
-  std::error_code ec;
-  std::filesystem::create_directories(options.outDir + "/images", ec);
-  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
-  const std::map<std::string, std::string> fileNameOf = modelFileNames(names);
-  std::vector<val::ValidationModel> models;
-  const double scale = scaleToMm(options.units);
-  for (const std::string& name : names) {
-    if (geometry::isVolumePath(name)) {
-      // Its own voxel size, every non-background label or 300 HU (`osteon mesh VOLUME` says what it holds).
-      models.emplace_back();
-      models.back().name = name;
-      geometry::VolumeOptions volumeOptions;
-      volumeOptions.allowOutsideData = options.allowOutsideData;
-      models.back().volume = std::move(geometry::loadVolume(name, volumeOptions).grid);
-      if (models.back().volume->countVoxels(geometry::kFillHalf) == 0) {
-        throw InputError(name + ": no voxel inside (nothing to validate)");
-      }
-    } else {
-      models.emplace_back();
-      models.back().name = name;
-      models.back().mesh = geometry::loadMeshArgument(name, scale);
-      models.back().loadScaleToMm = scale;
-    }
-  }
-
-  val::ValidationOptions vo;
-  vo.voxelSizesMm = sizes;
-  vo.crackPixels = options.quick ? 256 : 512;
-  vo.checkEverySteps = options.quick ? 25 : 10;
-  geometry::OutputFile logFile(logPath);
-  std::ofstream log(logFile.tempPath());
-  const auto started = std::chrono::system_clock::now();
-  const std::time_t startedT = std::chrono::system_clock::to_time_t(started);
-  char startedText[32];
-  std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
-  // A shard runs the case groups assigned to it (shard.h); every shard computes the same split.
-  const std::vector<val::CaseGroup> groups = val::caseGroups(models, vo);
-  std::vector<bool> ownGroup(groups.size(), true);
-  const std::vector<std::string> runKeys = val::caseKeys(models, groups);
-  if (sharded) {
-    // A merge finds each case by its key, so a model or voxel size given twice cannot be split.
-    std::set<std::string> unique;
-    for (const std::string& key : runKeys) {
-      if (!unique.insert(key).second) {
-        throw InputError("--shard " + options.shard + ": case " + key + " comes twice (a model or voxel size given twice)");
-      }
-    }
-    std::vector<double> costs;
-    for (const val::CaseGroup& g : groups) costs.push_back(g.cost);
-    const std::vector<std::size_t> shardOf = val::assignShards(costs, shardCount);
-    vo.groups.emplace();
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      ownGroup[g] = shardOf[g] == shardIndex;
-      if (ownGroup[g]) vo.groups->push_back(g);
-    }
-  }
-  std::size_t done = 0;
-  const std::size_t total = static_cast<std::size_t>(std::count(ownGroup.begin(), ownGroup.end(), true)) *
-                            val::kCasesPerGroup;
-  // Force logs of the crack-free runs, for the plots: forces/<model>_<voxel>_<mode>_<portal>.csv.
-  std::filesystem::create_directories(options.outDir + "/forces");
-  std::map<std::string, std::vector<ForceSeries>> plotGroups;  // model, voxel size, portal -> runs
-  const val::ValidationReport report = val::runValidation(models, vo, [&](const val::ValidationCase& c) {
-    throwIfInterrupted();  // a case cut short by SIGINT/SIGTERM: the run ends, nothing put in place
-    if (c.method == geometry::SurfaceMethod::CrackFree) {
-      for (const val::PortalRun& p : c.portals) {
-        std::ostringstream stem, group;
-        stem << "forces/" << fileNameOf.at(c.model) << "_" << c.voxelSizeMm << "mm_" << val::forceModeName(c.mode)
-             << "_" << p.portal << ".csv";
-        group << fileNameOf.at(c.model) << ", VS = " << c.voxelSizeMm << " mm, " << p.portal;
-        simulation::writeForceLog(p.collisions.run.log, options.outDir + "/" + stem.str());
-        std::ostringstream label;
-        const bool still = c.mode == val::ForceMode::Static;
-        label << val::forceModeName(c.mode) << (still ? " " : " 2 levels, ") << c.voxelSizeMm / (still ? 1.0 : 4.0)
-              << " mm";
-        plotGroups[group.str()].push_back({options.outDir + "/" + stem.str(), label.str(), still ? 1.2 : 1.6});
-      }
-    }
-    std::ostringstream line;
-    line << "[" << ++done << "/" << total << "] " << c.model << " " << c.voxelSizeMm << " mm " << geometry::surfaceMethodName(c.method) << " "
-         << val::forceModeName(c.mode) << ": ";
-    if (c.method == geometry::SurfaceMethod::Naive) {
-      line << (c.pass() ? "baseline keeps the guarantees (unexpected)" : "baseline breaks the guarantees, as expected");
-    } else {
-      line << (c.pass() ? "pass" : "FAIL");
-    }
-    for (const std::string& f : c.failures) line << "; " << f;
-    std::cout << line.str() << "\n" << std::flush;
-    log << line.str() << "\n" << std::flush;
-  });
-
-  // Crack views of each model's surfaces at the first voxel size, before drilling; in a shard,
-  // of the models whose first group it runs.
-  std::vector<bool> ownImages(models.size(), false);
-  for (std::size_t g = groups.size(); g-- > 0;) ownImages[groups[g].model] = ownGroup[g];
-  std::vector<std::string> images;
-  for (const val::ValidationModel& m : models) {
-    if (!ownImages[static_cast<std::size_t>(&m - models.data())]) continue;
-    geometry::VoxelizeOptions gv;
-    gv.voxelSizeMm = sizes.front();
-    gv.requireInside = true;
-    gv.meshName = m.name;
-    gv.loadScaleToMm = m.loadScaleToMm;
-    const geometry::VoxelGrid grid = m.volume ? *m.volume : geometry::voxelize(m.mesh, gv);
-    for (const char* method : {"crackfree", "naive"}) {
-      geometry::SurfaceOptions so;
-      so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;
-      val::CrackMetricOptions co;
-      co.pixels = 256;
-      co.keepImages = true;
-      const std::string dir = options.outDir + "/images/" + std::to_string(&m - models.data()) + "_" + method;
-      std::filesystem::create_directories(dir);
-      for (const std::string& p : val::writeCrackImages(val::measureCracks(geometry::extractSurface(grid, so).toTriangleMesh(), co), dir)) {
-        images.push_back(std::filesystem::relative(p, options.outDir).string());
-      }
-    }
-  }
-
-  // Static against dynamic per model, voxel size and portal, as the seed's Figs. 6-8.
-  std::vector<ForceFigure> figures;
-  std::vector<std::string> plots;
-  std::filesystem::create_directories(options.outDir + "/plots");
-  for (const auto& [group, series] : plotGroups) {
-    std::string name;  // the title, as a file name
-    for (const char ch : group) {
-      if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-') name += ch;
-      else if (!name.empty() && name.back() != '_') name += '_';
-    }
-    figures.push_back({options.outDir + "/plots/" + name + ".png", group + ": static and dynamic voxels", series});
-    plots.push_back("plots/" + name + ".png");
-  }
-  if (!figures.empty()) drawForcePlots(figures, options.outDir + "/plots/plots.gp");
-  std::sort(plots.begin(), plots.end());  // as a merge lists the shards' plots
-
-  json cases = json::array();
-  for (const val::ValidationCase& c : report.cases) cases.push_back(caseJson(c));
-  const double seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
-  json j = {{"schema", "osteon-validate/1"},
-            {"started", startedText},
-            {"seconds", seconds},
-            {"osteon_version", OSTEON_VERSION},
-            {"options", {{"models", names}, {"voxel_sizes_mm", sizes}, {"quick", options.quick},
-                         {"crack_pixels", vo.crackPixels}, {"collision_check_every_steps", vo.checkEverySteps}}},
-            {"environment", environmentJson()},
-            {"cases", cases},
-            {"plots", plots},
-            {"regressions", json::array()}};
-  if (sharded) {
-    // The whole run's case list, so a merge can tell shards of one run from shards of another.
-    const std::vector<std::string>& keys = runKeys;
-    json own = json::array();
-    double cost = 0.0, totalCost = 0.0;
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      totalCost += groups[g].cost;
-      if (!ownGroup[g]) continue;
-      cost += groups[g].cost;
-      for (int k = 0; k < val::kCasesPerGroup; ++k) own.push_back(keys[g * val::kCasesPerGroup + k]);
-    }
-    j["shard"] = {{"index", shardIndex}, {"count", shardCount}, {"case_list", keys}, {"cases", own},
-                  {"estimated_cost", cost}, {"run_estimated_cost", totalCost}};
-  }
-  writeReport(j, options, old, images);
-  log.close();
-  if (!log) throw InputError(logPath + ": writing failed (disk full or not writable?)");
-  logFile.commit();
-  outDir.commit();
-  return printVerdict(j, options.outDir);
-}
 
 }  // namespace osteon::cli

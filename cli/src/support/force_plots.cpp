@@ -1,4 +1,4 @@
-#include "force_plots.h"
+#include "support/force_plots.h"
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_dir.h"

@@ -1,7 +1,9 @@
 // `osteon devices list` and `osteon devices monitor DEVICE`: what is attached, and a device's
 // events one per line (for a button board: every decoded line, malformed line with its
 // reason, disconnect and reconnect).
-#include "commands.h"
+#include "commands/devices.h"
+
+#include "support/output.h"
 
 #include "osteon/core/error.h"
 #include "osteon/devices/button_board.h"
@@ -111,26 +113,29 @@ bool sameState(const dev::DeviceSample& a, const dev::DeviceSample& b) {
 
 }  // namespace
 
-int runDevicesList(const DevicesListOptions& options) {
-  const dev::DeviceList list = dev::listDevices();
-  if (options.json) {
-    json devices = json::array();
-    for (const dev::AttachedDevice& d : list.devices) {
-      devices.push_back({{"name", d.name},
-                         {"kind", d.kind},
-                         {"path", d.path},
-                         {"vendor_id", hex4(d.vendorId)},
-                         {"product_id", hex4(d.productId)},
-                         {"manufacturer", d.manufacturer},
-                         {"product", d.product},
-                         {"serial_number", d.serialNumber}});
-    }
-    const json out = {{"devices", devices},
-                      {"serial_listing", list.serialListing},
-                      {"touch_built_in", list.touchBuiltIn}};
-    std::cout << out.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
-    return kExitOk;
+namespace {
+
+struct DevicesListReport {
+  dev::DeviceList list;
+};
+
+json toJson(const DevicesListReport& r) {
+  json devices = json::array();
+  for (const dev::AttachedDevice& d : r.list.devices) {
+    devices.push_back({{"name", d.name},
+                       {"kind", d.kind},
+                       {"path", d.path},
+                       {"vendor_id", hex4(d.vendorId)},
+                       {"product_id", hex4(d.productId)},
+                       {"manufacturer", d.manufacturer},
+                       {"product", d.product},
+                       {"serial_number", d.serialNumber}});
   }
+  return {{"devices", devices}, {"serial_listing", r.list.serialListing}, {"touch_built_in", r.list.touchBuiltIn}};
+}
+
+void printText(const DevicesListReport& r) {
+  const dev::DeviceList& list = r.list;
   if (list.devices.empty()) {
     std::cout << "no devices attached (3Dconnexion HID devices" << (list.serialListing ? " and USB serial ports" : "")
               << " are listed)\n";
@@ -140,6 +145,12 @@ int runDevicesList(const DevicesListOptions& options) {
               << (d.manufacturer.empty() ? "" : " ") << d.product << "\n";
   }
   if (list.touchBuiltIn) std::cout << "touch[:NAME]: the Geomagic Touch through OpenHaptics (built in)\n";
+}
+
+}  // namespace
+
+int runDevicesList(const DevicesListOptions& options) {
+  printReport(DevicesListReport{dev::listDevices()}, options.json);
   return kExitOk;
 }
 
@@ -227,6 +238,10 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return ended();
+}
+
+int runDevices(const DevicesCommandOptions& options) {
+  return options.which == "list" ? runDevicesList(options.list) : runDevicesMonitor(options.monitor);
 }
 
 }  // namespace osteon::cli

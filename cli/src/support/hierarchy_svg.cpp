@@ -1,4 +1,4 @@
-#include "hierarchy_svg.h"
+#include "support/hierarchy_svg.h"
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"

@@ -1,6 +1,5 @@
 // The summary.json fields every drilling run shares (drill, drill --device, replay), so the
-// three write the same names. Defined in drill.cpp; nlohmann/json stays out of this header
-// but for its forward declarations.
+// three write the same names.
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -12,7 +11,10 @@ enum class CouplingMode;
 struct RunSummary;
 struct RuntimeOptions;
 struct RuntimeStats;
-struct SetupTimings;
+struct RuntimeResult;
+class ForceLogWriter;
+class ForceSink;
+class PoseSource;
 class Session;
 }  // namespace osteon::simulation
 
@@ -23,20 +25,14 @@ namespace osteon::cli {
 // (clamp_steps, refine_steps_deferred, overruns, non_finite_forces, ...) and "degraded" (any
 // of them non-zero), mode, mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the
 // session's setup_ms and peak_rss_mb (setupJson).
-// --coupling as given, or its default when empty: direct for the seed's portal paths (their
-// force logs stay the seed experiment's), proxy for everything a hand drives. Throws
-// InputError naming a bad value.
-simulation::CouplingMode couplingFor(const std::string& option, bool portalPath);
-
 nlohmann::json runSummaryJson(const simulation::RunSummary& summary, const simulation::Session& session,
                               const std::string& mesh, const std::string& mode, const std::string& tool,
                               double voxelSizeMm, int levels);
 
-// `setup_ms` {load, voxelize, density, fine_fills, hierarchy, surface, total} (stages a command
-// does not run are 0), as drill, hierarchy, voxelize and mesh report their set-up.
-nlohmann::json setupJson(const simulation::SetupTimings& setup);
-// One line for the text output: "  set-up      812 ms: load 3, voxelize 410, ...; peak RSS 95 MB".
-std::string setupLine(const simulation::SetupTimings& setup, double pathMs = -1.0);
+// --coupling as given, or its default when empty: direct for the seed's portal paths (their
+// force logs stay the seed experiment's), proxy for everything a hand drives. Throws
+// InputError naming a bad value.
+simulation::CouplingMode couplingFor(const std::string& option, bool portalPath);
 
 // The empty-result rule of every drilling run (a path, a device, a recording): a run that
 // never meets bone (nothing removed, no force at any step) is marked "empty": true with its
@@ -51,5 +47,11 @@ nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
 // inject: OSTEON_INJECT_FAULT=surface-update makes every visual surface update throw. Throws
 // InputError for an unknown fault.
 simulation::RuntimeOptions threadedRunOptions();
+
+// session.runThreaded, its rows logged by `forces`: a RuntimeFault is told in one line that
+// also says where the rows logged so far are.
+simulation::RuntimeResult runThreadedLogged(simulation::Session& session, simulation::PoseSource& source,
+                                            simulation::ForceSink* sink, const simulation::RuntimeOptions& options,
+                                            simulation::ForceLogWriter& forces);
 
 }  // namespace osteon::cli

@@ -1,9 +1,11 @@
 // What `osteon validate` and `osteon validate --merge` share: writing report.json and
-// report.html (validate.cpp); reading reports is report_reader.h.
+// report.html (validate_report.cpp); reading reports is report_reader.h.
 #pragma once
 
-#include "commands.h"
+#include "commands/validate.h"
 #include "report_reader.h"
+
+#include "osteon/validation/validate.h"
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +13,11 @@
 #include <vector>
 
 namespace osteon::cli {
+
+// One case of the run as report.json holds it.
+nlohmann::json caseJson(const validation::ValidationCase& c);
+// The machine, compiler and libraries the run used.
+nlohmann::json environmentJson();
 
 // The verdict (every crack-free case passes), the images, regressions against `old` (with
 // --compare), then report.json and report.html into options.outDir.

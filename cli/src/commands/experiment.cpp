@@ -1,7 +1,10 @@
 // `osteon experiment seed`: the seed's section 4 rerun. Force logs per run, the jitter table
 // (Markdown and JSON) and force plots in the manner of the seed's Figs. 6-8, drawn by gnuplot.
-#include "commands.h"
-#include "force_plots.h"
+#include "commands/experiment.h"
+
+#include "support/files.h"
+#include "support/force_plots.h"
+#include "support/output.h"
 
 #include "osteon/core/error.h"
 #include "osteon/core/interrupt.h"
@@ -66,6 +69,51 @@ std::vector<ForceFigure> figuresOf(const std::string& dir, const std::vector<sim
   return figures;
 }
 
+// The runs as the seed compares its figures: jitter per run, as experiment.json (the JSON) and
+// jitter.md (the text).
+struct ExperimentReport {
+  std::string mesh;
+  std::string outDir;
+  const std::vector<sim::ExperimentRun>* runs = nullptr;
+  std::vector<std::string> images;  // the plots, relative to outDir
+};
+
+double finestVoxelMm(const sim::ExperimentRun& r) { return r.voxelSizeMm / double(1 << r.levels); }
+
+json toJson(const ExperimentReport& report) {
+  json rows = json::array();
+  for (const sim::ExperimentRun& r : *report.runs) {
+    const sim::RunSummary& s = r.result.summary;
+    rows.push_back({{"voxel_size_mm", r.voxelSizeMm}, {"portal", sim::portalName(r.portal)},
+                    {"levels", r.levels}, {"finest_voxel_mm", finestVoxelMm(r)}, {"jitter_n", s.jitterN},
+                    {"max_step_change_n", s.maxStepChangeN}, {"max_force_n", s.maxForceN},
+                    {"removed_volume_mm3", s.removedVolumeMm3}, {"steps", s.steps},
+                    {"log", "runs/" + r.name() + "/forces.csv"}});
+  }
+  return {{"experiment", "seed"}, {"mesh", report.mesh}, {"runs", rows}, {"plots", report.images}};
+}
+
+std::string jitterTable(const ExperimentReport& report) {
+  std::ostringstream md;
+  md << "| voxel size | portal | levels | force voxel | jitter (N) | max step change (N) | max force (N) | removed (mm3) |\n"
+     << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const sim::ExperimentRun& r : *report.runs) {
+    const sim::RunSummary& s = r.result.summary;
+    char line[256];
+    std::snprintf(line, sizeof line, "| %g mm | %s | %d | %g mm | %.4f | %.4f | %.3f | %.1f |\n", r.voxelSizeMm,
+                  sim::portalName(r.portal), r.levels, finestVoxelMm(r), s.jitterN, s.maxStepChangeN, s.maxForceN,
+                  s.removedVolumeMm3);
+    md << line;
+  }
+  return md.str();
+}
+
+void printText(const ExperimentReport& report) {
+  std::cout << jitterTable(report) << "plots: ";
+  for (const std::string& i : report.images) std::cout << report.outDir << "/" << i << " ";
+  std::cout << "\n";
+}
+
 }  // namespace
 
 int runExperiment(const ExperimentCommandOptions& options) {
@@ -84,8 +132,8 @@ int runExperiment(const ExperimentCommandOptions& options) {
   std::vector<std::string> plannedImages;
   figuresOf(options.outDir, planned, plannedImages);
   for (const std::string& image : plannedImages) outputs.push_back(options.outDir + "/" + image);
-  geometry::refuseOverwritingInputs(outputs, {inputFile(options.mesh)});
-  refuseInputsInside(options.outDir + "/runs", {inputFile(options.mesh)});
+  geometry::refuseOverwritingInputs(outputs, options.bone.inputFiles());
+  refuseInputsInside(options.outDir + "/runs", options.bone.inputFiles());
 
   // The logs, the table and the plots are one set, put in place together when the run is
   // complete (output_dir.h). plots.gp.log is gnuplot's own say, not part of it.
@@ -95,10 +143,11 @@ int runExperiment(const ExperimentCommandOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/runs", ec);
   if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
-  const double scale = scaleToMm(options.units);
-  const geometry::TriangleMesh mesh = geometry::loadMeshArgument(options.mesh, scale);
+  const sim::BoneMesh loaded = sim::loadBoneMesh(options.bone);
+  const geometry::TriangleMesh& mesh = loaded.mesh;
+  const double scale = loaded.read.scaleToMm;
   geometry::VoxelizeOptions voxelizing;
-  voxelizing.meshName = options.mesh;
+  voxelizing.meshName = options.bone.input;
   voxelizing.loadScaleToMm = scale;
 
   const std::vector<sim::ExperimentRun> runs = sim::runSeedExperiment(
@@ -113,30 +162,10 @@ int runExperiment(const ExperimentCommandOptions& options) {
       },
       voxelizing);
 
-  // The table: jitter per run, as the seed compares its figures.
-  json rows = json::array();
-  std::ostringstream md;
-  md << "| voxel size | portal | levels | force voxel | jitter (N) | max step change (N) | max force (N) | removed (mm3) |\n"
-     << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const sim::ExperimentRun& r : runs) {
-    const sim::RunSummary& s = r.result.summary;
-    const double finest = r.voxelSizeMm / double(1 << r.levels);
-    rows.push_back({{"voxel_size_mm", r.voxelSizeMm}, {"portal", sim::portalName(r.portal)},
-                    {"levels", r.levels}, {"finest_voxel_mm", finest}, {"jitter_n", s.jitterN},
-                    {"max_step_change_n", s.maxStepChangeN}, {"max_force_n", s.maxForceN},
-                    {"removed_volume_mm3", s.removedVolumeMm3}, {"steps", s.steps},
-                    {"log", "runs/" + r.name() + "/forces.csv"}});
-    char line[256];
-    std::snprintf(line, sizeof line, "| %g mm | %s | %d | %g mm | %.4f | %.4f | %.3f | %.1f |\n",
-                  r.voxelSizeMm, sim::portalName(r.portal), r.levels, finest, s.jitterN,
-                  s.maxStepChangeN, s.maxForceN, s.removedVolumeMm3);
-    md << line;
-  }
-  std::vector<std::string> images;
-  const std::vector<ForceFigure> figures = figuresOf(options.outDir, runs, images);
-  const json table = {{"experiment", "seed"}, {"mesh", options.mesh}, {"runs", rows}, {"plots", images}};
-  geometry::writeFileAtomically(options.outDir + "/experiment.json", table.dump(2) + "\n");
-  geometry::writeFileAtomically(options.outDir + "/jitter.md", md.str());
+  ExperimentReport report{options.bone.input, options.outDir, &runs, {}};
+  const std::vector<ForceFigure> figures = figuresOf(options.outDir, runs, report.images);
+  geometry::writeFileAtomically(options.outDir + "/experiment.json", toJson(report).dump(2) + "\n");
+  geometry::writeFileAtomically(options.outDir + "/jitter.md", jitterTable(report));
   // The logs and the table are kept when the plotting fails (gnuplot missing): a set without
   // plots, the previous run's plots removed.
   try {
@@ -146,13 +175,7 @@ int runExperiment(const ExperimentCommandOptions& options) {
     throw;
   }
   outDir.commit();
-  if (options.json) {
-    std::cout << table.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
-  } else {
-    std::cout << md.str() << "plots: ";
-    for (const std::string& i : images) std::cout << options.outDir << "/" << i << " ";
-    std::cout << "\n";
-  }
+  printReport(report, options.json);
   return kExitOk;
 }
 

@@ -1,0 +1,84 @@
+#include "commands/info.h"
+
+#include "support/mesh_json.h"
+#include "support/output.h"
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh_io.h"
+
+#include <cstdio>
+
+namespace osteon::cli {
+
+namespace geo = osteon::geometry;
+namespace sim = osteon::simulation;
+using nlohmann::json;
+
+namespace {
+
+struct InfoReport {
+  std::string input;
+  bool builtIn = false;
+  sim::BoneMesh loaded;
+  geo::Aabb box;
+  geo::MeshTopology topology;
+  double volumeMm3 = 0.0, areaMm2 = 0.0;
+};
+
+json toJson(const InfoReport& r) {
+  const geo::MeshTopology& topo = r.topology;
+  json j = meshJson(r.input, r.loaded);
+  j["bounds_min_mm"] = vec3Json(r.box.minMm);
+  j["bounds_max_mm"] = vec3Json(r.box.maxMm);
+  j["extent_mm"] = vec3Json(r.box.extentMm());
+  j["volume_mm3"] = r.volumeMm3;
+  j["area_mm2"] = r.areaMm2;
+  j["edges"] = topo.edges;
+  j["border_edges"] = topo.borderEdges;
+  j["non_manifold_edges"] = topo.nonManifoldEdges;
+  j["misoriented_edges"] = topo.misorientedEdges;
+  j["degenerate_triangles"] = topo.degenerateTriangles;
+  j["components"] = topo.components;
+  j["euler_characteristic"] = topo.eulerCharacteristic;
+  j["closed"] = topo.closed();
+  j["consistently_oriented"] = topo.consistentlyOriented();
+  j["load_ms"] = r.loaded.read.loadMs;
+  return j;
+}
+
+void printText(const InfoReport& r) {
+  const geo::MeshTopology& topo = r.topology;
+  const glm::dvec3 e = r.box.extentMm();
+  std::printf("%s: %zu vertices, %zu triangles", r.input.c_str(), r.loaded.mesh.vertexCount(),
+              r.loaded.mesh.triangleCount());
+  if (!r.builtIn) {
+    std::printf(" (%s %s)", r.loaded.read.meshFile.binary ? "binary" : "text",
+                geo::meshFormatName(r.loaded.read.meshFile.format));
+  }
+  std::printf("\n  extent     %.3f x %.3f x %.3f mm\n", e.x, e.y, e.z);
+  std::printf("  bounds     [%.3f, %.3f, %.3f] .. [%.3f, %.3f, %.3f] mm\n", r.box.minMm.x, r.box.minMm.y,
+              r.box.minMm.z, r.box.maxMm.x, r.box.maxMm.y, r.box.maxMm.z);
+  std::printf("  volume     %.3f mm^3   area %.3f mm^2\n", r.volumeMm3, r.areaMm2);
+  std::printf("  topology   %s, %s; %zu border, %zu non-manifold, %zu misoriented edges; "
+              "%zu component(s); Euler characteristic %lld\n",
+              topo.closed() ? "closed" : "open",
+              topo.consistentlyOriented() ? "consistently oriented" : "inconsistently oriented", topo.borderEdges,
+              topo.nonManifoldEdges, topo.misorientedEdges, topo.components, topo.eulerCharacteristic);
+}
+
+}  // namespace
+
+int runInfo(const InfoOptions& options) {
+  InfoReport r;
+  r.input = options.bone.input;
+  r.builtIn = options.bone.isBuiltIn();
+  r.loaded = sim::loadBoneMesh(options.bone);
+  r.box = geo::bounds(r.loaded.mesh);
+  r.topology = geo::analyzeTopology(r.loaded.mesh);
+  r.volumeMm3 = geo::signedVolumeMm3(r.loaded.mesh);
+  r.areaMm2 = geo::surfaceAreaMm2(r.loaded.mesh);
+  printReport(r, options.json);
+  return kExitOk;
+}
+
+}  // namespace osteon::cli

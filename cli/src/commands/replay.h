@@ -1,0 +1,24 @@
+// `osteon replay LOG.csv MESH`: a device recording replayed through the safety layer into a
+// deterministic session, written as `drill` writes its runs.
+#pragma once
+
+#include "osteon/simulation/bone_source.h"
+
+#include <string>
+
+namespace osteon::cli {
+
+struct ReplayCommandOptions {
+  std::string log;  // a recording: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on
+  simulation::BoneSource bone;  // a mesh or `default`
+  int levels = 2;
+  std::string tool = "drill";
+  std::string outDir = ".";
+  bool json = false;
+  bool allowEmpty = false;  // a recording that never meets bone exits 0 (still "empty": true), not 1
+  std::string coupling;     // proxy (the default) or direct
+};
+
+int runReplay(const ReplayCommandOptions& options);
+
+}  // namespace osteon::cli

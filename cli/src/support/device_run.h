@@ -1,0 +1,53 @@
+// What the runs driven by a device through the safety layer share (replay, drill --device):
+// their checks and session, and how they finish (summary.json with the device's faults and the
+// safety layer's work, the surface, the printed summary), written as `drill` writes its runs.
+#pragma once
+
+#include "support/files.h"
+
+#include "osteon/devices/safety.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/bone_source.h"
+#include "osteon/simulation/coupling.h"
+#include "osteon/simulation/runner.h"
+#include "osteon/simulation/session.h"
+#include "osteon/simulation/tool.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace osteon::cli {
+
+struct DeviceRunSetup {
+  std::string mesh;
+  std::string tool;
+  double voxelSizeMm = 0.0;
+  int levels = 2;
+  bool json = false;
+  std::string mode;  // replay, device, device-threaded
+  bool allowEmpty = false;
+};
+
+// Levels and the bone's options, before any work.
+void checkDeviceRunOptions(const simulation::BoneSource& bone, int levels);
+
+// The session a device run drills: the bone opened from its source, no kept surface (batch).
+simulation::Session openDeviceRunSession(const simulation::BoneSource& bone, int levels, simulation::ToolKind kind,
+                                         simulation::CouplingMode coupling);
+
+// The files a device name reads (recordings, path CSVs), which no output may overwrite.
+std::vector<std::string> deviceInputs(const std::string& name);
+bool sameLexicalPath(const std::string& a, const std::string& b);
+
+nlohmann::json faultsJson(const devices::FaultCounts& faults);
+nlohmann::json safetyJson(const devices::SafetyStats& stats, double limitN);
+
+// Writes summary.json (the run's shared fields, then `extra`) and the surface, puts the run's
+// files (and a recording) in place, prints the summary; returns the exit code.
+int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, simulation::Session& session,
+                    const simulation::RunSummary& run, nlohmann::json extra, const std::string& what,
+                    geometry::OutputFile* recording = nullptr);
+
+}  // namespace osteon::cli

@@ -1,0 +1,15 @@
+// The "mesh" JSON object of info and voxelize: the file as read (format, faces triangulated or
+// dropped) and its scale to mm.
+#pragma once
+
+#include "osteon/simulation/bone_source.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace osteon::cli {
+
+nlohmann::json meshJson(const std::string& argument, const simulation::BoneMesh& loaded);
+
+}  // namespace osteon::cli

@@ -1,0 +1,18 @@
+// What a volume was read as (BoneRead::volume), as the commands that open one report it: the
+// "volume" JSON object and one line of text.
+#pragma once
+
+#include "osteon/geometry/io/volume_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace osteon::cli {
+
+// `meaning`: the volume options the user gave (an iso level given or the default).
+nlohmann::json volumeJson(const geometry::VolumeLoad& volume, const geometry::VolumeOptions& meaning);
+// Empty for osteon's own grids (their output as it always was).
+std::string volumeLine(const geometry::VolumeLoad& volume, const geometry::VolumeOptions& meaning);
+
+}  // namespace osteon::cli

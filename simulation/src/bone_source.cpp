@@ -1,0 +1,121 @@
+// BoneModel::open and the BoneSource checks: the one way a bone is opened (bone_source.h).
+#include "osteon/simulation/bone_source.h"
+
+#include "osteon/core/option_error.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/units.h"
+
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace osteon::simulation {
+
+namespace {
+
+std::string numberText(double value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+void requirePositiveMm(const char* field, const std::optional<double>& mm) {
+  if (mm && !(std::isfinite(*mm) && *mm > 0.0)) throw OptionError(field, numberText(*mm), "must be a positive number of mm");
+}
+
+// A volume's voxel edge is its own: a voxel size given with it must agree (to rounding).
+void checkVolumeVoxelSize(const BoneSource& source, double volumeVoxelMm) {
+  if (!source.voxelSizeMm) return;
+  const double given = *source.voxelSizeMm;
+  if (std::abs(given - volumeVoxelMm) <= 1e-6 * given) return;
+  throw OptionError("voxelSizeMm", numberText(given),
+                    source.input + " has voxels of " + numberText(volumeVoxelMm) +
+                        " mm (a volume has its own voxel size: give that, or none where the voxel size is optional)");
+}
+
+}  // namespace
+
+bool BoneSource::isBuiltIn() const { return input == geometry::kDefaultModelArgument; }
+
+double BoneSource::scaleToMm() const { return isVolume() ? 1.0 : geometry::resolveScaleToMm(units, scale); }
+
+void BoneSource::check() const {
+  requirePositiveMm("voxelSizeMm", voxelSizeMm);
+  requirePositiveMm("defaultVoxelSizeMm", defaultVoxelSizeMm);
+  if (isVolume()) return;
+  scaleToMm();
+  if (volume.label || volume.isoHu) {
+    throw OptionError(volume.label ? "volume.label" : "volume.isoHu", "",
+                      "only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + input + " is a mesh");
+  }
+}
+
+std::vector<std::string> BoneSource::inputFiles() const {
+  if (isBuiltIn()) return {};
+  if (isVolume() && geometry::densityPathFor(input) != input) return {input, geometry::densityPathFor(input)};
+  return {input};
+}
+
+BoneMesh loadBoneMesh(const BoneSource& source) {
+  source.check();
+  BoneMesh out;
+  out.read.kind = "mesh";
+  out.read.scaleToMm = source.scaleToMm();
+  const Clock::time_point start = Clock::now();
+  out.mesh = geometry::loadMeshArgument(source.input, out.read.scaleToMm, &out.read.meshFile);
+  out.read.loadMs = msSince(start);
+  return out;
+}
+
+OpenedBone BoneModel::open(const BoneSource& source) {
+  const Clock::time_point start = Clock::now();
+  source.check();
+  OpenedBone out;
+  if (source.isVolume()) {
+    geometry::VolumeLoad load = geometry::loadVolume(source.input, source.volume);
+    out.read.loadMs = msSince(start);
+    checkVolumeVoxelSize(source, load.grid.voxelSizeMm());
+    out.read.kind = load.kind;
+    std::shared_ptr<BoneModel> bone = wrapGrid(std::move(load.grid), source.input, out.read.loadMs);
+    if (source.forSession && bone->grid_.countVoxels(geometry::kFillHalf) == 0) {
+      throw InputError(source.input + ": the grid has no voxel inside (nothing to drill)");
+    }
+    out.read.volume = std::move(load);
+    out.bone = std::move(bone);
+    return out;
+  }
+  if (!source.voxelSizeMm && !source.defaultVoxelSizeMm) {
+    throw OptionError("voxelSizeMm", "", "required when the input is a mesh");
+  }
+  BoneMesh mesh = loadBoneMesh(source);
+  out.read = std::move(mesh.read);
+  geometry::VoxelizeOptions voxelizing = source.voxelizing;
+  voxelizing.voxelSizeGiven = source.voxelSizeMm.has_value() && source.voxelizing.voxelSizeGiven;
+  std::shared_ptr<BoneModel> bone =
+      build(std::move(mesh.mesh), source.voxelSizeMm.value_or(source.defaultVoxelSizeMm.value_or(0.0)), source.input,
+            out.read.scaleToMm, voxelizing, source.sampleFineFills, source.forSession);
+  bone->setup_.loadMs = out.read.loadMs;
+  bone->setup_.totalMs = msSince(start);
+  out.bone = std::move(bone);
+  return out;
+}
+
+const char* commandLineFlag(const std::string& field) {
+  static const std::pair<const char*, const char*> kFlags[] = {
+      {"scale", "--scale"},          {"units", "--units"},     {"voxelSizeMm", "--voxel-size"},
+      {"volume.label", "--label"},   {"volume.isoHu", "--iso"}, {"volume.allowOutsideData", "--allow-outside-data"}};
+  for (const auto& [name, flag] : kFlags) {
+    if (field == name) return flag;
+  }
+  return nullptr;
+}
+
+std::string commandLineMessage(const InputError& e) {
+  const auto* option = dynamic_cast<const OptionError*>(&e);
+  const char* flag = option ? commandLineFlag(option->field()) : nullptr;
+  return flag ? option->renamed(flag) : e.what();
+}
+
+}  // namespace osteon::simulation
