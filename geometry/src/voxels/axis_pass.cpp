@@ -25,7 +25,8 @@ std::vector<std::uint8_t> reachableColumns(const TriangleMesh& mesh, const Voxel
   const glm::ivec3 dims = grid.dims();
   const double vs = grid.voxelSizeMm();
   const glm::dvec3 origin = grid.originMm();
-  std::vector<std::uint8_t> reachable(std::size_t(dims[u]) * std::size_t(dims[v]), 0);
+  const std::size_t columns = std::size_t(dims[u]) * std::size_t(dims[v]);
+  std::vector<std::uint8_t> reachable(columns, 0);
   const double margin = 1e-2 * vs + 1e-3;
   const auto columnOf = [&](double coordMm, int c) {
     const double g = std::floor((coordMm - origin[c]) / vs);
