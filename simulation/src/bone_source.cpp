@@ -1,6 +1,7 @@
 // BoneModel::open and the BoneSource checks: the one way a bone is opened (bone_source.h).
 #include "osteon/simulation/bone_source.h"
 
+#include "osteon/core/number_text.h"
 #include "osteon/core/option_error.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/io/mesh_source.h"
@@ -14,12 +15,6 @@
 namespace osteon::simulation {
 
 namespace {
-
-std::string numberText(double value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
 
 void requirePositiveMm(const char* field, const std::optional<double>& mm) {
   if (mm && !(std::isfinite(*mm) && *mm > 0.0)) throw OptionError(field, numberText(*mm), "must be a positive number of mm");

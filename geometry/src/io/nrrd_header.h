@@ -5,6 +5,8 @@
 // Every refusal is an InputError "<header>: <reason>" (or "<header>: data file <file>: ...").
 #pragma once
 
+#include "osteon/core/number_text.h"
+
 #include <cstdint>
 #include <fstream>
 #include <map>
@@ -44,8 +46,6 @@ bool parseNumber(const std::string& token, double& v);
 // Whitespace- and/or comma-separated numbers, parentheses dropped: "(1, 2,3)" -> 1 2 3. False
 // when any token is not a number.
 bool parseNumbers(std::string text, std::vector<double>& values);
-// A number in a message, in its shortest form ("3e+300", "1.2e+09").
-std::string shortNum(double v);
 // Blank-separated words; a whole number (a leading '+' allowed, blanks around it trimmed).
 std::vector<std::string> words(const std::string& s);
 bool parseInteger(const std::string& text, long long& v);

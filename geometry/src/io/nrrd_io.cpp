@@ -45,7 +45,6 @@ using nrrd::excerpt;
 using nrrd::normaliseWords;
 using nrrd::parseNumber;
 using nrrd::parseNumbers;
-using nrrd::shortNum;
 using nrrd::trim;
 
 
@@ -334,7 +333,7 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
   for (int a = 0; a < 3; ++a) {
     if (!(std::abs(originAsGiven[a]) <= kMaxCoordinateMm)) {
       fail(std::string("origin from '") + originField + "' is at " + kAxis[a] + " = " +
-           shortNum(originAsGiven[a]) + beyond);
+           numberText(originAsGiven[a]) + beyond);
     }
   }
   for (int a = 0; a < 3; ++a) {
@@ -342,9 +341,9 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
     const double farCorner = h.originMm[a] + double(h.sizes[a]) * h.voxelSizeMm;
     const bool farOut = !(std::abs(farCorner) <= kMaxCoordinateMm);
     if (farOut || !(std::abs(nearCorner) <= kMaxCoordinateMm)) {
-      fail("voxel size " + shortNum(h.voxelSizeMm) + " mm " + spacingFrom + " puts the " +
+      fail("voxel size " + numberText(h.voxelSizeMm) + " mm " + spacingFrom + " puts the " +
            (farOut ? "far" : "near") + " corner at " + kAxis[a] + " = " +
-           shortNum(farOut ? farCorner : nearCorner) + beyond);
+           numberText(farOut ? farCorner : nearCorner) + beyond);
     }
   }
   h.valueBytes = valueBytes;

@@ -80,10 +80,4 @@ bool parseNumbers(std::string text, std::vector<double>& values) {
   return true;
 }
 
-std::string shortNum(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 }  // namespace osteon::geometry::nrrd

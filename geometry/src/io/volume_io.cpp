@@ -30,7 +30,6 @@ namespace {
 
 using nrrd::excerpt;
 using nrrd::parseNumbers;
-using nrrd::shortNum;
 using nrrd::trim;
 
 std::string lower(std::string s) {
@@ -98,13 +97,13 @@ void refuseNonFinite(const std::string& path, const RawVolume& v, StoredValues<T
 void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centre0, RawVolume& v) {
   v.visit([&](auto values) { refuseNonFinite(path, v, values); });
   if (!(std::isfinite(centre0.x) && std::isfinite(centre0.y) && std::isfinite(centre0.z))) {
-    throw InputError(path + ": the origin (" + shortNum(centre0.x) + ", " + shortNum(centre0.y) + ", " +
-                     shortNum(centre0.z) + ") is not finite");
+    throw InputError(path + ": the origin (" + numberText(centre0.x) + ", " + numberText(centre0.y) + ", " +
+                     numberText(centre0.z) + ") is not finite");
   }
   for (int axis = 0; axis < 3; ++axis) {
     if (!(std::isfinite(m[0][axis]) && std::isfinite(m[1][axis]) && std::isfinite(m[2][axis]))) {
-      throw InputError(path + ": the direction of axis " + std::to_string(axis) + " (" + shortNum(m[0][axis]) + ", " +
-                       shortNum(m[1][axis]) + ", " + shortNum(m[2][axis]) + ") is not finite");
+      throw InputError(path + ": the direction of axis " + std::to_string(axis) + " (" + numberText(m[0][axis]) + ", " +
+                       numberText(m[1][axis]) + ", " + numberText(m[2][axis]) + ") is not finite");
     }
   }
   double spacing[3];
@@ -118,15 +117,15 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
     }
     // Below a nanometre no scanner samples; such a spacing is a corrupt header.
     if (scale < 1e-6) {
-      throw InputError(path + ": the voxel spacing of axis " + std::to_string(axis) + " is " + shortNum(scale) +
+      throw InputError(path + ": the voxel spacing of axis " + std::to_string(axis) + " is " + numberText(scale) +
                        " mm, below 1 nm");
     }
     row[axis] = std::abs(m[0][axis]) == scale ? 0 : std::abs(m[1][axis]) == scale ? 1 : 2;
     for (int r = 0; r < 3; ++r) {
       if (r != row[axis] && std::abs(m[r][axis]) > 1e-6 * scale) {
         throw InputError(path + ": space directions are not axis-aligned (axis " + std::to_string(axis) +
-                         " points along (" + shortNum(m[0][axis]) + ", " + shortNum(m[1][axis]) + ", " +
-                         shortNum(m[2][axis]) + ")); rotated volumes are not supported: resample to an "
+                         " points along (" + numberText(m[0][axis]) + ", " + numberText(m[1][axis]) + ", " +
+                         numberText(m[2][axis]) + ")); rotated volumes are not supported: resample to an "
                          "axis-aligned grid");
       }
     }
@@ -141,8 +140,8 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
     flip[axis] = m[row[axis]][axis] < 0.0;
   }
   if (std::abs(spacing[0] - spacing[1]) > 1e-6 * spacing[0] || std::abs(spacing[0] - spacing[2]) > 1e-6 * spacing[0]) {
-    throw InputError(path + ": anisotropic spacing " + shortNum(spacing[0]) + " x " + shortNum(spacing[1]) + " x " +
-                     shortNum(spacing[2]) + " mm is not supported (voxels must be cubes: resample first)");
+    throw InputError(path + ": anisotropic spacing " + numberText(spacing[0]) + " x " + numberText(spacing[1]) + " x " +
+                     numberText(spacing[2]) + " mm is not supported (voxels must be cubes: resample first)");
   }
   v.voxelSizeMm = (spacing[0] + spacing[1] + spacing[2]) / 3.0;
   const glm::ivec3 stored = v.sizes;
@@ -157,8 +156,8 @@ void placeVolume(const std::string& path, const double m[3][3], glm::dvec3 centr
   for (int a = 0; a < 3; ++a) {
     if (!(std::abs(v.originMm[a]) <= kMaxCoordinateMm) ||
         !(std::abs(v.originMm[a] + v.sizes[a] * v.voxelSizeMm) <= kMaxCoordinateMm)) {
-      throw InputError(path + ": voxel size " + shortNum(v.voxelSizeMm) + " mm puts the volume at " +
-                       shortNum(v.originMm[a] + v.sizes[a] * v.voxelSizeMm) + " mm on axis " + std::to_string(a) +
+      throw InputError(path + ": voxel size " + numberText(v.voxelSizeMm) + " mm puts the volume at " +
+                       numberText(v.originMm[a] + v.sizes[a] * v.voxelSizeMm) + " mm on axis " + std::to_string(a) +
                        ", beyond +-1e9 mm (1000 km)");
     }
   }
@@ -351,7 +350,7 @@ RawVolume readNiftiVolume(const std::string& path) {
   const float slope = at<float>(h, 112, swap);
   const float inter = at<float>(h, 116, swap);
   const bool scaled = std::isfinite(slope) && slope != 0.0f && (slope != 1.0f || inter != 0.0f);
-  if (scaled && !std::isfinite(inter)) fail("scl_inter " + shortNum(inter) + " is not finite (scl_slope " + shortNum(slope) + ")");
+  if (scaled && !std::isfinite(inter)) fail("scl_inter " + numberText(inter) + " is not finite (scl_slope " + numberText(slope) + ")");
   v.type = s.name;
   v.integer = s.integer && !scaled;
   v.isSigned = s.isSigned || (scaled && (slope < 0 || inter < 0));
@@ -370,24 +369,24 @@ RawVolume readNiftiVolume(const std::string& path) {
     for (int r = 0; r < 3; ++r) {
       const char* name[3] = {"srow_x", "srow_y", "srow_z"};
       if (!std::isfinite(m[r][0]) || !std::isfinite(m[r][1]) || !std::isfinite(m[r][2]) || !std::isfinite(centre0[r])) {
-        fail(std::string("the sform is not finite (") + name[r] + " = " + shortNum(m[r][0]) + " " + shortNum(m[r][1]) +
-             " " + shortNum(m[r][2]) + " " + shortNum(centre0[r]) + ")");
+        fail(std::string("the sform is not finite (") + name[r] + " = " + numberText(m[r][0]) + " " + numberText(m[r][1]) +
+             " " + numberText(m[r][2]) + " " + numberText(centre0[r]) + ")");
       }
     }
   } else if (qform > 0) {
     double b = at<float>(h, 256, swap), c = at<float>(h, 260, swap), d = at<float>(h, 264, swap);
     const glm::dvec3 offset(at<float>(h, 268, swap), at<float>(h, 272, swap), at<float>(h, 276, swap));
     const double bcd = b * b + c * c + d * d;
-    const std::string quaternion = "(" + shortNum(b) + ", " + shortNum(c) + ", " + shortNum(d) + ")";
+    const std::string quaternion = "(" + numberText(b) + ", " + numberText(c) + ", " + numberText(d) + ")";
     if (!std::isfinite(bcd)) fail("the qform quaternion (b, c, d) = " + quaternion + " is not finite");
     // b, c, d are a unit quaternion's last three: their squares sum to at most 1 (float
     // rounding aside, which niftilib normalises away as here).
     if (bcd > 1.0 + 1e-5) {
-      fail("the qform quaternion (b, c, d) = " + quaternion + " is invalid: b^2 + c^2 + d^2 = " + shortNum(bcd) +
+      fail("the qform quaternion (b, c, d) = " + quaternion + " is invalid: b^2 + c^2 + d^2 = " + numberText(bcd) +
            " exceeds 1");
     }
     if (!(std::isfinite(offset.x) && std::isfinite(offset.y) && std::isfinite(offset.z))) {
-      fail("the qform offset (" + shortNum(offset.x) + ", " + shortNum(offset.y) + ", " + shortNum(offset.z) +
+      fail("the qform offset (" + numberText(offset.x) + ", " + numberText(offset.y) + ", " + numberText(offset.z) +
            ") is not finite");
     }
     double a = 1.0 - bcd;
@@ -422,7 +421,7 @@ RawVolume readNiftiVolume(const std::string& path) {
   centre0.x = -centre0.x;
   centre0.y = -centre0.y;
 
-  if (!(voxOffset >= 348.0f) || voxOffset > 1e8f) fail("vox_offset " + shortNum(voxOffset) + " is not at or after the header");
+  if (!(voxOffset >= 348.0f) || voxOffset > 1e8f) fail("vox_offset " + numberText(voxOffset) + " is not at or after the header");
   // Skipped a chunk at a time: vox_offset may be up to 1e8 bytes past the header.
   std::vector<unsigned char> skip(65536);
   for (std::size_t left = std::size_t(voxOffset) - 348; left > 0;) {

@@ -14,17 +14,12 @@
 
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
+#include "osteon/core/number_text.h"
 #include "osteon/geometry/io/nrrd_io.h"
 
 namespace osteon::geometry {
 
 namespace {
-
-std::string shortNum(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 bool isNiftiPath(std::string path) {
   std::transform(path.begin(), path.end(), path.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -160,8 +155,8 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
   const auto real = [&raw](T x) { return raw.integer ? double(x) : double(x) * raw.slope + raw.intercept; };
   const double loReal = std::min(real(lo), real(hi)), hiReal = std::max(real(lo), real(hi));
   if (!std::isfinite(loReal) || !std::isfinite(hiReal)) {  // finite stored values scaled past a double
-    throw InputError(path + ": scl_slope " + shortNum(raw.slope) + " and scl_inter " + shortNum(raw.intercept) +
-                     " scale values " + shortNum(double(lo)) + " to " + shortNum(double(hi)) + " past any number");
+    throw InputError(path + ": scl_slope " + numberText(raw.slope) + " and scl_inter " + numberText(raw.intercept) +
+                     " scale values " + numberText(double(lo)) + " to " + numberText(double(hi)) + " past any number");
   }
   load.minValue = loReal;
   load.maxValue = hiReal;
@@ -219,7 +214,7 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
                                     (zero ? "" : " (0 absent: the most common value)")));
   } else if (ct) {
     if (options.label) {
-      throw InputError(path + ": a CT (" + raw.type + ", values " + shortNum(loReal) + " to " + shortNum(hiReal) +
+      throw InputError(path + ": a CT (" + raw.type + ", values " + numberText(loReal) + " to " + numberText(hiReal) +
                        "): --label is for label maps; use --iso");
     }
     load.kind = "ct";
@@ -232,13 +227,13 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
       density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
     });
     refuseWholeBox(path, inside, count,
-                   "read as a CT (" + raw.type + ", values " + shortNum(loReal) + " to " + shortNum(hiReal) +
-                       " HU), all at or above the iso level " + shortNum(iso) + " HU" +
+                   "read as a CT (" + raw.type + ", values " + numberText(loReal) + " to " + numberText(hiReal) +
+                       " HU), all at or above the iso level " + numberText(iso) + " HU" +
                        (options.isoHu ? " (--iso)" : " (the default; --iso sets it)"));
   } else {
     std::ostringstream s;
-    s << path << ": neither a label map nor a CT: " << raw.type << ", values " << shortNum(loReal) << " to "
-      << shortNum(hiReal) << ", "
+    s << path << ": neither a label map nor a CT: " << raw.type << ", values " << numberText(loReal) << " to "
+      << numberText(hiReal) << ", "
       << (many ? "more than " + std::to_string(kMaxLabels) : std::to_string(counts.size()))
       << (counts.size() == 1 ? " distinct value" : " distinct values") << " (a label map is an integer type with at most "
       << kMaxLabels << " values, none negative; a CT a signed type spanning at least " << kMinCtRangeHu << " HU)";
@@ -266,7 +261,7 @@ double volumeLoadMemoryBytes(glm::ivec3 sizes, std::size_t scalarBytes) {
 
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
   if (options.isoHu && !std::isfinite(*options.isoHu)) {
-    throw InputError("--iso " + shortNum(*options.isoHu) + ": must be a finite number of HU");
+    throw InputError("--iso " + numberText(*options.isoHu) + ": must be a finite number of HU");
   }
   VolumeLoad load;
   load.format = isNiftiPath(path) ? "nifti" : "nrrd";

@@ -5,6 +5,7 @@
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
+#include "osteon/core/number_text.h"
 #include "osteon/geometry/io/units.h"
 #include "axis_pass.h"
 #include "column_ray.h"
@@ -22,19 +23,6 @@ namespace osteon::geometry {
 
 using detail::AxisPass;
 using detail::runAxisPass;
-
-// Brick edge in voxels.
-
-namespace {
-
-
-std::string numberText(double value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
-
-}  // namespace
 
 namespace {
 
