@@ -1,18 +1,18 @@
 // Dynamic Proximity Hierarchy (seed 3.3) and refinement (seed 3.5) on the built-in humerus:
 // build time against voxel count, sphere-query latency and refinement create/expire latency
 // as p50/p99 in microseconds (the 1 kHz haptic step has 1000 us for everything).
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/hierarchy/refinement.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-
-#include <benchmark/benchmark.h>
-
 #include <algorithm>
 #include <chrono>
 #include <map>
 #include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 namespace {
 
@@ -48,7 +48,9 @@ std::vector<glm::dvec3> surfacePoints(std::size_t count) {
 
 void report(benchmark::State& state, std::vector<double>& us, const char* prefix) {
   std::sort(us.begin(), us.end());
-  const auto at = [&](double q) { return us[std::min(us.size() - 1, std::size_t(q * double(us.size())))]; };
+  const auto at = [&](double q) {
+    return us[std::min(us.size() - 1, std::size_t(q * double(us.size())))];
+  };
   state.counters[std::string(prefix) + "p50_us"] = at(0.50);
   state.counters[std::string(prefix) + "p99_us"] = at(0.99);
   state.counters[std::string(prefix) + "max_us"] = us.back();
@@ -70,8 +72,16 @@ void BM_DphBuild(benchmark::State& state) {
   state.counters["ns_per_voxel"] = benchmark::Counter(
       double(voxels), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_DphBuild)->Arg(1200)->Arg(540)->Arg(300)->Arg(270)->Arg(250)->ArgName("voxel_um")
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(BM_DphBuild)
+    ->Arg(1200)
+    ->Arg(540)
+    ->Arg(300)
+    ->Arg(270)
+    ->Arg(250)
+    ->ArgName("voxel_um")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime();
 
 // The collision query of one haptic step: voxels between the drill's layers are within the
 // outer sphere (inner radius + two finest voxels).
@@ -94,8 +104,13 @@ void BM_DphSphereQuery(benchmark::State& state) {
   state.counters["voxels_per_query"] = double(found) / double(us.size());
   report(state, us, "");
 }
-BENCHMARK(BM_DphSphereQuery)->Arg(1200)->Arg(540)->Arg(250)->ArgName("voxel_um")
-    ->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_DphSphereQuery)
+    ->Arg(1200)
+    ->Arg(540)
+    ->Arg(250)
+    ->ArgName("voxel_um")
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(20000);
 
 // Refining the voxels under the drill tip at 1.2 mm to level -2, then expiring them.
 void BM_RefineCreateExpire(benchmark::State& state) {
@@ -128,8 +143,12 @@ void BM_RefineCreateExpire(benchmark::State& state) {
   report(state, create, "create_");
   report(state, expire, "expire_");
 }
-BENCHMARK(BM_RefineCreateExpire)->Arg(1)->Arg(2)->ArgName("levels")
-    ->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_RefineCreateExpire)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("levels")
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(20000);
 
 }  // namespace
 

@@ -35,6 +35,8 @@
 //      runs each motion N times and adds each step's least wall-clock time over them;
 //      --phases N adds the mean jitter over N phases of the sampling lattice (gPhases);
 //      --log-dir D writes each run's force log there.
+#include "drilling_bench.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -43,7 +45,6 @@
 #include <utility>
 #include <vector>
 
-#include "drilling_bench.h"
 #include "drilling_machine.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/bone_source.h"
@@ -61,18 +62,23 @@ namespace {
 int parseOptions(int argc, char** argv, BenchOptions& o) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--query-skin") == 0 && i + 1 < argc) o.skin = std::atof(argv[i + 1]);
-    if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc) o.slices = std::size_t(std::atol(argv[i + 1]));
-    if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc) o.runtimeS = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--query-slice") == 0 && i + 1 < argc)
+      o.slices = std::size_t(std::atol(argv[i + 1]));
+    if (std::strcmp(argv[i], "--runtime-s") == 0 && i + 1 < argc)
+      o.runtimeS = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--runtime-only") == 0) o.haptic = false;
     if (std::strcmp(argv[i], "--motions") == 0) o.withMotions = true;
     if (std::strcmp(argv[i], "--cutting-refine-only") == 0) o.refineShells = false;
     if (std::strcmp(argv[i], "--dynamic-only") == 0) o.dynamicOnly = true;
-    if (std::strcmp(argv[i], "--refine-budget") == 0 && i + 1 < argc) o.refineBudget = std::size_t(std::atol(argv[i + 1]));
+    if (std::strcmp(argv[i], "--refine-budget") == 0 && i + 1 < argc)
+      o.refineBudget = std::size_t(std::atol(argv[i + 1]));
     if (std::strcmp(argv[i], "--motions-only") == 0) o.withMotions = o.motionsOnly = true;
     if (std::strcmp(argv[i], "--motion-set") == 0 && i + 1 < argc) o.motionSet = argv[i + 1];
-    if (std::strcmp(argv[i], "--phases") == 0 && i + 1 < argc) o.phases = std::max(1, std::atoi(argv[i + 1]));
+    if (std::strcmp(argv[i], "--phases") == 0 && i + 1 < argc)
+      o.phases = std::max(1, std::atoi(argv[i + 1]));
     if (std::strcmp(argv[i], "--log-dir") == 0 && i + 1 < argc) o.logDir = argv[i + 1];
-    if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) o.repeats = std::max(1, std::atoi(argv[i + 1]));
+    if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc)
+      o.repeats = std::max(1, std::atoi(argv[i + 1]));
     if (std::strcmp(argv[i], "--coupling") == 0 && i + 1 < argc) {
       const std::string mode = argv[i + 1];
       if (mode == "both") {
@@ -146,9 +152,14 @@ int main(int argc, char** argv) {
   if (o.withMotions) motions(o, bone12, bone03);
   if (o.motionsOnly) return 0;
 
-  if (o.haptic) std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
-  if (o.haptic) std::printf("query caches: skin %g base voxels, %zu nodes per slice\n", o.skin, o.slices);
-  if (o.haptic) std::printf("| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max step change N | steps that walked |\n");
+  if (o.haptic)
+    std::printf("haptic step (deterministic, one thread), built-in humerus, 7 s portal paths\n");
+  if (o.haptic)
+    std::printf("query caches: skin %g base voxels, %zu nodes per slice\n", o.skin, o.slices);
+  if (o.haptic)
+    std::printf(
+        "| base voxel | levels | force voxel | portal | p50 us | p99 us | max us | jitter N | max "
+        "step change N | steps that walked |\n");
   if (o.haptic) std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& [voxelMm, levels] : {std::pair<double, int>{1.2, 2}, {0.3, 0}}) {
     if (!o.haptic) break;
@@ -156,17 +167,18 @@ int main(int argc, char** argv) {
       Session session = makeSession(o, voxelMm == 1.2 ? bone12 : bone03, levels);
       const RunResult r = session.run(session.portalPath(portal).path);
       const RunSummary& s = r.summary;
-      std::printf("| %g mm | %d | %g mm | %s | %.1f | %.1f | %.1f | %.4f | %.4f | %llu |\n", voxelMm, levels,
-                  session.simulation().finestVoxelMm(), portalName(portal), s.hapticStepUs.p50, s.hapticStepUs.p99,
-                  s.hapticStepUs.max, s.jitterN, s.maxStepChangeN,
-                  (unsigned long long)session.totals().stepsThatWalked);
+      std::printf("| %g mm | %d | %g mm | %s | %.1f | %.1f | %.1f | %.4f | %.4f | %llu |\n",
+                  voxelMm, levels, session.simulation().finestVoxelMm(), portalName(portal),
+                  s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max, s.jitterN,
+                  s.maxStepChangeN, (unsigned long long)session.totals().stepsThatWalked);
       std::fflush(stdout);
     }
   }
   if (o.haptic) {
     const Percentiles noise = noiseFloor();
-    std::printf("machine noise: a fixed workload timed the same way, p50 %.1f p99 %.1f max %.1f us\n", noise.p50,
-                noise.p99, noise.max);
+    std::printf(
+        "machine noise: a fixed workload timed the same way, p50 %.1f p99 %.1f max %.1f us\n",
+        noise.p50, noise.p99, noise.max);
   }
 
   threadedRuntime(o, bone12, bone03, model.headAxis);

@@ -2,19 +2,18 @@
 // the hypervisor steals, no-work 1 kHz loops (the floor any real-time loop here stands on).
 #pragma once
 
-#include <pthread.h>
-#include <sched.h>
-#include <time.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <pthread.h>
+#include <sched.h>
 #include <string>
 #include <thread>
+#include <time.h>
+#include <unistd.h>
 #include <vector>
 
 #include "osteon/simulation/runner.h"
@@ -36,7 +35,8 @@ inline Percentiles noiseFloor() {
   for (int i = 0; i < 7001; ++i) {
     const auto start = std::chrono::steady_clock::now();
     for (std::size_t j = 0; j < data.size(); j += 3) sink += std::sqrt(data[j] * double(j));
-    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+                     .count());
   }
   if (sink < 0.0) std::printf("unreachable\n");  // keeps the work
   return percentilesOf(us);
@@ -48,7 +48,9 @@ inline double stealSeconds() {
   std::ifstream stat("/proc/stat");
   std::string cpu;
   unsigned long long user, nice, system, idle, iowait, irq, softirq, steal;
-  if (!(stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal) || cpu != "cpu") return -1.0;
+  if (!(stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal) ||
+      cpu != "cpu")
+    return -1.0;
   return double(steal) / double(sysconf(_SC_CLK_TCK));
 }
 
@@ -67,7 +69,7 @@ using Clock = std::chrono::steady_clock;
 // its end), and the periods it missed are skipped. Runs while keepGoing(k); returns the periods.
 template <class KeepGoing, class OnOverrun>
 inline std::uint64_t noWorkLoop(int priority, Clock::time_point startAt, KeepGoing&& keepGoing,
-                         OnOverrun&& onOverrun) {
+                                OnOverrun&& onOverrun) {
   sched_param p{};
   p.sched_priority = priority;
   pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
@@ -97,9 +99,11 @@ class ProbeLoop {
     overrunNs_.assign(RuntimeStats::kOverrunInstantsKept, 0);
     thread_ = std::thread([this, priority, offset] {
       periods_ = noWorkLoop(
-          priority, Clock::now() + offset, [this](std::uint64_t) { return !stop_.load(std::memory_order_relaxed); },
+          priority, Clock::now() + offset,
+          [this](std::uint64_t) { return !stop_.load(std::memory_order_relaxed); },
           [this](Clock::time_point end) {
-            if (overruns_ < overrunNs_.size()) overrunNs_[overruns_] = end.time_since_epoch().count();
+            if (overruns_ < overrunNs_.size())
+              overrunNs_[overruns_] = end.time_since_epoch().count();
             ++overruns_;
           });
     });
@@ -113,7 +117,8 @@ class ProbeLoop {
   std::uint64_t overruns() const { return overruns_; }
   // Steady-clock (CLOCK_MONOTONIC) ns of the first overruns, as RuntimeStats keeps them.
   std::vector<std::int64_t> overrunNs() const {
-    return {overrunNs_.begin(), overrunNs_.begin() + std::ptrdiff_t(std::min<std::uint64_t>(overruns_, overrunNs_.size()))};
+    return {overrunNs_.begin(), overrunNs_.begin() + std::ptrdiff_t(std::min<std::uint64_t>(
+                                                         overruns_, overrunNs_.size()))};
   }
 
  private:
@@ -124,7 +129,8 @@ class ProbeLoop {
 };
 
 // Overruns of `a` that end within 2 ms of one of `b`'s: the same stall seen by both.
-inline std::size_t coincident(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
+inline std::size_t coincident(const std::vector<std::int64_t>& a,
+                              const std::vector<std::int64_t>& b) {
   std::size_t n = 0;
   for (const std::int64_t t : a) {
     for (const std::int64_t u : b) {
@@ -194,7 +200,8 @@ inline void cpuStalls(double seconds) {
       CPU_SET(std::size_t(cpus[i]), &one);
       pthread_setaffinity_np(pthread_self(), sizeof one, &one);
       at[i].reserve(RuntimeStats::kOverrunInstantsKept);
-      const auto offset = std::chrono::microseconds(1000 * std::int64_t(i) / std::int64_t(cpus.size()));
+      const auto offset =
+          std::chrono::microseconds(1000 * std::int64_t(i) / std::int64_t(cpus.size()));
       noWorkLoop(
           80, startAt + offset, [&](std::uint64_t k) { return k < periods; },
           [&, i](Clock::time_point end) {
@@ -203,14 +210,15 @@ inline void cpuStalls(double seconds) {
     });
   }
   for (std::thread& t : loops) t.join();
-  std::printf("no-work 1 kHz loops pinned one per CPU, %g s, stolen %.2f s:\n", seconds, stealSeconds() - steal0);
+  std::printf("no-work 1 kHz loops pinned one per CPU, %g s, stolen %.2f s:\n", seconds,
+              stealSeconds() - steal0);
   for (std::size_t i = 0; i < cpus.size(); ++i) {
     std::vector<std::int64_t> others;
     for (std::size_t j = 0; j < cpus.size(); ++j) {
       if (j != i) others.insert(others.end(), at[j].begin(), at[j].end());
     }
-    std::printf("  CPU %d: %zu overran, %zu of them within 2 ms of another CPU's\n", cpus[i], at[i].size(),
-                coincident(at[i], others));
+    std::printf("  CPU %d: %zu overran, %zu of them within 2 ms of another CPU's\n", cpus[i],
+                at[i].size(), coincident(at[i], others));
   }
 }
 

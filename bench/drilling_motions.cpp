@@ -5,11 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <time.h>
 #include <vector>
 
 #include <glm/vec3.hpp>
-
-#include <time.h>
 
 #include "drilling_bench.h"
 #include "osteon/simulation/experiment.h"
@@ -34,7 +33,8 @@ class MotionRunner {
   MotionRunner(const BenchOptions& o, const std::shared_ptr<const BoneModel>& bone12,
                const std::shared_ptr<const BoneModel>& bone03)
       : o_(o),
-        configs_{{"static 0.3 mm", &bone03, 0}, {"static 1.2 mm", &bone12, 0},
+        configs_{{"static 0.3 mm", &bone03, 0},
+                 {"static 1.2 mm", &bone12, 0},
                  {"dynamic 1.2 mm / 2", &bone12, 2}} {
     cpuUs_.reserve(8000);
     wallUs_.reserve(8000);
@@ -62,7 +62,8 @@ class MotionRunner {
             leastUs_[i] = std::min(leastUs_[i], wallUs_[i]);
           if (k + 1 < o_.repeats) continue;
           report(name(), c, session, r, (phaseJitterN + r.summary.jitterN) / double(o_.phases));
-          if (!o_.logDir.empty()) writeLog(name() + ", " + c.name + ", " + couplingModeName(coupling), r);
+          if (!o_.logDir.empty())
+            writeLog(name() + ", " + c.name + ", " + couplingModeName(coupling), r);
         }
       }
     }
@@ -84,7 +85,8 @@ class MotionRunner {
       timespec now{};
       clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
       const auto nowWall = std::chrono::steady_clock::now();
-      cpuUs_.push_back(double(now.tv_sec - last.tv_sec) * 1e6 + double(now.tv_nsec - last.tv_nsec) * 1e-3);
+      cpuUs_.push_back(double(now.tv_sec - last.tv_sec) * 1e6 +
+                       double(now.tv_nsec - last.tv_nsec) * 1e-3);
       wallUs_.push_back(std::chrono::duration<double, std::micro>(nowWall - lastWall).count());
       last = now;
       lastWall = nowWall;
@@ -98,19 +100,22 @@ class MotionRunner {
     const Percentiles cpu = percentilesOf(cpuUs_);
     const Percentiles least = percentilesOf(leastUs_);
     std::printf(
-        "| %s | %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %.1f / %.1f | %.4f | %.3f | %llu | "
+        "| %s | %s | %s | %.3f | %.4f | %.1f | %.1f | %.1f | %.1f / %.1f / %.1f | %.1f / %.1f | "
+        "%.4f | %.3f | %llu | "
         "%llu / %llu | %llu | %zu | %.1f |\n",
         motion.c_str(), couplingModeName(s.coupling), c.name, s.maxStepChangeN, s.jitterN,
-        s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max, least.p99, least.max,
-        phaseJitterN, s.maxGapMm, (unsigned long long)s.clampSteps, (unsigned long long)s.totals.stepsDeferred,
-        (unsigned long long)s.totals.voxelsDeferred, (unsigned long long)s.totals.refinePoolExhausted,
+        s.hapticStepUs.p50, s.hapticStepUs.p99, s.hapticStepUs.max, cpu.p50, cpu.p99, cpu.max,
+        least.p99, least.max, phaseJitterN, s.maxGapMm, (unsigned long long)s.clampSteps,
+        (unsigned long long)s.totals.stepsDeferred, (unsigned long long)s.totals.voxelsDeferred,
+        (unsigned long long)s.totals.refinePoolExhausted,
         session.simulation().voxels().refinedCount(), s.removedVolumeMm3);
     std::fflush(stdout);
   }
 
   void writeLog(std::string file, const RunResult& r) const {
     for (char& ch : file) ch = std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' ? ch : '_';
-    writeForceLog(r.log, o_.logDir + "/" + file + ".csv", r.summary.coupling == CouplingMode::Proxy);
+    writeForceLog(r.log, o_.logDir + "/" + file + ".csv",
+                  r.summary.coupling == CouplingMode::Proxy);
   }
 
   const BenchOptions& o_;
@@ -138,15 +143,18 @@ void motions(const BenchOptions& o, const std::shared_ptr<const BoneModel>& bone
   const std::vector<double>& tilts = o.tilts;
   double load[3] = {0, 0, 0};
   loadAverage(load);
-  std::printf("\nmotions (deterministic, one thread), built-in humerus; load average at start %.2f %.2f %.2f\n", load[0],
-              load[1], load[2]);
+  std::printf(
+      "\nmotions (deterministic, one thread), built-in humerus; load average at start %.2f %.2f "
+      "%.2f\n",
+      load[0], load[1], load[2]);
   std::printf(
       "| motion | coupling | case | max 1 ms step N | jitter N | p50 us | p99 us | max us | CPU "
       "p50 / p99 / max us | own p99 / max us (least of %d runs) | jitter N, mean of %d phases | "
       "largest gap mm | steps at clamp | deferred steps / voxel-steps | pool full | refined at end "
       "| removed mm3 |\n",
       o.repeats, o.phases);
-  std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   MotionRunner runner(o, bone12, bone03);
   for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {
     for (const double tilt : tilts) {

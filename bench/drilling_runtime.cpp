@@ -22,7 +22,8 @@ namespace {
 
 // One case's sums over the rounds.
 struct Totals {
-  std::uint64_t periods = 0, overruns = 0, probePeriods = 0, probeOverruns = 0, minutesMet = 0, runs = 0;
+  std::uint64_t periods = 0, overruns = 0, probePeriods = 0, probeOverruns = 0, minutesMet = 0,
+                runs = 0;
   double stealS = 0.0;
 };
 
@@ -31,15 +32,18 @@ struct Totals {
 DrillPath helixPath(const HumeralHead& head, const glm::dvec3& headAxis, double durationS) {
   std::vector<Waypoint> points;
   const glm::dvec3 w = glm::normalize(headAxis);
-  const glm::dvec3 u = glm::normalize(glm::cross(w, std::abs(w.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  const glm::dvec3 u = glm::normalize(
+      glm::cross(w, std::abs(w.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
   const glm::dvec3 v = glm::cross(w, u);
   const double radiusMm = 8.0, speedMmPerS = 3.0;
   const double omega = speedMmPerS / radiusMm;
   const double pitchPerS = 3.4 * omega / (2.0 * M_PI);
   for (double t = 0.0; t <= durationS + 1e-9; t += 0.05) {
-    const glm::dvec3 p = head.centreMm + radiusMm * (std::cos(omega * t) * u + std::sin(omega * t) * v) +
+    const glm::dvec3 p = head.centreMm +
+                         radiusMm * (std::cos(omega * t) * u + std::sin(omega * t) * v) +
                          (-8.0 + pitchPerS * t) * w;
-    const glm::dvec3 tangent = -radiusMm * omega * std::sin(omega * t) * u + radiusMm * omega * std::cos(omega * t) * v;
+    const glm::dvec3 tangent =
+        -radiusMm * omega * std::sin(omega * t) * u + radiusMm * omega * std::cos(omega * t) * v;
     points.push_back({t, p, ToolPose::pointing(p, tangent).orientation, true});
   }
   return DrillPath(points);
@@ -49,9 +53,8 @@ DrillPath helixPath(const HumeralHead& head, const glm::dvec3& headAxis, double 
 void printRun(const RuntimeResult& r, const ProbeLoop& probe, double stealS, double runtimeS,
               double voxelMm, int levels, const char* startText) {
   const RuntimeStats& st = r.stats;
-  std::printf(
-      "threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n",
-      runtimeS, voxelMm, levels, startText);
+  std::printf("threaded runtime, %g s at %g mm / %d levels, helix through the head (started %s)\n",
+              runtimeS, voxelMm, levels, startText);
   std::printf("realtime priority: %s\n",
               st.realtimeGranted ? "SCHED_FIFO granted" : "not granted (normal scheduling)");
   if (st.standbyCpu >= 0) {
@@ -68,8 +71,8 @@ void printRun(const RuntimeResult& r, const ProbeLoop& probe, double stealS, dou
   std::printf(
       "collision: %llu periods, %llu overran (%.4f %%), step p50 %.1f p99 %.1f max %.1f us\n",
       (unsigned long long)st.collisionSteps, (unsigned long long)st.collisionOverruns,
-      percentOf(st.collisionOverruns, st.collisionSteps),
-      st.collisionStepUs.p50, st.collisionStepUs.p99, st.collisionStepUs.max);
+      percentOf(st.collisionOverruns, st.collisionSteps), st.collisionStepUs.p50,
+      st.collisionStepUs.p99, st.collisionStepUs.max);
   std::printf(
       "visual: %llu updates, remesh p50 %.3f p99 %.3f max %.3f ms; bricks handed over %llu, "
       "ring full %llu\n",
@@ -97,8 +100,11 @@ void printRun(const RuntimeResult& r, const ProbeLoop& probe, double stealS, dou
 
 // The rounds' sums: haptic overruns against the same-window probe's, per case.
 void printRounds(const Totals (&totals)[2][2], int rounds, double runtimeS) {
-  std::printf("\n%d rounds of %g s, summed: haptic overruns against the same-window probe's\n", rounds, runtimeS);
-  std::printf("| case | standby | haptic overran | probe overran | haptic - probe | runs within 0.01 | stolen s |\n");
+  std::printf("\n%d rounds of %g s, summed: haptic overruns against the same-window probe's\n",
+              rounds, runtimeS);
+  std::printf(
+      "| case | standby | haptic overran | probe overran | haptic - probe | runs within 0.01 | "
+      "stolen s |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|\n");
   for (int c = 0; c < 2; ++c) {
     for (int m = 0; m < 2; ++m) {
@@ -106,11 +112,13 @@ void printRounds(const Totals (&totals)[2][2], int rounds, double runtimeS) {
       if (t.runs == 0) continue;
       const double h = percentOf(t.overruns, t.periods);
       const double f = percentOf(t.probeOverruns, t.probePeriods);
-      std::printf("| %s | %s | %llu of %llu (%.4f %%) | %llu of %llu (%.4f %%) | %+.4f pp | %llu of %llu | %.2f |\n",
-                  c == 0 ? "1.2 mm, 2 levels" : "0.3 mm static", m == 1 ? "on" : "off",
-                  (unsigned long long)t.overruns, (unsigned long long)t.periods, h,
-                  (unsigned long long)t.probeOverruns, (unsigned long long)t.probePeriods, f, h - f,
-                  (unsigned long long)t.minutesMet, (unsigned long long)t.runs, t.stealS);
+      std::printf(
+          "| %s | %s | %llu of %llu (%.4f %%) | %llu of %llu (%.4f %%) | %+.4f pp | %llu of %llu | "
+          "%.2f |\n",
+          c == 0 ? "1.2 mm, 2 levels" : "0.3 mm static", m == 1 ? "on" : "off",
+          (unsigned long long)t.overruns, (unsigned long long)t.periods, h,
+          (unsigned long long)t.probeOverruns, (unsigned long long)t.probePeriods, f, h - f,
+          (unsigned long long)t.minutesMet, (unsigned long long)t.runs, t.stealS);
     }
   }
 }
@@ -170,14 +178,18 @@ void threadedRuntime(const BenchOptions& o, const std::shared_ptr<const BoneMode
   }
   if (o.rounds > 1) printRounds(totals, o.rounds, o.runtimeS);
   const OverrunFloor floor = overrunFloor(o.runtimeS);
-  std::printf("\nmachine floor, %g s: the same two 1 kHz loops with no work, a thread streaming memory beside them\n",
-              o.runtimeS);
-  std::printf("haptic: %llu periods, %llu overran (%.4f %%); collision: %llu periods, %llu overran (%.4f %%); "
-              "stolen %.2f s\n",
-              (unsigned long long)floor.periods[0], (unsigned long long)floor.overruns[0],
-              percentOf(floor.overruns[0], floor.periods[0]),
-              (unsigned long long)floor.periods[1], (unsigned long long)floor.overruns[1],
-              percentOf(floor.overruns[1], floor.periods[1]), floor.stealS);
+  std::printf(
+      "\nmachine floor, %g s: the same two 1 kHz loops with no work, a thread streaming memory "
+      "beside them\n",
+      o.runtimeS);
+  std::printf(
+      "haptic: %llu periods, %llu overran (%.4f %%); collision: %llu periods, %llu overran (%.4f "
+      "%%); "
+      "stolen %.2f s\n",
+      (unsigned long long)floor.periods[0], (unsigned long long)floor.overruns[0],
+      percentOf(floor.overruns[0], floor.periods[0]), (unsigned long long)floor.periods[1],
+      (unsigned long long)floor.overruns[1], percentOf(floor.overruns[1], floor.periods[1]),
+      floor.stealS);
 }
 
 }  // namespace osteon::bench

@@ -1,18 +1,18 @@
 // Surface extraction (seed 3.4): full extraction against VTK's vtkFlyingEdges3D on the same
 // uint8 volumes, the incremental update after one drilling step at 0.25 mm, and the seed's
 // Tables 1 and 2 for the built-in and the shared humerus. Figures go to docs/performance.md.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
 #include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh_io.h"
-#include "osteon/geometry/hierarchy/refinement.h"
-#include "osteon/simulation/bone_source.h"
-#include "osteon/simulation/removal.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/voxelizer.h"
-
-#include <benchmark/benchmark.h>
-#include <tbb/global_control.h>
+#include "osteon/simulation/bone_source.h"
+#include "osteon/simulation/removal.h"
 
 #ifdef OSTEON_HAVE_VTK
 #include <vtkFlyingEdges3D.h>
@@ -27,10 +27,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <malloc.h>
 #include <map>
 #include <memory>
-
-#include <malloc.h>
 #include <sys/resource.h>
 
 namespace {
@@ -58,7 +57,8 @@ const VoxelGrid& volume(const std::string& name, int n) {
     options.voxelSizeMm = std::max({e.x, e.y, e.z}) / (n - 2);
     const VoxelGrid bone = voxelize(model().mesh, options);
     const glm::ivec3 shift = (glm::ivec3(n) - bone.dims()) / 2;
-    slot = std::make_unique<VoxelGrid>(glm::ivec3(n), bone.originMm() - glm::dvec3(shift) * options.voxelSizeMm,
+    slot = std::make_unique<VoxelGrid>(glm::ivec3(n),
+                                       bone.originMm() - glm::dvec3(shift) * options.voxelSizeMm,
                                        options.voxelSizeMm);
     const glm::ivec3 d = bone.dims();
     for (int z = 0; z < d.z; ++z)
@@ -81,10 +81,13 @@ const VoxelGrid& volume(const std::string& name, int n) {
     for (int i = 1; i < stacks; ++i)
       for (int j = 0; j < slices; ++j) {
         const double th = M_PI * i / stacks, ph = 2 * M_PI * j / slices;
-        sphere.positionsMm.push_back(r * glm::dvec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+        sphere.positionsMm.push_back(
+            r * glm::dvec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
       }
     sphere.positionsMm.push_back({0, 0, -r});
-    const auto ring = [&](int i, int j) { return std::uint32_t(1 + (i - 1) * slices + (j % slices)); };
+    const auto ring = [&](int i, int j) {
+      return std::uint32_t(1 + (i - 1) * slices + (j % slices));
+    };
     const auto south = std::uint32_t(sphere.positionsMm.size() - 1);
     for (int j = 0; j < slices; ++j) sphere.triangles.push_back({0u, ring(1, j), ring(1, j + 1)});
     for (int i = 1; i + 1 < stacks; ++i)
@@ -92,7 +95,8 @@ const VoxelGrid& volume(const std::string& name, int n) {
         sphere.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
         sphere.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
       }
-    for (int j = 0; j < slices; ++j) sphere.triangles.push_back({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
+    for (int j = 0; j < slices; ++j)
+      sphere.triangles.push_back({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
   }
   slot = std::make_unique<VoxelGrid>(voxelize(sphere, options));
   VoxelGrid& g = *slot;
@@ -124,7 +128,8 @@ void BM_ExtractOsteon(benchmark::State& state, const std::string& name, bool sin
   const VoxelGrid& g = volume(name, int(state.range(0)));
   std::unique_ptr<tbb::global_control> oneThread;
   if (singleThread) {
-    oneThread = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
+    oneThread =
+        std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, 1);
   }
   SurfaceOptions options;  // marching cubes only: no smoothing, no normals, like FlyingEdges
   options.smoothIterations = 0;
@@ -137,7 +142,8 @@ void BM_ExtractOsteon(benchmark::State& state, const std::string& name, bool sin
     benchmark::DoNotOptimize(triangles);
   }
   // Page faults per extraction: fresh output pages the kernel maps and zeroes.
-  state.counters["faults"] = benchmark::Counter(double(minorFaults() - faults), benchmark::Counter::kAvgIterations);
+  state.counters["faults"] =
+      benchmark::Counter(double(minorFaults() - faults), benchmark::Counter::kAvgIterations);
   state.counters["triangles"] = double(triangles);
   state.counters["voxels"] = double(g.voxelCount());
 }
@@ -177,7 +183,8 @@ vtkSmartPointer<vtkImageData> imageOf(const VoxelGrid& g) {
   for (int z = 0; z < d.z; ++z)
     for (int y = 0; y < d.y; ++y)
       for (int x = 0; x < d.x; ++x) {
-        values[x + std::size_t(d.x) * (y + std::size_t(d.y) * z)] = static_cast<unsigned char>(g.fill({x, y, z}) / kFillPerStep);
+        values[x + std::size_t(d.x) * (y + std::size_t(d.y) * z)] =
+            static_cast<unsigned char>(g.fill({x, y, z}) / kFillPerStep);
       }
   return image;
 }
@@ -204,7 +211,8 @@ void BM_ExtractFlyingEdges(benchmark::State& state, const std::string& name) {
     triangles = flyingEdges(image);
     benchmark::DoNotOptimize(triangles);
   }
-  state.counters["faults"] = benchmark::Counter(double(minorFaults() - faults), benchmark::Counter::kAvgIterations);
+  state.counters["faults"] =
+      benchmark::Counter(double(minorFaults() - faults), benchmark::Counter::kAvgIterations);
   state.counters["triangles"] = double(triangles);
   state.counters["voxels"] = double(g.voxelCount());
 }
@@ -271,26 +279,56 @@ void registerExtraction() {
     const std::string n = name;
     benchmark::RegisterBenchmark(("extract/osteon_2threads/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractOsteon(s, n, false); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     benchmark::RegisterBenchmark(("extract/osteon_1thread/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractOsteon(s, n, true); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     benchmark::RegisterBenchmark(("extract/osteon_1thread_cold/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractOsteonCold(s, n); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
 #ifdef OSTEON_HAVE_VTK
     benchmark::RegisterBenchmark(("extract/vtkFlyingEdges3D_1thread/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractFlyingEdges(s, n); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     benchmark::RegisterBenchmark(("extract/vtkFlyingEdges3D_1thread_cold/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractFlyingEdgesCold(s, n); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
     benchmark::RegisterBenchmark(("extract/side_by_side_1thread/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractSideBySide(s, n, false); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(2.0);
     benchmark::RegisterBenchmark(("extract/side_by_side_1thread_cold/" + n).c_str(),
                                  [n](benchmark::State& s) { BM_ExtractSideBySide(s, n, true); })
-        ->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+        ->Arg(64)
+        ->Arg(128)
+        ->Arg(256)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(2.0);
 #endif
   }
 }
@@ -298,7 +336,9 @@ void registerExtraction() {
 void report(benchmark::State& state, std::vector<double>& ms, const std::string& prefix) {
   if (ms.empty()) return;
   std::sort(ms.begin(), ms.end());
-  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, std::size_t(q * double(ms.size())))]; };
+  const auto at = [&](double q) {
+    return ms[std::min(ms.size() - 1, std::size_t(q * double(ms.size())))];
+  };
   state.counters[prefix + "p50_ms"] = at(0.5);
   state.counters[prefix + "p99_ms"] = at(0.99);
   state.counters[prefix + "max_ms"] = ms.back();
@@ -362,10 +402,15 @@ void BM_IncrementalDrillStep(benchmark::State& state) {
   }
   report(state, all, "every_step_");
   report(state, changed, "changing_step_");
-  state.counters["cell_bricks_per_changing_step"] = steps ? double(cellBricks) / double(steps) : 0.0;
+  state.counters["cell_bricks_per_changing_step"] =
+      steps ? double(cellBricks) / double(steps) : 0.0;
 }
-BENCHMARK(BM_IncrementalDrillStep)->Arg(250)->Arg(540)->ArgName("voxel_um")
-    ->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_IncrementalDrillStep)
+    ->Arg(250)
+    ->Arg(540)
+    ->ArgName("voxel_um")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 // Worst case: the whole 2.92 mm sphere of bone removed at once at a new place every step.
 void BM_IncrementalSphereRemoved(benchmark::State& state) {
@@ -383,17 +428,22 @@ void BM_IncrementalSphereRemoved(benchmark::State& state) {
   }
   report(state, ms, "");
 }
-BENCHMARK(BM_IncrementalSphereRemoved)->Arg(250)->ArgName("voxel_um")
-    ->Unit(benchmark::kMillisecond)->Iterations(200);
+BENCHMARK(BM_IncrementalSphereRemoved)
+    ->Arg(250)
+    ->ArgName("voxel_um")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(200);
 
 // The seed's Tables 1 and 2: voxels, triangles, vertices and the mesh time, broken down.
 void BM_SeedTables(benchmark::State& state, const std::string& which) {
   static const TriangleMesh shared = [] {
-    const std::string path = std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
+    const std::string path =
+        std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
     osteon::simulation::BoneSource source;  // in metres
     source.input = path;
     source.units = "m";
-    return std::filesystem::exists(path) ? osteon::simulation::loadBoneMesh(source).mesh : TriangleMesh{};
+    return std::filesystem::exists(path) ? osteon::simulation::loadBoneMesh(source).mesh
+                                         : TriangleMesh{};
   }();
   const TriangleMesh& mesh = which == "humerus_shared" ? shared : model().mesh;
   if (mesh.triangles.empty()) {
@@ -429,8 +479,14 @@ void BM_SeedTables(benchmark::State& state, const std::string& which) {
 void registerTables() {
   for (const char* which : {"humerus_default", "humerus_shared"}) {
     const std::string w = which;
-    benchmark::RegisterBenchmark(("seed_table/" + w).c_str(), [w](benchmark::State& s) { BM_SeedTables(s, w); })
-        ->Arg(1200)->Arg(900)->Arg(720)->Arg(540)->ArgName("voxel_um")->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("seed_table/" + w).c_str(),
+                                 [w](benchmark::State& s) { BM_SeedTables(s, w); })
+        ->Arg(1200)
+        ->Arg(900)
+        ->Arg(720)
+        ->Arg(540)
+        ->ArgName("voxel_um")
+        ->Unit(benchmark::kMillisecond);
   }
 }
 

@@ -1,14 +1,14 @@
 // Voxelization (seed 3.2) of the built-in humerus and the shared fibula at 1.0 / 0.5 /
 // 0.25 mm, single-axis and robust. Figures go into docs/performance.md.
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/io/mesh_io.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-
-#include <benchmark/benchmark.h>
-
 #include <filesystem>
 #include <map>
 #include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 namespace {
 
@@ -57,9 +57,8 @@ void registerAll() {
   for (const char* model : {"humerus_default", "fibula_shared"}) {
     for (bool robust : {false, true}) {
       const std::string name = std::string("voxelize/") + model + (robust ? "/robust" : "/z");
-      benchmark::RegisterBenchmark(name.c_str(), [model, robust](benchmark::State& s) {
-        voxelizeBench(s, model, robust);
-      })
+      benchmark::RegisterBenchmark(
+          name.c_str(), [model, robust](benchmark::State& s) { voxelizeBench(s, model, robust); })
           ->Arg(1000)
           ->Arg(500)
           ->Arg(250)

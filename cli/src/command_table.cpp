@@ -2,6 +2,10 @@
 // main.cpp alone), and the table of subcommands.
 #include "command_table.h"
 
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
 #include "commands/check.h"
 #include "commands/devices.h"
 #include "commands/drill.h"
@@ -14,10 +18,6 @@
 #include "commands/validate.h"
 #include "commands/voxelize.h"
 
-#include <CLI/CLI.hpp>
-
-#include <memory>
-
 namespace osteon::cli {
 
 namespace {
@@ -25,14 +25,17 @@ namespace {
 using simulation::BoneSource;
 
 void addUnits(CLI::App& cmd, BoneSource& source) {
-  CLI::Option* u = cmd.add_option("--units", source.units, "Unit of the mesh file's coordinates: mm, cm, m or in")
+  CLI::Option* u = cmd.add_option("--units", source.units,
+                                  "Unit of the mesh file's coordinates: mm, cm, m or in")
                        ->default_str("mm");
-  CLI::Option* s = cmd.add_option("--scale", source.scale, "Multiply coordinates by S to get millimetres");
+  CLI::Option* s =
+      cmd.add_option("--scale", source.scale, "Multiply coordinates by S to get millimetres");
   u->excludes(s);
 }
 
 void addMesh(CLI::App& cmd, BoneSource& source) {
-  cmd.add_option("MESH", source.input, "Mesh file (.stl .obj .ply .off) or 'default' for the built-in humerus")
+  cmd.add_option("MESH", source.input,
+                 "Mesh file (.stl .obj .ply .off) or 'default' for the built-in humerus")
       ->required();
 }
 
@@ -43,7 +46,8 @@ void addGridInput(CLI::App& cmd, BoneSource& source) {
                  "(.nrrd .nhdr .nii .nii.gz: label map or CT)")
       ->required();
   addUnits(cmd, source);
-  cmd.add_option("--voxel-size", source.voxelSizeMm, "Voxel edge in mm (required for a mesh; a grid has its own)");
+  cmd.add_option("--voxel-size", source.voxelSizeMm,
+                 "Voxel edge in mm (required for a mesh; a grid has its own)");
 }
 
 // CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed or label is refused rather than wrapped.
@@ -60,13 +64,15 @@ CLI::Validator nonNegativeInteger(const char* name) {
 
 // What a volume (NRRD or NIfTI) means, and whether an empty result is accepted.
 void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
-  cmd.add_option("--label", meaning.label,
-                 "Label map volumes: the bone label, 0 .. 2^64-1 (default: every voxel but the background, "
-                 "0 or else the most common value)")
+  cmd.add_option(
+         "--label", meaning.label,
+         "Label map volumes: the bone label, 0 .. 2^64-1 (default: every voxel but the background, "
+         "0 or else the most common value)")
       ->check(nonNegativeInteger("LABEL"));
   cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
-  cmd.add_flag("--allow-outside-data", meaning.allowOutsideData,
-               "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
+  cmd.add_flag(
+      "--allow-outside-data", meaning.allowOutsideData,
+      "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
 }
 
 void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
@@ -80,10 +86,12 @@ void addJson(CLI::App& cmd, bool& json, const char* help = "Print one JSON objec
 
 // drill and replay: the drilling run's own options.
 void addRunOptions(CLI::App& cmd, int& levels, std::string& tool, std::string& outDir) {
-  cmd.add_option("--levels", levels, "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
+  cmd.add_option("--levels", levels,
+                 "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
   cmd.add_option("--tool", tool, "drill, burr or shaver")->default_val("drill");
-  cmd.add_option("--out-dir", outDir, "Folder for forces.csv, summary.json, surface.ply")->default_val(".");
+  cmd.add_option("--out-dir", outDir, "Folder for forces.csv, summary.json, surface.ply")
+      ->default_val(".");
 }
 
 void addInfo(CLI::App& cmd, InfoOptions& o) {
@@ -96,11 +104,15 @@ void addVoxelize(CLI::App& cmd, VoxelizeCommandOptions& o) {
   addMesh(cmd, o.bone);
   addUnits(cmd, o.bone);
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Voxel edge length in mm")->required();
-  cmd.add_flag("--robust", o.robust, "Cast along all three axes and take a majority vote (meshes with holes)");
-  cmd.add_option("--rays", o.raysPerAxis, "Rays per column along each side (R x R rays)")->default_val(4);
+  cmd.add_flag("--robust", o.robust,
+               "Cast along all three axes and take a majority vote (meshes with holes)");
+  cmd.add_option("--rays", o.raysPerAxis, "Rays per column along each side (R x R rays)")
+      ->default_val(4);
   cmd.add_option("--cortical-mm", o.corticalMm, "Cortical shell thickness in mm")->default_val(2.0);
-  cmd.add_option("--cortical-density", o.corticalDensity, "Density d of cortical voxels")->default_val(40);
-  cmd.add_option("--cancellous-density", o.cancellousDensity, "Density d of cancellous voxels")->default_val(15);
+  cmd.add_option("--cortical-density", o.corticalDensity, "Density d of cortical voxels")
+      ->default_val(40);
+  cmd.add_option("--cancellous-density", o.cancellousDensity, "Density d of cancellous voxels")
+      ->default_val(15);
   cmd.add_option("--out", o.out, "Write the grid as NRRD (fill; density beside it)");
   addJson(cmd, o.json);
   addAllowEmpty(cmd, o.allowEmpty);
@@ -121,7 +133,8 @@ void addHierarchy(CLI::App& cmd, HierarchyOptions& o) {
 
 void addMeshCommand(CLI::App& cmd, MeshCommandOptions& o) {
   addGridInput(cmd, o.bone);
-  cmd.add_option("--method", o.method, "crackfree (shared vertices) or naive (seed's MC)")->default_val("crackfree");
+  cmd.add_option("--method", o.method, "crackfree (shared vertices) or naive (seed's MC)")
+      ->default_val("crackfree");
   cmd.add_option("--smooth", o.smooth, "Laplacian passes")->default_val(2);
   cmd.add_flag("--taubin", o.taubin, "Alternate shrink-free Taubin lambda/mu passes");
   cmd.add_option("--out", o.out, "Write the surface (.ply .obj .stl .off)");
@@ -136,11 +149,14 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
       "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz)");
   addUnits(cmd, o.bone);
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
-  cmd.add_option("--levels", o.levels, "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
+  cmd.add_option("--levels", o.levels,
+                 "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
-  CLI::Option* path = cmd.add_option("--path", o.path, "portal-5, portal-7 or PATH.csv (t,x,y,z,drill_on)");
+  CLI::Option* path =
+      cmd.add_option("--path", o.path, "portal-5, portal-7 or PATH.csv (t,x,y,z,drill_on)");
   cmd.add_option("--tool", o.tool, "drill, burr or shaver")->default_val("drill");
-  cmd.add_option("--out-dir", o.outDir, "Folder for forces.csv, summary.json, surface.ply")->default_val(".");
+  cmd.add_option("--out-dir", o.outDir, "Folder for forces.csv, summary.json, surface.ply")
+      ->default_val(".");
   cmd.add_flag("--threaded", o.threaded,
                "Run the haptic, collision and visual threads in real time (not bit-identical)");
   addJson(cmd, o.json, "Print the summary as JSON on stdout");
@@ -149,34 +165,42 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
                  "portal paths); direct: the tool is where the path puts it");
   addVolumeMeaning(cmd, o.bone.volume);
   addAllowEmpty(cmd, o.allowEmpty);
-  cmd.add_option("--device", o.device,
-                 "Drive the run from a device instead of --path: mouse, spacemouse[:PATH], "
-                 "serial:PORT[@BAUD], touch[:NAME], replay:LOG.csv, scripted:portal-5|portal-7|PATH.csv")
+  cmd.add_option(
+         "--device", o.device,
+         "Drive the run from a device instead of --path: mouse, spacemouse[:PATH], "
+         "serial:PORT[@BAUD], touch[:NAME], replay:LOG.csv, scripted:portal-5|portal-7|PATH.csv")
       ->excludes(path);
   cmd.add_option("--duration", o.durationS, "Seconds to run a live device (required for one)");
   cmd.add_option("--record", o.record,
-                 "Record the device's stream at 1 kHz to this CSV (t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
+                 "Record the device's stream at 1 kHz to this CSV "
+                 "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
 }
 
 void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
-  cmd.add_option("LOG", o.log, "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on")->required();
+  cmd.add_option("LOG", o.log, "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on")
+      ->required();
   addMesh(cmd, o.bone);
   addUnits(cmd, o.bone);
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   addRunOptions(cmd, o.levels, o.tool, o.outDir);
   addJson(cmd, o.json, "Print the summary as JSON on stdout");
   addAllowEmpty(cmd, o.allowEmpty);
-  cmd.add_option("--coupling", o.coupling,
-                 "proxy (default): bone stops the tool, a spring joins it to the recording; direct");
+  cmd.add_option(
+      "--coupling", o.coupling,
+      "proxy (default): bone stops the tool, a spring joins it to the recording; direct");
 }
 
 void addDevices(CLI::App& cmd, DevicesCommandOptions& o) {
   cmd.require_subcommand(1);
-  CLI::App* list = cmd.add_subcommand("list", "3Dconnexion HID devices and USB serial ports attached now");
+  CLI::App* list =
+      cmd.add_subcommand("list", "3Dconnexion HID devices and USB serial ports attached now");
   addJson(*list, o.list.json);
   list->callback([&o] { o.which = "list"; });
   CLI::App* monitor = cmd.add_subcommand("monitor", "Print a device's events, one per line");
-  monitor->add_option("DEVICE", o.monitor.device, "Device name, e.g. serial:/dev/ttyACM0 or spacemouse")->required();
+  monitor
+      ->add_option("DEVICE", o.monitor.device,
+                   "Device name, e.g. serial:/dev/ttyACM0 or spacemouse")
+      ->required();
   monitor->add_option("--count", o.monitor.count, "Exit 0 after this many events");
   monitor->add_option("--duration", o.monitor.durationS, "Exit 0 after this many seconds");
   addJson(*monitor, o.monitor.json, "One JSON object per event");
@@ -188,35 +212,41 @@ void addCheck(CLI::App& cmd, CheckCommandOptions& o) {
   addUnits(cmd, o.bone);
   cmd.add_option("--reference", o.reference,
                  "Mesh the surface came from (same units): Hausdorff distance, volume difference");
-  cmd.add_option("--cracks", o.cracks, "Pixels per side of each of the six crack views")->default_val(512);
+  cmd.add_option("--cracks", o.cracks, "Pixels per side of each of the six crack views")
+      ->default_val(512);
   cmd.add_option("--images", o.images, "Write the six crack views as PNG into this folder");
   addJson(cmd, o.json);
 }
 
 void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
   cmd.add_option("--models", o.models,
-                 "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii .nii.gz: "
+                 "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii "
+                 ".nii.gz: "
                  "at their own voxel size, every non-background label or 300 HU)")
       ->default_val("default");
   addUnits(cmd, o.source);
-  cmd.add_option("--voxel-sizes", o.voxelSizes, "Comma-separated voxel sizes in mm")->default_val("1.2,0.9,0.72,0.54");
-  cmd.add_flag("--quick", o.quick, "1.2 mm only (unless --voxel-sizes is given), coarser checks: about a minute");
+  cmd.add_option("--voxel-sizes", o.voxelSizes, "Comma-separated voxel sizes in mm")
+      ->default_val("1.2,0.9,0.72,0.54");
+  cmd.add_flag("--quick", o.quick,
+               "1.2 mm only (unless --voxel-sizes is given), coarser checks: about a minute");
   cmd.add_option("--out-dir", o.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   cmd.add_option("--compare", o.compare, "A previous report.json: mark regressions");
   cmd.add_flag("--allow-outside-data", o.source.volume.allowOutsideData,
                "NRRD volumes in --models: read a 'data file:' outside the header's folder");
-  cmd.add_option("--shard", o.shard,
-                 "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "
-                 "estimated cost; merge the shards' folders with --merge");
-  cmd.add_option("--merge", o.merge,
-                 "Shard folders (each with the report.json of one --shard K/N run): merge them into one "
-                 "report in --out-dir instead of running");
+  cmd.add_option(
+      "--shard", o.shard,
+      "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "
+      "estimated cost; merge the shards' folders with --merge");
+  cmd.add_option(
+      "--merge", o.merge,
+      "Shard folders (each with the report.json of one --shard K/N run): merge them into one "
+      "report in --out-dir instead of running");
   // Which options of a run were given (a merge refuses them; --voxel-sizes overrides --quick's).
   cmd.callback([&cmd, &o] {
     o.voxelSizesGiven = cmd.count("--voxel-sizes") > 0;
-    for (const char* name : {"--models", "--voxel-sizes", "--quick", "--shard", "--units", "--scale",
-                             "--allow-outside-data"}) {
+    for (const char* name : {"--models", "--voxel-sizes", "--quick", "--shard", "--units",
+                             "--scale", "--allow-outside-data"}) {
       if (cmd.count(name) > 0) o.runOptionsGiven.push_back(name);
     }
   });
@@ -226,7 +256,8 @@ void addExperiment(CLI::App& cmd, ExperimentCommandOptions& o) {
   cmd.add_option("NAME", o.name, "Experiment: seed")->required();
   cmd.add_option("--mesh", o.bone.input, "Humerus mesh, or 'default'")->default_val("default");
   addUnits(cmd, o.bone);
-  cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs")->default_val("experiment-seed");
+  cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs")
+      ->default_val("experiment-seed");
   addJson(cmd, o.json, "Print the table as JSON on stdout");
 }
 
@@ -237,7 +268,8 @@ void addModel(CLI::App& cmd, ModelOptions& o) {
 
 // A row of the table: the options live as long as the run closure that reads them.
 template <typename Options>
-Subcommand row(const char* name, const char* help, void (*add)(CLI::App&, Options&), int (*run)(const Options&)) {
+Subcommand row(const char* name, const char* help, void (*add)(CLI::App&, Options&),
+               int (*run)(const Options&)) {
   return {name, help, [add, run](CLI::App& command) {
             auto options = std::make_shared<Options>();
             add(command, *options);
@@ -250,24 +282,32 @@ Subcommand row(const char* name, const char* help, void (*add)(CLI::App&, Option
 const std::vector<Subcommand>& subcommands() {
   static const std::vector<Subcommand> table = {
       row("info", "Print a mesh's size, bounds, volume and topology", addInfo, runInfo),
-      row("voxelize", "Voxelize a mesh by Embree ray projection (seed 3.2)", addVoxelize, runVoxelize),
-      row("hierarchy", "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)",
+      row("voxelize", "Voxelize a mesh by Embree ray projection (seed 3.2)", addVoxelize,
+          runVoxelize),
+      row("hierarchy",
+          "Build the Dynamic Proximity Hierarchy over a voxelized mesh or grid (seed 3.3)",
           addHierarchy, runHierarchy),
-      row("mesh", "Extract the crack-free (or the seed's naive) surface of a voxelized mesh or grid", addMeshCommand,
-          runMesh),
-      row("drill", "Drill a path into the bone at 1 kHz (deterministic): force log, summary, surface", addDrill,
-          runDrill),
-      row("replay", "Replay a device recording through the safety layer into a deterministic session", addReplay,
-          runReplay),
+      row("mesh",
+          "Extract the crack-free (or the seed's naive) surface of a voxelized mesh or grid",
+          addMeshCommand, runMesh),
+      row("drill",
+          "Drill a path into the bone at 1 kHz (deterministic): force log, summary, surface",
+          addDrill, runDrill),
+      row("replay",
+          "Replay a device recording through the safety layer into a deterministic session",
+          addReplay, runReplay),
       row("devices", "List attached devices, or watch one's events", addDevices, runDevices),
-      row("check", "Prove a surface crack-free: exact checks (CGAL), pixel crack metric, accuracy", addCheck,
-          runCheck),
-      row("validate", "The nightly run: every guarantee on models x voxel sizes x methods x modes; report",
+      row("check", "Prove a surface crack-free: exact checks (CGAL), pixel crack metric, accuracy",
+          addCheck, runCheck),
+      row("validate",
+          "The nightly run: every guarantee on models x voxel sizes x methods x modes; report",
           addValidate, runValidate),
-      row("experiment", "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)",
+      row("experiment",
+          "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)",
           addExperiment, runExperiment),
-      row("model", "Build the built-in proximal humerus (what 'default' means) and optionally write it", addModel,
-          runModel),
+      row("model",
+          "Build the built-in proximal humerus (what 'default' means) and optionally write it",
+          addModel, runModel),
   };
   return table;
 }

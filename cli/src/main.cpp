@@ -1,20 +1,19 @@
 // `osteon`: the command-line front end. The table of subcommands (command_table.h) gives the
 // registration, the help, the unknown-command message and the dispatch; this file parses and
 // turns what a command throws into one line on stderr and an exit code.
-#include "command_table.h"
-
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-#include "osteon/simulation/bone_source.h"
-
-#include <CLI/CLI.hpp>
-
 #include <csignal>
 #include <exception>
 #include <iostream>
 #include <new>
 #include <utility>
 #include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "command_table.h"
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
+#include "osteon/simulation/bone_source.h"
 
 namespace {
 
@@ -47,7 +46,8 @@ int runReporting(const std::function<int()>& run) {
     return run();
   } catch (const osteon::Interrupted& e) {
     // The run's folder keeps its previous outputs (output_dir.h): nothing of this run is in it.
-    std::cerr << "osteon: " << e.what() << ": the run stopped; its output folder keeps what it held before\n";
+    std::cerr << "osteon: " << e.what()
+              << ": the run stopped; its output folder keeps what it held before\n";
     return e.exitCode();
   } catch (const osteon::InputError& e) {
     std::cerr << "osteon: error: " << oneLine(osteon::simulation::commandLineMessage(e)) << "\n";
@@ -92,7 +92,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Name an unknown command rather than CLI11's "a subcommand is required".
     bool known = false;
-    for (const auto& command : commands) known = known || (argc > 1 && command.first->get_name() == argv[1]);
+    for (const auto& command : commands)
+      known = known || (argc > 1 && command.first->get_name() == argv[1]);
     if (argc > 1 && argv[1][0] != '-' && !known) {
       std::cerr << "osteon: error: " << argv[1] << ": unknown command (expected " << commandList()
                 << "; see osteon --help)\n";

@@ -1,9 +1,6 @@
 // Reading and checking validate reports for --compare and --merge (report_reader.h).
 #include "report_reader.h"
 
-#include "osteon/core/error.h"
-#include "osteon/validation/shard.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -14,6 +11,9 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+
+#include "osteon/core/error.h"
+#include "osteon/validation/shard.h"
 
 namespace osteon::cli {
 

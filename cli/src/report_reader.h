@@ -6,10 +6,10 @@
 // this code.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstddef>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 namespace osteon::cli {
 

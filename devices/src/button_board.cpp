@@ -1,15 +1,19 @@
 #include "osteon/devices/button_board.h"
 
-#include "osteon/core/error.h"
-
 #include <chrono>
+
+#include "osteon/core/error.h"
 
 namespace osteon::devices {
 
 namespace {
 
-bool isHex(char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'); }
-int hexValue(char c) { return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10; }
+bool isHex(char c) {
+  return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+}
+int hexValue(char c) {
+  return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10;
+}
 
 bool reject(BoardEvent& e, const char* reason) {
   e.kind = BoardEvent::Kind::Malformed;
@@ -42,7 +46,8 @@ bool BoardLineParser::decodeLine(const char* line, std::size_t size, BoardEvent&
     const std::size_t valueLength = length - eq - 1;
     if (eq == 1 && field[0] == 'B') {
       if (haveB) return reject(e, "B given twice");
-      if (valueLength == 0 || valueLength > 8) return reject(e, "B is not a hex button mask (1 to 8 hex digits)");
+      if (valueLength == 0 || valueLength > 8)
+        return reject(e, "B is not a hex button mask (1 to 8 hex digits)");
       std::uint32_t mask = 0;
       for (std::size_t i = 0; i < valueLength; ++i) {
         if (!isHex(value[i])) return reject(e, "B is not a hex button mask (1 to 8 hex digits)");
@@ -66,10 +71,12 @@ bool BoardLineParser::decodeLine(const char* line, std::size_t size, BoardEvent&
       std::size_t i = 0;
       bool negative = false;
       if (i < valueLength && (value[i] == '-' || value[i] == '+')) negative = value[i++] == '-';
-      if (i == valueLength || valueLength - i > 10) return reject(e, "K is not a signed integer (up to 10 digits)");
+      if (i == valueLength || valueLength - i > 10)
+        return reject(e, "K is not a signed integer (up to 10 digits)");
       std::int64_t knob = 0;
       for (; i < valueLength; ++i) {
-        if (value[i] < '0' || value[i] > '9') return reject(e, "K is not a signed integer (up to 10 digits)");
+        if (value[i] < '0' || value[i] > '9')
+          return reject(e, "K is not a signed integer (up to 10 digits)");
         knob = knob * 10 + (value[i] - '0');
       }
       e.knob = negative ? -knob : knob;
@@ -104,8 +111,12 @@ bool BoardLineParser::finishLine(BoardEvent& e) {
 
 // ---- the device ----
 
-ButtonBoardDevice::ButtonBoardDevice(const std::string& name, const std::string& port, const ButtonBoardOptions& options)
-    : Device(name), port_(port), options_(options), serial_(SerialPort::open(port, options.baud, name)) {
+ButtonBoardDevice::ButtonBoardDevice(const std::string& name, const std::string& port,
+                                     const ButtonBoardOptions& options)
+    : Device(name),
+      port_(port),
+      options_(options),
+      serial_(SerialPort::open(port, options.baud, name)) {
   reader_ = std::thread([this] { readLoop(); });
 }
 
@@ -126,7 +137,9 @@ void ButtonBoardDevice::push(const BoardEvent& event) noexcept {
   if (!events_.push(event)) eventsDropped_.fetch_add(1, std::memory_order_relaxed);
 }
 
-bool ButtonBoardDevice::nextEvent(BoardEvent& event) noexcept { return events_.pop(event); }
+bool ButtonBoardDevice::nextEvent(BoardEvent& event) noexcept {
+  return events_.pop(event);
+}
 
 void ButtonBoardDevice::readLoop() {
   using Clock = std::chrono::steady_clock;
@@ -201,7 +214,8 @@ void ButtonBoardDevice::poll(double nowS, DeviceSample& sample) noexcept {
   sample.buttons = s.buttons;
   sample.pedal = double(s.pedal) / double(kBoardPedalMax);
   sample.knob = s.knob;
-  sample.drillOn = (s.buttons & options_.drillButtonMask) != 0 || sample.pedal > options_.drillPedalAbove;
+  sample.drillOn =
+      (s.buttons & options_.drillButtonMask) != 0 || sample.pedal > options_.drillPedalAbove;
   sample.connected = s.connected;
 }
 

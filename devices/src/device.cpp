@@ -1,6 +1,9 @@
 // Device names, the factory, the composite device and the list of what is attached.
 #include "osteon/devices/device.h"
 
+#include <algorithm>
+#include <chrono>
+
 #include "osteon/core/error.h"
 #include "osteon/devices/button_board.h"
 #include "osteon/devices/mouse.h"
@@ -8,11 +11,7 @@
 #include "osteon/devices/serial_port.h"
 #include "osteon/devices/spacemouse.h"
 #include "osteon/devices/touch.h"
-
 #include "serial_list.h"
-
-#include <algorithm>
-#include <chrono>
 
 namespace osteon::devices {
 
@@ -23,7 +22,8 @@ double steadyNowS() noexcept {
 DeviceName parseDeviceName(const std::string& text) {
   DeviceName n;
   n.text = text;
-  if (text.empty()) throw InputError("--device '': empty device name (expected " + std::string(kDeviceNames) + ")");
+  if (text.empty())
+    throw InputError("--device '': empty device name (expected " + std::string(kDeviceNames) + ")");
   const std::size_t colon = text.find(':');
   n.kind = text.substr(0, colon);
   n.argument = colon == std::string::npos ? std::string() : text.substr(colon + 1);
@@ -31,24 +31,29 @@ DeviceName parseDeviceName(const std::string& text) {
   if (n.kind == "mouse") {
     if (hasColon) throw InputError(text + ": the mouse takes no argument (it is the viewer's own)");
   } else if (n.kind == "spacemouse" || n.kind == "touch") {
-    if (hasColon && n.argument.empty()) throw InputError(text + ": empty " + (n.kind == "touch" ? "name" : "path") + " after ':'");
+    if (hasColon && n.argument.empty())
+      throw InputError(text + ": empty " + (n.kind == "touch" ? "name" : "path") + " after ':'");
   } else if (n.kind == "serial") {
     const std::size_t at = n.argument.rfind('@');
     if (at != std::string::npos) {
       const std::string baud = n.argument.substr(at + 1);
       n.argument.resize(at);
-      const bool digits = !baud.empty() && baud.size() <= 8 &&
-                          std::all_of(baud.begin(), baud.end(), [](char c) { return c >= '0' && c <= '9'; });
+      const bool digits =
+          !baud.empty() && baud.size() <= 8 &&
+          std::all_of(baud.begin(), baud.end(), [](char c) { return c >= '0' && c <= '9'; });
       n.baud = digits ? std::stoi(baud) : 0;
       if (!digits || !SerialPort::supportedBaud(n.baud)) {
-        throw InputError(text + ": baud rate '" + baud + "' is not a standard rate (9600, 19200, 38400, 57600, 115200, ...)");
+        throw InputError(text + ": baud rate '" + baud +
+                         "' is not a standard rate (9600, 19200, 38400, 57600, 115200, ...)");
       }
     }
-    if (n.argument.empty()) throw InputError(text + ": no port (expected serial:PORT[@BAUD], e.g. serial:/dev/ttyACM0)");
+    if (n.argument.empty())
+      throw InputError(text + ": no port (expected serial:PORT[@BAUD], e.g. serial:/dev/ttyACM0)");
   } else if (n.kind == "replay") {
     if (n.argument.empty()) throw InputError(text + ": no recording (expected replay:LOG.csv)");
   } else if (n.kind == "scripted") {
-    if (n.argument.empty()) throw InputError(text + ": no path (expected scripted:portal-5|portal-7|PATH.csv)");
+    if (n.argument.empty())
+      throw InputError(text + ": no path (expected scripted:portal-5|portal-7|PATH.csv)");
   } else {
     throw InputError(text + ": unknown device (expected " + std::string(kDeviceNames) + ")");
   }
@@ -119,7 +124,8 @@ std::unique_ptr<Device> openOne(const std::string& text, const DeviceOpeners& ex
   const auto opener = extra.find(n.kind);
   if (opener != extra.end() && opener->second) return opener->second(n);
   if (n.kind == "mouse") return std::make_unique<MouseDevice>(n.text);
-  if (n.kind == "spacemouse") return std::make_unique<SpaceMouseDevice>(n.text, openHidSource(n.text, n.argument));
+  if (n.kind == "spacemouse")
+    return std::make_unique<SpaceMouseDevice>(n.text, openHidSource(n.text, n.argument));
   if (n.kind == "serial") {
     ButtonBoardOptions options;
     options.baud = n.baud;
@@ -127,8 +133,10 @@ std::unique_ptr<Device> openOne(const std::string& text, const DeviceOpeners& ex
   }
   if (n.kind == "touch") return openTouch(n.text, n.argument);
   if (n.kind == "replay") return std::make_unique<ReplayDevice>(n.text, loadRecording(n.argument));
-  throw InputError(n.text + ": scripted devices follow a session's drill paths: open them through a front end "
-                            "(osteon::simulation::openSessionDevice)");
+  throw InputError(
+      n.text +
+      ": scripted devices follow a session's drill paths: open them through a front end "
+      "(osteon::simulation::openSessionDevice)");
 }
 
 }  // namespace
@@ -140,7 +148,8 @@ std::unique_ptr<Device> openDevice(const std::string& name, const DeviceOpeners&
   std::size_t start = 0;
   while (true) {
     const std::size_t plus = name.find('+', start);
-    names.push_back(name.substr(start, plus == std::string::npos ? std::string::npos : plus - start));
+    names.push_back(
+        name.substr(start, plus == std::string::npos ? std::string::npos : plus - start));
     if (names.back().empty()) throw InputError(name + ": empty device name around '+'");
     parseDeviceName(names.back());
     if (plus == std::string::npos) break;
@@ -150,7 +159,10 @@ std::unique_ptr<Device> openDevice(const std::string& name, const DeviceOpeners&
   for (const std::string& part : names) parts.push_back(openOne(part, extra));
   int poses = 0;
   for (const auto& p : parts) poses += p->capabilities().pose ? 1 : 0;
-  if (poses > 1) throw InputError(name + ": more than one of these devices gives a pose (join one pose device with button devices)");
+  if (poses > 1)
+    throw InputError(
+        name +
+        ": more than one of these devices gives a pose (join one pose device with button devices)");
   return std::make_unique<CompositeDevice>(name, std::move(parts));
 }
 
@@ -176,7 +188,8 @@ DeviceList listDevices() {
 
 // ---- mouse ----
 
-MouseDevice::MouseDevice(const std::string& name, double staleAfterS) : Device(name), staleAfterS_(staleAfterS) {}
+MouseDevice::MouseDevice(const std::string& name, double staleAfterS)
+    : Device(name), staleAfterS_(staleAfterS) {}
 
 Capabilities MouseDevice::capabilities() const {
   Capabilities c;
@@ -185,8 +198,8 @@ Capabilities MouseDevice::capabilities() const {
   return c;
 }
 
-void MouseDevice::feed(const glm::dvec3& positionMm, const glm::dquat& orientation, std::uint32_t buttons,
-                       bool drillOn) noexcept {
+void MouseDevice::feed(const glm::dvec3& positionMm, const glm::dquat& orientation,
+                       std::uint32_t buttons, bool drillOn) noexcept {
   state_.write(MouseState{positionMm, orientation, buttons, drillOn, steadyNowS()});
 }
 

@@ -1,8 +1,5 @@
 #include "osteon/devices/recording.h"
 
-#include "osteon/core/error.h"
-#include "osteon/core/input_file.h"
-
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -10,11 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <memory>
 #include <sstream>
-
-#include <fcntl.h>
 #include <unistd.h>
+
+#include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 
 namespace osteon::devices {
 
@@ -28,11 +27,18 @@ char* putDouble(char* p, char* end, double v) {
 
 }  // namespace
 
-std::size_t formatRecordingRow(double tS, const DeviceSample& s, char* out, std::size_t size) noexcept {
+std::size_t formatRecordingRow(double tS, const DeviceSample& s, char* out,
+                               std::size_t size) noexcept {
   char* p = out;
   char* const end = out + size;
-  const double values[8] = {tS, s.positionMm.x, s.positionMm.y, s.positionMm.z,
-                            s.orientation.w, s.orientation.x, s.orientation.y, s.orientation.z};
+  const double values[8] = {tS,
+                            s.positionMm.x,
+                            s.positionMm.y,
+                            s.positionMm.z,
+                            s.orientation.w,
+                            s.orientation.x,
+                            s.orientation.y,
+                            s.orientation.z};
   for (double v : values) {
     if (!(p = putDouble(p, end, v)) || p == end) return 0;
     *p++ = ',';
@@ -56,7 +62,8 @@ StreamRecorder::StreamRecorder(const std::string& path, const RecorderOptions& o
       options_(options),
       ring_(std::max<std::size_t>(options.bufferBytes, 4096)) {
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw InputError(name_ + ": cannot write the recording (" + std::strerror(errno) + ")");
+  if (fd_ < 0)
+    throw InputError(name_ + ": cannot write the recording (" + std::strerror(errno) + ")");
   const std::string header = std::string(kRecordingHeader) + "\n";
   if (::write(fd_, header.data(), header.size()) != ssize_t(header.size())) {
     const int e = errno;
@@ -115,7 +122,8 @@ bool StreamRecorder::drain() {
     if (written <= 0) {
       error_ = errno;
       failed_.store(true, std::memory_order_relaxed);
-      tail_.store(head, std::memory_order_release);  // dropped: the producer must not wait on a dead file
+      tail_.store(head,
+                  std::memory_order_release);  // dropped: the producer must not wait on a dead file
       return false;
     }
     tail += std::uint64_t(written);
@@ -148,7 +156,8 @@ void StreamRecorder::close() {
   const bool closed = ::close(fd_) == 0;
   fd_ = -1;
   if (failed_.load() || !closed) {
-    throw InputError(name_ + ": writing the recording failed (" + std::strerror(error_ ? error_ : EIO) + ")");
+    throw InputError(name_ + ": writing the recording failed (" +
+                     std::strerror(error_ ? error_ : EIO) + ")");
   }
 }
 
@@ -161,7 +170,8 @@ namespace {
 class LineReader {
  public:
   static constexpr std::size_t kMaxLine = 1024;
-  explicit LineReader(const std::string& path) : file_(std::fopen(path.c_str(), "rb"), &std::fclose) {}
+  explicit LineReader(const std::string& path)
+      : file_(std::fopen(path.c_str(), "rb"), &std::fclose) {}
   bool open() const { return file_ != nullptr; }
   // false at the end of the file; `tooLong` when the line passed kMaxLine bytes.
   bool next(std::string& line, bool& tooLong) {
@@ -213,7 +223,8 @@ std::string shortNumber(double v) {
 Recording loadRecording(const std::string& path) {
   requireRegularFile(path, "the recording");
   LineReader reader(path);
-  if (!reader.open()) throw InputError(path + ": cannot open the recording (" + std::strerror(errno) + ")");
+  if (!reader.open())
+    throw InputError(path + ": cannot open the recording (" + std::strerror(errno) + ")");
   Recording recording;
   recording.path = path;
   std::string line;
@@ -228,39 +239,46 @@ Recording loadRecording(const std::string& path) {
   }
   if (tooLong || header != kRecordingHeader) throw InputError(path + ":1" + notRecording);
 
-  static const char* const kNames[11] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz", "buttons", "pedal", "drill_on"};
+  static const char* const kNames[11] = {"t",  "x",  "y",       "z",     "qw",      "qx",
+                                         "qy", "qz", "buttons", "pedal", "drill_on"};
   std::size_t lineNo = 1;
   std::vector<std::string> fields;
   while (reader.next(line, tooLong)) {
     ++lineNo;
     const std::string where = path + ":" + std::to_string(lineNo);
-    if (tooLong) throw InputError(where + ": line longer than " + std::to_string(LineReader::kMaxLine) + " bytes");
+    if (tooLong)
+      throw InputError(where + ": line longer than " + std::to_string(LineReader::kMaxLine) +
+                       " bytes");
     if (trim(line).empty()) continue;
     fields.clear();
     std::size_t start = 0;
     while (true) {
       const std::size_t comma = line.find(',', start);
-      fields.push_back(trim(std::string_view(line).substr(start, comma == std::string::npos ? std::string::npos
-                                                                                             : comma - start)));
+      fields.push_back(trim(std::string_view(line).substr(
+          start, comma == std::string::npos ? std::string::npos : comma - start)));
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
     if (fields.size() != 11) {
-      throw InputError(where + ": expected 11 fields (" + kRecordingHeader + "), found " + std::to_string(fields.size()));
+      throw InputError(where + ": expected 11 fields (" + kRecordingHeader + "), found " +
+                       std::to_string(fields.size()));
     }
     double v[11];
     for (int i = 0; i < 11; ++i) {
       if (!parseDouble(fields[std::size_t(i)], v[i])) {
-        throw InputError(where + ": " + kNames[i] + " '" + fields[std::size_t(i)].substr(0, 40) + "' is not a number");
+        throw InputError(where + ": " + kNames[i] + " '" + fields[std::size_t(i)].substr(0, 40) +
+                         "' is not a number");
       }
     }
     RecordingRow row;
     row.tS = v[0];
-    if (!std::isfinite(row.tS) || row.tS < 0.0) throw InputError(where + ": t must be a finite time >= 0 s");
+    if (!std::isfinite(row.tS) || row.tS < 0.0)
+      throw InputError(where + ": t must be a finite time >= 0 s");
     if (!recording.rows.empty()) {
       const double previous = recording.rows.back().tS;
       if (!(row.tS > previous)) {
-        throw InputError(where + ": t=" + shortNumber(row.tS) + " is not after the previous row's " + shortNumber(previous));
+        throw InputError(where + ": t=" + shortNumber(row.tS) +
+                         " is not after the previous row's " + shortNumber(previous));
       }
       if (row.tS - recording.rows.front().tS > kMaxRecordingS) {
         throw InputError(where + ": t=" + shortNumber(row.tS) + ": a recording lasts at most " +

@@ -1,9 +1,9 @@
 #include "osteon/devices/safety.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::devices {
 
@@ -16,7 +16,8 @@ bool finitePose(const DeviceSample& s) {
   const glm::dvec3& p = s.positionMm;
   const glm::dquat& q = s.orientation;
   if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return false;
-  if (!(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z))) return false;
+  if (!(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z)))
+    return false;
   return q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z > 1e-12;
 }
 
@@ -24,11 +25,16 @@ bool finitePose(const DeviceSample& s) {
 
 const char* faultName(std::uint32_t bit) {
   switch (bit) {
-    case kFaultNonFinite: return "non-finite pose";
-    case kFaultGap: return "gap";
-    case kFaultJump: return "jump";
-    case kFaultWatchdog: return "watchdog";
-    default: return "fault";
+    case kFaultNonFinite:
+      return "non-finite pose";
+    case kFaultGap:
+      return "gap";
+    case kFaultJump:
+      return "jump";
+    case kFaultWatchdog:
+      return "watchdog";
+    default:
+      return "fault";
   }
 }
 
@@ -65,7 +71,8 @@ void SafetyLayer::accept(const DeviceSample& s) noexcept {
   acceptedS_ = s.tS;
 }
 
-void SafetyLayer::raise(std::uint32_t bit, std::uint32_t wasActive, std::uint64_t& counter) noexcept {
+void SafetyLayer::raise(std::uint32_t bit, std::uint32_t wasActive,
+                        std::uint64_t& counter) noexcept {
   if (!(wasActive & bit)) ++counter;
 }
 
@@ -95,8 +102,9 @@ const PoseVerdict& SafetyLayer::acceptPose(double nowS, const DeviceSample& s) n
         if (glm::distance(s.positionMm, verdict_.positionMm) <= reachMm) {
           accept(s);
           jumping_ = false;
-        } else if (jumping_ && glm::distance(s.positionMm, candidateMm_) <=
-                                   options_.maxJumpMm * std::max(s.tS - candidateS_, period) / period) {
+        } else if (jumping_ &&
+                   glm::distance(s.positionMm, candidateMm_) <=
+                       options_.maxJumpMm * std::max(s.tS - candidateS_, period) / period) {
           // Continuous from where it jumped: accepted there once it has stayed so long enough.
           candidateMm_ = s.positionMm;
           candidateS_ = s.tS;
@@ -163,7 +171,8 @@ glm::dvec3 SafetyLayer::limitForce(double nowS, const glm::dvec3& forceN) noexce
     case ForceState::Off:
       // The first engagement waits for a small force (a device that starts in the bone does
       // not kick); after a fault the force resumes through the ramp from wherever it is.
-      if (!fault && verdict_.valid && (stats_.engagements > 0 || magnitude < options_.engageBelowN)) {
+      if (!fault && verdict_.valid &&
+          (stats_.engagements > 0 || magnitude < options_.engageBelowN)) {
         state_ = ForceState::RampIn;
         rampStartS_ = nowS;
         ++stats_.engagements;

@@ -11,7 +11,9 @@ namespace osteon::devices {
 
 #ifdef OSTEON_HAVE_LIBSERIALPORT
 
-bool serialListingAvailable() { return true; }
+bool serialListingAvailable() {
+  return true;
+}
 
 std::vector<AttachedDevice> listUsbSerialPorts() {
   std::vector<AttachedDevice> found;
@@ -41,8 +43,12 @@ std::vector<AttachedDevice> listUsbSerialPorts() {
 
 #else
 
-bool serialListingAvailable() { return false; }
-std::vector<AttachedDevice> listUsbSerialPorts() { return {}; }
+bool serialListingAvailable() {
+  return false;
+}
+std::vector<AttachedDevice> listUsbSerialPorts() {
+  return {};
+}
 
 #endif
 

@@ -1,9 +1,9 @@
 // USB serial ports through libserialport (when osteon was built with it).
 #pragma once
 
-#include "osteon/devices/device.h"
-
 #include <vector>
+
+#include "osteon/devices/device.h"
 
 namespace osteon::devices {
 

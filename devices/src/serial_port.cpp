@@ -1,16 +1,15 @@
 #include "osteon/devices/serial_port.h"
 
-#include "osteon/core/error.h"
-
 #include <cerrno>
 #include <chrono>
 #include <cstring>
-#include <utility>
-
 #include <fcntl.h>
 #include <poll.h>
 #include <termios.h>
 #include <unistd.h>
+#include <utility>
+
+#include "osteon/core/error.h"
 
 namespace osteon::devices {
 
@@ -18,37 +17,68 @@ namespace {
 
 speed_t speedFor(int baud) {
   switch (baud) {
-    case 50: return B50;
-    case 75: return B75;
-    case 110: return B110;
-    case 134: return B134;
-    case 150: return B150;
-    case 200: return B200;
-    case 300: return B300;
-    case 600: return B600;
-    case 1200: return B1200;
-    case 1800: return B1800;
-    case 2400: return B2400;
-    case 4800: return B4800;
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    case 230400: return B230400;
-    case 460800: return B460800;
-    case 500000: return B500000;
-    case 576000: return B576000;
-    case 921600: return B921600;
-    case 1000000: return B1000000;
-    case 1152000: return B1152000;
-    case 1500000: return B1500000;
-    case 2000000: return B2000000;
-    case 2500000: return B2500000;
-    case 3000000: return B3000000;
-    case 3500000: return B3500000;
-    case 4000000: return B4000000;
-    default: return B0;
+    case 50:
+      return B50;
+    case 75:
+      return B75;
+    case 110:
+      return B110;
+    case 134:
+      return B134;
+    case 150:
+      return B150;
+    case 200:
+      return B200;
+    case 300:
+      return B300;
+    case 600:
+      return B600;
+    case 1200:
+      return B1200;
+    case 1800:
+      return B1800;
+    case 2400:
+      return B2400;
+    case 4800:
+      return B4800;
+    case 9600:
+      return B9600;
+    case 19200:
+      return B19200;
+    case 38400:
+      return B38400;
+    case 57600:
+      return B57600;
+    case 115200:
+      return B115200;
+    case 230400:
+      return B230400;
+    case 460800:
+      return B460800;
+    case 500000:
+      return B500000;
+    case 576000:
+      return B576000;
+    case 921600:
+      return B921600;
+    case 1000000:
+      return B1000000;
+    case 1152000:
+      return B1152000;
+    case 1500000:
+      return B1500000;
+    case 2000000:
+      return B2000000;
+    case 2500000:
+      return B2500000;
+    case 3000000:
+      return B3000000;
+    case 3500000:
+      return B3500000;
+    case 4000000:
+      return B4000000;
+    default:
+      return B0;
   }
 }
 
@@ -69,7 +99,8 @@ int openRaw(const std::string& path, int baud) {
   tio.c_cc[VMIN] = 0;
   tio.c_cc[VTIME] = 0;
   const speed_t speed = speedFor(baud);
-  if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0 || ::tcsetattr(fd, TCSANOW, &tio) != 0) {
+  if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0 ||
+      ::tcsetattr(fd, TCSANOW, &tio) != 0) {
     const int e = errno;
     ::close(fd);
     errno = e;
@@ -80,9 +111,13 @@ int openRaw(const std::string& path, int baud) {
 
 }  // namespace
 
-bool SerialPort::supportedBaud(int baud) { return speedFor(baud) != B0; }
+bool SerialPort::supportedBaud(int baud) {
+  return speedFor(baud) != B0;
+}
 
-SerialPort::~SerialPort() { close(); }
+SerialPort::~SerialPort() {
+  close();
+}
 
 SerialPort::SerialPort(SerialPort&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
 
@@ -96,11 +131,13 @@ SerialPort& SerialPort::operator=(SerialPort&& other) noexcept {
 
 SerialPort SerialPort::open(const std::string& path, int baud, const std::string& name) {
   const std::string& who = name.empty() ? path : name;
-  if (!supportedBaud(baud)) throw InputError(who + ": baud rate " + std::to_string(baud) + " is not supported");
+  if (!supportedBaud(baud))
+    throw InputError(who + ": baud rate " + std::to_string(baud) + " is not supported");
   const int fd = openRaw(path, baud);
   if (fd < 0) {
     const int e = errno;
-    throw InputError(who + ": cannot open the serial port " + path + " (" + std::string(std::strerror(e)) + ")");
+    throw InputError(who + ": cannot open the serial port " + path + " (" +
+                     std::string(std::strerror(e)) + ")");
   }
   return SerialPort(fd);
 }
@@ -143,7 +180,8 @@ bool SerialPort::write(const char* data, std::size_t size, int timeoutMs) noexce
       continue;
     }
     if (n < 0 && errno != EAGAIN && errno != EINTR) return false;
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) return false;
     pollfd p{fd_, POLLOUT, 0};
     ::poll(&p, 1, int(left.count()));

@@ -1,22 +1,20 @@
 #include "osteon/devices/spacemouse.h"
 
-#include "osteon/core/error.h"
-
-#include <glm/geometric.hpp>
-#include <glm/gtc/quaternion.hpp>
-
-#include <hidapi.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <cwchar>
-
+#include <hidapi.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <unistd.h>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "osteon/core/error.h"
 
 namespace osteon::devices {
 
@@ -33,11 +31,14 @@ bool isSpaceMouse(std::uint16_t vendorId, std::uint16_t productId) {
 
 namespace {
 
-std::int16_t le16(const std::uint8_t* p) { return std::int16_t(std::uint16_t(p[0]) | std::uint16_t(p[1]) << 8); }
+std::int16_t le16(const std::uint8_t* p) {
+  return std::int16_t(std::uint16_t(p[0]) | std::uint16_t(p[1]) << 8);
+}
 
 }  // namespace
 
-SpaceMouseReport parseSpaceMouseReport(const std::uint8_t* data, std::size_t size, SpaceMouseAxes& axes) {
+SpaceMouseReport parseSpaceMouseReport(const std::uint8_t* data, std::size_t size,
+                                       SpaceMouseAxes& axes) {
   if (!data || size < 2) return SpaceMouseReport::Unknown;
   switch (data[0]) {
     case 1:
@@ -84,8 +85,8 @@ void SpaceMouseIntegrator::advance(const SpaceMouseAxes& axes, double dtS) {
   if (!(dtS > 0.0)) return;
   glm::dvec3 velocity(0.0), omega(0.0);
   for (int i = 0; i < 3; ++i) {
-    velocity[i] = options_.translationSign[std::size_t(i)] * shaped(axes.translation[std::size_t(i)]) *
-                  options_.translationMmPerS;
+    velocity[i] = options_.translationSign[std::size_t(i)] *
+                  shaped(axes.translation[std::size_t(i)]) * options_.translationMmPerS;
     omega[i] = options_.rotationSign[std::size_t(i)] * shaped(axes.rotation[std::size_t(i)]) *
                glm::radians(options_.rotationDegPerS);
   }
@@ -95,7 +96,8 @@ void SpaceMouseIntegrator::advance(const SpaceMouseAxes& axes, double dtS) {
                                 options_.startMm[i] + options_.workspaceMm);
   }
   const double rate = glm::length(omega);
-  if (rate > 0.0) orientation_ = glm::normalize(glm::angleAxis(rate * dtS, omega / rate) * orientation_);
+  if (rate > 0.0)
+    orientation_ = glm::normalize(glm::angleAxis(rate * dtS, omega / rate) * orientation_);
 }
 
 // ---- hidapi ----
@@ -144,8 +146,8 @@ const char* fileKind(mode_t mode) {
 // The kernel's class of a character device (/sys/dev/char/MAJ:MIN/subsystem -> .../hidraw),
 // or "" when sysfs does not say.
 std::string charDeviceClass(dev_t device) {
-  const std::string link = "/sys/dev/char/" + std::to_string(major(device)) + ":" + std::to_string(minor(device)) +
-                           "/subsystem";
+  const std::string link = "/sys/dev/char/" + std::to_string(major(device)) + ":" +
+                           std::to_string(minor(device)) + "/subsystem";
   char target[4096];
   const ssize_t n = ::readlink(link.c_str(), target, sizeof target - 1);
   if (n <= 0) return "";
@@ -158,13 +160,13 @@ std::string charDeviceClass(dev_t device) {
 // FIFO): every open goes through this check first. Empty when `path` is a hidraw device,
 // else why it is not.
 std::string notHidrawReason(const std::string& path) {
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::strerror(errno);
   if (!S_ISCHR(st.st_mode)) return std::string("not a HID device (") + fileKind(st.st_mode) + ")";
   const std::string cls = charDeviceClass(st.st_rdev);
   if (cls == "hidraw") return "";
-  return "not a HID device (a character device of class " + (cls.empty() ? std::string("unknown") : cls) +
-         ", not hidraw)";
+  return "not a HID device (a character device of class " +
+         (cls.empty() ? std::string("unknown") : cls) + ", not hidraw)";
 }
 
 struct HidClose {
@@ -174,7 +176,8 @@ using HidDevicePtr = std::unique_ptr<hid_device, HidClose>;
 
 class HidapiSource final : public HidReportSource {
  public:
-  HidapiSource(std::string path, HidDevicePtr device) : path_(std::move(path)), device_(std::move(device)) {}
+  HidapiSource(std::string path, HidDevicePtr device)
+      : path_(std::move(path)), device_(std::move(device)) {}
   int read(std::uint8_t* buf, std::size_t size, int timeoutMs) noexcept override {
     if (!device_) return -1;
     const int n = hid_read_timeout(device_.get(), buf, size, timeoutMs);
@@ -213,7 +216,8 @@ std::vector<HidDeviceInfo> listSpaceMice() {
       info.product = utf8(d->product_string);
       info.serialNumber = utf8(d->serial_number);
       // A device with several interfaces appears once per interface: keep one per path.
-      if (std::none_of(found.begin(), found.end(), [&](const HidDeviceInfo& f) { return f.path == info.path; })) {
+      if (std::none_of(found.begin(), found.end(),
+                       [&](const HidDeviceInfo& f) { return f.path == info.path; })) {
         found.push_back(info);
       }
     }
@@ -222,13 +226,16 @@ std::vector<HidDeviceInfo> listSpaceMice() {
   return found;
 }
 
-std::unique_ptr<HidReportSource> openHidSource(const std::string& deviceName, const std::string& path) {
+std::unique_ptr<HidReportSource> openHidSource(const std::string& deviceName,
+                                               const std::string& path) {
   if (!hidReady()) throw InputError(deviceName + ": hidapi could not start");
   std::string chosen = path;
   if (chosen.empty()) {
     const std::vector<HidDeviceInfo> mice = listSpaceMice();
     if (mice.empty()) {
-      throw InputError(deviceName + ": no 3Dconnexion device attached (vendor ids 046d, 256f); see osteon devices list");
+      throw InputError(
+          deviceName +
+          ": no 3Dconnexion device attached (vendor ids 046d, 256f); see osteon devices list");
     }
     chosen = mice.front().path;
   }
@@ -293,7 +300,8 @@ void SpaceMouseDevice::readLoop() {
 
 void SpaceMouseDevice::poll(double nowS, DeviceSample& sample) noexcept {
   polled_ = state_.read();
-  const double dt = polledOnce_ ? std::clamp(nowS - lastPollS_, 0.0, integrator_.options().maxStepS) : 0.0;
+  const double dt =
+      polledOnce_ ? std::clamp(nowS - lastPollS_, 0.0, integrator_.options().maxStepS) : 0.0;
   polledOnce_ = true;
   lastPollS_ = nowS;
   if (polled_.connected) integrator_.advance(polled_.axes, dt);

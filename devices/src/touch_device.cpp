@@ -1,20 +1,18 @@
 // The Geomagic Touch through OpenHaptics' HD API (built with -DOSTEON_OPENHAPTICS=ON).
 // Compiled here only against the SDK, and in tests against a fake HD API that records the
 // calls (tests/devices/fake_openhaptics): keep to the HD calls that fake knows.
-#include "osteon/devices/touch.h"
-
-#include "osteon/core/error.h"
-#include "osteon/core/handoff.h"
-
 #include <HD/hd.h>
+#include <atomic>
+#include <cmath>
+#include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 
-#include <atomic>
-#include <cmath>
-#include <string>
+#include "osteon/core/error.h"
+#include "osteon/core/handoff.h"
+#include "osteon/devices/touch.h"
 
 namespace osteon::devices {
 
@@ -31,7 +29,8 @@ class TouchDevice final : public Device {
       : Device(name), options_(options) {
     device_ = hdInitDevice(configName.empty() ? HD_DEFAULT_DEVICE : configName.c_str());
     HDErrorInfo error = hdGetError();
-    if (HD_DEVICE_ERROR(error)) throw InputError(name + ": cannot initialise the Touch (" + hdErrorText(error) + ")");
+    if (HD_DEVICE_ERROR(error))
+      throw InputError(name + ": cannot initialise the Touch (" + hdErrorText(error) + ")");
     hdMakeCurrentDevice(device_);
     hdEnable(HD_FORCE_OUTPUT);
     scheduled_ = hdScheduleAsynchronous(&TouchDevice::servo, this, HD_MAX_SCHEDULER_PRIORITY);
@@ -92,7 +91,9 @@ class TouchDevice final : public Device {
   };
 
   // The servo loop (OpenHaptics' scheduler thread, 1 kHz): pose in, force out.
-  static HDCallbackCode HDCALLBACK servo(void* self) { return static_cast<TouchDevice*>(self)->servoTick(); }
+  static HDCallbackCode HDCALLBACK servo(void* self) {
+    return static_cast<TouchDevice*>(self)->servoTick();
+  }
 
   HDCallbackCode servoTick() noexcept {
     hdBeginFrame(device_);
@@ -101,8 +102,8 @@ class TouchDevice final : public Device {
     hdGetDoublev(HD_CURRENT_TRANSFORM, transform);
     hdGetIntegerv(HD_CURRENT_BUTTONS, &buttons);
     // Column-major 4x4: the rotation's columns, then the position in mm.
-    const glm::dmat3 rotation(transform[0], transform[1], transform[2], transform[4], transform[5], transform[6],
-                              transform[8], transform[9], transform[10]);
+    const glm::dmat3 rotation(transform[0], transform[1], transform[2], transform[4], transform[5],
+                              transform[6], transform[8], transform[9], transform[10]);
     state_.positionMm = glm::dvec3(transform[12], transform[13], transform[14]);
     state_.orientation = glm::normalize(glm::quat_cast(rotation));
     state_.buttons = std::uint32_t(buttons);
@@ -122,7 +123,8 @@ class TouchDevice final : public Device {
       }
       output_ = f;
     } else if (++staleTicks_ > options_.staleServoTicks) {
-      const double fall = options_.rampOutNPerTick * (1.0 - 1e-9);  // rounding never passes the step
+      const double fall =
+          options_.rampOutNPerTick * (1.0 - 1e-9);  // rounding never passes the step
       const double m = glm::length(output_);
       output_ = m <= fall ? glm::dvec3(0.0) : output_ * ((m - fall) / m);
     }
@@ -164,7 +166,9 @@ class TouchDevice final : public Device {
 
 }  // namespace
 
-bool touchAvailable() { return true; }
+bool touchAvailable() {
+  return true;
+}
 
 std::unique_ptr<Device> openTouch(const std::string& deviceName, const std::string& configName,
                                   const TouchOptions& options) {

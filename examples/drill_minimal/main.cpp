@@ -1,12 +1,12 @@
 // Embedding osteon: drill the 5 o'clock portal of the built-in humerus for one second in the
 // deterministic mode (1 kHz) and print the peak force and the bone removed.
+#include <cstdio>
+#include <exception>
+
 #include "osteon/core/error.h"
 #include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/session.h"
-
-#include <cstdio>
-#include <exception>
 
 int main() {
   using namespace osteon::simulation;

@@ -1,16 +1,15 @@
 // The loader of libosteon_image.so (see image_writer.h for why and where it is looked for).
 #include "osteon/image/image_writer.h"
 
-#include "osteon/core/error.h"
-#include "plugin_abi.h"
-
 #include <array>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <mutex>
+#include <unistd.h>
 #include <vector>
 
-#include <dlfcn.h>
-#include <unistd.h>
+#include "osteon/core/error.h"
+#include "plugin_abi.h"
 
 namespace osteon::image {
 
@@ -34,7 +33,8 @@ std::string executableDir() {
 // The places to try, in order; a name without '/' asks the dynamic loader to search.
 std::vector<std::string> candidates() {
   const std::string name = OSTEON_IMAGE_PLUGIN_NAME;
-  if (const char* forced = std::getenv("OSTEON_IMAGE_PLUGIN"); forced != nullptr && *forced != '\0') {
+  if (const char* forced = std::getenv("OSTEON_IMAGE_PLUGIN");
+      forced != nullptr && *forced != '\0') {
     return {forced};
   }
   std::vector<std::string> paths;
@@ -63,9 +63,10 @@ bool tryOpen(const std::string& path, Plugin& plugin, std::string& error) {
     return false;
   }
   const auto abi = reinterpret_cast<osteon_image_abi_fn>(::dlsym(handle, "osteon_image_abi"));
-  const auto version =
-      reinterpret_cast<osteon_image_library_version_fn>(::dlsym(handle, "osteon_image_library_version"));
-  const auto write = reinterpret_cast<osteon_image_write_u8_fn>(::dlsym(handle, "osteon_image_write_u8"));
+  const auto version = reinterpret_cast<osteon_image_library_version_fn>(
+      ::dlsym(handle, "osteon_image_library_version"));
+  const auto write =
+      reinterpret_cast<osteon_image_write_u8_fn>(::dlsym(handle, "osteon_image_write_u8"));
   if (abi == nullptr || version == nullptr || write == nullptr) {
     error = path + ": not an osteon image plugin (missing symbols)";
   } else if (abi() != OSTEON_IMAGE_ABI) {
@@ -103,20 +104,26 @@ const Plugin& plugin() {
     }
     tried += (tried.empty() ? "" : ", ") + (searched ? path + " on the loader path" : path);
   }
-  throw InputError(std::string(OSTEON_IMAGE_PLUGIN_NAME) + ": cannot load osteon's image plugin (OpenImageIO), " +
-                   "needed to write images: " + (firstReal.empty() ? last : firstReal) + " (tried " + tried +
-                   "; set OSTEON_IMAGE_PLUGIN to its path)");
+  throw InputError(std::string(OSTEON_IMAGE_PLUGIN_NAME) +
+                   ": cannot load osteon's image plugin (OpenImageIO), " +
+                   "needed to write images: " + (firstReal.empty() ? last : firstReal) +
+                   " (tried " + tried + "; set OSTEON_IMAGE_PLUGIN to its path)");
 }
 
 }  // namespace
 
-std::string writeImageU8(const std::string& path, int width, int height, int channels, const std::uint8_t* pixels) {
+std::string writeImageU8(const std::string& path, int width, int height, int channels,
+                         const std::uint8_t* pixels) {
   const Plugin& p = plugin();
   std::array<char, 512> error{};
-  if (p.writeU8(path.c_str(), width, height, channels, pixels, error.data(), error.size()) == 0) return {};
-  return error[0] != '\0' ? std::string(error.data()) : std::string("OpenImageIO could not write it");
+  if (p.writeU8(path.c_str(), width, height, channels, pixels, error.data(), error.size()) == 0)
+    return {};
+  return error[0] != '\0' ? std::string(error.data())
+                          : std::string("OpenImageIO could not write it");
 }
 
-std::string openImageIOVersion() { return plugin().libraryVersion(); }
+std::string openImageIOVersion() {
+  return plugin().libraryVersion();
+}
 
 }  // namespace osteon::image

@@ -26,8 +26,8 @@ typedef int (*osteon_image_write_u8_fn)(const char* path, int width, int height,
 // The plugin's exported symbols, looked up by these names.
 int osteon_image_abi(void);
 const char* osteon_image_library_version(void);
-int osteon_image_write_u8(const char* path, int width, int height, int channels, const unsigned char* pixels,
-                          char* errbuf, size_t errlen);
+int osteon_image_write_u8(const char* path, int width, int height, int channels,
+                          const unsigned char* pixels, char* errbuf, size_t errlen);
 
 #ifdef __cplusplus
 }

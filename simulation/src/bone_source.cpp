@@ -1,6 +1,10 @@
 // BoneModel::open and the BoneSource checks: the one way a bone is opened (bone_source.h).
 #include "osteon/simulation/bone_source.h"
 
+#include <cmath>
+#include <sstream>
+#include <utility>
+
 #include "osteon/core/number_text.h"
 #include "osteon/core/option_error.h"
 #include "osteon/core/timing.h"
@@ -8,16 +12,13 @@
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/io/units.h"
 
-#include <cmath>
-#include <sstream>
-#include <utility>
-
 namespace osteon::simulation {
 
 namespace {
 
 void requirePositiveMm(const char* field, const std::optional<double>& mm) {
-  if (mm && !(std::isfinite(*mm) && *mm > 0.0)) throw OptionError(field, numberText(*mm), "must be a positive number of mm");
+  if (mm && !(std::isfinite(*mm) && *mm > 0.0))
+    throw OptionError(field, numberText(*mm), "must be a positive number of mm");
 }
 
 // A volume's voxel edge is its own: a voxel size given with it must agree (to rounding).
@@ -27,14 +28,19 @@ void checkVolumeVoxelSize(const BoneSource& source, double volumeVoxelMm) {
   if (std::abs(given - volumeVoxelMm) <= 1e-6 * given) return;
   throw OptionError("voxelSizeMm", numberText(given),
                     source.input + " has voxels of " + numberText(volumeVoxelMm) +
-                        " mm (a volume has its own voxel size: give that, or none where the voxel size is optional)");
+                        " mm (a volume has its own voxel size: give that, or none where the voxel "
+                        "size is optional)");
 }
 
 }  // namespace
 
-bool BoneSource::isBuiltIn() const { return input == geometry::kDefaultModelArgument; }
+bool BoneSource::isBuiltIn() const {
+  return input == geometry::kDefaultModelArgument;
+}
 
-double BoneSource::scaleToMm() const { return isVolume() ? 1.0 : geometry::resolveScaleToMm(units, scale); }
+double BoneSource::scaleToMm() const {
+  return isVolume() ? 1.0 : geometry::resolveScaleToMm(units, scale);
+}
 
 void BoneSource::check() const {
   requirePositiveMm("voxelSizeMm", voxelSizeMm);
@@ -49,7 +55,8 @@ void BoneSource::check() const {
 
 std::vector<std::string> BoneSource::inputFiles() const {
   if (isBuiltIn()) return {};
-  if (isVolume() && geometry::densityPathFor(input) != input) return {input, geometry::densityPathFor(input)};
+  if (isVolume() && geometry::densityPathFor(input) != input)
+    return {input, geometry::densityPathFor(input)};
   return {input};
 }
 
@@ -88,9 +95,9 @@ OpenedBone BoneModel::open(const BoneSource& source) {
   out.read = std::move(mesh.read);
   geometry::VoxelizeOptions voxelizing = source.voxelizing;
   voxelizing.voxelSizeGiven = source.voxelSizeMm.has_value() && source.voxelizing.voxelSizeGiven;
-  std::shared_ptr<BoneModel> bone =
-      build(std::move(mesh.mesh), source.voxelSizeMm.value_or(source.defaultVoxelSizeMm.value_or(0.0)), source.input,
-            out.read.scaleToMm, voxelizing, source.sampleFineFills, source.forSession);
+  std::shared_ptr<BoneModel> bone = build(
+      std::move(mesh.mesh), source.voxelSizeMm.value_or(source.defaultVoxelSizeMm.value_or(0.0)),
+      source.input, out.read.scaleToMm, voxelizing, source.sampleFineFills, source.forSession);
   bone->setup_.loadMs = out.read.loadMs;
   bone->setup_.totalMs = msSince(start);
   out.bone = std::move(bone);
@@ -99,8 +106,12 @@ OpenedBone BoneModel::open(const BoneSource& source) {
 
 const char* commandLineFlag(const std::string& field) {
   static const std::pair<const char*, const char*> kFlags[] = {
-      {"scale", "--scale"},          {"units", "--units"},     {"voxelSizeMm", "--voxel-size"},
-      {"volume.label", "--label"},   {"volume.isoHu", "--iso"}, {"volume.allowOutsideData", "--allow-outside-data"}};
+      {"scale", "--scale"},
+      {"units", "--units"},
+      {"voxelSizeMm", "--voxel-size"},
+      {"volume.label", "--label"},
+      {"volume.isoHu", "--iso"},
+      {"volume.allowOutsideData", "--allow-outside-data"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }

@@ -1,9 +1,9 @@
 #include "osteon/simulation/contact.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::simulation {
 
@@ -59,8 +59,8 @@ ContactCaches ForceModel::makeCaches(double skinMm, std::size_t sliceNodes,
   ContactCaches caches;
   for (int p = 0; p < tool_.partCount; ++p) {
     const ToolPart& part = tool_.parts[std::size_t(p)];
-    caches.shell[std::size_t(p)] =
-        voxels.makeNearCache(part.lengthMm(), voxels.shellReachMm(part.outerRadiusMm), skinMm, sliceNodes);
+    caches.shell[std::size_t(p)] = voxels.makeNearCache(
+        part.lengthMm(), voxels.shellReachMm(part.outerRadiusMm), skinMm, sliceNodes);
   }
   return caches;
 }
@@ -72,7 +72,8 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
   for (int p = 0; p < tool_.partCount; ++p) {
     glm::dvec3 direction(0.0);
     double n = 0.0;
-    forEachShellSample(voxels, tool_.parts[std::size_t(p)], pose, caches ? &caches->shell[std::size_t(p)] : nullptr,
+    forEachShellSample(voxels, tool_.parts[std::size_t(p)], pose,
+                       caches ? &caches->shell[std::size_t(p)] : nullptr,
                        [&](const VoxelSample& s, const glm::dvec3& toCore) {
                          const double w = double(s.fill) * weightPerFill_;
                          direction += w * toCore;
@@ -105,4 +106,3 @@ std::vector<VoxelSample> ForceModel::shellSamples(geometry::RefinedVoxels& voxel
 }
 
 }  // namespace osteon::simulation
-

@@ -17,7 +17,8 @@ using detail::interpolate;
 
 double ProxyCoupling::displacementBoundMm(const ToolPose& a, const ToolPose& b) const {
   // No point of the tool travels farther than the tip does plus the turn at the farthest point.
-  return glm::length(b.tipMm - a.tipMm) + detail::angleBetween(a.orientation, b.orientation) * reachMm_;
+  return glm::length(b.tipMm - a.tipMm) +
+         detail::angleBetween(a.orientation, b.orientation) * reachMm_;
 }
 
 double ProxyCoupling::boneInsideInnerLayer(const ToolPose& pose, int part, double radiusMm) {
@@ -224,7 +225,6 @@ void ProxyCoupling::slide(const ToolPose& to, const glm::dvec3& firstNormal) {
   const ToolPose along{proxy_.tipMm + next, to.orientation};
   if (displacementBoundMm(proxy_, along) > 1e-6) constrainedMove(along);
 }
-
 
 // Moves the proxy toward the command: as far as the bone lets it, then along the contact plane
 // (less a friction cone), then back to the feed limit while the drill cuts.

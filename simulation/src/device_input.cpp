@@ -1,19 +1,20 @@
 #include "osteon/simulation/device_input.h"
 
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
+
 namespace osteon::simulation {
 
 // ---- scripted ----
 
-ScriptedDevice::ScriptedDevice(const std::string& name, DrillPath path) : Device(name), path_(std::move(path)) {}
+ScriptedDevice::ScriptedDevice(const std::string& name, DrillPath path)
+    : Device(name), path_(std::move(path)) {}
 
 devices::Capabilities ScriptedDevice::capabilities() const {
   devices::Capabilities c;
@@ -39,15 +40,18 @@ void ScriptedDevice::poll(double nowS, devices::DeviceSample& sample) noexcept {
   sample.connected = true;
 }
 
-std::unique_ptr<devices::Device> openSessionDevice(const std::string& name, const Session& session) {
+std::unique_ptr<devices::Device> openSessionDevice(const std::string& name,
+                                                   const Session& session) {
   devices::DeviceOpeners extra;
   extra["scripted"] = [&session](const devices::DeviceName& n) -> std::unique_ptr<devices::Device> {
-    if (isPathCsv(n.argument)) return std::make_unique<ScriptedDevice>(n.text, loadPathCsv(n.argument));
+    if (isPathCsv(n.argument))
+      return std::make_unique<ScriptedDevice>(n.text, loadPathCsv(n.argument));
     Portal portal = Portal::FiveOClock;
     try {
       portal = parsePortal(n.argument);
     } catch (const InputError& e) {
-      throw InputError(n.text + ": " + e.what() + " (expected scripted:portal-5, scripted:portal-7 or scripted:PATH.csv)");
+      throw InputError(n.text + ": " + e.what() +
+                       " (expected scripted:portal-5, scripted:portal-7 or scripted:PATH.csv)");
     }
     return std::make_unique<ScriptedDevice>(n.text, session.portalPath(portal).path);
   };
@@ -68,7 +72,8 @@ DeviceFrame defaultDeviceFrame(const Session& session) {
 DeviceInput::DeviceInput(devices::Device& device, const DeviceInputOptions& options)
     : device_(&device), caps_(device.capabilities()), options_(options) {
   devices::SafetyOptions safety = options.safety;
-  if (caps_.force && caps_.maxForceN > 0.0) safety.forceLimitN = std::min(safety.forceLimitN, caps_.maxForceN);
+  if (caps_.force && caps_.maxForceN > 0.0)
+    safety.forceLimitN = std::min(safety.forceLimitN, caps_.maxForceN);
   safety_ = devices::SafetyLayer(safety);
 }
 
@@ -76,7 +81,8 @@ void DeviceInput::sample(double tS, ToolPose& pose, bool& drillOn) noexcept {
   const double deviceStartS = options_.clockFromRunStart && caps_.timeDriven ? caps_.startS : 0.0;
   device_->poll(tS + deviceStartS, sample_);
   if (sample_.tS >= 0.0) sample_.tS = std::max(0.0, sample_.tS - deviceStartS);
-  if (!caps_.worldFrame) sample_.positionMm = options_.frame.originMm + options_.frame.scale * sample_.positionMm;
+  if (!caps_.worldFrame)
+    sample_.positionMm = options_.frame.originMm + options_.frame.scale * sample_.positionMm;
   if (!options_.recordedLoop) {
     safety_.loopTick(tS);
   } else if (sample_.tS >= 0.0 && sample_.tS != loopS_) {
@@ -116,12 +122,16 @@ DeviceStatus DeviceInput::status() noexcept {
 
 // ---- device-driven deterministic runs ----
 
-DeviceRunResult runDevice(Session& session, devices::Device& device, const DeviceRunOptions& options) {
+DeviceRunResult runDevice(Session& session, devices::Device& device,
+                          const DeviceRunOptions& options) {
   using Clock = std::chrono::steady_clock;
   const devices::Capabilities caps = device.capabilities();
-  if (!caps.pose) throw InputError(device.name() + ": gives no pose (buttons only): it cannot drive the tool alone");
+  if (!caps.pose)
+    throw InputError(device.name() +
+                     ": gives no pose (buttons only): it cannot drive the tool alone");
   if (!caps.timeDriven) {
-    throw InputError(device.name() + ": a live device runs in real time (the threaded runtime), not step by step");
+    throw InputError(device.name() +
+                     ": a live device runs in real time (the threaded runtime), not step by step");
   }
   DeviceInputOptions inputOptions = options.input;
   inputOptions.recordedLoop = caps.recorded;

@@ -1,11 +1,11 @@
 #include "osteon/simulation/drilling.h"
 
-#include "osteon/core/error.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+
+#include "osteon/core/error.h"
 
 namespace osteon::simulation {
 
@@ -14,7 +14,8 @@ void validateDrillingOptions(const DrillingOptions& options) {
     throw InputError("--levels " + std::to_string(options.levels) + ": must be 0, 1 or 2");
   }
   if (options.decrement < 1) {
-    throw InputError("density decrement " + std::to_string(options.decrement) + ": must be at least 1");
+    throw InputError("density decrement " + std::to_string(options.decrement) +
+                     ": must be at least 1");
   }
 }
 
@@ -35,13 +36,14 @@ geometry::RefinementOptions withDepth(geometry::RefinementOptions r, int levels)
 DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
                                        geometry::DynamicProximityHierarchy& hierarchy,
                                        const geometry::FineFillSource* source, const ToolKind kind,
-                                       const ToolOptions& toolOptions, const DrillingOptions& options)
+                                       const ToolOptions& toolOptions,
+                                       const DrillingOptions& options)
     : grid_(&grid),
       levels_(options.levels),
       decrement_(options.decrement),
       finestVoxelMm_(finestOf(grid, options)),
-      voxels_(std::make_unique<geometry::RefinedVoxels>(grid, hierarchy, source,
-                                                        withDepth(options.refinement, options.levels))),
+      voxels_(std::make_unique<geometry::RefinedVoxels>(
+          grid, hierarchy, source, withDepth(options.refinement, options.levels))),
       removal_(*voxels_, std::max<std::size_t>(options.refinement.capacity, 4096)),
       model_(makeTool(kind, toolOptions, finestVoxelMm_), finestVoxelMm_, grid.voxelSizeMm()),
       refineShells_(options.refineShells && options.levels > 0),
@@ -51,7 +53,8 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
   grid.reserveSpareBricks(options.spareBricks);
   spareMissesAtStart_ = grid.spareMisses();
   if (!(options.querySkinVoxels >= 0.0) || !std::isfinite(options.querySkinVoxels)) {
-    throw InputError("query skin " + std::to_string(options.querySkinVoxels) + " voxels: must be a finite number >= 0");
+    throw InputError("query skin " + std::to_string(options.querySkinVoxels) +
+                     " voxels: must be a finite number >= 0");
   }
   if (!(options.shellRefineSkinVoxels >= 0.0) || !(options.shellRefineSkinVoxels <= 4.0)) {
     throw InputError("shell refinement skin " + std::to_string(options.shellRefineSkinVoxels) +
@@ -75,10 +78,12 @@ DrillingSimulation::DrillingSimulation(geometry::VoxelGrid& grid,
     const double cutReach = voxels_->cutReachMm(part.innerRadiusMm);
     removal_.reserveCutVoxels(geometry::DphNearCache::capacityFor(part.lengthMm(), cutReach, vs));
     if (!cached_) continue;
-    cutCaches_[std::size_t(p)] = voxels_->makeNearCache(part.lengthMm(), cutReach, skinMm, options.querySliceNodes);
+    cutCaches_[std::size_t(p)] =
+        voxels_->makeNearCache(part.lengthMm(), cutReach, skinMm, options.querySliceNodes);
     if (options.levels > 0) {
       const double refineReach = voxels_->refineReachMm(0.5 * part.lengthMm() + part.outerRadiusMm);
-      refineCaches_[std::size_t(p)] = voxels_->makeNearCache(0.0, refineReach, skinMm, options.querySliceNodes);
+      refineCaches_[std::size_t(p)] =
+          voxels_->makeNearCache(0.0, refineReach, skinMm, options.querySliceNodes);
     }
   }
 }
@@ -101,8 +106,9 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
     const glm::dvec3 a = input.pose.toWorld(part.aMm), b = input.pose.toWorld(part.bMm);
-    out.refined += voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm, input.tS,
-                                         cached_ ? &refineCaches_[std::size_t(p)] : nullptr);
+    out.refined +=
+        voxels_->refineAround(0.5 * (a + b), 0.5 * part.lengthMm() + part.outerRadiusMm, input.tS,
+                              cached_ ? &refineCaches_[std::size_t(p)] : nullptr);
   }
   // Around the other parts (the drill's shaft), the bone their shell reaches along their core,
   // within what is left of the step's budget; the rest in the following steps.
@@ -121,13 +127,13 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
         continue;
       }
       const std::size_t spent = std::size_t(out.refined);
-      const std::size_t budget = refineBudget_ == 0       ? std::numeric_limits<std::size_t>::max()
+      const std::size_t budget = refineBudget_ == 0      ? std::numeric_limits<std::size_t>::max()
                                  : refineBudget_ > spent ? refineBudget_ - spent
                                                          : 0;
       int deferred = 0;
-      const int created = voxels_->refineNearSegment(a, b, part.outerRadiusMm + shellSkinMm_, input.tS,
-                                                     cached_ ? &shellRefineCaches_[std::size_t(p)] : nullptr,
-                                                     budget, deferred);
+      const int created = voxels_->refineNearSegment(
+          a, b, part.outerRadiusMm + shellSkinMm_, input.tS,
+          cached_ ? &shellRefineCaches_[std::size_t(p)] : nullptr, budget, deferred);
       out.refined += created;
       out.deferred += deferred;
       last = ShellWalk{a, b, input.tS, true, deferred > 0};
@@ -138,9 +144,10 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     for (int p = 0; p < tool.partCount; ++p) {
       const ToolPart& part = tool.parts[std::size_t(p)];
       if (!part.cuts) continue;
-      const CutVolume cut{input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm), part.innerRadiusMm,
-                          part.cutsOnSideOnly};
-      const RemovalResult r = removal_.removeIn(cut, decrement_, cached_ ? &cutCaches_[std::size_t(p)] : nullptr);
+      const CutVolume cut{input.pose.toWorld(part.aMm), input.pose.toWorld(part.bMm),
+                          part.innerRadiusMm, part.cutsOnSideOnly};
+      const RemovalResult r =
+          removal_.removeIn(cut, decrement_, cached_ ? &cutCaches_[std::size_t(p)] : nullptr);
       out.removal.removedFill += r.removedFill;
       out.removal.samplesRemoved += r.samplesRemoved;
       out.removal.samplesDecremented += r.samplesDecremented;
@@ -153,8 +160,8 @@ StepOutput DrillingSimulation::step(const StepInput& input) {
     for (std::size_t p = 0; p < std::size_t(kMaxToolParts); ++p) {
       walks += contactCaches_.shell[p].walks() + cutCaches_[p].walks() + refineCaches_[p].walks() +
                shellRefineCaches_[p].walks();
-      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses() + refineCaches_[p].reuses() +
-                shellRefineCaches_[p].reuses();
+      reuses += contactCaches_.shell[p].reuses() + cutCaches_[p].reuses() +
+                refineCaches_[p].reuses() + shellRefineCaches_[p].reuses();
     }
     totals_.stepsThatWalked += walks > totals_.queryWalks ? 1 : 0;
     totals_.queryWalks = walks;

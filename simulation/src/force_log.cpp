@@ -1,21 +1,21 @@
 #include "osteon/simulation/force_log.h"
 
-#include "osteon/core/assert.h"
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <string>
-
 #include <fcntl.h>
+#include <string>
 #include <unistd.h>
+
+#include "osteon/core/assert.h"
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 
 namespace osteon::simulation {
 
-void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path, bool commandColumns) {
+void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
+                   bool commandColumns) {
   ForceLogWriter writer(path, commandColumns);
   for (const ForceLogRow& r : log) writer.write(r);
   writer.commit();
@@ -23,7 +23,8 @@ void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
 
 namespace {
 
-constexpr char kForceLogHeader[] = "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
+constexpr char kForceLogHeader[] =
+    "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
 constexpr char kForceLogHeaderWithCommand[] =
     "t,px,py,pz,cx,cy,cz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
 // The longest row the format can give (every %f at 1e308): formatted only with this much room,
@@ -35,7 +36,8 @@ constexpr std::size_t kMaxRowBytes = 4096;
 ForceLogWriter::ForceLogWriter(const std::string& path, bool commandColumns)
     : file_(path), buffer_(std::size_t(1) << 16), commandColumns_(commandColumns) {
   fd_ = ::open(file_.tempPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd_ < 0) throw InputError(path + ": cannot write the force log (" + std::strerror(errno) + ")");
+  if (fd_ < 0)
+    throw InputError(path + ": cannot write the force log (" + std::strerror(errno) + ")");
   const char* header = commandColumns ? kForceLogHeaderWithCommand : kForceLogHeader;
   used_ = std::strlen(header);
   std::memcpy(buffer_.data(), header, used_);
@@ -44,7 +46,8 @@ ForceLogWriter::ForceLogWriter(const std::string& path, bool commandColumns)
 
 ForceLogWriter::~ForceLogWriter() {
   if (done_) return;
-  if (interrupted()) {  // stopped on request (SIGINT/SIGTERM): nothing kept, the folder stays as it was
+  if (interrupted()) {  // stopped on request (SIGINT/SIGTERM): nothing kept, the folder stays as it
+                        // was
     if (fd_ >= 0) ::close(fd_);
     return;  // file_ removes the temporary
   }
@@ -64,15 +67,18 @@ void ForceLogWriter::write(const ForceLogRow& r) noexcept {
   const int n =
       commandColumns_
           ? std::snprintf(buffer_.data() + used_, buffer_.size() - used_,
-                          "%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x,
-                          r.tipMm.y, r.tipMm.z, r.commandMm.x, r.commandMm.y, r.commandMm.z, r.forceN.x, r.forceN.y,
-                          r.forceN.z, r.magnitudeN, r.contactVoxels, static_cast<unsigned long long>(r.removedVoxels),
+                          "%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n",
+                          r.tS, r.tipMm.x, r.tipMm.y, r.tipMm.z, r.commandMm.x, r.commandMm.y,
+                          r.commandMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN,
+                          r.contactVoxels, static_cast<unsigned long long>(r.removedVoxels),
                           r.level)
           : std::snprintf(buffer_.data() + used_, buffer_.size() - used_,
-                          "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x, r.tipMm.y,
-                          r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN, r.contactVoxels,
-                          static_cast<unsigned long long>(r.removedVoxels), r.level);
-  OSTEON_ASSERT(n > 0 && std::size_t(n) < kMaxRowBytes, "a row fits the room kept for the longest one");
+                          "%.3f,%.6f,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.6g,%llu,%d\n", r.tS, r.tipMm.x,
+                          r.tipMm.y, r.tipMm.z, r.forceN.x, r.forceN.y, r.forceN.z, r.magnitudeN,
+                          r.contactVoxels, static_cast<unsigned long long>(r.removedVoxels),
+                          r.level);
+  OSTEON_ASSERT(n > 0 && std::size_t(n) < kMaxRowBytes,
+                "a row fits the room kept for the longest one");
   if (n > 0 && std::size_t(n) < buffer_.size() - used_) {
     used_ += std::size_t(n);
     ++linesInBuffer_;
@@ -137,7 +143,8 @@ void ForceLogWriter::commit() {
   }
   const int error = error_;
   const std::uint64_t kept = keepPartial();
-  throw InputError(path() + ": cannot write the force log (" + std::strerror(error) + "); " + keptNote(kept));
+  throw InputError(path() + ": cannot write the force log (" + std::strerror(error) + "); " +
+                   keptNote(kept));
 }
 
 std::string ForceLogWriter::abandon() {

@@ -1,11 +1,5 @@
 #include "osteon/simulation/live.h"
 
-#include "live_messages.h"
-#include "realtime_thread.h"
-#include "run_recorder.h"
-
-#include "osteon/core/handoff.h"
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -16,6 +10,11 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "live_messages.h"
+#include "osteon/core/handoff.h"
+#include "realtime_thread.h"
+#include "run_recorder.h"
 
 namespace osteon::simulation {
 
@@ -89,7 +88,8 @@ struct LiveRuntime::Impl {
   std::atomic<bool> collisionDone{false};
   std::atomic<int> loopsFinished{0};
   std::atomic<int> granted{0};
-  std::atomic<std::uint64_t> hapticSteps{0}, hapticOverruns{0}, collisionSteps{0}, collisionOverruns{0};
+  std::atomic<std::uint64_t> hapticSteps{0}, hapticOverruns{0}, collisionSteps{0},
+      collisionOverruns{0};
   // The haptic loop's claim word: 2 x the next period to run, + 1 while one of its threads
   // runs it. The release store after each period orders one thread's work before the other's.
   std::atomic<std::uint64_t> hapticClaim{0};
@@ -103,8 +103,13 @@ struct LiveRuntime::Impl {
   bool started = false, stopped = false;
 
   Impl(Session& se, PoseSource& src, ForceSink* snk, const RuntimeOptions& o)
-      : session(&se), sim(&se.simulation()), coupling(o.coupling ? o.coupling : se.coupling()),
-        grid(&se.simulation().grid()), source(&src), sink(snk), options(o),
+      : session(&se),
+        sim(&se.simulation()),
+        coupling(o.coupling ? o.coupling : se.coupling()),
+        grid(&se.simulation().grid()),
+        source(&src),
+        sink(snk),
+        options(o),
         periodNs(std::int64_t(std::llround(o.periodS * 1e9))),
         recorder(o.onRow, o.keepLog, o.periodS) {
     hapticOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
@@ -124,7 +129,8 @@ struct LiveRuntime::Impl {
 
   // Everything the loops touch is sized here, before they start (periods known).
   void size(double durationS) {
-    if (std::isfinite(durationS)) periods = std::uint64_t(std::llround(durationS / options.periodS)) + 1;
+    if (std::isfinite(durationS))
+      periods = std::uint64_t(std::llround(durationS / options.periodS)) + 1;
     const std::uint64_t timed = std::min<std::uint64_t>(periods, kMaxTimedPeriods) + 1;
     recorder.reserve(timed);
     hapticNs.reserve(timed);
@@ -134,8 +140,9 @@ struct LiveRuntime::Impl {
   // A fixed-period loop: runs work(k, tS) at each period k until `periods` or stop; counts
   // overruns; skips periods it has missed entirely rather than running them late.
   template <typename Work>
-  void periodic(std::int64_t startNs, std::atomic<std::uint64_t>& steps, std::atomic<std::uint64_t>& overruns,
-                std::vector<std::int64_t>& overrunNs, Durations& stepNs, Work&& work) {
+  void periodic(std::int64_t startNs, std::atomic<std::uint64_t>& steps,
+                std::atomic<std::uint64_t>& overruns, std::vector<std::int64_t>& overrunNs,
+                Durations& stepNs, Work&& work) {
     prefaultStack();
     for (std::uint64_t k = 0; k < periods && !stopFlag.load(std::memory_order_relaxed);) {
       const std::int64_t deadline = startNs + std::int64_t(k) * periodNs;
@@ -146,7 +153,8 @@ struct LiveRuntime::Impl {
       if (!stepNs.full()) stepNs.add(end - begin);
       steps.fetch_add(1, std::memory_order_relaxed);
       if (end > deadline + periodNs) {
-        const std::uint64_t n = overruns.fetch_add(1, std::memory_order_relaxed);  // this loop's own count
+        const std::uint64_t n =
+            overruns.fetch_add(1, std::memory_order_relaxed);  // this loop's own count
         if (n < overrunNs.size()) overrunNs[n] = end;
         k = std::uint64_t((end - startNs) / periodNs) + 1;  // the next period not yet begun
       } else {
@@ -179,7 +187,8 @@ struct LiveRuntime::Impl {
         k = std::max(k, next) + 1;
         continue;
       }
-      if (!hapticClaim.compare_exchange_strong(claim, claim | 1, std::memory_order_acq_rel)) continue;
+      if (!hapticClaim.compare_exchange_strong(claim, claim | 1, std::memory_order_acq_rel))
+        continue;
       const std::int64_t deadline = startNs + std::int64_t(next) * periodNs;
       const std::int64_t begin = nowNs();
       hapticWork(double(next) * double(periodNs) * 1e-9);
@@ -212,38 +221,40 @@ struct LiveRuntime::Impl {
     if (options.realtimePriority && realtime::askRealtime(79)) granted.fetch_add(1);
     BrickMessage handover;
     RefinedList refined;
-    periodic(startNs, collisionSteps, collisionOverruns, collisionOverrunNs, collisionNs, [&](double) {
-      const std::int64_t begin = nowNs();
-      const PoseMessage& m = poses.read();
-      if (m.tS < 0.0) return;
-      const HapticStep h = stepHaptic(*sim, coupling, {m.tS, m.pose, m.drillOn});
-      const StepOutput& out = h.step;
-      // The haptic thread sends the coupling's force (direct: the contact force).
-      ContactForce sent = out.contact;
-      sent.forceN = h.forceN;
-      sent.magnitudeN = h.magnitudeN;
-      forces.write(sent);
-      tallies.tally(h);
-      const DrillingTotals& totals = sim->totals();
-      if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
-        logDropped.fetch_add(1, std::memory_order_relaxed);
-      }
-      displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent, totals.removedFill,
-                         sim->removedVolumeMm3(), totals.steps});
-      if (totals.steps % kRefinedEverySteps == 0) {
-        const geometry::RefinedVoxels& voxels = sim->voxels();
-        refined.depth = voxels.depth();
-        refined.count = std::min(voxels.refinedCount(), refined.voxels.size());
-        for (std::size_t i = 0; i < refined.count; ++i) refined.voxels[i] = voxels.refinedVoxelAt(i);
-        refinedList.write(refined);
-      }
-      if (out.removal.removedFill > 0) {
-        PoseMessage at = m;  // the bone changed where the step ran (the cut pose)
-        at.pose = h.stepPose;
-        handOver(at, handover);
-      }
-      lastStepNs.store(nowNs() - begin, std::memory_order_relaxed);
-    });
+    periodic(startNs, collisionSteps, collisionOverruns, collisionOverrunNs, collisionNs,
+             [&](double) {
+               const std::int64_t begin = nowNs();
+               const PoseMessage& m = poses.read();
+               if (m.tS < 0.0) return;
+               const HapticStep h = stepHaptic(*sim, coupling, {m.tS, m.pose, m.drillOn});
+               const StepOutput& out = h.step;
+               // The haptic thread sends the coupling's force (direct: the contact force).
+               ContactForce sent = out.contact;
+               sent.forceN = h.forceN;
+               sent.magnitudeN = h.magnitudeN;
+               forces.write(sent);
+               tallies.tally(h);
+               const DrillingTotals& totals = sim->totals();
+               if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
+                 logDropped.fetch_add(1, std::memory_order_relaxed);
+               }
+               displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent,
+                                  totals.removedFill, sim->removedVolumeMm3(), totals.steps});
+               if (totals.steps % kRefinedEverySteps == 0) {
+                 const geometry::RefinedVoxels& voxels = sim->voxels();
+                 refined.depth = voxels.depth();
+                 refined.count = std::min(voxels.refinedCount(), refined.voxels.size());
+                 for (std::size_t i = 0; i < refined.count; ++i)
+                   refined.voxels[i] = voxels.refinedVoxelAt(i);
+                 refinedList.write(refined);
+               }
+               if (out.removal.removedFill > 0) {
+                 PoseMessage at = m;  // the bone changed where the step ran (the cut pose)
+                 at.pose = h.stepPose;
+                 handOver(at, handover);
+               }
+               lastStepNs.store(nowNs() - begin, std::memory_order_relaxed);
+             });
   }
 
   // The changed bricks around the cutting parts, to the visual side.
@@ -254,9 +265,10 @@ struct LiveRuntime::Impl {
       if (!part.cuts) continue;
       const glm::dvec3 a = m.pose.toWorld(part.aMm), b = m.pose.toWorld(part.bMm);
       const double r = part.innerRadiusMm + grid->voxelSizeMm();
-      const glm::ivec3 lo = glm::max(grid->voxelFromWorld(glm::min(a, b) - r) / VoxelGrid::kBrickSize, glm::ivec3(0));
-      const glm::ivec3 hi =
-          glm::min(grid->voxelFromWorld(glm::max(a, b) + r) / VoxelGrid::kBrickSize, grid->brickDims() - 1);
+      const glm::ivec3 lo =
+          glm::max(grid->voxelFromWorld(glm::min(a, b) - r) / VoxelGrid::kBrickSize, glm::ivec3(0));
+      const glm::ivec3 hi = glm::min(
+          grid->voxelFromWorld(glm::max(a, b) + r) / VoxelGrid::kBrickSize, grid->brickDims() - 1);
       for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
           for (int x = lo.x; x <= hi.x; ++x) {
@@ -267,7 +279,8 @@ struct LiveRuntime::Impl {
               grid->clearBrickDirty(brick);
               bricksHandedOver.fetch_add(1, std::memory_order_relaxed);
             } else {
-              ringFull.fetch_add(1, std::memory_order_relaxed);  // stays dirty: handed over at a later step
+              ringFull.fetch_add(
+                  1, std::memory_order_relaxed);  // stays dirty: handed over at a later step
             }
           }
     }
@@ -325,12 +338,14 @@ struct LiveRuntime::Impl {
 
   // Called in a catch block of the visual side.
   void noteVisualFault() {
-    if (visualFault.empty()) visualFault = "the visual surface update failed: " + currentErrorLine();
+    if (visualFault.empty())
+      visualFault = "the visual surface update failed: " + currentErrorLine();
     changed.clear();
   }
 };
 
-LiveRuntime::LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options)
+LiveRuntime::LiveRuntime(Session& session, PoseSource& source, ForceSink* sink,
+                         const RuntimeOptions& options)
     : impl_(std::make_unique<Impl>(session, source, sink, options)) {}
 
 LiveRuntime::~LiveRuntime() {
@@ -353,7 +368,8 @@ void LiveRuntime::start(double durationS) {
   m.hapticThreadsLeft.store(m.standbyCpu >= 0 ? 2 : 1);
   m.haptic = std::thread([&m, startNs] { m.hapticLoop(startNs, 0, m.hapticCpu, false); });
   if (m.standbyCpu >= 0) {
-    m.standby = std::thread([&m, startNs] { m.hapticLoop(startNs, kStandbyLagNs, m.standbyCpu, true); });
+    m.standby =
+        std::thread([&m, startNs] { m.hapticLoop(startNs, kStandbyLagNs, m.standbyCpu, true); });
   }
   m.collision = std::thread([&m, startNs] { m.collisionLoop(startNs + m.periodNs / 2); });
   m.logger = std::thread([&m] { m.loggerLoop(); });
@@ -396,7 +412,8 @@ RuntimeResult LiveRuntime::stop() {
   stats.collisionSteps = m.collisionSteps.load();
   stats.collisionOverruns = m.collisionOverruns.load();
   const auto firstOverruns = [](const std::vector<std::int64_t>& all, std::uint64_t count) {
-    return std::vector<std::int64_t>(all.begin(), all.begin() + std::ptrdiff_t(std::min<std::uint64_t>(count, all.size())));
+    return std::vector<std::int64_t>(
+        all.begin(), all.begin() + std::ptrdiff_t(std::min<std::uint64_t>(count, all.size())));
   };
   stats.hapticOverrunNs = firstOverruns(m.hapticOverrunNs, stats.hapticOverruns);
   stats.collisionOverrunNs = firstOverruns(m.collisionOverrunNs, stats.collisionOverruns);
@@ -414,7 +431,8 @@ RuntimeResult LiveRuntime::stop() {
   result.visualFault = m.visualFault;
   result.run = m.recorder.finish(*m.sim, m.coupling != nullptr);
   RunSummary& s = result.run.summary;
-  s.hapticStepUs = stats.collisionStepUs;  // the step the haptic target is about: collision + force + removal
+  s.hapticStepUs =
+      stats.collisionStepUs;  // the step the haptic target is about: collision + force + removal
   s.remeshMs = stats.remeshMs;
   s.overruns = stats.hapticOverruns + stats.collisionOverruns;
   s.steps = stats.collisionSteps;
@@ -425,9 +443,13 @@ RuntimeResult LiveRuntime::stop() {
   return result;
 }
 
-bool LiveRuntime::running() const { return impl_->started && !impl_->stopped; }
+bool LiveRuntime::running() const {
+  return impl_->started && !impl_->stopped;
+}
 
-bool LiveRuntime::loopsDone() const { return impl_->loopsFinished.load(std::memory_order_acquire) >= 2; }
+bool LiveRuntime::loopsDone() const {
+  return impl_->loopsFinished.load(std::memory_order_acquire) >= 2;
+}
 
 double LiveRuntime::updateSurface() {
   Impl& m = *impl_;
@@ -437,13 +459,21 @@ double LiveRuntime::updateSurface() {
   return ms;
 }
 
-const std::string& LiveRuntime::visualFault() const { return impl_->visualFault; }
+const std::string& LiveRuntime::visualFault() const {
+  return impl_->visualFault;
+}
 
-SurfaceChanges LiveRuntime::takeSurfaceChanges() { return impl_->updater->takeChanges(); }
+SurfaceChanges LiveRuntime::takeSurfaceChanges() {
+  return impl_->updater->takeChanges();
+}
 
-const geometry::SurfaceUpdater& LiveRuntime::visualSurface() const { return *impl_->updater; }
+const geometry::SurfaceUpdater& LiveRuntime::visualSurface() const {
+  return *impl_->updater;
+}
 
-const geometry::VoxelGrid& LiveRuntime::visualGrid() const { return impl_->visualGrid; }
+const geometry::VoxelGrid& LiveRuntime::visualGrid() const {
+  return impl_->visualGrid;
+}
 
 const DisplayState& LiveRuntime::display() {
   Impl& m = *impl_;
@@ -463,7 +493,8 @@ const DisplayState& LiveRuntime::display() {
   if (fresh) {
     d.refinedDepth = refined.depth;
     d.refinedCount = refined.count;
-    std::copy(refined.voxels.begin(), refined.voxels.begin() + std::ptrdiff_t(refined.count), d.refined.begin());
+    std::copy(refined.voxels.begin(), refined.voxels.begin() + std::ptrdiff_t(refined.count),
+              d.refined.begin());
   }
   return d;
 }

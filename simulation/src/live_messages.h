@@ -3,12 +3,12 @@
 // visual side's grid (so that neither reads a brick the other writes), and the display state.
 #pragma once
 
-#include "osteon/geometry/voxels/voxel_grid.h"
-#include "osteon/simulation/live.h"
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
+
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/simulation/live.h"
 
 namespace osteon::simulation::messages {
 

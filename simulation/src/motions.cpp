@@ -40,7 +40,8 @@ DrillPath fastPushPath(const PortalPlan& plan, const FastPushOptions& o) {
   const glm::dvec3 start = planned.front().tipMm;
   const glm::dvec3 end = plan.entryMm + o.depthMm * plan.direction;
   return DrillPath({Waypoint{0.0, start, q, o.drillOn}, Waypoint{o.holdS, start, q, o.drillOn},
-                    Waypoint{o.holdS + o.pushS, end, q, o.drillOn}, Waypoint{o.durationS, end, q, o.drillOn}});
+                    Waypoint{o.holdS + o.pushS, end, q, o.drillOn},
+                    Waypoint{o.durationS, end, q, o.drillOn}});
 }
 
 DrillPath intactPushPath(const PortalPlan& plan, const IntactPushOptions& o) {

@@ -1,10 +1,5 @@
 #include "osteon/simulation/path.h"
 
-#include "osteon/core/error.h"
-#include "osteon/core/input_file.h"
-
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -13,6 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
 
 namespace osteon::simulation {
 
@@ -45,7 +45,8 @@ SphereFit fitSphere(const std::vector<glm::dvec3>& points, const glm::dvec3& shi
   }
   for (std::size_t col = 0; col < 4; ++col) {
     std::size_t pivot = col;
-    for (std::size_t r = col + 1; r < 4; ++r) if (std::abs(m[r][col]) > std::abs(m[pivot][col])) pivot = r;
+    for (std::size_t r = col + 1; r < 4; ++r)
+      if (std::abs(m[r][col]) > std::abs(m[pivot][col])) pivot = r;
     if (std::abs(m[pivot][col]) < 1e-12) return fit;
     std::swap(m[col], m[pivot]);
     for (std::size_t r = 0; r < 4; ++r) {
@@ -75,17 +76,20 @@ SphereFit fitSphere(const std::vector<glm::dvec3>& points, const glm::dvec3& shi
 // Start from the end cap, then keep refitting to the points that lie on the sphere and face
 // away from its centre: the shaft, neck and tuberosities fall away (their normals do not point
 // radially from the head centre) and the articular sphere stays.
-SphereFit robustEndFit(const std::vector<glm::dvec3>& points, const std::vector<glm::dvec3>& normals,
-                       const std::vector<double>& areas, const std::vector<double>& along, double capFrom,
-                       double regionFrom, double sign) {
+SphereFit robustEndFit(const std::vector<glm::dvec3>& points,
+                       const std::vector<glm::dvec3>& normals, const std::vector<double>& areas,
+                       const std::vector<double>& along, double capFrom, double regionFrom,
+                       double sign) {
   std::vector<glm::dvec3> subset;
-  for (std::size_t i = 0; i < points.size(); ++i) if (sign * along[i] >= capFrom) subset.push_back(points[i]);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (sign * along[i] >= capFrom) subset.push_back(points[i]);
   SphereFit fit = fitSphere(subset, subset.empty() ? glm::dvec3(0.0) : subset.front());
   const double cosMax = std::cos(12.0 * M_PI / 180.0);
   for (int iteration = 0; iteration < 20 && fit.ok; ++iteration) {
     // The band follows the spread of the points kept so far, not of the whole region.
     std::vector<double> residuals;
-    for (const glm::dvec3& p : subset) residuals.push_back(std::abs(glm::length(p - fit.centre) - fit.radius));
+    for (const glm::dvec3& p : subset)
+      residuals.push_back(std::abs(glm::length(p - fit.centre) - fit.radius));
     if (residuals.empty()) break;
     const auto middle = residuals.begin() + std::ptrdiff_t(residuals.size() / 2);
     std::nth_element(residuals.begin(), middle, residuals.end());
@@ -104,7 +108,8 @@ SphereFit robustEndFit(const std::vector<glm::dvec3>& points, const std::vector<
     SphereFit next = fitSphere(subset, fit.centre);
     if (!next.ok) break;
     next.areaMm2 = areaMm2;
-    const bool settled = glm::length(next.centre - fit.centre) < 1e-6 && std::abs(next.radius - fit.radius) < 1e-6;
+    const bool settled =
+        glm::length(next.centre - fit.centre) < 1e-6 && std::abs(next.radius - fit.radius) < 1e-6;
     fit = next;
     if (settled) break;
   }
@@ -142,13 +147,14 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
   const std::size_t nv = mesh.positionsMm.size();
   for (const glm::u32vec3& t : mesh.triangles) {
     if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y], c = mesh.positionsMm[t.z];
+    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
+                     c = mesh.positionsMm[t.z];
     const glm::dvec3 n = glm::cross(b - a, c - a);
     const double len = glm::length(n);
     if (!(len > 0.0)) continue;
     const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-    for (const glm::dvec3 centroid : {(a + ab + ca) / 3.0, (ab + b + bc) / 3.0, (ca + bc + c) / 3.0,
-                                      (ab + bc + ca) / 3.0}) {
+    for (const glm::dvec3 centroid :
+         {(a + ab + ca) / 3.0, (ab + b + bc) / 3.0, (ca + bc + c) / 3.0, (ab + bc + ca) / 3.0}) {
       points.push_back(centroid);
       normals.push_back(n / len);
       areas.push_back(0.125 * len);
@@ -167,9 +173,10 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
     hi = std::max(hi, along[i]);
   }
   const double length = hi - lo;
-  const SphereFit top = robustEndFit(points, normals, areas, along, hi - 0.10 * length, hi - 0.30 * length, 1.0);
-  const SphereFit bottom =
-      robustEndFit(points, normals, areas, along, -(lo + 0.10 * length), -(lo + 0.30 * length), -1.0);
+  const SphereFit top =
+      robustEndFit(points, normals, areas, along, hi - 0.10 * length, hi - 0.30 * length, 1.0);
+  const SphereFit bottom = robustEndFit(points, normals, areas, along, -(lo + 0.10 * length),
+                                        -(lo + 0.30 * length), -1.0);
   const auto score = [&](const SphereFit& f) {
     if (!(f.ok && f.used >= 20 && f.radius > 0.03 * length)) return 1e300;
     if (headEnd == HeadEnd::LargestCap) return f.areaMm2 > 0.0 ? 1.0 / f.areaMm2 : 1e300;
@@ -219,13 +226,14 @@ namespace {
 
 // The last crossing of the mesh along the ray (Moller-Trumbore over every triangle; run once
 // per path). False when the ray meets nothing.
-bool lastCrossing(const geometry::TriangleMesh& mesh, const glm::dvec3& origin, const glm::dvec3& dir,
-                  glm::dvec3& pointMm, glm::dvec3& normal) {
+bool lastCrossing(const geometry::TriangleMesh& mesh, const glm::dvec3& origin,
+                  const glm::dvec3& dir, glm::dvec3& pointMm, glm::dvec3& normal) {
   double best = -1.0;
   const std::size_t nv = mesh.positionsMm.size();
   for (const glm::u32vec3& t : mesh.triangles) {
     if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y], c = mesh.positionsMm[t.z];
+    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
+                     c = mesh.positionsMm[t.z];
     const glm::dvec3 e1 = b - a, e2 = c - a;
     const glm::dvec3 p = glm::cross(dir, e2);
     const double det = glm::dot(e1, p);
@@ -248,8 +256,9 @@ bool lastCrossing(const geometry::TriangleMesh& mesh, const glm::dvec3& origin, 
 
 }  // namespace
 
-PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry::TriangleMesh& mesh,
-                          double toolOuterRadiusMm, const PortalPathOptions& options) {
+PortalPlan makePortalPath(Portal portal, const HumeralHead& head,
+                          const geometry::TriangleMesh& mesh, double toolOuterRadiusMm,
+                          const PortalPathOptions& options) {
   // Clock angle from 12 (superior) towards 3 (anterior): 5 o'clock is 150 degrees. The clock
   // face lies on the articular surface, a cone of half-angle options.clockConeDeg around the
   // head axis, so every hour is on the head itself.
@@ -263,7 +272,8 @@ PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry
   if (glm::dot(front, head.anterior) < 0.0) front = -front;
   const double cone = options.clockConeDeg * M_PI / 180.0;
   PortalPlan plan;
-  plan.clockDirection = glm::normalize(std::cos(cone) * h + std::sin(cone) * (std::cos(theta) * up + std::sin(theta) * front));
+  plan.clockDirection = glm::normalize(
+      std::cos(cone) * h + std::sin(cone) * (std::cos(theta) * up + std::sin(theta) * front));
   if (!lastCrossing(mesh, head.centreMm, plan.clockDirection, plan.entryMm, plan.normal)) {
     throw InputError(std::string(portal == Portal::FiveOClock ? "portal-5" : "portal-7") +
                      ": the ray from the head centre towards the portal never leaves the bone");
@@ -349,7 +359,8 @@ DrillPath loadPathCsv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the path file");
   std::string line;
-  if (!std::getline(in, line)) throw InputError(path + ": empty path file (expected a header row t,x,y,z,drill_on)");
+  if (!std::getline(in, line))
+    throw InputError(path + ": empty path file (expected a header row t,x,y,z,drill_on)");
   if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // a UTF-8 byte order mark
   const auto split = [](const std::string& text) {
     std::vector<std::string> cells;
@@ -364,8 +375,8 @@ DrillPath loadPathCsv(const std::string& path) {
   };
   const std::vector<std::string> header = split(line);
   const bool withQuat = header.size() == 9;
-  if ((header.size() != 5 && !withQuat) || header[0] != "t" || header[1] != "x" || header[2] != "y" ||
-      header[3] != "z" || header[4] != "drill_on") {
+  if ((header.size() != 5 && !withQuat) || header[0] != "t" || header[1] != "x" ||
+      header[2] != "y" || header[3] != "z" || header[4] != "drill_on") {
     throw InputError(path + ":1: header must be t,x,y,z,drill_on (optionally ,qw,qx,qy,qz)");
   }
   std::vector<Waypoint> points;
@@ -387,21 +398,25 @@ DrillPath loadPathCsv(const std::string& path) {
         used = 0;
       }
       if (used != cells[i].size() || cells[i].empty() || !std::isfinite(v[i])) {
-        throw InputError(where + "'" + cells[i] + "' in column " + header[i] + " is not a finite number");
+        throw InputError(where + "'" + cells[i] + "' in column " + header[i] +
+                         " is not a finite number");
       }
     }
     for (std::size_t i = 1; i < 4; ++i) {
       if (std::abs(v[i]) > kMaxPathCoordinateMm) {
-        throw InputError(where + "'" + cells[i] + "' in column " + header[i] + " is beyond +-1e9 mm (1000 km)");
+        throw InputError(where + "'" + cells[i] + "' in column " + header[i] +
+                         " is beyond +-1e9 mm (1000 km)");
       }
     }
     if (v[4] != 0.0 && v[4] != 1.0) throw InputError(where + "drill_on must be 0 or 1");
-    if (!points.empty() && !(v[0] > points.back().tS)) throw InputError(where + "times must increase");
+    if (!points.empty() && !(v[0] > points.back().tS))
+      throw InputError(where + "times must increase");
     if (v[0] < 0.0) throw InputError(where + "time must not be negative");
     if (v[0] > kMaxPathDurationS) {
       char limit[32];
       std::snprintf(limit, sizeof limit, "%g", kMaxPathDurationS);
-      throw InputError(where + "t = " + cells[0] + " s is past the longest path allowed (" + limit + " s)");
+      throw InputError(where + "t = " + cells[0] + " s is past the longest path allowed (" + limit +
+                       " s)");
     }
     Waypoint w;
     w.tS = v[0];
@@ -419,7 +434,8 @@ DrillPath loadPathCsv(const std::string& path) {
     // The tool points along its travel; where it stands still it keeps its last direction.
     glm::dvec3 last(0.0, 0.0, -1.0);
     for (std::size_t i = 0; i < points.size(); ++i) {
-      const glm::dvec3 d = i + 1 < points.size() ? points[i + 1].tipMm - points[i].tipMm : glm::dvec3(0.0);
+      const glm::dvec3 d =
+          i + 1 < points.size() ? points[i + 1].tipMm - points[i].tipMm : glm::dvec3(0.0);
       if (glm::length(d) > 1e-9) last = d;
       points[i].orientation = ToolPose::pointing(points[i].tipMm, last).orientation;
     }

@@ -1,12 +1,11 @@
 #include "realtime_thread.h"
 
+#include <cerrno>
 #include <malloc.h>
+#include <mutex>
 #include <pthread.h>
 #include <sched.h>
 #include <time.h>
-
-#include <cerrno>
-#include <mutex>
 
 namespace osteon::simulation::realtime {
 

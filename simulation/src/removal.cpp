@@ -9,7 +9,8 @@ namespace osteon::simulation {
 using geometry::Density;
 using geometry::Fill;
 
-MaterialRemoval::MaterialRemoval(geometry::RefinedVoxels& voxels, std::size_t cutVoxels) : voxels_(&voxels) {
+MaterialRemoval::MaterialRemoval(geometry::RefinedVoxels& voxels, std::size_t cutVoxels)
+    : voxels_(&voxels) {
   found_.reserve(cutVoxels);
 }
 
@@ -63,17 +64,20 @@ RemovalResult MaterialRemoval::removeFromBlock(const geometry::RefinedVoxels::Sa
   return result;
 }
 
-RemovalResult MaterialRemoval::removeIn(const CutVolume& volume, int decrement, geometry::DphNearCache* cache) {
+RemovalResult MaterialRemoval::removeIn(const CutVolume& volume, int decrement,
+                                        geometry::DphNearCache* cache) {
   RemovalResult total;
   const geometry::VoxelGrid& grid = voxels_->grid();
   const double vs = grid.voxelSizeMm();
   // Collect first: removal edits the hierarchy the query walks.
   found_.clear();
-  const bool fitted = voxels_->collectVoxels(volume.aMm, volume.bMm, voxels_->cutReachMm(volume.radiusMm), cache, found_);
+  const bool fitted = voxels_->collectVoxels(volume.aMm, volume.bMm,
+                                             voxels_->cutReachMm(volume.radiusMm), cache, found_);
   cutOverflows_ += fitted ? 0 : 1;
   // A refined voxel whose centre lies beyond the cut by more than half its diagonal has no
   // sample inside: it is not opened (64 failing tests).
-  const CutVolume widened{volume.aMm, volume.bMm, volume.radiusMm + 0.5 * std::sqrt(3.0) * vs, false};
+  const CutVolume widened{volume.aMm, volume.bMm, volume.radiusMm + 0.5 * std::sqrt(3.0) * vs,
+                          false};
   geometry::RefinedVoxels::SampleBlock block;
   for (const glm::ivec3& v : found_) {
     if (voxels_->openBlock(v, block)) {

@@ -1,10 +1,10 @@
 #include "osteon/simulation/run_metrics.h"
 
-#include "osteon/core/assert.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "osteon/core/assert.h"
 
 namespace osteon::simulation {
 
@@ -24,10 +24,13 @@ Percentiles percentilesOf(std::vector<double> values) {
 void Durations::add(std::int64_t ns) {
   OSTEON_ASSERT(ns >= 0, "a duration on a monotonic clock is never negative");
   maxNs_ = std::max(maxNs_, ns);
-  ns_.push_back(std::uint32_t(std::clamp<std::int64_t>(ns, 0, std::numeric_limits<std::uint32_t>::max())));
+  ns_.push_back(
+      std::uint32_t(std::clamp<std::int64_t>(ns, 0, std::numeric_limits<std::uint32_t>::max())));
 }
 
-void Durations::addMs(double ms) { add(std::int64_t(std::llround(ms * 1e6))); }
+void Durations::addMs(double ms) {
+  add(std::int64_t(std::llround(ms * 1e6)));
+}
 
 Percentiles Durations::percentiles(double nsPerUnit) {
   Percentiles p;
@@ -64,14 +67,18 @@ double forceJitterN(const std::vector<ForceLogRow>& log, double fromS, double to
 
 double maxStepChangeN(const std::vector<ForceLogRow>& log) {
   double m = 0.0;
-  for (std::size_t i = 1; i < log.size(); ++i) m = std::max(m, std::abs(log[i].magnitudeN - log[i - 1].magnitudeN));
+  for (std::size_t i = 1; i < log.size(); ++i)
+    m = std::max(m, std::abs(log[i].magnitudeN - log[i - 1].magnitudeN));
   return m;
 }
 
 // The bounds are forceJitterN's window tests at t = fromS and t = toS, written the same way so
 // that rounding keeps every row a window reaches.
 ForceMetrics::ForceMetrics(double fromS, double toS, double windowS)
-    : fromS_(fromS), toS_(toS), windowS_(windowS), keepFromS_(fromS - 0.5 * windowS - 1e-9),
+    : fromS_(fromS),
+      toS_(toS),
+      windowS_(windowS),
+      keepFromS_(fromS - 0.5 * windowS - 1e-9),
       keepToS_(toS + 0.5 * windowS + 1e-9) {}
 
 void ForceMetrics::reserveForStep(double stepS) {

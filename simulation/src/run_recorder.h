@@ -2,11 +2,11 @@
 // deterministic mode (Session::run) and the threaded runtime's logging thread (live.cpp).
 #pragma once
 
-#include "osteon/simulation/runner.h"
-
 #include <cstddef>
 #include <functional>
 #include <vector>
+
+#include "osteon/simulation/runner.h"
 
 namespace osteon::simulation {
 

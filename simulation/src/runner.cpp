@@ -1,6 +1,6 @@
-#include "run_recorder.h"
-
 #include <utility>
+
+#include "run_recorder.h"
 
 namespace osteon::simulation {
 

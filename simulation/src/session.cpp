@@ -1,21 +1,4 @@
 #include "osteon/simulation/session.h"
-#include "osteon/simulation/bone_source.h"
-
-#include "run_recorder.h"
-
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-#include "osteon/core/memory.h"
-#include "osteon/core/timing.h"
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/hierarchy/fine_fill.h"
-#include "osteon/geometry/io/units.h"
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/simulation/live.h"
-
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -27,12 +10,29 @@
 #include <thread>
 #include <utility>
 
+#include <glm/geometric.hpp>
+
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
+#include "osteon/core/memory.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/hierarchy/fine_fill.h"
+#include "osteon/geometry/io/units.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/simulation/bone_source.h"
+#include "osteon/simulation/live.h"
+#include "run_recorder.h"
+
 namespace osteon::simulation {
 
 double estimateSessionBytes(const geometry::TriangleMesh& meshMm, double voxelSizeMm) {
   double areaMm2 = 0.0, volumeMm3 = 0.0;
   for (const glm::u32vec3& t : meshMm.triangles) {
-    const glm::dvec3 &a = meshMm.positionsMm[t.x], &b = meshMm.positionsMm[t.y], &c = meshMm.positionsMm[t.z];
+    const glm::dvec3 &a = meshMm.positionsMm[t.x], &b = meshMm.positionsMm[t.y],
+                     &c = meshMm.positionsMm[t.z];
     areaMm2 += 0.5 * glm::length(glm::cross(b - a, c - a));
     volumeMm3 += glm::dot(a, glm::cross(b, c)) / 6.0;
   }
@@ -49,13 +49,15 @@ double estimateSessionBytes(const geometry::TriangleMesh& meshMm, double voxelSi
   // of `drill default` (levels 2) at 0.54, 0.3, 0.2 and 0.15 mm within 3 %; plus the process.
   constexpr double kBytesPerSurfaceVoxel = 1200.0, kBytesPerBoneVoxel = 11.5, kProcessBytes = 32e6;
   const double vs = voxelSizeMm;
-  return kProcessBytes + kBytesPerSurfaceVoxel * areaMm2 / (vs * vs) + kBytesPerBoneVoxel * volumeMm3 / (vs * vs * vs);
+  return kProcessBytes + kBytesPerSurfaceVoxel * areaMm2 / (vs * vs) +
+         kBytesPerBoneVoxel * volumeMm3 / (vs * vs * vs);
 }
 
 BoneModel::~BoneModel() = default;
 
-std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
-                                            double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
+std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, double voxelSizeMm,
+                                            const std::string& name, double loadScaleToMm,
+                                            const geometry::VoxelizeOptions& voxelizing,
                                             bool sampleFineFills, bool forSession) {
   const Clock::time_point start = Clock::now();
   std::shared_ptr<BoneModel> bone(new BoneModel());
@@ -70,7 +72,8 @@ std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, doubl
          << (voxelizing.voxelSizeGiven ? "--voxel-size " : "voxels of ") << voxelSizeMm << " mm";
     // A mesh in metres read as millimetres is the likelier mistake than a small machine.
     std::string advice = geometry::unitsAdvice(std::max({e.x, e.y, e.z}), loadScaleToMm);
-    if (voxelizing.voxelSizeGiven) advice += std::string(advice.empty() ? "" : "; ") + "use a larger --voxel-size";
+    if (voxelizing.voxelSizeGiven)
+      advice += std::string(advice.empty() ? "" : "; ") + "use a larger --voxel-size";
     refuseOverMemory(what.str(), estimateSessionBytes(*bone->mesh_, voxelSizeMm), advice);
   }
   geometry::VoxelizeOptions vo = voxelizing;
@@ -95,14 +98,16 @@ std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, doubl
   return bone;
 }
 
-std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh meshMm, double voxelSizeMm,
-                                                     const std::string& name, double loadScaleToMm,
+std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh meshMm,
+                                                     double voxelSizeMm, const std::string& name,
+                                                     double loadScaleToMm,
                                                      const geometry::VoxelizeOptions& voxelizing,
                                                      bool sampleFineFills) {
   return build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
 }
 
-std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const std::string& name, double loadMs) {
+std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const std::string& name,
+                                               double loadMs) {
   std::shared_ptr<BoneModel> bone(new BoneModel());
   bone->name_ = name;
   bone->grid_ = std::move(grid);
@@ -112,8 +117,8 @@ std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const s
   return bone;
 }
 
-std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid, const std::string& name,
-                                                     double loadMs) {
+std::shared_ptr<const BoneModel> BoneModel::fromGrid(geometry::VoxelGrid grid,
+                                                     const std::string& name, double loadMs) {
   if (grid.countVoxels(geometry::kFillHalf) == 0) {
     throw InputError(name + ": the grid has no voxel inside (nothing to drill)");
   }
@@ -181,9 +186,10 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   const Clock::time_point hierarchyStart = Clock::now();
   s.hierarchy = geometry::DynamicProximityHierarchy::build(s.grid, geometry::DphBuildOptions{});
   s.setup.hierarchyMs = msSince(hierarchyStart);
-  s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr, options.tool,
-                       options.toolOptions, drilling);
-  if (options.coupling == CouplingMode::Proxy) s.coupling.emplace(*s.simulation, options.couplingOptions);
+  s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr,
+                       options.tool, options.toolOptions, drilling);
+  if (options.coupling == CouplingMode::Proxy)
+    s.coupling.emplace(*s.simulation, options.couplingOptions);
   if (options.keepSurface) {
     const Clock::time_point surfaceStart = Clock::now();
     s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
@@ -197,15 +203,16 @@ Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;
 Session::~Session() = default;
 
-Session Session::fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options, const std::string& name,
-                          double loadScaleToMm) {
-  return Session(BoneModel::fromMesh(std::move(meshMm), options.voxelSizeMm, name, loadScaleToMm, options.voxelizing,
-                                     options.levels > 0),
+Session Session::fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options,
+                          const std::string& name, double loadScaleToMm) {
+  return Session(BoneModel::fromMesh(std::move(meshMm), options.voxelSizeMm, name, loadScaleToMm,
+                                     options.voxelizing, options.levels > 0),
                  options);
 }
 
 std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument, double scaleToMm,
-                                                 double voxelSizeMm, const geometry::VoxelizeOptions& voxelizing,
+                                                 double voxelSizeMm,
+                                                 const geometry::VoxelizeOptions& voxelizing,
                                                  bool sampleFineFills) {
   BoneSource source;
   source.input = meshArgument;
@@ -216,25 +223,30 @@ std::shared_ptr<const BoneModel> BoneModel::open(const std::string& meshArgument
   return open(source).bone;
 }
 
-Session Session::open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options) {
-  return Session(BoneModel::open(meshArgument, scaleToMm, options.voxelSizeMm, options.voxelizing, options.levels > 0),
+Session Session::open(const std::string& meshArgument, double scaleToMm,
+                      const SessionOptions& options) {
+  return Session(BoneModel::open(meshArgument, scaleToMm, options.voxelSizeMm, options.voxelizing,
+                                 options.levels > 0),
                  options);
 }
 
-Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name,
-                          double loadMs) {
+Session Session::fromGrid(geometry::VoxelGrid grid, const SessionOptions& options,
+                          const std::string& name, double loadMs) {
   return Session(BoneModel::fromGrid(std::move(grid), name, loadMs), options);
 }
 
-StepOutput Session::step(const StepInput& input) { return hapticStep(input).step; }
+StepOutput Session::step(const StepInput& input) {
+  return hapticStep(input).step;
+}
 
 HapticStep Session::hapticStep(const StepInput& input) {
-  const bool follow = surfaceEverySteps > 0 && (state_->steps + 1) % std::uint64_t(surfaceEverySteps) == 0;
+  const bool follow =
+      surfaceEverySteps > 0 && (state_->steps + 1) % std::uint64_t(surfaceEverySteps) == 0;
   return advance(input, coupling(), follow, nullptr, nullptr);
 }
 
-HapticStep Session::advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface, Durations* stepNs,
-                            Durations* surfaceNs) {
+HapticStep Session::advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface,
+                            Durations* stepNs, Durations* surfaceNs) {
   State& s = *state_;
   const Clock::time_point start = Clock::now();
   const HapticStep h = stepHaptic(*s.simulation, coupling, input);
@@ -267,8 +279,10 @@ RunResult Session::run(const DrillPath& path, const DeterministicOptions& option
   for (std::size_t i = 0; i < steps; ++i) {
     StepInput input;
     input.tS = double(i) * options.stepS;
-    path.sample(input.tS, input.pose, input.drillOn);  // haptic: the device (here the path) gives the pose
-    const bool follow = options.remeshEverySteps > 0 && i % std::size_t(options.remeshEverySteps) == 0;
+    path.sample(input.tS, input.pose,
+                input.drillOn);  // haptic: the device (here the path) gives the pose
+    const bool follow =
+        options.remeshEverySteps > 0 && i % std::size_t(options.remeshEverySteps) == 0;
     const HapticStep h = advance(input, proxy, follow, &stepNs, &surfaceNs);
     tallies.tally(h);
     recorder.add(logRowOf(input.tS, h, totals().samplesRemoved));
@@ -285,7 +299,8 @@ RunResult Session::run(const DrillPath& path, const DeterministicOptions& option
   return result;
 }
 
-RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const RuntimeOptions& options) {
+RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink,
+                                   const RuntimeOptions& options) {
   State& s = *state_;
   LiveRuntime live(*this, source, sink, options);
   live.start(options.durationS);
@@ -295,7 +310,8 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const Ru
   std::thread visual([&] {
     while (!loopsOver.load(std::memory_order_acquire)) {
       try {
-        if (live.updateSurface() == 0.0) std::this_thread::sleep_for(std::chrono::microseconds(500));
+        if (live.updateSurface() == 0.0)
+          std::this_thread::sleep_for(std::chrono::microseconds(500));
       } catch (...) {  // RuntimeFault: the error is kept in live.visualFault()
         visualFailed.store(true, std::memory_order_release);
         return;
@@ -314,11 +330,13 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink, const Ru
   if (!result.visualFault.empty()) {
     std::ostringstream m;
     m.precision(3);
-    m << std::fixed << result.visualFault << "; the haptic and collision loops were stopped cleanly after "
+    m << std::fixed << result.visualFault
+      << "; the haptic and collision loops were stopped cleanly after "
       << result.stats.collisionSteps << " steps (t = " << live.display().tS << " s)";
     throw RuntimeFault(m.str());
   }
-  if (s.options.keepSurface) {  // only a session that keeps its surface keeps the visual thread's (a copy)
+  if (s.options.keepSurface) {  // only a session that keeps its surface keeps the visual thread's
+                                // (a copy)
     s.surface = live.visualSurface().mesh();
     s.surfaceStale = false;
   }
@@ -354,7 +372,8 @@ void Session::releaseSurface() {
 SurfaceChanges Session::takeSurfaceChanges() {
   State& s = *state_;
   if (!s.updater) {
-    throw std::logic_error(s.bone->name() + ": the session keeps no surface (keepSurface off, or released)");
+    throw std::logic_error(s.bone->name() +
+                           ": the session keeps no surface (keepSurface off, or released)");
   }
   return s.updater->takeChanges();
 }
@@ -370,23 +389,43 @@ int Session::levelAt(const glm::ivec3& voxel) const {
   return s.simulation->voxels().isRefined(voxel) ? -s.simulation->voxels().depth() : 0;
 }
 
-geometry::Density Session::densityAt(const glm::ivec3& voxel) const { return state_->grid.density(voxel); }
+geometry::Density Session::densityAt(const glm::ivec3& voxel) const {
+  return state_->grid.density(voxel);
+}
 
-const BoneModel& Session::bone() const { return *state_->bone; }
-const geometry::VoxelGrid& Session::grid() const { return state_->grid; }
-const geometry::DynamicProximityHierarchy& Session::hierarchy() const { return state_->hierarchy; }
-DrillingSimulation& Session::simulation() { return *state_->simulation; }
-ProxyCoupling* Session::coupling() { return state_->coupling ? &*state_->coupling : nullptr; }
-const DrillingSimulation& Session::simulation() const { return *state_->simulation; }
-const SessionOptions& Session::options() const { return state_->options; }
-const SetupTimings& Session::setupTimings() const { return state_->setup; }
+const BoneModel& Session::bone() const {
+  return *state_->bone;
+}
+const geometry::VoxelGrid& Session::grid() const {
+  return state_->grid;
+}
+const geometry::DynamicProximityHierarchy& Session::hierarchy() const {
+  return state_->hierarchy;
+}
+DrillingSimulation& Session::simulation() {
+  return *state_->simulation;
+}
+ProxyCoupling* Session::coupling() {
+  return state_->coupling ? &*state_->coupling : nullptr;
+}
+const DrillingSimulation& Session::simulation() const {
+  return *state_->simulation;
+}
+const SessionOptions& Session::options() const {
+  return state_->options;
+}
+const SetupTimings& Session::setupTimings() const {
+  return state_->setup;
+}
 
-const HumeralHead& Session::humeralHead() const { return state_->bone->humeralHead(); }
+const HumeralHead& Session::humeralHead() const {
+  return state_->bone->humeralHead();
+}
 
 PortalPlan Session::portalPath(Portal portal, const PortalPathOptions& options) const {
   const HumeralHead& head = humeralHead();  // throws for a bone without a head
-  return makePortalPath(portal, head, state_->bone->headMesh(), state_->simulation->tool().parts[0].outerRadiusMm,
-                        options);
+  return makePortalPath(portal, head, state_->bone->headMesh(),
+                        state_->simulation->tool().parts[0].outerRadiusMm, options);
 }
 
 }  // namespace osteon::simulation

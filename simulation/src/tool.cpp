@@ -1,12 +1,12 @@
 #include "osteon/simulation/tool.h"
 
-#include "osteon/core/checks.h"
-#include "osteon/core/error.h"
+#include <cmath>
+#include <sstream>
 
 #include <glm/geometric.hpp>
 
-#include <cmath>
-#include <sstream>
+#include "osteon/core/checks.h"
+#include "osteon/core/error.h"
 
 namespace osteon::simulation {
 
@@ -19,14 +19,19 @@ ToolKind parseToolKind(const std::string& text) {
 
 const char* toolKindName(ToolKind kind) {
   switch (kind) {
-    case ToolKind::Drill: return "drill";
-    case ToolKind::Burr: return "burr";
-    case ToolKind::Shaver: return "shaver";
+    case ToolKind::Drill:
+      return "drill";
+    case ToolKind::Burr:
+      return "burr";
+    case ToolKind::Shaver:
+      return "shaver";
   }
   return "?";
 }
 
-double ToolPart::lengthMm() const { return glm::length(bMm - aMm); }
+double ToolPart::lengthMm() const {
+  return glm::length(bMm - aMm);
+}
 
 double ToolPart::shellVolumeMm3() const {
   const double ro = outerRadiusMm, ri = innerRadiusMm;

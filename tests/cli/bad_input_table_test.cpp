@@ -2,16 +2,6 @@
 // hand-made cases of tests/data/bad/table.tsv and the generated ones of osteon_bad_inputs.
 // Every case runs as its own process: exit code as listed, one line on stderr naming the
 // file (and the reason where the table gives one), nothing on stdout, and at most 200 MB.
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/process.h"
-#include "support/shapes.h"
-#include "support/volume_files.h"
-
-#include "osteon/geometry/io/mesh_io.h"
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cstdio>
 #include <fcntl.h>
@@ -25,6 +15,15 @@
 #include <thread>
 #include <unistd.h>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/io/mesh_io.h"
+#include "support/cli_fixture.h"
+#include "support/files.h"
+#include "support/process.h"
+#include "support/shapes.h"
+#include "support/volume_files.h"
 
 namespace osteon {
 namespace {
@@ -88,7 +87,8 @@ Outcome runOsteon(const std::vector<std::string>& args, const std::string& scrat
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  r.ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   r.exitCode = test::exitCodeOf(status);
   r.peakMb = double(usage.ru_maxrss) / 1024.0;
   r.out = test::readBytes(outPath);
@@ -106,12 +106,15 @@ class BadInputTableTest : public CliTest {
 
   // The command that reads a `loader`'s file, as a user would run it.
   std::vector<std::string> commandFor(const Case& c) const {
-    if (c.loader == "nrrd" || c.loader == "nifti") return {"mesh", c.file, "--out", path("out/volume.ply")};
+    if (c.loader == "nrrd" || c.loader == "nifti")
+      return {"mesh", c.file, "--out", path("out/volume.ply")};
     if (c.loader == "path") {
-      return {"drill", cube_, "--voxel-size", "1", "--levels", "0", "--path", c.file, "--out-dir", path("out/drill")};
+      return {"drill", cube_,    "--voxel-size", "1",         "--levels",
+              "0",     "--path", c.file,         "--out-dir", path("out/drill")};
     }
     if (c.loader == "recording") {
-      return {"replay", c.file, cube_, "--voxel-size", "1", "--levels", "0", "--out-dir", path("out/replay")};
+      return {"replay",   c.file, cube_,       "--voxel-size",    "1",
+              "--levels", "0",    "--out-dir", path("out/replay")};
     }
     return {"info", c.file};
   }
@@ -139,7 +142,8 @@ class BadInputTableTest : public CliTest {
       EXPECT_FALSE(r.err.empty());
       EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
       EXPECT_EQ(r.err.rfind("osteon: error: ", 0), 0u) << r.err;
-      EXPECT_NE(r.err.find(fs::path(c.file).filename().string()), std::string::npos) << "names the file: " << r.err;
+      EXPECT_NE(r.err.find(fs::path(c.file).filename().string()), std::string::npos)
+          << "names the file: " << r.err;
       if (!c.reason.empty()) {
         EXPECT_NE(r.err.find(c.reason), std::string::npos) << r.err;
       }
@@ -182,8 +186,8 @@ TEST_F(BadInputTableTest, EveryHandMadeCaseIsRefusedWithItsReason) {
 
 TEST_F(BadInputTableTest, EveryGeneratedCaseIsRefused) {
   const std::string generated = path("generated");
-  const std::string command = std::string("'") + OSTEON_BAD_INPUTS + "' generate '" + kData + "/seeds' '" +
-                              generated + "' > /dev/null";
+  const std::string command = std::string("'") + OSTEON_BAD_INPUTS + "' generate '" + kData +
+                              "/seeds' '" + generated + "' > /dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0);
   EXPECT_GE(runAll(readTable(generated)), 200);
 }
@@ -192,22 +196,29 @@ TEST_F(BadInputTableTest, EveryGeneratedCaseIsRefused) {
 // machine) is refused up front with its estimate, not killed halfway through.
 TEST_F(BadInputTableTest, RequestsBeyondTheMachinesMemoryAreRefusedWithTheEstimate) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  GTEST_SKIP() << "sanitizers reserve terabytes of address space; an address-space limit stops them at start";
+  GTEST_SKIP() << "sanitizers reserve terabytes of address space; an address-space limit stops "
+                  "them at start";
 #else
   const rlim_t limit = rlim_t(1200) << 20;
-  const Outcome grid = runOsteon({"voxelize", "default", "--voxel-size", "0.05"}, dir_, 60.0, limit);
+  const Outcome grid =
+      runOsteon({"voxelize", "default", "--voxel-size", "0.05"}, dir_, 60.0, limit);
   EXPECT_EQ(grid.exitCode, 2) << grid.err;
   EXPECT_NE(grid.err.find("--voxel-size 0.05 mm would need about"), std::string::npos) << grid.err;
-  EXPECT_NE(grid.err.find("of memory, more than this machine's 1.26 GB"), std::string::npos) << grid.err;
+  EXPECT_NE(grid.err.find("of memory, more than this machine's 1.26 GB"), std::string::npos)
+      << grid.err;
   EXPECT_LT(grid.peakMb, 100.0) << "refused before the grid is allocated";
 
   // A whole volume (its gzip data holds every voxel) that this machine cannot hold.
-  test::writeBytes(path("big.nrrd"), "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1000 1000 200\nspacings: 1 1 1\n"
-                                     "encoding: gzip\n\n" + test::gzipBytes(std::string(200'000'000, '\0')));
-  const Outcome volume = runOsteon({"mesh", path("big.nrrd"), "--out", path("big.ply")}, dir_, 60.0, limit);
+  test::writeBytes(path("big.nrrd"),
+                   "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1000 1000 200\nspacings: 1 1 1\n"
+                   "encoding: gzip\n\n" +
+                       test::gzipBytes(std::string(200'000'000, '\0')));
+  const Outcome volume =
+      runOsteon({"mesh", path("big.nrrd"), "--out", path("big.ply")}, dir_, 60.0, limit);
   EXPECT_EQ(volume.exitCode, 2) << volume.err;
-  EXPECT_NE(volume.err.find("big.nrrd: a 1000 x 1000 x 200 volume would need about 1.68 GB of memory"),
-            std::string::npos)
+  EXPECT_NE(
+      volume.err.find("big.nrrd: a 1000 x 1000 x 200 volume would need about 1.68 GB of memory"),
+      std::string::npos)
       << volume.err;
   // What helps a volume is fewer voxels, not the --voxel-size a mesh takes.
   EXPECT_NE(volume.err.find("crop or downsample it"), std::string::npos) << volume.err;

@@ -1,16 +1,18 @@
 // Every command opens its bone through BoneModel::open (or loadBoneMesh for a mesh alone): a bad
 // source is refused with the same one line whichever command was given it.
-#include "support/cli_fixture.h"
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include <string>
-#include <vector>
+#include "support/cli_fixture.h"
 
 namespace osteon {
 namespace {
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 class BoneSourceCliTest : public CliTest {
  protected:
@@ -27,25 +29,29 @@ class BoneSourceCliTest : public CliTest {
 
 TEST_F(BoneSourceCliTest, ABadScaleIsOneMessageInEveryCommand) {
   const std::string out = quoted(path("out"));
-  expectSameRefusal({"info default --scale 0", "voxelize default --voxel-size 1.2 --scale 0",
-                     "hierarchy default --voxel-size 1.2 --scale 0", "mesh default --voxel-size 1.2 --scale 0",
-                     "drill default --voxel-size 1.2 --path portal-5 --scale 0 --out-dir " + out,
-                     "drill default --voxel-size 1.2 --device scripted:portal-5 --scale 0 --out-dir " + out,
-                     "replay " + quoted(path("log.csv")) + " default --voxel-size 1.2 --scale 0 --out-dir " + out,
-                     "check default --scale 0", "experiment seed --scale 0 --out-dir " + out,
-                     "validate --quick --scale 0 --out-dir " + out},
-                    "osteon: error: --scale 0: must be a positive finite number");
+  expectSameRefusal(
+      {"info default --scale 0", "voxelize default --voxel-size 1.2 --scale 0",
+       "hierarchy default --voxel-size 1.2 --scale 0", "mesh default --voxel-size 1.2 --scale 0",
+       "drill default --voxel-size 1.2 --path portal-5 --scale 0 --out-dir " + out,
+       "drill default --voxel-size 1.2 --device scripted:portal-5 --scale 0 --out-dir " + out,
+       "replay " + quoted(path("log.csv")) + " default --voxel-size 1.2 --scale 0 --out-dir " + out,
+       "check default --scale 0", "experiment seed --scale 0 --out-dir " + out,
+       "validate --quick --scale 0 --out-dir " + out},
+      "osteon: error: --scale 0: must be a positive finite number");
 }
 
 TEST_F(BoneSourceCliTest, ABadVoxelSizeOrUnitIsOneMessageInEveryCommand) {
   const std::string out = quoted(path("out"));
-  expectSameRefusal({"voxelize default --voxel-size -1", "hierarchy default --voxel-size -1",
-                     "mesh default --voxel-size -1", "drill default --voxel-size -1 --path portal-5 --out-dir " + out,
-                     "replay " + quoted(path("log.csv")) + " default --voxel-size -1 --out-dir " + out},
-                    "osteon: error: --voxel-size -1: must be a positive number of mm");
-  expectSameRefusal({"info default --units furlong", "hierarchy default --voxel-size 1.2 --units furlong",
-                     "drill default --voxel-size 1.2 --path portal-5 --units furlong --out-dir " + out},
-                    "osteon: error: --units furlong: unknown unit (expected mm, cm, m or in)");
+  expectSameRefusal(
+      {"voxelize default --voxel-size -1", "hierarchy default --voxel-size -1",
+       "mesh default --voxel-size -1",
+       "drill default --voxel-size -1 --path portal-5 --out-dir " + out,
+       "replay " + quoted(path("log.csv")) + " default --voxel-size -1 --out-dir " + out},
+      "osteon: error: --voxel-size -1: must be a positive number of mm");
+  expectSameRefusal(
+      {"info default --units furlong", "hierarchy default --voxel-size 1.2 --units furlong",
+       "drill default --voxel-size 1.2 --path portal-5 --units furlong --out-dir " + out},
+      "osteon: error: --units furlong: unknown unit (expected mm, cm, m or in)");
 }
 
 TEST_F(BoneSourceCliTest, AVolumesOwnVoxelSizeAndMeaningAreCheckedOnceForEveryCommand) {
@@ -59,14 +65,18 @@ TEST_F(BoneSourceCliTest, AVolumesOwnVoxelSizeAndMeaningAreCheckedOnceForEveryCo
                                      "mesh " + quoted(grid) + " --voxel-size 1.5000001 --json"}) {
     EXPECT_EQ(osteon(command).exitCode, 0) << command;
   }
-  expectSameRefusal({"hierarchy " + quoted(grid) + " --voxel-size 1.2", "mesh " + quoted(grid) + " --voxel-size 1.2",
-                     "drill " + quoted(grid) + " --voxel-size 1.2 --path " + quoted(csv) + " --out-dir " + out},
-                    "osteon: error: --voxel-size 1.2: " + grid +
-                        " has voxels of 1.5 mm (a volume has its own voxel size: give that, or none where the voxel "
-                        "size is optional)");
-  expectSameRefusal({"hierarchy default --voxel-size 1.2 --label 1", "mesh default --voxel-size 1.2 --label 1",
-                     "drill default --voxel-size 1.2 --path portal-5 --label 1 --out-dir " + out},
-                    "osteon: error: --label: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");
+  expectSameRefusal(
+      {"hierarchy " + quoted(grid) + " --voxel-size 1.2",
+       "mesh " + quoted(grid) + " --voxel-size 1.2",
+       "drill " + quoted(grid) + " --voxel-size 1.2 --path " + quoted(csv) + " --out-dir " + out},
+      "osteon: error: --voxel-size 1.2: " + grid +
+          " has voxels of 1.5 mm (a volume has its own voxel size: give that, or none where the "
+          "voxel "
+          "size is optional)");
+  expectSameRefusal(
+      {"hierarchy default --voxel-size 1.2 --label 1", "mesh default --voxel-size 1.2 --label 1",
+       "drill default --voxel-size 1.2 --path portal-5 --label 1 --out-dir " + out},
+      "osteon: error: --label: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");
 }
 
 }  // namespace

@@ -1,23 +1,21 @@
 // The command line as users and scripts meet it: exit codes, one-line errors naming the file
 // or value, JSON on stdout.
-#include "osteon/geometry/io/mesh_io.h"
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
 #include <initializer_list>
 #include <map>
 #include <string>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
-#include <filesystem>
-
-#include <sys/wait.h>
+#include "osteon/geometry/io/mesh_io.h"
+#include "support/cli_fixture.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -35,7 +33,8 @@ void expectSetupReported(const nlohmann::json& j, std::initializer_list<const ch
   ASSERT_TRUE(j.contains("setup_ms")) << j.dump();
   const nlohmann::json& setup = j["setup_ms"];
   double largest = 0.0;
-  for (const char* key : {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
+  for (const char* key :
+       {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
     ASSERT_TRUE(setup.contains(key)) << key;
     EXPECT_GE(setup[key].get<double>(), 0.0) << key;
     if (std::string(key) != "total") largest = std::max(largest, setup[key].get<double>());
@@ -73,8 +72,7 @@ TEST_F(CliTest, EveryBadMeshGivesItsErrorAndExitCode2) {
                {"range.obj", "out of range"}};
   for (const auto& c : cases) {
     expectBadInput("info '" + path(c.file) + "'", path(c.file), c.reason);
-    expectBadInput("voxelize '" + path(c.file) + "' --voxel-size 1 --json", path(c.file),
-                   c.reason);
+    expectBadInput("voxelize '" + path(c.file) + "' --voxel-size 1 --json", path(c.file), c.reason);
   }
 }
 
@@ -106,7 +104,8 @@ TEST_F(CliTest, HelpAndVersionSucceed) {
 }
 
 TEST_F(CliTest, VoxelizeDefaultPrintsTheContractJson) {
-  const CliRun run = osteon("voxelize default --voxel-size 1.2 --json --out '" + path("g.nrrd") + "'");
+  const CliRun run =
+      osteon("voxelize default --voxel-size 1.2 --json --out '" + path("g.nrrd") + "'");
   ASSERT_EQ(run.exitCode, 0) << run.err;
   EXPECT_TRUE(run.err.empty()) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
@@ -141,7 +140,8 @@ TEST_F(CliTest, UnitsAndScaleAgree) {
 }
 
 TEST_F(CliTest, HierarchyReportsLevelsForMeshesAndGrids) {
-  const CliRun mesh = osteon("hierarchy default --voxel-size 1.2 --json --svg '" + path("h.svg") + "'");
+  const CliRun mesh =
+      osteon("hierarchy default --voxel-size 1.2 --json --svg '" + path("h.svg") + "'");
   ASSERT_EQ(mesh.exitCode, 0) << mesh.err;
   const nlohmann::json j = nlohmann::json::parse(mesh.out);
   for (const char* key : {"levels", "nodes_per_level", "build_ms", "memory_bytes", "voxels"}) {
@@ -165,7 +165,8 @@ TEST_F(CliTest, HierarchyReportsLevelsForMeshesAndGrids) {
   const CliRun grid = osteon("hierarchy '" + path("g.nrrd") + "' --json");
   ASSERT_EQ(grid.exitCode, 0) << grid.err;
   EXPECT_EQ(nlohmann::json::parse(grid.out)["nodes_per_level"], levels);
-  expectSetupReported(nlohmann::json::parse(grid.out), {"voxelize", "density", "fine_fills", "surface"});
+  expectSetupReported(nlohmann::json::parse(grid.out),
+                      {"voxelize", "density", "fine_fills", "surface"});
 
   expectBadInput("hierarchy default", "--voxel-size", "required");
   expectBadInput("hierarchy default --voxel-size 1.2 --xi 4", "--xi 4", "odd");
@@ -197,7 +198,8 @@ TEST_F(CliTest, MeshIsClosedForCrackFreeAndCrackedForNaive) {
 }
 
 TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
-  const std::string args = "drill default --voxel-size 1.2 --levels 1 --path portal-7 --json --out-dir ";
+  const std::string args =
+      "drill default --voxel-size 1.2 --levels 1 --path portal-7 --json --out-dir ";
   const CliRun run = osteon(args + "'" + path("a") + "'");
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
@@ -211,7 +213,8 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   }
   EXPECT_EQ(j["steps"].get<int>(), 7001);
   // Nothing ran out of room: every cut, refinement and removal mask fitted.
-  for (const char* key : {"cut_overflows", "refine_pool_exhausted", "mask_overflows", "brick_allocations"}) {
+  for (const char* key :
+       {"cut_overflows", "refine_pool_exhausted", "mask_overflows", "brick_allocations"}) {
     ASSERT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j[key].get<int>(), 0) << key;
   }
@@ -226,7 +229,8 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   EXPECT_TRUE(nlohmann::json::parse(test::readBytes(path("a/summary.json"))).contains("setup_ms"));
   EXPECT_EQ(nlohmann::json::parse(test::readBytes(path("a/summary.json")))["steps"], j["steps"]);
   const std::string log = test::readBytes(path("a/forces.csv"));
-  EXPECT_EQ(log.substr(0, log.find('\n')), "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
+  EXPECT_EQ(log.substr(0, log.find('\n')),
+            "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level");
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 7002);
   // The drilled surface is closed.
   const geometry::TriangleMesh surface = geometry::readMesh(path("a/surface.ply"));
@@ -236,34 +240,43 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   EXPECT_TRUE(log == test::readBytes(path("b/forces.csv")));
 
   // The same run on the three real-time threads.
-  const CliRun threaded = osteon("drill default --voxel-size 1.2 --levels 0 --path portal-5 --threaded --json --out-dir '" +
-                                 path("t") + "'");
+  const CliRun threaded = osteon(
+      "drill default --voxel-size 1.2 --levels 0 --path portal-5 --threaded --json --out-dir '" +
+      path("t") + "'");
   ASSERT_EQ(threaded.exitCode, 0) << threaded.err;
   const nlohmann::json t = nlohmann::json::parse(threaded.out);
   EXPECT_EQ(t["mode"], "threaded");
-  expectSetupReported(t, {"fine_fills", "surface"});  // levels 0; the visual thread keeps its own surface
-  EXPECT_GT(t["runtime"]["collision_steps"].get<int>(), 3500);  // most periods, even on a busy machine
+  expectSetupReported(
+      t, {"fine_fills", "surface"});  // levels 0; the visual thread keeps its own surface
+  EXPECT_GT(t["runtime"]["collision_steps"].get<int>(),
+            3500);  // most periods, even on a busy machine
   EXPECT_GT(t["runtime"]["visual_updates"].get<int>(), 0);
   EXPECT_EQ(t["runtime"]["ring_full"].get<int>(), 0);
-  EXPECT_LE(t["runtime"]["haptic_standby_steps"].get<int>(), t["runtime"]["haptic_steps"].get<int>());
+  EXPECT_LE(t["runtime"]["haptic_standby_steps"].get<int>(),
+            t["runtime"]["haptic_steps"].get<int>());
   EXPECT_GT(t["removed_volume_mm3"].get<double>(), 10.0);
 
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
   // In the air: a path that never meets bone is an empty result, accepted here on purpose.
-  const CliRun csv = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --json --allow-empty --path '" +
-                            path("p.csv") + "' --out-dir '" + path("c") + "'");
+  const CliRun csv =
+      osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --json --allow-empty --path '" +
+             path("p.csv") + "' --out-dir '" + path("c") + "'");
   ASSERT_EQ(csv.exitCode, 0) << csv.err;
   EXPECT_EQ(nlohmann::json::parse(csv.out)["steps"].get<int>(), 1001);
   EXPECT_EQ(nlohmann::json::parse(csv.out)["max_force_n"].get<double>(), 0.0);  // in the air
   EXPECT_TRUE(nlohmann::json::parse(csv.out)["empty"].get<bool>());
 
-  expectBadInput("drill default --voxel-size 1.2 --levels 3 --path portal-5", "--levels 3", "0, 1 or 2");
+  expectBadInput("drill default --voxel-size 1.2 --levels 3 --path portal-5", "--levels 3",
+                 "0, 1 or 2");
   expectBadInput("drill default --voxel-size 1.2 --path portal-6", "portal-6", "not a portal");
-  expectBadInput("drill default --voxel-size 1.2 --path portal-5 --tool scalpel", "scalpel", "unknown tool");
+  expectBadInput("drill default --voxel-size 1.2 --path portal-5 --tool scalpel", "scalpel",
+                 "unknown tool");
   expectBadInput("drill default --voxel-size 0 --path portal-5", "--voxel-size 0", "positive");
   test::writeBytes(path("bad.csv"), "t,x,y,z,drill_on\n0,0,0,0,1\n0.5,0,nan?,0,1\n");
-  expectBadInput("drill default --voxel-size 1.2 --path '" + path("bad.csv") + "'", "bad.csv:3", "not a finite number");
-  expectBadInput("drill default --voxel-size 1.2 --path '" + path("none.csv") + "'", "none.csv", "cannot open");
+  expectBadInput("drill default --voxel-size 1.2 --path '" + path("bad.csv") + "'", "bad.csv:3",
+                 "not a finite number");
+  expectBadInput("drill default --voxel-size 1.2 --path '" + path("none.csv") + "'", "none.csv",
+                 "cannot open");
 }
 
 // Seed section 4: 14 runs, six plots, and the dynamic runs smoother than the static ones.
@@ -280,14 +293,16 @@ TEST_F(CliTest, ExperimentSeedDrawsThePlotsAndTheJitterTable) {
   }
   std::map<std::string, double> staticJitter;
   for (const auto& r : j["runs"]) {
-    const std::string key = std::to_string(r["voxel_size_mm"].get<double>()) + r["portal"].get<std::string>();
+    const std::string key =
+        std::to_string(r["voxel_size_mm"].get<double>()) + r["portal"].get<std::string>();
     if (r["levels"].get<int>() == 0) {
       staticJitter[key] = r["jitter_n"].get<double>();
     } else {
       EXPECT_LT(r["jitter_n"].get<double>(), staticJitter.at(key)) << r.dump();
     }
   }
-  EXPECT_NE(test::readBytes(path("exp/jitter.md")).find("| 1.2 mm | portal-7 | 2 |"), std::string::npos);
+  EXPECT_NE(test::readBytes(path("exp/jitter.md")).find("| 1.2 mm | portal-7 | 2 |"),
+            std::string::npos);
   // The 14 force logs, byte for byte (64-bit FNV-1a of each forces.csv), as they were before
   // the faster set-up (lattice and grid DPH builds, parallel first surface): changes to how
   // a bone is built or walked must not move a single force.
@@ -300,19 +315,25 @@ TEST_F(CliTest, ExperimentSeedDrawsThePlotsAndTheJitterTable) {
       {"1.2mm_portal-5_L2", 0x4772912d6698b2c3ull},  {"1.2mm_portal-7_L0", 0x3efd8aac745f2651ull},
       {"1.2mm_portal-7_L1", 0x91cc7d3eec27b1baull},  {"1.2mm_portal-7_L2", 0xc876661ed38dd7ffull}};
   for (const auto& [runName, expected] : logs) {
-    const std::string bytes = test::readBytes(path("exp/runs/" + std::string(runName) + "/forces.csv"));
+    const std::string bytes =
+        test::readBytes(path("exp/runs/" + std::string(runName) + "/forces.csv"));
     std::uint64_t h = 0xcbf29ce484222325ull;
-    for (const char c : bytes) h = (h ^ std::uint64_t(static_cast<unsigned char>(c))) * 0x100000001b3ull;
-    EXPECT_EQ(h, expected) << runName << ": forces.csv is not the byte-identical log (" << bytes.size() << " bytes)";
+    for (const char c : bytes)
+      h = (h ^ std::uint64_t(static_cast<unsigned char>(c))) * 0x100000001b3ull;
+    EXPECT_EQ(h, expected) << runName << ": forces.csv is not the byte-identical log ("
+                           << bytes.size() << " bytes)";
   }
   expectBadInput("experiment lunar", "experiment lunar", "unknown");
 }
 
 TEST_F(CliTest, CheckPassesTheCrackFreeSurfaceAndFailsTheNaiveOne) {
   ASSERT_EQ(osteon("mesh default --voxel-size 1.2 --out '" + path("cf.ply") + "'").exitCode, 0);
-  ASSERT_EQ(osteon("mesh default --voxel-size 1.2 --method naive --out '" + path("naive.ply") + "'").exitCode, 0);
-  const CliRun good = osteon("check '" + path("cf.ply") + "' --reference default --cracks 128 --json --images '" +
-                             path("img") + "'");
+  ASSERT_EQ(osteon("mesh default --voxel-size 1.2 --method naive --out '" + path("naive.ply") + "'")
+                .exitCode,
+            0);
+  const CliRun good =
+      osteon("check '" + path("cf.ply") + "' --reference default --cracks 128 --json --images '" +
+             path("img") + "'");
   ASSERT_EQ(good.exitCode, 0) << good.err;
   const nlohmann::json g = nlohmann::json::parse(good.out);
   EXPECT_EQ(g["verdict"], "PASS");
@@ -345,11 +366,12 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
   EXPECT_EQ(j["verdict"], "PASS");
   ASSERT_EQ(j["cases"].size(), 4u);
   for (const auto& c : j["cases"]) {
-    for (const char* key : {"model", "voxel_size_mm", "method", "mode", "border_edges", "non_manifold",
-                            "self_intersections", "crack_percent", "hausdorff_mm", "collision_misses",
-                            "collision_rays", "collision_missed_samples", "collision_boundary_samples",
-                            "collision_skipped_samples", "collision_worst_miss_mm", "max_force_n", "jitter_n",
-                            "pass", "failures"}) {
+    for (const char* key :
+         {"model", "voxel_size_mm", "method", "mode", "border_edges", "non_manifold",
+          "self_intersections", "crack_percent", "hausdorff_mm", "collision_misses",
+          "collision_rays", "collision_missed_samples", "collision_boundary_samples",
+          "collision_skipped_samples", "collision_worst_miss_mm", "max_force_n", "jitter_n", "pass",
+          "failures"}) {
       EXPECT_TRUE(c.contains(key)) << key;
     }
     EXPECT_LE(c["max_force_n"].get<double>(), 3.3);
@@ -386,7 +408,7 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
   EXPECT_NE(html.find("osteon validation: <span class=\"pass\">PASS"), std::string::npos);
   EXPECT_NE(html.find("beside the seed's Tables 1 and 2"), std::string::npos);
   EXPECT_NE(html.find("openimageio"), std::string::npos);  // the environment block
-  ASSERT_EQ(j["plots"].size(), 2u);  // static against dynamic, one per portal
+  ASSERT_EQ(j["plots"].size(), 2u);                        // static against dynamic, one per portal
   for (const auto& plot : j["plots"]) {
     EXPECT_EQ(test::readBytes(path("v/" + plot.get<std::string>())).substr(1, 3), "PNG") << plot;
     EXPECT_NE(html.find(plot.get<std::string>()), std::string::npos);
@@ -398,14 +420,16 @@ TEST_F(CliTest, ValidateQuickPassesAndReportsTheNaiveCracks) {
   nlohmann::json older = j;
   older["cases"][0]["jitter_n"] = 0.5 * j["cases"][0]["jitter_n"].get<double>();
   test::writeBytes(path("old.json"), older.dump());
-  const CliRun again = osteon("validate --quick --out-dir '" + path("w") + "' --compare '" + path("old.json") + "'");
+  const CliRun again =
+      osteon("validate --quick --out-dir '" + path("w") + "' --compare '" + path("old.json") + "'");
   ASSERT_EQ(again.exitCode, 0) << again.err;
   const nlohmann::json k = nlohmann::json::parse(test::readBytes(path("w/report.json")));
   ASSERT_EQ(k["regressions"].size(), 1u);
   EXPECT_NE(k["regressions"][0]["what"].get<std::string>().find("jitter_n"), std::string::npos);
 
   expectBadInput("validate --voxel-sizes 1.2,abc", "--voxel-sizes 1.2,abc", "not a voxel size");
-  expectBadInput("validate --quick --compare '" + path("none.json") + "'", "none.json", "cannot open");
+  expectBadInput("validate --quick --compare '" + path("none.json") + "'", "none.json",
+                 "cannot open");
 }
 
 TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
@@ -416,7 +440,7 @@ TEST_F(CliTest, ModelCommandRegeneratesTheShippedDefault) {
   EXPECT_NEAR(j["head_radius_mm"].get<double>(), 23.0, 1.0);
   // The file in data/ is what this command writes, byte for byte.
   const bool same = test::readBytes(path("humerus.stl")) ==
-                   test::readBytes(std::string(OSTEON_SOURCE_DIR) + "/data/humerus_proximal.stl");
+                    test::readBytes(std::string(OSTEON_SOURCE_DIR) + "/data/humerus_proximal.stl");
   EXPECT_TRUE(same)
       << "data/humerus_proximal.stl is stale: run `osteon model --out data/humerus_proximal.stl`";
 }

@@ -1,12 +1,12 @@
 // One table of subcommands makes the help, the unknown-command message and the dispatch: every
 // command the help lists is named by the message, in the same order, and runs (its --help).
-#include "support/cli_fixture.h"
-
-#include <gtest/gtest.h>
-
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/cli_fixture.h"
 
 namespace osteon {
 namespace {
@@ -37,7 +37,8 @@ TEST_F(CliTest, TheHelpTheUnknownCommandMessageAndTheDispatchNameTheSameCommands
   }
   const CliRun unknown = osteon("dril default");
   EXPECT_EQ(unknown.exitCode, 2);
-  EXPECT_EQ(unknown.err, "osteon: error: dril: unknown command (expected " + expected + "; see osteon --help)\n");
+  EXPECT_EQ(unknown.err, "osteon: error: dril: unknown command (expected " + expected +
+                             "; see osteon --help)\n");
   for (const std::string& name : names) {
     const CliRun run = osteon(name + " --help");
     EXPECT_EQ(run.exitCode, 0) << name << ": " << run.err;

@@ -16,8 +16,8 @@
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/simulation/motions.h"
-#include "support/files.h"
 #include "support/cli_fixture.h"
+#include "support/files.h"
 
 namespace osteon {
 namespace {

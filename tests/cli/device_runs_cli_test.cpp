@@ -3,31 +3,31 @@
 // replayed through the threaded runtime (it ran until its absolute last stamp), runs that never
 // meet bone through a device or a recording (exit 0 where --path gives 1), and a board monitored
 // at 115,200 baud (events dropped from a full queue, silently).
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/cli_processes.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <sys/stat.h>
 #include <thread>
 #include <vector>
 
-#include <sys/stat.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/cli_fixture.h"
+#include "support/cli_processes.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
 
 using nlohmann::json;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 std::vector<std::string> splitLines(const std::string& text) {
   std::vector<std::string> out;
@@ -53,13 +53,16 @@ TEST_F(CliTest, ASpaceMousePathThatIsNoHidDeviceIsExit2NotACrash) {
   const std::string fifo = path("fifo");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   test::writeBytes(path("report.bin"), "not a device\n");
-  expectBadInput("devices monitor spacemouse:/dev/null --duration 1", "spacemouse:/dev/null", "not a HID device");
-  expectBadInput("devices monitor spacemouse:" + fifo + " --duration 1", fifo, "not a HID device (a FIFO)");
-  expectBadInput("devices monitor spacemouse:" + path("report.bin") + " --duration 1", path("report.bin"),
-                 "not a HID device (a regular file)");
-  expectBadInput("drill default --voxel-size 1.2 --device spacemouse:/dev/null --duration 1 --out-dir " +
-                     quoted(path("o")),
-                 "spacemouse:/dev/null", "not a HID device");
+  expectBadInput("devices monitor spacemouse:/dev/null --duration 1", "spacemouse:/dev/null",
+                 "not a HID device");
+  expectBadInput("devices monitor spacemouse:" + fifo + " --duration 1", fifo,
+                 "not a HID device (a FIFO)");
+  expectBadInput("devices monitor spacemouse:" + path("report.bin") + " --duration 1",
+                 path("report.bin"), "not a HID device (a regular file)");
+  expectBadInput(
+      "drill default --voxel-size 1.2 --device spacemouse:/dev/null --duration 1 --out-dir " +
+          quoted(path("o")),
+      "spacemouse:/dev/null", "not a HID device");
   EXPECT_FALSE(std::filesystem::exists(path("o/forces.csv")));
 }
 
@@ -67,8 +70,9 @@ TEST_F(CliTest, AThreadedReplayOfARecordingStampedAtUnixTimeRunsForItsLength) {
   // A descent into the humeral head (its top is near (5.6, 2.6, 49) mm), recorded, then
   // stamped from 1.7e9 s (Unix time).
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,5.6,2.6,60,1\n0.5,5.6,2.6,40,1\n");
-  const CliRun rec = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --device scripted:" + path("p.csv") +
-                            " --record " + quoted(path("rec.csv")) + " --out-dir " + quoted(path("a")));
+  const CliRun rec = osteon(
+      "drill default --voxel-size 1.2 --levels 0 --tool burr --device scripted:" + path("p.csv") +
+      " --record " + quoted(path("rec.csv")) + " --out-dir " + quoted(path("a")));
   ASSERT_EQ(rec.exitCode, 0) << rec.err;
   std::string shifted = kRecordingHeader;
   int rows = 0;
@@ -83,9 +87,11 @@ TEST_F(CliTest, AThreadedReplayOfARecordingStampedAtUnixTimeRunsForItsLength) {
   test::writeBytes(path("unix.csv"), shifted);
 
   const auto start = std::chrono::steady_clock::now();
-  const CliRun live = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --threaded --device replay:" +
-                             path("unix.csv") + " --json --out-dir " + quoted(path("b")));
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const CliRun live =
+      osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --threaded --device replay:" +
+             path("unix.csv") + " --json --out-dir " + quoted(path("b")));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(live.exitCode, 0) << live.err;
   EXPECT_LT(seconds, 20.0);  // a 0.5 s recording (it used to run until t = 1.7e9 s)
   const json j = json::parse(live.out);
@@ -102,20 +108,26 @@ TEST_F(CliTest, RunsThatNeverMeetBoneAreEmptyWhateverDrivesThem) {
   struct Case {
     std::string name, args;
   };
-  for (const Case& c : {Case{"path", "drill default --path " + path("air.csv") + tail + quoted(path("o1"))},
-                        Case{"scripted", "drill default --device scripted:" + path("air.csv") + tail + quoted(path("o2"))},
-                        Case{"replay device", "drill default --device replay:" + path("air_rec.csv") + tail + quoted(path("o3"))},
-                        Case{"replay", "replay " + quoted(path("air_rec.csv")) + " default" + tail + quoted(path("o4"))}}) {
+  for (const Case& c :
+       {Case{"path", "drill default --path " + path("air.csv") + tail + quoted(path("o1"))},
+        Case{"scripted",
+             "drill default --device scripted:" + path("air.csv") + tail + quoted(path("o2"))},
+        Case{"replay device",
+             "drill default --device replay:" + path("air_rec.csv") + tail + quoted(path("o3"))},
+        Case{"replay",
+             "replay " + quoted(path("air_rec.csv")) + " default" + tail + quoted(path("o4"))}}) {
     const CliRun run = osteon(c.args + " --json");
     EXPECT_EQ(run.exitCode, 1) << c.name << ": " << run.err;
-    EXPECT_NE(run.err.find("empty result: the path never meets bone"), std::string::npos) << c.name << ": " << run.err;
+    EXPECT_NE(run.err.find("empty result: the path never meets bone"), std::string::npos)
+        << c.name << ": " << run.err;
     ASSERT_FALSE(run.out.empty()) << c.name;
     const json j = json::parse(run.out);
     EXPECT_EQ(j["empty"], true) << c.name;
     EXPECT_EQ(j["removed_volume_mm3"], 0.0) << c.name;
     const CliRun allowed = osteon(c.args + " --allow-empty --json");
     EXPECT_EQ(allowed.exitCode, 0) << c.name << ": " << allowed.err;
-    EXPECT_NE(allowed.err.find("accepted: --allow-empty"), std::string::npos) << c.name << ": " << allowed.err;
+    EXPECT_NE(allowed.err.find("accepted: --allow-empty"), std::string::npos)
+        << c.name << ": " << allowed.err;
     EXPECT_EQ(json::parse(allowed.out)["empty"], true) << c.name;
   }
 }
@@ -126,8 +138,8 @@ TEST_F(CliTest, DevicesMonitorKeepsUpWithABoardAt115200Baud) {
   test::FakeBoard board;
   ASSERT_TRUE(board.open());
   constexpr int kLines = 6000;
-  RunningOsteon monitor({"devices", "monitor", "serial:" + board.slavePath + "@115200", "--count", std::to_string(kLines),
-                         "--json"},
+  RunningOsteon monitor({"devices", "monitor", "serial:" + board.slavePath + "@115200", "--count",
+                         std::to_string(kLines), "--json"},
                         path("monitor.err"));
   std::thread writer([&board] {
     // 11,520 bytes a second (8N1: 10 bits a byte), in 10 ms slices.
@@ -138,8 +150,9 @@ TEST_F(CliTest, DevicesMonitorKeepsUpWithABoardAt115200Baud) {
       slice += "B=" + std::to_string(i % 16) + ",P=" + std::to_string(i % 1024) + "\n";
       const double dueS = double(sent + slice.size()) / 11520.0;
       if (slice.size() >= 115 || i + 1 == kLines) {
-        std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                  std::chrono::duration<double>(dueS)));
+        std::this_thread::sleep_until(
+            start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                        std::chrono::duration<double>(dueS)));
         if (!board.write(slice)) return;
         sent += slice.size();
         slice.clear();
@@ -174,8 +187,9 @@ TEST_F(CliTest, DevicesMonitorKeepsUpWithABoardAt115200Baud) {
 TEST_F(CliTest, DevicesMonitorReportsEventsItDropped) {
   test::FakeBoard board;
   ASSERT_TRUE(board.open());
-  RunningOsteon monitor({"devices", "monitor", "serial:" + board.slavePath, "--duration", "4", "--json"},
-                        path("monitor.err"));
+  RunningOsteon monitor(
+      {"devices", "monitor", "serial:" + board.slavePath, "--duration", "4", "--json"},
+      path("monitor.err"));
   std::string lines;
   constexpr int kLines = 20000;
   for (int i = 0; i < kLines; ++i) lines += "B=1,P=" + std::to_string(i % 1024) + "\n";
@@ -204,7 +218,9 @@ TEST_F(CliTest, DevicesMonitorReportsEventsItDropped) {
   EXPECT_LE(printed + end["events_dropped"].get<int>(), kLines + 1);
   const std::string err = test::readBytes(path("monitor.err"));
   EXPECT_NE(err.find("events dropped: the monitor fell behind"), std::string::npos) << err;
-  EXPECT_NE(err.find(std::to_string(end["events_dropped"].get<int>()) + " events dropped"), std::string::npos) << err;
+  EXPECT_NE(err.find(std::to_string(end["events_dropped"].get<int>()) + " events dropped"),
+            std::string::npos)
+      << err;
 }
 
 }  // namespace

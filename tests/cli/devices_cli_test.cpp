@@ -2,30 +2,28 @@
 // a pseudo-terminal as it runs, `drill --device` and `--record`, and `replay`: a recorded
 // portal-5 replays to drill's forces.csv byte for byte, a log with every fault kind is survived
 // and counted, and files that are not recordings are exit 2 with one line.
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/cli_processes.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <csignal>
 #include <cstring>
-#include <filesystem>
-#include <sstream>
-#include <string>
-#include <thread>
-#include <vector>
-
 #include <fcntl.h>
+#include <filesystem>
 #include <poll.h>
 #include <pty.h>
+#include <sstream>
+#include <string>
 #include <sys/wait.h>
 #include <termios.h>
+#include <thread>
 #include <unistd.h>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/cli_fixture.h"
+#include "support/cli_processes.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -39,7 +37,9 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 TEST_F(CliTest, DevicesListFindsNoneHereAndSucceeds) {
   const CliRun run = osteon("devices list --json");
@@ -60,17 +60,20 @@ TEST_F(CliTest, DevicesMonitorDecodesABoardOnAPseudoTerminal) {
   auto board = std::make_unique<test::FakeBoard>();
   ASSERT_TRUE(board->open());
   test::pointLink(link, board->slavePath);
-  RunningOsteon monitor({"devices", "monitor", "serial:" + link, "--count", "8", "--json"}, path("monitor.err"));
+  RunningOsteon monitor({"devices", "monitor", "serial:" + link, "--count", "8", "--json"},
+                        path("monitor.err"));
 
   ASSERT_TRUE(board->write("B=5,P=512\n"));
   ASSERT_TRUE(board->write(std::string("\x01\xfe\xff garbage", 12) + "\n"));
   ASSERT_TRUE(board->write("B=zz,P=1\n"));
-  ASSERT_TRUE(board->write(std::string(100 * 1024, 'A') + "\n"));  // 100 kB: dropped as it streams in
+  ASSERT_TRUE(
+      board->write(std::string(100 * 1024, 'A') + "\n"));  // 100 kB: dropped as it streams in
   ASSERT_TRUE(board->write("B=1f,P=0,K=-3,X=9\r\n"));
   std::vector<json> events;
   for (int i = 0; i < 5; ++i) {
     const std::string line = monitor.nextLine();
-    ASSERT_FALSE(line.empty()) << "event " << i << "; stderr: " << test::readBytes(path("monitor.err"));
+    ASSERT_FALSE(line.empty()) << "event " << i
+                               << "; stderr: " << test::readBytes(path("monitor.err"));
     events.push_back(json::parse(line));
   }
   EXPECT_EQ(events[0]["buttons"], 5);
@@ -78,7 +81,8 @@ TEST_F(CliTest, DevicesMonitorDecodesABoardOnAPseudoTerminal) {
   EXPECT_EQ(events[0]["knob"], 0);
   EXPECT_TRUE(events[0].contains("t"));
   EXPECT_NE(events[1]["error"].get<std::string>().find("printable ASCII"), std::string::npos);
-  EXPECT_NE(events[2]["error"].get<std::string>().find("B is not a hex button mask"), std::string::npos);
+  EXPECT_NE(events[2]["error"].get<std::string>().find("B is not a hex button mask"),
+            std::string::npos);
   EXPECT_EQ(events[3]["error"], "line longer than 256 bytes");
   EXPECT_EQ(events[4]["buttons"], 31);
   EXPECT_EQ(events[4]["knob"], -3);
@@ -113,13 +117,17 @@ TEST_F(CliTest, DevicesMonitorTextAndItsLimits) {
   const CliRun quiet = osteon("devices monitor serial:" + board.slavePath + " --duration 0.3");
   EXPECT_EQ(quiet.exitCode, 0) << quiet.err;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
-  expectBadInput("devices monitor serial:" + path("ttyNone") + " --count 1", "serial:" + path("ttyNone"), "cannot open");
-  expectBadInput("devices monitor serial:" + board.slavePath + " --count 0", "--count 0", "at least 1");
-  expectBadInput("devices monitor serial:" + board.slavePath + "@1234 --count 1", "@1234", "not a standard rate");
+  expectBadInput("devices monitor serial:" + path("ttyNone") + " --count 1",
+                 "serial:" + path("ttyNone"), "cannot open");
+  expectBadInput("devices monitor serial:" + board.slavePath + " --count 0", "--count 0",
+                 "at least 1");
+  expectBadInput("devices monitor serial:" + board.slavePath + "@1234 --count 1", "@1234",
+                 "not a standard rate");
   expectBadInput("devices monitor scripted:portal-5 --count 1", "scripted:portal-5", "session");
   expectBadInput("devices monitor joystick --count 1", "joystick", "unknown device");
   expectBadInput("devices monitor mouse --count 1", "mouse", "viewer");
-  expectBadInput("devices monitor spacemouse --count 1", "spacemouse", "no 3Dconnexion device attached");
+  expectBadInput("devices monitor spacemouse --count 1", "spacemouse",
+                 "no 3Dconnexion device attached");
   expectBadInput("devices monitor touch --count 1", "touch", "built without OpenHaptics");
   const CliRun none = osteon("devices");
   EXPECT_EQ(none.exitCode, 2);
@@ -132,11 +140,12 @@ TEST_F(CliTest, ARecordedPortal5ReplaysToDrillsForcesByteForByte) {
   const CliRun drill = osteon("drill default --path portal-5" + common + quoted(path("drill")));
   ASSERT_EQ(drill.exitCode, 0) << drill.err;
   // Devices and recordings default to proxy coupling; the portal path is direct.
-  const CliRun scripted = osteon("drill default --device scripted:portal-5 --coupling direct --record " +
-                                 quoted(path("portal5.csv")) + common + quoted(path("scripted")));
+  const CliRun scripted =
+      osteon("drill default --device scripted:portal-5 --coupling direct --record " +
+             quoted(path("portal5.csv")) + common + quoted(path("scripted")));
   ASSERT_EQ(scripted.exitCode, 0) << scripted.err;
-  const CliRun replay =
-      osteon("replay " + quoted(path("portal5.csv")) + " default --coupling direct" + common + quoted(path("replay")));
+  const CliRun replay = osteon("replay " + quoted(path("portal5.csv")) +
+                               " default --coupling direct" + common + quoted(path("replay")));
   ASSERT_EQ(replay.exitCode, 0) << replay.err;
 
   const std::string forces = test::readBytes(path("drill/forces.csv"));
@@ -148,7 +157,8 @@ TEST_F(CliTest, ARecordedPortal5ReplaysToDrillsForcesByteForByte) {
   EXPECT_EQ(recording[0], "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on");
 
   const json d = json::parse(drill.out), r = json::parse(replay.out), s = json::parse(scripted.out);
-  for (const char* key : {"steps", "max_force_n", "jitter_n", "max_step_change_n", "removed_volume_mm3"}) {
+  for (const char* key :
+       {"steps", "max_force_n", "jitter_n", "max_step_change_n", "removed_volume_mm3"}) {
     EXPECT_EQ(r[key], d[key]) << key;
     EXPECT_EQ(s[key], d[key]) << key;
   }
@@ -164,10 +174,11 @@ TEST_F(CliTest, ARecordedPortal5ReplaysToDrillsForcesByteForByte) {
 }
 
 TEST_F(CliTest, ReplaySurvivesALogWithEveryFaultKindAndCountsEach) {
-  ASSERT_EQ(osteon("drill default --device scripted:portal-5 --voxel-size 1.2 --levels 0 --record " +
-                   quoted(path("clean.csv")) + " --out-dir " + quoted(path("rec")))
-                .exitCode,
-            0);
+  ASSERT_EQ(
+      osteon("drill default --device scripted:portal-5 --voxel-size 1.2 --levels 0 --record " +
+             quoted(path("clean.csv")) + " --out-dir " + quoted(path("rec")))
+          .exitCode,
+      0);
   // The recording with a NaN at 2 s, a 20 ms gap at 3 s, a 30 mm jump at 3.5 s and a stalled
   // recording loop at 4 s (rows 3 ms apart for 30 ms).
   std::ostringstream faulty;
@@ -189,8 +200,9 @@ TEST_F(CliTest, ReplaySurvivesALogWithEveryFaultKindAndCountsEach) {
     faulty << "\n";
   }
   test::writeBytes(path("faulty.csv"), faulty.str());
-  const CliRun run = osteon("replay " + quoted(path("faulty.csv")) + " default --voxel-size 1.2 --levels 0 --json --out-dir " +
-                            quoted(path("out")));
+  const CliRun run =
+      osteon("replay " + quoted(path("faulty.csv")) +
+             " default --voxel-size 1.2 --levels 0 --json --out-dir " + quoted(path("out")));
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const json j = json::parse(run.out);
   EXPECT_EQ(j["faults"], (json{{"nan", 1}, {"gaps", 1}, {"jumps", 1}, {"watchdog", 1}}));
@@ -210,7 +222,9 @@ TEST_F(CliTest, ReplaySurvivesALogWithEveryFaultKindAndCountsEach) {
     std::getline(fields, x, ',');
     std::getline(fields, y, ',');
     std::getline(fields, z, ',');
-    if (n > 2) { EXPECT_LT(std::abs(std::stod(z) - previousZ), 1.0) << line; }
+    if (n > 2) {
+      EXPECT_LT(std::abs(std::stod(z) - previousZ), 1.0) << line;
+    }
     previousZ = std::stod(z);
   }
   EXPECT_EQ(n, 7002);
@@ -219,23 +233,33 @@ TEST_F(CliTest, ReplaySurvivesALogWithEveryFaultKindAndCountsEach) {
 TEST_F(CliTest, ReplayRefusesFilesThatAreNotRecordings) {
   const std::string header = "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n";
   test::writeBytes(path("path.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
-  test::writeBytes(path("binary.csv"), std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10));
+  test::writeBytes(path("binary.csv"), std::string("\x7f"
+                                                   "ELF\x02\x01\x01\0\0\0",
+                                                   10));
   test::writeBytes(path("fields.csv"), header + "0,1,2\n");
-  test::writeBytes(path("text.csv"), header + "0,1,2,3,1,0,0,0,0,0,1\n0.001,1,2,3,one,0,0,0,0,0,1\n");
+  test::writeBytes(path("text.csv"),
+                   header + "0,1,2,3,1,0,0,0,0,0,1\n0.001,1,2,3,one,0,0,0,0,0,1\n");
   test::writeBytes(path("back.csv"), header + "0.5,1,2,3,1,0,0,0,0,0,1\n0.2,1,2,3,1,0,0,0,0,0,1\n");
   const std::string tail = " default --voxel-size 1.2 --out-dir " + quoted(path("o"));
-  expectBadInput("replay " + quoted(path("path.csv")) + tail, path("path.csv") + ":1", "not a device recording");
-  expectBadInput("replay " + quoted(path("binary.csv")) + tail, path("binary.csv") + ":1", "not a device recording");
-  expectBadInput("replay " + quoted(path("fields.csv")) + tail, path("fields.csv") + ":2", "expected 11 fields");
-  expectBadInput("replay " + quoted(path("text.csv")) + tail, path("text.csv") + ":3", "qw 'one' is not a number");
-  expectBadInput("replay " + quoted(path("back.csv")) + tail, path("back.csv") + ":3", "is not after");
+  expectBadInput("replay " + quoted(path("path.csv")) + tail, path("path.csv") + ":1",
+                 "not a device recording");
+  expectBadInput("replay " + quoted(path("binary.csv")) + tail, path("binary.csv") + ":1",
+                 "not a device recording");
+  expectBadInput("replay " + quoted(path("fields.csv")) + tail, path("fields.csv") + ":2",
+                 "expected 11 fields");
+  expectBadInput("replay " + quoted(path("text.csv")) + tail, path("text.csv") + ":3",
+                 "qw 'one' is not a number");
+  expectBadInput("replay " + quoted(path("back.csv")) + tail, path("back.csv") + ":3",
+                 "is not after");
   expectBadInput("replay " + quoted(path("none.csv")) + tail, path("none.csv"), "cannot open");
-  expectBadInput("replay " + quoted(path("path.csv")) + " default --voxel-size 0", "--voxel-size 0", "positive");
+  expectBadInput("replay " + quoted(path("path.csv")) + " default --voxel-size 0", "--voxel-size 0",
+                 "positive");
   EXPECT_FALSE(std::filesystem::exists(path("o/forces.csv")));
   // Outputs that are inputs are refused before any work.
   std::filesystem::create_directories(path("o"));
   test::writeBytes(path("o/forces.csv"), header + "0,1,2,3,1,0,0,0,0,0,1\n");
-  expectBadInput("replay " + quoted(path("o/forces.csv")) + tail, "forces.csv", "the same file as the input");
+  expectBadInput("replay " + quoted(path("o/forces.csv")) + tail, "forces.csv",
+                 "the same file as the input");
   EXPECT_EQ(lines(test::readBytes(path("o/forces.csv"))).size(), 2u);
 }
 
@@ -243,28 +267,38 @@ TEST_F(CliTest, DrillWithADeviceRefusesWhatCannotDriveIt) {
   const std::string tail = " --voxel-size 1.2 --out-dir " + quoted(path("o"));
   expectBadInput("drill default --device joystick" + tail, "joystick", "unknown device");
   expectBadInput("drill default --device mouse" + tail, "mouse", "viewer");
-  expectBadInput("drill default --device spacemouse --duration 1" + tail, "spacemouse", "no 3Dconnexion device attached");
-  expectBadInput("drill default --device touch --duration 1" + tail, "touch", "built without OpenHaptics");
-  expectBadInput("drill default --device serial:" + path("ttyNone") + " --duration 1" + tail, "serial:", "cannot open");
-  expectBadInput("drill default --device replay:" + path("none.csv") + tail, path("none.csv"), "cannot open");
+  expectBadInput("drill default --device spacemouse --duration 1" + tail, "spacemouse",
+                 "no 3Dconnexion device attached");
+  expectBadInput("drill default --device touch --duration 1" + tail, "touch",
+                 "built without OpenHaptics");
+  expectBadInput("drill default --device serial:" + path("ttyNone") + " --duration 1" + tail,
+                 "serial:", "cannot open");
+  expectBadInput("drill default --device replay:" + path("none.csv") + tail, path("none.csv"),
+                 "cannot open");
   expectBadInput("drill default --device scripted:portal-6" + tail, "portal-6", "not a portal");
-  expectBadInput("drill default --device scripted:portal-5 --duration 2" + tail, "--duration", "live devices");
-  expectBadInput("drill default --device scripted:portal-5 --duration -1" + tail, "--duration -1", "seconds");
-  expectBadInput("drill default --device scripted:portal-5 --path portal-5" + tail, "--device", "excludes");
+  expectBadInput("drill default --device scripted:portal-5 --duration 2" + tail, "--duration",
+                 "live devices");
+  expectBadInput("drill default --device scripted:portal-5 --duration -1" + tail, "--duration -1",
+                 "seconds");
+  expectBadInput("drill default --device scripted:portal-5 --path portal-5" + tail, "--device",
+                 "excludes");
   expectBadInput("drill default" + tail, "--path or --device", "required");
-  expectBadInput("drill default --path portal-5 --record " + quoted(path("r.csv")) + tail, "--record", "only with --device");
+  expectBadInput("drill default --path portal-5 --record " + quoted(path("r.csv")) + tail,
+                 "--record", "only with --device");
   // A board gives no pose: it cannot drive the tool alone.
   test::FakeBoard board;
   ASSERT_TRUE(board.open());
-  expectBadInput("drill default --device serial:" + board.slavePath + " --duration 1" + tail, "serial:" + board.slavePath,
-                 "gives no pose");
+  expectBadInput("drill default --device serial:" + board.slavePath + " --duration 1" + tail,
+                 "serial:" + board.slavePath, "gives no pose");
   // A live device needs --duration.
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,0,0,80,1\n1,0,0,60,1\n");
   // Recording over an input is refused before the run.
-  expectBadInput("drill default --device scripted:" + path("p.csv") + " --record " + quoted(path("p.csv")) + tail,
+  expectBadInput("drill default --device scripted:" + path("p.csv") + " --record " +
+                     quoted(path("p.csv")) + tail,
                  "--record", "input");
   EXPECT_EQ(lines(test::readBytes(path("p.csv"))).size(), 3u);
-  expectBadInput("drill default --device scripted:" + path("p.csv") + " --record " + quoted(path("o/forces.csv")) + tail,
+  expectBadInput("drill default --device scripted:" + path("p.csv") + " --record " +
+                     quoted(path("o/forces.csv")) + tail,
                  "--record", "forces.csv");
 }
 
@@ -272,13 +306,14 @@ TEST_F(CliTest, DrillWithAScriptedCsvAndARecordingReplayedLive) {
   // A drill path CSV as a device (down into the humeral head), recorded; its recording driven
   // through the threaded runtime.
   test::writeBytes(path("p.csv"), "t,x,y,z,drill_on\n0,5.6,2.6,60,1\n0.5,5.6,2.6,40,1\n");
-  const CliRun scripted = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --device scripted:" +
-                                 path("p.csv") + " --record " + quoted(path("p_rec.csv")) + " --json --out-dir " +
-                                 quoted(path("a")));
+  const CliRun scripted = osteon(
+      "drill default --voxel-size 1.2 --levels 0 --tool burr --device scripted:" + path("p.csv") +
+      " --record " + quoted(path("p_rec.csv")) + " --json --out-dir " + quoted(path("a")));
   ASSERT_EQ(scripted.exitCode, 0) << scripted.err;
   EXPECT_EQ(json::parse(scripted.out)["steps"], 501);
-  const CliRun live = osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --threaded --device replay:" +
-                             path("p_rec.csv") + " --json --out-dir " + quoted(path("b")));
+  const CliRun live =
+      osteon("drill default --voxel-size 1.2 --levels 0 --tool burr --threaded --device replay:" +
+             path("p_rec.csv") + " --json --out-dir " + quoted(path("b")));
   ASSERT_EQ(live.exitCode, 0) << live.err;
   const json j = json::parse(live.out);
   EXPECT_EQ(j["mode"], "device-threaded");

@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "support/files.h"
 #include "support/cli_fixture.h"
+#include "support/files.h"
 #include "support/shapes.h"
 
 namespace osteon {
@@ -53,9 +53,9 @@ class NrrdDataCli : public CliTest {
     (void)limitMb;  // sanitizers reserve terabytes of address space at start-up
     const CliRun run = osteon(args);
 #else
-    const CliRun run = test::runShell("ulimit -v " + std::to_string(limitMb * 1024) + "; timeout 60 '" +
-                                          OSTEON_CLI + "' " + args,
-                                      path("stdout"), path("stderr"));
+    const CliRun run = test::runShell(
+        "ulimit -v " + std::to_string(limitMb * 1024) + "; timeout 60 '" + OSTEON_CLI + "' " + args,
+        path("stdout"), path("stderr"));
 #endif
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return run;

@@ -9,8 +9,8 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "support/files.h"
 #include "support/cli_fixture.h"
+#include "support/files.h"
 
 namespace osteon {
 namespace {

@@ -3,17 +3,16 @@
 // report both readers take (tests/fuzz/fuzz_report_json.cpp starts from it).
 #include "report_reader.h"
 
-#include "osteon/core/error.h"
-#include "support/files.h"
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
-#include <fstream>
-#include <string>
-
-#include <unistd.h>
+#include "osteon/core/error.h"
+#include "support/files.h"
 
 namespace osteon::cli {
 namespace {

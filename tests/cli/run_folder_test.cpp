@@ -3,40 +3,42 @@
 // no temporary left), a killed run's temporaries staying forever, two runs filling one folder
 // at once, two models of the same file stem writing over each other's force logs, and
 // `--record` destroying an existing recording before the new one is complete.
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/process.h"
+#include <chrono>
+#include <csignal>
+#include <fcntl.h>
+#include <filesystem>
+#include <map>
+#include <poll.h>
+#include <set>
+#include <string>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <csignal>
-#include <filesystem>
-#include <map>
-#include <set>
-#include <string>
-#include <thread>
-#include <vector>
-
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "support/cli_fixture.h"
+#include "support/files.h"
+#include "support/process.h"
 
 namespace osteon {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 // Every file below `dir` (hidden ones too), relative, with its bytes.
 std::map<std::string, std::string> filesIn(const std::string& dir) {
   std::map<std::string, std::string> files;
   if (!fs::exists(dir)) return files;
   for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = test::readBytes(e.path().string());
+    if (e.is_regular_file())
+      files[fs::relative(e.path(), dir).string()] = test::readBytes(e.path().string());
   }
   return files;
 }
@@ -69,7 +71,8 @@ class Child {
   bool waitFor(const std::string& needle) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     while (std::chrono::steady_clock::now() < deadline) {
-      if (text_[0].find(needle) != std::string::npos || text_[1].find(needle) != std::string::npos) return true;
+      if (text_[0].find(needle) != std::string::npos || text_[1].find(needle) != std::string::npos)
+        return true;
       if (!readSome(100)) return false;
     }
     return false;
@@ -161,15 +164,19 @@ class RunFolderCliTest : public CliTest {
     ASSERT_TRUE(child.waitFor(needle)) << child.out() << child.err();
     ::kill(child.pid(), signal);
     const int status = child.wait();
-    ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0)
-                                   << ", not by exiting cleanly\n"
-                                   << child.err();
+    ASSERT_TRUE(WIFEXITED(status))
+        << "ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0)
+        << ", not by exiting cleanly\n"
+        << child.err();
     EXPECT_EQ(WEXITSTATUS(status), exitCode) << child.err();
     // The last line says why (progress lines come before it).
     const std::string& err = child.err();
     const std::size_t last = err.rfind('\n', err.size() >= 2 ? err.size() - 2 : 0);
     const std::string line = err.substr(last == std::string::npos ? 0 : last + 1);
-    EXPECT_EQ(line.rfind(std::string("osteon: interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM"), 0), 0u)
+    EXPECT_EQ(
+        line.rfind(
+            std::string("osteon: interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM"), 0),
+        0u)
         << err;
   }
 };
@@ -189,8 +196,9 @@ TEST_F(RunFolderCliTest, ADrillThatFailsAfterItsForceLogKeepsThePreviousSetWhole
   const std::size_t surfaceBytes = fs::file_size(path("full/surface.ply"));
   ASSERT_LT(forcesBytes + 1000, surfaceBytes) << "the surface must be the file that does not fit";
   const std::string dir = path("d");
-  const std::map<std::string, std::string> old = {
-      {"forces.csv", "old forces\n"}, {"summary.json", "{\"old\": true}\n"}, {"surface.ply", "old surface"}};
+  const std::map<std::string, std::string> old = {{"forces.csv", "old forces\n"},
+                                                  {"summary.json", "{\"old\": true}\n"},
+                                                  {"surface.ply", "old surface"}};
   fs::create_directories(dir);
   for (const auto& [name, bytes] : old) test::writeBytes(dir + "/" + name, bytes);
   // Room for the force log, not for the surface: the disk fills after the log was complete.
@@ -202,12 +210,14 @@ TEST_F(RunFolderCliTest, ADrillThatFailsAfterItsForceLogKeepsThePreviousSetWhole
 
 TEST_F(RunFolderCliTest, AThreadedDrillStoppedBySigintKeepsThePreviousSetAndNoPartialLog) {
   const std::string dir = path("d");
-  const std::map<std::string, std::string> old = {
-      {"forces.csv", "old forces\n"}, {"summary.json", "{\"old\": true}\n"}, {"surface.ply", "old surface"}};
+  const std::map<std::string, std::string> old = {{"forces.csv", "old forces\n"},
+                                                  {"summary.json", "{\"old\": true}\n"},
+                                                  {"surface.ply", "old surface"}};
   fs::create_directories(dir);
   for (const auto& [name, bytes] : old) test::writeBytes(dir + "/" + name, bytes);
   // Seven seconds of path in real time: two seconds in, the loops are drilling.
-  Child run({"drill", "default", "--voxel-size", "1.2", "--path", "portal-5", "--threaded", "--out-dir", dir});
+  Child run({"drill", "default", "--voxel-size", "1.2", "--path", "portal-5", "--threaded",
+             "--out-dir", dir});
   std::this_thread::sleep_for(std::chrono::seconds(2));
   interrupt(run, "", SIGINT, 130);
   EXPECT_EQ(filesIn(dir), old);
@@ -235,7 +245,8 @@ TEST_F(RunFolderCliTest, AKilledRunsTemporariesAreRemovedByTheNextRunIntoTheFold
   };
   ASSERT_GT(leftovers(), 0u) << "a killed run leaves its temporaries";
   // Any command's next run into the folder removes them (the process is gone).
-  const CliRun next = osteon("drill default --voxel-size 1.2 --levels 0 --path portal-5 --out-dir " + quoted(dir));
+  const CliRun next =
+      osteon("drill default --voxel-size 1.2 --levels 0 --path portal-5 --out-dir " + quoted(dir));
   ASSERT_EQ(next.exitCode, 0) << next.err;
   EXPECT_EQ(leftovers(), 0u);
   EXPECT_TRUE(fs::exists(dir + "/forces.csv"));
@@ -249,14 +260,16 @@ TEST_F(RunFolderCliTest, ASecondRunIntoAFolderInUseIsRefusedNamingTheFirst) {
   EXPECT_EQ(second.exitCode, 2) << second.out << second.err;
   EXPECT_TRUE(second.out.empty()) << second.out;
   EXPECT_EQ(second.err.find('\n'), second.err.size() - 1) << "one line: " << second.err;
-  EXPECT_NE(second.err.find("--out-dir " + dir + ": another osteon run (process " + std::to_string(first.pid()) +
-                            ") is writing into this folder"),
+  EXPECT_NE(second.err.find("--out-dir " + dir + ": another osteon run (process " +
+                            std::to_string(first.pid()) + ") is writing into this folder"),
             std::string::npos)
       << second.err;
   // The same lock for every command that fills an --out-dir.
-  const CliRun drill = osteon("drill default --voxel-size 1.2 --levels 0 --path portal-5 --out-dir " + quoted(dir));
+  const CliRun drill =
+      osteon("drill default --voxel-size 1.2 --levels 0 --path portal-5 --out-dir " + quoted(dir));
   EXPECT_EQ(drill.exitCode, 2) << drill.err;
-  EXPECT_NE(drill.err.find("(process " + std::to_string(first.pid()) + ")"), std::string::npos) << drill.err;
+  EXPECT_NE(drill.err.find("(process " + std::to_string(first.pid()) + ")"), std::string::npos)
+      << drill.err;
   // The first run goes on undisturbed to its report.
   const int status = first.wait();
   ASSERT_TRUE(WIFEXITED(status)) << first.err();
@@ -269,8 +282,8 @@ TEST_F(RunFolderCliTest, ModelsOfTheSameStemKeepTheirOwnForceLogsAndPlots) {
   fs::create_directories(path("big"));
   ASSERT_EQ(osteon("model --out " + quoted(path("big/default.obj"))).exitCode, 0);
   const std::string dir = path("v");
-  const CliRun run = osteon("validate --quick --voxel-sizes 5 --models default," + quoted(path("big/default.obj")) +
-                            " --out-dir " + quoted(dir));
+  const CliRun run = osteon("validate --quick --voxel-sizes 5 --models default," +
+                            quoted(path("big/default.obj")) + " --out-dir " + quoted(dir));
   ASSERT_EQ(run.exitCode, 0) << run.out << run.err;
   // Four logs per model (static, dynamic x two portals) under two names.
   std::map<std::string, std::size_t> logsOf;
@@ -286,12 +299,15 @@ TEST_F(RunFolderCliTest, ModelsOfTheSameStemKeepTheirOwnForceLogsAndPlots) {
   // Each plot draws its own model's logs.
   const std::string script = test::readBytes(dir + "/plots/plots.gp");
   std::size_t plots = 0;
-  for (std::size_t at = script.find("set output '"); at != std::string::npos; at = script.find("set output '", at + 1)) {
-    const std::string png = fs::path(script.substr(at + 12, script.find('\'', at + 12) - at - 12)).filename().string();
+  for (std::size_t at = script.find("set output '"); at != std::string::npos;
+       at = script.find("set output '", at + 1)) {
+    const std::string png =
+        fs::path(script.substr(at + 12, script.find('\'', at + 12) - at - 12)).filename().string();
     const std::string model = png.substr(0, png.find("_VS_"));
     ASSERT_TRUE(logsOf.count(model)) << png;
-    const std::string line = script.substr(script.find("plot ", at), script.find('\n', script.find("plot ", at)) -
-                                                                         script.find("plot ", at));
+    const std::string line =
+        script.substr(script.find("plot ", at),
+                      script.find('\n', script.find("plot ", at)) - script.find("plot ", at));
     EXPECT_NE(line.find("forces/" + model + "_5mm_static_"), std::string::npos) << line;
     for (const auto& [other, logs] : logsOf) {
       if (other != model) {
@@ -303,21 +319,26 @@ TEST_F(RunFolderCliTest, ModelsOfTheSameStemKeepTheirOwnForceLogsAndPlots) {
   }
   EXPECT_EQ(plots, 4u);
   // The same names on every run (shards of one run must agree).
-  const CliRun again = osteon("validate --quick --voxel-sizes 5 --models default," + quoted(path("big/default.obj")) +
-                              " --out-dir " + quoted(path("v2")));
+  const CliRun again = osteon("validate --quick --voxel-sizes 5 --models default," +
+                              quoted(path("big/default.obj")) + " --out-dir " + quoted(path("v2")));
   ASSERT_EQ(again.exitCode, 0) << again.err;
   std::set<std::string> names, namesAgain;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir + "/forces")) names.insert(e.path().filename());
-  for (const fs::directory_entry& e : fs::directory_iterator(path("v2/forces"))) namesAgain.insert(e.path().filename());
+  for (const fs::directory_entry& e : fs::directory_iterator(dir + "/forces"))
+    names.insert(e.path().filename());
+  for (const fs::directory_entry& e : fs::directory_iterator(path("v2/forces")))
+    namesAgain.insert(e.path().filename());
   EXPECT_EQ(names, namesAgain);
 }
 
 TEST_F(RunFolderCliTest, AnExistingRecordingSurvivesARunThatFailsAfterRecordingStarted) {
   const std::string recording = path("hand.csv");
-  const std::string old = "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n0,1,2,3,1,0,0,0,0,0,1\n0.001,1,2,3,1,0,0,0,0,0,1\n";
+  const std::string old =
+      "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n0,1,2,3,1,0,0,0,0,0,1\n0.001,1,2,3,1,0,0,0,0,0,"
+      "1\n";
   test::writeBytes(recording, old);
-  const std::string args = "drill default --voxel-size 1.2 --levels 0 --device scripted:portal-5 --record " +
-                           quoted(recording) + " --out-dir ";
+  const std::string args =
+      "drill default --voxel-size 1.2 --levels 0 --device scripted:portal-5 --record " +
+      quoted(recording) + " --out-dir ";
   // A disk with 200 kB left: the force log fails after the recording began (as faults_cli_test).
   const CliRun failed = osteonOnSmallDisk(args + quoted(path("small")), 200000);
   EXPECT_EQ(failed.exitCode, 2) << failed.err;

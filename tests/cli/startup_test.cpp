@@ -1,18 +1,18 @@
 // Start-up: commands that write no image never load OpenImageIO (and its ~250 shared
 // libraries); commands that do load it through the osteon::image plugin and still write real
 // PNGs; a missing plugin is a one-line error only where an image is wanted.
-#include "osteon/geometry/io/mesh_io.h"
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/io/mesh_io.h"
+#include "support/cli_fixture.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -115,7 +115,8 @@ TEST_F(StartupTest, HelpStaysSmall) {
 
 TEST_F(StartupTest, CheckWithImagesLoadsThePluginAndWritesPngs) {
   const std::string images = path("images");
-  const LoaderLog l = withLoaderLog("check '" + sphere() + "' --cracks 32 --images '" + images + "' --json");
+  const LoaderLog l =
+      withLoaderLog("check '" + sphere() + "' --cracks 32 --images '" + images + "' --json");
   ASSERT_EQ(l.run.exitCode, 0) << l.run.err;
   EXPECT_TRUE(loaded(l, "libosteon_image")) << "the plugin writes the images";
   EXPECT_TRUE(loaded(l, "libOpenImageIO"));
@@ -145,8 +146,8 @@ TEST_F(StartupTest, AMissingPluginIsAOneLineErrorOnlyWhereImagesAreWritten) {
   const CliRun check = osteon("check '" + mesh + "' --cracks 32");
   EXPECT_EQ(check.exitCode, 0) << check.err;
   // Writing images does: exit 2, one line naming the plugin and where it was looked for.
-  expectBadInput("check '" + mesh + "' --cracks 32 --images '" + path("images") + "'", "libosteon_image.so",
-                 path("nowhere/libosteon_image.so"));
+  expectBadInput("check '" + mesh + "' --cracks 32 --images '" + path("images") + "'",
+                 "libosteon_image.so", path("nowhere/libosteon_image.so"));
 }
 
 }  // namespace

@@ -2,18 +2,17 @@
 // `validate --compare OLD.json` and `validate --merge DIR...` refuse them (exit 2, one line
 // naming the file, the case and the field), never crash, never write outside --out-dir, and
 // report.html never carries markup from a report.
-#include "osteon/geometry/io/mesh_io.h"
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/shapes.h"
+#include <filesystem>
+#include <string>
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
-#include <string>
-
-#include <sys/stat.h>
+#include "osteon/geometry/io/mesh_io.h"
+#include "support/cli_fixture.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -232,7 +231,8 @@ TEST_F(ValidateHostileTest, NamesReportJsonCannotRecordAreRefusedUpFront) {
   fs::create_directory_symlink(path("s0"), path("s\xff"));
   expectBadInput(merge("s\xff", "m"), "--merge " + path("s\xff"), "not UTF-8");
   fs::copy_file(path("s0/report.json"), path("old\xff.json"));
-  expectBadInput(merge("s0", "m") + " --compare " + quoted(path("old\xff.json")), "--compare", "not UTF-8");
+  expectBadInput(merge("s0", "m") + " --compare " + quoted(path("old\xff.json")), "--compare",
+                 "not UTF-8");
   EXPECT_FALSE(fs::exists(path("m")));
 }
 

@@ -1,23 +1,25 @@
 // The nightly run split over machines: `validate --shard K/N` runs disjoint parts of the cases,
 // `validate --merge` joins their reports into the report the whole run writes, and refuses
 // shards that do not make one run.
-#include "osteon/geometry/io/mesh_io.h"
-#include "support/files.h"
-#include "support/cli_fixture.h"
-#include "support/shapes.h"
+#include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <set>
-#include <string>
+#include "osteon/geometry/io/mesh_io.h"
+#include "support/cli_fixture.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
 
 using nlohmann::json;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 // A report's cases without their wall times, which differ run to run.
 json casesWithoutTimes(const json& report) {
@@ -33,12 +35,14 @@ json casesWithoutTimes(const json& report) {
 
 class ValidateShardTest : public CliTest {
  protected:
-  json report(const std::string& dir) const { return json::parse(test::readBytes(path(dir + "/report.json"))); }
+  json report(const std::string& dir) const {
+    return json::parse(test::readBytes(path(dir + "/report.json")));
+  }
 
   // A shard run that must succeed; its report.
   json shard(const std::string& run, std::size_t k, std::size_t n, const std::string& dir) const {
-    const CliRun r = osteon("validate " + run + " --shard " + std::to_string(k) + "/" + std::to_string(n) +
-                            " --out-dir " + quoted(path(dir)));
+    const CliRun r = osteon("validate " + run + " --shard " + std::to_string(k) + "/" +
+                            std::to_string(n) + " --out-dir " + quoted(path(dir)));
     EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
     return report(dir);
   }
@@ -62,7 +66,7 @@ class ValidateShardTest : public CliTest {
 TEST_F(ValidateShardTest, MergedShardsEqualTheWholeRun) {
   geometry::writeMesh(test::makeTorus(20.0, 7.0, 48, 24), path("torus.stl"));
 #ifdef OSTEON_SLOW_BUILD
-  const std::string sizes = "3.0";  // two groups: sanitizers run the drilling 2-15x slower
+  const std::string sizes = "3.0";    // two groups: sanitizers run the drilling 2-15x slower
   const std::string firstSize = "3";  // as a case key writes it
 #else
   const std::string sizes = "2.4,3.0";
@@ -70,7 +74,8 @@ TEST_F(ValidateShardTest, MergedShardsEqualTheWholeRun) {
 #endif
   // The torus first: the split (costliest first) then differs from the run's order, which the
   // merge must restore.
-  const std::string run = "--quick --models " + quoted(path("torus.stl")) + ",default --voxel-sizes " + sizes;
+  const std::string run =
+      "--quick --models " + quoted(path("torus.stl")) + ",default --voxel-sizes " + sizes;
   const CliRun whole = osteon("validate " + run + " --out-dir " + quoted(path("whole")));
   ASSERT_EQ(whole.exitCode, 0) << whole.out << whole.err;
   const json w = report("whole");
@@ -92,11 +97,14 @@ TEST_F(ValidateShardTest, MergedShardsEqualTheWholeRun) {
       // The whole run's cases, by model|voxel mm|method|mode, in its order.
       ASSERT_EQ(s["shard"]["case_list"].size(), w["cases"].size());
       const std::size_t defaultFirst = 4 * groups / 2;  // after the torus's groups
-      EXPECT_EQ(s["shard"]["case_list"][defaultFirst], "default|" + firstSize + "|crackfree|static");
-      EXPECT_EQ(s["shard"]["case_list"][defaultFirst + 3], "default|" + firstSize + "|naive|dynamic");
+      EXPECT_EQ(s["shard"]["case_list"][defaultFirst],
+                "default|" + firstSize + "|crackfree|static");
+      EXPECT_EQ(s["shard"]["case_list"][defaultFirst + 3],
+                "default|" + firstSize + "|naive|dynamic");
       // Whole groups: a group's four cases share a voxelization.
       EXPECT_EQ(s["cases"].size() % 4, 0u);
-      for (const json& key : s["shard"]["cases"]) EXPECT_TRUE(seen.insert(key.get<std::string>()).second) << key;
+      for (const json& key : s["shard"]["cases"])
+        EXPECT_TRUE(seen.insert(key.get<std::string>()).second) << key;
       cases += s["cases"].size();
     }
     EXPECT_EQ(cases, w["cases"].size());  // disjoint (above) and together every case
@@ -121,7 +129,8 @@ TEST_F(ValidateShardTest, MergedShardsEqualTheWholeRun) {
     for (const char* list : {"images", "plots"}) {
       ASSERT_FALSE(m[list].empty()) << list;
       for (const json& file : m[list]) {
-        EXPECT_EQ(test::readBytes(path(out + "/" + file.get<std::string>())).substr(1, 3), "PNG") << file;
+        EXPECT_EQ(test::readBytes(path(out + "/" + file.get<std::string>())).substr(1, 3), "PNG")
+            << file;
         EXPECT_NE(html.find(file.get<std::string>()), std::string::npos) << file;
       }
     }
@@ -134,7 +143,8 @@ TEST_F(ValidateShardTest, MergedShardsEqualTheWholeRun) {
   ASSERT_EQ(w["cases"][drilled]["model"], "default");
   older["cases"][drilled]["jitter_n"] = 0.5 * w["cases"][drilled]["jitter_n"].get<double>();
   test::writeBytes(path("old.json"), older.dump());
-  const CliRun compared = osteon(mergeArgs({"s3_0", "s3_1", "s3_2"}, "compared") + " --compare " + quoted(path("old.json")));
+  const CliRun compared = osteon(mergeArgs({"s3_0", "s3_1", "s3_2"}, "compared") + " --compare " +
+                                 quoted(path("old.json")));
   ASSERT_EQ(compared.exitCode, 0) << compared.err;
   const json c = report("compared");
   ASSERT_EQ(c["regressions"].size(), 1u);
@@ -180,8 +190,10 @@ TEST_F(ValidateShardTest, MergeRefusesShardsThatAreNotOneRun) {
   shard(run, 0, 3, "three0");              // another split
 
   expectBadInput(mergeArgs({"a0"}, "m"), "shard 1/2", "missing");
-  expectBadInput(mergeArgs({"a0", "a1", "a1"}, "m"), path("a1") + " and " + path("a1"), "both shard 1/2");
-  expectBadInput(mergeArgs({"a0", "other1"}, "m"), path("a0") + " and " + path("other1"), "case lists differ");
+  expectBadInput(mergeArgs({"a0", "a1", "a1"}, "m"), path("a1") + " and " + path("a1"),
+                 "both shard 1/2");
+  expectBadInput(mergeArgs({"a0", "other1"}, "m"), path("a0") + " and " + path("other1"),
+                 "case lists differ");
   expectBadInput(mergeArgs({"a0", "a1", "three0"}, "m"), path("three0"), "different splits");
 
   // Another osteon version: a copy of a shard with its version edited.
@@ -195,7 +207,8 @@ TEST_F(ValidateShardTest, MergeRefusesShardsThatAreNotOneRun) {
   std::filesystem::create_directories(path("nothing"));
   expectBadInput(mergeArgs({"a0", "nothing"}, "m"), path("nothing"), "no report.json");
   std::filesystem::create_directories(path("broken"));
-  test::writeBytes(path("broken/report.json"), test::readBytes(path("a1/report.json")).substr(0, 100));
+  test::writeBytes(path("broken/report.json"),
+                   test::readBytes(path("a1/report.json")).substr(0, 100));
   expectBadInput(mergeArgs({"a0", "broken"}, "m"), path("broken"), "not JSON");
   const CliRun whole = osteon("validate " + run + " --out-dir " + quoted(path("whole")));
   ASSERT_EQ(whole.exitCode, 0) << whole.err;
@@ -210,7 +223,8 @@ TEST_F(ValidateShardTest, MergeRefusesShardsThatAreNotOneRun) {
   json typed = report("a0");
   typed["cases"][1]["border_edges"] = "none";
   test::writeBytes(path("typed/report.json"), typed.dump());
-  expectBadInput(mergeArgs({"typed", "a1"}, "m"), path("typed"), "\"border_edges\" is not a number");
+  expectBadInput(mergeArgs({"typed", "a1"}, "m"), path("typed"),
+                 "\"border_edges\" is not a number");
 
   // Nothing written over a shard, and a merge takes no run options.
   expectBadInput(mergeArgs({"a0", "a1"}, "a0"), "--out-dir " + path("a0"), "is the shard folder");
@@ -223,12 +237,16 @@ TEST_F(ValidateShardTest, BadShardValuesGiveExitCode2) {
     expectBadInput("validate --quick --shard " + quoted(bad) + " --out-dir " + quoted(path("v")),
                    std::string("--shard ") + bad, "");
   }
-  expectBadInput("validate --quick --shard 3/3 --out-dir " + quoted(path("v")), "--shard 3/3", "below N");
-  expectBadInput("validate --quick --shard 0/0 --out-dir " + quoted(path("v")), "--shard 0/0", "at least 1");
-  expectBadInput("validate --quick --shard a/b --out-dir " + quoted(path("v")), "--shard a/b", "not K/N");
+  expectBadInput("validate --quick --shard 3/3 --out-dir " + quoted(path("v")), "--shard 3/3",
+                 "below N");
+  expectBadInput("validate --quick --shard 0/0 --out-dir " + quoted(path("v")), "--shard 0/0",
+                 "at least 1");
+  expectBadInput("validate --quick --shard a/b --out-dir " + quoted(path("v")), "--shard a/b",
+                 "not K/N");
   // A model given twice would give two cases one key: a merge could not tell them apart.
-  expectBadInput("validate --quick --models default,default --shard 0/2 --out-dir " + quoted(path("v")),
-                 "default|1.2|crackfree|static", "comes twice");
+  expectBadInput(
+      "validate --quick --models default,default --shard 0/2 --out-dir " + quoted(path("v")),
+      "default|1.2|crackfree|static", "comes twice");
   EXPECT_FALSE(std::filesystem::exists(path("v/report.json")));
 }
 

@@ -1,23 +1,25 @@
 // What a volume's values mean, through the command line: --iso must be finite, 64-bit labels
 // print and select exactly, a label map's background, signed volumes of few values read as
 // CTs, and a volume that would be bone everywhere refused.
-#include "support/cli_fixture.h"
-#include "support/volume_files.h"
-
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "support/cli_fixture.h"
+#include "support/volume_files.h"
+
 namespace osteon {
 namespace {
 
 using test::TestVolume;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 TestVolume cube(int n, double value) {
   TestVolume v;
@@ -51,8 +53,8 @@ TEST_F(VolumeValuesCliTest, AnIsoLevelThatIsNotAFiniteNumberIsBadInput) {
       expectBadInput(command + " " + quoted(ct) + " --iso " + iso + " --json", "--iso ",
                      "must be a finite number of HU");
     }
-    expectBadInput("drill " + quoted(ct) + " --voxel-size 2 --path portal-5 --iso " + iso + " --out-dir " +
-                       quoted(path("d")),
+    expectBadInput("drill " + quoted(ct) + " --voxel-size 2 --path portal-5 --iso " + iso +
+                       " --out-dir " + quoted(path("d")),
                    "--iso ", "must be a finite number of HU");
   }
   EXPECT_EQ(osteon("mesh " + quoted(ct) + " --iso 250 --json").exitCode, 0);
@@ -66,17 +68,20 @@ TEST_F(VolumeValuesCliTest, SixtyFourBitLabelsPrintAndSelectExactly) {
   u[300] = 7;
   const TestVolume v = cube(8, 0.0);
   test::writeTestNrrd(path("u64.nrrd"), v, "uint64", bytesOf(u), true);
-  const nlohmann::json j = runJson("mesh " + quoted(path("u64.nrrd")) + " --label 18446744073709551615 --json");
+  const nlohmann::json j =
+      runJson("mesh " + quoted(path("u64.nrrd")) + " --label 18446744073709551615 --json");
   ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["volume"]["labels"].dump(), "[0,7,18446744073709551615]");
   EXPECT_EQ(j["volume"]["bone_label"].dump(), "18446744073709551615");
   EXPECT_EQ(j["volume"]["max"].dump(), "18446744073709551615");
   EXPECT_EQ(j["voxels_inside"].get<int>(), 30);
   const CliRun text = osteon("mesh " + quoted(path("u64.nrrd")) + " --label 18446744073709551615");
-  EXPECT_NE(text.out.find("labels 0 7 18446744073709551615; bone: label 18446744073709551615"), std::string::npos)
+  EXPECT_NE(text.out.find("labels 0 7 18446744073709551615; bone: label 18446744073709551615"),
+            std::string::npos)
       << text.out;
   // A negative label is no label (CLI11 would read -1 as 2^64 - 1).
-  expectBadInput("mesh " + quoted(path("u64.nrrd")) + " --label -1", "--label", "must be a non-negative integer");
+  expectBadInput("mesh " + quoted(path("u64.nrrd")) + " --label -1", "--label",
+                 "must be a non-negative integer");
 
   // int64: 2^53 and 2^53 + 1 are two labels, not one.
   const std::int64_t big = std::int64_t(1) << 53;
@@ -87,7 +92,8 @@ TEST_F(VolumeValuesCliTest, SixtyFourBitLabelsPrintAndSelectExactly) {
   const nlohmann::json all = runJson("hierarchy " + quoted(path("i64.nii")) + " --json");
   EXPECT_EQ(all["volume"]["labels"].dump(), "[0,9007199254740992,9007199254740993]");
   EXPECT_EQ(all["voxels"].get<int>(), 31);
-  const nlohmann::json one = runJson("hierarchy " + quoted(path("i64.nii")) + " --label 9007199254740993 --json");
+  const nlohmann::json one =
+      runJson("hierarchy " + quoted(path("i64.nii")) + " --label 9007199254740993 --json");
   EXPECT_EQ(one["voxels"].get<int>(), 1);
 }
 
@@ -104,12 +110,14 @@ TEST_F(VolumeValuesCliTest, ALabelMapWithoutZeroHasItsMostCommonValueAsBackgroun
   EXPECT_EQ(j["volume"]["background"].get<int>(), 3);
   EXPECT_EQ(j["volume"]["bone_label"], "every non-background");
   const CliRun text = osteon("mesh " + quoted(path("l.nrrd")));
-  EXPECT_NE(text.out.find("bone: every voxel but the background 3 (0 absent: the most common value)"),
-            std::string::npos)
+  EXPECT_NE(
+      text.out.find("bone: every voxel but the background 3 (0 absent: the most common value)"),
+      std::string::npos)
       << text.out;
   // One label everywhere, named: the whole box would be bone.
   const TestVolume same = cube(8, 4.0);
-  test::writeTestNrrd(path("same.nrrd"), same, "uint8", test::encodeAs<std::uint8_t>(same.values), false);
+  test::writeTestNrrd(path("same.nrrd"), same, "uint8", test::encodeAs<std::uint8_t>(same.values),
+                      false);
   expectBadInput("mesh " + quoted(path("same.nrrd")) + " --label 4", path("same.nrrd"),
                  "every voxel is bone: read as a label map (uint8, labels 4), bone = --label 4");
   const CliRun empty = osteon("mesh " + quoted(path("same.nrrd")) + " --json");
@@ -130,10 +138,13 @@ TEST_F(VolumeValuesCliTest, ASignedVolumeOfTwoValuesIsACtWhateverItsMajority) {
   EXPECT_EQ(j["voxels_inside"].get<int>(), 343);
   // All air: said, not the whole box as bone.
   const TestVolume air = cube(8, -1024.0);
-  test::writeTestNrrd(path("air.nrrd"), air, "short", test::encodeAs<std::int16_t>(air.values), true);
-  expectBadInput("mesh " + quoted(path("air.nrrd")), path("air.nrrd"), "neither a label map nor a CT");
+  test::writeTestNrrd(path("air.nrrd"), air, "short", test::encodeAs<std::int16_t>(air.values),
+                      true);
+  expectBadInput("mesh " + quoted(path("air.nrrd")), path("air.nrrd"),
+                 "neither a label map nor a CT");
   // An iso level below every value: the whole box would be bone.
-  expectBadInput("mesh " + quoted(path("pm.nrrd")) + " --iso -5000", path("pm.nrrd"), "every voxel is bone: read as a CT");
+  expectBadInput("mesh " + quoted(path("pm.nrrd")) + " --iso -5000", path("pm.nrrd"),
+                 "every voxel is bone: read as a CT");
 }
 
 }  // namespace

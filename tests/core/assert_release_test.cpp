@@ -2,9 +2,9 @@
 #ifndef NDEBUG
 #define NDEBUG
 #endif
-#include "osteon/core/assert.h"
-
 #include <gtest/gtest.h>
+
+#include "osteon/core/assert.h"
 
 namespace osteon {
 namespace {

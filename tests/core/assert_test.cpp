@@ -12,7 +12,8 @@ TEST(Assert, ADebugBuildAbortsWithOneLineNamingTheInvariant) {
   OSTEON_ASSERT(++checked == 1, "evaluated once");
   EXPECT_EQ(checked, 1);
   EXPECT_DEATH(OSTEON_ASSERT(checked == 2, "the count is two"),
-               "^osteon: internal error: .*assert_test.cpp:[0-9]+: the count is two \\(assertion checked == 2 failed\\)");
+               "^osteon: internal error: .*assert_test.cpp:[0-9]+: the count is two \\(assertion "
+               "checked == 2 failed\\)");
 }
 
 }  // namespace

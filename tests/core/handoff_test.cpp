@@ -3,14 +3,14 @@
 // which checks that the release/acquire pairs publish every byte of a slot.
 #include "osteon/core/handoff.h"
 
-#include <gtest/gtest.h>
-
 #include <array>
 #include <cstdint>
 #include <random>
 #include <string>
 #include <thread>
 #include <utility>
+
+#include <gtest/gtest.h>
 
 namespace osteon::core {
 namespace {
@@ -53,7 +53,8 @@ static_assert(noexcept(std::declval<TripleBuffer<Stamped>&>().write(Stamped{})))
 static_assert(noexcept(std::declval<TripleBuffer<Stamped>&>().read()));
 static_assert(noexcept(std::declval<SpscRing<Stamped, 8>&>().push(Stamped{})));
 static_assert(noexcept(std::declval<SpscRing<Stamped, 8>&>().pop(std::declval<Stamped&>())));
-static_assert(alignof(TripleBuffer<int>) >= kCacheLineBytes && alignof(SpscRing<int, 8>) >= kCacheLineBytes);
+static_assert(alignof(TripleBuffer<int>) >= kCacheLineBytes &&
+              alignof(SpscRing<int, 8>) >= kCacheLineBytes);
 // Three slots and three indices, each on a line of its own.
 static_assert(sizeof(TripleBuffer<int>) >= 6 * kCacheLineBytes);
 

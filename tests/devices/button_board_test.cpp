@@ -3,23 +3,24 @@
 // a 100 kB line, a board that falls silent, a board that is unplugged and plugged back in.
 #include "osteon/devices/button_board.h"
 
-#include "osteon/core/error.h"
-#include "support/files.h"
-#include "support/serial_board.h"
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 namespace osteon::devices {
 namespace {
 
 using Kind = BoardEvent::Kind;
 
-std::vector<BoardEvent> feedAll(BoardLineParser& parser, const std::string& bytes, std::size_t chunk = 0) {
+std::vector<BoardEvent> feedAll(BoardLineParser& parser, const std::string& bytes,
+                                std::size_t chunk = 0) {
   std::vector<BoardEvent> events;
   const auto emit = [&](const BoardEvent& e) { events.push_back(e); };
   if (chunk == 0) chunk = bytes.size() == 0 ? 1 : bytes.size();
@@ -83,7 +84,8 @@ TEST(BoardProtocol, MalformedLinesSayWhy) {
   for (const auto& c : cases) {
     const BoardEvent e = decode(c.line);
     EXPECT_EQ(e.kind, Kind::Malformed) << c.line;
-    EXPECT_NE(std::string(e.reason).find(c.reason), std::string::npos) << c.line << ": " << e.reason;
+    EXPECT_NE(std::string(e.reason).find(c.reason), std::string::npos)
+        << c.line << ": " << e.reason;
   }
 }
 
@@ -131,7 +133,8 @@ TEST(BoardProtocol, ALineOf100kBIsDroppedWithoutGrowingAndCountedMalformed) {
 }
 
 // Events from the device until `count` have come or the time is up.
-std::vector<BoardEvent> waitEvents(ButtonBoardDevice& device, std::size_t count, int timeoutMs = 5000) {
+std::vector<BoardEvent> waitEvents(ButtonBoardDevice& device, std::size_t count,
+                                   int timeoutMs = 5000) {
   std::vector<BoardEvent> events;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
   BoardEvent e;
@@ -161,7 +164,8 @@ TEST_F(BoardDeviceTest, DecodesABoardOnAPseudoTerminalEndToEnd) {
   ASSERT_TRUE(board.write("B=5,P=512\n"));
   ASSERT_TRUE(board.write(std::string("\x00\x13\xfe\xffgarbage", 11) + "\n"));
   ASSERT_TRUE(board.write("B=zz,P=1\n"));
-  ASSERT_TRUE(board.write(std::string(100 * 1024, 'A') + "\n"));  // the reader drains it as it comes
+  ASSERT_TRUE(
+      board.write(std::string(100 * 1024, 'A') + "\n"));  // the reader drains it as it comes
   ASSERT_TRUE(board.write("B=1f,P=1023,K=-3,X=9\r\n"));
   const std::vector<BoardEvent> events = waitEvents(device, 5);
   ASSERT_EQ(events.size(), 5u);
@@ -232,7 +236,8 @@ TEST_F(BoardDeviceTest, ABoardUnpluggedAndPluggedBackIsFoundAgainByItsName) {
   events = waitEvents(device, 1);
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(events[0].kind, Kind::Disconnected);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - unpluggedAt).count(), 0.45);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - unpluggedAt).count(),
+            0.45);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // gone a while: tried and failed
 
   auto again = std::make_unique<test::FakeBoard>();
@@ -253,7 +258,8 @@ TEST_F(BoardDeviceTest, APortThatIsNotThereIsAnInputErrorNamingTheDevice) {
     FAIL() << "opened a port that is not there";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_EQ(what.rfind("serial:" + dir_ + "/nothing: cannot open the serial port", 0), 0u) << what;
+    EXPECT_EQ(what.rfind("serial:" + dir_ + "/nothing: cannot open the serial port", 0), 0u)
+        << what;
     EXPECT_NE(what.find("No such file"), std::string::npos) << what;
   }
   // A file that is not a terminal.

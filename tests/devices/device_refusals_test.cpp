@@ -1,22 +1,20 @@
 // What a device must refuse or report rather than crash or lose quietly: a SpaceMouse path that
 // is no hidraw node (hidapi's hidraw backend crashed on /dev/null, a FIFO, a regular file), and
 // a board whose events nobody drains (every event past the queue's capacity is counted).
-#include "osteon/devices/button_board.h"
-#include "osteon/devices/device.h"
-#include "osteon/devices/spacemouse.h"
-
-#include "osteon/core/error.h"
-#include "support/files.h"
-#include "support/serial_board.h"
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <sys/stat.h>
 #include <thread>
 
-#include <sys/stat.h>
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/devices/button_board.h"
+#include "osteon/devices/device.h"
+#include "osteon/devices/spacemouse.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 namespace osteon::devices {
 namespace {
@@ -44,16 +42,18 @@ TEST_F(DeviceRefusalsTest, ASpaceMousePathThatIsNoHidrawDeviceIsRefusedWithWhatI
   struct Case {
     std::string path, reason;
   };
-  for (const Case& c : {Case{"/dev/null", "class mem, not hidraw"}, Case{fifo, "not a HID device (a FIFO)"},
-                        Case{file, "not a HID device (a regular file)"}, Case{dir_, "not a HID device (a folder)"},
-                        Case{dir_ + "/none", "No such file or directory"}}) {
+  for (const Case& c :
+       {Case{"/dev/null", "class mem, not hidraw"}, Case{fifo, "not a HID device (a FIFO)"},
+        Case{file, "not a HID device (a regular file)"}, Case{dir_, "not a HID device (a folder)"},
+        Case{dir_ + "/none", "No such file or directory"}}) {
     const std::string what = openError(c.path);
     EXPECT_EQ(what.rfind("spacemouse:" + c.path + ": cannot open " + c.path + ": ", 0), 0u) << what;
     EXPECT_NE(what.find(c.reason), std::string::npos) << what;
   }
   // A terminal is a character device too, of another class.
   if (std::filesystem::exists("/dev/ptmx")) {
-    EXPECT_NE(openError("/dev/ptmx").find("class tty, not hidraw"), std::string::npos) << openError("/dev/ptmx");
+    EXPECT_NE(openError("/dev/ptmx").find("class tty, not hidraw"), std::string::npos)
+        << openError("/dev/ptmx");
   }
 }
 
@@ -75,7 +75,8 @@ TEST_F(DeviceRefusalsTest, EventsPastAFullQueueAreCountedAsDropped) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   ASSERT_EQ(device.lines(), std::uint64_t(kLines));
-  // Nobody drained: the queue holds the first kCapacity, the other 84 were counted as they were lost.
+  // Nobody drained: the queue holds the first kCapacity, the other 84 were counted as they were
+  // lost.
   EXPECT_EQ(device.eventsDropped(), 84u);
   BoardEvent e;
   int kept = 0;

@@ -3,6 +3,11 @@
 // the list of attached devices (none here, and no failure).
 #include "osteon/devices/device.h"
 
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+
 #include "osteon/core/error.h"
 #include "osteon/devices/button_board.h"
 #include "osteon/devices/devices.h"
@@ -11,11 +16,6 @@
 #include "osteon/devices/touch.h"
 #include "support/files.h"
 #include "support/serial_board.h"
-
-#include <gtest/gtest.h>
-
-#include <chrono>
-#include <thread>
 
 namespace osteon::devices {
 namespace {
@@ -91,8 +91,12 @@ std::string openError(const std::string& name, const DeviceOpeners& extra = {}) 
 }
 
 TEST_F(FactoryTest, NamesThatCannotBeOpenedAreOneLineErrors) {
-  EXPECT_EQ(openError("serial:" + dir_ + "/ttyNone").rfind("serial:" + dir_ + "/ttyNone: cannot open", 0), 0u);
-  EXPECT_EQ(openError("replay:" + dir_ + "/none.csv").rfind(dir_ + "/none.csv: cannot open the recording", 0), 0u);
+  EXPECT_EQ(
+      openError("serial:" + dir_ + "/ttyNone").rfind("serial:" + dir_ + "/ttyNone: cannot open", 0),
+      0u);
+  EXPECT_EQ(openError("replay:" + dir_ + "/none.csv")
+                .rfind(dir_ + "/none.csv: cannot open the recording", 0),
+            0u);
   EXPECT_NE(openError("scripted:portal-5").find("front end"), std::string::npos);
   EXPECT_NE(openError("spacemouse").find("no 3Dconnexion device attached"), std::string::npos);
   if (!touchAvailable()) {
@@ -109,14 +113,16 @@ TEST_F(FactoryTest, NamesThatCannotBeOpenedAreOneLineErrors) {
 }
 
 TEST_F(FactoryTest, OpensRecordingsAndJoinsAPoseDeviceWithAButtonBoard) {
-  test::writeBytes(dir_ + "/r.csv", std::string(kRecordingHeader) + "\n0,1,2,3,1,0,0,0,0,0,0\n0.001,1,2,3,1,0,0,0,0,0,0\n");
+  test::writeBytes(dir_ + "/r.csv", std::string(kRecordingHeader) +
+                                        "\n0,1,2,3,1,0,0,0,0,0,0\n0.001,1,2,3,1,0,0,0,0,0,0\n");
   std::unique_ptr<Device> replay = openDevice("replay:" + dir_ + "/r.csv");
   EXPECT_TRUE(replay->capabilities().recorded);
   EXPECT_EQ(replay->capabilities().endS, 0.001);
 
   test::FakeBoard board;
   ASSERT_TRUE(board.open());
-  std::unique_ptr<Device> both = openDevice("replay:" + dir_ + "/r.csv+serial:" + board.slavePath + "@19200");
+  std::unique_ptr<Device> both =
+      openDevice("replay:" + dir_ + "/r.csv+serial:" + board.slavePath + "@19200");
   const Capabilities c = both->capabilities();
   EXPECT_TRUE(c.pose && c.pedal && c.buttons && c.timeDriven);
   ASSERT_TRUE(board.write("B=4,P=1023\n"));
@@ -127,12 +133,13 @@ TEST_F(FactoryTest, OpensRecordingsAndJoinsAPoseDeviceWithAButtonBoard) {
     both->poll(0.001, s);
   } while (s.pedal < 1.0 && std::chrono::steady_clock::now() < deadline);
   EXPECT_EQ(s.positionMm, glm::dvec3(1, 2, 3));  // the recording's pose
-  EXPECT_EQ(s.tS, 0.001);                          // and its time
-  EXPECT_EQ(s.buttons, 4u);                        // the board's buttons and pedal
+  EXPECT_EQ(s.tS, 0.001);                        // and its time
+  EXPECT_EQ(s.buttons, 4u);                      // the board's buttons and pedal
   EXPECT_EQ(s.pedal, 1.0);
-  EXPECT_TRUE(s.drillOn);                          // the pedal pressed drills
+  EXPECT_TRUE(s.drillOn);  // the pedal pressed drills
 
-  EXPECT_NE(openError("replay:" + dir_ + "/r.csv+replay:" + dir_ + "/r.csv").find("more than one"), std::string::npos);
+  EXPECT_NE(openError("replay:" + dir_ + "/r.csv+replay:" + dir_ + "/r.csv").find("more than one"),
+            std::string::npos);
 }
 
 TEST(MouseDevice, TheRenderLoopFeedsItAndTheHapticLoopPollsIt) {
@@ -142,7 +149,8 @@ TEST(MouseDevice, TheRenderLoopFeedsItAndTheHapticLoopPollsIt) {
   mouse.poll(1.0, s);
   EXPECT_LT(s.tS, 0.0);  // not fed yet: no pose
   std::thread render([&] {
-    for (int i = 1; i <= 100; ++i) mouse.feed(glm::dvec3(i, 0, 0), glm::dquat(1, 0, 0, 0), 1u, true);
+    for (int i = 1; i <= 100; ++i)
+      mouse.feed(glm::dvec3(i, 0, 0), glm::dquat(1, 0, 0, 0), 1u, true);
   });
   render.join();
   mouse.poll(2.0, s);

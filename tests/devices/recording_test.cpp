@@ -3,18 +3,18 @@
 // with their line, and the replay device's clock.
 #include "osteon/devices/recording.h"
 
-#include "osteon/core/error.h"
-#include "support/files.h"
-#include "support/serial_board.h"
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
 #include <thread>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "support/files.h"
+#include "support/serial_board.h"
 
 namespace osteon::devices {
 namespace {
@@ -26,7 +26,9 @@ class RecordingTest : public ::testing::Test {
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
 };
 
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool sameBits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 TEST_F(RecordingTest, RowsReadBackBitForBit) {
   std::mt19937_64 rng(7);
@@ -61,7 +63,8 @@ TEST_F(RecordingTest, RowsReadBackBitForBit) {
     const DeviceSample& s = written[i].second;
     ASSERT_TRUE(sameBits(row.tS, written[i].first)) << i;
     for (int k = 0; k < 3; ++k) {
-      ASSERT_TRUE(sameBits(row.positionMm[k], s.positionMm[k]) || (std::isnan(row.positionMm[k]) && std::isnan(s.positionMm[k])))
+      ASSERT_TRUE(sameBits(row.positionMm[k], s.positionMm[k]) ||
+                  (std::isnan(row.positionMm[k]) && std::isnan(s.positionMm[k])))
           << i;
     }
     ASSERT_TRUE(sameBits(row.orientation.w, s.orientation.w)) << i;
@@ -104,8 +107,8 @@ TEST_F(RecordingTest, TheFileIsFlushedEvery100msWhileRecording) {
 
 TEST_F(RecordingTest, ALiveLoopDropsRowsRatherThanWaitWhenTheBufferIsFull) {
   RecorderOptions options;
-  options.bufferBytes = 4096;   // a few dozen rows
-  options.flushEveryS = 10.0;   // the writer sleeps through the burst
+  options.bufferBytes = 4096;  // a few dozen rows
+  options.flushEveryS = 10.0;  // the writer sleeps through the burst
   StreamRecorder recorder(path("small.csv"), options);
   DeviceSample s;
   const auto start = std::chrono::steady_clock::now();
@@ -135,18 +138,25 @@ TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
   } cases[] = {
       {"empty.csv", "", "empty.csv", "not a device recording"},
       {"path.csv", "t,x,y,z,drill_on\n0,0,0,0,1\n", "path.csv:1", "not a device recording"},
-      {"binary.csv", std::string("\x89PNG\r\n\x1a\n\0\0\0", 11), "binary.csv:1", "not a device recording"},
+      {"binary.csv", std::string("\x89PNG\r\n\x1a\n\0\0\0", 11), "binary.csv:1",
+       "not a device recording"},
       {"header.csv", header, "header.csv", "no rows after the header"},
       {"fields.csv", header + "0,1,2,3\n", "fields.csv:2", "expected 11 fields"},
-      {"text.csv", header + row + "0.001,1,two,3,1,0,0,0,0,0,1\n", "text.csv:3", "y 'two' is not a number"},
-      {"time.csv", header + row + "0,1,2,3,1,0,0,0,0,0,1\n", "time.csv:3", "is not after the previous row"},
+      {"text.csv", header + row + "0.001,1,two,3,1,0,0,0,0,0,1\n", "text.csv:3",
+       "y 'two' is not a number"},
+      {"time.csv", header + row + "0,1,2,3,1,0,0,0,0,0,1\n", "time.csv:3",
+       "is not after the previous row"},
       {"nan_t.csv", header + "nan,1,2,3,1,0,0,0,0,0,1\n", "nan_t.csv:2", "t must be a finite time"},
-      {"negative.csv", header + "-1,1,2,3,1,0,0,0,0,0,1\n", "negative.csv:2", "t must be a finite time"},
+      {"negative.csv", header + "-1,1,2,3,1,0,0,0,0,0,1\n", "negative.csv:2",
+       "t must be a finite time"},
       {"hour.csv", header + row + "3600.5,1,2,3,1,0,0,0,0,0,1\n", "hour.csv:3", "at most 3600 s"},
-      {"buttons.csv", header + "0,1,2,3,1,0,0,0,1.5,0,1\n", "buttons.csv:2", "buttons must be an integer"},
-      {"pedal.csv", header + "0,1,2,3,1,0,0,0,0,2,1\n", "pedal.csv:2", "pedal must be a number in 0..1"},
+      {"buttons.csv", header + "0,1,2,3,1,0,0,0,1.5,0,1\n", "buttons.csv:2",
+       "buttons must be an integer"},
+      {"pedal.csv", header + "0,1,2,3,1,0,0,0,0,2,1\n", "pedal.csv:2",
+       "pedal must be a number in 0..1"},
       {"drill.csv", header + "0,1,2,3,1,0,0,0,0,0,2\n", "drill.csv:2", "drill_on must be 0 or 1"},
-      {"long.csv", header + std::string(5000, '1') + "\n", "long.csv:2", "line longer than 1024 bytes"},
+      {"long.csv", header + std::string(5000, '1') + "\n", "long.csv:2",
+       "line longer than 1024 bytes"},
   };
   for (const auto& c : cases) {
     test::writeBytes(path(c.name), c.bytes);
@@ -162,8 +172,9 @@ TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
   }
   EXPECT_THROW(loadRecording(path("missing.csv")), InputError);
   // A byte order mark, CRLF, spaces and blank lines are fine; nan in a pose is a device fault.
-  test::writeBytes(path("ok.csv"), "\xEF\xBB\xBF" + std::string(kRecordingHeader) + "\r\n0, 1,2,3 ,1,0,0,0,0,0,1\r\n\r\n"
-                                                                                    "0.001,nan,2,3,1,0,0,0,0,0.5,0\n");
+  test::writeBytes(path("ok.csv"), "\xEF\xBB\xBF" + std::string(kRecordingHeader) +
+                                       "\r\n0, 1,2,3 ,1,0,0,0,0,0,1\r\n\r\n"
+                                       "0.001,nan,2,3,1,0,0,0,0,0.5,0\n");
   const Recording ok = loadRecording(path("ok.csv"));
   ASSERT_EQ(ok.rows.size(), 2u);
   EXPECT_TRUE(std::isnan(ok.rows[1].positionMm.x));

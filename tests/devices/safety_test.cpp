@@ -4,16 +4,16 @@
 // reach the session; every fault is counted once; forces come back through the ramp.
 #include "osteon/devices/safety.h"
 
-#include <gtest/gtest.h>
-
-#include <glm/geometric.hpp>
-
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <new>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
 #include "support/allocation_counter.h"
 
 namespace osteon::devices {
@@ -40,7 +40,9 @@ glm::dvec3 askedForce(double t) {
 }
 
 // The device's true motion: 10 mm/s along x.
-glm::dvec3 truePose(double t) { return glm::dvec3(10.0 * t, 5.0, -3.0); }
+glm::dvec3 truePose(double t) {
+  return glm::dvec3(10.0 * t, 5.0, -3.0);
+}
 
 // Runs the layer over 5 s at 1 kHz with every fault kind:
 //   t = 2.000      one non-finite sample
@@ -86,12 +88,14 @@ TEST(Safety, EveryFaultKindIsSurvivedCountedOnceAndNeverKicksTheHand) {
   bool sawRampOut = false;
   for (std::size_t i = 0; i < steps.size(); ++i) {
     const Step& s = steps[i];
-    ASSERT_TRUE(std::isfinite(s.sentN.x) && std::isfinite(s.sentN.y) && std::isfinite(s.sentN.z)) << s.tS;
+    ASSERT_TRUE(std::isfinite(s.sentN.x) && std::isfinite(s.sentN.y) && std::isfinite(s.sentN.z))
+        << s.tS;
     ASSERT_LE(glm::length(s.sentN), kLimitN + kTol) << s.tS;
     if (i == 0) continue;
     const double change = glm::length(s.sentN - steps[i - 1].sentN);
     // A fault, or its ramp-out: never more than 0.1 N from one step to the next.
-    if (s.faults != 0 || s.state == ForceState::RampOut || steps[i - 1].state == ForceState::RampOut) {
+    if (s.faults != 0 || s.state == ForceState::RampOut ||
+        steps[i - 1].state == ForceState::RampOut) {
       EXPECT_LE(change, 0.1 + kTol) << "t=" << s.tS;
       sawRampOut = sawRampOut || s.state == ForceState::RampOut;
     }
@@ -131,14 +135,19 @@ TEST(Safety, FaultyPosesNeverReachTheSession) {
   for (const Step& s : steps) {
     const PoseVerdict& v = s.verdict;
     ASSERT_TRUE(v.valid);
-    ASSERT_TRUE(std::isfinite(v.positionMm.x) && std::isfinite(v.positionMm.y) && std::isfinite(v.positionMm.z)) << s.tS;
+    ASSERT_TRUE(std::isfinite(v.positionMm.x) && std::isfinite(v.positionMm.y) &&
+                std::isfinite(v.positionMm.z))
+        << s.tS;
     // Never the jumped pose: always where the device truly was at some moment.
     EXPECT_NEAR(v.positionMm.y, 5.0, 1e-12) << s.tS;
     EXPECT_NEAR(v.positionMm.z, -3.0, 1e-12) << s.tS;
     if (previous) {
-      EXPECT_LE(glm::distance(v.positionMm, previous->positionMm), 10.0 * std::max(1.0, (s.tS - previousT) / 0.001));
+      EXPECT_LE(glm::distance(v.positionMm, previous->positionMm),
+                10.0 * std::max(1.0, (s.tS - previousT) / 0.001));
     }
-    if (v.faults & (kFaultNonFinite | kFaultGap | kFaultJump)) { EXPECT_FALSE(v.drillOn) << s.tS; }
+    if (v.faults & (kFaultNonFinite | kFaultGap | kFaultJump)) {
+      EXPECT_FALSE(v.drillOn) << s.tS;
+    }
     previous = &v;
     previousT = s.tS;
   }
@@ -158,7 +167,8 @@ TEST(Safety, FaultyPosesNeverReachTheSession) {
   // The loop ran at 4.000, 4.002, 4.005, 4.008: three missed periods in a row.
   EXPECT_FALSE(verdictAt(4.005).faults & kFaultWatchdog);
   EXPECT_TRUE(verdictAt(4.008).faults & kFaultWatchdog);
-  EXPECT_EQ(verdictAt(4.011).verdict.positionMm, truePose(4.011));  // the watchdog holds forces, not poses
+  EXPECT_EQ(verdictAt(4.011).verdict.positionMm,
+            truePose(4.011));  // the watchdog holds forces, not poses
   EXPECT_EQ(verdictAt(4.5).faults, 0u);
   EXPECT_GT(safety.stats().heldSteps, 0u);
 }
@@ -190,10 +200,16 @@ TEST(Safety, EngagesOnlyAfterAPoseAndASmallForceThenRampsInOverHalfASecond) {
     safety.acceptPose(t, sample);
     const double asked = ms < 500 ? 1.0 : 0.1;  // pulled out at 0.5 s
     const glm::dvec3 sent = safety.limitForce(t, glm::dvec3(0.0, 0.0, asked));
-    if (ms < 500) { EXPECT_EQ(sent, glm::dvec3(0.0)) << t; }
+    if (ms < 500) {
+      EXPECT_EQ(sent, glm::dvec3(0.0)) << t;
+    }
     if (engagedMs < 0 && safety.forceState() != ForceState::Off) engagedMs = ms;
-    if (engagedMs > 0 && ms == engagedMs + 250) { EXPECT_NEAR(sent.z, 0.05, 1e-9); }  // half way up the ramp
-    if (engagedMs > 0 && ms > engagedMs + 500) { EXPECT_NEAR(sent.z, 0.1, 1e-12); }
+    if (engagedMs > 0 && ms == engagedMs + 250) {
+      EXPECT_NEAR(sent.z, 0.05, 1e-9);
+    }  // half way up the ramp
+    if (engagedMs > 0 && ms > engagedMs + 500) {
+      EXPECT_NEAR(sent.z, 0.1, 1e-12);
+    }
   }
   EXPECT_EQ(engagedMs, 500);
   EXPECT_EQ(safety.forceState(), ForceState::Engaged);
@@ -210,10 +226,16 @@ TEST(Safety, AStreamThatJumpedAndStaysIsFollowedOnceSettledAndASpikeIsDropped) {
     sample.positionMm = glm::dvec3(ms >= 100 || ms == 50 ? 30.0 : 0.0, 0.0, 0.0);
     safety.loopTick(t);
     const PoseVerdict& v = safety.acceptPose(t, sample);
-    if (ms == 50) { EXPECT_EQ(v.positionMm.x, 0.0); }
-    if (ms == 51) { EXPECT_EQ(v.faults, 0u); }
+    if (ms == 50) {
+      EXPECT_EQ(v.positionMm.x, 0.0);
+    }
+    if (ms == 51) {
+      EXPECT_EQ(v.faults, 0u);
+    }
     if (v.faults & kFaultJump) ++jumpedSteps;
-    if (ms == 200) { EXPECT_EQ(v.positionMm.x, 30.0); }  // followed after resyncS (50 ms)
+    if (ms == 200) {
+      EXPECT_EQ(v.positionMm.x, 30.0);
+    }  // followed after resyncS (50 ms)
   }
   EXPECT_EQ(safety.stats().faults.jumps, 2u);
   EXPECT_EQ(jumpedSteps, 1 + 50);
@@ -228,8 +250,9 @@ TEST(Safety, GapsAndNonFiniteRunsCountOncePerEpisode) {
     if (!silent) {
       sample.tS = t;
       sample.positionMm = glm::dvec3(0.0);
-      if (ms >= 300 && ms < 320) sample.positionMm.x = std::numeric_limits<double>::infinity();  // one run
-      if (ms == 400) sample.orientation = glm::dquat(0.0, 0.0, 0.0, 0.0);                       // another
+      if (ms >= 300 && ms < 320)
+        sample.positionMm.x = std::numeric_limits<double>::infinity();     // one run
+      if (ms == 400) sample.orientation = glm::dquat(0.0, 0.0, 0.0, 0.0);  // another
       if (ms == 401) sample.orientation = glm::dquat(1.0, 0.0, 0.0, 0.0);
     }
     safety.loopTick(t);

@@ -3,17 +3,16 @@
 // made here), and hidapi's real enumeration, which finds none and does not fail.
 #include "osteon/devices/spacemouse.h"
 
-#include "osteon/core/error.h"
-
-#include <gtest/gtest.h>
-
-#include <glm/geometric.hpp>
-
 #include <chrono>
 #include <deque>
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
 
 namespace osteon::devices {
 namespace {
@@ -51,7 +50,8 @@ TEST(SpaceMouseReports, OlderDevicesSplitTranslationRotationAndButtons) {
 TEST(SpaceMouseReports, NewerDevicesCombineTranslationAndRotation) {
   SpaceMouseAxes axes;
   // id 1, 13 bytes: tx ty tz rx ry rz = 1, 2, 3, -4, -5, 300
-  const Bytes combined = {0x01, 0x01, 0x00, 0x02, 0x00, 0x03, 0x00, 0xfc, 0xff, 0xfb, 0xff, 0x2c, 0x01};
+  const Bytes combined = {0x01, 0x01, 0x00, 0x02, 0x00, 0x03, 0x00,
+                          0xfc, 0xff, 0xfb, 0xff, 0x2c, 0x01};
   EXPECT_EQ(parse(combined, axes), SpaceMouseReport::Combined);
   EXPECT_EQ(axes.translation, (std::array<std::int16_t, 3>{1, 2, 3}));
   EXPECT_EQ(axes.rotation, (std::array<std::int16_t, 3>{-4, -5, 300}));
@@ -68,8 +68,13 @@ TEST(SpaceMouseReports, UnknownOrShortReportsChangeNothing) {
   axes.translation = {7, 8, 9};
   axes.buttons = 5;
   const SpaceMouseAxes before = axes;
-  for (const Bytes& bytes : std::vector<Bytes>{{}, {0x01}, {0x01, 0x00, 0x00}, {0x02, 0x01, 0x02, 0x03}, {0x04, 1, 2, 3, 4, 5, 6},
-                                               {0x17, 0xff}, {0x03}}) {
+  for (const Bytes& bytes : std::vector<Bytes>{{},
+                                               {0x01},
+                                               {0x01, 0x00, 0x00},
+                                               {0x02, 0x01, 0x02, 0x03},
+                                               {0x04, 1, 2, 3, 4, 5, 6},
+                                               {0x17, 0xff},
+                                               {0x03}}) {
     EXPECT_EQ(parse(bytes, axes), SpaceMouseReport::Unknown) << bytes.size();
     EXPECT_EQ(axes.translation, before.translation);
     EXPECT_EQ(axes.buttons, before.buttons);
@@ -224,13 +229,15 @@ TEST(SpaceMouseHid, EnumerationFindsNoneHereAndDoesNotFail) {
     openHidSource("spacemouse", "");
     FAIL() << "opened a SpaceMouse that is not there";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no 3Dconnexion device attached"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no 3Dconnexion device attached"), std::string::npos)
+        << e.what();
   }
   try {
     openHidSource("spacemouse:/dev/hidraw99", "/dev/hidraw99");
     FAIL() << "opened /dev/hidraw99";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("spacemouse:/dev/hidraw99: cannot open", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("spacemouse:/dev/hidraw99: cannot open", 0), 0u)
+        << e.what();
   }
 }
 

@@ -5,32 +5,38 @@
 // loop's own ramp-out when the haptic loop stops sending forces; errors as one line.
 #include "osteon/devices/touch.h"
 
-#include "osteon/core/error.h"
-#include "fake_hd.h"
-
-#include <gtest/gtest.h>
+#include <cmath>
 
 #include <glm/geometric.hpp>
+#include <gtest/gtest.h>
 
-#include <cmath>
+#include "fake_hd.h"
+#include "osteon/core/error.h"
 
 namespace osteon::devices {
 namespace {
 
 using Calls = std::vector<std::string>;
 
-const Calls kServoFrame = {"hdBeginFrame(7)",  "hdGetDoublev(HD_CURRENT_TRANSFORM)", "hdGetIntegerv(HD_CURRENT_BUTTONS)",
-                           "hdSetDoublev(HD_CURRENT_FORCE)", "hdEndFrame(7)", "hdGetError"};
+const Calls kServoFrame = {"hdBeginFrame(7)",
+                           "hdGetDoublev(HD_CURRENT_TRANSFORM)",
+                           "hdGetIntegerv(HD_CURRENT_BUTTONS)",
+                           "hdSetDoublev(HD_CURRENT_FORCE)",
+                           "hdEndFrame(7)",
+                           "hdGetError"};
 
-glm::dvec3 sentForce() { return glm::dvec3(fake_hd::arm().force[0], fake_hd::arm().force[1], fake_hd::arm().force[2]); }
+glm::dvec3 sentForce() {
+  return glm::dvec3(fake_hd::arm().force[0], fake_hd::arm().force[1], fake_hd::arm().force[2]);
+}
 
 TEST(TouchHd, OpensServesAndClosesWithTheCallsOpenHapticsExpects) {
   fake_hd::reset();
   {
     std::unique_ptr<Device> touch = openTouch("touch", "");
-    EXPECT_EQ(fake_hd::takeCalls(), (Calls{"hdInitDevice(default)", "hdGetError", "hdMakeCurrentDevice(7)",
-                                           "hdEnable(HD_FORCE_OUTPUT)", "hdScheduleAsynchronous(max)", "hdStartScheduler",
-                                           "hdGetError"}));
+    EXPECT_EQ(fake_hd::takeCalls(),
+              (Calls{"hdInitDevice(default)", "hdGetError", "hdMakeCurrentDevice(7)",
+                     "hdEnable(HD_FORCE_OUTPUT)", "hdScheduleAsynchronous(max)", "hdStartScheduler",
+                     "hdGetError"}));
     const Capabilities c = touch->capabilities();
     EXPECT_TRUE(c.pose && c.buttons && c.force);
     EXPECT_EQ(c.maxForceN, 3.3);
@@ -54,7 +60,8 @@ TEST(TouchHd, OpensServesAndClosesWithTheCallsOpenHapticsExpects) {
     EXPECT_TRUE(s.drillOn);
     EXPECT_EQ(s.buttons, 1u);
     touch->poll(0.002, s);
-    EXPECT_EQ(s.tS, 0.001);  // no new servo frame: the sample keeps its time (a stall shows as a gap)
+    EXPECT_EQ(s.tS,
+              0.001);  // no new servo frame: the sample keeps its time (a stall shows as a gap)
 
     // The force goes out at the next servo frame, clamped to the arm's limit.
     touch->setForce(0.002, glm::dvec3(0.0, 0.0, 1.5));
@@ -87,7 +94,8 @@ TEST(TouchHd, OpensServesAndClosesWithTheCallsOpenHapticsExpects) {
     EXPECT_EQ(sentForce(), glm::dvec3(0.0));
     fake_hd::takeCalls();
   }
-  EXPECT_EQ(fake_hd::takeCalls(), (Calls{"hdStopScheduler", "hdUnschedule(42)", "hdDisableDevice(7)"}));
+  EXPECT_EQ(fake_hd::takeCalls(),
+            (Calls{"hdStopScheduler", "hdUnschedule(42)", "hdDisableDevice(7)"}));
 }
 
 TEST(TouchHd, AnArmThatDoesNotStartIsAnInputErrorNamingTheDevice) {
@@ -97,7 +105,8 @@ TEST(TouchHd, AnArmThatDoesNotStartIsAnInputErrorNamingTheDevice) {
     openTouch("touch:Left", "Left");
     FAIL() << "opened an arm that failed";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "touch:Left: cannot initialise the Touch (Device Initialization Failed)");
+    EXPECT_STREQ(e.what(),
+                 "touch:Left: cannot initialise the Touch (Device Initialization Failed)");
   }
   EXPECT_EQ(fake_hd::takeCalls(), (Calls{"hdInitDevice(Left)", "hdGetError"}));
 
@@ -106,7 +115,8 @@ TEST(TouchHd, AnArmThatDoesNotStartIsAnInputErrorNamingTheDevice) {
   EXPECT_THROW(openTouch("touch", ""), InputError);
   const Calls calls = fake_hd::takeCalls();
   ASSERT_GE(calls.size(), 3u);  // everything it set up is taken down again
-  EXPECT_EQ(Calls(calls.end() - 3, calls.end()), (Calls{"hdStopScheduler", "hdUnschedule(42)", "hdDisableDevice(7)"}));
+  EXPECT_EQ(Calls(calls.end() - 3, calls.end()),
+            (Calls{"hdStopScheduler", "hdUnschedule(42)", "hdDisableDevice(7)"}));
 }
 
 }  // namespace

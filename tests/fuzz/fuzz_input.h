@@ -4,16 +4,15 @@
 // sanitizer report, a hang, an allocation past -rss_limit_mb) is a finding.
 #pragma once
 
-#include "osteon/core/error.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
-
 #include <fcntl.h>
+#include <string>
 #include <unistd.h>
+
+#include "osteon/core/error.h"
 
 namespace osteon::fuzz {
 
@@ -21,7 +20,8 @@ namespace osteon::fuzz {
 inline const std::string& inputPath(const char* extension) {
   static const std::string path = [extension] {
     const char* dir = std::getenv("OSTEON_FUZZ_DIR");
-    return std::string(dir ? dir : "/dev/shm") + "/osteon_fuzz_" + std::to_string(::getpid()) + extension;
+    return std::string(dir ? dir : "/dev/shm") + "/osteon_fuzz_" + std::to_string(::getpid()) +
+           extension;
   }();
   return path;
 }

@@ -21,5 +21,6 @@ const int osteon_tsan_serial_tbb = 1;
 }
 
 namespace {
-const oneapi::tbb::global_control gSerialTbb(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+const oneapi::tbb::global_control gSerialTbb(oneapi::tbb::global_control::max_allowed_parallelism,
+                                             1);
 }  // namespace

@@ -1,16 +1,17 @@
 // BoneModel::open(BoneSource): every check of a source made once, its messages naming the
 // BoneSource field (front ends name the flag), and what the input was read as.
+#include "osteon/simulation/bone_source.h"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
 #include "osteon/core/option_error.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/nrrd_io.h"
 #include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/simulation/bone_source.h"
 #include "support/files.h"
 #include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <string>
 
 namespace osteon::simulation {
 namespace {
@@ -52,12 +53,14 @@ TEST(BoneSource, EachRefusalNamesItsFieldAndTheFrontEndsFlag) {
   source.voxelSizeMm = 1.2;
   source.volume.isoHu = 300.0;
   e = refusal(source);
-  EXPECT_EQ(commandLineMessage(e), "--iso: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");
+  EXPECT_EQ(commandLineMessage(e),
+            "--iso: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");
 }
 
 TEST(BoneSource, AMeshIsReadScaledAndVoxelizedAsNamed) {
   const std::string dir = test::makeTempDir("bone_source_mesh");
-  geometry::writeMesh(test::makeSphere(0.01, 32, 16), dir + "/ball.stl");  // 20 mm across, in metres
+  geometry::writeMesh(test::makeSphere(0.01, 32, 16),
+                      dir + "/ball.stl");  // 20 mm across, in metres
   BoneSource source;
   source.input = dir + "/ball.stl";
   source.units = "m";
@@ -96,14 +99,16 @@ TEST(BoneSource, AVolumeKeepsItsOwnVoxelSizeToOneTolerance) {
 
 TEST(BoneSource, ABoneForASessionMustHoldBoneAReadOneMayBeEmpty) {
   const std::string dir = test::makeTempDir("bone_source_empty");
-  geometry::writeNrrd(geometry::VoxelGrid(glm::ivec3(8), glm::dvec3(0.0), 1.0), dir + "/empty.nrrd");
+  geometry::writeNrrd(geometry::VoxelGrid(glm::ivec3(8), glm::dvec3(0.0), 1.0),
+                      dir + "/empty.nrrd");
   BoneSource source;
   source.input = dir + "/empty.nrrd";
   try {
     BoneModel::open(source);
     ADD_FAILURE() << "an empty grid opened for a session";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), source.input + ": the grid has no voxel inside (nothing to drill)");
+    EXPECT_EQ(std::string(e.what()),
+              source.input + ": the grid has no voxel inside (nothing to drill)");
   }
   source.forSession = false;
   const OpenedBone read = BoneModel::open(source);

@@ -166,8 +166,8 @@ TEST(ProxyCouplingBackOut, AToolDrawnBackOutOfAnOffAxisHoleFollowsTheCommand) {
   o.keepSurface = false;
   Session s = Session::open("default", 1.0, o);
   ProxyCoupling c(s.simulation());
-  const glm::dquat q = glm::normalize(
-      glm::dquat(0.4289392158057467, 0.1595914322109081, 0.8891241330145202, 0.0));
+  const glm::dquat q =
+      glm::normalize(glm::dquat(0.4289392158057467, 0.1595914322109081, 0.8891241330145202, 0.0));
   const glm::dvec3 outside(31.616845944339527, 5.93581095759857, 24.067886378669606);
   const glm::dvec3 deep(20.17543969326307, 7.989461671054483, 33.54822085298818);
   const auto lerp = [](const glm::dvec3& a, const glm::dvec3& b, double u) {
@@ -188,10 +188,10 @@ TEST(ProxyCouplingBackOut, AToolDrawnBackOutOfAnOffAxisHoleFollowsTheCommand) {
     prevF = h.forceN;
     if (h.gapMm >= 0.1) lastStuckS = t;
   }
-  std::printf("back out: removed %.1f mm3, gap at the end %.3f mm, last gap >= 0.1 mm at %.3f s, "
-              "max 1 ms force step drawing back %.3f N\n",
-              s.removedVolumeMm3(), glm::length(c.proxy().tipMm - outside), lastStuckS,
-              maxBackStepN);
+  std::printf(
+      "back out: removed %.1f mm3, gap at the end %.3f mm, last gap >= 0.1 mm at %.3f s, "
+      "max 1 ms force step drawing back %.3f N\n",
+      s.removedVolumeMm3(), glm::length(c.proxy().tipMm - outside), lastStuckS, maxBackStepN);
   EXPECT_GT(s.removedVolumeMm3(), 20.0);  // the hole was drilled
   // Back with the command within 0.2 s of its leaving the bone, and staying there.
   EXPECT_LT(lastStuckS, outS + 0.2);

@@ -17,6 +17,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "coupling_support.h"
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/surface/surface.h"
@@ -24,9 +25,8 @@
 #include "osteon/simulation/motions.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
-#include "support/shapes.h"
 #include "support/allocation_counter.h"
-#include "coupling_support.h"
+#include "support/shapes.h"
 
 namespace osteon::simulation {
 namespace {

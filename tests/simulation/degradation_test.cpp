@@ -1,13 +1,13 @@
 // The table of degradation counters: each entry reads its own field of a run's summary, the
 // keys are distinct, and a summary is degraded exactly when one of them is non-zero.
-#include "osteon/simulation/runner.h"
-
-#include <gtest/gtest.h>
-
 #include <iterator>
 #include <set>
 #include <string>
 #include <utility>
+
+#include <gtest/gtest.h>
+
+#include "osteon/simulation/runner.h"
 
 namespace osteon::simulation {
 namespace {
@@ -38,7 +38,8 @@ TEST(Degradation, EachCounterReadsItsOwnFieldUnderItsOwnKey) {
     EXPECT_EQ(c.count(s), i + 1);
     EXPECT_TRUE(keys.insert(c.key).second);
     EXPECT_GT(std::string(c.meaning).size(), 10u);
-    EXPECT_EQ(c.runtimeOnly, std::string(c.key) == "ring_full" || std::string(c.key) == "log_dropped");
+    EXPECT_EQ(c.runtimeOnly,
+              std::string(c.key) == "ring_full" || std::string(c.key) == "log_dropped");
   }
 }
 

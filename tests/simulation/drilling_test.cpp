@@ -1,17 +1,18 @@
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/drilling.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/shapes.h"
 
 namespace osteon::simulation {
 namespace {
@@ -51,7 +52,8 @@ TEST(Tool, ShellsAndTheSeedsMaximumCount) {
   EXPECT_NEAR(ForceModel(drill, 0.3, 1.2).maxCount(0), 4.0 / 3.0 * M_PI * seedC, 1e-9);
   ToolOptions literal;
   literal.literalSeedCount = true;
-  EXPECT_NEAR(ForceModel(makeTool(ToolKind::Drill, literal, 0.3), 0.3, 1.2).maxCount(0), seedC, 1e-9);
+  EXPECT_NEAR(ForceModel(makeTool(ToolKind::Drill, literal, 0.3), 0.3, 1.2).maxCount(0), seedC,
+              1e-9);
   const Tool shaver = makeTool(ToolKind::Shaver, ToolOptions{}, 0.3);
   EXPECT_TRUE(shaver.parts[0].cutsOnSideOnly);
   EXPECT_GT(shaver.parts[0].lengthMm(), 0.0);
@@ -91,7 +93,8 @@ TEST(Contact, SlabAtKnownDepthGivesTheExpectedCountAndDirection) {
     Slab slab(levels == 0 ? 0.25 : 1.0);
     DrillingOptions options;
     options.levels = levels;
-    DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{}, options);
+    DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{},
+                           options);
     ASSERT_DOUBLE_EQ(sim.finestVoxelMm(), 0.25);
     const ToolPart& tip = sim.tool().parts[0];
     const double h = 1.0;  // tool centre 1 mm above the slab: the tip is 0.46 mm deep
@@ -100,7 +103,8 @@ TEST(Contact, SlabAtKnownDepthGivesTheExpectedCountAndDirection) {
     const StepOutput out = sim.step({0.0, pose, false});
     EXPECT_EQ(out.contact.level, -levels);
     // The samples a check can list (nothing was removed) are the ones the force counted.
-    const std::vector<geometry::VoxelSample> shell = sim.forceModel().shellSamples(sim.voxels(), pose, 0);
+    const std::vector<geometry::VoxelSample> shell =
+        sim.forceModel().shellSamples(sim.voxels(), pose, 0);
     EXPECT_EQ(shell.size(), out.contact.samples) << "levels " << levels;
     for (const geometry::VoxelSample& s : shell) {
       const double d = glm::length(s.centreMm - centre);
@@ -128,7 +132,8 @@ TEST(Contact, SlabAtKnownDepthGivesTheExpectedCountAndDirection) {
 
 TEST(Contact, NoBoneNoForceAndBrokenPosesAreCounted) {
   Slab slab(0.5);
-  DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Drill, ToolOptions{}, DrillingOptions{});
+  DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Drill, ToolOptions{},
+                         DrillingOptions{});
   const StepOutput far = sim.step({0.0, ToolPose::pointing({0, 0, 20}, {0, 0, -1}), true});
   EXPECT_EQ(far.contact.magnitudeN, 0.0);
   EXPECT_EQ(far.removal.removedFill, 0u);
@@ -150,7 +155,8 @@ TEST(Removal, DensityWearsDownInExactlyDSteps) {
         }
     DrillingOptions options;
     options.levels = levels;
-    DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{}, options);
+    DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Burr, ToolOptions{},
+                           options);
     const ToolPose pose = ToolPose::pointing({0.1, 0.1, 0.5}, {0, 0, -1});
     const std::uint64_t before = slab.grid.totalFill();
     for (int step = 1; step <= 7; ++step) {
@@ -175,7 +181,8 @@ TEST(Removal, AShaverInsideBoneAtFineVoxelsRemovesEveryVoxelInItsCut) {
   DrillingOptions options;
   options.levels = 0;
   options.decrement = 1000;  // every density gone in one step
-  DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Shaver, ToolOptions{}, options);
+  DrillingSimulation sim(slab.grid, slab.hierarchy, nullptr, ToolKind::Shaver, ToolOptions{},
+                         options);
   const ToolPose pose = ToolPose::pointing({0.05, -0.1, -4.0}, {1, 0.2, 0});
   const StepOutput out = sim.step({0.0, pose, true});
   EXPECT_EQ(sim.totals().cutOverflows, 0u);
@@ -184,7 +191,8 @@ TEST(Removal, AShaverInsideBoneAtFineVoxelsRemovesEveryVoxelInItsCut) {
   for (int p = 0; p < tool.partCount; ++p) {
     const ToolPart& part = tool.parts[std::size_t(p)];
     if (!part.cuts) continue;
-    const CutVolume cut{pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.innerRadiusMm, part.cutsOnSideOnly};
+    const CutVolume cut{pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.innerRadiusMm,
+                        part.cutsOnSideOnly};
     const glm::ivec3 dims = slab.grid.dims();
     for (int z = 0; z < dims.z; ++z)
       for (int y = 0; y < dims.y; ++y)
@@ -206,15 +214,19 @@ TEST(Removal, AShaverInsideBoneAtFineVoxelsRemovesEveryVoxelInItsCut) {
 // same forces bit for bit.
 class HumerusDrilling : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { model_ = new geometry::HumerusModel(geometry::buildHumerusModel()); }
+  static void SetUpTestSuite() {
+    model_ = new geometry::HumerusModel(geometry::buildHumerusModel());
+  }
   static void TearDownTestSuite() { delete model_; }
 
   std::vector<double> run(int levels, std::uint64_t* removed = nullptr, bool* conserved = nullptr,
-                          double querySkinVoxels = DrillingOptions{}.querySkinVoxels, ToolKind kind = ToolKind::Drill) {
+                          double querySkinVoxels = DrillingOptions{}.querySkinVoxels,
+                          ToolKind kind = ToolKind::Drill) {
     geometry::VoxelizeOptions o;
     o.voxelSizeMm = 1.2;
     VoxelGrid grid = geometry::voxelize(model_->mesh, o);
-    DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+    DynamicProximityHierarchy hierarchy =
+        DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
     const std::uint64_t before = grid.totalFill();
     DrillingOptions options;
     options.levels = levels;
@@ -253,7 +265,8 @@ TEST_F(HumerusDrilling, RemovalConservesVolumeAndRunsAreBitIdentical) {
     ASSERT_EQ(a.size(), b.size());
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << "levels " << levels;
     double peak = 0.0;
-    for (std::size_t i = 0; i < a.size(); i += 3) peak = std::max(peak, std::hypot(a[i], a[i + 1], a[i + 2]));
+    for (std::size_t i = 0; i < a.size(); i += 3)
+      peak = std::max(peak, std::hypot(a[i], a[i + 1], a[i + 2]));
     EXPECT_GT(peak, 0.5) << "levels " << levels;  // the drill met bone
   }
 }
@@ -280,7 +293,8 @@ TEST_F(HumerusDrilling, ForcesStayBoundedAndFiniteOnRandomPoses) {
   geometry::VoxelizeOptions o;
   o.voxelSizeMm = 1.2;
   VoxelGrid grid = geometry::voxelize(model_->mesh, o);
-  DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  DynamicProximityHierarchy hierarchy =
+      DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
   for (const ToolKind kind : {ToolKind::Drill, ToolKind::Burr, ToolKind::Shaver}) {
     DrillingSimulation sim(grid, hierarchy, nullptr, kind, ToolOptions{}, DrillingOptions{});
     std::mt19937 rng(1234);
@@ -288,7 +302,8 @@ TEST_F(HumerusDrilling, ForcesStayBoundedAndFiniteOnRandomPoses) {
     const double r = model_->headRadiusMm + 4.0;
     for (int i = 0; i < 1500; ++i) {
       const glm::dvec3 tip = model_->headCentreMm + r * glm::dvec3(u(rng), u(rng), u(rng));
-      const StepOutput out = sim.step({0.001 * i, ToolPose::pointing(tip, {u(rng), u(rng), u(rng)}), i % 2 == 0});
+      const StepOutput out =
+          sim.step({0.001 * i, ToolPose::pointing(tip, {u(rng), u(rng), u(rng)}), i % 2 == 0});
       ASSERT_TRUE(std::isfinite(out.contact.magnitudeN));
       ASSERT_LE(out.contact.magnitudeN, 3.3 + 1e-12);
       ASSERT_FALSE(out.contact.nonFinite);
@@ -302,16 +317,19 @@ TEST_F(HumerusDrilling, ForcesStayBoundedAndFiniteOnRandomPoses) {
 TEST(Drilling, AnEmptyGridGivesNoForceAndNoCrash) {
   const geometry::TriangleMesh box = test::makeBox({0, 0, 0}, {10, 10, 10});
   VoxelGrid grid = geometry::makeGridFor(box, 1.0);
-  DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
+  DynamicProximityHierarchy hierarchy =
+      DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
   ASSERT_EQ(hierarchy.voxelCount(), 0u);
   const geometry::EmbreeScene scene(box);
   const geometry::FineFillSource source = geometry::FineFillSource::sample(grid, box, scene);
   for (const int levels : {0, 1, 2}) {
     DrillingOptions options;
     options.levels = levels;
-    DrillingSimulation sim(grid, hierarchy, levels > 0 ? &source : nullptr, ToolKind::Drill, ToolOptions{}, options);
+    DrillingSimulation sim(grid, hierarchy, levels > 0 ? &source : nullptr, ToolKind::Drill,
+                           ToolOptions{}, options);
     for (int i = 0; i < 50; ++i) {
-      const StepOutput out = sim.step({0.001 * i, ToolPose::pointing({5, 5, 12.0 - 0.2 * i}, {0, 0, -1}), true});
+      const StepOutput out =
+          sim.step({0.001 * i, ToolPose::pointing({5, 5, 12.0 - 0.2 * i}, {0, 0, -1}), true});
       EXPECT_EQ(out.contact.magnitudeN, 0.0);
     }
     EXPECT_EQ(sim.totals().samplesRemoved, 0u) << "levels " << levels;

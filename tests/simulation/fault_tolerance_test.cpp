@@ -2,6 +2,21 @@
 // throws, a force log whose disk fills. The loops keep their rate, the force stays finite and
 // clamped, the error is one line, and the rows logged before a fault stay on disk whole.
 // Timing on a shared machine is noisy: rates are asserted as ratios with wide margins.
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fcntl.h>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+#include <gtest/gtest.h>
+
 #include "osteon/core/error.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/humerus_model.h"
@@ -12,28 +27,14 @@
 #include "support/files.h"
 #include "support/shapes.h"
 
-#include <gtest/gtest.h>
-
-#include <algorithm>
-#include <cerrno>
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <memory>
-#include <string>
-#include <thread>
-#include <vector>
-
-#include <fcntl.h>
-#include <unistd.h>
-
 namespace osteon::simulation {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // The built-in humerus voxelized at 1.2 mm (a bone from a grid), and a portal-5 path in bone
 // from its first second.
@@ -63,8 +64,10 @@ struct RecordingSink : ForceSink {
   void apply(double, const glm::dvec3& f) noexcept override {
     ++applied;
     const double n = glm::length(f);
-    if (!std::isfinite(n)) ++nonFinite;
-    else maxN = std::max(maxN, n);
+    if (!std::isfinite(n))
+      ++nonFinite;
+    else
+      maxN = std::max(maxN, n);
   }
 };
 
@@ -75,7 +78,9 @@ constexpr double kMaxForceN = 3.3;  // ToolOptions' default N_max
 class FullDiskWriter : public ForceLogWriter {
  public:
   FullDiskWriter(const std::string& path, std::size_t capacityBytes)
-      : ForceLogWriter(path), capacity_(capacityBytes), full_(::open("/dev/full", O_WRONLY | O_CLOEXEC)) {}
+      : ForceLogWriter(path),
+        capacity_(capacityBytes),
+        full_(::open("/dev/full", O_WRONLY | O_CLOEXEC)) {}
   ~FullDiskWriter() override {
     if (full_ >= 0) ::close(full_);
   }
@@ -113,7 +118,9 @@ std::vector<ForceLogRow> syntheticLog(std::size_t rows) {
   return log;
 }
 
-bool oneLine(const std::string& text) { return !text.empty() && text.find_first_of("\r\n") == std::string::npos; }
+bool oneLine(const std::string& text) {
+  return !text.empty() && text.find_first_of("\r\n") == std::string::npos;
+}
 
 TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCatchesUp) {
   Humerus h(4.0);
@@ -143,18 +150,21 @@ TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCat
   }
   // The loops have ended: the grid is still, and one more update takes what is left in the ring.
   live.updateSurface();
-  const geometry::SurfaceMesh full = geometry::extractSurface(h.session.grid(), geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh full =
+      geometry::extractSurface(h.session.grid(), geometry::SurfaceOptions{});
   const std::size_t visualTriangles = live.visualSurface().triangleCount();
   const RuntimeResult r = live.stop();
 
   const double hapticRatio = double(after.hapticSteps - before.hapticSteps) / (stallS / ro.periodS);
-  const double collisionRatio = double(after.collisionSteps - before.collisionSteps) / (stallS / ro.periodS);
-  std::printf("[ stall    ] %.3f s: haptic steps %llu (%.3f of 1 kHz), collision steps %llu (%.3f), "
-              "bricks handed over %llu, ring full %llu, first update after %.1f ms (call %.1f ms)\n",
-              stallS, static_cast<unsigned long long>(after.hapticSteps - before.hapticSteps), hapticRatio,
-              static_cast<unsigned long long>(after.collisionSteps - before.collisionSteps), collisionRatio,
-              static_cast<unsigned long long>(after.bricksHandedOver - before.bricksHandedOver),
-              static_cast<unsigned long long>(after.ringFull), firstUpdateMs, catchUpMs);
+  const double collisionRatio =
+      double(after.collisionSteps - before.collisionSteps) / (stallS / ro.periodS);
+  std::printf(
+      "[ stall    ] %.3f s: haptic steps %llu (%.3f of 1 kHz), collision steps %llu (%.3f), "
+      "bricks handed over %llu, ring full %llu, first update after %.1f ms (call %.1f ms)\n",
+      stallS, static_cast<unsigned long long>(after.hapticSteps - before.hapticSteps), hapticRatio,
+      static_cast<unsigned long long>(after.collisionSteps - before.collisionSteps), collisionRatio,
+      static_cast<unsigned long long>(after.bricksHandedOver - before.bricksHandedOver),
+      static_cast<unsigned long long>(after.ringFull), firstUpdateMs, catchUpMs);
 #ifdef OSTEON_SLOW_BUILD
   // A sanitizer's 2-15x slowdown costs the collision thread periods, stall or not.
   const double minRatio = 0.5;
@@ -216,12 +226,16 @@ TEST(LiveFaults, ASurfaceUpdateThatThrowsIsOneErrorAndTheHapticLoopGoesOn) {
   const double afterS = secondsSince(faultAt);
   const RuntimeResult r = live.stop();
   const double hapticRatio = double(end.hapticSteps - atFault.hapticSteps) / (afterS / ro.periodS);
-  std::printf("[ fault    ] surface update threw; in the %.3f s after it: haptic steps %llu (%.3f of 1 kHz); "
-              "message: %s\n",
-              afterS, static_cast<unsigned long long>(end.hapticSteps - atFault.hapticSteps), hapticRatio,
-              message.c_str());
+  std::printf(
+      "[ fault    ] surface update threw; in the %.3f s after it: haptic steps %llu (%.3f of 1 "
+      "kHz); "
+      "message: %s\n",
+      afterS, static_cast<unsigned long long>(end.hapticSteps - atFault.hapticSteps), hapticRatio,
+      message.c_str());
   EXPECT_TRUE(oneLine(message)) << message;
-  EXPECT_NE(message.find("the visual surface update failed: bad brick in the surface"), std::string::npos) << message;
+  EXPECT_NE(message.find("the visual surface update failed: bad brick in the surface"),
+            std::string::npos)
+      << message;
   EXPECT_EQ(live.visualFault(), message);
   EXPECT_EQ(r.visualFault, message);
   EXPECT_EQ(updates, 3);  // a surface that failed is not updated again
@@ -232,7 +246,8 @@ TEST(LiveFaults, ASurfaceUpdateThatThrowsIsOneErrorAndTheHapticLoopGoesOn) {
   EXPECT_EQ(r.stats.logDropped, 0u);
   EXPECT_GT(session.removedVolumeMm3(), 0.0);
   // The session's own surface starts again from its grid: right, whatever the visual one did.
-  const geometry::SurfaceMesh full = geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh full =
+      geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
   EXPECT_EQ(session.surface().triangleCount(), full.triangleCount());
 }
 
@@ -257,9 +272,11 @@ TEST(RuntimeFaults, ASurfaceUpdateThatThrowsStopsTheRunCleanlyWithOneLine) {
   } catch (const RuntimeFault& e) {
     message = e.what();
   }
-  std::printf("[ fault    ] runThreaded stopped after %zu rows: %s\n", rows.size(), message.c_str());
+  std::printf("[ fault    ] runThreaded stopped after %zu rows: %s\n", rows.size(),
+              message.c_str());
   EXPECT_TRUE(oneLine(message)) << message;
-  EXPECT_NE(message.find("the visual surface update failed: injected"), std::string::npos) << message;
+  EXPECT_NE(message.find("the visual surface update failed: injected"), std::string::npos)
+      << message;
   EXPECT_NE(message.find("stopped cleanly"), std::string::npos) << message;
   // Stopped at the fault (the first cut), long before the path's 4 s; every row logged until then
   // reached onRow.
@@ -289,7 +306,8 @@ TEST(RuntimeFaults, ASessionsSurfaceFollowsItsGridAfterAFault) {
   ro.beforeSurfaceUpdate = [] { throw std::runtime_error("injected"); };
   EXPECT_THROW(session.runThreaded(source, nullptr, ro), RuntimeFault);
   EXPECT_GT(session.removedVolumeMm3(), 0.0);  // the fault came with the first cut
-  const geometry::SurfaceMesh full = geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh full =
+      geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
   EXPECT_EQ(session.surface().triangleCount(), full.triangleCount());
   EXPECT_TRUE(session.takeSurfaceChanges().everything);
 }
@@ -303,8 +321,8 @@ TEST(ForceLogFaults, ADiskThatFillsKeepsTheWholeRowsWrittenBeforeIt) {
   writeForceLog(log, dir + "/whole.csv");
   const std::string whole = test::readBytes(dir + "/whole.csv");
   const std::size_t secondRowEnd = whole.find('\n', whole.find('\n') + 1) + 1;
-  for (const std::size_t capacity : {std::size_t(0), std::size_t(30), secondRowEnd, std::size_t(100000),
-                                     std::size_t(200001)}) {
+  for (const std::size_t capacity :
+       {std::size_t(0), std::size_t(30), secondRowEnd, std::size_t(100000), std::size_t(200001)}) {
     SCOPED_TRACE("disk full after " + std::to_string(capacity) + " bytes");
     const std::string path = dir + "/forces" + std::to_string(capacity) + ".csv";
     std::string message;
@@ -321,12 +339,14 @@ TEST(ForceLogFaults, ADiskThatFillsKeepsTheWholeRowsWrittenBeforeIt) {
       EXPECT_GT(writer.refusals(), 0u);
     }
     EXPECT_TRUE(oneLine(message)) << message;
-    EXPECT_EQ(message.find(path + ": cannot write the force log (No space left on device)"), 0u) << message;
+    EXPECT_EQ(message.find(path + ": cannot write the force log (No space left on device)"), 0u)
+        << message;
     EXPECT_FALSE(std::filesystem::exists(path));
     const std::string partial = path + ".partial";
     if (capacity < secondRowEnd) {  // not one row on disk: nothing worth keeping
       EXPECT_FALSE(std::filesystem::exists(partial));
-      EXPECT_NE(message.find("no row of the force log reached the disk"), std::string::npos) << message;
+      EXPECT_NE(message.find("no row of the force log reached the disk"), std::string::npos)
+          << message;
       continue;
     }
     const std::string kept = test::readBytes(partial);
@@ -334,9 +354,11 @@ TEST(ForceLogFaults, ADiskThatFillsKeepsTheWholeRowsWrittenBeforeIt) {
     EXPECT_LE(kept.size(), capacity);
     EXPECT_GT(kept.size() + 2048, capacity);  // at most the one torn row was cut
     EXPECT_EQ(kept.back(), '\n');
-    EXPECT_EQ(whole.compare(0, kept.size(), kept), 0) << "the kept rows are the log's first rows, byte for byte";
+    EXPECT_EQ(whole.compare(0, kept.size(), kept), 0)
+        << "the kept rows are the log's first rows, byte for byte";
     const auto rows = std::count(kept.begin(), kept.end(), '\n') - 1;
-    EXPECT_NE(message.find("; the " + std::to_string(rows) + " rows written before it are kept in " + partial),
+    EXPECT_NE(message.find("; the " + std::to_string(rows) +
+                           " rows written before it are kept in " + partial),
               std::string::npos)
         << message;
   }
@@ -380,11 +402,14 @@ TEST(ForceLogFaults, TheHapticLoopKeepsItsRateWhileTheDiskFails) {
   }
   const std::string kept = test::readBytes(path + ".partial");
   const auto keptRows = std::count(kept.begin(), kept.end(), '\n') - 1;
-  std::printf("[ disk     ] full after 50000 bytes: haptic steps %llu of %.0f periods (%.3f), overruns %llu, "
-              "rows %llu, kept %lld; %s\n",
-              static_cast<unsigned long long>(r.stats.hapticSteps), periods, hapticRatio,
-              static_cast<unsigned long long>(r.stats.hapticOverruns), static_cast<unsigned long long>(rowsGiven),
-              static_cast<long long>(keptRows), message.c_str());
+  std::printf(
+      "[ disk     ] full after 50000 bytes: haptic steps %llu of %.0f periods (%.3f), overruns "
+      "%llu, "
+      "rows %llu, kept %lld; %s\n",
+      static_cast<unsigned long long>(r.stats.hapticSteps), periods, hapticRatio,
+      static_cast<unsigned long long>(r.stats.hapticOverruns),
+      static_cast<unsigned long long>(rowsGiven), static_cast<long long>(keptRows),
+      message.c_str());
   EXPECT_GE(hapticRatio, 0.8);
   EXPECT_EQ(r.stats.logDropped, 0u);  // the logging thread kept draining its ring
   // Every step's row reached the writer (the collision periods before the first pose take none).

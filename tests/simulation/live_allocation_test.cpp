@@ -1,21 +1,23 @@
 // The live runtime's loops (haptic, collision) and its logging thread allocate nothing once
 // warmed up, while they drill and the caller's render loop (which may allocate) takes the
 // surface. Its own program, as it counts every heap allocation (support/allocation_counter).
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/simulation/live.h"
-#include "support/allocation_counter.h"
-
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cstdint>
 #include <thread>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/simulation/live.h"
+#include "support/allocation_counter.h"
 
 namespace osteon::simulation {
 namespace {
 
 // Allocations by every thread but the calling one.
-std::uint64_t otherThreadsAllocations() { return test::allocations() - test::threadAllocations(); }
+std::uint64_t otherThreadsAllocations() {
+  return test::allocations() - test::threadAllocations();
+}
 
 TEST(LiveAllocation, TheCounterSeesAnotherThreadsAllocations) {
   const std::uint64_t before = otherThreadsAllocations();
@@ -29,27 +31,31 @@ TEST(LiveAllocation, TheCounterSeesAnotherThreadsAllocations) {
 }
 
 TEST(LiveAllocation, TheLoopsAllocateNothingOnceWarmedUpWhileTheyDrill) {
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, SessionOptions{}, "default");
+  Session session =
+      Session::fromMesh(geometry::defaultHumerusModel().mesh, SessionOptions{}, "default");
   PortalPathOptions po;
   po.durationS = 3.0;  // bone within the first second, drilled on to the end
   const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;
   PathPoseSource source(path);
   struct Sink : ForceSink {
     double maxN = 0.0;
-    void apply(double, const glm::dvec3& f) noexcept override { maxN = std::max(maxN, glm::length(f)); }
+    void apply(double, const glm::dvec3& f) noexcept override {
+      maxN = std::max(maxN, glm::length(f));
+    }
   } sink;
   RuntimeOptions ro;
   ro.realtimePriority = false;
   ro.keepLog = false;  // the log would grow past its reserve in a long session: streamed instead
   LiveRuntime live(session, source, &sink, ro);
   live.start();
-  const auto render = [&live](std::chrono::milliseconds forMs) {  // the caller's frames at about 60 Hz
-    const auto until = std::chrono::steady_clock::now() + forMs;
-    while (std::chrono::steady_clock::now() < until) {
-      live.updateSurface();
-      std::this_thread::sleep_for(std::chrono::milliseconds(16));
-    }
-  };
+  const auto render =
+      [&live](std::chrono::milliseconds forMs) {  // the caller's frames at about 60 Hz
+        const auto until = std::chrono::steady_clock::now() + forMs;
+        while (std::chrono::steady_clock::now() < until) {
+          live.updateSurface();
+          std::this_thread::sleep_for(std::chrono::milliseconds(16));
+        }
+      };
   render(std::chrono::milliseconds(400));  // warm-up: first touches, the first contact
   const LiveStats before = live.stats();
   const std::uint64_t removedBefore = live.display().removedFill;

@@ -1,18 +1,18 @@
 // The live runtime a viewer drives: the 1 kHz loops in their threads, the visual work on the
 // caller's thread through hand-offs only.
-#include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/live.h"
-#include "support/humerus_session.h"
-
-#include <gtest/gtest.h>
-
-#include <pthread.h>
-#include <sched.h>
-#include <time.h>
 
 #include <atomic>
 #include <chrono>
+#include <pthread.h>
+#include <sched.h>
 #include <thread>
+#include <time.h>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/io/humerus_model.h"
+#include "support/humerus_session.h"
 
 namespace osteon::simulation {
 namespace {
@@ -52,7 +52,8 @@ TEST(LiveRuntime, DrillsWhileTheCallerRendersAndEndsEqualToTheGrid) {
   EXPECT_GT(frames, 20u);
   EXPECT_GT(session.removedVolumeMm3(), 0.0);
   // After stop the visual surface and the session's own are the drilled grid's surface.
-  const geometry::SurfaceMesh full = geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh full =
+      geometry::extractSurface(session.grid(), geometry::SurfaceOptions{});
   EXPECT_EQ(live.visualSurface().triangleCount(), full.triangleCount());
   EXPECT_EQ(session.surface().triangleCount(), full.triangleCount());
 }
@@ -97,7 +98,8 @@ RuntimeOptions withoutLog() {
 // stopped, when the loop has no standby thread (one CPU).
 bool startWithStandby(LiveRuntime& live, std::uint64_t steps) {
   live.start();
-  while (live.stats().hapticSteps < steps) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (live.stats().hapticSteps < steps)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   if (live.stats().standbyCpu >= 0) return true;
   live.stop();
   return false;
@@ -109,7 +111,8 @@ TEST(LiveRuntime, TheHapticStandbyRunsThePeriodsOfAHeldCpu) {
   Session session = coarseHumerus();
   WatchingSource source;
   LiveRuntime live(session, source, nullptr, withoutLog());
-  if (!startWithStandby(live, 100)) GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
+  if (!startWithStandby(live, 100))
+    GTEST_SKIP() << "one CPU: the haptic loop has no standby thread";
   const LiveStats before = live.stats();
   std::atomic<int> hogStarted{0};  // 1: holding the CPU; -1: real-time priority refused
   std::thread hog([&] {
@@ -132,7 +135,8 @@ TEST(LiveRuntime, TheHapticStandbyRunsThePeriodsOfAHeldCpu) {
   hog.join();
   const LiveStats after = live.stats();
   const RuntimeResult r = live.stop();
-  if (hogStarted < 0 || !r.stats.realtimeGranted) GTEST_SKIP() << "SCHED_FIFO not granted: no CPU can be held";
+  if (hogStarted < 0 || !r.stats.realtimeGranted)
+    GTEST_SKIP() << "SCHED_FIFO not granted: no CPU can be held";
   EXPECT_NE(before.hapticCpu, before.standbyCpu);
   // About 200 periods passed while the CPU was held; without the standby hardly any would run.
   EXPECT_GE(after.hapticSteps - before.hapticSteps, 180u);

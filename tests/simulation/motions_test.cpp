@@ -1,13 +1,13 @@
 // The motions the benchmarks and tests drive the step with (motions.h, and a portal path's
 // tilt): where they put the tool.
 #include "osteon/simulation/motions.h"
-#include "osteon/simulation/session.h"
-
-#include <gtest/gtest.h>
-
-#include <glm/geometric.hpp>
 
 #include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "osteon/simulation/session.h"
 
 namespace osteon::simulation {
 namespace {
@@ -22,7 +22,8 @@ const Session& session() {
 }
 
 double angleDeg(const glm::dvec3& u, const glm::dvec3& v) {
-  return std::acos(std::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 / M_PI;
+  return std::acos(std::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 /
+         M_PI;
 }
 
 // The tip follows the untilted path; the tool turns about it by the tilt, towards the inward
@@ -43,7 +44,8 @@ TEST(Motions, ATiltTurnsTheToolAboutItsTip) {
       EXPECT_EQ(onA, onB);
       EXPECT_NEAR(angleDeg(a.forward(), b.forward()), std::abs(tilt), 1e-9);
       // Turned in the plane of travel and the normal, its tip towards -normal when positive.
-      EXPECT_NEAR(glm::dot(b.forward(), glm::cross(straight.normal, straight.direction)), 0.0, 1e-12);
+      EXPECT_NEAR(glm::dot(b.forward(), glm::cross(straight.normal, straight.direction)), 0.0,
+                  1e-12);
       const double towardsInward = glm::dot(b.forward() - a.forward(), -straight.normal);
       EXPECT_EQ(towardsInward > 0.0, tilt > 0.0);
     }

@@ -1,14 +1,15 @@
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/io/mesh_io.h"
 #include "osteon/simulation/path.h"
-#include "support/files.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon::simulation {
 namespace {
@@ -57,7 +58,8 @@ TEST(Portal, PathsEnterTheHeadAtTheirClockPositionAt45Degrees) {
     EXPECT_TRUE(on);
     // The cushion starts clear of the bone: no voxel of the mesh within its reach.
     double nearest = 1e300;
-    for (const glm::dvec3& v : model.mesh.positionsMm) nearest = std::min(nearest, glm::length(v - pose.tipMm));
+    for (const glm::dvec3& v : model.mesh.positionsMm)
+      nearest = std::min(nearest, glm::length(v - pose.tipMm));
     EXPECT_GT(nearest, 2.06) << "start inside or touching the bone";
     EXPECT_NEAR(glm::length(pose.forward() - p->direction), 0.0, 1e-9);
     p->path.sample(7.0, pose, on);
@@ -66,7 +68,8 @@ TEST(Portal, PathsEnterTheHeadAtTheirClockPositionAt45Degrees) {
   }
   // 5 o'clock anteroinferior, 7 o'clock posteroinferior: mirror images across the 6 o'clock line.
   EXPECT_GT(glm::dot(five.clockDirection - seven.clockDirection, head.anterior), 0.5);
-  EXPECT_NEAR(glm::dot(five.clockDirection, head.superior), glm::dot(seven.clockDirection, head.superior), 1e-9);
+  EXPECT_NEAR(glm::dot(five.clockDirection, head.superior),
+              glm::dot(seven.clockDirection, head.superior), 1e-9);
   EXPECT_THROW(parsePortal("portal-6"), InputError);
 }
 
@@ -113,7 +116,8 @@ TEST(PathCsv, RefusesPathsLongerThanTheLimitNamingTheRowAndTheLimit) {
   const std::string dir = test::makeTempDir("path_csv_duration");
   const std::string file = dir + "/long.csv";
   for (const char* end : {"1e300", "1e12", "100000", "3600.001"}) {
-    test::writeBytes(file, std::string("t,x,y,z,drill_on\n0,0,0,0,1\n1,0,0,1,1\n") + end + ",0,0,2,1\n");
+    test::writeBytes(file,
+                     std::string("t,x,y,z,drill_on\n0,0,0,0,1\n1,0,0,1,1\n") + end + ",0,0,2,1\n");
     try {
       loadPathCsv(file);
       ADD_FAILURE() << "accepted a path ending at t = " << end;
@@ -134,12 +138,14 @@ TEST(PathCsv, NormalisesHugeAndTinyQuaternionsWithoutOverflow) {
   const std::string dir = test::makeTempDir("path_csv_quat");
   const auto orientationOf = [&](const std::string& q) {
     const std::string file = dir + "/q.csv";
-    test::writeBytes(file, "t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1," + q + "\n1,1,0,0,1," + q + "\n");
+    test::writeBytes(file,
+                     "t,x,y,z,drill_on,qw,qx,qy,qz\n0,0,0,0,1," + q + "\n1,1,0,0,1," + q + "\n");
     return loadPathCsv(file).points().front().orientation;
   };
   const glm::dquat unit = orientationOf("1,1,0,0");
   EXPECT_NEAR(unit.w, std::sqrt(0.5), 1e-15);
-  for (const char* q : {"1e300,1e300,0,0", "-1e308,-1e308,0,0", "1e-300,1e-300,0,0", "3e-308,3e-308,0,0"}) {
+  for (const char* q :
+       {"1e300,1e300,0,0", "-1e308,-1e308,0,0", "1e-300,1e-300,0,0", "3e-308,3e-308,0,0"}) {
     const glm::dquat o = orientationOf(q);
     EXPECT_EQ(std::abs(o.w), unit.w) << q;
     EXPECT_EQ(std::abs(o.x), unit.x) << q;
@@ -163,7 +169,9 @@ TEST(PathCsv, AcceptsAUtf8ByteOrderMark) {
   test::writeBytes(file, "\xEF\xBB\xBFt,x,y,z,drill_on\n0,0,0,0,1\n1,0,0,1,1\n");
   EXPECT_EQ(loadPathCsv(file).points().size(), 2u);
   // Only at the start of the file: elsewhere it is not part of a number.
-  test::writeBytes(file, "t,x,y,z,drill_on\n0,0,0,0,1\n\xEF\xBB\xBF" "1,0,0,1,1\n");
+  test::writeBytes(file,
+                   "t,x,y,z,drill_on\n0,0,0,0,1\n\xEF\xBB\xBF"
+                   "1,0,0,1,1\n");
   EXPECT_THROW(loadPathCsv(file), InputError);
 }
 

@@ -1,17 +1,18 @@
 // Material removal through the refined voxels' sample-mutation interface: held against the
 // slow reference (tests/support/carve.h), and the cut shapes and ties it must get right.
-#include "osteon/geometry/hierarchy/refinement.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/removal.h"
-#include "support/carve.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <memory>
 #include <random>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/carve.h"
+#include "support/shapes.h"
 
 namespace osteon::simulation {
 namespace {
@@ -19,10 +20,10 @@ namespace {
 using geometry::DphBuildOptions;
 using geometry::DynamicProximityHierarchy;
 using geometry::FineFillSource;
+using geometry::kFillFull;
 using geometry::RefinedVoxels;
 using geometry::VoxelGrid;
 using geometry::VoxelSample;
-using geometry::kFillFull;
 
 // A sphere of radius 10 mm voxelized at the seed's coarsest size, with its hierarchy and the
 // mesh's fine fill.
@@ -60,7 +61,8 @@ TEST_F(RemovalTest, EqualsTheReferenceOnRandomCuts) {
   for (const int depth : {0, 1, 2}) {
     SetUp();
     VoxelGrid referenceGrid = grid_;
-    DynamicProximityHierarchy referenceHierarchy = DynamicProximityHierarchy::build(referenceGrid, DphBuildOptions{});
+    DynamicProximityHierarchy referenceHierarchy =
+        DynamicProximityHierarchy::build(referenceGrid, DphBuildOptions{});
     geometry::RefinementOptions options;
     options.depth = depth;
     RefinedVoxels fast(grid_, hierarchy_, &source_, options);
@@ -78,7 +80,8 @@ TEST_F(RemovalTest, EqualsTheReferenceOnRandomCuts) {
       slow.refineAround(cut.centreMm(), cut.boundingRadiusMm() + 0.6, t);
       const int decrement = 1 + k % 20;
       const RemovalResult r = removal.removeIn(cut, decrement);
-      const test::Carved c = test::carve(slow, test::Cut{a, b, cut.radiusMm, cut.sideOnly}, decrement);
+      const test::Carved c =
+          test::carve(slow, test::Cut{a, b, cut.radiusMm, cut.sideOnly}, decrement);
       ASSERT_EQ(r.removedFill, c.removedFill) << "depth " << depth << " cut " << k;
       ASSERT_EQ(r.samplesRemoved, c.samplesRemoved) << "depth " << depth << " cut " << k;
       ASSERT_EQ(r.samplesDecremented, c.samplesDecremented) << "depth " << depth << " cut " << k;
@@ -104,7 +107,8 @@ TEST_F(RemovalTest, StaticCutsTakeEveryVoxelCentreOnTheirSurface) {
         if (grid_.fill({x, y, z}) == kFillFull) bone.push_back({x, y, z});
   std::mt19937 rng(2718);
   std::uniform_int_distribution<std::size_t> pick(0, bone.size() - 1);
-  const glm::dvec3 directions[] = {{0, 0, 4}, {3, 4, 0}, {0, 3, 4}, {1, 2, 2}, {2, -1, 2}, {4, 0, -3}};
+  const glm::dvec3 directions[] = {{0, 0, 4}, {3, 4, 0},  {0, 3, 4},
+                                   {1, 2, 2}, {2, -1, 2}, {4, 0, -3}};
   std::size_t onSurface = 0;
   for (int k = 0; k < 120; ++k) {
     const glm::dvec3 a = grid_.voxelCentreMm(bone[pick(rng)]);
@@ -124,13 +128,13 @@ TEST_F(RemovalTest, StaticCutsTakeEveryVoxelCentreOnTheirSurface) {
         }
     removal(refined).removeIn(cut, 1000);
     for (const glm::ivec3& v : inside) {
-      ASSERT_EQ(grid_.fill(v), 0) << "cut " << k << " left voxel (" << v.x << ", " << v.y << ", " << v.z << ")";
+      ASSERT_EQ(grid_.fill(v), 0) << "cut " << k << " left voxel (" << v.x << ", " << v.y << ", "
+                                  << v.z << ")";
     }
   }
   EXPECT_GT(onSurface, 100u);  // the ties this is about did occur
   EXPECT_EQ(hierarchy_.validateAgainst(grid_), "");
 }
-
 
 TEST(CutVolume, SphereCapsuleAndOpenCylinder) {
   const CutVolume s = CutVolume::sphere({1, 2, 3}, 2.0);
@@ -142,12 +146,11 @@ TEST(CutVolume, SphereCapsuleAndOpenCylinder) {
   EXPECT_FALSE(c.contains({5, 1.01, 0}));
   EXPECT_TRUE(c.contains({-0.9, 0, 0}));  // rounded end
   EXPECT_DOUBLE_EQ(c.boundingRadiusMm(), 6.0);
-  c.sideOnly = true;                      // a shaver cuts with its side only
+  c.sideOnly = true;  // a shaver cuts with its side only
   EXPECT_FALSE(c.contains({-0.1, 0, 0}));
   EXPECT_FALSE(c.contains({10.1, 0.2, 0}));
   EXPECT_TRUE(c.contains({9.9, 0.2, 0}));
 }
-
 
 TEST_F(RemovalTest, CylinderRemovalTakesExactlyTheSamplesInside) {
   for (const int depth : {0, 2}) {
@@ -156,12 +159,13 @@ TEST_F(RemovalTest, CylinderRemovalTakesExactlyTheSamplesInside) {
     const CutVolume cut{{-4, -1, 0.3}, {4, 1, 0.3}, 1.5, true};
     refined.refineAround(cut.centreMm(), cut.boundingRadiusMm(), 0.0);
     std::uint64_t inside = 0, samples = 0;
-    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
-      if (cut.contains(s.centreMm)) {
-        inside += s.fill;
-        ++samples;
-      }
-    });
+    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(),
+                                  [&](const VoxelSample& s) {
+                                    if (cut.contains(s.centreMm)) {
+                                      inside += s.fill;
+                                      ++samples;
+                                    }
+                                  });
     ASSERT_GT(samples, 20u) << "depth " << depth;
     const std::uint64_t before = grid_.totalFill();
     // Decrement past every density: one call removes every sample inside, nothing else.
@@ -170,9 +174,10 @@ TEST_F(RemovalTest, CylinderRemovalTakesExactlyTheSamplesInside) {
     EXPECT_EQ(r.samplesRemoved, samples) << "depth " << depth;
     EXPECT_EQ(grid_.totalFill(), before - inside) << "depth " << depth;
     std::uint64_t left = 0;
-    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(), [&](const VoxelSample& s) {
-      if (cut.contains(s.centreMm)) ++left;
-    });
+    refined.forEachSampleInSphere(cut.centreMm(), cut.boundingRadiusMm(),
+                                  [&](const VoxelSample& s) {
+                                    if (cut.contains(s.centreMm)) ++left;
+                                  });
     EXPECT_EQ(left, 0u) << "depth " << depth;
   }
 }

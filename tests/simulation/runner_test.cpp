@@ -1,19 +1,20 @@
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/core/error.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/hierarchy/refinement.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runner.h"
-#include "osteon/simulation/session.h"
-#include "support/files.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <malloc.h>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/session.h"
+#include "support/files.h"
+#include "support/shapes.h"
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 // From the sanitizer run-time (LLVM's sanitizer/allocator_interface.h, which GCC does not ship).
 extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
@@ -54,7 +55,9 @@ TEST(Metrics, JitterAndStepChangeOnKnownSignals) {
 // coarse voxels they refine, on both portals.
 class PortalRuns : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { model_ = new geometry::HumerusModel(geometry::buildHumerusModel()); }
+  static void SetUpTestSuite() {
+    model_ = new geometry::HumerusModel(geometry::buildHumerusModel());
+  }
   static void TearDownTestSuite() { delete model_; }
 
   // fromMesh: sub-voxel fills sampled from the mesh (as the CLI does), else split evenly.
@@ -154,7 +157,8 @@ TEST(Deterministic, AStreamedLongPathKeepsMemoryBounded) {
   o.voxelSizeMm = 1.0;
   SessionOptions so;
   so.keepSurface = false;
-  Session session = Session::fromGrid(geometry::voxelize(test::makeBox({-8, -8, -8}, {8, 8, 0}), o), so);
+  Session session =
+      Session::fromGrid(geometry::voxelize(test::makeBox({-8, -8, -8}, {8, 8, 0}), o), so);
   const glm::dquat q = ToolPose::pointing({0, 0, 50}, {0, 0, -1}).orientation;
   const DrillPath path({Waypoint{0.0, {0, 0, 50}, q, true}, Waypoint{600.0, {0, 0, 40}, q, true}});
   DeterministicOptions options;
@@ -244,7 +248,8 @@ TEST(ForceLog, TheWriterStreamsTheSameBytesAndLeavesNothingUntilCommitted) {
     ForceLogWriter nowhere("/nonexistent-dir/forces.csv");
     ADD_FAILURE() << "opened a log in a missing folder";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/forces.csv"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/forces.csv"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,16 +1,17 @@
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/runtime.h"
-#include "osteon/simulation/session.h"
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <memory>
 #include <thread>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/session.h"
 
 namespace osteon::simulation {
 namespace {
@@ -40,7 +41,9 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   PathPoseSource source(h.plan.path);
   struct Sink : ForceSink {
     double maxN = 0.0;
-    void apply(double, const glm::dvec3& f) noexcept override { maxN = std::max(maxN, glm::length(f)); }
+    void apply(double, const glm::dvec3& f) noexcept override {
+      maxN = std::max(maxN, glm::length(f));
+    }
   } sink;
   RuntimeOptions options;
   options.durationS = 1.5;
@@ -50,8 +53,9 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   const std::int64_t endedNs = std::chrono::steady_clock::now().time_since_epoch().count();
   // Shared, noisy machines miss periods; the loops skip them rather than fall behind. Each
   // overrun's instant is kept, in order, within the run.
-  for (const auto& [instants, count] : {std::pair{&r.stats.hapticOverrunNs, r.stats.hapticOverruns},
-                                        std::pair{&r.stats.collisionOverrunNs, r.stats.collisionOverruns}}) {
+  for (const auto& [instants, count] :
+       {std::pair{&r.stats.hapticOverrunNs, r.stats.hapticOverruns},
+        std::pair{&r.stats.collisionOverrunNs, r.stats.collisionOverruns}}) {
     EXPECT_EQ(instants->size(), std::min<std::uint64_t>(count, RuntimeStats::kOverrunInstantsKept));
     EXPECT_TRUE(std::is_sorted(instants->begin(), instants->end()));
     for (const std::int64_t t : *instants) EXPECT_TRUE(t > beganNs && t < endedNs);
@@ -65,10 +69,12 @@ TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {
   EXPECT_LE(sink.maxN, 3.3 + 1e-12);
   // The visual thread's incremental surface equals a full extraction of the drilled grid.
   const geometry::SurfaceMesh& surface = h.session.surface();
-  const geometry::SurfaceMesh full = geometry::extractSurface(h.session.grid(), geometry::SurfaceOptions{});
+  const geometry::SurfaceMesh full =
+      geometry::extractSurface(h.session.grid(), geometry::SurfaceOptions{});
   EXPECT_EQ(surface.triangleCount(), full.triangleCount());
   EXPECT_EQ(surface.vertexCount(), full.vertexCount());
-  EXPECT_NEAR(geometry::signedVolumeMm3(surface.toTriangleMesh()), geometry::signedVolumeMm3(full.toTriangleMesh()),
+  EXPECT_NEAR(geometry::signedVolumeMm3(surface.toTriangleMesh()),
+              geometry::signedVolumeMm3(full.toTriangleMesh()),
               1e-6 * std::abs(geometry::signedVolumeMm3(full.toTriangleMesh())));
 }
 

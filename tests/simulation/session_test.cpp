@@ -1,21 +1,22 @@
-#include "osteon/core/error.h"
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/simulation/session.h"
-#include "support/shapes.h"
 
-#include <gtest/gtest.h>
-
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
 #include <set>
 #include <stdexcept>
 #include <thread>
-#include <array>
 #include <type_traits>
 #include <utility>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "support/shapes.h"
 
 namespace osteon::simulation {
 namespace {
@@ -48,10 +49,12 @@ TEST(Session, RunsAsTheHandWiredPartsDo) {
     geometry::VoxelGrid grid = geometry::voxelize(humerus(), vo);
     auto hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
     const geometry::EmbreeScene scene(humerus());
-    const geometry::FineFillSource source = geometry::FineFillSource::sample(grid, humerus(), scene);
+    const geometry::FineFillSource source =
+        geometry::FineFillSource::sample(grid, humerus(), scene);
     DrillingOptions drilling;
     drilling.levels = levels;
-    DrillingSimulation sim(grid, hierarchy, levels > 0 ? &source : nullptr, ToolKind::Drill, ToolOptions{}, drilling);
+    DrillingSimulation sim(grid, hierarchy, levels > 0 ? &source : nullptr, ToolKind::Drill,
+                           ToolOptions{}, drilling);
     std::vector<glm::dvec3> forces;  // the parts stepped by hand at 1 kHz
     for (std::size_t i = 0; i < a.log.size(); ++i) {
       StepInput in;
@@ -149,11 +152,13 @@ TEST(Session, SurfaceChangesRebuildTheSurface) {
   }
   apply(session.takeSurfaceChanges());
   EXPECT_GT(changedSlots, 0u);
-  EXPECT_LT(changedSlots, reads * session.surface().vertexCount() / 4) << "only what changed is listed";
+  EXPECT_LT(changedSlots, reads * session.surface().vertexCount() / 4)
+      << "only what changed is listed";
   EXPECT_TRUE(compare());
   // Released, the surface is extracted from the grid (the same surface, its last bits aside);
   // changes need it kept again.
-  const std::size_t vertices = session.surface().vertexCount(), triangles = session.surface().triangleCount();
+  const std::size_t vertices = session.surface().vertexCount(),
+                    triangles = session.surface().triangleCount();
   session.releaseSurface();
   EXPECT_EQ(session.surface().vertexCount(), vertices);
   EXPECT_EQ(session.surface().triangleCount(), triangles);
@@ -190,11 +195,14 @@ TEST(Session, ABoneFromAGridFitsItsHeadToTheGridsSurface) {
   Session session(gridBone, options);
   const PortalPlan plan = session.portalPath(Portal::FiveOClock, shortPath());
   // The axes agree within about 10 degrees: a few mm on the head's surface.
-  EXPECT_LT(glm::length(plan.entryMm - Session(meshBone, options).portalPath(Portal::FiveOClock).entryMm), 6.0);
+  EXPECT_LT(
+      glm::length(plan.entryMm - Session(meshBone, options).portalPath(Portal::FiveOClock).entryMm),
+      6.0);
   EXPECT_GT(session.run(plan.path).summary.removedVolumeMm3, 0.0);
 
   // No head to fit: the fit's own error, as for a mesh.
-  const auto box = BoneModel::fromMesh(test::makeBox({0, 0, 0}, {20, 20, 60}), 1.2, "box", 1.0, {}, false);
+  const auto box =
+      BoneModel::fromMesh(test::makeBox({0, 0, 0}, {20, 20, 60}), 1.2, "box", 1.0, {}, false);
   EXPECT_THROW(box->humeralHead(), InputError);  // the mesh: too few points
   const auto boxGrid = BoneModel::fromGrid(box->grid(), "box.nrrd");
   EXPECT_THROW(boxGrid->humeralHead(), InputError);
@@ -204,7 +212,8 @@ TEST(Session, ABoneFromAGridFitsItsHeadToTheGridsSurface) {
 // Set-up is reported stage by stage: every stage non-negative, the total at least its largest
 // part, stages that did not run 0 (no timed assertions: the machine may be busy).
 void expectSetupConsistent(const SetupTimings& t) {
-  const double stages[] = {t.loadMs, t.voxelizeMs, t.densityMs, t.fineFillsMs, t.hierarchyMs, t.surfaceMs};
+  const double stages[] = {t.loadMs,      t.voxelizeMs,  t.densityMs,
+                           t.fineFillsMs, t.hierarchyMs, t.surfaceMs};
   for (const double ms : stages) {
     EXPECT_GE(ms, 0.0);
     EXPECT_GE(t.totalMs, ms);
@@ -230,7 +239,7 @@ TEST(Session, ReportsItsSetupTimings) {
   const SetupTimings& t = session.setupTimings();
   expectSetupConsistent(t);
   EXPECT_EQ(t.voxelizeMs, bone->setupTimings().voxelizeMs);  // the bone's share, as it was
-  EXPECT_EQ(t.surfaceMs, 0.0);                              // no surface kept
+  EXPECT_EQ(t.surfaceMs, 0.0);                               // no surface kept
   EXPECT_GE(t.totalMs, bone->setupTimings().totalMs + t.hierarchyMs);
 
   const Session fromGrid = Session::fromGrid(bone->grid(), SessionOptions{}, "saved.nrrd", 12.5);

@@ -1,14 +1,14 @@
 // Refinement wherever bone touches a part (the drill's shaft too), and its per-step budget:
 // a tilted drill on the built-in bone, through BoneModel::open and Session as the CLI drives
 // them.
-#include "osteon/simulation/experiment.h"
-#include "osteon/simulation/motions.h"
-#include "osteon/simulation/session.h"
+#include <memory>
+#include <string>
 
 #include <gtest/gtest.h>
 
-#include <memory>
-#include <string>
+#include "osteon/simulation/experiment.h"
+#include "osteon/simulation/motions.h"
+#include "osteon/simulation/session.h"
 
 namespace osteon::simulation {
 namespace {
@@ -16,11 +16,13 @@ namespace {
 std::shared_ptr<const BoneModel> bone(double voxelMm) {
   // 0.3 mm is only run static: it needs no fine fills.
   static const std::shared_ptr<const BoneModel> coarse = BoneModel::open("default", 1.0, 1.2);
-  static const std::shared_ptr<const BoneModel> fine = BoneModel::open("default", 1.0, 0.3, {}, false);
+  static const std::shared_ptr<const BoneModel> fine =
+      BoneModel::open("default", 1.0, 0.3, {}, false);
   return voxelMm == 1.2 ? coarse : fine;
 }
 
-SessionOptions optionsFor(int levels, bool refineShells = true, std::size_t budget = DrillingOptions{}.refineBudgetVoxels) {
+SessionOptions optionsFor(int levels, bool refineShells = true,
+                          std::size_t budget = DrillingOptions{}.refineBudgetVoxels) {
   SessionOptions o;
   o.levels = levels;
   o.keepSurface = false;
@@ -73,8 +75,10 @@ TEST(ShellRefinement, ABudgetDefersRefinementWithoutAForceStep) {
   for (const double tilt : {60.0, 75.0}) {
     SCOPED_TRACE(tilt);
     DrillingTotals free, tight;
-    const RunSummary unbounded = tilted(1.2, optionsFor(2, true, 0), Portal::FiveOClock, tilt, &free).summary;
-    const RunSummary budgeted = tilted(1.2, optionsFor(2, true, 1), Portal::FiveOClock, tilt, &tight).summary;
+    const RunSummary unbounded =
+        tilted(1.2, optionsFor(2, true, 0), Portal::FiveOClock, tilt, &free).summary;
+    const RunSummary budgeted =
+        tilted(1.2, optionsFor(2, true, 1), Portal::FiveOClock, tilt, &tight).summary;
     EXPECT_EQ(free.stepsDeferred, 0u);
     EXPECT_GT(tight.stepsDeferred, 0u);
     EXPECT_GE(tight.voxelsDeferred, tight.stepsDeferred);

@@ -1,16 +1,16 @@
 // The drilling step allocates nothing, whatever the pose and motion: a tilted shaft refining
 // the bone it touches (with and without a refinement budget that defers), lateral shaving
 // sweeps with each tool, a fast push. Its own program, as it counts every heap allocation.
-#include "osteon/simulation/motions.h"
-#include "osteon/simulation/session.h"
-
-#include <gtest/gtest.h>
-
 #include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <string>
+
+#include <gtest/gtest.h>
+
+#include "osteon/simulation/motions.h"
+#include "osteon/simulation/session.h"
 #include "support/allocation_counter.h"
 
 namespace osteon::simulation {
@@ -47,7 +47,8 @@ SessionOptions options(ToolKind tool, std::size_t budget) {
 }
 
 TEST(StepAllocation, TiltedShaftsWithAndWithoutDeferral) {
-  for (const std::size_t budget : {std::size_t(0), std::size_t(1), DrillingOptions{}.refineBudgetVoxels}) {
+  for (const std::size_t budget :
+       {std::size_t(0), std::size_t(1), DrillingOptions{}.refineBudgetVoxels}) {
     for (const double tilt : {0.0, 40.0, 75.0}) {
       SCOPED_TRACE("budget " + std::to_string(budget) + ", tilt " + std::to_string(tilt));
       const std::uint64_t beforeSetUp = test::allocations();

@@ -3,14 +3,13 @@
 // seeded noise, for tests of the volume loaders, the CLI and the viewer.
 #pragma once
 
-#include "support/volume_files.h"
-
-#include "osteon/geometry/io/volume_io.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cmath>
 #include <random>
 #include <vector>
+
+#include "osteon/geometry/io/volume_io.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "support/volume_files.h"
 
 namespace osteon::test {
 
@@ -21,8 +20,8 @@ struct BoneVolumes {
 
 // partialVolume: a voxel's HU mixes bone and soft tissue in proportion to its fill, as a scanner
 // averages what a voxel holds; otherwise each voxel is all bone or all tissue.
-inline BoneVolumes boneVolumes(const geometry::VoxelGrid& bone, double label, double noiseHu, unsigned seed,
-                               bool partialVolume) {
+inline BoneVolumes boneVolumes(const geometry::VoxelGrid& bone, double label, double noiseHu,
+                               unsigned seed, bool partialVolume) {
   BoneVolumes out;
   TestVolume& v = out.geometry;
   v.sizes = bone.dims();
@@ -39,7 +38,8 @@ inline BoneVolumes boneVolumes(const geometry::VoxelGrid& bone, double label, do
         const bool in = f >= geometry::kFillHalf;
         out.labels.push_back(in ? label : 0.0);
         const double boneHu = d >= geometry::kCtCorticalDensity ? 1300.0 : 450.0;
-        const double fraction = partialVolume ? double(f) / double(geometry::kFillFull) : (in ? 1.0 : 0.0);
+        const double fraction =
+            partialVolume ? double(f) / double(geometry::kFillFull) : (in ? 1.0 : 0.0);
         out.hu.push_back(std::round(-700.0 + fraction * (boneHu + 700.0) + noise(rng)));
       }
     }

@@ -1,9 +1,9 @@
 #include "support/carve.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::test {
 
@@ -23,9 +23,12 @@ Carved carve(geometry::RefinedVoxels& voxels, const Cut& cut, int decrement) {
   // Every voxel with bone whose cube may meet the cut: within its bounding sphere and a voxel
   // diagonal of the centre.
   const glm::dvec3 mid = 0.5 * (cut.aMm + cut.bMm);
-  const double reach = 0.5 * glm::length(cut.bMm - cut.aMm) + cut.radiusMm + 2.0 * grid.voxelSizeMm();
-  const glm::ivec3 lo = glm::max(glm::ivec3(glm::floor(grid.gridFromWorld(mid - reach))), glm::ivec3(0));
-  const glm::ivec3 hi = glm::min(glm::ivec3(glm::ceil(grid.gridFromWorld(mid + reach))), grid.dims() - 1);
+  const double reach =
+      0.5 * glm::length(cut.bMm - cut.aMm) + cut.radiusMm + 2.0 * grid.voxelSizeMm();
+  const glm::ivec3 lo =
+      glm::max(glm::ivec3(glm::floor(grid.gridFromWorld(mid - reach))), glm::ivec3(0));
+  const glm::ivec3 hi =
+      glm::min(glm::ivec3(glm::ceil(grid.gridFromWorld(mid + reach))), grid.dims() - 1);
   std::vector<glm::ivec3> bone;
   for (int z = lo.z; z <= hi.z; ++z)
     for (int y = lo.y; y <= hi.y; ++y)
@@ -37,7 +40,8 @@ Carved carve(geometry::RefinedVoxels& voxels, const Cut& cut, int decrement) {
       const int n = block.perEdge;
       std::uint64_t removed = 0, removedFill = 0;
       for (int i = 0; i < n * n * n; ++i) {
-        const glm::dvec3 c = block.cornerMm + (glm::dvec3(i % n, (i / n) % n, i / (n * n)) + 0.5) * block.sampleMm;
+        const glm::dvec3 c =
+            block.cornerMm + (glm::dvec3(i % n, (i / n) % n, i / (n * n)) + 0.5) * block.sampleMm;
         if (block.fill[i] == 0 || !cut.contains(c)) continue;
         block.density[i] = geometry::Density(std::max(int(block.density[i]) - decrement, 0));
         if (block.density[i] > 0) {

@@ -3,9 +3,9 @@
 // geometry's tests drill without depending on simulation.
 #pragma once
 
-#include "osteon/geometry/hierarchy/refinement.h"
-
 #include <cstdint>
+
+#include "osteon/geometry/hierarchy/refinement.h"
 
 namespace osteon::test {
 
@@ -28,8 +28,8 @@ struct Carved {
 // Every sample with bone whose centre the cut contains loses `decrement` density; at 0 it is
 // removed. Visits every voxel near the cut (no hierarchy query, no shortcut).
 Carved carve(geometry::RefinedVoxels& voxels, const Cut& cut, int decrement = 1);
-inline Carved carveSphere(geometry::RefinedVoxels& voxels, const glm::dvec3& centreMm, double radiusMm,
-                          int decrement = 1) {
+inline Carved carveSphere(geometry::RefinedVoxels& voxels, const glm::dvec3& centreMm,
+                          double radiusMm, int decrement = 1) {
   return carve(voxels, Cut{centreMm, centreMm, radiusMm, false}, decrement);
 }
 

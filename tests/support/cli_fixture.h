@@ -3,16 +3,15 @@
 // instead of the machine.
 #pragma once
 
-#include "support/files.h"
-#include "support/process.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 
+#include <gtest/gtest.h>
+
+#include "support/files.h"
+#include "support/process.h"
+#include "support/shapes.h"
 
 namespace osteon {
 
@@ -36,12 +35,13 @@ class CliTest : public ::testing::Test {
     const std::string limit = "ulimit -v 4194304; ";
 #endif
 #ifdef OSTEON_SLOW_BUILD
-    const std::string seconds = "1200";  // sanitizer builds run 2-15x slower (cmake/OsteonSanitizers.cmake)
+    const std::string seconds =
+        "1200";  // sanitizer builds run 2-15x slower (cmake/OsteonSanitizers.cmake)
 #else
     const std::string seconds = "120";
 #endif
-    return test::runShell(limit + "timeout " + seconds + " '" + OSTEON_CLI + "' " + args, path("stdout"),
-                          path("stderr"));
+    return test::runShell(limit + "timeout " + seconds + " '" + OSTEON_CLI + "' " + args,
+                          path("stdout"), path("stderr"));
   }
 
   // Bad input: exit 2, nothing on stdout, one line on stderr that names `needle`.

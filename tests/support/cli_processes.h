@@ -2,21 +2,20 @@
 // serial board (serial_board.h): for tests of commands that watch a device.
 #pragma once
 
-#include "support/process.h"
-#include "support/serial_board.h"
+#include <chrono>
+#include <csignal>
+#include <fcntl.h>
+#include <poll.h>
+#include <string>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <csignal>
-#include <string>
-#include <thread>
-#include <vector>
-
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "support/process.h"
+#include "support/serial_board.h"
 
 namespace osteon {
 
@@ -49,7 +48,8 @@ class RunningOsteon {
         buffer_.erase(0, newline + 1);
         return line;
       }
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) return "";
       pollfd p{out_, POLLIN, 0};
       if (::poll(&p, 1, int(left.count())) <= 0) continue;

@@ -9,7 +9,6 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
-
 #include <unistd.h>
 
 namespace osteon::test {

@@ -19,12 +19,14 @@ HumerusParts::HumerusParts(double pathS) {
   vo.voxelSizeMm = 1.2;
   grid = geometry::voxelize(model.mesh, vo);
   hierarchy = geometry::DynamicProximityHierarchy::build(grid, geometry::DphBuildOptions{});
-  sim = std::make_unique<simulation::DrillingSimulation>(grid, hierarchy, nullptr, simulation::ToolKind::Drill,
-                                                         simulation::ToolOptions{}, simulation::DrillingOptions{});
+  sim = std::make_unique<simulation::DrillingSimulation>(
+      grid, hierarchy, nullptr, simulation::ToolKind::Drill, simulation::ToolOptions{},
+      simulation::DrillingOptions{});
   simulation::PortalPathOptions po;
   po.durationS = pathS;
-  plan = simulation::makePortalPath(simulation::Portal::FiveOClock, simulation::fitHumeralHead(model.mesh),
-                                    model.mesh, sim->tool().parts[0].outerRadiusMm, po);
+  plan = simulation::makePortalPath(simulation::Portal::FiveOClock,
+                                    simulation::fitHumeralHead(model.mesh), model.mesh,
+                                    sim->tool().parts[0].outerRadiusMm, po);
 }
 
 }  // namespace osteon::test

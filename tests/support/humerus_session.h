@@ -3,14 +3,14 @@
 // parts themselves.
 #pragma once
 
+#include <memory>
+
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 #include "osteon/simulation/drilling.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/session.h"
-
-#include <memory>
 
 namespace osteon::test {
 

@@ -4,17 +4,16 @@
 // read its output as it comes or measure its own peak memory). Header-only, POSIX.
 #pragma once
 
-#include "support/files.h"
-
 #include <chrono>
 #include <cstdlib>
-#include <string>
-#include <vector>
-
 #include <fcntl.h>
+#include <string>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
+
+#include "support/files.h"
 
 namespace osteon::test {
 
@@ -32,10 +31,11 @@ struct ProcessRun {
 
 // Runs `command` through /bin/sh with stdin from /dev/null and stdout and stderr into the two
 // files (read back into the result).
-inline ProcessRun runShell(const std::string& command, const std::string& outPath, const std::string& errPath) {
+inline ProcessRun runShell(const std::string& command, const std::string& outPath,
+                           const std::string& errPath) {
   const auto start = std::chrono::steady_clock::now();
-  const int status =
-      std::system(("( " + command + " ) >'" + outPath + "' 2>'" + errPath + "' </dev/null").c_str());
+  const int status = std::system(
+      ("( " + command + " ) >'" + outPath + "' 2>'" + errPath + "' </dev/null").c_str());
   ProcessRun run;
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   run.exitCode = exitCodeOf(status);
@@ -48,8 +48,8 @@ inline ProcessRun runShell(const std::string& command, const std::string& outPat
 // descriptors and no other descriptor of the test's (a pty held open here would never hang
 // up); under an address-space limit when one is given. Returns the child's pid; the child
 // exits 127 when the program cannot start. The caller closes its own copies of the descriptors.
-inline pid_t spawnProgram(const std::string& program, const std::vector<std::string>& args, int outFd, int errFd,
-                          rlim_t addressSpaceBytes = RLIM_INFINITY) {
+inline pid_t spawnProgram(const std::string& program, const std::vector<std::string>& args,
+                          int outFd, int errFd, rlim_t addressSpaceBytes = RLIM_INFINITY) {
   std::vector<char*> argv{const_cast<char*>(program.c_str())};
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);

@@ -5,12 +5,11 @@
 #pragma once
 
 #include <chrono>
-#include <filesystem>
-#include <string>
-
 #include <fcntl.h>
+#include <filesystem>
 #include <poll.h>
 #include <pty.h>
+#include <string>
 #include <termios.h>
 #include <unistd.h>
 

@@ -6,7 +6,6 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-
 #include <unistd.h>
 
 namespace osteon::test {

@@ -1,9 +1,9 @@
 // Analytic test shapes as closed, outward triangle meshes (file helpers: files.h).
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-
 #include <string>
+
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::test {
 

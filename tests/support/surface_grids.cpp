@@ -19,12 +19,13 @@ const std::vector<std::pair<std::string, geometry::SurfaceOptions>>& smoothingVa
   return variants;
 }
 
-
 geometry::VoxelGrid emptyGrid(glm::ivec3 dims, double voxelSizeMm) {
   return geometry::VoxelGrid(dims, glm::dvec3(0.0), voxelSizeMm);
 }
 
-void setFull(geometry::VoxelGrid& g, const glm::ivec3& v) { g.set(v, geometry::kFillFull, 1); }
+void setFull(geometry::VoxelGrid& g, const glm::ivec3& v) {
+  g.set(v, geometry::kFillFull, 1);
+}
 
 geometry::Fill cornerFill(bool inside, CornerFills mode, std::mt19937& rng) {
   using geometry::Fill;
@@ -44,7 +45,8 @@ geometry::Fill cornerFill(bool inside, CornerFills mode, std::mt19937& rng) {
   return 0;
 }
 
-geometry::VoxelGrid singleCubeGrid(int config, geometry::Fill background, CornerFills mode, std::mt19937& rng) {
+geometry::VoxelGrid singleCubeGrid(int config, geometry::Fill background, CornerFills mode,
+                                   std::mt19937& rng) {
   geometry::VoxelGrid g = emptyGrid({4, 4, 4});
   for (int z = 0; z < 4; ++z)
     for (int y = 0; y < 4; ++y)

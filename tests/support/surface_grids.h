@@ -2,14 +2,14 @@
 // and validation's exact checks of the same surfaces (CGAL).
 #pragma once
 
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstdint>
 #include <random>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::test {
 
@@ -31,7 +31,8 @@ geometry::Fill cornerFill(bool inside, CornerFills mode, std::mt19937& rng);
 // A 4^3 grid whose central 2x2x2 voxels are the corners of one cube, corner c at (1, 1, 1) +
 // (c & 1, c >> 1 & 1, c >> 2 & 1) inside when bit c of `config` is set; the other voxels are
 // `background` (empty, or full so the cube sits in a cavity's wall).
-geometry::VoxelGrid singleCubeGrid(int config, geometry::Fill background, CornerFills mode, std::mt19937& rng);
+geometry::VoxelGrid singleCubeGrid(int config, geometry::Fill background, CornerFills mode,
+                                   std::mt19937& rng);
 
 // n^3 voxels of uniformly random fill (seeded per size and seed).
 geometry::VoxelGrid noiseGrid(int n, std::uint32_t seed, double voxelSizeMm = 0.7);

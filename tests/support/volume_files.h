@@ -2,18 +2,17 @@
 // .nii.gz), for tests that read them back through osteon's volume loader.
 #pragma once
 
-#include "support/files.h"
-
-#include <zlib.h>
-
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include <zlib.h>
 
 #include <glm/glm.hpp>
+
+#include "support/files.h"
 
 namespace osteon::test {
 
@@ -38,7 +37,8 @@ std::string encodeAs(const std::vector<double>& values) {
 
 inline std::string gzipBytes(const std::string& data) {
   z_stream z{};
-  if (deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) throw std::runtime_error("deflate");
+  if (deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw std::runtime_error("deflate");
   std::string out(deflateBound(&z, uLong(data.size())) + 64, '\0');
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
   z.avail_in = uInt(data.size());
@@ -59,12 +59,14 @@ inline void writeTestNrrd(const std::string& path, const TestVolume& v, const st
   const std::string s = std::to_string(v.spacingMm);
   std::string h = "NRRD0004\n# written by a test, as 3D Slicer would\n";
   h += "type: " + nrrdType + "\ndimension: 3\nspace: left-posterior-superior\n";
-  h += "sizes: " + std::to_string(v.sizes.x) + " " + std::to_string(v.sizes.y) + " " + std::to_string(v.sizes.z) + "\n";
-  h += "space directions: " + (directions.empty() ? "(" + s + ",0,0) (0," + s + ",0) (0,0," + s + ")" : directions) + "\n";
+  h += "sizes: " + std::to_string(v.sizes.x) + " " + std::to_string(v.sizes.y) + " " +
+       std::to_string(v.sizes.z) + "\n";
+  h += "space directions: " +
+       (directions.empty() ? "(" + s + ",0,0) (0," + s + ",0) (0,0," + s + ")" : directions) + "\n";
   h += "kinds: domain domain domain\nendian: little\n";
   h += std::string("encoding: ") + (gzip ? "gzip" : "raw") + "\n";
-  h += "space origin: (" + std::to_string(v.firstCentreMm.x) + "," + std::to_string(v.firstCentreMm.y) + "," +
-       std::to_string(v.firstCentreMm.z) + ")\n";
+  h += "space origin: (" + std::to_string(v.firstCentreMm.x) + "," +
+       std::to_string(v.firstCentreMm.y) + "," + std::to_string(v.firstCentreMm.z) + ")\n";
   const std::string data = gzip ? gzipBytes(bytes) : bytes;
   if (dataFile.empty()) {
     writeBytes(path, h + "\n" + data);
@@ -80,7 +82,9 @@ inline void writeTestNrrd(const std::string& path, const TestVolume& v, const st
 inline void writeTestNifti(const std::string& path, const TestVolume& v, std::int16_t datatype,
                            std::int16_t bitpix, const std::string& bytes, bool gz) {
   unsigned char h[352] = {};
-  const auto put = [&h](std::size_t offset, const auto value) { std::memcpy(h + offset, &value, sizeof(value)); };
+  const auto put = [&h](std::size_t offset, const auto value) {
+    std::memcpy(h + offset, &value, sizeof(value));
+  };
   put(0, std::int32_t(348));
   put(40, std::int16_t(3));
   put(42, std::int16_t(v.sizes.x));
@@ -94,7 +98,7 @@ inline void writeTestNifti(const std::string& path, const TestVolume& v, std::in
   put(84, float(v.spacingMm));
   put(88, float(v.spacingMm));
   put(108, float(352));
-  put(112, float(0));  // scl_slope 0: no scaling
+  put(112, float(0));         // scl_slope 0: no scaling
   put(254, std::int16_t(1));  // sform_code
   const double ras[3][4] = {{-v.spacingMm, 0, 0, -v.firstCentreMm.x},
                             {0, -v.spacingMm, 0, -v.firstCentreMm.y},

@@ -7,11 +7,6 @@
 //
 // table.tsv rows: loader, file (relative to OUT), expected exit code, a reason the error line
 // must contain (empty: any reason; the exit code and the one-line shape are still checked).
-#include "support/volume_files.h"
-
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -21,7 +16,11 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <vector>
+
+#include "support/volume_files.h"
 
 namespace fs = std::filesystem;
 using osteon::test::writeBytes;
@@ -60,9 +59,10 @@ std::string binaryStl(const std::string& header80, std::uint32_t count, int face
 }
 
 std::string binaryPly() {
-  std::string b = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
-                  "property float y\nproperty float z\nelement face 4\n"
-                  "property list uchar int vertex_indices\nend_header\n";
+  std::string b =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 4\n"
+      "property list uchar int vertex_indices\nend_header\n";
   for (const auto& v : kTetra) {
     for (int k = 0; k < 3; ++k) put(b, v[k]);
   }
@@ -97,32 +97,39 @@ void writeSeeds(const std::string& dir) {
   writeBytes(dir + "/tetra_binary.ply", binaryPly());
   using osteon::test::encodeAs;
   const osteon::test::TestVolume labels = blockVolume(0, 1);
-  osteon::test::writeTestNrrd(dir + "/labels.nrrd", labels, "uint8", encodeAs<std::uint8_t>(labels.values), false);
-  osteon::test::writeTestNrrd(dir + "/labels_gzip.nrrd", labels, "uint8", encodeAs<std::uint8_t>(labels.values), true);
-  osteon::test::writeTestNrrd(dir + "/labels_detached.nhdr", labels, "uint8", encodeAs<std::uint8_t>(labels.values),
-                              false, "labels_detached.raw");
+  osteon::test::writeTestNrrd(dir + "/labels.nrrd", labels, "uint8",
+                              encodeAs<std::uint8_t>(labels.values), false);
+  osteon::test::writeTestNrrd(dir + "/labels_gzip.nrrd", labels, "uint8",
+                              encodeAs<std::uint8_t>(labels.values), true);
+  osteon::test::writeTestNrrd(dir + "/labels_detached.nhdr", labels, "uint8",
+                              encodeAs<std::uint8_t>(labels.values), false, "labels_detached.raw");
   const osteon::test::TestVolume ct = blockVolume(-1000, 1200);
-  osteon::test::writeTestNifti(dir + "/ct.nii", ct, 4, 16, encodeAs<std::int16_t>(ct.values), false);
-  osteon::test::writeTestNifti(dir + "/ct.nii.gz", ct, 4, 16, encodeAs<std::int16_t>(ct.values), true);
+  osteon::test::writeTestNifti(dir + "/ct.nii", ct, 4, 16, encodeAs<std::int16_t>(ct.values),
+                               false);
+  osteon::test::writeTestNifti(dir + "/ct.nii.gz", ct, 4, 16, encodeAs<std::int16_t>(ct.values),
+                               true);
 }
 
 struct Table {
   std::string out;
   std::ofstream tsv;
   int cases = 0;
-  void add(const std::string& loader, const std::string& name, const std::string& bytes, int exitCode = 2,
-           const std::string& reason = "") {
+  void add(const std::string& loader, const std::string& name, const std::string& bytes,
+           int exitCode = 2, const std::string& reason = "") {
     fs::create_directories(out + "/" + loader);
     writeBytes(out + "/" + loader + "/" + name, bytes);
     row(loader, loader + "/" + name, exitCode, reason);
   }
-  void row(const std::string& loader, const std::string& file, int exitCode, const std::string& reason) {
+  void row(const std::string& loader, const std::string& file, int exitCode,
+           const std::string& reason) {
     tsv << loader << '\t' << file << '\t' << exitCode << '\t' << reason << '\n';
     ++cases;
   }
 };
 
-bool blank(const std::string& s) { return s.find_first_not_of(" \t\r\n") == std::string::npos; }
+bool blank(const std::string& s) {
+  return s.find_first_not_of(" \t\r\n") == std::string::npos;
+}
 
 // Cut `seed` at `at` bytes unless only whitespace would be lost (that prefix is the same file).
 void cut(Table& t, const std::string& loader, const std::string& stem, const std::string& ext,
@@ -157,10 +164,12 @@ void cutFields(Table& t, const std::string& loader, const std::string& stem, con
 // Truncations of every seed.
 void addTruncations(Table& t, const std::string& seeds) {
   const std::string stlText = readAll(seeds + "/tetra_ascii.stl");
-  cutText(t, "stl", "tetra_ascii", ".stl", stlText, 1, stlText.rfind("endsolid") + 8);  // "endsolid" alone ends it
+  cutText(t, "stl", "tetra_ascii", ".stl", stlText, 1,
+          stlText.rfind("endsolid") + 8);  // "endsolid" alone ends it
   const std::string stlBinary = readAll(seeds + "/tetra_binary.stl");
-  for (std::size_t at : {std::size_t(40), std::size_t(80), std::size_t(82), std::size_t(84), std::size_t(84 + 12),
-                         std::size_t(84 + 50), std::size_t(84 + 149), std::size_t(84 + 199)}) {
+  for (std::size_t at :
+       {std::size_t(40), std::size_t(80), std::size_t(82), std::size_t(84), std::size_t(84 + 12),
+        std::size_t(84 + 50), std::size_t(84 + 149), std::size_t(84 + 199)}) {
     cut(t, "stl", "tetra_binary", ".stl", stlBinary, at);
   }
   cutFields(t, "obj", "tetra", ".obj", readAll(seeds + "/tetra.obj"), ' ');
@@ -168,7 +177,8 @@ void addTruncations(Table& t, const std::string& seeds) {
   const std::string plyBinary = readAll(seeds + "/tetra_binary.ply");
   const std::size_t body = plyBinary.find("end_header\n") + 11;
   cutText(t, "ply", "tetra_binary", ".ply", plyBinary.substr(0, body));
-  for (std::size_t at = body + 4; at < plyBinary.size(); at += 13) cut(t, "ply", "tetra_binary", ".ply", plyBinary, at);
+  for (std::size_t at = body + 4; at < plyBinary.size(); at += 13)
+    cut(t, "ply", "tetra_binary", ".ply", plyBinary, at);
   cutText(t, "off", "tetra", ".off", readAll(seeds + "/tetra.off"));
   for (const char* nrrd : {"labels", "labels_gzip"}) {
     const std::string seed = readAll(seeds + "/" + nrrd + ".nrrd");
@@ -180,9 +190,11 @@ void addTruncations(Table& t, const std::string& seeds) {
   }
   for (const char* nii : {"ct.nii", "ct.nii.gz"}) {
     const std::string seed = readAll(seeds + "/" + nii);
-    for (std::size_t at : {std::size_t(4), std::size_t(40), std::size_t(200), std::size_t(347), std::size_t(348),
-                           std::size_t(352), std::size_t(352 + 512), seed.size() - 2}) {
-      if (at < seed.size()) t.add("nifti", "cut" + std::to_string(at) + "_" + nii, seed.substr(0, at));
+    for (std::size_t at :
+         {std::size_t(4), std::size_t(40), std::size_t(200), std::size_t(347), std::size_t(348),
+          std::size_t(352), std::size_t(352 + 512), seed.size() - 2}) {
+      if (at < seed.size())
+        t.add("nifti", "cut" + std::to_string(at) + "_" + nii, seed.substr(0, at));
     }
   }
   cutFields(t, "path", "path", ".csv", readAll(seeds + "/path.csv"), ',');
@@ -194,23 +206,30 @@ void addHugeCounts(Table& t, const std::string& out) {
   t.add("stl", "binary_count_max.stl", binaryStl("binary", 0xffffffffu, 0), 2, "");
   t.add("stl", "binary_count_short.stl", binaryStl("binary", 5, 4), 2, "");
   t.add("stl", "binary_solid_header_count_short.stl", binaryStl("solid but binary", 9, 4), 2, "");
-  t.add("ply", "vertex_count_1e15.ply",
-        "ply\nformat ascii 1.0\nelement vertex 1000000000000000\nproperty float x\nproperty float y\n"
-        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n");
-  t.add("ply", "face_count_2p64.ply",
-        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-        "property float z\nelement face 18446744073709551617\nproperty list uchar int vertex_indices\n"
-        "end_header\n" + std::string(36, '\0'));
+  t.add(
+      "ply", "vertex_count_1e15.ply",
+      "ply\nformat ascii 1.0\nelement vertex 1000000000000000\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 "
+      "0\n");
+  t.add(
+      "ply", "face_count_2p64.ply",
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 18446744073709551617\nproperty list uchar int "
+      "vertex_indices\n"
+      "end_header\n" +
+          std::string(36, '\0'));
   t.add("off", "counts_1e15.off", "OFF\n1000000000000000 1000000000000000 0\n0 0 0\n");
   t.add("nrrd", "sizes_1e12.nrrd",
-        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 10000 10000 10000\nencoding: raw\n\n" + std::string(64, '\1'),
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 10000 10000 10000\nencoding: raw\n\n" +
+            std::string(64, '\1'),
         2, "exceed 2^32 voxels");
   t.add("nrrd", "sizes_1e12_gzip.nrrd",
         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 10000 10000 10000\nencoding: gzip\n\n" +
             osteon::test::gzipBytes(std::string(4096, '\1')));
   // A short gzip stream behind a header asking for 1.6 GB: refused before that is allocated.
   t.add("nrrd", "sizes_1p6e9_gzip_short.nrrd",
-        "NRRD0004\ntype: short\ndimension: 3\nsizes: 1000 1000 800\nendian: little\nspacings: 1 1 1\nencoding: gzip\n\n" +
+        "NRRD0004\ntype: short\ndimension: 3\nsizes: 1000 1000 800\nendian: little\nspacings: 1 1 "
+        "1\nencoding: gzip\n\n" +
             osteon::test::gzipBytes(std::string(4096, '\1')));
   {
     osteon::test::TestVolume huge = blockVolume(0, 1);
@@ -227,7 +246,8 @@ void addLongLines(Table& t) {
   t.add("obj", "long_line.obj", "v 0 0 " + longLine + "\n");
   t.add("stl", "long_line.stl", "solid " + longLine + "\n");
   t.add("path", "long_line.csv", "t,x,y,z,drill_on\n0,10,10,30," + longLine + "\n");
-  t.add("recording", "long_line.csv", std::string("t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n") + longLine + "\n");
+  t.add("recording", "long_line.csv",
+        std::string("t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n") + longLine + "\n");
   t.add("nrrd", "long_comment.nrrd", "NRRD0004\n# " + longLine + "\ntype: uint8\n");
 }
 
@@ -244,7 +264,8 @@ void addNonFiles(Table& t, const std::string& out) {
     t.row(loader, std::string(loader) + "/a_directory" + ext, 2, "not a regular file");
     fs::create_symlink("/dev/zero", dir + "/dev_zero" + ext);
     t.row(loader, std::string(loader) + "/dev_zero" + ext, 2, "not a regular file");
-    if (mkfifo((dir + "/fifo" + ext).c_str(), 0600) == 0) t.row(loader, std::string(loader) + "/fifo" + ext, 2, "not a regular file");
+    if (mkfifo((dir + "/fifo" + ext).c_str(), 0600) == 0)
+      t.row(loader, std::string(loader) + "/fifo" + ext, 2, "not a regular file");
     fs::create_symlink("nowhere" + ext, dir + "/dangling" + ext);
     t.row(loader, std::string(loader) + "/dangling" + ext, 2, "");
     t.row(loader, std::string(loader) + "/missing" + ext, 2, "");
@@ -260,7 +281,8 @@ void addNonFiles(Table& t, const std::string& out) {
 void generate(const std::string& seeds, const std::string& out) {
   fs::create_directories(out);
   Table t{out, std::ofstream(out + "/table.tsv"), 0};
-  t.tsv << "# loader\tfile\texit\treason (generated by osteon_bad_inputs; see tests/data/bad/README.md)\n";
+  t.tsv << "# loader\tfile\texit\treason (generated by osteon_bad_inputs; see "
+           "tests/data/bad/README.md)\n";
   addTruncations(t, seeds);
   addHugeCounts(t, out);
   addLongLines(t);

@@ -1,8 +1,9 @@
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/simulation/session.h"
 #include "osteon/validation/collision_check.h"
 
 #include <gtest/gtest.h>
+
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/simulation/session.h"
 
 namespace osteon::validation {
 namespace {
@@ -14,7 +15,9 @@ CollisionCheckResult drill(int levels, bool updateSurface,
   SessionOptions options;
   options.levels = levels;
   // Refined voxels split their fill evenly here (no fine fills): the check holds either way.
-  Session session(BoneModel::fromMesh(geometry::buildHumerusModel().mesh, 1.2, "default", 1.0, {}, false), options);
+  Session session(
+      BoneModel::fromMesh(geometry::buildHumerusModel().mesh, 1.2, "default", 1.0, {}, false),
+      options);
   const PortalPlan plan = session.portalPath(Portal::FiveOClock);
   CollisionCheckOptions check;
   check.everySteps = 25;

@@ -1,15 +1,16 @@
 // The crack views as a folder of PNG files: the six written as one set, the previous set kept
 // until the new one is complete, and an input in the folder refused before any work.
-#include "osteon/core/error.h"
 #include "osteon/validation/crack_images.h"
-#include "support/files.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon::validation {
 namespace {

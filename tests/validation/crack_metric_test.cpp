@@ -1,14 +1,15 @@
+#include "osteon/validation/crack_metric.h"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/validation/crack_metric.h"
 #include "support/files.h"
 #include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <filesystem>
 
 namespace osteon::validation {
 namespace {
@@ -37,9 +38,11 @@ TEST(CrackMetric, NaiveMarchingCubesCracksAndCrackFreeDoesNot) {
   vo.voxelSizeMm = 1.2;
   const geometry::VoxelGrid grid = geometry::voxelize(geometry::buildHumerusModel().mesh, vo);
   geometry::SurfaceOptions so;
-  const CrackMetric crackFree = measureCracks(geometry::extractSurface(grid, so).toTriangleMesh(), {256, false});
+  const CrackMetric crackFree =
+      measureCracks(geometry::extractSurface(grid, so).toTriangleMesh(), {256, false});
   so.method = geometry::SurfaceMethod::Naive;
-  const CrackMetric naive = measureCracks(geometry::extractSurface(grid, so).toTriangleMesh(), {256, false});
+  const CrackMetric naive =
+      measureCracks(geometry::extractSurface(grid, so).toTriangleMesh(), {256, false});
   EXPECT_EQ(crackFree.red, 0u);
   EXPECT_GT(naive.red, 0u);
   EXPECT_GT(naive.crackPercent(), 0.1);
@@ -50,15 +53,17 @@ TEST(CrackMetric, ImagesAreWrittenAsPng) {
   CrackMetricOptions options;
   options.pixels = 64;
   options.keepImages = true;
-  const std::vector<std::string> paths = writeCrackImages(measureCracks(test::makeSphere(5.0, 32, 16), options), dir);
+  const std::vector<std::string> paths =
+      writeCrackImages(measureCracks(test::makeSphere(5.0, 32, 16), options), dir);
   ASSERT_EQ(paths.size(), 6u);
   for (const std::string& p : paths) {
     const std::string bytes = test::readBytes(p);
     ASSERT_GT(bytes.size(), 100u) << p;
     EXPECT_EQ(bytes.substr(1, 3), "PNG") << p;
   }
-  EXPECT_THROW(writeCrackImages(measureCracks(test::makeSphere(5.0, 32, 16), options), dir + "/missing/dir"),
-               InputError);
+  EXPECT_THROW(
+      writeCrackImages(measureCracks(test::makeSphere(5.0, 32, 16), options), dir + "/missing/dir"),
+      InputError);
 }
 
 }  // namespace

@@ -1,9 +1,10 @@
 #include "osteon/validation/mesh_checks.h"
-#include "support/shapes.h"
+
+#include <cmath>
 
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include "support/shapes.h"
 
 namespace osteon::validation {
 namespace {
@@ -44,8 +45,8 @@ TEST(MeshChecks, AHoleAFlipAnOverlapAndAFinEachFail) {
   EXPECT_FALSE(f.passes());
   EXPECT_LT(f.volumeMm3, 0.0);
 
-  const TriangleMesh overlap =
-      merged(test::makeSphere(10.0, 32, 16), test::makeSphere(10.0, 32, 16, glm::dvec3(8.0, 0.0, 0.0)));
+  const TriangleMesh overlap = merged(test::makeSphere(10.0, 32, 16),
+                                      test::makeSphere(10.0, 32, 16, glm::dvec3(8.0, 0.0, 0.0)));
   const MeshReport o = checkMesh(overlap);
   EXPECT_TRUE(o.watertight());
   EXPECT_GT(o.selfIntersections, 10u);
@@ -58,7 +59,8 @@ TEST(MeshChecks, AHoleAFlipAnOverlapAndAFinEachFail) {
   TriangleMesh fin = test::makeBox({0, 0, 0}, {1, 1, 1});
   const glm::u32vec3 t0 = fin.triangles[0];
   fin.positionsMm.push_back({0.5, 0.5, 3.0});
-  fin.triangles.push_back({t0.x, t0.y, std::uint32_t(fin.positionsMm.size() - 1)});  // a third face on an edge
+  fin.triangles.push_back(
+      {t0.x, t0.y, std::uint32_t(fin.positionsMm.size() - 1)});  // a third face on an edge
   const MeshReport n = checkMesh(fin);
   EXPECT_GT(n.topology.nonManifoldEdges, 0u);
   EXPECT_FALSE(n.passes());

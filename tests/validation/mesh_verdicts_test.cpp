@@ -1,16 +1,16 @@
 // Surfaces that are closed and manifold yet no solid: a flat square with both sides (it used to
 // be called "open: 0 border edges", or passed when its sides shared no diagonal) and two nested
 // spheres facing the same way (winding number 2 inside the inner one; it passed).
-#include "osteon/validation/mesh_checks.h"
-
-#include "support/shapes.h"
-
 #include <gtest/gtest.h>
+
+#include "osteon/validation/mesh_checks.h"
+#include "support/shapes.h"
 
 namespace osteon::validation {
 namespace {
 
-geometry::TriangleMesh joined(const geometry::TriangleMesh& a, geometry::TriangleMesh b, bool flipB) {
+geometry::TriangleMesh joined(const geometry::TriangleMesh& a, geometry::TriangleMesh b,
+                              bool flipB) {
   geometry::TriangleMesh out = a;
   const auto offset = std::uint32_t(a.positionsMm.size());
   out.positionsMm.insert(out.positionsMm.end(), b.positionsMm.begin(), b.positionsMm.end());
@@ -37,7 +37,8 @@ TEST(MeshCheckVerdicts, NestedShellsFacingTheSameWayFailWithWindingNumberTwo) {
   EXPECT_TRUE(hollow.passes());
   // One sphere, and two apart, are solids too.
   EXPECT_TRUE(checkMesh(outer).passes());
-  const MeshReport apart = checkMesh(joined(outer, test::makeSphere(5.0, 24, 12, glm::dvec3(30.0, 0.0, 0.0)), false));
+  const MeshReport apart =
+      checkMesh(joined(outer, test::makeSphere(5.0, 24, 12, glm::dvec3(30.0, 0.0, 0.0)), false));
   EXPECT_EQ(apart.windingNumberMax, 1);
   EXPECT_TRUE(apart.passes());
 }

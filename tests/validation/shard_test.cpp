@@ -2,13 +2,13 @@
 // deterministic longest-processing-time assignment.
 #include "osteon/validation/shard.h"
 
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <random>
 #include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "support/shapes.h"
 
 namespace osteon::validation {
 namespace {
@@ -95,7 +95,9 @@ TEST(RunValidation, RunsOnlyTheGroupsAsked) {
   for (std::size_t i = 0; i < part.cases.size(); ++i) {
     const ValidationCase& p = part.cases[i];
     const ValidationCase& w = whole.cases[4 + i];
-    EXPECT_EQ(caseKey(p.model, p.voxelSizeMm, geometry::surfaceMethodName(p.method), forceModeName(p.mode)), keys[4 + i]);
+    EXPECT_EQ(caseKey(p.model, p.voxelSizeMm, geometry::surfaceMethodName(p.method),
+                      forceModeName(p.mode)),
+              keys[4 + i]);
     EXPECT_EQ(p.voxels, w.voxels);
     EXPECT_EQ(p.triangles, w.triangles);
     EXPECT_EQ(p.before.topology.borderEdges, w.before.topology.borderEdges);

@@ -2,6 +2,14 @@
 // cross, on the grids that stress extraction most, every smoothing variant, and the
 // multi-resolution surface of refined and drilled voxels. Geometry's own tests check the
 // topology of the same surfaces without CGAL.
+#include <random>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
 #include "osteon/geometry/hierarchy/fine_fill.h"
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/io/humerus_model.h"
@@ -12,14 +20,6 @@
 #include "support/carve.h"
 #include "support/shapes.h"
 #include "support/surface_grids.h"
-
-#include <gtest/gtest.h>
-
-#include <random>
-#include <sstream>
-#include <string>
-#include <utility>
-#include <vector>
 
 namespace osteon::validation {
 namespace {
@@ -37,8 +37,10 @@ VoxelGrid voxelizeAt(const TriangleMesh& mesh, double voxelSizeMm) {
 std::vector<std::string> crossings(const VoxelGrid& grid, const std::string& what) {
   std::vector<std::string> failures;
   for (const auto& [name, options] : smoothingVariants()) {
-    const std::size_t pairs = selfIntersectingPairs(extractSurface(grid, options).toTriangleMesh(), 10);
-    if (pairs) failures.push_back(what + ", " + name + ": " + std::to_string(pairs) + " crossing pairs");
+    const std::size_t pairs =
+        selfIntersectingPairs(extractSurface(grid, options).toTriangleMesh(), 10);
+    if (pairs)
+      failures.push_back(what + ", " + name + ": " + std::to_string(pairs) + " crossing pairs");
   }
   return failures;
 }
@@ -83,15 +85,18 @@ TEST(SurfaceChecks, CgalFallbackHandlesSoupsThatAreNoPolygonMesh) {
   EXPECT_FALSE(doesSelfIntersect(pinched));
 
   TriangleMesh piercing = tetrahedron(glm::dvec3(0.0), 1.0);  // shares vertex 0, crosses face 123
-  piercing.positionsMm.insert(piercing.positionsMm.end(), {{2, 0.1, 0.1}, {0.1, 2, 0.1}, {0.1, 0.1, 2}});
+  piercing.positionsMm.insert(piercing.positionsMm.end(),
+                              {{2, 0.1, 0.1}, {0.1, 2, 0.1}, {0.1, 0.1, 2}});
   piercing.triangles.insert(piercing.triangles.end(), {{0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}});
   EXPECT_GT(selfIntersectingPairs(piercing), 0u);
   EXPECT_TRUE(doesSelfIntersect(piercing));
 
   // Edge 0 -> 1 used twice in the same direction; overlapping, then not.
-  const TriangleMesh folded{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
+  const TriangleMesh folded{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.3, 0}},
+                            {{0, 1, 2}, {0, 1, 3}}};
   EXPECT_EQ(selfIntersectingPairs(folded), 1u);
-  const TriangleMesh flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, -0.3, 0}}, {{0, 1, 2}, {0, 1, 3}}};
+  const TriangleMesh flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, -0.3, 0}},
+                          {{0, 1, 2}, {0, 1, 3}}};
   EXPECT_EQ(selfIntersectingPairs(flat), 0u);
   // Sharing vertex 0 at an angle without crossing.
   const TriangleMesh fan{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0.2, 0.3}},
@@ -113,10 +118,12 @@ TEST(SurfaceChecks, CgalSeesAVertexPushedThroughTheSurface) {
 TEST(SurfaceExact, All256SingleCubeConfigurationsNeverCross) {
   std::vector<std::string> failures;
   for (const Fill background : {Fill(0), kFillFull}) {
-    for (const CornerFills mode : {CornerFills::Binary, CornerFills::Random, CornerFills::Extreme}) {
+    for (const CornerFills mode :
+         {CornerFills::Binary, CornerFills::Random, CornerFills::Extreme}) {
       for (int config = 0; config < 256; ++config) {
         std::mt19937 rng(std::uint32_t(1000 + config));  // the seeds of geometry's test
-        const auto f = crossings(singleCubeGrid(config, background, mode, rng), "config " + std::to_string(config));
+        const auto f = crossings(singleCubeGrid(config, background, mode, rng),
+                                 "config " + std::to_string(config));
         failures.insert(failures.end(), f.begin(), f.end());
       }
     }
@@ -128,12 +135,14 @@ TEST(SurfaceExact, NoiseAndExtremeNoiseNeverCross) {
   std::vector<std::string> failures;
   for (const auto& [n, seeds] : {std::pair<int, int>{12, 3}, {16, 2}, {20, 1}}) {
     for (std::uint32_t seed = 1; seed <= std::uint32_t(seeds); ++seed) {
-      const auto f = crossings(noiseGrid(n, seed), "noise " + std::to_string(n) + "^3 seed " + std::to_string(seed));
+      const auto f = crossings(noiseGrid(n, seed),
+                               "noise " + std::to_string(n) + "^3 seed " + std::to_string(seed));
       failures.insert(failures.end(), f.begin(), f.end());
     }
   }
   for (const std::uint32_t seed : {11u, 12u}) {
-    const auto f = crossings(extremeNoiseGrid(14, seed), "extreme noise seed " + std::to_string(seed));
+    const auto f =
+        crossings(extremeNoiseGrid(14, seed), "extreme noise seed " + std::to_string(seed));
     failures.insert(failures.end(), f.begin(), f.end());
   }
   EXPECT_TRUE(failures.empty()) << failures.size() << " failures, first: " << failures.front();
@@ -166,7 +175,8 @@ TEST(SurfaceExact, MultiResolutionSurfacesNeverCross) {
   for (const int depth : {1, 2}) {
     for (std::uint32_t seed = 1; seed <= 3; ++seed) {
       VoxelGrid grid = original;
-      DynamicProximityHierarchy hierarchy = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
+      DynamicProximityHierarchy hierarchy =
+          DynamicProximityHierarchy::build(grid, DphBuildOptions{});
       RefinementOptions options;
       options.depth = depth;
       RefinedVoxels refined(grid, hierarchy, &source, options);

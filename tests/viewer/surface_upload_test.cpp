@@ -4,11 +4,6 @@
 // exactly SurfaceUpdater::mesh(): the same triangles, at the same float positions and normals.
 #include "surface_upload.h"
 
-#include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,6 +11,11 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::viewer {
 namespace {
@@ -31,7 +31,9 @@ GpuVertex poisonVertex() {
   return v;
 }
 
-bool isPoison(const GpuVertex& v) { return v.position[0] == 1e30f; }
+bool isPoison(const GpuVertex& v) {
+  return v.position[0] == 1e30f;
+}
 
 // The GPU's two buffers as arrays; every write is checked against the storage's bounds.
 class FakeGpu : public SurfaceUploadTarget {
@@ -46,10 +48,12 @@ class FakeGpu : public SurfaceUploadTarget {
     std::copy(data, data + std::min(count, capacity), vertices.begin());
   }
   void writeVertices(std::size_t first, std::size_t count, const GpuVertex* data) override {
-    if (first + count > vertices.size()) return note("writeVertices", first + count, vertices.size());
+    if (first + count > vertices.size())
+      return note("writeVertices", first + count, vertices.size());
     std::copy(data, data + count, vertices.begin() + std::ptrdiff_t(first));
   }
-  void reallocateIndices(std::size_t capacity, const std::uint32_t* data, std::size_t count) override {
+  void reallocateIndices(std::size_t capacity, const std::uint32_t* data,
+                         std::size_t count) override {
     if (count > capacity) note("reallocateIndices", count, capacity);
     indices.assign(capacity, kPoisonIndex);
     std::copy(data, data + std::min(count, capacity), indices.begin());
@@ -61,7 +65,9 @@ class FakeGpu : public SurfaceUploadTarget {
 
  private:
   void note(const char* what, std::size_t end, std::size_t size) {
-    if (outOfBounds.empty()) outOfBounds = std::string(what) + " to " + std::to_string(end) + " of " + std::to_string(size);
+    if (outOfBounds.empty())
+      outOfBounds =
+          std::string(what) + " to " + std::to_string(end) + " of " + std::to_string(size);
   }
 };
 
@@ -83,7 +89,8 @@ Corner cornerOf(const GpuVertex& v) {
 }
 
 // "" when the fake GPU draws exactly `mesh`, else what differs first.
-std::string compareDrawn(const FakeGpu& gpu, const SurfaceUploader& uploader, const geometry::SurfaceMesh& mesh) {
+std::string compareDrawn(const FakeGpu& gpu, const SurfaceUploader& uploader,
+                         const geometry::SurfaceMesh& mesh) {
   if (!gpu.outOfBounds.empty()) return "a write past the storage: " + gpu.outOfBounds;
   if (uploader.indexEnd() > gpu.indices.size()) return "indices drawn past the index buffer";
   std::vector<Triangle> drawn, expected;
@@ -96,32 +103,39 @@ std::string compareDrawn(const FakeGpu& gpu, const SurfaceUploader& uploader, co
     Triangle t;
     const std::uint32_t corners[3] = {a, b, c};
     for (int k = 0; k < 3; ++k) {
-      if (corners[k] >= gpu.vertices.size()) return "triangle " + std::to_string(i / 3) + " refers past the vertices";
+      if (corners[k] >= gpu.vertices.size())
+        return "triangle " + std::to_string(i / 3) + " refers past the vertices";
       const GpuVertex& v = gpu.vertices[corners[k]];
-      if (isPoison(v)) return "vertex " + std::to_string(corners[k]) + " is drawn but was never written";
-      if (std::isnan(v.position[0])) return "vertex " + std::to_string(corners[k]) + " is dead but drawn";
+      if (isPoison(v))
+        return "vertex " + std::to_string(corners[k]) + " is drawn but was never written";
+      if (std::isnan(v.position[0]))
+        return "vertex " + std::to_string(corners[k]) + " is dead but drawn";
       t[std::size_t(k)] = cornerOf(v);
     }
     drawn.push_back(canonical(t));
   }
   for (const glm::u32vec3& tri : mesh.triangles) {
     Triangle t;
-    for (int k = 0; k < 3; ++k) t[std::size_t(k)] = cornerOf(mesh.positionsMm[tri[k]], mesh.normals[tri[k]]);
+    for (int k = 0; k < 3; ++k)
+      t[std::size_t(k)] = cornerOf(mesh.positionsMm[tri[k]], mesh.normals[tri[k]]);
     expected.push_back(canonical(t));
   }
   if (drawn.size() != expected.size()) {
-    return "drawn " + std::to_string(drawn.size()) + " triangles, the mesh has " + std::to_string(expected.size());
+    return "drawn " + std::to_string(drawn.size()) + " triangles, the mesh has " +
+           std::to_string(expected.size());
   }
   std::sort(drawn.begin(), drawn.end());
   std::sort(expected.begin(), expected.end());
   if (drawn != expected) return "the drawn triangles differ from the mesh's";
-  if (uploader.triangleCount() != mesh.triangleCount()) return "the uploader counts other triangles";
+  if (uploader.triangleCount() != mesh.triangleCount())
+    return "the uploader counts other triangles";
   return "";
 }
 
 // Sets every voxel within radiusMm of centreMm to `fill`, with a random partial fill on the
 // rim so that vertices also move, not only appear and vanish.
-void paintBall(VoxelGrid& grid, glm::dvec3 centreVox, double radiusVox, bool remove, std::mt19937& rng) {
+void paintBall(VoxelGrid& grid, glm::dvec3 centreVox, double radiusVox, bool remove,
+               std::mt19937& rng) {
   std::uniform_int_distribution<int> steps(1, geometry::kFillSteps - 1);
   const glm::ivec3 dims = grid.dims();
   const int r = int(std::ceil(radiusVox)) + 1;
@@ -132,7 +146,8 @@ void paintBall(VoxelGrid& grid, glm::dvec3 centreVox, double radiusVox, bool rem
         const double d = glm::length(glm::dvec3(x, y, z) + 0.5 - centreVox);
         if (d > radiusVox + 0.5) continue;
         geometry::Fill fill = remove ? 0 : geometry::kFillFull;
-        if (d > radiusVox - 0.5) fill = geometry::Fill(steps(rng) * geometry::kFillPerStep);  // the rim
+        if (d > radiusVox - 0.5)
+          fill = geometry::Fill(steps(rng) * geometry::kFillPerStep);  // the rim
         grid.set({x, y, z}, fill, fill > 0 ? 1 : 0);
       }
     }
@@ -157,7 +172,8 @@ TEST(SurfaceUpload, TheFakeGpuDrawsTheUpdatersMeshAfterEveryRandomDrillingStep) 
     // Mostly drilling; now and then bone added, so bricks outgrow their regions.
     const bool remove = chance(rng) < 0.8;
     const int balls = 1 + int(chance(rng) * 3);
-    for (int b = 0; b < balls; ++b) paintBall(grid, {where(rng), where(rng), where(rng)}, size(rng), remove, rng);
+    for (int b = 0; b < balls; ++b)
+      paintBall(grid, {where(rng), where(rng), where(rng)}, size(rng), remove, rng);
     updater.update(grid.dirtyBricks());
     grid.clearDirty();
     const UploadStats& stats = uploader.apply(updater.takeChanges());

@@ -2,16 +2,17 @@
 // pose's ghost joins the proxy, and how deep a pose sits in bone (viewer/src/tool_view.h).
 #include "tool_view.h"
 
-#include <gtest/gtest.h>
-
 #include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
 
 namespace osteon::viewer {
 namespace {
 
 namespace sim = osteon::simulation;
 
-sim::Tool drill() { return sim::makeTool(sim::ToolKind::Drill, {}, 0.3); }
+sim::Tool drill() {
+  return sim::makeTool(sim::ToolKind::Drill, {}, 0.3);
+}
 
 // 40 mm cube of 1 mm voxels, bone (full) below z = 20 mm.
 geometry::VoxelGrid halfSpace() {
@@ -24,7 +25,9 @@ geometry::VoxelGrid halfSpace() {
   return grid;
 }
 
-sim::ToolPose downAt(double zMm) { return sim::ToolPose::pointing({20.5, 20.5, zMm}, {0.0, 0.0, -1.0}); }
+sim::ToolPose downAt(double zMm) {
+  return sim::ToolPose::pointing({20.5, 20.5, zMm}, {0.0, 0.0, -1.0});
+}
 
 TEST(ToolView, TheGhostShowsWhenAnyPartOfTheCommandedPoseIsAHairAway) {
   const sim::Tool tool = drill();
@@ -57,7 +60,8 @@ TEST(ToolView, DepthInBoneIsHowFarTheToolMustBackOutAlongItsAxis) {
   // 5 mm into the bone: the shaft (from ri behind the tip) must rise until its front cap clears
   // the top voxels' centres; the tip sphere, on its own, only the voxel over its centre.
   const sim::ToolPart& shaft = tool.parts[1];
-  EXPECT_NEAR(boneDepthMm(grid, tool, downAt(15.0)), shaft.innerRadiusMm + 19.5 - (15.0 + shaft.aMm.z), 1e-9);
+  EXPECT_NEAR(boneDepthMm(grid, tool, downAt(15.0)),
+              shaft.innerRadiusMm + 19.5 - (15.0 + shaft.aMm.z), 1e-9);
   // Lying on its side in the bone, 3 mm down: the shaft must come out the length it is in.
   const sim::ToolPose side = sim::ToolPose::pointing({5.5, 20.5, 17.0}, {-1.0, 0.0, 0.0});
   EXPECT_GT(boneDepthMm(grid, tool, side), 20.0);
@@ -85,7 +89,8 @@ TEST(ToolView, TheTallyCountsGhostFramesAndKeepsTheDeepest) {
   ToolViewTally tally;
   tally.add(tool, downAt(25.0), downAt(25.0), 0.0, &grid);  // in the air
   EXPECT_FALSE(tally.ghostLast);
-  tally.add(tool, downAt(19.5 + r), downAt(12.0), 7.5 + r, &grid);  // stopped at the surface, the hand in
+  tally.add(tool, downAt(19.5 + r), downAt(12.0), 7.5 + r,
+            &grid);  // stopped at the surface, the hand in
   tally.add(tool, downAt(19.5 + r), downAt(15.0), 4.5 + r, &grid);
   EXPECT_TRUE(tally.ghostLast);
   EXPECT_EQ(tally.ghostFrames, 2u);

@@ -6,17 +6,16 @@
 //
 // Set OSTEON_VIEWER_SHOTS=DIR to keep the screenshots (they show the ghost inside the bone with
 // the proxy at the surface, and the hole drilled from the surface).
-#include "support/files.h"
-#include "support/process.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/files.h"
+#include "support/process.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -37,11 +36,14 @@ const std::string kDrillAndBackOut =
 class ViewerHandTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    works_ = std::system("command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1 && "
-                         "xvfb-run -a true >/dev/null 2>&1") == 0;
+    works_ = std::system(
+                 "command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1 && "
+                 "xvfb-run -a true >/dev/null 2>&1") == 0;
   }
   void SetUp() override {
-    if (!works_) GTEST_SKIP() << "no X input: xvfb-run or xdotool is missing, or Xvfb cannot start (scripts/setup)";
+    if (!works_)
+      GTEST_SKIP()
+          << "no X input: xvfb-run or xdotool is missing, or Xvfb cannot start (scripts/setup)";
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
@@ -58,12 +60,14 @@ class ViewerHandTest : public ::testing::Test {
         "wid=$(timeout 120 xdotool search --sync --name '^osteon-viewer' | head -n 1)\n"
         "if [ -z \"$wid\" ]; then kill $pid; wait $pid; exit 97; fi\n"
         "xdotool windowfocus \"$wid\"; sleep 1\n"
-        "xdotool mousemove --window \"$wid\" 700 350\n" +  // over the bone's side, clear of the panels
+        "xdotool mousemove --window \"$wid\" 700 350\n" +  // over the bone's side, clear of the
+                                                           // panels
         input +
         "xdotool key Escape\n"
         "wait $pid\n";
     test::writeBytes(path("hand.sh"), script);
-    const int code = test::runShell("xvfb-run -a -s '-screen 0 1280x800x24' timeout 300 sh '" + path("hand.sh") + "'",
+    const int code = test::runShell("xvfb-run -a -s '-screen 0 1280x800x24' timeout 300 sh '" +
+                                        path("hand.sh") + "'",
                                     path("xvfb.out"), path("xvfb.err"))
                          .exitCode;
     EXPECT_EQ(code, 0) << args << "\n" << test::readBytes(path("stderr"));
@@ -103,7 +107,8 @@ TEST_F(ViewerHandTest, TheMouseToolIsStoppedByIntactBone) {
 // one surface component, no sealed cavity. (How deep the proxy sits is not checked here: in a
 // hole, level-0 voxels half full at its wall stand for sub-voxels the drill has already cut.)
 TEST_F(ViewerHandTest, DrillingOpensAHoleFromTheSurface) {
-  const json j = hand("--camera left --focus tool --zoom 5", kPush + kDrillAndBackOut, "viewer_proxy_hole.png");
+  const json j = hand("--camera left --focus tool --zoom 5", kPush + kDrillAndBackOut,
+                      "viewer_proxy_hole.png");
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["coupling"], "proxy");
   EXPECT_GT(j["max_gap_mm"].get<double>(), 8.0);
@@ -116,8 +121,8 @@ TEST_F(ViewerHandTest, DrillingOpensAHoleFromTheSurface) {
 // The same hand under --coupling direct, the seed's: the tool goes where it is pushed, 8 mm
 // and more into the bone, and the drill there carves a cavity the surface does not reach.
 TEST_F(ViewerHandTest, UnderDirectCouplingTheSameHandPassesThroughTheBone) {
-  const json j = hand("--coupling direct --camera left --focus tool --zoom 5", kPush + kDrillAndBackOut,
-                      "viewer_direct_cavity.png");
+  const json j = hand("--coupling direct --camera left --focus tool --zoom 5",
+                      kPush + kDrillAndBackOut, "viewer_direct_cavity.png");
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["coupling"], "direct");
   EXPECT_EQ(j["ghost_frames"].get<std::uint64_t>(), 0u);

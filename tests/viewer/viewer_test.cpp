@@ -1,21 +1,19 @@
 // osteon-viewer in a real window under Xvfb (Mesa llvmpipe): what it draws, read back from the
 // framebuffer and reported by --json, and what it records. Skipped, with the reason, only when
 // no X server can be started here.
-#include "support/files.h"
-#include "support/process.h"
-#include "support/shapes.h"
-#include "support/bone_volumes.h"
-
-#include "osteon/geometry/io/nrrd_io.h"
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "osteon/geometry/io/nrrd_io.h"
+#include "support/bone_volumes.h"
+#include "support/files.h"
+#include "support/process.h"
+#include "support/shapes.h"
 
 namespace osteon {
 namespace {
@@ -25,17 +23,22 @@ using ViewerRun = test::ProcessRun;
 class ViewerTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    xvfbWorks_ = std::system("command -v xvfb-run >/dev/null 2>&1 && xvfb-run -a true >/dev/null 2>&1") == 0;
+    xvfbWorks_ =
+        std::system("command -v xvfb-run >/dev/null 2>&1 && xvfb-run -a true >/dev/null 2>&1") == 0;
   }
   void SetUp() override {
-    if (!xvfbWorks_) GTEST_SKIP() << "no X server: xvfb-run is missing or Xvfb cannot start (scripts/setup installs xvfb)";
+    if (!xvfbWorks_)
+      GTEST_SKIP()
+          << "no X server: xvfb-run is missing or Xvfb cannot start (scripts/setup installs xvfb)";
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
 
   ViewerRun run(const std::string& program, const std::string& args, bool window = true) const {
-    const std::string prefix = window ? "xvfb-run -a -s '-screen 0 1280x800x24' " : "env -u DISPLAY ";
-    return test::runShell(prefix + "timeout 300 '" + program + "' " + args, path("stdout"), path("stderr"));
+    const std::string prefix =
+        window ? "xvfb-run -a -s '-screen 0 1280x800x24' " : "env -u DISPLAY ";
+    return test::runShell(prefix + "timeout 300 '" + program + "' " + args, path("stdout"),
+                          path("stderr"));
   }
   nlohmann::json viewer(const std::string& args) const {
     const ViewerRun r = run(OSTEON_VIEWER, args + " --size 640x480 --json");
@@ -52,17 +55,20 @@ class ViewerTest : public ::testing::Test {
 bool ViewerTest::xvfbWorks_ = false;
 
 TEST_F(ViewerTest, TheFrontViewShowsTheBoneInTheMiddle) {
-  const nlohmann::json shaded = viewer("default --frames 3 --screenshot '" + path("front.png") + "'");
+  const nlohmann::json shaded =
+      viewer("default --frames 3 --screenshot '" + path("front.png") + "'");
   const std::string png = test::readBytes(path("front.png"));
   ASSERT_GT(png.size(), 10000u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   EXPECT_GT(shaded["triangles"].get<std::size_t>(), 10000u);
   // The session's set-up, stage by stage (no timed assertions): none negative, the total (the
   // scene's whole load) at least each stage, no surface of the session's own (the live runtime's).
-  for (const char* key : {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
+  for (const char* key :
+       {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
     ASSERT_TRUE(shaded["setup_ms"].contains(key)) << key;
     EXPECT_GE(shaded["setup_ms"][key].get<double>(), 0.0) << key;
-    EXPECT_GE(shaded["setup_ms"]["total"].get<double>(), shaded["setup_ms"][key].get<double>()) << key;
+    EXPECT_GE(shaded["setup_ms"]["total"].get<double>(), shaded["setup_ms"][key].get<double>())
+        << key;
   }
   EXPECT_EQ(shaded["setup_ms"]["surface"].get<double>(), 0.0);
   EXPECT_EQ(shaded["setup_ms"]["total"].get<double>(), shaded["load_ms"].get<double>());
@@ -80,11 +86,14 @@ TEST_F(ViewerTest, TheFrontViewShowsTheBoneInTheMiddle) {
 // after drilling portal-5 with 2 levels; the naive surface shows many.
 TEST_F(ViewerTest, CrackViewShowsNoCracksOnTheCrackFreeSurfaceAndManyOnTheNaiveOne) {
   for (const std::string drilled : {"", "--path portal-5 --levels 2 "}) {
-    const nlohmann::json crackFree = viewer("default " + drilled + "--view cracks --method crackfree --frames 5");
-    const nlohmann::json naive = viewer("default " + drilled + "--view cracks --method naive --frames 5");
+    const nlohmann::json crackFree =
+        viewer("default " + drilled + "--view cracks --method crackfree --frames 5");
+    const nlohmann::json naive =
+        viewer("default " + drilled + "--view cracks --method naive --frames 5");
     SCOPED_TRACE(drilled.empty() ? "before drilling" : "after drilling");
     EXPECT_EQ(cracks(crackFree), 0u);
-    EXPECT_LT(crackFree["red_silhouette_pixels"].get<std::uint64_t>(), 100u);  // rasterisation at the rim
+    EXPECT_LT(crackFree["red_silhouette_pixels"].get<std::uint64_t>(),
+              100u);  // rasterisation at the rim
     EXPECT_GT(cracks(naive), 1000u);
     if (!drilled.empty()) {
       EXPECT_GT(crackFree["removed_volume_mm3"].get<double>(), 10.0);
@@ -93,7 +102,8 @@ TEST_F(ViewerTest, CrackViewShowsNoCracksOnTheCrackFreeSurfaceAndManyOnTheNaiveO
 }
 
 TEST_F(ViewerTest, LevelViewShowsTheRefinedLevelsAroundTheHole) {
-  const std::string closeUp = "--view levels --camera left --focus tool --zoom 5 --no-tool --frames 5";
+  const std::string closeUp =
+      "--view levels --camera left --focus tool --zoom 5 --no-tool --frames 5";
   const nlohmann::json one = viewer("default --path portal-5 --levels 1 " + closeUp);
   const nlohmann::json two = viewer("default --path portal-5 --levels 2 " + closeUp);
   EXPECT_GT(one["level_pixels"]["-1"].get<std::uint64_t>(), 200u);
@@ -104,12 +114,15 @@ TEST_F(ViewerTest, LevelViewShowsTheRefinedLevelsAroundTheHole) {
 // What the viewer drilled, recorded at 1 kHz, replays in `osteon drill` to the same removed
 // volume.
 TEST_F(ViewerTest, ARecordedPathReplaysInDrillToTheSameRemovedVolume) {
-  const nlohmann::json live = viewer("default --path portal-5 --levels 2 --frames 5 --record '" + path("r.csv") + "'");
+  const nlohmann::json live =
+      viewer("default --path portal-5 --levels 2 --frames 5 --record '" + path("r.csv") + "'");
   ASSERT_GT(live["recorded_samples"].get<std::size_t>(), 7000u);
   // The recording is the portal path's poses: replayed as they were, without a proxy.
-  const ViewerRun replay = run(OSTEON_CLI, "drill default --voxel-size 1.2 --levels 2 --coupling direct --path '" +
-                                               path("r.csv") + "' --out-dir '" + path("replay") + "' --json",
-                               false);
+  const ViewerRun replay =
+      run(OSTEON_CLI,
+          "drill default --voxel-size 1.2 --levels 2 --coupling direct --path '" + path("r.csv") +
+              "' --out-dir '" + path("replay") + "' --json",
+          false);
   ASSERT_EQ(replay.exitCode, 0) << replay.err;
   const nlohmann::json summary = nlohmann::json::parse(replay.out);
   const double liveMm3 = live["removed_volume_mm3"].get<double>();
@@ -127,11 +140,14 @@ TEST_F(ViewerTest, ARecordedPathReplaysInDrillToTheSameRemovedVolume) {
 // A device drives the tool through the safety layer: here a recording of the scripted portal-5
 // device, replayed as a device.
 TEST_F(ViewerTest, ADeviceDrivesTheTool) {
-  const ViewerRun record = run(OSTEON_CLI, "drill default --voxel-size 1.2 --levels 2 --device scripted:portal-5 --record '" +
-                                               path("portal5.csv") + "' --out-dir '" + path("d") + "'",
-                               false);
+  const ViewerRun record =
+      run(OSTEON_CLI,
+          "drill default --voxel-size 1.2 --levels 2 --device scripted:portal-5 --record '" +
+              path("portal5.csv") + "' --out-dir '" + path("d") + "'",
+          false);
   ASSERT_EQ(record.exitCode, 0) << record.err;
-  const nlohmann::json j = viewer("default --device 'replay:" + path("portal5.csv") + "' --frames 400");
+  const nlohmann::json j =
+      viewer("default --device 'replay:" + path("portal5.csv") + "' --frames 400");
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 1.0);
   EXPECT_GT(j["max_force_n"].get<double>(), 0.5);
   EXPECT_LE(j["max_force_n"].get<double>(), 3.3 + 1e-9);
@@ -143,7 +159,10 @@ TEST_F(ViewerTest, ADeviceDrivesTheTool) {
 // The built-in bone as a label map and as a CT (seeded noise) opens like its mesh: the same bone
 // in view, crack-free, and portal-5 drills it with the head fitted to the volume's own surface.
 TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
-  ASSERT_EQ(run(OSTEON_CLI, "voxelize default --voxel-size 1.5 --out '" + path("g.nrrd") + "'", false).exitCode, 0);
+  ASSERT_EQ(
+      run(OSTEON_CLI, "voxelize default --voxel-size 1.5 --out '" + path("g.nrrd") + "'", false)
+          .exitCode,
+      0);
   const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
   test::BoneVolumes made = test::boneVolumes(bone, 3.0, 30.0, 7, false);
   const test::TestVolume& v = made.geometry;
@@ -155,7 +174,8 @@ TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
   const std::string drill = " --levels 0 --path portal-5 --frames 5 --view cracks";
   const nlohmann::json mesh = viewer("default --voxel-size 1.5" + drill);
   const double meshPixels = double(mesh["bone_pixels"].get<std::uint64_t>());
-  for (const std::string& volume : {"'" + path("labels.nrrd") + "' --label 3", "'" + path("ct.nii.gz") + "' --iso 300"}) {
+  for (const std::string& volume :
+       {"'" + path("labels.nrrd") + "' --label 3", "'" + path("ct.nii.gz") + "' --iso 300"}) {
     SCOPED_TRACE(volume);
     const nlohmann::json j = viewer(volume + drill);
     if (j.empty()) continue;
@@ -169,9 +189,11 @@ TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
 }
 
 TEST_F(ViewerTest, BadInputExitsTwoWithOneLineBeforeAnyWindow) {
-  for (const std::string& args : {std::string("'") + path("missing.stl") + "'", std::string("default --voxel-size -1"),
-                                  std::string("default --size 0x0"), std::string("default --view nonsense")}) {
-    const ViewerRun r = run(OSTEON_VIEWER, args, false);  // no DISPLAY: input is refused before a window is asked for
+  for (const std::string& args :
+       {std::string("'") + path("missing.stl") + "'", std::string("default --voxel-size -1"),
+        std::string("default --size 0x0"), std::string("default --view nonsense")}) {
+    const ViewerRun r = run(OSTEON_VIEWER, args,
+                            false);  // no DISPLAY: input is refused before a window is asked for
     EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;

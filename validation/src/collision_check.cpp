@@ -1,13 +1,13 @@
 #include "osteon/validation/collision_check.h"
 
-#include "osteon/geometry/voxels/embree_scene.h"
-
-#include <glm/common.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <optional>
 #include <vector>
+
+#include <glm/common.hpp>
+
+#include "osteon/geometry/voxels/embree_scene.h"
 
 namespace osteon::validation {
 
@@ -44,7 +44,8 @@ bool enclosed(const geometry::VoxelGrid& grid, const geometry::VoxelSample& s) {
 std::optional<glm::dvec3> rayStart(const geometry::VoxelGrid& grid, const glm::dvec3& coreMm,
                                    double radiusMm) {
   if (cellIs(grid, coreMm, Side::Outside)) return coreMm;
-  const glm::dvec3 g = grid.gridFromWorld(coreMm) - 1.0;  // cell `first` has its centre at first + 1
+  const glm::dvec3 g =
+      grid.gridFromWorld(coreMm) - 1.0;  // cell `first` has its centre at first + 1
   const double r = radiusMm / grid.voxelSizeMm();
   const glm::ivec3 lo(glm::floor(g - r)), hi(glm::ceil(g + r));
   std::optional<glm::dvec3> best;
@@ -76,7 +77,8 @@ struct Ray {
 
 }  // namespace
 
-CollisionCheckResult crossCheckCollisions(simulation::Session& session, const simulation::DrillPath& path,
+CollisionCheckResult crossCheckCollisions(simulation::Session& session,
+                                          const simulation::DrillPath& path,
                                           const CollisionCheckOptions& options) {
   CollisionCheckResult result;
   session.resetSurface();
@@ -86,7 +88,8 @@ CollisionCheckResult crossCheckCollisions(simulation::Session& session, const si
   const double tolerance = options.toleranceVoxels * grid.voxelSizeMm();
   std::vector<Ray> rays;
   simulation::DeterministicOptions run;
-  run.afterStep = [&](std::size_t step, const simulation::StepInput& in, const simulation::StepOutput&) {
+  run.afterStep = [&](std::size_t step, const simulation::StepInput& in,
+                      const simulation::StepOutput&) {
     if (options.everySteps <= 0 || step % std::size_t(options.everySteps) != 0) return;
     geometry::SurfaceOptions naive;
     naive.method = geometry::SurfaceMethod::Naive;
@@ -98,7 +101,8 @@ CollisionCheckResult crossCheckCollisions(simulation::Session& session, const si
     ++result.checked;
     // The voxels' contact now (after this step's removal, the state the surface shows): the
     // bone in the cutting part's shell, as the force counts it.
-    const std::vector<geometry::VoxelSample> shell = sim.forceModel().shellSamples(sim.voxels(), in.pose, 0);
+    const std::vector<geometry::VoxelSample> shell =
+        sim.forceModel().shellSamples(sim.voxels(), in.pose, 0);
     const glm::dvec3 a = in.pose.toWorld(tip.aMm), b = in.pose.toWorld(tip.bMm);
     if (!shell.empty()) {
       ++result.contacts;
@@ -145,7 +149,8 @@ CollisionCheckResult crossCheckCollisions(simulation::Session& session, const si
     // No bone in the shell: the surface should not come nearer to the core than the shell's
     // outer layer, less the tolerance. Its distance from points along the core: the centre
     // for a sphere, the nearest of several for a cylinder.
-    const int points = std::max(1, int(std::ceil(glm::length(b - a) / (0.25 * tip.outerRadiusMm)))) + 1;
+    const int points =
+        std::max(1, int(std::ceil(glm::length(b - a) / (0.25 * tip.outerRadiusMm)))) + 1;
     const double reach = tip.outerRadiusMm - tolerance;
     if (reach <= 0.0) return;
     for (int k = 0; k < points; ++k) {

@@ -1,30 +1,34 @@
 #include "osteon/validation/crack_images.h"
 
+#include <filesystem>
+
 #include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
-
-#include <filesystem>
 
 namespace osteon::validation {
 
 std::vector<std::string> crackImageNames() {
   std::vector<std::string> names;
-  for (const char* view : {"+x", "-x", "+y", "-y", "+z", "-z"}) names.push_back(std::string("cracks_") + view + ".png");
+  for (const char* view : {"+x", "-x", "+y", "-y", "+z", "-z"})
+    names.push_back(std::string("cracks_") + view + ".png");
   return names;
 }
 
-void CrackImageFolder::refuseOverwriting(const std::string& folder, const std::vector<std::string>& inputs) {
+void CrackImageFolder::refuseOverwriting(const std::string& folder,
+                                         const std::vector<std::string>& inputs) {
   std::vector<std::string> views;
   for (const std::string& name : crackImageNames()) views.push_back(folder + "/" + name);
   geometry::refuseOverwritingInputs(views, inputs);
 }
 
 CrackImageFolder::CrackImageFolder(const std::string& folder, const std::string& option)
-    : folder_(folder), dir_(std::make_unique<geometry::OutputDir>(folder, crackImageNames(), option)) {}
+    : folder_(folder),
+      dir_(std::make_unique<geometry::OutputDir>(folder, crackImageNames(), option)) {}
 
 CrackImageFolder::~CrackImageFolder() = default;
 
-CrackMetric CrackImageFolder::write(const geometry::TriangleMesh& surface, int pixels, std::vector<std::string>& paths) {
+CrackMetric CrackImageFolder::write(const geometry::TriangleMesh& surface, int pixels,
+                                    std::vector<std::string>& paths) {
   CrackMetricOptions options;
   options.pixels = pixels;
   options.keepImages = true;

@@ -1,15 +1,15 @@
 #include "osteon/validation/crack_metric.h"
 
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/output_file.h"
-#include "osteon/image/image_writer.h"
-
-#include <tbb/parallel_for.h>
-
 #include <atomic>
 #include <limits>
 #include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/image/image_writer.h"
 
 namespace osteon::validation {
 
@@ -25,7 +25,8 @@ constexpr double kOffsetV = 0.5 + 0.0419;
 
 CrackMetric measureCracks(const geometry::TriangleMesh& mesh, const CrackMetricOptions& options) {
   if (options.pixels < 16 || options.pixels > 4096) {
-    throw InputError("--cracks " + std::to_string(options.pixels) + ": pixels per side must be 16..4096");
+    throw InputError("--cracks " + std::to_string(options.pixels) +
+                     ": pixels per side must be 16..4096");
   }
   if (mesh.triangles.empty()) throw InputError("crack metric: the mesh has no triangles");
   const geometry::EmbreeScene scene(mesh);
@@ -71,7 +72,8 @@ CrackMetric measureCracks(const geometry::TriangleMesh& mesh, const CrackMetricO
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // background
         // Embree's geometric normal follows the winding (outward for an outward mesh): the
         // ray meets a front face when it runs against it.
-        const double facing = double(rh.hit.Ng_x) * dir.x + double(rh.hit.Ng_y) * dir.y + double(rh.hit.Ng_z) * dir.z;
+        const double facing =
+            double(rh.hit.Ng_x) * dir.x + double(rh.hit.Ng_y) * dir.y + double(rh.hit.Ng_z) * dir.z;
         const bool front = facing < 0.0;
         (front ? w : r) += 1;
         if (options.keepImages) {
@@ -98,7 +100,8 @@ std::vector<std::string> writeCrackImages(const CrackMetric& metric, const std::
     if (view.rgb.empty()) throw std::logic_error("writeCrackImages: measureCracks kept no images");
     const std::string path = dir + "/cracks_" + view.name + ".png";
     geometry::OutputFile file(path);
-    const std::string error = image::writeImageU8(file.tempPath(), metric.pixels, metric.pixels, 3, view.rgb.data());
+    const std::string error =
+        image::writeImageU8(file.tempPath(), metric.pixels, metric.pixels, 3, view.rgb.data());
     if (!error.empty()) throw InputError(path + ": cannot write the crack image (" + error + ")");
     file.commit();
     paths.push_back(path);

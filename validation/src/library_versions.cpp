@@ -1,8 +1,8 @@
 #include "osteon/validation/library_versions.h"
 
-#include "osteon/image/image_writer.h"
-
 #include <CGAL/version.h>
+
+#include "osteon/image/image_writer.h"
 
 namespace osteon::validation {
 

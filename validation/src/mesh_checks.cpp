@@ -1,16 +1,13 @@
 #include "osteon/validation/mesh_checks.h"
 
-#include <CGAL/Random.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Random.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/box_intersection_d.h>
-
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,6 +16,8 @@
 #include <stdexcept>
 #include <utility>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::validation {
 
@@ -126,7 +125,8 @@ bool toSurfaceMesh(const Soup& soup, Mesh& mesh) {
 // The winding number inside each shell is its own (+1 outward, -1 inward) plus that of the
 // shell around it (CGAL's nesting of the surface's components); outside every shell it is 0.
 void windingNumbers(Mesh& surface, int& lowest, int& highest) {
-  auto volumeIds = surface.add_property_map<Mesh::Face_index, std::size_t>("f:osteon_volume", 0).first;
+  auto volumeIds =
+      surface.add_property_map<Mesh::Face_index, std::size_t>("f:osteon_volume", 0).first;
   std::vector<std::size_t> levels;
   std::vector<bool> outward;
   std::vector<std::vector<std::size_t>> around;  // per shell: the shell(s) first met going outward
@@ -178,24 +178,28 @@ MeshReport checkMesh(const geometry::TriangleMesh& mesh, std::size_t intersectio
   if (mesh.triangles.empty()) return report;
   double areaMm2 = 0.0;
   for (const glm::u32vec3& t : mesh.triangles) {
-    const glm::dvec3 &a = mesh.positionsMm[t.x], &b = mesh.positionsMm[t.y], &c = mesh.positionsMm[t.z];
+    const glm::dvec3 &a = mesh.positionsMm[t.x], &b = mesh.positionsMm[t.y],
+                     &c = mesh.positionsMm[t.z];
     areaMm2 += 0.5 * glm::length(glm::cross(b - a, c - a));
   }
-  report.flat = report.topology.closed() && std::abs(report.volumeMm3) <= 1e-9 * std::pow(areaMm2, 1.5);
+  report.flat =
+      report.topology.closed() && std::abs(report.volumeMm3) <= 1e-9 * std::pow(areaMm2, 1.5);
   const Soup soup = toSoup(mesh);
   Mesh surface;
   const bool polygonMesh = toSurfaceMesh(soup, surface);
   if (polygonMesh) {
     std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
-    PMP::self_intersections(surface, std::back_inserter(pairs),
-                            CGAL::parameters::maximum_number(static_cast<unsigned int>(intersectionCap)));
+    PMP::self_intersections(
+        surface, std::back_inserter(pairs),
+        CGAL::parameters::maximum_number(static_cast<unsigned int>(intersectionCap)));
     report.selfIntersections = std::min(pairs.size(), intersectionCap);
   } else {
     report.selfIntersections = soupPairs(soup, intersectionCap);
   }
   report.selfIntersectionsCapped = report.selfIntersections >= intersectionCap;
   // is_outward_oriented's preconditions: closed, and no self-intersection.
-  if (polygonMesh && report.watertight() && report.selfIntersections == 0 && CGAL::is_closed(surface)) {
+  if (polygonMesh && report.watertight() && report.selfIntersections == 0 &&
+      CGAL::is_closed(surface)) {
     report.outwardOriented = PMP::is_outward_oriented(surface);
     windingNumbers(surface, report.windingNumberMin, report.windingNumberMax);
   }
@@ -205,8 +209,8 @@ MeshReport checkMesh(const geometry::TriangleMesh& mesh, std::size_t intersectio
   return report;
 }
 
-Accuracy compareMeshes(const geometry::TriangleMesh& surface, const geometry::TriangleMesh& reference,
-                       double pointsPerMm2) {
+Accuracy compareMeshes(const geometry::TriangleMesh& surface,
+                       const geometry::TriangleMesh& reference, double pointsPerMm2) {
   Accuracy a;
   const Soup s = toSoup(surface), r = toSoup(reference);
   Mesh ms, mr;
@@ -218,9 +222,11 @@ Accuracy compareMeshes(const geometry::TriangleMesh& surface, const geometry::Tr
   // which is seeded from the clock and ignores random_seed; it is reseeded here for each side.
   const auto params = CGAL::parameters::number_of_points_per_area_unit(pointsPerMm2).random_seed(1);
   CGAL::get_default_random() = CGAL::Random(1);
-  a.surfaceToReferenceMm = PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(ms, mr, params);
+  a.surfaceToReferenceMm =
+      PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(ms, mr, params);
   CGAL::get_default_random() = CGAL::Random(2);
-  a.referenceToSurfaceMm = PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(mr, ms, params);
+  a.referenceToSurfaceMm =
+      PMP::approximate_Hausdorff_distance<CGAL::Sequential_tag>(mr, ms, params);
   a.hausdorffMm = std::max(a.surfaceToReferenceMm, a.referenceToSurfaceMm);
   const double vs = geometry::signedVolumeMm3(surface), vr = geometry::signedVolumeMm3(reference);
   a.volumeDifferenceMm3 = vs - vr;

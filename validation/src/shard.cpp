@@ -1,13 +1,13 @@
 #include "osteon/validation/shard.h"
 
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/surface/surface.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/surface/surface.h"
 
 namespace osteon::validation {
 
@@ -28,7 +28,8 @@ double estimateVoxels(const ValidationModel& model, double voxelSizeMm) {
 
 }  // namespace
 
-std::vector<CaseGroup> caseGroups(const std::vector<ValidationModel>& models, const ValidationOptions& options) {
+std::vector<CaseGroup> caseGroups(const std::vector<ValidationModel>& models,
+                                  const ValidationOptions& options) {
   std::vector<CaseGroup> groups;
   for (std::size_t m = 0; m < models.size(); ++m) {
     for (const double voxelMm : models[m].voxelSizesMm(options.voxelSizesMm)) {
@@ -45,19 +46,22 @@ std::vector<CaseGroup> caseGroups(const std::vector<ValidationModel>& models, co
   return groups;
 }
 
-std::string caseKey(const std::string& model, double voxelSizeMm, const std::string& method, const std::string& mode) {
+std::string caseKey(const std::string& model, double voxelSizeMm, const std::string& method,
+                    const std::string& mode) {
   std::ostringstream s;
   s << model << "|" << voxelSizeMm << "|" << method << "|" << mode;
   return s.str();
 }
 
-std::vector<std::string> caseKeys(const std::vector<ValidationModel>& models, const std::vector<CaseGroup>& groups) {
+std::vector<std::string> caseKeys(const std::vector<ValidationModel>& models,
+                                  const std::vector<CaseGroup>& groups) {
   std::vector<std::string> keys;
   for (const CaseGroup& g : groups) {
-    for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
+    for (const geometry::SurfaceMethod method :
+         {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
       for (const ForceMode mode : {ForceMode::Static, ForceMode::Dynamic}) {
-        keys.push_back(caseKey(models[g.model].name, g.voxelSizeMm, geometry::surfaceMethodName(method),
-                               forceModeName(mode)));
+        keys.push_back(caseKey(models[g.model].name, g.voxelSizeMm,
+                               geometry::surfaceMethodName(method), forceModeName(mode)));
       }
     }
   }
@@ -68,11 +72,13 @@ std::vector<std::size_t> assignShards(const std::vector<double>& costs, std::siz
   if (shardCount == 0) throw std::invalid_argument("assignShards: no shard to assign to");
   std::vector<std::size_t> order(costs.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return costs[a] > costs[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return costs[a] > costs[b]; });
   std::vector<double> load(shardCount, 0.0);
   std::vector<std::size_t> shardOf(costs.size(), 0);
   for (const std::size_t i : order) {
-    const std::size_t lightest = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    const std::size_t lightest =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
     shardOf[i] = lightest;
     load[lightest] += costs[i];
   }

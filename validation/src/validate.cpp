@@ -1,16 +1,5 @@
 #include "osteon/validation/validate.h"
 
-#include "osteon/validation/shard.h"
-
-#include "osteon/simulation/session.h"
-#include "osteon/core/timing.h"
-
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/core/error.h"
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/simulation/experiment.h"
-
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -18,22 +7,33 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "osteon/core/error.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/experiment.h"
+#include "osteon/simulation/session.h"
+#include "osteon/validation/shard.h"
+
 namespace osteon::validation {
 
 namespace sim = osteon::simulation;
 
 namespace {
 
-
 // The guarantees a surface must keep, in words when broken.
-void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when, std::vector<std::string>& out) {
+void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when,
+                     std::vector<std::string>& out) {
   const auto add = [&](bool broken, const std::string& what) {
     if (broken) out.push_back(std::string(when) + ": " + what);
   };
   add(r.topology.borderEdges > 0, std::to_string(r.topology.borderEdges) + " border edges");
   add(r.topology.nonManifoldEdges + r.topology.nonManifoldVertices > 0,
-      std::to_string(r.topology.nonManifoldEdges + r.topology.nonManifoldVertices) + " non-manifold elements");
-  add(r.selfIntersections > 0, std::to_string(r.selfIntersections) + (r.selfIntersectionsCapped ? "+" : "") +
+      std::to_string(r.topology.nonManifoldEdges + r.topology.nonManifoldVertices) +
+          " non-manifold elements");
+  add(r.selfIntersections > 0, std::to_string(r.selfIntersections) +
+                                   (r.selfIntersectionsCapped ? "+" : "") +
                                    " self-intersecting pairs");
   add(c.red > 0, std::to_string(c.red) + " red pixels");
 }
@@ -51,20 +51,23 @@ bool ValidationReport::pass() const {
   return true;
 }
 
-ValidationReport runValidation(const std::vector<ValidationModel>& models, const ValidationOptions& options,
+ValidationReport runValidation(const std::vector<ValidationModel>& models,
+                               const ValidationOptions& options,
                                const std::function<void(const ValidationCase&)>& progress) {
   ValidationReport report;
   CrackMetricOptions crackOptions;
   crackOptions.pixels = options.crackPixels;
   const std::vector<CaseGroup> groups = caseGroups(models, options);
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    if (options.groups && !std::binary_search(options.groups->begin(), options.groups->end(), g)) continue;
+    if (options.groups && !std::binary_search(options.groups->begin(), options.groups->end(), g))
+      continue;
     const ValidationModel& model = models[groups[g].model];
     const double voxelMm = groups[g].voxelSizeMm;
     const Clock::time_point setupStart = Clock::now();
     const std::shared_ptr<const sim::BoneModel> bone =
-        model.volume ? sim::BoneModel::fromGrid(*model.volume, model.name)
-                     : sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
+        model.volume
+            ? sim::BoneModel::fromGrid(*model.volume, model.name)
+            : sim::BoneModel::fromMesh(model.mesh, voxelMm, model.name, model.loadScaleToMm);
     // Drilling needs a humeral head; a bone without one is checked but not drilled.
     bool head = false;
     if (options.drill) {
@@ -76,12 +79,14 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
     }
     const geometry::VoxelGrid& original = bone->grid();
     const double setupMs = msSince(setupStart);
-    for (const geometry::SurfaceMethod method : {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
+    for (const geometry::SurfaceMethod method :
+         {geometry::SurfaceMethod::CrackFree, geometry::SurfaceMethod::Naive}) {
       geometry::SurfaceOptions so;
       so.method = method;
       const Clock::time_point start = Clock::now();
       geometry::SurfaceTimings timings;
-      const geometry::TriangleMesh surface = geometry::extractSurface(original, so, &timings).toTriangleMesh();
+      const geometry::TriangleMesh surface =
+          geometry::extractSurface(original, so, &timings).toTriangleMesh();
       const double extractMs = msSince(start);
       ValidationCase base;
       base.timings = timings;
@@ -125,10 +130,13 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
             run.jitterN = s.jitterN;
             run.nonFiniteForces = s.totals.nonFiniteForces;
             if (run.collisions.misses > 0) {
-              c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) + " collision misses");
+              c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) +
+                                   " collision misses");
             }
-            if (run.nonFiniteForces > 0) c.failures.push_back(run.portal + ": NaN or infinite force");
-            if (run.maxForceN > simulation.tool().maxForceN + 1e-9) c.failures.push_back(run.portal + ": force above the cap");
+            if (run.nonFiniteForces > 0)
+              c.failures.push_back(run.portal + ": NaN or infinite force");
+            if (run.maxForceN > simulation.tool().maxForceN + 1e-9)
+              c.failures.push_back(run.portal + ": force above the cap");
             c.portals.push_back(std::move(run));
             // The next path starts its own clock; after the last, the refined voxels stay
             // so the drilled surface below includes them.
@@ -136,7 +144,8 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models, const
           }
           const geometry::TriangleMesh drilled =
               so.method == geometry::SurfaceMethod::CrackFree
-                  ? geometry::extractSurface(session.grid(), simulation.voxels(), so).toTriangleMesh()
+                  ? geometry::extractSurface(session.grid(), simulation.voxels(), so)
+                        .toTriangleMesh()
                   : geometry::extractSurface(session.grid(), so).toTriangleMesh();
           c.after = checkMesh(drilled);
           c.afterCracks = measureCracks(drilled, crackOptions);

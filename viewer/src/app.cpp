@@ -6,7 +6,10 @@
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <chrono>
+#include <ctime>
 #include <imgui.h>
+#include <thread>
 
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
@@ -15,10 +18,6 @@
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/image/image_writer.h"
-
-#include <chrono>
-#include <ctime>
-#include <thread>
 
 namespace osteon::viewer {
 
@@ -30,7 +29,9 @@ constexpr int kLiveMetricEveryFrames = 10;
 // the last steps' bricks reach the visual side within a few milliseconds.
 constexpr double kPathSettleS = 0.25;
 
-App* appOf(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
+App* appOf(GLFWwindow* w) {
+  return static_cast<App*>(glfwGetWindowUserPointer(w));
+}
 
 std::string timestampedRecordName() {
   const std::time_t t = std::time(nullptr);
@@ -43,13 +44,18 @@ std::string timestampedRecordName() {
 
 App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
     : options_(options),
-      window_(openWindow(options_.width, options_.height, "osteon-viewer: " + scene->request().bone.input,
+      window_(openWindow(options_.width, options_.height,
+                         "osteon-viewer: " + scene->request().bone.input,
                          options_.frames > 0)) {  // a scripted run renders as fast as it can
   GLFWwindow* win = window_.get();
   glfwSetWindowUserPointer(win, this);
-  glfwSetKeyCallback(win, [](GLFWwindow* w, int key, int, int action, int mods) { appOf(w)->onKey(key, action, mods); });
-  glfwSetMouseButtonCallback(win, [](GLFWwindow* w, int b, int a, int m) { appOf(w)->onMouseButton(b, a, m); });
-  glfwSetCursorPosCallback(win, [](GLFWwindow* w, double x, double y) { appOf(w)->onCursor(x, y); });
+  glfwSetKeyCallback(win, [](GLFWwindow* w, int key, int, int action, int mods) {
+    appOf(w)->onKey(key, action, mods);
+  });
+  glfwSetMouseButtonCallback(
+      win, [](GLFWwindow* w, int b, int a, int m) { appOf(w)->onMouseButton(b, a, m); });
+  glfwSetCursorPosCallback(win,
+                           [](GLFWwindow* w, double x, double y) { appOf(w)->onCursor(x, y); });
   glfwSetScrollCallback(win, [](GLFWwindow* w, double, double dy) { appOf(w)->onScroll(dy); });
   glfwSetDropCallback(win, [](GLFWwindow* w, int n, const char** paths) {
     if (n > 0) appOf(w)->onDrop(paths[0]);
@@ -66,7 +72,8 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
   std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().bone.input.c_str());
   panel_.openScaleToMm = scene->request().bone.scaleToMm();
   const simulation::BoneSource& bone = scene->request().bone;
-  panel_.openVoxelMm = bone.voxelSizeMm.value_or(bone.defaultVoxelSizeMm.value_or(kDefaultVoxelSizeMm));
+  panel_.openVoxelMm =
+      bone.voxelSizeMm.value_or(bone.defaultVoxelSizeMm.value_or(kDefaultVoxelSizeMm));
   installScene(std::move(scene), !options_.record.empty());
 }
 
@@ -99,7 +106,8 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   drillOn_ = false;
   toolView_ = {};
   panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
-  panel_.sceneName = scene_->request().bone.input + (scene_->path() ? " | path " + scene_->request().path : " | mouse");
+  panel_.sceneName = scene_->request().bone.input +
+                     (scene_->path() ? " | path " + scene_->request().path : " | mouse");
   panel_.followsPath = scene_->path() != nullptr;
   panel_.pathDurationS = scene_->pathDurationS();
   if (recordFromStart) scene_->poseSource().recorder().start();
@@ -117,7 +125,8 @@ int App::run() {
     // Closed by hand (Esc, the window's button): one more frame, the last, so --screenshot and
     // the metric still see what the hand left.
     const bool closing = glfwWindowShouldClose(window_.get());
-    const bool last = closing || (options_.frames > 0 && frame_ + 1 == std::size_t(options_.frames));
+    const bool last =
+        closing || (options_.frames > 0 && frame_ + 1 == std::size_t(options_.frames));
     if (last && !closing) waitForPath();
     const Clock::time_point start = Clock::now();
     frame(last);
@@ -135,7 +144,8 @@ void App::waitForPath() {
   if (!scene_->path()) return;
   const double needS = scene_->pathDurationS() + kPathSettleS;
   const double giveUpS = glfwGetTime() + needS + 30.0;
-  while (scene_->live().display().tS < needS && glfwGetTime() < giveUpS && !glfwWindowShouldClose(window_.get())) {
+  while (scene_->live().display().tS < needS && glfwGetTime() < giveUpS &&
+         !glfwWindowShouldClose(window_.get())) {
     glfwPollEvents();
     // Keeps the ring drained; the changes add up for the frame.
     if (scene_->live().updateSurface() > 0.0) naiveStale_ = true;
@@ -149,7 +159,8 @@ void App::frame(bool last) {
   simulation::LiveRuntime& live = scene_->live();
   updateSurfaces();
   const simulation::DisplayState& d = live.display();
-  if (panel_.view == View::Levels) renderer_->textures().updateLevels(d.refined.data(), d.refinedCount, d.refinedDepth);
+  if (panel_.view == View::Levels)
+    renderer_->textures().updateLevels(d.refined.data(), d.refinedCount, d.refinedDepth);
   force_.add(glfwGetTime(), float(d.contact.magnitudeN));
   if (panel_.view == View::Hierarchy) {
     try {
@@ -165,7 +176,8 @@ void App::frame(bool last) {
   const double aspect = double(std::max(width_, 1)) / double(std::max(height_, 1));
   camera.viewProj = glm::mat4(camera_.projection(aspect) * camera_.view());
   camera.eye = glm::vec3(camera_.eye());
-  camera.light = glm::vec3(glm::normalize(-camera_.forward() + 0.4 * camera_.up() - 0.3 * camera_.right()));
+  camera.light =
+      glm::vec3(glm::normalize(-camera_.forward() + 0.4 * camera_.up() - 0.3 * camera_.right()));
   glViewport(0, 0, width_, height_);
   if (panel_.view == View::Cracks) {
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
@@ -175,27 +187,32 @@ void App::frame(bool last) {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   renderer_->draw(camera, panel_.view, panel_.method, panel_.wire);
   // The metric reads the bone alone, before the tool and the panels are drawn.
-  if (last || (panel_.view == View::Cracks && panel_.liveMetric && frame_ % kLiveMetricEveryFrames == 0)) readMetric();
+  if (last ||
+      (panel_.view == View::Cracks && panel_.liveMetric && frame_ % kLiveMetricEveryFrames == 0))
+    readMetric();
 
   if (panel_.view == View::Hierarchy && hierarchy_.ready()) {
     std::vector<glm::vec3> lines;
-    const std::size_t drawn = hierarchy_.linesAround(panel_.hierarchyLevel, d.tS >= 0.0 ? d.pose.tipMm : target_.tipMm,
-                                                     panel_.hierarchyRadiusMm, 4000, lines);
+    const std::size_t drawn =
+        hierarchy_.linesAround(panel_.hierarchyLevel, d.tS >= 0.0 ? d.pose.tipMm : target_.tipMm,
+                               panel_.hierarchyRadiusMm, 4000, lines);
     const DphBoxes& b = *hierarchy_.boxes();
     char text[160];
-    std::snprintf(text, sizeof text, "%zu boxes at level %d of %d; %zu voxels, built in %.0f ms", drawn,
-                  panel_.hierarchyLevel, hierarchy_.levelCount(), b.voxels, b.buildMs);
+    std::snprintf(text, sizeof text, "%zu boxes at level %d of %d; %zu voxels, built in %.0f ms",
+                  drawn, panel_.hierarchyLevel, hierarchy_.levelCount(), b.voxels, b.buildMs);
     panel_.hierarchyMessage = text;
     overlay_->drawLines(camera, lines, glm::vec4(0.3f, 0.9f, 1.0f, 0.8f));
   }
   const simulation::ToolPose pose = d.tS >= 0.0 ? d.pose : scene_->initialPose();
   const simulation::ToolPose commanded = d.tS >= 0.0 ? d.commanded : pose;
   // The depth walk is for the report only.
-  toolView_.add(scene_->tool(), pose, commanded, d.gapMm, options_.json ? &live.visualGrid() : nullptr);
+  toolView_.add(scene_->tool(), pose, commanded, d.gapMm,
+                options_.json ? &live.visualGrid() : nullptr);
   panel_.ghost = toolView_.ghostLast;
   if (panel_.showTool) {
     overlay_->drawTool(camera, scene_->tool(), pose, d.drillOn);
-    overlay_->drawArrow(camera, pose.tipMm, d.contact.forceN * kArrowMmPerN, glm::vec4(0.95f, 0.9f, 0.2f, 1.0f));
+    overlay_->drawArrow(camera, pose.tipMm, d.contact.forceN * kArrowMmPerN,
+                        glm::vec4(0.95f, 0.9f, 0.2f, 1.0f));
     // Translucent, after everything opaque: where the hand is, when bone holds the tool back.
     if (toolView_.ghostLast) overlay_->drawGhost(camera, scene_->tool(), commanded, pose);
   }
@@ -263,7 +280,8 @@ void App::writeScreenshot() {
   glReadBuffer(GL_BACK);
   glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
   flipRows(pixels, width_, height_, 3);
-  const std::string error = image::writeImageU8(options_.screenshot, width_, height_, 3, pixels.data());
+  const std::string error =
+      image::writeImageU8(options_.screenshot, width_, height_, 3, pixels.data());
   if (!error.empty()) throw InputError(options_.screenshot + ": " + error);
   report_.screenshotMs = msSince(start);
 }
@@ -273,7 +291,8 @@ void App::fillStatus(double frameMs) {
   const double now = glfwGetTime();
   StatusNumbers& s = panel_.status;
   if (now - lastRateS_ >= 0.5) {
-    s.hapticRateHz = double(st.hapticSteps - std::min(st.hapticSteps, lastRateSteps_)) / (now - lastRateS_);
+    s.hapticRateHz =
+        double(st.hapticSteps - std::min(st.hapticSteps, lastRateSteps_)) / (now - lastRateS_);
     lastRateS_ = now;
     lastRateSteps_ = st.hapticSteps;
   }
@@ -332,7 +351,8 @@ void App::finishReport() {
   r.commandedDepthMm = toolView_.maxCommandedDepthMm;
   for (int i = scene_->tool().partCount - 1; i >= 0; --i) {
     const simulation::ToolPart& part = scene_->tool().parts[std::size_t(i)];
-    if (part.cuts) r.toolCushionMm = part.outerRadiusMm - part.innerRadiusMm;  // the first cutting part's
+    if (part.cuts)
+      r.toolCushionMm = part.outerRadiusMm - part.innerRadiusMm;  // the first cutting part's
   }
   if (options_.json) {
     // The drilled bone's surface as the window shows it: a sealed cavity is a second component.
@@ -345,7 +365,8 @@ void App::finishReport() {
   r.waitedForPath = waitedForPath_;
   r.loadMs = scene_->loadMs();
   r.setup = scene_->session().setupTimings();
-  r.setup.totalMs = scene_->loadMs();  // the scene's whole set-up: session, path and runtime started
+  r.setup.totalMs =
+      scene_->loadMs();  // the scene's whole set-up: session, path and runtime started
   r.peakRssMb = peakRssMb();
   r.screenshot = options_.screenshot;
   r.record = options_.record;

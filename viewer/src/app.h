@@ -3,6 +3,10 @@
 // incremental upload, the draw, the metric, the panels.
 #pragma once
 
+#include <future>
+#include <memory>
+#include <string>
+
 #include "camera.h"
 #include "hierarchy_view.h"
 #include "metrics.h"
@@ -14,10 +18,6 @@
 #include "scene.h"
 #include "tool_view.h"
 #include "window.h"
-
-#include <future>
-#include <memory>
-#include <string>
 
 namespace osteon::viewer {
 
@@ -76,7 +76,8 @@ class App {
   std::future<std::unique_ptr<Scene>> loading_;
   std::string loadingName_;
 
-  // The mouse's tool target (render thread's copy; the pose source gets it through a triple buffer).
+  // The mouse's tool target (render thread's copy; the pose source gets it through a triple
+  // buffer).
   simulation::ToolPose target_;
   bool drillOn_ = false;
   std::string recordTarget_;  // where the running recording goes

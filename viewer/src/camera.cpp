@@ -1,9 +1,9 @@
 #include "camera.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace osteon::viewer {
 
@@ -14,12 +14,18 @@ constexpr double kZoomPerStep = 0.9;
 
 const char* axisViewName(AxisView view) {
   switch (view) {
-    case AxisView::Anterior: return "anterior";
-    case AxisView::Posterior: return "posterior";
-    case AxisView::Right: return "right";
-    case AxisView::Left: return "left";
-    case AxisView::Superior: return "superior";
-    case AxisView::Inferior: return "inferior";
+    case AxisView::Anterior:
+      return "anterior";
+    case AxisView::Posterior:
+      return "posterior";
+    case AxisView::Right:
+      return "right";
+    case AxisView::Left:
+      return "left";
+    case AxisView::Superior:
+      return "superior";
+    case AxisView::Inferior:
+      return "inferior";
   }
   return "?";
 }
@@ -42,12 +48,24 @@ void OrbitCamera::frame(const glm::dvec3& lo, const glm::dvec3& hi) {
 void OrbitCamera::setAxisView(AxisView view) {
   const glm::dvec3 z(0.0, 0.0, 1.0), anteriorUp(0.0, -1.0, 0.0);
   switch (view) {
-    case AxisView::Anterior: orientation_ = lookOrientation({0.0, 1.0, 0.0}, z); break;
-    case AxisView::Posterior: orientation_ = lookOrientation({0.0, -1.0, 0.0}, z); break;
-    case AxisView::Right: orientation_ = lookOrientation({1.0, 0.0, 0.0}, z); break;
-    case AxisView::Left: orientation_ = lookOrientation({-1.0, 0.0, 0.0}, z); break;
-    case AxisView::Superior: orientation_ = lookOrientation({0.0, 0.0, -1.0}, anteriorUp); break;
-    case AxisView::Inferior: orientation_ = lookOrientation({0.0, 0.0, 1.0}, anteriorUp); break;
+    case AxisView::Anterior:
+      orientation_ = lookOrientation({0.0, 1.0, 0.0}, z);
+      break;
+    case AxisView::Posterior:
+      orientation_ = lookOrientation({0.0, -1.0, 0.0}, z);
+      break;
+    case AxisView::Right:
+      orientation_ = lookOrientation({1.0, 0.0, 0.0}, z);
+      break;
+    case AxisView::Left:
+      orientation_ = lookOrientation({-1.0, 0.0, 0.0}, z);
+      break;
+    case AxisView::Superior:
+      orientation_ = lookOrientation({0.0, 0.0, -1.0}, anteriorUp);
+      break;
+    case AxisView::Inferior:
+      orientation_ = lookOrientation({0.0, 0.0, 1.0}, anteriorUp);
+      break;
   }
 }
 
@@ -63,7 +81,8 @@ void OrbitCamera::pan(double dxPixels, double dyPixels, int viewportHeight) {
 }
 
 void OrbitCamera::zoom(double steps) {
-  distance_ = std::clamp(distance_ * std::pow(kZoomPerStep, steps), 1e-2 * sceneRadius_, 50.0 * sceneRadius_);
+  distance_ = std::clamp(distance_ * std::pow(kZoomPerStep, steps), 1e-2 * sceneRadius_,
+                         50.0 * sceneRadius_);
 }
 
 void OrbitCamera::magnify(double factor) {
@@ -71,7 +90,8 @@ void OrbitCamera::magnify(double factor) {
 }
 
 glm::dmat4 OrbitCamera::view() const {
-  const glm::dmat4 worldFromCamera = glm::translate(glm::dmat4(1.0), eye()) * glm::mat4_cast(orientation_);
+  const glm::dmat4 worldFromCamera =
+      glm::translate(glm::dmat4(1.0), eye()) * glm::mat4_cast(orientation_);
   return glm::inverse(worldFromCamera);
 }
 

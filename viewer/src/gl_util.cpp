@@ -1,9 +1,9 @@
 #include "gl_util.h"
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include <stdexcept>
 #include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
 
 namespace osteon::viewer {
 
@@ -11,7 +11,8 @@ namespace {
 
 std::string infoLog(GLuint object, bool program) {
   GLint length = 0;
-  program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+  program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length)
+          : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
   std::vector<char> log(std::size_t(length > 0 ? length : 1), '\0');
   program ? glGetProgramInfoLog(object, length, nullptr, log.data())
           : glGetShaderInfoLog(object, length, nullptr, log.data());
@@ -31,7 +32,8 @@ GLuint compile(const char* name, GLenum kind, const char* source) {
   if (!ok) {
     const std::string log = infoLog(shader, false);
     glDeleteShader(shader);
-    throw std::runtime_error(std::string(name) + (kind == GL_VERTEX_SHADER ? " vertex" : " fragment") +
+    throw std::runtime_error(std::string(name) +
+                             (kind == GL_VERTEX_SHADER ? " vertex" : " fragment") +
                              " shader: " + log);
   }
   return shader;
@@ -58,10 +60,18 @@ GLuint buildProgram(const char* name, const char* vertexSource, const char* frag
   return program;
 }
 
-void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
-void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
-void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
-void deleteProgram(GLuint id) { glDeleteProgram(id); }
+void deleteBuffer(GLuint id) {
+  glDeleteBuffers(1, &id);
+}
+void deleteVertexArray(GLuint id) {
+  glDeleteVertexArrays(1, &id);
+}
+void deleteTexture(GLuint id) {
+  glDeleteTextures(1, &id);
+}
+void deleteProgram(GLuint id) {
+  glDeleteProgram(id);
+}
 
 GLuint newBuffer() {
   GLuint id = 0;
@@ -93,7 +103,11 @@ void setUniform(GLuint program, const char* name, const glm::vec4& v) {
 void setUniform(GLuint program, const char* name, const glm::ivec3& v) {
   glUniform3i(glGetUniformLocation(program, name), v.x, v.y, v.z);
 }
-void setUniform(GLuint program, const char* name, float v) { glUniform1f(glGetUniformLocation(program, name), v); }
-void setUniform(GLuint program, const char* name, int v) { glUniform1i(glGetUniformLocation(program, name), v); }
+void setUniform(GLuint program, const char* name, float v) {
+  glUniform1f(glGetUniformLocation(program, name), v);
+}
+void setUniform(GLuint program, const char* name, int v) {
+  glUniform1i(glGetUniformLocation(program, name), v);
+}
 
 }  // namespace osteon::viewer

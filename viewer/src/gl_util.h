@@ -3,11 +3,11 @@
 #pragma once
 
 #include <epoxy/gl.h>
+#include <string>
+
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
-
-#include <string>
 
 namespace osteon::viewer {
 

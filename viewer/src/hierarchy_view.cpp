@@ -1,16 +1,18 @@
 #include "hierarchy_view.h"
 
-#include "osteon/core/timing.h"
-
 #include <algorithm>
 #include <chrono>
+
+#include "osteon/core/timing.h"
 
 namespace osteon::viewer {
 
 namespace geo = osteon::geometry;
 
 void appendBoxEdges(std::vector<glm::vec3>& points, const glm::vec3& lo, const glm::vec3& hi) {
-  const auto corner = [&](int i) { return glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z); };
+  const auto corner = [&](int i) {
+    return glm::vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+  };
   for (int i = 0; i < 8; ++i) {
     for (const int bit : {1, 2, 4}) {
       if (!(i & bit)) {
@@ -92,7 +94,8 @@ void HierarchyView::maybeRebuild(const geo::VoxelGrid& grid, double nowS, bool f
 }
 
 void HierarchyView::poll() {
-  if (!pending_.valid() || pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  if (!pending_.valid() || pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return;
   boxes_ = pending_.get();
 }
 
@@ -103,8 +106,8 @@ void HierarchyView::clear() {
   lastStartS_ = -1e9;
 }
 
-std::size_t HierarchyView::linesAround(int level, const glm::dvec3& pointMm, double radiusMm, std::size_t maxBoxes,
-                                       std::vector<glm::vec3>& points) const {
+std::size_t HierarchyView::linesAround(int level, const glm::dvec3& pointMm, double radiusMm,
+                                       std::size_t maxBoxes, std::vector<glm::vec3>& points) const {
   if (!boxes_ || level < 0 || level >= levelCount()) return 0;
   const DphBoxes& b = *boxes_;
   std::size_t drawn = 0;

@@ -5,15 +5,15 @@
 // hierarchy's queries prune with as long as those stay tight.
 #pragma once
 
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <future>
 #include <memory>
 #include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::viewer {
 
@@ -51,8 +51,8 @@ class HierarchyView {
   const DphBoxes* boxes() const { return boxes_.get(); }
   // The boxes of `level` within radiusMm of pointMm as line segments (mm), at most maxBoxes
   // of them (the nearest first is not promised). Returns how many boxes were drawn.
-  std::size_t linesAround(int level, const glm::dvec3& pointMm, double radiusMm, std::size_t maxBoxes,
-                          std::vector<glm::vec3>& points) const;
+  std::size_t linesAround(int level, const glm::dvec3& pointMm, double radiusMm,
+                          std::size_t maxBoxes, std::vector<glm::vec3>& points) const;
 
  private:
   std::unique_ptr<DphBoxes> boxes_;

@@ -1,24 +1,22 @@
 // Keyboard, mouse and file drops, the panels' requests, loading another bone and recording.
 #include "app.h"
-
 #include "gl_util.h"  // epoxy before GLFW
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <chrono>
 #include <imgui.h>
+#include <new>
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"
-
-#include <chrono>
-#include <new>
 
 namespace osteon::viewer {
 
 namespace {
 
 constexpr double kRadiansPerPixel = 0.01;
-constexpr double kDepthStepMm = 1.0;    // Ctrl + wheel, Page Up / Down: along the view
+constexpr double kDepthStepMm = 1.0;     // Ctrl + wheel, Page Up / Down: along the view
 constexpr double kAdvanceStepMm = 0.25;  // Up / Down, Shift + wheel: along the tool's axis
 
 bool held(GLFWwindow* w, int key, int other) {
@@ -36,11 +34,13 @@ void App::onKey(int key, int action, int mods) {
   switch (key) {
     case GLFW_KEY_UP:
     case GLFW_KEY_DOWN:
-      if (mouseTool) moveToolAlong(target_.forward(), key == GLFW_KEY_UP ? kAdvanceStepMm : -kAdvanceStepMm);
+      if (mouseTool)
+        moveToolAlong(target_.forward(), key == GLFW_KEY_UP ? kAdvanceStepMm : -kAdvanceStepMm);
       return;
     case GLFW_KEY_PAGE_UP:
     case GLFW_KEY_PAGE_DOWN:
-      if (mouseTool) moveToolAlong(camera_.forward(), key == GLFW_KEY_PAGE_DOWN ? kDepthStepMm : -kDepthStepMm);
+      if (mouseTool)
+        moveToolAlong(camera_.forward(), key == GLFW_KEY_PAGE_DOWN ? kDepthStepMm : -kDepthStepMm);
       return;
     default:
       break;
@@ -55,27 +55,58 @@ void App::onKey(int key, int action, int mods) {
     return;
   }
   switch (key) {
-    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.get(), GLFW_TRUE); break;
-    case GLFW_KEY_TAB: options_.ui = !options_.ui; break;
-    case GLFW_KEY_SPACE: panel_.toggleDrill = true; break;
-    case GLFW_KEY_R: panel_.toggleRecord = true; break;
-    case GLFW_KEY_F: panel_.frameBone = true; break;
-    case GLFW_KEY_T: panel_.resetTool = true; break;
-    case GLFW_KEY_W: panel_.wire = !panel_.wire; break;
-    case GLFW_KEY_G: panel_.showTool = !panel_.showTool; break;
+    case GLFW_KEY_ESCAPE:
+      glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+      break;
+    case GLFW_KEY_TAB:
+      options_.ui = !options_.ui;
+      break;
+    case GLFW_KEY_SPACE:
+      panel_.toggleDrill = true;
+      break;
+    case GLFW_KEY_R:
+      panel_.toggleRecord = true;
+      break;
+    case GLFW_KEY_F:
+      panel_.frameBone = true;
+      break;
+    case GLFW_KEY_T:
+      panel_.resetTool = true;
+      break;
+    case GLFW_KEY_W:
+      panel_.wire = !panel_.wire;
+      break;
+    case GLFW_KEY_G:
+      panel_.showTool = !panel_.showTool;
+      break;
     case GLFW_KEY_M:
-      panel_.method = panel_.method == SurfaceChoice::Naive ? SurfaceChoice::CrackFree : SurfaceChoice::Naive;
+      panel_.method =
+          panel_.method == SurfaceChoice::Naive ? SurfaceChoice::CrackFree : SurfaceChoice::Naive;
       break;
-    case GLFW_KEY_S: panel_.view = View::Shaded; break;
-    case GLFW_KEY_C: panel_.view = View::Cracks; break;
-    case GLFW_KEY_L: panel_.view = View::Levels; break;
-    case GLFW_KEY_D: panel_.view = View::Density; break;
-    case GLFW_KEY_H: panel_.view = View::Hierarchy; break;
-    case GLFW_KEY_LEFT_BRACKET: panel_.hierarchyLevel = std::max(panel_.hierarchyLevel - 1, 0); break;
+    case GLFW_KEY_S:
+      panel_.view = View::Shaded;
+      break;
+    case GLFW_KEY_C:
+      panel_.view = View::Cracks;
+      break;
+    case GLFW_KEY_L:
+      panel_.view = View::Levels;
+      break;
+    case GLFW_KEY_D:
+      panel_.view = View::Density;
+      break;
+    case GLFW_KEY_H:
+      panel_.view = View::Hierarchy;
+      break;
+    case GLFW_KEY_LEFT_BRACKET:
+      panel_.hierarchyLevel = std::max(panel_.hierarchyLevel - 1, 0);
+      break;
     case GLFW_KEY_RIGHT_BRACKET:
-      panel_.hierarchyLevel = std::min(panel_.hierarchyLevel + 1, std::max(hierarchy_.levelCount() - 1, 0));
+      panel_.hierarchyLevel =
+          std::min(panel_.hierarchyLevel + 1, std::max(hierarchy_.levelCount() - 1, 0));
       break;
-    default: break;
+    default:
+      break;
   }
   (void)mods;
 }
@@ -166,7 +197,8 @@ void App::handleRequests() {
     camera_.frame(scene_->boundsMin(), scene_->boundsMax());
   }
   if (panel_.open) startLoading(panel_.openPath);
-  panel_.toggleDrill = panel_.resetTool = panel_.toggleRecord = panel_.frameBone = panel_.open = false;
+  panel_.toggleDrill = panel_.resetTool = panel_.toggleRecord = panel_.frameBone = panel_.open =
+      false;
   panel_.axisView.reset();
   // A recording the haptic loop has let go of (stopped, or full) is written now.
   if (scene_->poseSource().recorder().finished()) finishRecording(false);
@@ -195,8 +227,9 @@ void App::finishRecording(bool atExit) {
     if (simulation::isPathCsv(scene_->request().path)) inputs.push_back(scene_->request().path);
     geometry::refuseOverwritingInputs({recordTarget_}, inputs);
     recorder.write(recordTarget_, scene_->periodS());
-    panel_.recordMessage = "wrote " + std::to_string(samples) + " samples (" + std::to_string(samples / 1000) +
-                           " s) to " + recordTarget_ + (full ? " (the buffer was full: recording stopped)" : "");
+    panel_.recordMessage = "wrote " + std::to_string(samples) + " samples (" +
+                           std::to_string(samples / 1000) + " s) to " + recordTarget_ +
+                           (full ? " (the buffer was full: recording stopped)" : "");
   } catch (const InputError& e) {
     recorder.discard();
     if (atExit) throw;
@@ -220,7 +253,8 @@ void App::startLoading(const std::string& input) {
 }
 
 void App::pollLoading() {
-  if (!loading_.valid() || loading_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  if (!loading_.valid() || loading_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return;
   panel_.loading = false;
   try {
     std::unique_ptr<Scene> scene = loading_.get();

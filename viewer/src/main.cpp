@@ -1,19 +1,18 @@
 // `osteon-viewer`: parses the options (CLI11 lives here alone), loads the bone, then opens the
 // window. Every refusal of the input comes before a window opens; errors are one line on stderr
 // and the exit codes are the CLI's: 0 success, 2 bad input or no window, 3 an internal error.
-#include "app.h"
-#include "options.h"
-#include "report.h"
-#include "scene.h"
-
-#include "osteon/core/error.h"
-#include "osteon/simulation/path.h"
-
-#include <CLI/CLI.hpp>
-
 #include <exception>
 #include <iostream>
 #include <new>
+
+#include <CLI/CLI.hpp>
+
+#include "app.h"
+#include "options.h"
+#include "osteon/core/error.h"
+#include "osteon/simulation/path.h"
+#include "report.h"
+#include "scene.h"
 
 namespace {
 
@@ -30,7 +29,8 @@ std::string oneLine(std::string text) {
 }
 
 int fail(int code, const std::string& message) {
-  std::cerr << (code == kExitInternal ? "osteon-viewer: internal error: " : "osteon-viewer: error: ")
+  std::cerr << (code == kExitInternal ? "osteon-viewer: internal error: "
+                                      : "osteon-viewer: error: ")
             << oneLine(message) << "\n";
   return code;
 }
@@ -39,64 +39,85 @@ int fail(int code, const std::string& message) {
 
 int main(int argc, char** argv) {
   namespace viewer = osteon::viewer;
-  CLI::App app{"osteon-viewer: drill a bone with the mouse or a path, see the crack-free surface live"};
+  CLI::App app{
+      "osteon-viewer: drill a bone with the mouse or a path, see the crack-free surface live"};
   app.set_version_flag("--version", std::string("osteon-viewer ") + OSTEON_VERSION);
   std::string input = "default";
   std::optional<std::string> units;
   std::optional<double> scale;
   std::optional<double> voxelSize;
   int levels = 2;
-  std::string tool = "drill", path, view = "shaded", method = "crackfree", size = "1280x800", camera = "anterior";
+  std::string tool = "drill", path, view = "shaded", method = "crackfree", size = "1280x800",
+              camera = "anterior";
   viewer::ViewerOptions options;
   bool noUi = false;
   app.add_option("MESH", input,
-                 "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a volume: an osteon grid, a "
+                 "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a volume: an "
+                 "osteon grid, a "
                  "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
       ->default_val("default");
   std::optional<std::uint64_t> label;
   std::optional<double> isoHu;
   // CLI11 reads "-1" into an unsigned as 2^64 - 1: a label is refused rather than wrapped.
-  app.add_option("--label", label, "Label maps: the bone label, 0 .. 2^64-1 (default: every voxel but the background)")
+  app.add_option(
+         "--label", label,
+         "Label maps: the bone label, 0 .. 2^64-1 (default: every voxel but the background)")
       ->check(CLI::Validator(
           [](std::string& text) {
             const std::size_t first = text.find_first_not_of(" \t");
-            return first != std::string::npos && text[first] == '-' ? "must be a non-negative integer, not " + text
-                                                                    : std::string();
+            return first != std::string::npos && text[first] == '-'
+                       ? "must be a non-negative integer, not " + text
+                       : std::string();
           },
           "LABEL"));
   app.add_option("--iso", isoHu, "CT volumes: the bone threshold in HU (default 300)");
   bool allowOutsideData = false;
-  app.add_flag("--allow-outside-data", allowOutsideData,
-               "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
-  CLI::Option* u = app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
+  app.add_flag(
+      "--allow-outside-data", allowOutsideData,
+      "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
+  CLI::Option* u =
+      app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
   CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
   u->excludes(s);
-  app.add_option("--voxel-size", voxelSize, "Base voxel edge in mm (default 1.2 for a mesh; a grid has its own)");
-  app.add_option("--levels", levels, "0: static voxels; 1 or 2: refine near the tool (VS/2, VS/4)")->default_val(2);
+  app.add_option("--voxel-size", voxelSize,
+                 "Base voxel edge in mm (default 1.2 for a mesh; a grid has its own)");
+  app.add_option("--levels", levels, "0: static voxels; 1 or 2: refine near the tool (VS/2, VS/4)")
+      ->default_val(2);
   app.add_option("--tool", tool, "drill, burr or shaver")->default_val("drill");
-  app.add_option("--path", path, "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
+  app.add_option("--path", path,
+                 "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
   std::string device;
   std::string coupling;
   app.add_option("--coupling", coupling,
-                 "proxy: bone stops the tool, a spring joins it to the hand (default, but for portal paths); direct");
-  app.add_option("--device", device, "Drive the tool from a device (spacemouse, serial:PORT, touch, replay:LOG.csv, ...)");
-  app.add_option("--frames", options.frames, "Render N frames and exit (with --path, the last waits for its end)");
+                 "proxy: bone stops the tool, a spring joins it to the hand (default, but for "
+                 "portal paths); direct");
+  app.add_option(
+      "--device", device,
+      "Drive the tool from a device (spacemouse, serial:PORT, touch, replay:LOG.csv, ...)");
+  app.add_option("--frames", options.frames,
+                 "Render N frames and exit (with --path, the last waits for its end)");
   app.add_option("--screenshot", options.screenshot, "Write the last frame to this PNG");
-  app.add_option("--view", view, "shaded, cracks, levels, density, hierarchy or wireframe")->default_val("shaded");
-  app.add_option("--method", method, "The surface drawn: crackfree (live, incremental) or naive (seed's MC, whole)")
+  app.add_option("--view", view, "shaded, cracks, levels, density, hierarchy or wireframe")
+      ->default_val("shaded");
+  app.add_option("--method", method,
+                 "The surface drawn: crackfree (live, incremental) or naive (seed's MC, whole)")
       ->default_val("crackfree");
-  app.add_option("--camera", camera, "Start view, framed on the bone: anterior (looking along +y), posterior, right, "
+  app.add_option("--camera", camera,
+                 "Start view, framed on the bone: anterior (looking along +y), posterior, right, "
                  "left, superior or inferior")
       ->default_val("anterior");
   app.add_option("--zoom", options.zoom, "Magnify the start view by this factor")->default_val(1.0);
   std::string focus = "bone";
-  app.add_option("--focus", focus, "Centre of the start view: bone, or tool (its first pose)")->default_val("bone");
+  app.add_option("--focus", focus, "Centre of the start view: bone, or tool (its first pose)")
+      ->default_val("bone");
   app.add_option("--size", size, "Window size WIDTHxHEIGHT in pixels")->default_val("1280x800");
-  app.add_option("--record", options.record, "Record the tool's path (1 kHz) from the start to exit into this CSV");
+  app.add_option("--record", options.record,
+                 "Record the tool's path (1 kHz) from the start to exit into this CSV");
   app.add_flag("--json", options.json, "Print one JSON object on stdout at exit");
   app.add_flag("--no-ui", noUi, "Hide the panels (Tab toggles them)");
   bool noTool = false;
-  app.add_flag("--no-tool", noTool, "Do not draw the tool (G toggles it), to see the hole it drilled");
+  app.add_flag("--no-tool", noTool,
+               "Do not draw the tool (G toggles it), to see the hole it drilled");
 
   try {
     app.parse(argc, argv);
@@ -140,8 +161,9 @@ int main(int argc, char** argv) {
   } catch (const osteon::InputError& e) {
     return fail(kExitBadInput, osteon::simulation::commandLineMessage(e));
   } catch (const std::bad_alloc&) {
-    return fail(kExitBadInput, "out of memory: the input needs more memory than this machine has (a larger "
-                               "--voxel-size needs less)");
+    return fail(kExitBadInput,
+                "out of memory: the input needs more memory than this machine has (a larger "
+                "--voxel-size needs less)");
   } catch (const std::exception& e) {
     return fail(kExitInternal, e.what());
   }

@@ -5,13 +5,21 @@
 
 namespace osteon::viewer {
 
-bool isRedPixel(const std::uint8_t* p) { return p[0] >= 128 && p[1] < 64 && p[2] < 64; }
-bool isWhitePixel(const std::uint8_t* p) { return p[0] >= 192 && p[1] >= 192 && p[2] >= 192; }
-bool isBackgroundPixel(const std::uint8_t* p) { return p[0] < 16 && p[1] < 16 && p[2] < 16; }
+bool isRedPixel(const std::uint8_t* p) {
+  return p[0] >= 128 && p[1] < 64 && p[2] < 64;
+}
+bool isWhitePixel(const std::uint8_t* p) {
+  return p[0] >= 192 && p[1] >= 192 && p[2] >= 192;
+}
+bool isBackgroundPixel(const std::uint8_t* p) {
+  return p[0] < 16 && p[1] < 16 && p[2] < 16;
+}
 
 PixelCounts countCrackPixels(const std::uint8_t* rgba, int width, int height) {
   PixelCounts c;
-  const auto at = [&](int x, int y) { return rgba + 4 * (std::size_t(y) * std::size_t(width) + std::size_t(x)); };
+  const auto at = [&](int x, int y) {
+    return rgba + 4 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+  };
   double sumX = 0.0, sumY = 0.0;
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
@@ -77,9 +85,13 @@ void TimeSeries::add(double tS, float value) {
   }
 }
 
-float TimeSeries::max() const { return values_.empty() ? 0.0f : *std::max_element(values_.begin(), values_.end()); }
+float TimeSeries::max() const {
+  return values_.empty() ? 0.0f : *std::max_element(values_.begin(), values_.end());
+}
 
-void FrameSeries::add(double ms) { all_.push_back(ms); }
+void FrameSeries::add(double ms) {
+  all_.push_back(ms);
+}
 
 double FrameSeries::recentP99() const {
   if (all_.empty()) return 0.0;

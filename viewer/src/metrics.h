@@ -2,11 +2,11 @@
 // read-back frame, frame-time series, the |F| history for the plot.
 #pragma once
 
-#include "osteon/simulation/runner.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "osteon/simulation/runner.h"
 
 namespace osteon::viewer {
 

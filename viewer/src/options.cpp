@@ -1,24 +1,26 @@
 #include "options.h"
 
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/output_file.h"
-#include "osteon/simulation/path.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/path.h"
+
 namespace osteon::viewer {
 
 namespace {
 
-constexpr const char* kViewNames[] = {"shaded", "cracks", "levels", "density", "hierarchy", "wireframe"};
+constexpr const char* kViewNames[] = {"shaded",  "cracks",    "levels",
+                                      "density", "hierarchy", "wireframe"};
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
 }
 
@@ -34,16 +36,22 @@ bool parseSide(const std::string& text, int& value) {
 
 }  // namespace
 
-const char* viewName(View view) { return kViewNames[int(view)]; }
+const char* viewName(View view) {
+  return kViewNames[int(view)];
+}
 
 View parseView(const std::string& text) {
   for (int i = 0; i < int(std::size(kViewNames)); ++i) {
     if (text == kViewNames[i]) return View(i);
   }
-  throw InputError("--view " + text + ": unknown view (expected shaded, cracks, levels, density, hierarchy or wireframe)");
+  throw InputError(
+      "--view " + text +
+      ": unknown view (expected shaded, cracks, levels, density, hierarchy or wireframe)");
 }
 
-const char* surfaceChoiceName(SurfaceChoice method) { return method == SurfaceChoice::Naive ? "naive" : "crackfree"; }
+const char* surfaceChoiceName(SurfaceChoice method) {
+  return method == SurfaceChoice::Naive ? "naive" : "crackfree";
+}
 
 SurfaceChoice parseSurfaceChoice(const std::string& text) {
   if (text == "crackfree") return SurfaceChoice::CrackFree;
@@ -55,14 +63,16 @@ AxisView parseAxisView(const std::string& text) {
   for (int i = 0; i < 6; ++i) {
     if (text == axisViewName(AxisView(i))) return AxisView(i);
   }
-  throw InputError("--camera " + text +
-                   ": unknown view (expected anterior, posterior, right, left, superior or inferior)");
+  throw InputError(
+      "--camera " + text +
+      ": unknown view (expected anterior, posterior, right, left, superior or inferior)");
 }
 
 void parseWindowSize(const std::string& text, int& width, int& height) {
   const std::size_t x = text.find_first_of("xX");
   int w = 0, h = 0;
-  if (x == std::string::npos || !parseSide(text.substr(0, x), w) || !parseSide(text.substr(x + 1), h)) {
+  if (x == std::string::npos || !parseSide(text.substr(0, x), w) ||
+      !parseSide(text.substr(x + 1), h)) {
     throw InputError("--size " + text + ": must be WIDTHxHEIGHT in pixels, e.g. 1280x800");
   }
   if (w < 64 || h < 64 || w > 8192 || h > 8192) {
@@ -83,13 +93,15 @@ void validateOptions(const ViewerOptions& options) {
     s << "--zoom " << options.zoom << ": must be 0.01..100";
     throw InputError(s.str());
   }
-  if (options.frames < 0) throw InputError("--frames " + std::to_string(options.frames) + ": must be 0 or more");
+  if (options.frames < 0)
+    throw InputError("--frames " + std::to_string(options.frames) + ": must be 0 or more");
   if (!load.device.empty() && !load.path.empty()) {
     throw InputError("--device " + load.device + ": give a device or a --path, not both");
   }
   if (!load.device.empty() && !options.record.empty()) {
-    throw InputError("--record " + options.record + ": with --device, record with `osteon drill --device " +
-                     load.device + " --record` (the viewer records the mouse or a path)");
+    throw InputError("--record " + options.record +
+                     ": with --device, record with `osteon drill --device " + load.device +
+                     " --record` (the viewer records the mouse or a path)");
   }
   for (const std::string* out : {&options.screenshot, &options.record}) {
     if (out->empty()) continue;

@@ -2,15 +2,14 @@
 // checks that run before any window opens compile and test apart.
 #pragma once
 
-#include "camera.h"
-
-#include "osteon/simulation/bone_source.h"
-#include "osteon/simulation/coupling.h"
-#include "osteon/simulation/tool.h"
-
 #include <cstdint>
 #include <optional>
 #include <string>
+
+#include "camera.h"
+#include "osteon/simulation/bone_source.h"
+#include "osteon/simulation/coupling.h"
+#include "osteon/simulation/tool.h"
 
 namespace osteon::viewer {
 
@@ -38,10 +37,10 @@ struct LoadRequest {
   // A mesh file, `default`, or a volume, with its units, voxel size and meaning; a mesh without
   // a voxel size is voxelized at kDefaultVoxelSizeMm.
   simulation::BoneSource bone = defaultBone();
-  int levels = 2;                       // 0 static, 1 or 2 refined near the tool
+  int levels = 2;  // 0 static, 1 or 2 refined near the tool
   simulation::ToolKind tool = simulation::ToolKind::Drill;
-  std::string path;                     // "" (the mouse), portal-5, portal-7 or a PATH.csv
-  std::string device;                   // "" (the mouse or the path), or a device name (docs/devices.md)
+  std::string path;    // "" (the mouse), portal-5, portal-7 or a PATH.csv
+  std::string device;  // "" (the mouse or the path), or a device name (docs/devices.md)
   // --coupling; unset: direct for portal paths, proxy for the mouse, devices and CSV paths.
   std::optional<simulation::CouplingMode> coupling;
 
@@ -57,15 +56,15 @@ struct ViewerOptions {
   View view = View::Shaded;
   SurfaceChoice method = SurfaceChoice::CrackFree;
   AxisView camera = AxisView::Anterior;  // the start view, framed on the bone
-  double zoom = 1.0;                      // > 1 magnifies the start view
-  bool focusTool = false;                 // centre the start view on the tool's first pose
+  double zoom = 1.0;                     // > 1 magnifies the start view
+  bool focusTool = false;                // centre the start view on the tool's first pose
   int width = 1280, height = 800;
-  int frames = 0;            // > 0: render this many frames and exit
-  std::string screenshot;    // PNG of the last frame
-  std::string record;        // the tool's path, recorded from the start to exit
-  bool json = false;         // one JSON object on stdout at exit
-  bool ui = true;            // the ImGui panels (Tab toggles)
-  bool tool = true;          // draw the tool (G toggles)
+  int frames = 0;          // > 0: render this many frames and exit
+  std::string screenshot;  // PNG of the last frame
+  std::string record;      // the tool's path, recorded from the start to exit
+  bool json = false;       // one JSON object on stdout at exit
+  bool ui = true;          // the ImGui panels (Tab toggles)
+  bool tool = true;        // draw the tool (G toggles)
 };
 
 // Parses "WxH" (e.g. 1280x800), each 64..8192; throws InputError naming the value otherwise.

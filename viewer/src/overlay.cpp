@@ -1,11 +1,11 @@
 #include "overlay.h"
 
-#include "shaders.h"
+#include <cmath>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <cmath>
-#include <utility>
+#include "shaders.h"
 
 namespace osteon::viewer {
 
@@ -14,18 +14,21 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 
 // Unit sphere, normals = positions.
-void sphereMesh(std::vector<float>& v, std::vector<std::uint32_t>& idx, int slices = 32, int stacks = 16) {
+void sphereMesh(std::vector<float>& v, std::vector<std::uint32_t>& idx, int slices = 32,
+                int stacks = 16) {
   for (int i = 0; i <= stacks; ++i) {
     const float phi = kPi * float(i) / float(stacks);
     for (int j = 0; j <= slices; ++j) {
       const float theta = 2.0f * kPi * float(j) / float(slices);
-      const float x = std::sin(phi) * std::cos(theta), y = std::sin(phi) * std::sin(theta), z = std::cos(phi);
+      const float x = std::sin(phi) * std::cos(theta), y = std::sin(phi) * std::sin(theta),
+                  z = std::cos(phi);
       v.insert(v.end(), {x, y, z, x, y, z});
     }
   }
   for (int i = 0; i < stacks; ++i) {
     for (int j = 0; j < slices; ++j) {
-      const std::uint32_t a = std::uint32_t(i * (slices + 1) + j), b = a + std::uint32_t(slices + 1);
+      const std::uint32_t a = std::uint32_t(i * (slices + 1) + j),
+                          b = a + std::uint32_t(slices + 1);
       idx.insert(idx.end(), {a, b, a + 1, a + 1, b, b + 1});
     }
   }
@@ -58,7 +61,8 @@ void coneMesh(std::vector<float>& v, std::vector<std::uint32_t>& idx, int slices
   }
   const std::uint32_t centre = std::uint32_t(v.size() / 6);
   v.insert(v.end(), {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, -1.0f});
-  for (int j = 0; j < slices; ++j) idx.insert(idx.end(), {centre, std::uint32_t(2 * (j + 1)), std::uint32_t(2 * j)});
+  for (int j = 0; j < slices; ++j)
+    idx.insert(idx.end(), {centre, std::uint32_t(2 * (j + 1)), std::uint32_t(2 * j)});
 }
 
 // The model matrix taking the unit z-segment of radius 1 to a..b of radius r.
@@ -66,7 +70,8 @@ glm::mat4 segmentModel(const glm::dvec3& a, const glm::dvec3& b, double r) {
   glm::dvec3 w = b - a;
   const double len = glm::length(w);
   const glm::dvec3 axis = len > 1e-12 ? w / len : glm::dvec3(0.0, 0.0, 1.0);
-  const glm::dvec3 helper = std::abs(axis.z) < 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
+  const glm::dvec3 helper =
+      std::abs(axis.z) < 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
   const glm::dvec3 u = glm::normalize(glm::cross(helper, axis)), v = glm::cross(axis, u);
   glm::dmat4 m(1.0);
   m[0] = glm::dvec4(u * r, 0.0);
@@ -78,7 +83,8 @@ glm::mat4 segmentModel(const glm::dvec3& a, const glm::dvec3& b, double r) {
 
 }  // namespace
 
-OverlayRenderer::Mesh OverlayRenderer::makeMesh(const std::vector<float>& v, const std::vector<std::uint32_t>& idx) {
+OverlayRenderer::Mesh OverlayRenderer::makeMesh(const std::vector<float>& v,
+                                                const std::vector<std::uint32_t>& idx) {
   Mesh m;
   m.vao = GlVertexArray(newVertexArray());
   m.vbo = GlBuffer(newBuffer());
@@ -89,7 +95,8 @@ OverlayRenderer::Mesh OverlayRenderer::makeMesh(const std::vector<float>& v, con
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(0));
   glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ibo.get());
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(idx.size() * 4), idx.data(), GL_STATIC_DRAW);
   glBindVertexArray(0);
@@ -100,7 +107,8 @@ OverlayRenderer::Mesh OverlayRenderer::makeMesh(const std::vector<float>& v, con
 
 OverlayRenderer::OverlayRenderer()
     : program_(buildProgram("overlay", shaders::kOverlayVertex, shaders::kOverlayFragment)),
-      linesVao_(newVertexArray()), linesVbo_(newBuffer()) {
+      linesVao_(newVertexArray()),
+      linesVbo_(newBuffer()) {
   std::vector<float> v;
   std::vector<std::uint32_t> idx;
   sphereMesh(v, idx);
@@ -128,7 +136,8 @@ void OverlayRenderer::begin(const FrameCamera& camera) {
   setUniform(p, "uLight", camera.light);
 }
 
-void OverlayRenderer::drawMesh(const Mesh& mesh, const glm::mat4& model, const glm::vec4& colour, bool lit) {
+void OverlayRenderer::drawMesh(const Mesh& mesh, const glm::mat4& model, const glm::vec4& colour,
+                               bool lit) {
   const GLuint p = program_.get();
   setUniform(p, "uModel", model);
   setUniform(p, "uColour", colour);
@@ -138,7 +147,8 @@ void OverlayRenderer::drawMesh(const Mesh& mesh, const glm::mat4& model, const g
   glBindVertexArray(0);
 }
 
-void OverlayRenderer::drawCapsule(const glm::dvec3& a, const glm::dvec3& b, double r, const glm::vec4& colour) {
+void OverlayRenderer::drawCapsule(const glm::dvec3& a, const glm::dvec3& b, double r,
+                                  const glm::vec4& colour) {
   const glm::mat4 ends(glm::scale(glm::mat4(1.0f), glm::vec3(float(r))));
   drawMesh(sphere_, glm::translate(glm::mat4(1.0f), glm::vec3(a)) * ends, colour, true);
   if (glm::length(b - a) > 1e-9) {
@@ -155,7 +165,8 @@ void OverlayRenderer::drawTool(const FrameCamera& camera, const simulation::Tool
   // Cores, opaque: the cutting part gold (orange while drilling), pushing parts steel.
   for (int i = 0; i < tool.partCount; ++i) {
     const simulation::ToolPart& part = tool.parts[std::size_t(i)];
-    const glm::vec4 colour = part.cuts ? (drillOn ? glm::vec4(1.0f, 0.62f, 0.18f, 1.0f) : glm::vec4(0.85f, 0.72f, 0.35f, 1.0f))
+    const glm::vec4 colour = part.cuts ? (drillOn ? glm::vec4(1.0f, 0.62f, 0.18f, 1.0f)
+                                                  : glm::vec4(0.85f, 0.72f, 0.35f, 1.0f))
                                        : glm::vec4(0.62f, 0.65f, 0.70f, 1.0f);
     drawCapsule(pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.innerRadiusMm, colour);
   }
@@ -168,7 +179,8 @@ void OverlayRenderer::drawTool(const FrameCamera& camera, const simulation::Tool
     glCullFace(face);
     for (int i = 0; i < tool.partCount; ++i) {
       const simulation::ToolPart& part = tool.parts[std::size_t(i)];
-      const glm::vec4 colour = part.cuts ? glm::vec4(0.3f, 0.8f, 1.0f, 0.28f) : glm::vec4(0.3f, 0.8f, 1.0f, 0.16f);
+      const glm::vec4 colour =
+          part.cuts ? glm::vec4(0.3f, 0.8f, 1.0f, 0.28f) : glm::vec4(0.3f, 0.8f, 1.0f, 0.16f);
       drawCapsule(pose.toWorld(part.aMm), pose.toWorld(part.bMm), part.outerRadiusMm, colour);
     }
   }
@@ -179,7 +191,8 @@ void OverlayRenderer::drawTool(const FrameCamera& camera, const simulation::Tool
 }
 
 void OverlayRenderer::drawGhost(const FrameCamera& camera, const simulation::Tool& tool,
-                                const simulation::ToolPose& commanded, const simulation::ToolPose& proxy) {
+                                const simulation::ToolPose& commanded,
+                                const simulation::ToolPose& proxy) {
   begin(camera);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_BLEND);
@@ -202,14 +215,15 @@ void OverlayRenderer::drawGhost(const FrameCamera& camera, const simulation::Too
   glDisable(GL_DEPTH_TEST);
   glUseProgram(0);
   // The spring, over everything: from the proxy's tip to the hand's.
-  drawLines(camera, {glm::vec3(proxy.tipMm), glm::vec3(commanded.tipMm)}, glm::vec4(0.85f, 0.9f, 1.0f, 0.75f));
+  drawLines(camera, {glm::vec3(proxy.tipMm), glm::vec3(commanded.tipMm)},
+            glm::vec4(0.85f, 0.9f, 1.0f, 0.75f));
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
 }
 
-void OverlayRenderer::drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,
-                                const glm::vec4& colour) {
+void OverlayRenderer::drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm,
+                                const glm::dvec3& vectorMm, const glm::vec4& colour) {
   const double len = glm::length(vectorMm);
   if (!(len > 1e-6)) return;
   begin(camera);
@@ -232,7 +246,8 @@ void OverlayRenderer::drawLines(const FrameCamera& camera, const std::vector<glm
   setUniform(p, "uLit", 0);
   glBindVertexArray(linesVao_.get());
   glBindBuffer(GL_ARRAY_BUFFER, linesVbo_.get());
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(points.size() * sizeof(glm::vec3)), points.data(), GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(points.size() * sizeof(glm::vec3)), points.data(),
+               GL_STREAM_DRAW);
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDrawArrays(GL_LINES, 0, GLsizei(points.size()));

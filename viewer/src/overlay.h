@@ -4,14 +4,13 @@
 // hierarchy's boxes).
 #pragma once
 
-#include "gl_util.h"
-#include "renderer.h"
-
-#include "osteon/simulation/tool.h"
+#include <vector>
 
 #include <glm/vec4.hpp>
 
-#include <vector>
+#include "gl_util.h"
+#include "osteon/simulation/tool.h"
+#include "renderer.h"
 
 namespace osteon::viewer {
 
@@ -19,18 +18,19 @@ class OverlayRenderer {
  public:
   OverlayRenderer();
 
-  void drawTool(const FrameCamera& camera, const simulation::Tool& tool, const simulation::ToolPose& pose,
-                bool drillOn);
+  void drawTool(const FrameCamera& camera, const simulation::Tool& tool,
+                const simulation::ToolPose& pose, bool drillOn);
   // The commanded pose as a ghost: the same cores, pale and translucent, without writing depth,
   // after everything opaque. Where bone hides it, it shows fainter through the bone, and a line
   // (the coupling's spring) joins its tip to the proxy's.
-  void drawGhost(const FrameCamera& camera, const simulation::Tool& tool, const simulation::ToolPose& commanded,
-                 const simulation::ToolPose& proxy);
+  void drawGhost(const FrameCamera& camera, const simulation::Tool& tool,
+                 const simulation::ToolPose& commanded, const simulation::ToolPose& proxy);
   // An arrow from `fromMm` along `vectorMm` (its length in mm).
   void drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,
                  const glm::vec4& colour);
   // Line segments: points in pairs (mm).
-  void drawLines(const FrameCamera& camera, const std::vector<glm::vec3>& points, const glm::vec4& colour);
+  void drawLines(const FrameCamera& camera, const std::vector<glm::vec3>& points,
+                 const glm::vec4& colour);
 
  private:
   struct Mesh {
@@ -38,7 +38,8 @@ class OverlayRenderer {
     GlBuffer vbo, ibo;
     GLsizei indexCount = 0;
   };
-  static Mesh makeMesh(const std::vector<float>& positionsNormals, const std::vector<std::uint32_t>& indices);
+  static Mesh makeMesh(const std::vector<float>& positionsNormals,
+                       const std::vector<std::uint32_t>& indices);
   void begin(const FrameCamera& camera);
   void drawMesh(const Mesh& mesh, const glm::mat4& model, const glm::vec4& colour, bool lit);
   // A capsule (a sphere when a == b) of radius r.

@@ -1,9 +1,8 @@
 #include "panels.h"
 
-#include <imgui.h>
-
 #include <algorithm>
 #include <cstdio>
+#include <imgui.h>
 #include <utility>
 
 namespace osteon::viewer {
@@ -15,22 +14,26 @@ void statusLine(const PanelModel& m) {
   ImGui::SetNextWindowPos(ImVec2(0.0f, io.DisplaySize.y), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
   ImGui::SetNextWindowBgAlpha(0.6f);
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                 ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
-                                 ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
+                                 ImGuiWindowFlags_NoSavedSettings |
+                                 ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                                 ImGuiWindowFlags_NoMove;
   if (ImGui::Begin("status", nullptr, flags)) {
     const StatusNumbers& s = m.status;
-    ImGui::Text("haptic %.0f Hz | step p99 %.0f us | overruns %llu | remesh %.2f ms | upload %.3f ms | "
-                "%zu triangles | removed %.1f mm3 | |F| %.2f N (level %d) | gap %.1f mm | frame %.1f ms (p99 %.1f)",
-                s.hapticRateHz, s.stepP99Us, static_cast<unsigned long long>(s.overruns), s.remeshMs, s.uploadMs,
-                s.triangles, s.removedVolumeMm3, s.forceN, s.level, s.gapMm, s.frameMs, s.frameP99Ms);
+    ImGui::Text(
+        "haptic %.0f Hz | step p99 %.0f us | overruns %llu | remesh %.2f ms | upload %.3f ms | "
+        "%zu triangles | removed %.1f mm3 | |F| %.2f N (level %d) | gap %.1f mm | frame %.1f ms "
+        "(p99 %.1f)",
+        s.hapticRateHz, s.stepP99Us, static_cast<unsigned long long>(s.overruns), s.remeshMs,
+        s.uploadMs, s.triangles, s.removedVolumeMm3, s.forceN, s.level, s.gapMm, s.frameMs,
+        s.frameP99Ms);
   }
   ImGui::End();
 }
 
 void viewSection(PanelModel& m) {
   if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  static const char* names[] = {"shaded (F1)", "cracks (F2)", "levels (F3)", "density (F4)", "hierarchy (F5)",
-                                "wireframe (F6)"};
+  static const char* names[] = {"shaded (F1)",  "cracks (F2)",    "levels (F3)",
+                                "density (F4)", "hierarchy (F5)", "wireframe (F6)"};
   int view = int(m.view);
   for (int i = 0; i < 6; ++i) {
     if (ImGui::RadioButton(names[i], &view, i)) m.view = View(i);
@@ -42,7 +45,8 @@ void viewSection(PanelModel& m) {
   if (ImGui::RadioButton("crackfree", &method, 0)) m.method = SurfaceChoice::CrackFree;
   ImGui::SameLine();
   if (ImGui::RadioButton("naive", &method, 1)) m.method = SurfaceChoice::Naive;
-  if (m.method == SurfaceChoice::Naive) ImGui::TextDisabled("naive: extracted whole, %.1f ms", m.status.naiveExtractMs);
+  if (m.method == SurfaceChoice::Naive)
+    ImGui::TextDisabled("naive: extracted whole, %.1f ms", m.status.naiveExtractMs);
   ImGui::Checkbox("edges (W)", &m.wire);
   if (!m.texturesMessage.empty() && (m.view == View::Levels || m.view == View::Density)) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.7f, 0.3f, 1.0f));
@@ -73,7 +77,8 @@ void viewSection(PanelModel& m) {
 void cameraSection(PanelModel& m) {
   if (!ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
   if (ImGui::Button("frame (F)")) m.frameBone = true;
-  static const char* labels[] = {"ant (1)", "post (2)", "right (3)", "left (4)", "sup (5)", "inf (6)"};
+  static const char* labels[] = {"ant (1)",  "post (2)", "right (3)",
+                                 "left (4)", "sup (5)",  "inf (6)"};
   for (int i = 0; i < 6; ++i) {
     if (i != 3) ImGui::SameLine();
     if (ImGui::SmallButton(labels[i])) m.axisView = AxisView(i);
@@ -93,16 +98,17 @@ void toolSection(PanelModel& m) {
   if (!m.proxyCoupling) {
     ImGui::TextDisabled("coupling: direct (the tool goes where it is put)");
   } else if (m.ghost) {
-    ImGui::TextColored(ImVec4(0.8f, 0.87f, 0.95f, 1.0f), "bone holds the tool back %.1f mm (ghost: the hand)",
-                       m.status.gapMm);
+    ImGui::TextColored(ImVec4(0.8f, 0.87f, 0.95f, 1.0f),
+                       "bone holds the tool back %.1f mm (ghost: the hand)", m.status.gapMm);
   } else {
     ImGui::TextDisabled("coupling: proxy (bone stops the tool)");
   }
   if (m.force && !m.force->values().empty()) {
     char label[48];
     std::snprintf(label, sizeof label, "|F| %.2f N", double(m.force->values().back()));
-    ImGui::PlotLines("##force", m.force->values().data(), int(m.force->values().size()), 0, label, 0.0f,
-                     std::max(3.5f, m.force->max()), ImVec2(ImGui::GetContentRegionAvail().x, 80.0f));
+    ImGui::PlotLines("##force", m.force->values().data(), int(m.force->values().size()), 0, label,
+                     0.0f, std::max(3.5f, m.force->max()),
+                     ImVec2(ImGui::GetContentRegionAvail().x, 80.0f));
     ImGui::TextDisabled("last 5 s");
   }
 }
@@ -117,7 +123,8 @@ void metricSection(PanelModel& m) {
   if (!m.countsValid) return;
   const PixelCounts& c = m.counts;
   ImGui::Text("red %llu (silhouette %llu, cracks %llu)", static_cast<unsigned long long>(c.red),
-              static_cast<unsigned long long>(c.redSilhouette), static_cast<unsigned long long>(c.cracks()));
+              static_cast<unsigned long long>(c.redSilhouette),
+              static_cast<unsigned long long>(c.cracks()));
   const double total = double(c.red + c.white);
   ImGui::Text("white %llu | red share %.4f%%", static_cast<unsigned long long>(c.white),
               total > 0.0 ? 100.0 * double(c.red) / total : 0.0);
@@ -142,7 +149,8 @@ void fileSection(PanelModel& m) {
   ImGui::InputText("path", m.openPath, sizeof m.openPath);
   ImGui::SetNextItemWidth(120.0f);
   ImGui::InputDouble("mm per file unit", &m.openScaleToMm, 0.0, 0.0, "%g");
-  static const std::pair<const char*, double> units[] = {{"mm", 1.0}, {"cm", 10.0}, {"m", 1000.0}, {"in", 25.4}};
+  static const std::pair<const char*, double> units[] = {
+      {"mm", 1.0}, {"cm", 10.0}, {"m", 1000.0}, {"in", 25.4}};
   for (const auto& [name, scale] : units) {
     if (ImGui::SmallButton(name)) m.openScaleToMm = scale;
     ImGui::SameLine();
@@ -170,7 +178,8 @@ void drawPanels(PanelModel& m) {
   ImGui::SetNextWindowPos(ImVec2(10.0f, 10.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSizeConstraints(ImVec2(360.0f, 0.0f), ImVec2(360.0f, maxHeight));
   ImGui::SetNextWindowBgAlpha(0.85f);
-  if (ImGui::Begin("osteon", nullptr, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+  if (ImGui::Begin("osteon", nullptr,
+                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
     ImGui::TextWrapped("%s", m.sceneName.c_str());
     viewSection(m);
     cameraSection(m);

@@ -3,30 +3,30 @@
 // touch the scene themselves.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "camera.h"
 #include "metrics.h"
 #include "options.h"
-
-#include <optional>
-#include <string>
 
 namespace osteon::viewer {
 
 struct StatusNumbers {
   double hapticRateHz = 0.0;
-  double stepP99Us = 0.0;      // collision step, p99 of the latest steps seen by the frames
-  std::uint64_t overruns = 0;  // haptic + collision
-  double remeshMs = 0.0;       // the latest updateSurface that had changes
-  double uploadMs = 0.0;       // this frame's surface upload
-  double naiveExtractMs = 0.0; // the naive surface's latest whole extraction
+  double stepP99Us = 0.0;       // collision step, p99 of the latest steps seen by the frames
+  std::uint64_t overruns = 0;   // haptic + collision
+  double remeshMs = 0.0;        // the latest updateSurface that had changes
+  double uploadMs = 0.0;        // this frame's surface upload
+  double naiveExtractMs = 0.0;  // the naive surface's latest whole extraction
   double frameMs = 0.0;
   double frameP99Ms = 0.0;
   std::size_t triangles = 0;
   double removedVolumeMm3 = 0.0;
   double forceN = 0.0;
   double simTimeS = 0.0;
-  int level = 0;               // finest level in contact
-  double gapMm = 0.0;          // the proxy's tip to the commanded tip (0 under direct coupling)
+  int level = 0;       // finest level in contact
+  double gapMm = 0.0;  // the proxy's tip to the commanded tip (0 under direct coupling)
 };
 
 struct PanelModel {
@@ -35,7 +35,7 @@ struct PanelModel {
   bool followsPath = false;
   double pathDurationS = 0.0;
   bool proxyCoupling = false;
-  bool ghost = false;            // the commanded pose is drawn beside the proxy
+  bool ghost = false;  // the commanded pose is drawn beside the proxy
   bool drillOn = false;
   StatusNumbers status;
   const TimeSeries* force = nullptr;
@@ -43,10 +43,10 @@ struct PanelModel {
   bool countsValid = false;
   bool recording = false;
   std::size_t recordedSamples = 0;
-  std::string recordMessage;     // the last write, or its failure
+  std::string recordMessage;  // the last write, or its failure
   bool loading = false;
-  std::string loadMessage;       // the last load's failure, or what is loading
-  std::string texturesMessage;   // why level/density views are unavailable ("" if they are)
+  std::string loadMessage;      // the last load's failure, or what is loading
+  std::string texturesMessage;  // why level/density views are unavailable ("" if they are)
   int hierarchyLevels = 0;
   std::string hierarchyMessage;
 
@@ -60,8 +60,8 @@ struct PanelModel {
   float hierarchyRadiusMm = 15.0f;
   char recordPath[1024] = {};
   char openPath[1024] = {};
-  double openScaleToMm = 1.0;    // mm per file unit of the mesh to open
-  double openVoxelMm = 1.2;      // its base voxel size (a grid keeps its own)
+  double openScaleToMm = 1.0;  // mm per file unit of the mesh to open
+  double openVoxelMm = 1.2;    // its base voxel size (a grid keeps its own)
 
   // Requests for the app, cleared by it.
   bool toggleDrill = false, toggleRecord = false, frameBone = false, resetTool = false;

@@ -5,8 +5,8 @@
 
 namespace osteon::viewer {
 
-simulation::ToolPose stepTowards(const simulation::ToolPose& from, const simulation::ToolPose& to, double maxMm,
-                                 double maxRad) {
+simulation::ToolPose stepTowards(const simulation::ToolPose& from, const simulation::ToolPose& to,
+                                 double maxMm, double maxRad) {
   simulation::ToolPose out = to;
   const glm::dvec3 d = to.tipMm - from.tipMm;
   const double len = glm::length(d);
@@ -15,11 +15,13 @@ simulation::ToolPose stepTowards(const simulation::ToolPose& from, const simulat
   const double dot = glm::dot(from.orientation, q);
   if (dot < 0.0) q = -q;
   const double angle = 2.0 * std::acos(std::min(1.0, std::abs(dot)));
-  if (angle > maxRad && angle > 0.0) out.orientation = glm::slerp(from.orientation, q, maxRad / angle);
+  if (angle > maxRad && angle > 0.0)
+    out.orientation = glm::slerp(from.orientation, q, maxRad / angle);
   return out;
 }
 
-ViewerPoseSource::ViewerPoseSource(const simulation::ToolPose& initial, const simulation::DrillPath* path)
+ViewerPoseSource::ViewerPoseSource(const simulation::ToolPose& initial,
+                                   const simulation::DrillPath* path)
     : path_(path), current_(initial) {
   target_.write(Target{initial, false});
 }

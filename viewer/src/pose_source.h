@@ -5,11 +5,10 @@
 // (the tool stays at the path's end afterwards). Either way every sample can be recorded.
 #pragma once
 
-#include "recorder.h"
-
 #include "osteon/core/handoff.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/runtime.h"
+#include "recorder.h"
 
 namespace osteon::viewer {
 
@@ -45,7 +44,7 @@ class ViewerPoseSource : public simulation::PoseSource {
 
 // Moves `from` towards `to` by at most maxMm of travel and maxRad of turn (plain math, for the
 // mouse source and its tests).
-simulation::ToolPose stepTowards(const simulation::ToolPose& from, const simulation::ToolPose& to, double maxMm,
-                                 double maxRad);
+simulation::ToolPose stepTowards(const simulation::ToolPose& from, const simulation::ToolPose& to,
+                                 double maxMm, double maxRad);
 
 }  // namespace osteon::viewer

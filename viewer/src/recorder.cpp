@@ -1,10 +1,10 @@
 #include "recorder.h"
 
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/output_file.h"
-
 #include <charconv>
 #include <cmath>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
 
 namespace osteon::viewer {
 

@@ -8,13 +8,13 @@
 // only then is the buffer read (or at once when the loops have been joined).
 #pragma once
 
-#include "osteon/simulation/tool.h"
-
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "osteon/simulation/tool.h"
 
 namespace osteon::viewer {
 

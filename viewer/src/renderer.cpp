@@ -1,9 +1,9 @@
 #include "renderer.h"
 
-#include "shaders.h"
-
 #include <cstdint>
 #include <vector>
+
+#include "shaders.h"
 
 namespace osteon::viewer {
 
@@ -14,7 +14,8 @@ void describeVertices() {
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(GpuVertex), reinterpret_cast<void*>(0));
   glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(GpuVertex), reinterpret_cast<void*>(3 * sizeof(float)));
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(GpuVertex),
+                        reinterpret_cast<void*>(3 * sizeof(float)));
 }
 
 }  // namespace
@@ -28,7 +29,8 @@ GlSurfaceBuffers::GlSurfaceBuffers()
   glBindVertexArray(0);
 }
 
-void GlSurfaceBuffers::reallocateVertices(std::size_t capacity, const GpuVertex* data, std::size_t count) {
+void GlSurfaceBuffers::reallocateVertices(std::size_t capacity, const GpuVertex* data,
+                                          std::size_t count) {
   glBindBuffer(GL_ARRAY_BUFFER, vbo_.get());
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(capacity * sizeof(GpuVertex)), nullptr, GL_DYNAMIC_DRAW);
   if (count > 0) glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(count * sizeof(GpuVertex)), data);
@@ -37,11 +39,13 @@ void GlSurfaceBuffers::reallocateVertices(std::size_t capacity, const GpuVertex*
 
 void GlSurfaceBuffers::writeVertices(std::size_t first, std::size_t count, const GpuVertex* data) {
   glBindBuffer(GL_ARRAY_BUFFER, vbo_.get());
-  glBufferSubData(GL_ARRAY_BUFFER, GLintptr(first * sizeof(GpuVertex)), GLsizeiptr(count * sizeof(GpuVertex)), data);
+  glBufferSubData(GL_ARRAY_BUFFER, GLintptr(first * sizeof(GpuVertex)),
+                  GLsizeiptr(count * sizeof(GpuVertex)), data);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
-void GlSurfaceBuffers::reallocateIndices(std::size_t capacity, const std::uint32_t* data, std::size_t count) {
+void GlSurfaceBuffers::reallocateIndices(std::size_t capacity, const std::uint32_t* data,
+                                         std::size_t count) {
   // The element buffer belongs to the vertex array: bind that, not the buffer alone.
   glBindVertexArray(vao_.get());
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(capacity * 4), nullptr, GL_DYNAMIC_DRAW);
@@ -49,7 +53,8 @@ void GlSurfaceBuffers::reallocateIndices(std::size_t capacity, const std::uint32
   glBindVertexArray(0);
 }
 
-void GlSurfaceBuffers::writeIndices(std::size_t first, std::size_t count, const std::uint32_t* data) {
+void GlSurfaceBuffers::writeIndices(std::size_t first, std::size_t count,
+                                    const std::uint32_t* data) {
   glBindVertexArray(vao_.get());
   glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, GLintptr(first * 4), GLsizeiptr(count * 4), data);
   glBindVertexArray(0);
@@ -57,7 +62,9 @@ void GlSurfaceBuffers::writeIndices(std::size_t first, std::size_t count, const 
 
 BoneRenderer::BoneRenderer()
     : program_(buildProgram("bone", shaders::kBoneVertex, shaders::kBoneFragment)),
-      wholeVao_(newVertexArray()), wholeVbo_(newBuffer()), wholeIbo_(newBuffer()) {
+      wholeVao_(newVertexArray()),
+      wholeVbo_(newBuffer()),
+      wholeIbo_(newBuffer()) {
   glBindVertexArray(wholeVao_.get());
   glBindBuffer(GL_ARRAY_BUFFER, wholeVbo_.get());
   describeVertices();
@@ -81,8 +88,10 @@ void BoneRenderer::uploadWhole(const geometry::SurfaceMesh& mesh) {
   }
   glBindVertexArray(wholeVao_.get());
   glBindBuffer(GL_ARRAY_BUFFER, wholeVbo_.get());
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(GpuVertex)), vertices.data(), GL_STREAM_DRAW);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangleCount() * 12), mesh.triangles.data(), GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(GpuVertex)), vertices.data(),
+               GL_STREAM_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangleCount() * 12),
+               mesh.triangles.data(), GL_STREAM_DRAW);
   glBindVertexArray(0);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
   wholeIndexCount_ = 3 * mesh.triangleCount();

@@ -2,14 +2,13 @@
 // GL buffers), the naive comparison surface uploaded whole, and the draw in every view.
 #pragma once
 
+#include <cstddef>
+
 #include "gl_util.h"
 #include "options.h"
+#include "osteon/geometry/surface/surface.h"
 #include "surface_upload.h"
 #include "voxel_textures.h"
-
-#include "osteon/geometry/surface/surface.h"
-
-#include <cstddef>
 
 namespace osteon::viewer {
 
@@ -19,7 +18,8 @@ class GlSurfaceBuffers : public SurfaceUploadTarget {
   GlSurfaceBuffers();
   void reallocateVertices(std::size_t capacity, const GpuVertex* data, std::size_t count) override;
   void writeVertices(std::size_t first, std::size_t count, const GpuVertex* data) override;
-  void reallocateIndices(std::size_t capacity, const std::uint32_t* data, std::size_t count) override;
+  void reallocateIndices(std::size_t capacity, const std::uint32_t* data,
+                         std::size_t count) override;
   void writeIndices(std::size_t first, std::size_t count, const std::uint32_t* data) override;
   GLuint vertexArray() const { return vao_.get(); }
 
@@ -44,7 +44,9 @@ class BoneRenderer {
   std::string resetScene(const geometry::VoxelGrid& grid);
 
   // The live surface's changes, uploaded incrementally.
-  const UploadStats& applyChanges(const geometry::SurfaceDelta& delta) { return uploader_.apply(delta); }
+  const UploadStats& applyChanges(const geometry::SurfaceDelta& delta) {
+    return uploader_.apply(delta);
+  }
   // The naive comparison surface, uploaded whole (glBufferData).
   void uploadWhole(const geometry::SurfaceMesh& mesh);
 

@@ -9,7 +9,8 @@ namespace sim = osteon::simulation;
 
 namespace {
 
-std::unique_ptr<sim::Session> openSession(const LoadRequest& request, const sim::SessionOptions& options) {
+std::unique_ptr<sim::Session> openSession(const LoadRequest& request,
+                                          const sim::SessionOptions& options) {
   sim::BoneSource source = request.bone;
   source.sampleFineFills = options.levels > 0;
   return std::make_unique<sim::Session>(sim::BoneModel::open(source).bone, options);
@@ -50,7 +51,8 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   options.levels = request.levels;
   options.tool = request.tool;
   options.keepSurface = false;  // the live runtime's visual side keeps its own surface
-  options.coupling = request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
+  options.coupling =
+      request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
   scene->session_ = openSession(request, options);
   sim::Session& session = *scene->session_;
   if (portal) scene->path_ = session.portalPath(*portal).path;
@@ -74,10 +76,11 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
     sim::DeviceInputOptions io;
     io.frame = sim::defaultDeviceFrame(session);
     scene->deviceInput_ = std::make_unique<sim::DeviceInput>(*scene->device_, io);
-    scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->deviceInput_, scene->deviceInput_.get(),
-                                                      scene->options_);
+    scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->deviceInput_,
+                                                      scene->deviceInput_.get(), scene->options_);
   } else {
-    scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->source_, nullptr, scene->options_);
+    scene->live_ =
+        std::make_unique<sim::LiveRuntime>(session, *scene->source_, nullptr, scene->options_);
   }
   scene->loadMs_ = msSince(start);
   return scene;

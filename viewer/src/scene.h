@@ -4,16 +4,15 @@
 // that fails throws InputError before anything is shown.
 #pragma once
 
-#include "options.h"
-#include "pose_source.h"
-
-#include "osteon/simulation/device_input.h"
-#include "osteon/simulation/live.h"
-#include "osteon/simulation/session.h"
-
 #include <memory>
 #include <optional>
 #include <string>
+
+#include "options.h"
+#include "osteon/simulation/device_input.h"
+#include "osteon/simulation/live.h"
+#include "osteon/simulation/session.h"
+#include "pose_source.h"
 
 namespace osteon::viewer {
 

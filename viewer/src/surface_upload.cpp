@@ -85,8 +85,9 @@ void SurfaceUploader::applyVertices(const geometry::SurfaceDelta& delta, bool ev
     const std::uint32_t slot = delta.slots[i];
     if (slot >= slotCount_) continue;  // a delta never lists one; guard the mirror anyway
     const glm::dvec3& p = delta.positionsMm[i];
-    vertices_[slot] = std::isfinite(p.x) ? toGpu(p, i < delta.normals.size() ? delta.normals[i] : glm::dvec3(0.0))
-                                         : deadVertex();
+    vertices_[slot] = std::isfinite(p.x)
+                          ? toGpu(p, i < delta.normals.size() ? delta.normals[i] : glm::dvec3(0.0))
+                          : deadVertex();
   }
   if (everything || slotCount_ > vertexCapacity_) {
     vertexCapacity_ = grownCapacity(vertexCapacity_, kMinVertexCapacity, slotCount_);
@@ -134,7 +135,8 @@ void SurfaceUploader::applyBrick(std::int64_t key, const std::vector<glm::u32vec
     old = r.count;
     if (n <= r.capacity) {
       // In place: the new triangles, then degenerate ones over what the brick used before.
-      if (n > 0) std::copy_n(&triangles[0].x, 3 * n, indices_.begin() + std::ptrdiff_t(3 * r.first));
+      if (n > 0)
+        std::copy_n(&triangles[0].x, 3 * n, indices_.begin() + std::ptrdiff_t(3 * r.first));
       if (old > n) pad(r.first + n, old - n);
       r.count = n;
       writeTriangles(r, std::max(n, old));
@@ -161,7 +163,9 @@ SurfaceUploader::Region SurfaceUploader::allocate(std::size_t need, std::int64_t
   // The best fitting free region; one more than twice too large is split.
   std::size_t best = free_.size();
   for (std::size_t i = 0; i < free_.size(); ++i) {
-    if (free_[i].capacity >= need && (best == free_.size() || free_[i].capacity < free_[best].capacity)) best = i;
+    if (free_[i].capacity >= need &&
+        (best == free_.size() || free_[i].capacity < free_[best].capacity))
+      best = i;
   }
   if (best < free_.size()) {
     Region r = free_[best];
@@ -181,17 +185,20 @@ SurfaceUploader::Region SurfaceUploader::allocate(std::size_t need, std::int64_t
 void SurfaceUploader::repack(std::size_t extraTriangles, std::int64_t skipKey) {
   // Every brick again in key order with fresh spare room; free regions vanish.
   std::vector<std::pair<std::int64_t, Region>> order(regions_.begin(), regions_.end());
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(order.begin(), order.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   std::size_t end = 0;
   for (const auto& [key, r] : order) {
     if (key != skipKey) end += withSpare(r.count);
   }
-  const std::size_t capacity = grownCapacity(capacityTriangles_, kMinIndexCapacity / 3, end + extraTriangles);
+  const std::size_t capacity =
+      grownCapacity(capacityTriangles_, kMinIndexCapacity / 3, end + extraTriangles);
   std::vector<std::uint32_t> packed(3 * capacity, 0u);
   std::size_t at = 0;
   for (auto& [key, r] : order) {
     if (key == skipKey) continue;
-    std::copy_n(indices_.begin() + std::ptrdiff_t(3 * r.first), 3 * r.count, packed.begin() + std::ptrdiff_t(3 * at));
+    std::copy_n(indices_.begin() + std::ptrdiff_t(3 * r.first), 3 * r.count,
+                packed.begin() + std::ptrdiff_t(3 * at));
     Region moved{at, withSpare(r.count), r.count};
     regions_[key] = moved;
     at += moved.capacity;

@@ -17,14 +17,14 @@
 // every index past the end is degenerate on the GPU before a region is placed there.
 #pragma once
 
-#include "osteon/geometry/surface/surface_updater.h"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "osteon/geometry/surface/surface_updater.h"
 
 namespace osteon::viewer {
 
@@ -40,10 +40,12 @@ class SurfaceUploadTarget {
  public:
   virtual ~SurfaceUploadTarget() = default;
   // New storage of `capacity` vertices holding data[0, count); the rest is undefined.
-  virtual void reallocateVertices(std::size_t capacity, const GpuVertex* data, std::size_t count) = 0;
+  virtual void reallocateVertices(std::size_t capacity, const GpuVertex* data,
+                                  std::size_t count) = 0;
   virtual void writeVertices(std::size_t first, std::size_t count, const GpuVertex* data) = 0;
   // New storage of `capacity` indices holding data[0, count); the rest is undefined.
-  virtual void reallocateIndices(std::size_t capacity, const std::uint32_t* data, std::size_t count) = 0;
+  virtual void reallocateIndices(std::size_t capacity, const std::uint32_t* data,
+                                 std::size_t count) = 0;
   virtual void writeIndices(std::size_t first, std::size_t count, const std::uint32_t* data) = 0;
 };
 
@@ -52,7 +54,7 @@ struct UploadStats {
   std::size_t vertexWrites = 0, verticesWritten = 0;
   std::size_t indexWrites = 0, indicesWritten = 0;
   std::size_t vertexReallocations = 0, indexReallocations = 0;  // whole-buffer uploads
-  std::size_t bricksMoved = 0;  // bricks that outgrew their region
+  std::size_t bricksMoved = 0;                                  // bricks that outgrew their region
   std::size_t bytes() const { return verticesWritten * sizeof(GpuVertex) + indicesWritten * 4; }
 };
 
@@ -78,7 +80,7 @@ class SurfaceUploader {
 
  private:
   struct Region {
-    std::size_t first = 0;     // in triangles
+    std::size_t first = 0;  // in triangles
     std::size_t capacity = 0;
     std::size_t count = 0;
   };

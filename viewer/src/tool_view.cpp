@@ -1,9 +1,9 @@
 #include "tool_view.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::viewer {
 
@@ -35,7 +35,8 @@ bool showGhost(const sim::Tool& tool, const sim::ToolPose& proxy, const sim::Too
   return toolOffsetMm(tool, proxy, commanded) > thresholdMm;
 }
 
-double boneDepthMm(const geometry::VoxelGrid& grid, const sim::Tool& tool, const sim::ToolPose& pose) {
+double boneDepthMm(const geometry::VoxelGrid& grid, const sim::Tool& tool,
+                   const sim::ToolPose& pose) {
   double deepest = 0.0;
   const double vs = grid.voxelSizeMm();
   const glm::dvec3 f = pose.forward();
@@ -43,17 +44,21 @@ double boneDepthMm(const geometry::VoxelGrid& grid, const sim::Tool& tool, const
     const sim::ToolPart& part = tool.parts[std::size_t(i)];
     const double r = part.innerRadiusMm;
     const glm::dvec3 a = pose.toWorld(part.aMm), b = pose.toWorld(part.bMm);
-    const double frontMm = std::max(glm::dot(a, f), glm::dot(b, f));  // the part's foremost core point
+    const double frontMm =
+        std::max(glm::dot(a, f), glm::dot(b, f));  // the part's foremost core point
     // The voxels whose centres can lie within r of the segment.
-    const glm::ivec3 lo = glm::max(grid.voxelFromWorld(glm::min(a, b) - r - 0.5 * vs), glm::ivec3(0));
-    const glm::ivec3 hi = glm::min(grid.voxelFromWorld(glm::max(a, b) + r + 0.5 * vs), grid.dims() - 1);
+    const glm::ivec3 lo =
+        glm::max(grid.voxelFromWorld(glm::min(a, b) - r - 0.5 * vs), glm::ivec3(0));
+    const glm::ivec3 hi =
+        glm::min(grid.voxelFromWorld(glm::max(a, b) + r + 0.5 * vs), grid.dims() - 1);
     glm::ivec3 v;
     for (v.z = lo.z; v.z <= hi.z; ++v.z) {
       for (v.y = lo.y; v.y <= hi.y; ++v.y) {
         for (v.x = lo.x; v.x <= hi.x; ++v.x) {
           const glm::dvec3 p = grid.voxelCentreMm(v);
           if (distanceToSegmentMm(p, a, b) >= r) continue;
-          // Backed out by t, the front cap clears p once (along - (front - t)) >= sqrt(r^2 - rho^2).
+          // Backed out by t, the front cap clears p once (along - (front - t)) >= sqrt(r^2 -
+          // rho^2).
           const double along = glm::dot(p, f);
           const double rho = glm::length((p - a) - glm::dot(p - a, f) * f);
           const double t = std::sqrt(std::max(r * r - rho * rho, 0.0)) + frontMm - along;
@@ -65,8 +70,9 @@ double boneDepthMm(const geometry::VoxelGrid& grid, const sim::Tool& tool, const
   return deepest;
 }
 
-void ToolViewTally::add(const sim::Tool& tool, const sim::ToolPose& proxy, const sim::ToolPose& commanded,
-                        double gapMm, const geometry::VoxelGrid* grid) {
+void ToolViewTally::add(const sim::Tool& tool, const sim::ToolPose& proxy,
+                        const sim::ToolPose& commanded, double gapMm,
+                        const geometry::VoxelGrid* grid) {
   ghostLast = showGhost(tool, proxy, commanded);
   ghostFrames += ghostLast ? 1 : 0;
   gapLastMm = gapMm;

@@ -4,10 +4,10 @@
 // same place measures how deep either pose reaches into bone, for --json and the tests.
 #pragma once
 
+#include <cstdint>
+
 #include "osteon/geometry/voxels/voxel_grid.h"
 #include "osteon/simulation/tool.h"
-
-#include <cstdint>
 
 namespace osteon::viewer {
 
@@ -18,7 +18,8 @@ inline constexpr double kGhostThresholdMm = 0.05;
 // The largest distance any point of the tool's part segments moves from pose a to pose b.
 // For a rigid motion a point's displacement is affine along a segment, so its largest length
 // is at an end: a turn about the tip shows at the shaft's far end, not at the tip.
-double toolOffsetMm(const simulation::Tool& tool, const simulation::ToolPose& a, const simulation::ToolPose& b);
+double toolOffsetMm(const simulation::Tool& tool, const simulation::ToolPose& a,
+                    const simulation::ToolPose& b);
 
 // Whether the commanded pose is drawn as a ghost beside the proxy.
 bool showGhost(const simulation::Tool& tool, const simulation::ToolPose& proxy,
@@ -32,7 +33,8 @@ bool showGhost(const simulation::Tool& tool, const simulation::ToolPose& proxy,
 // bone (about 10 mm less the shaft's offset behind the tip); the burr's lone sphere says 2.9 mm
 // for any push past that. A proxy in contact keeps this within about its cushion (level-0
 // centres stand for their sub-voxels, so inside a drilled hole half-cut voxels add to it).
-double boneDepthMm(const geometry::VoxelGrid& grid, const simulation::Tool& tool, const simulation::ToolPose& pose);
+double boneDepthMm(const geometry::VoxelGrid& grid, const simulation::Tool& tool,
+                   const simulation::ToolPose& pose);
 
 // Frame by frame: what was drawn and how deep each pose reached (the --json fields).
 struct ToolViewTally {
@@ -43,8 +45,8 @@ struct ToolViewTally {
   double maxCommandedDepthMm = 0.0;
 
   // One frame; `grid` null skips the depths (it walks the voxels around both poses).
-  void add(const simulation::Tool& tool, const simulation::ToolPose& proxy, const simulation::ToolPose& commanded,
-           double gapMm, const geometry::VoxelGrid* grid);
+  void add(const simulation::Tool& tool, const simulation::ToolPose& proxy,
+           const simulation::ToolPose& commanded, double gapMm, const geometry::VoxelGrid* grid);
 };
 
 }  // namespace osteon::viewer

@@ -14,7 +14,8 @@ void configure(GLuint texture) {
   glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_BASE_LEVEL, 0);
   glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
-  for (const GLenum wrap : {GLenum(GL_TEXTURE_WRAP_S), GLenum(GL_TEXTURE_WRAP_T), GLenum(GL_TEXTURE_WRAP_R)}) {
+  for (const GLenum wrap :
+       {GLenum(GL_TEXTURE_WRAP_S), GLenum(GL_TEXTURE_WRAP_T), GLenum(GL_TEXTURE_WRAP_R)}) {
     glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
   }
 }
@@ -39,19 +40,22 @@ std::string VoxelTextures::reset(const geometry::VoxelGrid& grid) {
   brickDims_ = grid.brickDims();
   GLint maxSide = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSide);
-  if (grid.voxelCount() > kMaxVoxels || dims_.x > maxSide || dims_.y > maxSide || dims_.z > maxSide) {
+  if (grid.voxelCount() > kMaxVoxels || dims_.x > maxSide || dims_.y > maxSide ||
+      dims_.z > maxSide) {
     return "the grid is too large for the level and density textures";
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   levels_ = GlTexture(newTexture());
   configure(levels_.get());
   levelStaging_.assign(grid.voxelCount(), 0);
-  glTexImage3D(GL_TEXTURE_3D, 0, GL_R8I, dims_.x, dims_.y, dims_.z, 0, GL_RED_INTEGER, GL_BYTE, levelStaging_.data());
+  glTexImage3D(GL_TEXTURE_3D, 0, GL_R8I, dims_.x, dims_.y, dims_.z, 0, GL_RED_INTEGER, GL_BYTE,
+               levelStaging_.data());
   levelStaging_.clear();
 
   density_ = GlTexture(newTexture());
   configure(density_.get());
-  glTexImage3D(GL_TEXTURE_3D, 0, GL_R16I, dims_.x, dims_.y, dims_.z, 0, GL_RED_INTEGER, GL_SHORT, nullptr);
+  glTexImage3D(GL_TEXTURE_3D, 0, GL_R16I, dims_.x, dims_.y, dims_.z, 0, GL_RED_INTEGER, GL_SHORT,
+               nullptr);
   updateDensityBox(grid, glm::ivec3(0), dims_ - 1);
   // The colour ramp's ends: the smallest and largest positive density as loaded.
   int low = std::numeric_limits<int>::max(), high = 0;
@@ -79,15 +83,16 @@ void VoxelTextures::updateLevels(const glm::ivec3* refined, std::size_t count, i
   if (glm::all(glm::greaterThanEqual(boxHi_, boxLo_))) {
     levelStaging_.assign(boxVoxels(boxLo_, boxHi_), 0);
     const glm::ivec3 n = boxHi_ - boxLo_ + 1;
-    glTexSubImage3D(GL_TEXTURE_3D, 0, boxLo_.x, boxLo_.y, boxLo_.z, n.x, n.y, n.z, GL_RED_INTEGER, GL_BYTE,
-                    levelStaging_.data());
+    glTexSubImage3D(GL_TEXTURE_3D, 0, boxLo_.x, boxLo_.y, boxLo_.z, n.x, n.y, n.z, GL_RED_INTEGER,
+                    GL_BYTE, levelStaging_.data());
   }
   refined_.assign(refined, refined + count);
   depth_ = depth;
   boxLo_ = dims_;
   boxHi_ = glm::ivec3(-1);
   for (const glm::ivec3& v : refined_) {
-    if (!glm::all(glm::greaterThanEqual(v, glm::ivec3(0))) || !glm::all(glm::lessThan(v, dims_))) continue;
+    if (!glm::all(glm::greaterThanEqual(v, glm::ivec3(0))) || !glm::all(glm::lessThan(v, dims_)))
+      continue;
     boxLo_ = glm::min(boxLo_, v);
     boxHi_ = glm::max(boxHi_, v);
   }
@@ -95,18 +100,21 @@ void VoxelTextures::updateLevels(const glm::ivec3* refined, std::size_t count, i
     levelStaging_.assign(boxVoxels(boxLo_, boxHi_), 0);
     const glm::ivec3 n = boxHi_ - boxLo_ + 1;
     for (const glm::ivec3& v : refined_) {
-      if (!glm::all(glm::greaterThanEqual(v, boxLo_)) || !glm::all(glm::lessThanEqual(v, boxHi_))) continue;
+      if (!glm::all(glm::greaterThanEqual(v, boxLo_)) || !glm::all(glm::lessThanEqual(v, boxHi_)))
+        continue;
       const glm::ivec3 l = v - boxLo_;
-      levelStaging_[std::size_t(l.x) + std::size_t(n.x) * (std::size_t(l.y) + std::size_t(n.y) * std::size_t(l.z))] =
+      levelStaging_[std::size_t(l.x) +
+                    std::size_t(n.x) * (std::size_t(l.y) + std::size_t(n.y) * std::size_t(l.z))] =
           std::int8_t(-depth);
     }
-    glTexSubImage3D(GL_TEXTURE_3D, 0, boxLo_.x, boxLo_.y, boxLo_.z, n.x, n.y, n.z, GL_RED_INTEGER, GL_BYTE,
-                    levelStaging_.data());
+    glTexSubImage3D(GL_TEXTURE_3D, 0, boxLo_.x, boxLo_.y, boxLo_.z, n.x, n.y, n.z, GL_RED_INTEGER,
+                    GL_BYTE, levelStaging_.data());
   }
   glBindTexture(GL_TEXTURE_3D, 0);
 }
 
-void VoxelTextures::updateDensityBox(const geometry::VoxelGrid& grid, glm::ivec3 lo, glm::ivec3 hi) {
+void VoxelTextures::updateDensityBox(const geometry::VoxelGrid& grid, glm::ivec3 lo,
+                                     glm::ivec3 hi) {
   if (!density_.get()) return;
   lo = glm::max(lo, glm::ivec3(0));
   hi = glm::min(hi, dims_ - 1);
@@ -121,17 +129,20 @@ void VoxelTextures::updateDensityBox(const geometry::VoxelGrid& grid, glm::ivec3
   const glm::ivec3 n = hi - lo + 1;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glBindTexture(GL_TEXTURE_3D, density_.get());
-  glTexSubImage3D(GL_TEXTURE_3D, 0, lo.x, lo.y, lo.z, n.x, n.y, n.z, GL_RED_INTEGER, GL_SHORT, densityStaging_.data());
+  glTexSubImage3D(GL_TEXTURE_3D, 0, lo.x, lo.y, lo.z, n.x, n.y, n.z, GL_RED_INTEGER, GL_SHORT,
+                  densityStaging_.data());
   glBindTexture(GL_TEXTURE_3D, 0);
 }
 
-void VoxelTextures::updateDensity(const geometry::VoxelGrid& grid, const geometry::SurfaceDelta& delta) {
+void VoxelTextures::updateDensity(const geometry::VoxelGrid& grid,
+                                  const geometry::SurfaceDelta& delta) {
   if (!available_ || delta.everything) return;
   // Cell brick keys: (cb.x + 1) + (nb.x + 1) ((cb.y + 1) + (nb.y + 1) (cb.z + 1)); its cells
   // 8 cb .. 8 cb + 7 read voxels 8 cb .. 8 cb + 8.
   const std::int64_t nx = brickDims_.x + 1, ny = brickDims_.y + 1;
   for (const geometry::SurfaceDelta::Brick& b : delta.bricks) {
-    const glm::ivec3 cb(int(b.key % nx) - 1, int((b.key / nx) % ny) - 1, int(b.key / (nx * ny)) - 1);
+    const glm::ivec3 cb(int(b.key % nx) - 1, int((b.key / nx) % ny) - 1,
+                        int(b.key / (nx * ny)) - 1);
     const glm::ivec3 lo = cb * geometry::VoxelGrid::kBrickSize;
     updateDensityBox(grid, lo, lo + geometry::VoxelGrid::kBrickSize);
   }

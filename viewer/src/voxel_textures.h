@@ -5,15 +5,14 @@
 // changed cell bricks for density.
 #pragma once
 
-#include "gl_util.h"
-
-#include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "gl_util.h"
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::viewer {
 

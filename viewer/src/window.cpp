@@ -18,7 +18,9 @@ std::string& glfwError() {
   return text;
 }
 
-void onGlfwError(int, const char* text) { glfwError() = text ? text : "unknown GLFW error"; }
+void onGlfwError(int, const char* text) {
+  glfwError() = text ? text : "unknown GLFW error";
+}
 
 }  // namespace
 
@@ -27,9 +29,13 @@ GlfwLibrary::GlfwLibrary() {
   if (!glfwInit()) throw WindowError("cannot open a window: " + glfwError());
 }
 
-GlfwLibrary::~GlfwLibrary() { glfwTerminate(); }
+GlfwLibrary::~GlfwLibrary() {
+  glfwTerminate();
+}
 
-void GlfwWindowDeleter::operator()(GLFWwindow* window) const noexcept { glfwDestroyWindow(window); }
+void GlfwWindowDeleter::operator()(GLFWwindow* window) const noexcept {
+  glfwDestroyWindow(window);
+}
 
 GlfwWindowPtr openWindow(int width, int height, const std::string& title, bool asFastAsItCan) {
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);

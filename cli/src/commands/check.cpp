@@ -1,19 +1,18 @@
 // `osteon check`: the crack-free guarantees of one surface as numbers (docs/validation.md).
 #include "commands/check.h"
 
-#include "support/output.h"
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "osteon/core/error.h"
 #include "osteon/validation/crack_images.h"
 #include "osteon/validation/crack_metric.h"
 #include "osteon/validation/mesh_checks.h"
-
-#include <nlohmann/json.hpp>
-
-#include <filesystem>
-#include <iostream>
-#include <optional>
-#include <stdexcept>
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -37,18 +36,22 @@ struct CheckReport {
 std::vector<std::string> failuresOf(const val::MeshReport& r) {
   std::vector<std::string> failures;
   // Open means a border; edges of three or more triangles are non-manifold, not open.
-  if (r.topology.borderEdges > 0) failures.push_back("open: " + std::to_string(r.topology.borderEdges) + " border edges");
+  if (r.topology.borderEdges > 0)
+    failures.push_back("open: " + std::to_string(r.topology.borderEdges) + " border edges");
   if (!r.topology.manifold()) {
-    failures.push_back("non-manifold: " + std::to_string(r.topology.nonManifoldEdges) + " edges of more than two triangles, " +
-                       std::to_string(r.topology.nonManifoldVertices) + " vertices joining separate fans");
+    failures.push_back("non-manifold: " + std::to_string(r.topology.nonManifoldEdges) +
+                       " edges of more than two triangles, " +
+                       std::to_string(r.topology.nonManifoldVertices) +
+                       " vertices joining separate fans");
   }
   if (r.selfIntersections > 0) failures.push_back("self-intersecting triangles");
   if (!r.topology.consistentlyOriented()) {
     failures.push_back("inconsistently oriented: " + std::to_string(r.topology.misorientedEdges) +
                        " edges with neighbours facing opposite ways");
   } else if (r.watertight() && r.selfIntersections == 0 && !r.outwardOriented) {
-    failures.push_back("inside-out: the closed surface faces inward (negative volume), so its "
-                       "outside is drawn as a crack");
+    failures.push_back(
+        "inside-out: the closed surface faces inward (negative volume), so its "
+        "outside is drawn as a crack");
   }
   if (r.windingNumberMax > 1) {
     failures.push_back("nested shells: winding number " + std::to_string(r.windingNumberMax) +
@@ -66,30 +69,31 @@ std::vector<std::string> failuresOf(const val::MeshReport& r) {
 json toJson(const CheckReport& report) {
   const val::MeshReport& r = report.checks;
   const val::CrackMetric& cracks = report.cracks;
-  json j = {{"mesh", report.options->bone.input},
-            {"verdict", report.failures.empty() ? "PASS" : "FAIL"},
-            {"vertices", report.mesh.vertexCount()},
-            {"triangles", report.mesh.triangleCount()},
-            {"closed", r.topology.closed()},
-            {"border_edges", r.topology.borderEdges},
-            {"non_manifold_edges", r.topology.nonManifoldEdges},
-            {"non_manifold_vertices", r.topology.nonManifoldVertices},
-            {"misoriented_edges", r.topology.misorientedEdges},
-            {"degenerate_faces", r.topology.degenerateTriangles},
-            {"self_intersections", r.selfIntersections},
-            {"self_intersections_capped", r.selfIntersectionsCapped},
-            {"outward_oriented", r.outwardOriented},
-            {"components", r.topology.components},
-            {"euler_characteristic", r.topology.eulerCharacteristic},
-            {"genus", r.genus},
-            {"winding_number_min", r.windingNumberMin},
-            {"winding_number_max", r.windingNumberMax},
-            {"flat", r.flat},
-            {"volume_mm3", r.volumeMm3},
-            {"crack_percent", cracks.crackPercent()},
-            {"crack_pixels", {{"red", cracks.red}, {"white", cracks.white}, {"per_side", cracks.pixels}}},
-            {"crack_images", report.images},
-            {"failures", report.failures}};
+  json j = {
+      {"mesh", report.options->bone.input},
+      {"verdict", report.failures.empty() ? "PASS" : "FAIL"},
+      {"vertices", report.mesh.vertexCount()},
+      {"triangles", report.mesh.triangleCount()},
+      {"closed", r.topology.closed()},
+      {"border_edges", r.topology.borderEdges},
+      {"non_manifold_edges", r.topology.nonManifoldEdges},
+      {"non_manifold_vertices", r.topology.nonManifoldVertices},
+      {"misoriented_edges", r.topology.misorientedEdges},
+      {"degenerate_faces", r.topology.degenerateTriangles},
+      {"self_intersections", r.selfIntersections},
+      {"self_intersections_capped", r.selfIntersectionsCapped},
+      {"outward_oriented", r.outwardOriented},
+      {"components", r.topology.components},
+      {"euler_characteristic", r.topology.eulerCharacteristic},
+      {"genus", r.genus},
+      {"winding_number_min", r.windingNumberMin},
+      {"winding_number_max", r.windingNumberMax},
+      {"flat", r.flat},
+      {"volume_mm3", r.volumeMm3},
+      {"crack_percent", cracks.crackPercent()},
+      {"crack_pixels", {{"red", cracks.red}, {"white", cracks.white}, {"per_side", cracks.pixels}}},
+      {"crack_images", report.images},
+      {"failures", report.failures}};
   if (const auto& a = report.accuracy) {
     j["reference"] = report.options->reference;
     j["hausdorff_mm"] = a->hausdorffMm;
@@ -104,11 +108,12 @@ json toJson(const CheckReport& report) {
 void printText(const CheckReport& report) {
   const val::MeshReport& r = report.checks;
   const val::CrackMetric& cracks = report.cracks;
-  std::cout << report.options->bone.input << ": " << (report.failures.empty() ? "PASS" : "FAIL") << " - border edges "
-            << r.topology.borderEdges << ", non-manifold edges " << r.topology.nonManifoldEdges << ", vertices "
-            << r.topology.nonManifoldVertices << ", self-intersections " << r.selfIntersections
-            << (r.selfIntersectionsCapped ? "+" : "") << ", cracks " << cracks.crackPercent() << " % of "
-            << cracks.red + cracks.white << " pixels";
+  std::cout << report.options->bone.input << ": " << (report.failures.empty() ? "PASS" : "FAIL")
+            << " - border edges " << r.topology.borderEdges << ", non-manifold edges "
+            << r.topology.nonManifoldEdges << ", vertices " << r.topology.nonManifoldVertices
+            << ", self-intersections " << r.selfIntersections
+            << (r.selfIntersectionsCapped ? "+" : "") << ", cracks " << cracks.crackPercent()
+            << " % of " << cracks.red + cracks.white << " pixels";
   if (report.accuracy) std::cout << ", Hausdorff " << report.accuracy->hausdorffMm << " mm";
   for (const std::string& f : report.failures) std::cout << "; " << f;
   std::cout << "\n";
@@ -121,7 +126,8 @@ int runCheck(const CheckCommandOptions& options) {
   reference.input = options.reference;
   options.bone.check();
   if (options.cracks < 16 || options.cracks > 4096) {
-    throw InputError("--cracks " + std::to_string(options.cracks) + ": pixels per side must be 16..4096");
+    throw InputError("--cracks " + std::to_string(options.cracks) +
+                     ": pixels per side must be 16..4096");
   }
   if (!options.images.empty()) {
     std::vector<std::string> inputs = options.bone.inputFiles();
@@ -152,8 +158,9 @@ int runCheck(const CheckCommandOptions& options) {
     try {
       report.accuracy = val::compareMeshes(report.mesh, referenceMesh);
     } catch (const std::invalid_argument&) {
-      throw InputError("--reference: " + options.bone.input + " or " + options.reference +
-                       " is not a polygon mesh (non-manifold), so the Hausdorff distance is undefined");
+      throw InputError(
+          "--reference: " + options.bone.input + " or " + options.reference +
+          " is not a polygon mesh (non-manifold), so the Hausdorff distance is undefined");
     }
   }
   printReport(report, options.json);

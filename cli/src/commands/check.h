@@ -2,9 +2,9 @@
 // the pixel crack metric, and with --reference its accuracy.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
-
 #include <string>
+
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 

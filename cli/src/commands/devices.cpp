@@ -3,14 +3,6 @@
 // reason, disconnect and reconnect).
 #include "commands/devices.h"
 
-#include "support/output.h"
-
-#include "osteon/core/error.h"
-#include "osteon/devices/button_board.h"
-#include "osteon/devices/device.h"
-
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -18,6 +10,13 @@
 #include <iostream>
 #include <sstream>
 #include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "osteon/core/error.h"
+#include "osteon/devices/button_board.h"
+#include "osteon/devices/device.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -55,7 +54,9 @@ void emitBatch(std::string& batch) {
 }
 
 // t as a number with millisecond precision.
-double roundedMs(double t) { return double(std::llround(t * 1000.0)) / 1000.0; }
+double roundedMs(double t) {
+  return double(std::llround(t * 1000.0)) / 1000.0;
+}
 
 std::string boardEventLine(const dev::BoardEvent& e, bool asJson) {
   using Kind = dev::BoardEvent::Kind;
@@ -67,9 +68,15 @@ std::string boardEventLine(const dev::BoardEvent& e, bool asJson) {
         j["pedal"] = e.pedal;
         j["knob"] = e.knob;
         break;
-      case Kind::Malformed: j["error"] = e.reason; break;
-      case Kind::Disconnected: j["status"] = "disconnected"; break;
-      case Kind::Connected: j["status"] = "connected"; break;
+      case Kind::Malformed:
+        j["error"] = e.reason;
+        break;
+      case Kind::Disconnected:
+        j["status"] = "disconnected";
+        break;
+      case Kind::Connected:
+        j["status"] = "connected";
+        break;
     }
     return j.dump();
   }
@@ -77,38 +84,48 @@ std::string boardEventLine(const dev::BoardEvent& e, bool asJson) {
   s << seconds(e.tS) << " ";
   switch (e.kind) {
     case Kind::Line:
-      s << "buttons=0x" << std::hex << e.buttons << std::dec << " pedal=" << e.pedal << " knob=" << e.knob;
+      s << "buttons=0x" << std::hex << e.buttons << std::dec << " pedal=" << e.pedal
+        << " knob=" << e.knob;
       break;
-    case Kind::Malformed: s << "error: " << e.reason; break;
-    case Kind::Disconnected: s << "disconnected"; break;
-    case Kind::Connected: s << "connected"; break;
+    case Kind::Malformed:
+      s << "error: " << e.reason;
+      break;
+    case Kind::Disconnected:
+      s << "disconnected";
+      break;
+    case Kind::Connected:
+      s << "connected";
+      break;
   }
   return s.str();
 }
 
 std::string sampleLine(double t, const dev::DeviceSample& x, bool asJson) {
   if (asJson) {
-    return json{{"t", roundedMs(t)},
-                {"position_mm", {x.positionMm.x, x.positionMm.y, x.positionMm.z}},
-                {"orientation", {x.orientation.w, x.orientation.x, x.orientation.y, x.orientation.z}},
-                {"buttons", x.buttons},
-                {"pedal", x.pedal},
-                {"knob", x.knob},
-                {"drill_on", x.drillOn},
-                {"connected", x.connected}}
+    return json{
+        {"t", roundedMs(t)},
+        {"position_mm", {x.positionMm.x, x.positionMm.y, x.positionMm.z}},
+        {"orientation", {x.orientation.w, x.orientation.x, x.orientation.y, x.orientation.z}},
+        {"buttons", x.buttons},
+        {"pedal", x.pedal},
+        {"knob", x.knob},
+        {"drill_on", x.drillOn},
+        {"connected", x.connected}}
         .dump();
   }
   std::ostringstream s;
-  s << seconds(t) << std::setprecision(6) << " position=(" << x.positionMm.x << ", " << x.positionMm.y << ", "
-    << x.positionMm.z << ") orientation=(" << x.orientation.w << ", " << x.orientation.x << ", " << x.orientation.y
-    << ", " << x.orientation.z << ") buttons=0x" << std::hex << x.buttons << std::dec << " pedal=" << x.pedal
-    << " knob=" << x.knob << " drill=" << (x.drillOn ? "on" : "off") << (x.connected ? "" : " disconnected");
+  s << seconds(t) << std::setprecision(6) << " position=(" << x.positionMm.x << ", "
+    << x.positionMm.y << ", " << x.positionMm.z << ") orientation=(" << x.orientation.w << ", "
+    << x.orientation.x << ", " << x.orientation.y << ", " << x.orientation.z << ") buttons=0x"
+    << std::hex << x.buttons << std::dec << " pedal=" << x.pedal << " knob=" << x.knob
+    << " drill=" << (x.drillOn ? "on" : "off") << (x.connected ? "" : " disconnected");
   return s.str();
 }
 
 bool sameState(const dev::DeviceSample& a, const dev::DeviceSample& b) {
   return a.positionMm == b.positionMm && a.orientation == b.orientation && a.buttons == b.buttons &&
-         a.pedal == b.pedal && a.knob == b.knob && a.drillOn == b.drillOn && a.connected == b.connected;
+         a.pedal == b.pedal && a.knob == b.knob && a.drillOn == b.drillOn &&
+         a.connected == b.connected;
 }
 
 }  // namespace
@@ -131,20 +148,23 @@ json toJson(const DevicesListReport& r) {
                        {"product", d.product},
                        {"serial_number", d.serialNumber}});
   }
-  return {{"devices", devices}, {"serial_listing", r.list.serialListing}, {"touch_built_in", r.list.touchBuiltIn}};
+  return {{"devices", devices},
+          {"serial_listing", r.list.serialListing},
+          {"touch_built_in", r.list.touchBuiltIn}};
 }
 
 void printText(const DevicesListReport& r) {
   const dev::DeviceList& list = r.list;
   if (list.devices.empty()) {
-    std::cout << "no devices attached (3Dconnexion HID devices" << (list.serialListing ? " and USB serial ports" : "")
-              << " are listed)\n";
+    std::cout << "no devices attached (3Dconnexion HID devices"
+              << (list.serialListing ? " and USB serial ports" : "") << " are listed)\n";
   }
   for (const dev::AttachedDevice& d : list.devices) {
-    std::cout << d.name << "  " << hex4(d.vendorId) << ":" << hex4(d.productId) << "  " << d.manufacturer
-              << (d.manufacturer.empty() ? "" : " ") << d.product << "\n";
+    std::cout << d.name << "  " << hex4(d.vendorId) << ":" << hex4(d.productId) << "  "
+              << d.manufacturer << (d.manufacturer.empty() ? "" : " ") << d.product << "\n";
   }
-  if (list.touchBuiltIn) std::cout << "touch[:NAME]: the Geomagic Touch through OpenHaptics (built in)\n";
+  if (list.touchBuiltIn)
+    std::cout << "touch[:NAME]: the Geomagic Touch through OpenHaptics (built in)\n";
 }
 
 }  // namespace
@@ -163,9 +183,11 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
     s << "--duration " << *options.durationS << ": must be a positive number of seconds";
     throw InputError(s.str());
   }
-  const dev::DeviceName name = dev::parseDeviceName(options.device.substr(0, options.device.find('+')));
+  const dev::DeviceName name =
+      dev::parseDeviceName(options.device.substr(0, options.device.find('+')));
   if (name.kind == "mouse" && options.device.find('+') == std::string::npos) {
-    throw InputError("mouse: the viewer's device (fed by its window); the command line has no mouse to monitor");
+    throw InputError(
+        "mouse: the viewer's device (fed by its window); the command line has no mouse to monitor");
   }
   const std::unique_ptr<dev::Device> device = dev::openDevice(options.device);
   using Clock = std::chrono::steady_clock;
@@ -173,18 +195,23 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   long long events = 0;
   const auto done = [&] {
-    return (options.count && events >= *options.count) || (options.durationS && elapsed() >= *options.durationS);
+    return (options.count && events >= *options.count) ||
+           (options.durationS && elapsed() >= *options.durationS);
   };
 
   // The last line of --json: how many events were shown and how many were lost.
   std::uint64_t dropped = 0;
   const auto ended = [&] {
     if (options.json) {
-      emit(json{{"t", roundedMs(elapsed())}, {"status", "ended"}, {"events", events}, {"events_dropped", dropped}}
+      emit(json{{"t", roundedMs(elapsed())},
+                {"status", "ended"},
+                {"events", events},
+                {"events_dropped", dropped}}
                .dump());
     }
     if (dropped > 0) {
-      std::fprintf(stderr, "osteon: warning: %s: %llu events dropped: the monitor fell behind the device\n",
+      std::fprintf(stderr,
+                   "osteon: warning: %s: %llu events dropped: the monitor fell behind the device\n",
                    options.device.c_str(), static_cast<unsigned long long>(dropped));
     }
     return kExitOk;
@@ -206,11 +233,16 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
       const std::uint64_t lost = board->eventsDropped();
       if (lost > dropped) {
         dropped = lost;
-        batch += options.json ? json{{"t", roundedMs(elapsed())}, {"status", "dropped"}, {"events_dropped", dropped}}.dump()
-                              : seconds(elapsed()) + " dropped: " + std::to_string(dropped) + " events so far";
+        batch += options.json ? json{{"t", roundedMs(elapsed())},
+                                     {"status", "dropped"},
+                                     {"events_dropped", dropped}}
+                                    .dump()
+                              : seconds(elapsed()) + " dropped: " + std::to_string(dropped) +
+                                    " events so far";
         batch += '\n';
         if (!warned) {  // once now, the total at the end
-          std::fprintf(stderr, "osteon: warning: %s: events dropped: the monitor fell behind the device\n",
+          std::fprintf(stderr,
+                       "osteon: warning: %s: events dropped: the monitor fell behind the device\n",
                        options.device.c_str());
           warned = true;
         }
@@ -241,7 +273,8 @@ int runDevicesMonitor(const DevicesMonitorOptions& options) {
 }
 
 int runDevices(const DevicesCommandOptions& options) {
-  return options.which == "list" ? runDevicesList(options.list) : runDevicesMonitor(options.monitor);
+  return options.which == "list" ? runDevicesList(options.list)
+                                 : runDevicesMonitor(options.monitor);
 }
 
 }  // namespace osteon::cli

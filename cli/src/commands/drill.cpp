@@ -1,9 +1,6 @@
 #include "commands/drill.h"
 
-#include "support/files.h"
-#include "support/output.h"
-#include "support/run_summary.h"
-#include "support/volume_report.h"
+#include <iostream>
 
 #include "osteon/core/error.h"
 #include "osteon/core/interrupt.h"
@@ -15,8 +12,10 @@
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
-
-#include <iostream>
+#include "support/files.h"
+#include "support/output.h"
+#include "support/run_summary.h"
+#include "support/volume_report.h"
 
 namespace osteon::cli {
 
@@ -41,7 +40,8 @@ DrillPlan planDrill(const DrillCommandOptions& options) {
     throw InputError("--path or --device: one is required (a path, or a device to drive the run)");
   }
   if (options.durationS || !options.record.empty()) {
-    throw InputError(std::string(options.durationS ? "--duration" : "--record") + ": only with --device");
+    throw InputError(std::string(options.durationS ? "--duration" : "--record") +
+                     ": only with --device");
   }
   sim::DrillingOptions drilling;
   drilling.levels = options.levels;
@@ -70,17 +70,20 @@ struct DrillReport {
   const RunFolder* files = nullptr;
 };
 
-json toJson(const DrillReport& r) { return r.summary; }
+json toJson(const DrillReport& r) {
+  return r.summary;
+}
 
 void printText(const DrillReport& r) {
   const DrillCommandOptions& o = *r.options;
   const sim::RunSummary& s = r.run;
-  std::cout << "drilled " << o.path << " with the " << r.summary["tool"].get<std::string>() << " at "
-            << *o.bone.voxelSizeMm << " mm, " << o.levels << " level(s): " << s.steps << " steps, max force "
-            << s.maxForceN << " N, jitter " << s.jitterN << " N, removed " << s.removedVolumeMm3 << " mm3\n"
+  std::cout << "drilled " << o.path << " with the " << r.summary["tool"].get<std::string>()
+            << " at " << *o.bone.voxelSizeMm << " mm, " << o.levels << " level(s): " << s.steps
+            << " steps, max force " << s.maxForceN << " N, jitter " << s.jitterN << " N, removed "
+            << s.removedVolumeMm3 << " mm3\n"
             << setupLine(r.setup, r.pathMs) << "\n"
-            << "wrote " << r.files->forcesPath << ", " << r.files->summaryPath << ", " << r.files->surfacePath
-            << "\n";
+            << "wrote " << r.files->forcesPath << ", " << r.files->summaryPath << ", "
+            << r.files->surfacePath << "\n";
   if (!r.volumeText.empty()) std::cout << r.volumeText << "\n";
 }
 
@@ -103,8 +106,8 @@ json planPath(DrillPlan& plan, const sim::Session& session, const std::string& n
 
 // The path driven through the session, deterministic or threaded; its rows streamed to `forces`
 // (memory does not grow with the path). `runtime` gets the threaded runtime's statistics.
-sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool threaded, sim::ForceLogWriter& forces,
-                     json& runtime) {
+sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool threaded,
+                     sim::ForceLogWriter& forces, json& runtime) {
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   if (!threaded) {
     sim::DeterministicOptions deterministic;
@@ -158,7 +161,8 @@ int runDrill(const DrillCommandOptions& options) {
   r.setup = session.setupTimings();
   r.setup.totalMs = msSince(setupStart);
   const double setupPeakRssMb = peakRssMb();  // ready for the first step; peak_rss_mb adds the run
-  const std::size_t setupVoxels = session.hierarchy().voxelCount();  // every voxel with bone, before drilling
+  const std::size_t setupVoxels =
+      session.hierarchy().voxelCount();  // every voxel with bone, before drilling
 
   sim::ForceLogWriter forces(files.forcesPath, plan.coupling == sim::CouplingMode::Proxy);
   json runtime;
@@ -171,15 +175,17 @@ int runDrill(const DrillCommandOptions& options) {
   const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), files.surfacePath);
 
-  r.summary = runSummaryJson(r.run, session, options.bone.input, options.threaded ? "threaded" : "deterministic",
-                             sim::toolKindName(plan.kind), *options.bone.voxelSizeMm, options.levels);
+  r.summary = runSummaryJson(
+      r.run, session, options.bone.input, options.threaded ? "threaded" : "deterministic",
+      sim::toolKindName(plan.kind), *options.bone.voxelSizeMm, options.levels);
   r.summary["path"] = pathJson;
   r.summary["setup_ms"] = setupJson(r.setup);
   r.summary["setup_ms"]["path"] = r.pathMs;
   r.summary["setup_peak_rss_mb"] = setupPeakRssMb;
   r.summary["voxels"] = setupVoxels;
   r.summary["surface_triangles"] = surface.triangleCount();
-  r.summary["files"] = {{"forces", files.forcesPath}, {"summary", files.summaryPath}, {"surface", files.surfacePath}};
+  r.summary["files"] = {
+      {"forces", files.forcesPath}, {"summary", files.summaryPath}, {"surface", files.surfacePath}};
   if (options.threaded) r.summary["runtime"] = runtime;
   if (!volume.is_null()) r.summary["volume"] = volume;
   const std::string empty = markEmptyRun(r.summary, r.run);

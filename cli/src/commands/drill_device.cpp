@@ -1,21 +1,19 @@
 // `osteon drill MESH --device NAME`: a run driven by a device through the safety layer,
 // deterministic for a device that follows its own clock (a recording, a scripted path), else in
 // real time for --duration; optionally recorded (--record).
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <sstream>
+
 #include "commands/drill.h"
-
-#include "support/device_run.h"
-#include "support/run_summary.h"
-
 #include "osteon/core/error.h"
 #include "osteon/core/interrupt.h"
 #include "osteon/devices/recording.h"
 #include "osteon/simulation/device_input.h"
 #include "osteon/simulation/path.h"
-
-#include <algorithm>
-#include <memory>
-#include <optional>
-#include <sstream>
+#include "support/device_run.h"
+#include "support/run_summary.h"
 
 namespace osteon::cli {
 
@@ -28,19 +26,21 @@ namespace {
 
 // --duration, and every part of the device name, parsed before any work (exit 2 at once).
 void checkDeviceOptions(const DrillCommandOptions& options) {
-  if (options.durationS && !(*options.durationS > 0.0 && *options.durationS <= sim::kMaxPathDurationS)) {
+  if (options.durationS &&
+      !(*options.durationS > 0.0 && *options.durationS <= sim::kMaxPathDurationS)) {
     std::ostringstream s;
-    s << "--duration " << *options.durationS << ": must be a number of seconds in (0, " << sim::kMaxPathDurationS
-      << "]";
+    s << "--duration " << *options.durationS << ": must be a number of seconds in (0, "
+      << sim::kMaxPathDurationS << "]";
     throw InputError(s.str());
   }
   for (std::size_t start = 0; start <= options.device.size();) {
     const std::size_t plus = options.device.find('+', start);
-    const dev::DeviceName n =
-        dev::parseDeviceName(options.device.substr(start, plus == std::string::npos ? std::string::npos : plus - start));
+    const dev::DeviceName n = dev::parseDeviceName(
+        options.device.substr(start, plus == std::string::npos ? std::string::npos : plus - start));
     if (n.kind == "mouse") {
-      throw InputError("mouse: the viewer's device (fed by its window); the command line has no mouse "
-                       "(use spacemouse, touch, replay:LOG.csv or scripted:...)");
+      throw InputError(
+          "mouse: the viewer's device (fed by its window); the command line has no mouse "
+          "(use spacemouse, touch, replay:LOG.csv or scripted:...)");
     }
     if (plus == std::string::npos) break;
     start = plus + 1;
@@ -60,7 +60,8 @@ void refuseOverwriting(const DrillCommandOptions& options, const RunFolder& file
     }
     for (const std::string& in : inputs) {
       if (!in.empty() && sameLexicalPath(options.record, in)) {
-        throw InputError("--record " + options.record + ": is an input of the run (it would be overwritten)");
+        throw InputError("--record " + options.record +
+                         ": is an input of the run (it would be overwritten)");
       }
     }
     outputs.push_back(options.record);
@@ -71,16 +72,20 @@ void refuseOverwriting(const DrillCommandOptions& options, const RunFolder& file
 // Whether the device can drive this run, and how: true for the deterministic mode.
 bool deterministicFor(const DrillCommandOptions& options, const dev::Capabilities& caps) {
   if (!caps.pose) {
-    throw InputError(options.device + ": gives no pose (buttons and pedal only); join it to a pose device, e.g. "
-                                      "touch+" + options.device);
+    throw InputError(options.device +
+                     ": gives no pose (buttons and pedal only); join it to a pose device, e.g. "
+                     "touch+" +
+                     options.device);
   }
   const bool deterministic = caps.timeDriven && !options.threaded;
   if (deterministic && options.durationS) {
     throw InputError("--duration: " + options.device + " ends with its path or recording (" +
-                     std::to_string(caps.endS - caps.startS) + " s); --duration is for live devices");
+                     std::to_string(caps.endS - caps.startS) +
+                     " s); --duration is for live devices");
   }
   if (!caps.timeDriven && !options.durationS) {
-    throw InputError(options.device + ": a live device needs --duration S (how long to run, in seconds)");
+    throw InputError(options.device +
+                     ": a live device needs --duration S (how long to run, in seconds)");
   }
   return deterministic;
 }
@@ -93,7 +98,8 @@ struct DeviceOutcome {
 
 // The device driven through the session, deterministic or threaded; rows streamed to `forces`.
 DeviceOutcome drive(const DrillCommandOptions& options, sim::Session& session, dev::Device& device,
-                    const sim::DeviceInputOptions& io, bool deterministic, sim::ForceLogWriter& forces) {
+                    const sim::DeviceInputOptions& io, bool deterministic,
+                    sim::ForceLogWriter& forces) {
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   DeviceOutcome out;
   if (deterministic) {
@@ -120,9 +126,10 @@ DeviceOutcome drive(const DrillCommandOptions& options, sim::Session& session, d
   out.run = r.run.summary;
   out.safety = input.safety().stats();
   out.extra["runtime"] = runtimeStatsJson(r.stats);
-  out.extra["device"] = {{"name", options.device},
-                         {"duration_s", ro.durationS},
-                         {"frame_origin_mm", {io.frame.originMm.x, io.frame.originMm.y, io.frame.originMm.z}}};
+  out.extra["device"] = {
+      {"name", options.device},
+      {"duration_s", ro.durationS},
+      {"frame_origin_mm", {io.frame.originMm.x, io.frame.originMm.y, io.frame.originMm.z}}};
   return out;
 }
 
@@ -160,7 +167,8 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   double limitN = io.safety.forceLimitN;
   if (caps.force && caps.maxForceN > 0.0) limitN = std::min(limitN, caps.maxForceN);
   DeviceOutcome outcome = drive(options, session, *device, io, deterministic, forces);
-  throwIfInterrupted();  // the run was cut short: nothing of it is put in place (its recording neither)
+  throwIfInterrupted();  // the run was cut short: nothing of it is put in place (its recording
+                         // neither)
   forces.commit();
   if (recorder) {
     recorder->close();
@@ -170,10 +178,15 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   }
   outcome.extra["faults"] = faultsJson(outcome.safety.faults);
   outcome.extra["safety"] = safetyJson(outcome.safety, limitN);
-  const DeviceRunSetup setup{options.bone.input, sim::toolKindName(kind), *options.bone.voxelSizeMm, options.levels,
-                             options.json, deterministic ? "device" : "device-threaded", options.allowEmpty};
-  return finishDeviceRun(setup, files, session, outcome.run, outcome.extra, "drilled with " + options.device,
-                         recordFile ? &*recordFile : nullptr);
+  const DeviceRunSetup setup{options.bone.input,
+                             sim::toolKindName(kind),
+                             *options.bone.voxelSizeMm,
+                             options.levels,
+                             options.json,
+                             deterministic ? "device" : "device-threaded",
+                             options.allowEmpty};
+  return finishDeviceRun(setup, files, session, outcome.run, outcome.extra,
+                         "drilled with " + options.device, recordFile ? &*recordFile : nullptr);
 }
 
 }  // namespace osteon::cli

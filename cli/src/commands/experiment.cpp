@@ -2,19 +2,6 @@
 // (Markdown and JSON) and force plots in the manner of the seed's Figs. 6-8, drawn by gnuplot.
 #include "commands/experiment.h"
 
-#include "support/files.h"
-#include "support/force_plots.h"
-#include "support/output.h"
-
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-#include "osteon/geometry/io/mesh_source.h"
-#include "osteon/geometry/io/output_dir.h"
-#include "osteon/geometry/io/output_file.h"
-#include "osteon/simulation/experiment.h"
-
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -22,6 +9,18 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "osteon/geometry/io/output_dir.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/experiment.h"
+#include "support/files.h"
+#include "support/force_plots.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -42,7 +41,8 @@ std::string runLabel(const sim::ExperimentRun& r) {
 }
 
 // One figure per voxel size and portal, static and dynamic on the same axes (seed Figs. 6-8).
-std::vector<ForceFigure> figuresOf(const std::string& dir, const std::vector<sim::ExperimentRun>& runs,
+std::vector<ForceFigure> figuresOf(const std::string& dir,
+                                   const std::vector<sim::ExperimentRun>& runs,
                                    std::vector<std::string>& images) {
   std::map<std::pair<double, int>, std::vector<const sim::ExperimentRun*>> byCase;
   for (const sim::ExperimentRun& r : runs) byCase[{-r.voxelSizeMm, int(r.portal)}].push_back(&r);
@@ -62,7 +62,8 @@ std::vector<ForceFigure> figuresOf(const std::string& dir, const std::vector<sim
     images.push_back(file.str());
     ForceFigure figure{dir + "/" + file.str(), title.str(), {}};
     for (const sim::ExperimentRun* m : members) {
-      figure.series.push_back({dir + "/runs/" + m->name() + "/forces.csv", runLabel(*m), m->levels == 0 ? 1.2 : 1.6});
+      figure.series.push_back(
+          {dir + "/runs/" + m->name() + "/forces.csv", runLabel(*m), m->levels == 0 ? 1.2 : 1.6});
     }
     figures.push_back(std::move(figure));
   }
@@ -78,16 +79,23 @@ struct ExperimentReport {
   std::vector<std::string> images;  // the plots, relative to outDir
 };
 
-double finestVoxelMm(const sim::ExperimentRun& r) { return r.voxelSizeMm / double(1 << r.levels); }
+double finestVoxelMm(const sim::ExperimentRun& r) {
+  return r.voxelSizeMm / double(1 << r.levels);
+}
 
 json toJson(const ExperimentReport& report) {
   json rows = json::array();
   for (const sim::ExperimentRun& r : *report.runs) {
     const sim::RunSummary& s = r.result.summary;
-    rows.push_back({{"voxel_size_mm", r.voxelSizeMm}, {"portal", sim::portalName(r.portal)},
-                    {"levels", r.levels}, {"finest_voxel_mm", finestVoxelMm(r)}, {"jitter_n", s.jitterN},
-                    {"max_step_change_n", s.maxStepChangeN}, {"max_force_n", s.maxForceN},
-                    {"removed_volume_mm3", s.removedVolumeMm3}, {"steps", s.steps},
+    rows.push_back({{"voxel_size_mm", r.voxelSizeMm},
+                    {"portal", sim::portalName(r.portal)},
+                    {"levels", r.levels},
+                    {"finest_voxel_mm", finestVoxelMm(r)},
+                    {"jitter_n", s.jitterN},
+                    {"max_step_change_n", s.maxStepChangeN},
+                    {"max_force_n", s.maxForceN},
+                    {"removed_volume_mm3", s.removedVolumeMm3},
+                    {"steps", s.steps},
                     {"log", "runs/" + r.name() + "/forces.csv"}});
   }
   return {{"experiment", "seed"}, {"mesh", report.mesh}, {"runs", rows}, {"plots", report.images}};
@@ -95,14 +103,15 @@ json toJson(const ExperimentReport& report) {
 
 std::string jitterTable(const ExperimentReport& report) {
   std::ostringstream md;
-  md << "| voxel size | portal | levels | force voxel | jitter (N) | max step change (N) | max force (N) | removed (mm3) |\n"
+  md << "| voxel size | portal | levels | force voxel | jitter (N) | max step change (N) | max "
+        "force (N) | removed (mm3) |\n"
      << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
   for (const sim::ExperimentRun& r : *report.runs) {
     const sim::RunSummary& s = r.result.summary;
     char line[256];
-    std::snprintf(line, sizeof line, "| %g mm | %s | %d | %g mm | %.4f | %.4f | %.3f | %.1f |\n", r.voxelSizeMm,
-                  sim::portalName(r.portal), r.levels, finestVoxelMm(r), s.jitterN, s.maxStepChangeN, s.maxForceN,
-                  s.removedVolumeMm3);
+    std::snprintf(line, sizeof line, "| %g mm | %s | %d | %g mm | %.4f | %.4f | %.3f | %.1f |\n",
+                  r.voxelSizeMm, sim::portalName(r.portal), r.levels, finestVoxelMm(r), s.jitterN,
+                  s.maxStepChangeN, s.maxForceN, s.removedVolumeMm3);
     md << line;
   }
   return md.str();
@@ -117,7 +126,8 @@ void printText(const ExperimentReport& report) {
 }  // namespace
 
 int runExperiment(const ExperimentCommandOptions& options) {
-  if (options.name != "seed") throw InputError("experiment " + options.name + ": unknown (expected seed)");
+  if (options.name != "seed")
+    throw InputError("experiment " + options.name + ": unknown (expected seed)");
   const std::vector<sim::ExperimentCase> cases = sim::seedExperimentCases();
   // Every file the run will write, checked against the mesh before any work.
   std::vector<sim::ExperimentRun> planned;
@@ -127,8 +137,8 @@ int runExperiment(const ExperimentCommandOptions& options) {
       for (const int l : c.dynamicLevels) planned.push_back({c.voxelSizeMm, portal, l, {}});
     }
   }
-  std::vector<std::string> outputs = {options.outDir + "/experiment.json", options.outDir + "/jitter.md",
-                                      options.outDir + "/plots.gp"};
+  std::vector<std::string> outputs = {options.outDir + "/experiment.json",
+                                      options.outDir + "/jitter.md", options.outDir + "/plots.gp"};
   std::vector<std::string> plannedImages;
   figuresOf(options.outDir, planned, plannedImages);
   for (const std::string& image : plannedImages) outputs.push_back(options.outDir + "/" + image);
@@ -142,7 +152,9 @@ int runExperiment(const ExperimentCommandOptions& options) {
   geometry::OutputDir outDir(options.outDir, owned);
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/runs", ec);
-  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  if (ec)
+    throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() +
+                     ")");
   const sim::BoneMesh loaded = sim::loadBoneMesh(options.bone);
   const geometry::TriangleMesh& mesh = loaded.mesh;
   const double scale = loaded.read.scaleToMm;
@@ -151,7 +163,8 @@ int runExperiment(const ExperimentCommandOptions& options) {
   voxelizing.loadScaleToMm = scale;
 
   const std::vector<sim::ExperimentRun> runs = sim::runSeedExperiment(
-      mesh, cases, [&](const sim::ExperimentRun& r) {
+      mesh, cases,
+      [&](const sim::ExperimentRun& r) {
         throwIfInterrupted();  // a run cut short by SIGINT/SIGTERM: nothing is put in place
         const std::string dir = options.outDir + "/runs/" + r.name();
         std::filesystem::create_directories(dir);

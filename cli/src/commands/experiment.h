@@ -2,9 +2,9 @@
 // (Markdown and JSON) and force plots in the manner of the seed's Figs. 6-8, drawn by gnuplot.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
-
 #include <string>
+
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 

@@ -1,17 +1,16 @@
 #include "commands/hierarchy.h"
 
-#include "support/grid_input.h"
-#include "support/hierarchy_svg.h"
-#include "support/output.h"
+#include <cmath>
+#include <cstdio>
+#include <sstream>
 
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/io/output_file.h"
-
-#include <cmath>
-#include <cstdio>
-#include <sstream>
+#include "support/grid_input.h"
+#include "support/hierarchy_svg.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -35,8 +34,8 @@ int sliceOf(const HierarchyOptions& options, const geo::VoxelGrid& grid) {
   const int sliceZ = int(std::floor(grid.gridFromWorld(glm::dvec3(0.0, 0.0, *options.sliceZMm)).z));
   if (sliceZ < 0 || sliceZ >= grid.dims().z) {
     std::ostringstream s;
-    s << "--slice-z " << *options.sliceZMm << ": outside the grid (z from " << grid.originMm().z << " to "
-      << grid.worldFromGrid(glm::dvec3(grid.dims())).z << " mm)";
+    s << "--slice-z " << *options.sliceZMm << ": outside the grid (z from " << grid.originMm().z
+      << " to " << grid.worldFromGrid(glm::dvec3(grid.dims())).z << " mm)";
     throw InputError(s.str());
   }
   return sliceZ;
@@ -48,7 +47,9 @@ json toJson(const HierarchyReport& r) {
   const geo::VoxelGrid& grid = r.loaded.bone->grid();
   json levels = json::array();
   for (int level = 0; level < h.levelCount(); ++level) {
-    levels.push_back({{"level", level}, {"nodes", h.nodeCount(level)}, {"cell_voxels", 2 * h.halfWidth(level) + 1}});
+    levels.push_back({{"level", level},
+                      {"nodes", h.nodeCount(level)},
+                      {"cell_voxels", 2 * h.halfWidth(level) + 1}});
   }
   json j = {{"input", o.bone.input},
             {"voxel_size_mm", grid.voxelSizeMm()},
@@ -77,8 +78,9 @@ json toJson(const HierarchyReport& r) {
 void printText(const HierarchyReport& r) {
   const HierarchyOptions& o = *r.options;
   const geo::DynamicProximityHierarchy& h = *r.hierarchy;
-  std::printf("osteon hierarchy %s: %zu voxels at %.4g mm, xi %d, seed %llu\n", o.bone.input.c_str(), h.voxelCount(),
-              r.loaded.bone->grid().voxelSizeMm(), o.xi, static_cast<unsigned long long>(o.seed));
+  std::printf("osteon hierarchy %s: %zu voxels at %.4g mm, xi %d, seed %llu\n",
+              o.bone.input.c_str(), h.voxelCount(), r.loaded.bone->grid().voxelSizeMm(), o.xi,
+              static_cast<unsigned long long>(o.seed));
   for (int level = 0; level < h.levelCount(); ++level) {
     std::printf("  level %2d  %9zu nodes   cells of %lld voxels\n", level, h.nodeCount(level),
                 2 * h.halfWidth(level) + 1);
@@ -105,12 +107,14 @@ int runHierarchy(const HierarchyOptions& options) {
   r.hierarchy.emplace(geo::DynamicProximityHierarchy::build(grid, build));
   r.buildMs = msSince(start);
   r.loaded.setup.hierarchyMs = r.buildMs;
-  r.loaded.setup.totalMs = msSince(r.loaded.start);  // set-up ends with the hierarchy; the checks are not part of it
+  r.loaded.setup.totalMs =
+      msSince(r.loaded.start);  // set-up ends with the hierarchy; the checks are not part of it
   r.problem = r.hierarchy->validateAgainst(grid);
   r.sliceZ = sliceOf(options, grid);
   if (!options.svg.empty()) {
     std::ostringstream title;
-    title << "DPH of " << options.bone.input << ", xi " << options.xi << ", voxel " << grid.voxelSizeMm() << " mm";
+    title << "DPH of " << options.bone.input << ", xi " << options.xi << ", voxel "
+          << grid.voxelSizeMm() << " mm";
     writeHierarchySvg(*r.hierarchy, grid, r.sliceZ, title.str(), options.svg);
   }
   printReport(r, options.json);

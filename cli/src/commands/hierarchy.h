@@ -2,11 +2,11 @@
 // or a grid, its invariants checked, optionally a z-slice of it drawn as SVG.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
-
 #include <cstdint>
 #include <optional>
 #include <string>
+
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 

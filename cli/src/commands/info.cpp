@@ -1,12 +1,11 @@
 #include "commands/info.h"
 
-#include "support/mesh_json.h"
-#include "support/output.h"
+#include <cstdio>
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
-
-#include <cstdio>
+#include "support/mesh_json.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -56,14 +55,16 @@ void printText(const InfoReport& r) {
                 geo::meshFormatName(r.loaded.read.meshFile.format));
   }
   std::printf("\n  extent     %.3f x %.3f x %.3f mm\n", e.x, e.y, e.z);
-  std::printf("  bounds     [%.3f, %.3f, %.3f] .. [%.3f, %.3f, %.3f] mm\n", r.box.minMm.x, r.box.minMm.y,
-              r.box.minMm.z, r.box.maxMm.x, r.box.maxMm.y, r.box.maxMm.z);
+  std::printf("  bounds     [%.3f, %.3f, %.3f] .. [%.3f, %.3f, %.3f] mm\n", r.box.minMm.x,
+              r.box.minMm.y, r.box.minMm.z, r.box.maxMm.x, r.box.maxMm.y, r.box.maxMm.z);
   std::printf("  volume     %.3f mm^3   area %.3f mm^2\n", r.volumeMm3, r.areaMm2);
-  std::printf("  topology   %s, %s; %zu border, %zu non-manifold, %zu misoriented edges; "
-              "%zu component(s); Euler characteristic %lld\n",
-              topo.closed() ? "closed" : "open",
-              topo.consistentlyOriented() ? "consistently oriented" : "inconsistently oriented", topo.borderEdges,
-              topo.nonManifoldEdges, topo.misorientedEdges, topo.components, topo.eulerCharacteristic);
+  std::printf(
+      "  topology   %s, %s; %zu border, %zu non-manifold, %zu misoriented edges; "
+      "%zu component(s); Euler characteristic %lld\n",
+      topo.closed() ? "closed" : "open",
+      topo.consistentlyOriented() ? "consistently oriented" : "inconsistently oriented",
+      topo.borderEdges, topo.nonManifoldEdges, topo.misorientedEdges, topo.components,
+      topo.eulerCharacteristic);
 }
 
 }  // namespace

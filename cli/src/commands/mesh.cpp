@@ -1,15 +1,14 @@
 #include "commands/mesh.h"
 
-#include "support/grid_input.h"
-#include "support/output.h"
+#include <cstdio>
 
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/surface/surface.h"
-
-#include <cstdio>
+#include "support/grid_input.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -90,16 +89,18 @@ void printText(const MeshReport& r) {
   const geo::VoxelGrid& grid = r.loaded.bone->grid();
   const geo::MeshTopology& topo = r.topology;
   const geo::SurfaceTimings& t = r.timings;
-  std::printf("osteon mesh %s (%s, %d smoothing passes%s) at %.4g mm\n", o.bone.input.c_str(), o.method.c_str(),
-              o.smooth, o.taubin ? ", Taubin" : "", grid.voxelSizeMm());
-  std::printf("  surface     %zu vertices, %zu triangles, %.1f mm^3 (grid %.1f mm^3)\n", r.surface.vertexCount(),
-              r.surface.triangleCount(), geo::signedVolumeMm3(r.mesh), grid.filledVolumeMm3());
-  std::printf("  topology    %zu border edges, %zu non-manifold edges, %zu pinched vertices, "
-              "%zu component(s), Euler characteristic %lld\n",
-              topo.borderEdges, topo.nonManifoldEdges, topo.nonManifoldVertices, topo.components,
-              topo.eulerCharacteristic);
-  std::printf("  time        %.2f ms: extract %.2f, smooth %.2f, normals %.2f, other %.2f\n", t.totalMs, t.extractMs,
-              t.smoothMs, t.normalsMs, t.otherMs);
+  std::printf("osteon mesh %s (%s, %d smoothing passes%s) at %.4g mm\n", o.bone.input.c_str(),
+              o.method.c_str(), o.smooth, o.taubin ? ", Taubin" : "", grid.voxelSizeMm());
+  std::printf("  surface     %zu vertices, %zu triangles, %.1f mm^3 (grid %.1f mm^3)\n",
+              r.surface.vertexCount(), r.surface.triangleCount(), geo::signedVolumeMm3(r.mesh),
+              grid.filledVolumeMm3());
+  std::printf(
+      "  topology    %zu border edges, %zu non-manifold edges, %zu pinched vertices, "
+      "%zu component(s), Euler characteristic %lld\n",
+      topo.borderEdges, topo.nonManifoldEdges, topo.nonManifoldVertices, topo.components,
+      topo.eulerCharacteristic);
+  std::printf("  time        %.2f ms: extract %.2f, smooth %.2f, normals %.2f, other %.2f\n",
+              t.totalMs, t.extractMs, t.smoothMs, t.normalsMs, t.otherMs);
   std::printf("%s\n", setupLine(r.loaded.setup).c_str());
   if (!r.loaded.volumeText.empty()) std::printf("%s\n", r.loaded.volumeText.c_str());
   if (!o.out.empty()) std::printf("  wrote       %s\n", o.out.c_str());

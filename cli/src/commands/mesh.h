@@ -2,9 +2,9 @@
 // grid, its topology, optionally written as a mesh file.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
-
 #include <string>
+
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 

@@ -1,13 +1,12 @@
 #include "commands/model.h"
 
-#include "support/output.h"
+#include <cstdio>
 
 #include "osteon/core/error.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh_io.h"
-
-#include <cstdio>
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -40,10 +39,12 @@ json toJson(const ModelReport& r) {
 
 void printText(const ModelReport& r) {
   const geo::HumerusModel& m = r.model;
-  std::printf("built-in right proximal humerus: %zu vertices, %zu triangles, %.1f mm^3, %s\n", m.mesh.vertexCount(),
-              m.mesh.triangleCount(), geo::signedVolumeMm3(m.mesh), r.topology.closed() ? "closed" : "OPEN");
-  std::printf("  head centre (%.3f, %.3f, %.3f) mm, radius %.3f mm, axis (%.4f, %.4f, %.4f)\n", m.headCentreMm.x,
-              m.headCentreMm.y, m.headCentreMm.z, m.headRadiusMm, m.headAxis.x, m.headAxis.y, m.headAxis.z);
+  std::printf("built-in right proximal humerus: %zu vertices, %zu triangles, %.1f mm^3, %s\n",
+              m.mesh.vertexCount(), m.mesh.triangleCount(), geo::signedVolumeMm3(m.mesh),
+              r.topology.closed() ? "closed" : "OPEN");
+  std::printf("  head centre (%.3f, %.3f, %.3f) mm, radius %.3f mm, axis (%.4f, %.4f, %.4f)\n",
+              m.headCentreMm.x, m.headCentreMm.y, m.headCentreMm.z, m.headRadiusMm, m.headAxis.x,
+              m.headAxis.y, m.headAxis.z);
   if (!r.out.empty()) std::printf("  wrote %s\n", r.out.c_str());
 }
 

@@ -1,11 +1,10 @@
 #include "commands/replay.h"
 
-#include "support/device_run.h"
-#include "support/run_summary.h"
-
 #include "osteon/core/interrupt.h"
 #include "osteon/devices/recording.h"
 #include "osteon/simulation/device_input.h"
+#include "support/device_run.h"
+#include "support/run_summary.h"
 
 namespace osteon::cli {
 
@@ -35,8 +34,13 @@ int runReplay(const ReplayCommandOptions& options) {
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
 
-  const DeviceRunSetup setup{options.bone.input, sim::toolKindName(kind), *options.bone.voxelSizeMm, options.levels,
-                             options.json,       "replay",                options.allowEmpty};
+  const DeviceRunSetup setup{options.bone.input,
+                             sim::toolKindName(kind),
+                             *options.bone.voxelSizeMm,
+                             options.levels,
+                             options.json,
+                             "replay",
+                             options.allowEmpty};
   json extra = {{"faults", faultsJson(r.safety.faults)},
                 {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
                 {"recording",

@@ -2,21 +2,22 @@
 // deterministic session, written as `drill` writes its runs.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
-
 #include <string>
+
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 
 struct ReplayCommandOptions {
-  std::string log;  // a recording: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on
+  std::string log;              // a recording: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on
   simulation::BoneSource bone;  // a mesh or `default`
   int levels = 2;
   std::string tool = "drill";
   std::string outDir = ".";
   bool json = false;
-  bool allowEmpty = false;  // a recording that never meets bone exits 0 (still "empty": true), not 1
-  std::string coupling;     // proxy (the default) or direct
+  bool allowEmpty =
+      false;             // a recording that never meets bone exits 0 (still "empty": true), not 1
+  std::string coupling;  // proxy (the default) or direct
 };
 
 int runReplay(const ReplayCommandOptions& options);

@@ -1,23 +1,7 @@
 // `osteon validate`: the nightly run and its report (report.json with a stable schema,
 // report.html, validate.log, crack images), or a shard of the run (--shard K/N); merging the
 // shards' reports is validate_merge.cpp.
-#include "commands/validate_report.h"
-
-#include "support/files.h"
-#include "support/force_plots.h"
-
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-#include "osteon/geometry/io/output_dir.h"
-#include "osteon/geometry/io/output_file.h"
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/simulation/runner.h"
-#include "osteon/validation/crack_images.h"
-#include "osteon/validation/shard.h"
 #include "osteon/validation/validate.h"
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -32,6 +16,21 @@
 #include <map>
 #include <set>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "commands/validate_report.h"
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
+#include "osteon/geometry/io/output_dir.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "osteon/simulation/runner.h"
+#include "osteon/validation/crack_images.h"
+#include "osteon/validation/shard.h"
+#include "support/files.h"
+#include "support/force_plots.h"
 
 namespace osteon::cli {
 
@@ -62,7 +61,8 @@ std::vector<double> parseVoxelSizes(const std::string& text) {
       used = 0;
     }
     if (used != item.size() || !(v >= 0.1 && v <= 10.0)) {
-      throw InputError("--voxel-sizes " + text + ": '" + item + "' is not a voxel size in 0.1..10 mm");
+      throw InputError("--voxel-sizes " + text + ": '" + item +
+                       "' is not a voxel size in 0.1..10 mm");
     }
     sizes.push_back(v);
   }
@@ -76,7 +76,9 @@ std::map<std::string, std::string> modelFileNames(const std::vector<std::string>
   for (const std::string& model : models) {
     std::string stem;
     for (const char ch : std::filesystem::path(model).stem().string()) {
-      stem += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-' || ch == '_' ? ch : '_';
+      stem += std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-' || ch == '_'
+                  ? ch
+                  : '_';
     }
     if (stem.empty()) stem = "model";
     stemOf[model] = stem;
@@ -99,17 +101,22 @@ std::map<std::string, std::string> modelFileNames(const std::vector<std::string>
 
 // --shard K/N: whole decimal numbers, K counted from 0 (as a Slurm array's task ids).
 std::pair<std::size_t, std::size_t> parseShard(const std::string& text) {
-  const auto bad = [&](const std::string& why) { return InputError("--shard " + text + ": " + why); };
+  const auto bad = [&](const std::string& why) {
+    return InputError("--shard " + text + ": " + why);
+  };
   const std::size_t slash = text.find('/');
   const auto whole = [](const std::string& t) {
-    return !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+    return !t.empty() && t.size() <= 9 &&
+           std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
   };
-  if (slash == std::string::npos || !whole(text.substr(0, slash)) || !whole(text.substr(slash + 1))) {
+  if (slash == std::string::npos || !whole(text.substr(0, slash)) ||
+      !whole(text.substr(slash + 1))) {
     throw bad("not K/N with whole numbers, K counted from 0 (0/4 .. 3/4)");
   }
   const std::size_t k = std::stoul(text.substr(0, slash)), n = std::stoul(text.substr(slash + 1));
   if (n == 0) throw bad("N must be at least 1");
-  if (k >= n) throw bad("K must be below N (shards are counted from 0: 0.." + std::to_string(n - 1) + ")");
+  if (k >= n)
+    throw bad("K must be below N (shards are counted from 0: 0.." + std::to_string(n - 1) + ")");
   return {k, n};
 }
 
@@ -146,8 +153,9 @@ struct ShardPlan {
   std::vector<std::string> runKeys;
 };
 
-ShardPlan planShards(const ValidateCommandOptions& options, const std::vector<val::ValidationModel>& models,
-                     val::ValidationOptions& vo, std::size_t shardIndex, std::size_t shardCount) {
+ShardPlan planShards(const ValidateCommandOptions& options,
+                     const std::vector<val::ValidationModel>& models, val::ValidationOptions& vo,
+                     std::size_t shardIndex, std::size_t shardCount) {
   ShardPlan plan;
   plan.groups = val::caseGroups(models, vo);
   plan.ownGroup.assign(plan.groups.size(), true);
@@ -157,7 +165,8 @@ ShardPlan planShards(const ValidateCommandOptions& options, const std::vector<va
   std::set<std::string> unique;
   for (const std::string& key : plan.runKeys) {
     if (!unique.insert(key).second) {
-      throw InputError("--shard " + options.shard + ": case " + key + " comes twice (a model or voxel size given twice)");
+      throw InputError("--shard " + options.shard + ": case " + key +
+                       " comes twice (a model or voxel size given twice)");
     }
   }
   std::vector<double> costs;
@@ -175,8 +184,8 @@ ShardPlan planShards(const ValidateCommandOptions& options, const std::vector<va
 // forces/<model>_<voxel>_<mode>_<portal>.csv) and one line on stdout and in the log.
 class CaseRecorder {
  public:
-  CaseRecorder(const std::string& outDir, const std::map<std::string, std::string>& fileNameOf, std::size_t total,
-               std::ofstream& log)
+  CaseRecorder(const std::string& outDir, const std::map<std::string, std::string>& fileNameOf,
+               std::size_t total, std::ofstream& log)
       : outDir_(outDir), fileNameOf_(fileNameOf), total_(total), log_(log) {}
 
   void operator()(const val::ValidationCase& c) {
@@ -188,7 +197,8 @@ class CaseRecorder {
     line << "[" << ++done_ << "/" << total_ << "] " << c.model << " " << c.voxelSizeMm << " mm "
          << geometry::surfaceMethodName(c.method) << " " << val::forceModeName(c.mode) << ": ";
     if (c.method == geometry::SurfaceMethod::Naive) {
-      line << (c.pass() ? "baseline keeps the guarantees (unexpected)" : "baseline breaks the guarantees, as expected");
+      line << (c.pass() ? "baseline keeps the guarantees (unexpected)"
+                        : "baseline breaks the guarantees, as expected");
     } else {
       line << (c.pass() ? "pass" : "FAIL");
     }
@@ -203,14 +213,16 @@ class CaseRecorder {
  private:
   void keepForceLog(const val::ValidationCase& c, const val::PortalRun& p) {
     std::ostringstream stem, group;
-    stem << "forces/" << fileNameOf_.at(c.model) << "_" << c.voxelSizeMm << "mm_" << val::forceModeName(c.mode) << "_"
-         << p.portal << ".csv";
+    stem << "forces/" << fileNameOf_.at(c.model) << "_" << c.voxelSizeMm << "mm_"
+         << val::forceModeName(c.mode) << "_" << p.portal << ".csv";
     group << fileNameOf_.at(c.model) << ", VS = " << c.voxelSizeMm << " mm, " << p.portal;
     simulation::writeForceLog(p.collisions.run.log, outDir_ + "/" + stem.str());
     std::ostringstream label;
     const bool still = c.mode == val::ForceMode::Static;
-    label << val::forceModeName(c.mode) << (still ? " " : " 2 levels, ") << c.voxelSizeMm / (still ? 1.0 : 4.0) << " mm";
-    plotGroups_[group.str()].push_back({outDir_ + "/" + stem.str(), label.str(), still ? 1.2 : 1.6});
+    label << val::forceModeName(c.mode) << (still ? " " : " 2 levels, ")
+          << c.voxelSizeMm / (still ? 1.0 : 4.0) << " mm";
+    plotGroups_[group.str()].push_back(
+        {outDir_ + "/" + stem.str(), label.str(), still ? 1.2 : 1.6});
   }
 
   std::string outDir_;
@@ -222,10 +234,12 @@ class CaseRecorder {
 
 // Crack views of each model's surfaces at the first voxel size, before drilling; in a shard, of
 // the models whose first group it runs. Returns their paths relative to outDir.
-std::vector<std::string> writeModelImages(const std::vector<val::ValidationModel>& models, const ShardPlan& plan,
-                                          double voxelSizeMm, const std::string& outDir) {
+std::vector<std::string> writeModelImages(const std::vector<val::ValidationModel>& models,
+                                          const ShardPlan& plan, double voxelSizeMm,
+                                          const std::string& outDir) {
   std::vector<bool> ownImages(models.size(), false);
-  for (std::size_t g = plan.groups.size(); g-- > 0;) ownImages[plan.groups[g].model] = plan.ownGroup[g];
+  for (std::size_t g = plan.groups.size(); g-- > 0;)
+    ownImages[plan.groups[g].model] = plan.ownGroup[g];
   std::vector<std::string> images;
   for (const val::ValidationModel& m : models) {
     if (!ownImages[static_cast<std::size_t>(&m - models.data())]) continue;
@@ -237,8 +251,10 @@ std::vector<std::string> writeModelImages(const std::vector<val::ValidationModel
     const geometry::VoxelGrid grid = m.volume ? *m.volume : geometry::voxelize(m.mesh, gv);
     for (const char* method : {"crackfree", "naive"}) {
       geometry::SurfaceOptions so;
-      so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive : geometry::SurfaceMethod::CrackFree;
-      const std::string dir = outDir + "/images/" + std::to_string(&m - models.data()) + "_" + method;
+      so.method = std::string(method) == "naive" ? geometry::SurfaceMethod::Naive
+                                                 : geometry::SurfaceMethod::CrackFree;
+      const std::string dir =
+          outDir + "/images/" + std::to_string(&m - models.data()) + "_" + method;
       const geometry::TriangleMesh surface = geometry::extractSurface(grid, so).toTriangleMesh();
       for (const std::string& p : val::writeCrackImagesOf(surface, 256, dir)) {
         images.push_back(std::filesystem::relative(p, outDir).string());
@@ -250,18 +266,21 @@ std::vector<std::string> writeModelImages(const std::vector<val::ValidationModel
 
 // Static against dynamic per model, voxel size and portal, as the seed's Figs. 6-8; returns the
 // plots' paths relative to outDir, sorted (as a merge lists the shards' plots).
-std::vector<std::string> drawPlots(const std::map<std::string, std::vector<ForceSeries>>& plotGroups,
-                                   const std::string& outDir) {
+std::vector<std::string> drawPlots(
+    const std::map<std::string, std::vector<ForceSeries>>& plotGroups, const std::string& outDir) {
   std::vector<ForceFigure> figures;
   std::vector<std::string> plots;
   std::filesystem::create_directories(outDir + "/plots");
   for (const auto& [group, series] : plotGroups) {
     std::string name;  // the title, as a file name
     for (const char ch : group) {
-      if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-') name += ch;
-      else if (!name.empty() && name.back() != '_') name += '_';
+      if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '-')
+        name += ch;
+      else if (!name.empty() && name.back() != '_')
+        name += '_';
     }
-    figures.push_back({outDir + "/plots/" + name + ".png", group + ": static and dynamic voxels", series});
+    figures.push_back(
+        {outDir + "/plots/" + name + ".png", group + ": static and dynamic voxels", series});
     plots.push_back("plots/" + name + ".png");
   }
   if (!figures.empty()) drawForcePlots(figures, outDir + "/plots/plots.gp");
@@ -277,10 +296,11 @@ json shardJson(const ShardPlan& plan, std::size_t shardIndex, std::size_t shardC
     totalCost += plan.groups[g].cost;
     if (!plan.ownGroup[g]) continue;
     cost += plan.groups[g].cost;
-    for (int k = 0; k < val::kCasesPerGroup; ++k) own.push_back(plan.runKeys[g * val::kCasesPerGroup + k]);
+    for (int k = 0; k < val::kCasesPerGroup; ++k)
+      own.push_back(plan.runKeys[g * val::kCasesPerGroup + k]);
   }
-  return {{"index", shardIndex},       {"count", shardCount},       {"case_list", plan.runKeys},
-          {"cases", own},              {"estimated_cost", cost},    {"run_estimated_cost", totalCost}};
+  return {{"index", shardIndex}, {"count", shardCount},    {"case_list", plan.runKeys},
+          {"cases", own},        {"estimated_cost", cost}, {"run_estimated_cost", totalCost}};
 }
 
 }  // namespace
@@ -290,7 +310,8 @@ int runValidate(const ValidateCommandOptions& options) {
   options.source.check();  // the models' units or scale, before any work
   // Plain values, not an optional pair: GCC's -Wmaybe-uninitialized misreads the latter.
   const bool sharded = !options.shard.empty();
-  const auto [shardIndex, shardCount] = sharded ? parseShard(options.shard) : std::pair<std::size_t, std::size_t>{0, 1};
+  const auto [shardIndex, shardCount] =
+      sharded ? parseShard(options.shard) : std::pair<std::size_t, std::size_t>{0, 1};
   // Sizes given with --quick replace its 1.2 mm; given or not, they are checked.
   const std::vector<double> parsedSizes = parseVoxelSizes(options.voxelSizes);
   const std::vector<double> sizes =
@@ -306,15 +327,19 @@ int runValidate(const ValidateCommandOptions& options) {
   }
   inputs.push_back(options.compare);
   const std::string logPath = options.outDir + "/validate.log";
-  geometry::refuseOverwritingInputs({options.outDir + "/report.json", options.outDir + "/report.html", logPath},
-                                    inputs);
-  for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
+  geometry::refuseOverwritingInputs(
+      {options.outDir + "/report.json", options.outDir + "/report.html", logPath}, inputs);
+  for (const char* owned : {"/forces", "/plots", "/images"})
+    refuseInputsInside(options.outDir + owned, inputs);
   // The report, the log, the force logs, plots and images are one set, put in place together
   // when the run is complete (output_dir.h).
-  geometry::OutputDir outDir(options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
+  geometry::OutputDir outDir(
+      options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
   std::error_code ec;
   std::filesystem::create_directories(options.outDir + "/images", ec);
-  if (ec) throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() + ")");
+  if (ec)
+    throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() +
+                     ")");
   const std::map<std::string, std::string> fileNameOf = modelFileNames(names);
   const std::vector<val::ValidationModel> models = loadModels(options, names);
 
@@ -330,23 +355,30 @@ int runValidate(const ValidateCommandOptions& options) {
   std::strftime(startedText, sizeof startedText, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&startedT));
   const ShardPlan plan = planShards(options, models, vo, shardIndex, shardCount);
   const std::size_t total =
-      static_cast<std::size_t>(std::count(plan.ownGroup.begin(), plan.ownGroup.end(), true)) * val::kCasesPerGroup;
+      static_cast<std::size_t>(std::count(plan.ownGroup.begin(), plan.ownGroup.end(), true)) *
+      val::kCasesPerGroup;
   std::filesystem::create_directories(options.outDir + "/forces");
   CaseRecorder recorder(options.outDir, fileNameOf, total, log);
   const val::ValidationReport report =
       val::runValidation(models, vo, [&recorder](const val::ValidationCase& c) { recorder(c); });
-  const std::vector<std::string> images = writeModelImages(models, plan, sizes.front(), options.outDir);
+  const std::vector<std::string> images =
+      writeModelImages(models, plan, sizes.front(), options.outDir);
   const std::vector<std::string> plots = drawPlots(recorder.plotGroups(), options.outDir);
 
   json cases = json::array();
   for (const val::ValidationCase& c : report.cases) cases.push_back(caseJson(c));
-  const double seconds = std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::system_clock::now() - started).count();
   json j = {{"schema", "osteon-validate/1"},
             {"started", startedText},
             {"seconds", seconds},
             {"osteon_version", OSTEON_VERSION},
-            {"options", {{"models", names}, {"voxel_sizes_mm", sizes}, {"quick", options.quick},
-                         {"crack_pixels", vo.crackPixels}, {"collision_check_every_steps", vo.checkEverySteps}}},
+            {"options",
+             {{"models", names},
+              {"voxel_sizes_mm", sizes},
+              {"quick", options.quick},
+              {"crack_pixels", vo.crackPixels},
+              {"collision_check_every_steps", vo.checkEverySteps}}},
             {"environment", environmentJson()},
             {"cases", cases},
             {"plots", plots},

@@ -1,29 +1,26 @@
 // `osteon validate --merge`: the reports of a run's shards (`--shard K/N`) as the one report
 // the whole run writes, after checking that they are one run.
-#include "commands/validate_report.h"
-
-#include "support/files.h"
-
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/output_dir.h"
-#include "osteon/geometry/io/output_file.h"
-
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <map>
 #include <set>
 #include <string>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include "commands/validate_report.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_dir.h"
+#include "osteon/geometry/io/output_file.h"
+#include "support/files.h"
 
 namespace osteon::cli {
 
@@ -37,7 +34,8 @@ std::size_t imageModelIndex(const std::string& image) {
   const std::string prefix = "images/";
   if (image.rfind(prefix, 0) != 0) return 0;
   std::size_t i = prefix.size(), index = 0;
-  while (i < image.size() && std::isdigit(static_cast<unsigned char>(image[i]))) index = index * 10 + (image[i++] - '0');
+  while (i < image.size() && std::isdigit(static_cast<unsigned char>(image[i])))
+    index = index * 10 + (image[i++] - '0');
   return index;
 }
 
@@ -55,8 +53,9 @@ struct FileDescriptor {
 int openShardFile(const std::string& path, std::string& why) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
-    why = errno == ELOOP ? "is a symbolic link (a shard's outputs are its own files: links are not followed)"
-                         : std::string("cannot be opened (") + std::strerror(errno) + ")";
+    why = errno == ELOOP
+              ? "is a symbolic link (a shard's outputs are its own files: links are not followed)"
+              : std::string("cannot be opened (") + std::strerror(errno) + ")";
     return -1;
   }
   struct stat st {};
@@ -87,15 +86,21 @@ bool readBlocks(int fd, Sink sink) {
 // The files of a shard's output folder `rel` (images, plots, forces, and their sub-folders),
 // relative to the shard, by the names the folder holds. Only real folders and regular files:
 // anything else (a link above all, which could lead the copy out of --out-dir) is refused.
-void listShardFiles(const std::string& dir, const std::string& rel, int depth, std::vector<std::string>& files) {
+void listShardFiles(const std::string& dir, const std::string& rel, int depth,
+                    std::vector<std::string>& files) {
   namespace fs = std::filesystem;
-  const auto bad = [&](const std::string& why) { return InputError("--merge " + dir + ": " + why); };
+  const auto bad = [&](const std::string& why) {
+    return InputError("--merge " + dir + ": " + why);
+  };
   std::error_code ec;
   for (fs::directory_iterator it(dir + "/" + rel, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string sub = rel + "/" + it->path().filename().string();
     const fs::file_status status = it->symlink_status(ec);
     if (ec) break;
-    if (fs::is_symlink(status)) throw bad(sub + " is a symbolic link (a shard's outputs are its own files: links are not followed)");
+    if (fs::is_symlink(status))
+      throw bad(
+          sub +
+          " is a symbolic link (a shard's outputs are its own files: links are not followed)");
     if (fs::is_directory(status)) {
       if (depth >= 4) throw bad(sub + " is nested deeper than validate writes");
       listShardFiles(dir, sub, depth + 1, files);
@@ -118,9 +123,12 @@ std::vector<std::string> shardFiles(const std::string& dir) {
     const fs::file_status status = fs::symlink_status(dir + "/" + sub, ec);
     if (!fs::exists(status)) continue;
     if (fs::is_symlink(status)) {
-      throw InputError("--merge " + dir + ": " + sub + " is a symbolic link (a shard's outputs are its own files: links are not followed)");
+      throw InputError(
+          "--merge " + dir + ": " + sub +
+          " is a symbolic link (a shard's outputs are its own files: links are not followed)");
     }
-    if (!fs::is_directory(status)) throw InputError("--merge " + dir + ": " + sub + " is not a folder");
+    if (!fs::is_directory(status))
+      throw InputError("--merge " + dir + ": " + sub + " is not a folder");
     listShardFiles(dir, sub, 1, files);
   }
   return files;
@@ -136,8 +144,9 @@ void makeOutputFolder(const std::string& outDir, const std::string& rel) {
     std::error_code ec;
     fs::create_directory(path, ec);
     if (!fs::is_directory(fs::symlink_status(path, ec))) {
-      throw InputError("--out-dir " + outDir + ": " + path.substr(outDir.size() + 1) +
-                       " is not a folder of its own (a link or a file: a merge writes only inside --out-dir)");
+      throw InputError(
+          "--out-dir " + outDir + ": " + path.substr(outDir.size() + 1) +
+          " is not a folder of its own (a link or a file: a merge writes only inside --out-dir)");
     }
   }
 }
@@ -150,8 +159,10 @@ void copyShardFile(const std::string& dir, const std::string& rel, const std::st
   if (in.fd < 0) throw InputError("--merge " + dir + ": " + rel + " " + why);
   makeOutputFolder(outDir, std::filesystem::path(rel).parent_path().string());
   geometry::OutputFile out(outDir + "/" + rel);
-  FileDescriptor to{::open(out.tempPath().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644)};
-  if (to.fd < 0) throw InputError(out.path() + ": cannot open for writing (" + std::strerror(errno) + ")");
+  FileDescriptor to{
+      ::open(out.tempPath().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644)};
+  if (to.fd < 0)
+    throw InputError(out.path() + ": cannot open for writing (" + std::strerror(errno) + ")");
   bool written = true;
   const bool read = readBlocks(in.fd, [&](const char* p, std::size_t n) {
     while (n > 0) {
@@ -166,7 +177,8 @@ void copyShardFile(const std::string& dir, const std::string& rel, const std::st
   const int error = errno;
   if (::close(std::exchange(to.fd, -1)) != 0) written = false;
   if (!written) throw InputError(out.path() + ": writing failed (disk full or not writable?)");
-  if (!read) throw InputError("--merge " + dir + ": cannot read " + rel + " (" + std::strerror(error) + ")");
+  if (!read)
+    throw InputError("--merge " + dir + ": cannot read " + rel + " (" + std::strerror(error) + ")");
   out.commit();
 }
 
@@ -179,7 +191,8 @@ std::string shardLog(const std::string& dir) {
   const FileDescriptor in{openShardFile(path, why)};
   if (in.fd < 0) throw InputError("--merge " + dir + ": validate.log " + why);
   if (!readBlocks(in.fd, [&](const char* p, std::size_t n) { return bytes.append(p, n), true; })) {
-    throw InputError("--merge " + dir + ": cannot read validate.log (" + std::strerror(errno) + ")");
+    throw InputError("--merge " + dir + ": cannot read validate.log (" + std::strerror(errno) +
+                     ")");
   }
   return bytes;
 }
@@ -195,11 +208,13 @@ void checkSameRun(const std::vector<ShardReport>& shards) {
                        s.report["osteon_version"].get<std::string>() + ")");
     }
     if (s.count != first.count) {
-      throw InputError("--merge: " + pair + " are shards of different splits (of " + std::to_string(first.count) +
-                       " and of " + std::to_string(s.count) + " shards)");
+      throw InputError("--merge: " + pair + " are shards of different splits (of " +
+                       std::to_string(first.count) + " and of " + std::to_string(s.count) +
+                       " shards)");
     }
     if (s.report["shard"]["case_list"] != first.report["shard"]["case_list"]) {
-      throw InputError("--merge: " + pair + " are shards of different runs (their case lists differ)");
+      throw InputError("--merge: " + pair +
+                       " are shards of different runs (their case lists differ)");
     }
     if (s.report["options"] != first.report["options"]) {
       throw InputError("--merge: " + pair + " are shards of different runs (their options differ)");
@@ -215,8 +230,8 @@ std::vector<const ShardReport*> shardsByIndex(const std::vector<ShardReport>& sh
   for (const ShardReport& s : shards) {
     const auto [slot, added] = slots.emplace(s.index, &s);
     if (!added) {
-      throw InputError("--merge: " + slot->second->dir + " and " + s.dir + " are both shard " + std::to_string(s.index) +
-                       "/" + std::to_string(s.count));
+      throw InputError("--merge: " + slot->second->dir + " and " + s.dir + " are both shard " +
+                       std::to_string(s.index) + "/" + std::to_string(s.count));
     }
   }
   if (slots.size() < first.count) {
@@ -224,20 +239,22 @@ std::vector<const ShardReport*> shardsByIndex(const std::vector<ShardReport>& sh
     std::size_t listed = 0;
     for (std::size_t k = 0; k < first.count && listed < 8; ++k) {
       if (slots.count(k)) continue;
-      missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(first.count);
+      missing +=
+          (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(first.count);
       ++listed;
     }
-    if (first.count - slots.size() > listed) missing += " and " + std::to_string(first.count - slots.size() - listed) + " more";
+    if (first.count - slots.size() > listed)
+      missing += " and " + std::to_string(first.count - slots.size() - listed) + " more";
     std::string given;
     for (const ShardReport& s : shards) {
-      given += (given.empty() ? "" : ", ") + s.dir + " (" + std::to_string(s.index) + "/" + std::to_string(s.count) + ")";
+      given += (given.empty() ? "" : ", ") + s.dir + " (" + std::to_string(s.index) + "/" +
+               std::to_string(s.count) + ")";
     }
     throw InputError("--merge: shard " + missing + " missing (given: " + given + ")");
   }
   std::vector<const ShardReport*> byIndex;
   for (const auto& slot : slots) byIndex.push_back(slot.second);
   return byIndex;
-
 }
 
 // Every case of the run in exactly one shard, then in the run's order.
@@ -248,7 +265,8 @@ json mergedCases(const std::vector<ShardReport>& shards) {
   for (const ShardReport& s : shards) {
     for (const json& c : s.report["cases"]) {
       const std::string key = caseKey(c);
-      if (caseOf.count(key)) throw InputError("--merge: " + dirOf[key] + " and " + s.dir + " both hold case " + key);
+      if (caseOf.count(key))
+        throw InputError("--merge: " + dirOf[key] + " and " + s.dir + " both hold case " + key);
       caseOf[key] = &c;
       dirOf[key] = s.dir;
     }
@@ -256,16 +274,19 @@ json mergedCases(const std::vector<ShardReport>& shards) {
   json cases = json::array();
   for (const json& key : first.report["shard"]["case_list"]) {
     const auto it = caseOf.find(key.get<std::string>());
-    if (it == caseOf.end()) throw InputError("--merge: no shard holds case " + key.get<std::string>());
+    if (it == caseOf.end())
+      throw InputError("--merge: no shard holds case " + key.get<std::string>());
     cases.push_back(*it->second);
   }
-  if (cases.size() != caseOf.size()) throw InputError("--merge: a shard holds a case outside its run's case list");
+  if (cases.size() != caseOf.size())
+    throw InputError("--merge: a shard holds a case outside its run's case list");
 
   return cases;
 }
 
 // Outputs: never into a shard's own folder, never over an input.
-void refuseMergeOutputs(const ValidateCommandOptions& options, const std::vector<ShardReport>& shards) {
+void refuseMergeOutputs(const ValidateCommandOptions& options,
+                        const std::vector<ShardReport>& shards) {
   namespace fs = std::filesystem;
   std::vector<std::string> inputs{options.compare};
   for (const ShardReport& s : shards) {
@@ -276,9 +297,12 @@ void refuseMergeOutputs(const ValidateCommandOptions& options, const std::vector
     }
     inputs.push_back(s.dir + "/report.json");
   }
-  geometry::refuseOverwritingInputs({options.outDir + "/report.json", options.outDir + "/report.html",
-                                     options.outDir + "/validate.log"}, inputs);
-  for (const char* owned : {"/forces", "/plots", "/images"}) refuseInputsInside(options.outDir + owned, inputs);
+  geometry::refuseOverwritingInputs(
+      {options.outDir + "/report.json", options.outDir + "/report.html",
+       options.outDir + "/validate.log"},
+      inputs);
+  for (const char* owned : {"/forces", "/plots", "/images"})
+    refuseInputsInside(options.outDir + owned, inputs);
 }
 
 }  // namespace
@@ -287,12 +311,14 @@ void refuseMergeOutputs(const ValidateCommandOptions& options, const std::vector
 int runValidateMerge(const ValidateCommandOptions& options) {
   namespace fs = std::filesystem;
   if (!options.runOptionsGiven.empty()) {
-    throw InputError("--merge: " + options.runOptionsGiven.front() +
-                     " is an option of a run, not of a merge (each shard's report holds its run's options)");
+    throw InputError(
+        "--merge: " + options.runOptionsGiven.front() +
+        " is an option of a run, not of a merge (each shard's report holds its run's options)");
   }
   const json old = options.compare.empty() ? json() : readComparable(options.compare);
   std::vector<ShardReport> shards;
-  for (const std::string& dir : options.merge) shards.push_back(readShard(dir, dir + "/report.json"));
+  for (const std::string& dir : options.merge)
+    shards.push_back(readShard(dir, dir + "/report.json"));
 
   const ShardReport& first = shards.front();
   checkSameRun(shards);
@@ -306,7 +332,8 @@ int runValidateMerge(const ValidateCommandOptions& options) {
     files.push_back(shardFiles(s->dir));
     logs.push_back(shardLog(s->dir));
   }
-  geometry::OutputDir outDir(options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
+  geometry::OutputDir outDir(
+      options.outDir, {"report.json", "report.html", "validate.log", "forces", "plots", "images"});
   for (const char* owned : {"images", "plots", "forces"}) makeOutputFolder(options.outDir, owned);
 
   std::set<std::string> plots;
@@ -323,11 +350,14 @@ int runValidateMerge(const ValidateCommandOptions& options) {
     mergedFrom.push_back(s->dir);
     shardSeconds.push_back(s->report["seconds"]);
     seconds += s->report["seconds"].get<double>();
-    started = std::min(started, s->report["started"].get<std::string>());  // ISO 8601 UTC sorts as text
-    log += "# shard " + std::to_string(s->index) + "/" + std::to_string(s->count) + ": " + s->dir + "\n" + logs[k];
+    started =
+        std::min(started, s->report["started"].get<std::string>());  // ISO 8601 UTC sorts as text
+    log += "# shard " + std::to_string(s->index) + "/" + std::to_string(s->count) + ": " + s->dir +
+           "\n" + logs[k];
   }
-  std::stable_sort(images.begin(), images.end(),
-                   [](const std::string& a, const std::string& b) { return imageModelIndex(a) < imageModelIndex(b); });
+  std::stable_sort(images.begin(), images.end(), [](const std::string& a, const std::string& b) {
+    return imageModelIndex(a) < imageModelIndex(b);
+  });
   geometry::writeFileAtomically(options.outDir + "/validate.log", log);
   json j = {{"schema", "osteon-validate/1"},
             {"started", started},

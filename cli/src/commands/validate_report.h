@@ -2,15 +2,14 @@
 // report.html (validate_report.cpp); reading reports is report_reader.h.
 #pragma once
 
-#include "commands/validate.h"
-#include "report_reader.h"
-
-#include "osteon/validation/validate.h"
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include <string>
-#include <vector>
+#include "commands/validate.h"
+#include "osteon/validation/validate.h"
+#include "report_reader.h"
 
 namespace osteon::cli {
 
@@ -21,8 +20,8 @@ nlohmann::json environmentJson();
 
 // The verdict (every crack-free case passes), the images, regressions against `old` (with
 // --compare), then report.json and report.html into options.outDir.
-void writeReport(nlohmann::json& report, const ValidateCommandOptions& options, const nlohmann::json& old,
-                 const std::vector<std::string>& images);
+void writeReport(nlohmann::json& report, const ValidateCommandOptions& options,
+                 const nlohmann::json& old, const std::vector<std::string>& images);
 
 // The closing line on stdout; the exit code of the verdict.
 int printVerdict(const nlohmann::json& report, const std::string& outDir);

@@ -1,7 +1,11 @@
 #include "commands/voxelize.h"
 
-#include "support/mesh_json.h"
-#include "support/output.h"
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
 
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
@@ -10,13 +14,8 @@
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/session.h"
-
-#include <algorithm>
-#include <cctype>
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <limits>
+#include "support/mesh_json.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -42,17 +41,20 @@ struct VoxelizeReport {
 // would hold NRRD bytes.
 void checkOut(const VoxelizeCommandOptions& options) {
   if (options.out.empty()) return;
-  geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)}, options.bone.inputFiles());
+  geo::refuseOverwritingInputs({options.out, geo::densityPathFor(options.out)},
+                               options.bone.inputFiles());
   std::string ext = std::filesystem::path(options.out).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".nrrd" && ext != ".nhdr") {
-    throw InputError("--out " + options.out +
-                     ": the grid is written as NRRD, so the name must end in .nrrd (or .nhdr), not " +
-                     (ext.empty() ? std::string("nothing") : "'" + ext + "'"));
+    throw InputError(
+        "--out " + options.out +
+        ": the grid is written as NRRD, so the name must end in .nrrd (or .nhdr), not " +
+        (ext.empty() ? std::string("nothing") : "'" + ext + "'"));
   }
 }
 
-geo::VoxelizeOptions voxelizeOptions(const VoxelizeCommandOptions& options, const sim::BoneMesh& loaded) {
+geo::VoxelizeOptions voxelizeOptions(const VoxelizeCommandOptions& options,
+                                     const sim::BoneMesh& loaded) {
   geo::VoxelizeOptions vo;
   vo.voxelSizeMm = options.bone.voxelSizeMm.value_or(0.0);
   vo.meshName = options.bone.input;
@@ -62,7 +64,8 @@ geo::VoxelizeOptions voxelizeOptions(const VoxelizeCommandOptions& options, cons
   vo.density.corticalThicknessMm = options.corticalMm;
   const auto toDensity = [](int value, const char* flag) {
     if (value <= 0 || value > std::numeric_limits<geo::Density>::max()) {
-      throw InputError(std::string(flag) + " " + std::to_string(value) + ": must be an integer in 1..32767");
+      throw InputError(std::string(flag) + " " + std::to_string(value) +
+                       ": must be an integer in 1..32767");
     }
     return geo::Density(value);
   };
@@ -90,9 +93,12 @@ json toJson(const VoxelizeReport& r) {
   j["robust"] = o.robust;
   j["disagreeing_voxels"] = stats.disagreeingVoxels;
   j["abstained_columns"] = stats.abstainedColumns;
-  j["rays"] = {{"per_column", o.raysPerAxis * o.raysPerAxis}, {"cast", stats.raysCast},
-               {"retried", stats.raysRetried},                 {"unresolved", stats.raysUnresolved},
-               {"winding", stats.raysWinding},                 {"oriented_mesh", stats.orientedMesh}};
+  j["rays"] = {{"per_column", o.raysPerAxis * o.raysPerAxis},
+               {"cast", stats.raysCast},
+               {"retried", stats.raysRetried},
+               {"unresolved", stats.raysUnresolved},
+               {"winding", stats.raysWinding},
+               {"oriented_mesh", stats.orientedMesh}};
   j["density"] = {{"cortical_mm", r.voxelizing.density.corticalThicknessMm},
                   {"cortical_density", r.voxelizing.density.corticalDensity},
                   {"cancellous_density", r.voxelizing.density.cancellousDensity},
@@ -100,8 +106,9 @@ json toJson(const VoxelizeReport& r) {
                   {"cancellous_voxels", stats.density.cancellousVoxels},
                   {"distance_queries", stats.density.distanceQueries}};
   j["time_ms"] = stats.totalMs;
-  j["timings_ms"] = {{"load", r.loaded.read.loadMs}, {"bvh", stats.bvhMs},         {"rays", stats.raysMs},
-                     {"combine", stats.combineMs},   {"density", stats.densityMs}, {"write", r.writeMs}};
+  j["timings_ms"] = {{"load", r.loaded.read.loadMs}, {"bvh", stats.bvhMs},
+                     {"rays", stats.raysMs},         {"combine", stats.combineMs},
+                     {"density", stats.densityMs},   {"write", r.writeMs}};
   j["setup_ms"] = setupJson(r.setup);
   j["peak_rss_mb"] = peakRssMb();
   if (!o.out.empty()) {
@@ -123,25 +130,29 @@ void printText(const VoxelizeReport& r) {
   const glm::ivec3 d = r.grid.dims();
   std::printf("osteon voxelize %s at %.4g mm%s\n", o.bone.input.c_str(), r.grid.voxelSizeMm(),
               o.robust ? " (robust: 3 axes, majority vote)" : "");
-  std::printf("  mesh          %zu triangles, volume %.1f mm^3\n", r.loaded.mesh.triangleCount(), r.meshVolumeMm3);
-  std::printf("  grid          %d x %d x %d voxels, %zu of %zu bricks allocated, %.2f MB\n", d.x, d.y, d.z,
-              r.grid.allocatedBrickCount(), r.grid.brickCount(), double(r.grid.memoryBytes()) / 1e6);
-  std::printf("  inside        %llu voxels (fill >= 1/2), %llu non-empty\n", ull(r.inside), ull(r.touched));
+  std::printf("  mesh          %zu triangles, volume %.1f mm^3\n", r.loaded.mesh.triangleCount(),
+              r.meshVolumeMm3);
+  std::printf("  grid          %d x %d x %d voxels, %zu of %zu bricks allocated, %.2f MB\n", d.x,
+              d.y, d.z, r.grid.allocatedBrickCount(), r.grid.brickCount(),
+              double(r.grid.memoryBytes()) / 1e6);
+  std::printf("  inside        %llu voxels (fill >= 1/2), %llu non-empty\n", ull(r.inside),
+              ull(r.touched));
   std::printf("  volume        %.1f mm^3 (%+.3f %% vs mesh)\n", r.volumeMm3, r.errorPercent);
   std::printf("  density       %llu cortical (d=%d, within %.3g mm), %llu cancellous (d=%d)\n",
               ull(stats.density.corticalVoxels), r.voxelizing.density.corticalDensity,
               r.voxelizing.density.corticalThicknessMm, ull(stats.density.cancellousVoxels),
               r.voxelizing.density.cancellousDensity);
-  std::printf("  rays          %llu cast, %llu retried, %llu unresolved\n", ull(stats.raysCast), ull(stats.raysRetried),
-              ull(stats.raysUnresolved));
+  std::printf("  rays          %llu cast, %llu retried, %llu unresolved\n", ull(stats.raysCast),
+              ull(stats.raysRetried), ull(stats.raysUnresolved));
   if (o.robust) {
-    std::printf("  robust vote   %llu disagreeing voxels, %llu abstained columns\n", ull(stats.disagreeingVoxels),
-                ull(stats.abstainedColumns));
+    std::printf("  robust vote   %llu disagreeing voxels, %llu abstained columns\n",
+                ull(stats.disagreeingVoxels), ull(stats.abstainedColumns));
   }
-  std::printf("  time          %.1f ms (bvh %.1f, rays %.1f, density %.1f); load %.1f ms\n", stats.totalMs, stats.bvhMs,
-              stats.raysMs, stats.densityMs, r.loaded.read.loadMs);
+  std::printf("  time          %.1f ms (bvh %.1f, rays %.1f, density %.1f); load %.1f ms\n",
+              stats.totalMs, stats.bvhMs, stats.raysMs, stats.densityMs, r.loaded.read.loadMs);
   std::printf("%s\n", setupLine(r.setup).c_str());
-  if (!o.out.empty()) std::printf("  wrote         %s and %s\n", o.out.c_str(), geo::densityPathFor(o.out).c_str());
+  if (!o.out.empty())
+    std::printf("  wrote         %s and %s\n", o.out.c_str(), geo::densityPathFor(o.out).c_str());
 }
 
 }  // namespace
@@ -166,13 +177,14 @@ int runVoxelize(const VoxelizeCommandOptions& options) {
   }
   r.meshVolumeMm3 = geo::signedVolumeMm3(r.loaded.mesh);
   r.volumeMm3 = r.grid.filledVolumeMm3();
-  r.errorPercent = r.meshVolumeMm3 != 0.0
-                       ? 100.0 * (r.volumeMm3 - std::abs(r.meshVolumeMm3)) / std::abs(r.meshVolumeMm3)
-                       : 0.0;
+  r.errorPercent = r.meshVolumeMm3 != 0.0 ? 100.0 * (r.volumeMm3 - std::abs(r.meshVolumeMm3)) /
+                                                std::abs(r.meshVolumeMm3)
+                                          : 0.0;
   r.inside = r.grid.countVoxels(geo::kFillHalf);
   r.touched = r.grid.countVoxels(1);
   printReport(r, options.json);
-  if (r.inside == 0) return emptyExit("voxelize", options.bone.input, "no voxel inside", options.allowEmpty);
+  if (r.inside == 0)
+    return emptyExit("voxelize", options.bone.input, "no voxel inside", options.allowEmpty);
   return kExitOk;
 }
 

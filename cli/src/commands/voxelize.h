@@ -2,9 +2,9 @@
 // optionally written as NRRD.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
-
 #include <string>
+
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 

@@ -1,13 +1,12 @@
 #include "support/device_run.h"
 
-#include "support/output.h"
-#include "support/run_summary.h"
+#include <filesystem>
+#include <iostream>
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
-
-#include <filesystem>
-#include <iostream>
+#include "support/output.h"
+#include "support/run_summary.h"
 
 namespace osteon::cli {
 
@@ -41,11 +40,13 @@ std::vector<std::string> deviceInputs(const std::string& name) {
   std::size_t start = 0;
   while (start <= name.size()) {
     const std::size_t plus = name.find('+', start);
-    const std::string part = name.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
+    const std::string part =
+        name.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
     const std::size_t colon = part.find(':');
     if (colon != std::string::npos) {
       const std::string kind = part.substr(0, colon), argument = part.substr(colon + 1);
-      if (kind == "replay" || (kind == "scripted" && sim::isPathCsv(argument))) files.push_back(argument);
+      if (kind == "replay" || (kind == "scripted" && sim::isPathCsv(argument)))
+        files.push_back(argument);
     }
     if (plus == std::string::npos) break;
     start = plus + 1;
@@ -65,10 +66,14 @@ json faultsJson(const dev::FaultCounts& f) {
 }
 
 json safetyJson(const dev::SafetyStats& s, double limitN) {
-  return {{"clamped_steps", s.clampedSteps},       {"ramp_steps", s.rampSteps},
-          {"held_steps", s.heldSteps},             {"fault_steps", s.faultSteps},
-          {"non_finite_forces", s.nonFiniteForces}, {"engagements", s.engagements},
-          {"max_force_n", s.maxForceN},             {"max_step_change_n", s.maxStepChangeN},
+  return {{"clamped_steps", s.clampedSteps},
+          {"ramp_steps", s.rampSteps},
+          {"held_steps", s.heldSteps},
+          {"fault_steps", s.faultSteps},
+          {"non_finite_forces", s.nonFiniteForces},
+          {"engagements", s.engagements},
+          {"max_force_n", s.maxForceN},
+          {"max_step_change_n", s.maxStepChangeN},
           {"force_limit_n", limitN}};
 }
 
@@ -81,30 +86,37 @@ struct DeviceRunReport {
   std::string what;
 };
 
-json toJson(const DeviceRunReport& r) { return r.summary; }
+json toJson(const DeviceRunReport& r) {
+  return r.summary;
+}
 
 void printText(const DeviceRunReport& r) {
   const json& f = r.summary["faults"];
   const json& files = r.summary["files"];
-  std::cout << r.what << ": " << r.run.steps << " steps, max force " << r.run.maxForceN << " N, removed "
-            << r.run.removedVolumeMm3 << " mm3; device faults: nan " << f["nan"] << ", gaps " << f["gaps"]
-            << ", jumps " << f["jumps"] << ", watchdog " << f["watchdog"] << "\n"
-            << "wrote " << files["forces"].get<std::string>() << ", " << files["summary"].get<std::string>() << ", "
-            << files["surface"].get<std::string>() << "\n";
+  std::cout << r.what << ": " << r.run.steps << " steps, max force " << r.run.maxForceN
+            << " N, removed " << r.run.removedVolumeMm3 << " mm3; device faults: nan " << f["nan"]
+            << ", gaps " << f["gaps"] << ", jumps " << f["jumps"] << ", watchdog " << f["watchdog"]
+            << "\n"
+            << "wrote " << files["forces"].get<std::string>() << ", "
+            << files["summary"].get<std::string>() << ", " << files["surface"].get<std::string>()
+            << "\n";
 }
 
 }  // namespace
 
-int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, sim::Session& session, const sim::RunSummary& run,
-                    json extra, const std::string& what, geo::OutputFile* recording) {
+int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, sim::Session& session,
+                    const sim::RunSummary& run, json extra, const std::string& what,
+                    geo::OutputFile* recording) {
   const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), files.surfacePath);
-  DeviceRunReport r{runSummaryJson(run, session, setup.mesh, setup.mode, setup.tool, setup.voxelSizeMm, setup.levels),
+  DeviceRunReport r{runSummaryJson(run, session, setup.mesh, setup.mode, setup.tool,
+                                   setup.voxelSizeMm, setup.levels),
                     run, what};
   json& summary = r.summary;
   for (auto& item : extra.items()) summary[item.key()] = item.value();
   summary["surface_triangles"] = surface.triangleCount();
-  json written = {{"forces", files.forcesPath}, {"summary", files.summaryPath}, {"surface", files.surfacePath}};
+  json written = {
+      {"forces", files.forcesPath}, {"summary", files.summaryPath}, {"surface", files.surfacePath}};
   if (summary.contains("recording_out")) written["recording"] = summary["recording_out"];
   summary.erase("recording_out");
   summary["files"] = written;
@@ -113,7 +125,9 @@ int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, sim::Session&
   files.dir.commit();
   if (recording) recording->commit();  // the run is complete: the new recording replaces the old
   printReport(r, setup.json);
-  if (!empty.empty()) return emptyExit(setup.mode == "replay" ? "replay" : "drill", setup.mesh, empty, setup.allowEmpty);
+  if (!empty.empty())
+    return emptyExit(setup.mode == "replay" ? "replay" : "drill", setup.mesh, empty,
+                     setup.allowEmpty);
   return kExitOk;
 }
 

@@ -3,7 +3,10 @@
 // safety layer's work, the surface, the printed summary), written as `drill` writes its runs.
 #pragma once
 
-#include "support/files.h"
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "osteon/devices/safety.h"
 #include "osteon/geometry/io/output_file.h"
@@ -12,11 +15,7 @@
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/session.h"
 #include "osteon/simulation/tool.h"
-
-#include <nlohmann/json.hpp>
-
-#include <string>
-#include <vector>
+#include "support/files.h"
 
 namespace osteon::cli {
 
@@ -34,7 +33,8 @@ struct DeviceRunSetup {
 void checkDeviceRunOptions(const simulation::BoneSource& bone, int levels);
 
 // The session a device run drills: the bone opened from its source, no kept surface (batch).
-simulation::Session openDeviceRunSession(const simulation::BoneSource& bone, int levels, simulation::ToolKind kind,
+simulation::Session openDeviceRunSession(const simulation::BoneSource& bone, int levels,
+                                         simulation::ToolKind kind,
                                          simulation::CouplingMode coupling);
 
 // The files a device name reads (recordings, path CSVs), which no output may overwrite.
@@ -47,7 +47,7 @@ nlohmann::json safetyJson(const devices::SafetyStats& stats, double limitN);
 // Writes summary.json (the run's shared fields, then `extra`) and the surface, puts the run's
 // files (and a recording) in place, prints the summary; returns the exit code.
 int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, simulation::Session& session,
-                    const simulation::RunSummary& run, nlohmann::json extra, const std::string& what,
-                    geometry::OutputFile* recording = nullptr);
+                    const simulation::RunSummary& run, nlohmann::json extra,
+                    const std::string& what, geometry::OutputFile* recording = nullptr);
 
 }  // namespace osteon::cli

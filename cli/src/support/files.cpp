@@ -1,9 +1,9 @@
 #include "support/files.h"
 
-#include "osteon/core/error.h"
-
 #include <algorithm>
 #include <filesystem>
+
+#include "osteon/core/error.h"
 
 namespace osteon::cli {
 
@@ -25,7 +25,8 @@ void refuseInputsInside(const std::string& folder, const std::vector<std::string
     if (ec) continue;
     const auto mismatch = std::mismatch(dir.begin(), dir.end(), file.begin(), file.end());
     if (mismatch.first == dir.end()) {
-      throw InputError(in + ": is inside " + folder + ", which this run fills with its own files "
+      throw InputError(in + ": is inside " + folder +
+                       ", which this run fills with its own files "
                        "(refusing to risk overwriting an input; choose another --out-dir)");
     }
   }

@@ -2,10 +2,10 @@
 // a run fills with files of its own naming.
 #pragma once
 
-#include "osteon/geometry/io/output_dir.h"
-
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/io/output_dir.h"
 
 namespace osteon::cli {
 

@@ -8,13 +8,13 @@
 namespace osteon::cli {
 
 struct ForceSeries {
-  std::string csv;    // a force log
+  std::string csv;  // a force log
   std::string title;
   double lineWidth = 1.4;
 };
 
 struct ForceFigure {
-  std::string png;    // output image
+  std::string png;  // output image
   std::string title;
   std::vector<ForceSeries> series;
 };

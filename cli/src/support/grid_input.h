@@ -3,22 +3,22 @@
 // result), without a session's fine fills.
 #pragma once
 
-#include "osteon/core/timing.h"
-#include "osteon/simulation/bone_source.h"
+#include <memory>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
-#include <memory>
-#include <string>
+#include "osteon/core/timing.h"
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 
 struct LoadedGrid {
   Clock::time_point start = Clock::now();  // the command's set-up starts here
   std::shared_ptr<const simulation::BoneModel> bone;
-  double voxelizeMs = 0.0;      // the voxelizer's whole time, its density pass included
-  nlohmann::json volume;        // what a volume was read as, null for a mesh
-  std::string volumeText;       // its line of text ("" for a mesh or an osteon grid)
+  double voxelizeMs = 0.0;         // the voxelizer's whole time, its density pass included
+  nlohmann::json volume;           // what a volume was read as, null for a mesh
+  std::string volumeText;          // its line of text ("" for a mesh or an osteon grid)
   simulation::SetupTimings setup;  // a volume's whole read, its density included, is its load
 };
 

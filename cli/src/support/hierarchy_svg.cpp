@@ -1,20 +1,20 @@
 #include "support/hierarchy_svg.h"
 
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/output_file.h"
-
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_file.h"
 
 namespace osteon::cli {
 
 namespace {
 
 const char* levelColour(int level) {
-  static const char* colours[] = {"#d62728", "#e6b800", "#2ca02c", "#1f77b4", "#9467bd",
-                                  "#8c564b", "#7f7f7f"};
+  static const char* colours[] = {"#d62728", "#e6b800", "#2ca02c", "#1f77b4",
+                                  "#9467bd", "#8c564b", "#7f7f7f"};
   return colours[std::min(level, 6)];
 }
 
@@ -49,8 +49,7 @@ void writeHierarchySvg(const geometry::DynamicProximityHierarchy& hierarchy,
     if (v.z != sliceZ) continue;
     const double fill = double(grid.fill(v)) / geometry::kFillFull;
     svg << "<rect x='" << sx(v.x) << "' y='" << sy(v.y + 1) << "' width='" << px << "' height='"
-        << px << "' fill='" << levelColour(0) << "' fill-opacity='" << 0.25 + 0.6 * fill
-        << "'/>\n";
+        << px << "' fill='" << levelColour(0) << "' fill-opacity='" << 0.25 + 0.6 * fill << "'/>\n";
   }
   // Levels above: cells crossing the slice, outlined, with their centres.
   for (int level = 1; level < hierarchy.levelCount(); ++level) {

@@ -2,10 +2,10 @@
 // Fig. 4 (level 0 red, 1 yellow, 2 green, 3 blue, 4 purple).
 #pragma once
 
+#include <string>
+
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
-
-#include <string>
 
 namespace osteon::cli {
 

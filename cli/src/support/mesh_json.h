@@ -2,11 +2,11 @@
 // dropped) and its scale to mm.
 #pragma once
 
-#include "osteon/simulation/bone_source.h"
+#include <string>
 
 #include <nlohmann/json.hpp>
 
-#include <string>
+#include "osteon/simulation/bone_source.h"
 
 namespace osteon::cli {
 

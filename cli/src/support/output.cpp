@@ -1,35 +1,46 @@
 #include "support/output.h"
 
+#include <cstdio>
+#include <iostream>
+
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/session.h"
 
-#include <cstdio>
-#include <iostream>
-
 namespace osteon::cli {
 
 using nlohmann::json;
 
-json vec3Json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
-json ivec3Json(const glm::ivec3& v) { return json::array({v.x, v.y, v.z}); }
-json percentilesJson(const simulation::Percentiles& p) { return {{"p50", p.p50}, {"p99", p.p99}, {"max", p.max}}; }
+json vec3Json(const glm::dvec3& v) {
+  return json::array({v.x, v.y, v.z});
+}
+json ivec3Json(const glm::ivec3& v) {
+  return json::array({v.x, v.y, v.z});
+}
+json percentilesJson(const simulation::Percentiles& p) {
+  return {{"p50", p.p50}, {"p99", p.p99}, {"max", p.max}};
+}
 
-void printJson(const json& j) { std::cout << j.dump(2, ' ', false, json::error_handler_t::replace) << "\n"; }
+void printJson(const json& j) {
+  std::cout << j.dump(2, ' ', false, json::error_handler_t::replace) << "\n";
+}
 
 json setupJson(const simulation::SetupTimings& t) {
-  return {{"load", t.loadMs},         {"voxelize", t.voxelizeMs},   {"density", t.densityMs},
-          {"fine_fills", t.fineFillsMs}, {"hierarchy", t.hierarchyMs}, {"surface", t.surfaceMs},
+  return {{"load", t.loadMs},           {"voxelize", t.voxelizeMs},
+          {"density", t.densityMs},     {"fine_fills", t.fineFillsMs},
+          {"hierarchy", t.hierarchyMs}, {"surface", t.surfaceMs},
           {"total", t.totalMs}};
 }
 
 std::string setupLine(const simulation::SetupTimings& t, double pathMs) {
   char line[256];
   std::snprintf(line, sizeof line,
-                "  set-up      %.0f ms: load %.0f, voxelize %.0f, density %.0f, fine fills %.0f, hierarchy %.0f, "
+                "  set-up      %.0f ms: load %.0f, voxelize %.0f, density %.0f, fine fills %.0f, "
+                "hierarchy %.0f, "
                 "surface %.0f",
-                t.totalMs, t.loadMs, t.voxelizeMs, t.densityMs, t.fineFillsMs, t.hierarchyMs, t.surfaceMs);
+                t.totalMs, t.loadMs, t.voxelizeMs, t.densityMs, t.fineFillsMs, t.hierarchyMs,
+                t.surfaceMs);
   std::string text = line;
   if (pathMs >= 0.0) {
     std::snprintf(line, sizeof line, ", path %.0f", pathMs);
@@ -39,8 +50,10 @@ std::string setupLine(const simulation::SetupTimings& t, double pathMs) {
   return text + line;
 }
 
-int emptyExit(const char* command, const std::string& input, const std::string& reason, bool allowEmpty) {
-  std::fprintf(stderr, "osteon %s: %s: empty result: %s%s\n", command, input.c_str(), reason.c_str(),
+int emptyExit(const char* command, const std::string& input, const std::string& reason,
+              bool allowEmpty) {
+  std::fprintf(stderr, "osteon %s: %s: empty result: %s%s\n", command, input.c_str(),
+               reason.c_str(),
                allowEmpty ? " (accepted: --allow-empty)" : " (exit 1; --allow-empty accepts it)");
   return allowEmpty ? kExitOk : kExitCheckFailed;
 }

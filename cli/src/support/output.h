@@ -3,10 +3,10 @@
 // empty-result rule.
 #pragma once
 
+#include <string>
+
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
-
-#include <string>
 
 namespace osteon::simulation {
 struct Percentiles;
@@ -30,7 +30,8 @@ std::string setupLine(const simulation::SetupTimings& setup, double pathMs = -1.
 
 // An empty result (no voxel inside, no triangles, a path that never meets bone): one line on
 // stderr naming the command, the input and the reason; kExitCheckFailed unless allowEmpty.
-int emptyExit(const char* command, const std::string& input, const std::string& reason, bool allowEmpty);
+int emptyExit(const char* command, const std::string& input, const std::string& reason,
+              bool allowEmpty);
 
 }  // namespace osteon::cli
 

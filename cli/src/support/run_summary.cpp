@@ -1,7 +1,5 @@
 #include "support/run_summary.h"
 
-#include "support/output.h"
-
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -11,6 +9,7 @@
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
+#include "support/output.h"
 
 namespace osteon::cli {
 
@@ -23,7 +22,8 @@ sim::CouplingMode couplingFor(const std::string& option, bool portalPath) {
 }
 
 json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
-                    const std::string& mode, const std::string& tool, double voxelSizeMm, int levels) {
+                    const std::string& mode, const std::string& tool, double voxelSizeMm,
+                    int levels) {
   json summary = {{"jitter_n", s.jitterN},
                   {"coupling", sim::couplingModeName(s.coupling)},
                   {"max_gap_mm", s.maxGapMm},
@@ -57,12 +57,17 @@ std::string markEmptyRun(json& summary, const sim::RunSummary& s) {
 }
 
 json runtimeStatsJson(const sim::RuntimeStats& st) {
-  return {{"haptic_steps", st.hapticSteps}, {"collision_steps", st.collisionSteps},
-          {"haptic_overruns", st.hapticOverruns}, {"collision_overruns", st.collisionOverruns},
+  return {{"haptic_steps", st.hapticSteps},
+          {"collision_steps", st.collisionSteps},
+          {"haptic_overruns", st.hapticOverruns},
+          {"collision_overruns", st.collisionOverruns},
           {"haptic_loop_us", percentilesJson(st.hapticStepUs)},
-          {"visual_updates", st.visualUpdates}, {"bricks_handed_over", st.bricksHandedOver},
-          {"ring_full", st.ringFull}, {"log_dropped", st.logDropped},
-          {"haptic_standby_steps", st.standbySteps}, {"realtime_priority", st.realtimeGranted}};
+          {"visual_updates", st.visualUpdates},
+          {"bricks_handed_over", st.bricksHandedOver},
+          {"ring_full", st.ringFull},
+          {"log_dropped", st.logDropped},
+          {"haptic_standby_steps", st.standbySteps},
+          {"realtime_priority", st.realtimeGranted}};
 }
 
 sim::RuntimeOptions threadedRunOptions() {
@@ -70,14 +75,18 @@ sim::RuntimeOptions threadedRunOptions() {
   const char* fault = std::getenv("OSTEON_INJECT_FAULT");
   if (!fault || !*fault) return ro;
   if (std::string(fault) != "surface-update") {
-    throw InputError(std::string("OSTEON_INJECT_FAULT=") + fault + ": unknown fault (known: surface-update)");
+    throw InputError(std::string("OSTEON_INJECT_FAULT=") + fault +
+                     ": unknown fault (known: surface-update)");
   }
-  ro.beforeSurfaceUpdate = [] { throw std::runtime_error("injected fault (OSTEON_INJECT_FAULT=surface-update)"); };
+  ro.beforeSurfaceUpdate = [] {
+    throw std::runtime_error("injected fault (OSTEON_INJECT_FAULT=surface-update)");
+  };
   return ro;
 }
 
-sim::RuntimeResult runThreadedLogged(sim::Session& session, sim::PoseSource& source, sim::ForceSink* sink,
-                                     const sim::RuntimeOptions& options, sim::ForceLogWriter& forces) {
+sim::RuntimeResult runThreadedLogged(sim::Session& session, sim::PoseSource& source,
+                                     sim::ForceSink* sink, const sim::RuntimeOptions& options,
+                                     sim::ForceLogWriter& forces) {
   try {
     return session.runThreaded(source, sink, options);
   } catch (const sim::RuntimeFault& e) {

@@ -2,9 +2,9 @@
 // three write the same names.
 #pragma once
 
-#include <nlohmann/json_fwd.hpp>
-
 #include <string>
+
+#include <nlohmann/json_fwd.hpp>
 
 namespace osteon::simulation {
 enum class CouplingMode;
@@ -25,9 +25,10 @@ namespace osteon::cli {
 // (clamp_steps, refine_steps_deferred, overruns, non_finite_forces, ...) and "degraded" (any
 // of them non-zero), mode, mesh, tool, voxel_size_mm, levels, finest_voxel_mm, and the
 // session's setup_ms and peak_rss_mb (setupJson).
-nlohmann::json runSummaryJson(const simulation::RunSummary& summary, const simulation::Session& session,
-                              const std::string& mesh, const std::string& mode, const std::string& tool,
-                              double voxelSizeMm, int levels);
+nlohmann::json runSummaryJson(const simulation::RunSummary& summary,
+                              const simulation::Session& session, const std::string& mesh,
+                              const std::string& mode, const std::string& tool, double voxelSizeMm,
+                              int levels);
 
 // --coupling as given, or its default when empty: direct for the seed's portal paths (their
 // force logs stay the seed experiment's), proxy for everything a hand drives. Throws
@@ -50,8 +51,10 @@ simulation::RuntimeOptions threadedRunOptions();
 
 // session.runThreaded, its rows logged by `forces`: a RuntimeFault is told in one line that
 // also says where the rows logged so far are.
-simulation::RuntimeResult runThreadedLogged(simulation::Session& session, simulation::PoseSource& source,
-                                            simulation::ForceSink* sink, const simulation::RuntimeOptions& options,
+simulation::RuntimeResult runThreadedLogged(simulation::Session& session,
+                                            simulation::PoseSource& source,
+                                            simulation::ForceSink* sink,
+                                            const simulation::RuntimeOptions& options,
                                             simulation::ForceLogWriter& forces);
 
 }  // namespace osteon::cli

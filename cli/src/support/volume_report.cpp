@@ -21,7 +21,8 @@ json volumeJson(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning) {
     j["max"] = v.labels.back();
     j["labels"] = v.labels;
     j["background"] = v.background;
-    j["bone_label"] = v.label ? json(*v.label) : json(v.background == 0 ? "every non-zero" : "every non-background");
+    j["bone_label"] = v.label ? json(*v.label)
+                              : json(v.background == 0 ? "every non-zero" : "every non-background");
   } else {
     j["iso_hu"] = v.isoHu;
     j["iso_default"] = !meaning.isoHu.has_value();
@@ -39,10 +40,10 @@ std::string volumeLine(const geo::VolumeLoad& v, const geo::VolumeOptions& meani
     s << " (labels";
     for (std::uint64_t l : v.labels) s << " " << l;
     s << "; bone: "
-      << (v.label ? "label " + std::to_string(*v.label)
-                  : v.background == 0 ? std::string("every non-zero voxel")
-                                      : "every voxel but the background " + std::to_string(v.background) +
-                                            " (0 absent: the most common value)")
+      << (v.label             ? "label " + std::to_string(*v.label)
+          : v.background == 0 ? std::string("every non-zero voxel")
+                              : "every voxel but the background " + std::to_string(v.background) +
+                                    " (0 absent: the most common value)")
       << ")";
   } else if (v.kind == "ct") {
     s << " (values " << v.minValue << " to " << v.maxValue << "; iso " << v.isoHu << " HU"

@@ -2,16 +2,17 @@
 // "volume" JSON object and one line of text.
 #pragma once
 
-#include "osteon/geometry/io/volume_io.h"
+#include <string>
 
 #include <nlohmann/json.hpp>
 
-#include <string>
+#include "osteon/geometry/io/volume_io.h"
 
 namespace osteon::cli {
 
 // `meaning`: the volume options the user gave (an iso level given or the default).
-nlohmann::json volumeJson(const geometry::VolumeLoad& volume, const geometry::VolumeOptions& meaning);
+nlohmann::json volumeJson(const geometry::VolumeLoad& volume,
+                          const geometry::VolumeOptions& meaning);
 // Empty for osteon's own grids (their output as it always was).
 std::string volumeLine(const geometry::VolumeLoad& volume, const geometry::VolumeOptions& meaning);
 

@@ -1,8 +1,5 @@
 #include "osteon/geometry/hierarchy/dph.h"
 
-#include "dph_internal.h"
-#include "osteon/core/error.h"
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -11,6 +8,9 @@
 #include <random>
 #include <sstream>
 #include <unordered_map>
+
+#include "dph_internal.h"
+#include "osteon/core/error.h"
 
 namespace osteon::geometry {
 
@@ -48,11 +48,11 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
   if (n == 0) return h;
   if (options.method == DphBuildMethod::kLattice && h.buildLattice(voxels)) return h;
   DphBuildOptions insertion = options;
-  if (options.method == DphBuildMethod::kLattice) insertion.shuffle = false;  // too wide a key: the given order
+  if (options.method == DphBuildMethod::kLattice)
+    insertion.shuffle = false;  // too wide a key: the given order
   h.buildInsertion(voxels, insertion);
   return h;
 }
-
 
 DynamicProximityHierarchy DynamicProximityHierarchy::build(const VoxelGrid& grid,
                                                            const DphBuildOptions& options) {
@@ -77,7 +77,8 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const VoxelGrid& grid
       for (int y = lo.y; y < hi.y; ++y)
         for (int x = lo.x; x < hi.x; ++x) {
           const glm::ivec3 v(x, y, z);
-          if (!b || b->fill[std::size_t(VoxelGrid::voxelInBrick(v - lo))] > 0) occupied.push_back(v);
+          if (!b || b->fill[std::size_t(VoxelGrid::voxelInBrick(v - lo))] > 0)
+            occupied.push_back(v);
         }
   }
   return build(occupied, options, grid.originMm(), grid.voxelSizeMm());
@@ -91,11 +92,13 @@ std::uint32_t DynamicProximityHierarchy::root() const {
 
 std::uint32_t DynamicProximityHierarchy::parent(int level, std::uint32_t node) const {
   if (level > 0 || !compactVoxels()) return levels_[std::size_t(level)].parent[node];
-  const std::vector<std::uint32_t>& begins = levels_[1].childBegin;  // ascending in the lattice build
+  const std::vector<std::uint32_t>& begins =
+      levels_[1].childBegin;  // ascending in the lattice build
   return std::uint32_t(std::upper_bound(begins.begin(), begins.end(), node) - begins.begin()) - 1;
 }
 
-std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel, std::uint32_t* cellOut) const {
+std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel,
+                                                   std::uint32_t* cellOut) const {
   if (!packable(voxel)) return kNone;
   std::uint32_t node = kNone;
   if (lattice_) {
@@ -114,7 +117,8 @@ std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel, std:
       if (it == cellKeys_.end() || *it != key / cells) return kNone;
       const auto cell = std::uint32_t(it - cellKeys_.begin());
       const auto digit = std::uint16_t(key % cells);
-      for (std::uint32_t c = levels_[1].childBegin[cell]; c < levels_[1].childEnd[cell]; ++c) {  // ascending digits
+      for (std::uint32_t c = levels_[1].childBegin[cell]; c < levels_[1].childEnd[cell];
+           ++c) {  // ascending digits
         if (level0.digit[c] == digit) {
           node = c;
           if (cellOut) *cellOut = cell;
@@ -125,7 +129,8 @@ std::uint32_t DynamicProximityHierarchy::findVoxel(const glm::ivec3& voxel, std:
   } else {
     const std::uint64_t key = packVoxel(voxel);
     const auto it = std::lower_bound(voxelKeys_.begin(), voxelKeys_.end(), key);
-    if (it != voxelKeys_.end() && *it == key) node = voxelNodes_[std::size_t(it - voxelKeys_.begin())];
+    if (it != voxelKeys_.end() && *it == key)
+      node = voxelNodes_[std::size_t(it - voxelKeys_.begin())];
   }
   if (node == kNone || !levels_[0].alive[node]) return kNone;
   if (cellOut && !compactVoxels()) *cellOut = levels_[0].parent[node];
@@ -159,7 +164,9 @@ std::uint64_t newCacheId() {
 
 DphNearCache::DphNearCache() : id_(newCacheId()) {}
 
-DphNearCache::DphNearCache(DphNearCache&& other) noexcept : DphNearCache() { *this = std::move(other); }
+DphNearCache::DphNearCache(DphNearCache&& other) noexcept : DphNearCache() {
+  *this = std::move(other);
+}
 
 DphNearCache& DphNearCache::operator=(DphNearCache&& other) noexcept {
   if (this == &other) return *this;
@@ -203,7 +210,8 @@ void DphNearCache::recordTravel(const glm::dvec3& a, const glm::dvec3& b) {
     if (!(moved < 1e6)) {
       travelNm_ += std::uint64_t(1) << 40;  // a jump (or a non-finite pose): beyond any slack
     } else if (moved > 0.0) {
-      travelNm_ += std::uint64_t(std::ceil(moved * 1e6)) + 1;  // rounded up, and a nanometre for the rounding
+      travelNm_ += std::uint64_t(std::ceil(moved * 1e6)) +
+                   1;  // rounded up, and a nanometre for the rounding
     }
   }
   lastAMm_ = a;
@@ -214,7 +222,8 @@ void DphNearCache::recordTravel(const glm::dvec3& a, const glm::dvec3& b) {
 DphNearCache::DphNearCache(double skinMm, std::size_t capacity, std::size_t sliceNodes)
     : skinMm_(skinMm), sliceNodes_(sliceNodes), id_(newCacheId()) {
   if (!(skinMm >= 0.0) || !std::isfinite(skinMm)) {
-    throw InputError("query cache skin " + std::to_string(skinMm) + " mm: must be a finite length >= 0");
+    throw InputError("query cache skin " + std::to_string(skinMm) +
+                     " mm: must be a finite length >= 0");
   }
   kept_.reserve(capacity);
   if (sliceNodes_ > 0) next_.reserve(capacity);
@@ -244,8 +253,8 @@ double DphNearCache::moved(const Answer& answer, const glm::dvec3& a, const glm:
   return std::max(glm::length(a - answer.aMm), glm::length(b - answer.bMm));
 }
 
-bool DphNearCache::covers(const DynamicProximityHierarchy& h, const Answer& answer, const glm::dvec3& a,
-                          const glm::dvec3& b, double radiusMm) const {
+bool DphNearCache::covers(const DynamicProximityHierarchy& h, const Answer& answer,
+                          const glm::dvec3& a, const glm::dvec3& b, double radiusMm) const {
   if (answer.reachMm < 0.0) return false;
   // Every point of the new segment lies within max(|a - a0|, |b - b0|) of the kept one's
   // (the same interpolation parameter), so the new capsule lies inside the kept one inflated
@@ -299,7 +308,8 @@ std::string DynamicProximityHierarchy::validate() const {
         }
         const glm::ivec3 lo = L == 0 ? centreI : lv.boxMin[i];
         const glm::ivec3 hi = L == 0 ? centreI : lv.boxMax[i];
-        if (glm::any(glm::lessThan(lo, up.boxMin[p])) || glm::any(glm::greaterThan(hi, up.boxMax[p]))) {
+        if (glm::any(glm::lessThan(lo, up.boxMin[p])) ||
+            glm::any(glm::greaterThan(hi, up.boxMax[p]))) {
           err << "level " << L << " node " << i << ": not inside its parent's box";
           return err.str();
         }
@@ -325,7 +335,8 @@ std::string DynamicProximityHierarchy::validate() const {
     }
   }
   const Level& top = levels_.back();
-  if (top.centre.size() != 1) return "top level has " + std::to_string(top.centre.size()) + " nodes";
+  if (top.centre.size() != 1)
+    return "top level has " + std::to_string(top.centre.size()) + " nodes";
   if (top.aliveCount != (levels_[0].aliveCount > 0 ? 1u : 0u)) {
     return "root is " + std::string(top.aliveCount ? "alive" : "gone") + " with " +
            std::to_string(levels_[0].aliveCount) + " voxels left";
@@ -334,8 +345,10 @@ std::string DynamicProximityHierarchy::validate() const {
     if (voxelKeys_[i - 1] >= voxelKeys_[i]) return "voxel index is not sorted";
   }
   if (lattice_) {
-    if (levels_.size() > 1 && cellKeys_.size() != levels_[1].centre.size()) return "cell index size is wrong";
-    if (compactVoxels() && levels_[0].digit.size() != levels_[0].alive.size()) return "voxel digits are missing";
+    if (levels_.size() > 1 && cellKeys_.size() != levels_[1].centre.size())
+      return "cell index size is wrong";
+    if (compactVoxels() && levels_[0].digit.size() != levels_[0].alive.size())
+      return "voxel digits are missing";
     for (std::size_t i = 1; i < cellKeys_.size(); ++i) {
       if (cellKeys_[i - 1] >= cellKeys_[i]) return "cell index is not sorted";
     }
@@ -372,12 +385,14 @@ std::string DynamicProximityHierarchy::validateAgainst(const VoxelGrid& grid) co
 
 std::size_t DynamicProximityHierarchy::memoryBytes() const {
   std::size_t bytes = sizeof(*this) + voxelKeys_.capacity() * sizeof(std::uint64_t) +
-                      voxelNodes_.capacity() * sizeof(std::uint32_t) + cellKeys_.capacity() * sizeof(std::uint64_t);
+                      voxelNodes_.capacity() * sizeof(std::uint32_t) +
+                      cellKeys_.capacity() * sizeof(std::uint64_t);
   for (const auto& spread : keySpread_) bytes += spread.capacity() * sizeof(std::uint64_t);
   for (const Level& lv : levels_) {
     bytes += lv.centre.capacity() * sizeof(glm::ivec3) +
              (lv.parent.capacity() + lv.childBegin.capacity() + lv.childEnd.capacity() +
-              lv.aliveChildren.capacity()) * sizeof(std::uint32_t) +
+              lv.aliveChildren.capacity()) *
+                 sizeof(std::uint32_t) +
              (lv.boxMin.capacity() + lv.boxMax.capacity()) * sizeof(glm::ivec3) +
              lv.alive.capacity() + lv.digit.capacity() * sizeof(std::uint16_t);
   }

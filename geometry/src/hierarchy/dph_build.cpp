@@ -8,15 +8,14 @@
 //
 // Level 0 keeps no coordinates: a voxel is its level-1 cell's corner plus its digit, its place
 // in the cell (x + xi y + xi^2 z), so the hierarchy costs about 3 bytes a voxel plus its cells.
-#include "osteon/geometry/hierarchy/dph.h"
-
-#include "osteon/core/error.h"
+#include <algorithm>
+#include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
-#include <limits>
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/dph.h"
 
 namespace osteon::geometry {
 
@@ -99,7 +98,8 @@ void axisRange(std::uint32_t mask, std::uint32_t axis0, int step, int& lo, int& 
 
 }  // namespace
 
-bool DynamicProximityHierarchy::prepareLattice(const glm::ivec3& lo, const glm::ivec3& hi, int& keyBits) {
+bool DynamicProximityHierarchy::prepareLattice(const glm::ivec3& lo, const glm::ivec3& hi,
+                                               int& keyBits) {
   const std::uint64_t xi = std::uint64_t(xi_);
   const std::uint64_t cellsPerParent = xi * xi * xi;
   // Digit levels: xi^digits must span the widest axis; the key ranges over xi^(3 digits).
@@ -119,13 +119,15 @@ bool DynamicProximityHierarchy::prepareLattice(const glm::ivec3& lo, const glm::
     const std::uint64_t axisPlace = a == 0 ? 1 : (a == 1 ? xi : xi * xi);
     for (std::size_t c = 0; c < spread.size(); ++c) {
       std::uint64_t rest = c, place = axisPlace, key = 0;
-      for (int d = 0; d < digits; ++d, rest /= xi, place *= cellsPerParent) key += (rest % xi) * place;
+      for (int d = 0; d < digits; ++d, rest /= xi, place *= cellsPerParent)
+        key += (rest % xi) * place;
       spread[c] = key;
     }
   }
   latticeOriginVoxel_ = lo;
   digitOffset_.resize(std::size_t(cellsPerParent));
-  for (int d = 0; d < int(cellsPerParent); ++d) digitOffset_[std::size_t(d)] = {d % xi_, d / xi_ % xi_, d / (xi_ * xi_)};
+  for (int d = 0; d < int(cellsPerParent); ++d)
+    digitOffset_[std::size_t(d)] = {d % xi_, d / xi_ % xi_, d / (xi_ * xi_)};
   levels_.clear();
   halfWidth_.assign(1, 0);
   maxChildren_ = 0;
@@ -147,15 +149,16 @@ bool DynamicProximityHierarchy::buildLattice(const std::vector<glm::ivec3>& voxe
            keySpread_[2][std::size_t(v.z - lo.z)];
   };
   std::vector<std::uint64_t> keys(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) keys[i] = keyOf(voxels[i]);
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) keys[i] = keyOf(voxels[i]);
+                    });
   const std::vector<std::uint32_t> order = sortKeys(keys, keyBits);
   for (std::size_t i = 1; i < n; ++i) {
     if (keys[i] == keys[i - 1]) {
       const glm::ivec3 v = voxels[order[i]];
-      throw InputError("hierarchy: voxel (" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " +
-                       std::to_string(v.z) + ") given twice");
+      throw InputError("hierarchy: voxel (" + std::to_string(v.x) + ", " + std::to_string(v.y) +
+                       ", " + std::to_string(v.z) + ") given twice");
     }
   }
   if (n == 1) {  // no level 1 to hold its cell: the root is the voxel
@@ -232,13 +235,15 @@ std::uint64_t occupiedBounds(const VoxelGrid& grid, glm::ivec3& lo, glm::ivec3& 
     if (!b) {
       lo = glm::min(lo, bLo);
       hi = glm::max(hi, bHi);
-      occupied += std::uint64_t(bHi.x - bLo.x + 1) * std::uint64_t(bHi.y - bLo.y + 1) * std::uint64_t(bHi.z - bLo.z + 1);
+      occupied += std::uint64_t(bHi.x - bLo.x + 1) * std::uint64_t(bHi.y - bLo.y + 1) *
+                  std::uint64_t(bHi.z - bLo.z + 1);
       continue;
     }
     for (int z = bLo.z; z <= bHi.z; ++z)
       for (int y = bLo.y; y <= bHi.y; ++y)
         for (int x = bLo.x; x <= bHi.x; ++x) {
-          if (b->fill[std::size_t(VoxelGrid::voxelInBrick(glm::ivec3(x, y, z) - bLo))] == 0) continue;
+          if (b->fill[std::size_t(VoxelGrid::voxelInBrick(glm::ivec3(x, y, z) - bLo))] == 0)
+            continue;
           lo = glm::min(lo, glm::ivec3(x, y, z));
           hi = glm::max(hi, glm::ivec3(x, y, z));
           ++occupied;
@@ -259,7 +264,9 @@ void scanLayer(const VoxelGrid& grid, const glm::ivec3& lo, const glm::ivec3& hi
     const int z = lo.z + 3 * cz + dz;
     if (z > hi.z) break;
     for (int y = lo.y; y <= hi.y; ++y) {
-      std::uint64_t* row = &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) * std::size_t(words)];
+      std::uint64_t* row =
+          &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(y - lo.y)) *
+                std::size_t(words)];
       for (int bx = lo.x / B; bx <= hi.x / B; ++bx) {
         const std::size_t brick = grid.brickIndex({bx, y / B, z / B});
         const VoxelGrid::Brick* b = grid.brickData(brick);
@@ -274,7 +281,7 @@ void scanLayer(const VoxelGrid& grid, const glm::ivec3& lo, const glm::ivec3& hi
       }
     }
   }
-  
+
   for (int cy = 0; cy < cellDims.y; ++cy) {
     for (int cx = 0; cx < cellDims.x; ++cx) {
       std::uint32_t mask = 0;
@@ -282,9 +289,11 @@ void scanLayer(const VoxelGrid& grid, const glm::ivec3& lo, const glm::ivec3& hi
       for (int dz = 0; dz < 3; ++dz) {
         for (int dy = 0; dy < 3; ++dy) {
           const std::uint64_t* row =
-              &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) * std::size_t(words)];
+              &rows[(std::size_t(dz) * std::size_t(3 * cellDims.y) + std::size_t(3 * cy + dy)) *
+                    std::size_t(words)];
           std::uint64_t three = row[bit >> 6] >> (bit & 63);
-          if ((bit & 63) > 61 && (bit >> 6) + 1 < words) three |= row[(bit >> 6) + 1] << (64 - (bit & 63));
+          if ((bit & 63) > 61 && (bit >> 6) + 1 < words)
+            three |= row[(bit >> 6) + 1] << (64 - (bit & 63));
           mask |= std::uint32_t(three & 7u) << (3 * (dy + 3 * dz));
         }
       }
@@ -324,9 +333,12 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
   std::vector<std::uint64_t> cells(cellCount);
   for (std::size_t i = 0; i < cellCount; ++i) {
     const glm::ivec3 o = scanned[i].corner - lo;
-    cells[i] = (keySpread_[0][std::size_t(o.x)] + keySpread_[1][std::size_t(o.y)] + keySpread_[2][std::size_t(o.z)]) / 27;
+    cells[i] = (keySpread_[0][std::size_t(o.x)] + keySpread_[1][std::size_t(o.y)] +
+                keySpread_[2][std::size_t(o.z)]) /
+               27;
   }
-  const std::vector<std::uint32_t> order = sortKeys(cells, std::max(1, keyBits - 4));  // key / 27 < 2^(keyBits - 4)
+  const std::vector<std::uint32_t> order =
+      sortKeys(cells, std::max(1, keyBits - 4));  // key / 27 < 2^(keyBits - 4)
 
   Level level0, level1;
   level1.centre.resize(cellCount);
@@ -350,20 +362,22 @@ bool DynamicProximityHierarchy::buildLatticeFromGrid(const VoxelGrid& grid) {
   level0.digit.resize(n);
   level0.alive.assign(n, 1);
   level0.aliveCount = n;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cellCount, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t p = r.begin(); p < r.end(); ++p) {
-      const LatticeCell& c = scanned[order[p]];
-      std::uint16_t* digit = &level0.digit[level1.childBegin[p]];
-      for (std::uint32_t m = c.mask; m != 0; m &= m - 1) *digit++ = std::uint16_t(__builtin_ctz(m));
-      glm::ivec3 bMin, bMax;
-      axisRange(c.mask, kCellX0, 1, bMin.x, bMax.x);
-      axisRange(c.mask, kCellY0, 3, bMin.y, bMax.y);
-      axisRange(c.mask, kCellZ0, 9, bMin.z, bMax.z);
-      level1.centre[p] = c.corner + 1;
-      level1.boxMin[p] = c.corner + bMin;
-      level1.boxMax[p] = c.corner + bMax;
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cellCount, 1 << 12),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t p = r.begin(); p < r.end(); ++p) {
+                        const LatticeCell& c = scanned[order[p]];
+                        std::uint16_t* digit = &level0.digit[level1.childBegin[p]];
+                        for (std::uint32_t m = c.mask; m != 0; m &= m - 1)
+                          *digit++ = std::uint16_t(__builtin_ctz(m));
+                        glm::ivec3 bMin, bMax;
+                        axisRange(c.mask, kCellX0, 1, bMin.x, bMax.x);
+                        axisRange(c.mask, kCellY0, 3, bMin.y, bMax.y);
+                        axisRange(c.mask, kCellZ0, 9, bMin.z, bMax.z);
+                        level1.centre[p] = c.corner + 1;
+                        level1.boxMin[p] = c.corner + bMin;
+                        level1.boxMax[p] = c.corner + bMax;
+                      }
+                    });
   levels_.push_back(std::move(level0));
   levels_.push_back(std::move(level1));
   halfWidth_.push_back(1);

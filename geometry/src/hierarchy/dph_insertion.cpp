@@ -44,11 +44,13 @@ void assignParents(LevelT& below, LevelT& above, const std::vector<std::uint32_t
   }
   const long long latticeCells = latticeDims[0] * latticeDims[1] * latticeDims[2];
   const bool dense = latticeCells <= 4 * (long long)count + (1LL << 20);
-  std::vector<std::uint32_t> denseHead(dense ? std::size_t(latticeCells) : 0, DynamicProximityHierarchy::kNone);
+  std::vector<std::uint32_t> denseHead(dense ? std::size_t(latticeCells) : 0,
+                                       DynamicProximityHierarchy::kNone);
   std::unordered_map<std::uint64_t, std::uint32_t> sparseHead;
   const auto latticeIndex = [&](long long lx, long long ly, long long lz) {
     return std::uint64_t((lx - latticeLo[0]) +
-                         latticeDims[0] * ((ly - latticeLo[1]) + latticeDims[1] * (lz - latticeLo[2])));
+                         latticeDims[0] *
+                             ((ly - latticeLo[1]) + latticeDims[1] * (lz - latticeLo[2])));
   };
   const auto headOf = [&](std::uint64_t cell) {
     if (dense) return denseHead[cell];
@@ -75,11 +77,13 @@ void assignParents(LevelT& below, LevelT& above, const std::vector<std::uint32_t
     for (long long lz = from[2]; lz <= to[2]; ++lz)
       for (long long ly = from[1]; ly <= to[1]; ++ly)
         for (long long lx = from[0]; lx <= to[0]; ++lx) {
-          for (std::uint32_t p = headOf(latticeIndex(lx, ly, lz)); p != DynamicProximityHierarchy::kNone; p = nextInCell[p]) {
+          for (std::uint32_t p = headOf(latticeIndex(lx, ly, lz));
+               p != DynamicProximityHierarchy::kNone; p = nextInCell[p]) {
             if (p < chosen && chebyshev(above.centre[p], c) <= half) chosen = p;
           }
         }
-    if (chosen == DynamicProximityHierarchy::kNone) {  // not covered: a new parent at this node's centre
+    if (chosen ==
+        DynamicProximityHierarchy::kNone) {  // not covered: a new parent at this node's centre
       chosen = std::uint32_t(above.centre.size());
       above.centre.push_back(c);
       const std::uint64_t cell =
@@ -192,7 +196,8 @@ void DynamicProximityHierarchy::buildInsertion(const std::vector<glm::ivec3>& vo
   std::iota(byKey.begin(), byKey.end(), 0u);
   std::vector<std::uint64_t> keys(n);
   for (std::size_t i = 0; i < n; ++i) keys[i] = packVoxel(level0.centre[i]);
-  std::sort(byKey.begin(), byKey.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  std::sort(byKey.begin(), byKey.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
   h.voxelKeys_.resize(n);
   h.voxelNodes_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -26,7 +26,9 @@ inline std::uint64_t packVoxel(const glm::ivec3& v) {
          (std::uint64_t(v.y + kCoordOffset) << kCoordBits) | std::uint64_t(v.z + kCoordOffset);
 }
 
-inline long long floorDiv(long long a, long long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+inline long long floorDiv(long long a, long long b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
 
 inline long long chebyshev(const glm::ivec3& a, const glm::ivec3& b) {
   const glm::ivec3 d = glm::abs(a - b);

@@ -1,23 +1,24 @@
 // Level -2 fill of the voxels the surface passes through, from the mesh (FineFillSource).
 #include "osteon/geometry/hierarchy/fine_fill.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-
-#include "voxels/column_ray.h"
-#include "sub_fill.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "sub_fill.h"
+#include "voxels/column_ray.h"
 
 namespace osteon::geometry {
 
 namespace {
 
 std::uint64_t linearIndex(const glm::ivec3& v, const glm::ivec3& dims) {
-  return std::uint64_t(v.x) + std::uint64_t(dims.x) * (std::uint64_t(v.y) + std::uint64_t(dims.y) * std::uint64_t(v.z));
+  return std::uint64_t(v.x) +
+         std::uint64_t(dims.x) * (std::uint64_t(v.y) + std::uint64_t(dims.y) * std::uint64_t(v.z));
 }
 
 struct Entry {
@@ -75,59 +76,63 @@ FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh&
   const int R = std::max(1, raysPerSubAxis);
   const double sub = vs / kSubPerEdge;
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, columnStart.size() - 1),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-    detail::ColumnRay ray(surface, 2, outwardSign, start, length, std::min(1e-4, 1e-3 * sub));
-    std::vector<detail::Interval> intervals;
-    std::vector<float> acc;
-    for (std::size_t col = range.begin(); col != range.end(); ++col) {
-      const std::size_t first = columnStart[col];
-      const std::size_t last = columnStart[col + 1];
-      const int x = int(entries[first].column % std::uint64_t(dims.x));
-      const int y = int(entries[first].column / std::uint64_t(dims.x));
-      acc.assign((last - first) * kSubVoxels, 0.f);
-      for (int sy = 0; sy < kSubPerEdge; ++sy)
-        for (int sx = 0; sx < kSubPerEdge; ++sx)
-          for (int ry = 0; ry < R; ++ry)
-            for (int rx = 0; rx < R; ++rx) {
-              // Stratified in the sub-column, nudged off rational positions as the voxelizer.
-              const double u = origin.x + x * vs + (sx + (rx + 0.5 + 0.0061803) / R) * sub;
-              const double v = origin.y + y * vs + (sy + (ry + 0.5 + 0.0041421) / R) * sub;
-              int attempts = 0;
-              if (ray.cast(u, v, 2e-3 * sub / R, intervals, attempts) ==
-                  detail::RayOutcome::Unresolved) {
-                detail::pairByParity(ray.hits(), intervals);
-              }
-              for (std::size_t e = first; e < last; ++e) {
-                // Interval ends in sub-voxel units from the bottom of this voxel.
-                const double base = (entries[e].z + 1) * vs;  // ray starts one voxel below
-                for (const detail::Interval& in : intervals) {
-                  const double s0 = std::max(0.0, (in.t0 - base) / sub);
-                  const double s1 = std::min(double(kSubPerEdge), (in.t1 - base) / sub);
-                  for (int sz = int(s0); sz < kSubPerEdge && sz < s1; ++sz) {
-                    const double overlap = std::min(s1, sz + 1.0) - std::max(s0, double(sz));
-                    if (overlap > 0.0) {
-                      acc[(e - first) * kSubVoxels +
-                          std::size_t(sx + kSubPerEdge * (sy + kSubPerEdge * sz))] += float(overlap);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, columnStart.size() - 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        detail::ColumnRay ray(surface, 2, outwardSign, start, length, std::min(1e-4, 1e-3 * sub));
+        std::vector<detail::Interval> intervals;
+        std::vector<float> acc;
+        for (std::size_t col = range.begin(); col != range.end(); ++col) {
+          const std::size_t first = columnStart[col];
+          const std::size_t last = columnStart[col + 1];
+          const int x = int(entries[first].column % std::uint64_t(dims.x));
+          const int y = int(entries[first].column / std::uint64_t(dims.x));
+          acc.assign((last - first) * kSubVoxels, 0.f);
+          for (int sy = 0; sy < kSubPerEdge; ++sy)
+            for (int sx = 0; sx < kSubPerEdge; ++sx)
+              for (int ry = 0; ry < R; ++ry)
+                for (int rx = 0; rx < R; ++rx) {
+                  // Stratified in the sub-column, nudged off rational positions as the voxelizer.
+                  const double u = origin.x + x * vs + (sx + (rx + 0.5 + 0.0061803) / R) * sub;
+                  const double v = origin.y + y * vs + (sy + (ry + 0.5 + 0.0041421) / R) * sub;
+                  int attempts = 0;
+                  if (ray.cast(u, v, 2e-3 * sub / R, intervals, attempts) ==
+                      detail::RayOutcome::Unresolved) {
+                    detail::pairByParity(ray.hits(), intervals);
+                  }
+                  for (std::size_t e = first; e < last; ++e) {
+                    // Interval ends in sub-voxel units from the bottom of this voxel.
+                    const double base = (entries[e].z + 1) * vs;  // ray starts one voxel below
+                    for (const detail::Interval& in : intervals) {
+                      const double s0 = std::max(0.0, (in.t0 - base) / sub);
+                      const double s1 = std::min(double(kSubPerEdge), (in.t1 - base) / sub);
+                      for (int sz = int(s0); sz < kSubPerEdge && sz < s1; ++sz) {
+                        const double overlap = std::min(s1, sz + 1.0) - std::max(s0, double(sz));
+                        if (overlap > 0.0) {
+                          acc[(e - first) * kSubVoxels +
+                              std::size_t(sx + kSubPerEdge * (sy + kSubPerEdge * sz))] +=
+                              float(overlap);
+                        }
+                      }
                     }
                   }
                 }
-              }
+          for (std::size_t e = first; e < last; ++e) {
+            std::array<std::uint8_t, kSubVoxels> sampled;
+            for (int i = 0; i < kSubVoxels; ++i) {
+              const float fraction = acc[(e - first) * kSubVoxels + std::size_t(i)] / float(R * R);
+              sampled[std::size_t(i)] =
+                  std::uint8_t(std::clamp(std::lround(fraction * 255.f), 0L, 255L));
             }
-      for (std::size_t e = first; e < last; ++e) {
-        std::array<std::uint8_t, kSubVoxels> sampled;
-        for (int i = 0; i < kSubVoxels; ++i) {
-          const float fraction = acc[(e - first) * kSubVoxels + std::size_t(i)] / float(R * R);
-          sampled[std::size_t(i)] = std::uint8_t(std::clamp(std::lround(fraction * 255.f), 0L, 255L));
+            // Fitted now to sum exactly to the voxel's fill, so refining only copies them.
+            const glm::ivec3 v(x, y, entries[e].z);
+            std::array<Fill, kSubVoxels> fitted;
+            detail::fitToTotal(sampled, grid.fill(v), fitted);
+            for (int i = 0; i < kSubVoxels; ++i)
+              subFill[e][std::size_t(i)] = std::uint8_t(fitted[std::size_t(i)]);
+          }
         }
-        // Fitted now to sum exactly to the voxel's fill, so refining only copies them.
-        const glm::ivec3 v(x, y, entries[e].z);
-        std::array<Fill, kSubVoxels> fitted;
-        detail::fitToTotal(sampled, grid.fill(v), fitted);
-        for (int i = 0; i < kSubVoxels; ++i) subFill[e][std::size_t(i)] = std::uint8_t(fitted[std::size_t(i)]);
-      }
-    }
-  });
+      });
 
   // Sorted by grid linear index for binary search.
   std::vector<std::uint32_t> order(entries.size());
@@ -137,7 +142,8 @@ FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh&
                        int(entries[i].column / std::uint64_t(dims.x)), entries[i].z);
     return linearIndex(v, dims);
   };
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keyOf(a) < keyOf(b); });
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return keyOf(a) < keyOf(b); });
   source.keys_.reserve(order.size());
   source.subFill_.reserve(order.size());
   source.sampledFill_.reserve(order.size());

@@ -1,13 +1,13 @@
 #include "osteon/geometry/hierarchy/refinement.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
 #include "osteon/core/assert.h"
 #include "osteon/core/error.h"
 #include "sub_fill.h"
-
-#include <algorithm>
-#include <limits>
-#include <cmath>
-#include <sstream>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -31,21 +31,28 @@ std::size_t slotOf(std::uint64_t key, std::size_t tableSize) {
 
 RefinedVoxels::RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarchy,
                              const FineFillSource* source, const RefinementOptions& options)
-    : grid_(&grid), hierarchy_(&hierarchy), source_(source), depth_(options.depth),
-      marginMm_(options.marginMm < 0.0 ? grid.voxelSizeMm() / double(1 << std::max(options.depth, 0))
-                                       : options.marginMm),
+    : grid_(&grid),
+      hierarchy_(&hierarchy),
+      source_(source),
+      depth_(options.depth),
+      marginMm_(options.marginMm < 0.0
+                    ? grid.voxelSizeMm() / double(1 << std::max(options.depth, 0))
+                    : options.marginMm),
       timeoutS_(options.timeoutS) {
   if (options.depth < 0 || options.depth > kMaxRefineDepth) {
-    throw InputError("RefinementOptions::depth " + std::to_string(options.depth) + ": must be 0, 1 or 2");
+    throw InputError("RefinementOptions::depth " + std::to_string(options.depth) +
+                     ": must be 0, 1 or 2");
   }
   if (!std::isfinite(options.timeoutS) || options.timeoutS <= 0.0) {
     std::ostringstream s;
-    s << "RefinementOptions::timeoutS " << options.timeoutS << ": must be a positive number of seconds";
+    s << "RefinementOptions::timeoutS " << options.timeoutS
+      << ": must be a positive number of seconds";
     throw InputError(s.str());
   }
   if (!std::isfinite(marginMm_)) throw InputError("refinement margin must be finite");
   if (options.capacity == 0 || options.capacity > (1u << 24)) {
-    throw InputError("RefinementOptions::capacity " + std::to_string(options.capacity) + ": must be 1 .. 2^24 voxels");
+    throw InputError("RefinementOptions::capacity " + std::to_string(options.capacity) +
+                     ": must be 1 .. 2^24 voxels");
   }
   cells_.resize(options.capacity);
   freeCells_.resize(options.capacity);
@@ -66,7 +73,8 @@ RefinedVoxels::RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarc
 
 std::uint64_t RefinedVoxels::keyOf(const glm::ivec3& v) const {
   const glm::ivec3 d = grid_->dims();
-  return 1 + std::uint64_t(v.x) + std::uint64_t(d.x) * (std::uint64_t(v.y) + std::uint64_t(d.y) * std::uint64_t(v.z));
+  return 1 + std::uint64_t(v.x) +
+         std::uint64_t(d.x) * (std::uint64_t(v.y) + std::uint64_t(d.y) * std::uint64_t(v.z));
 }
 
 std::uint32_t RefinedVoxels::findCell(const glm::ivec3& v) const {
@@ -232,26 +240,28 @@ int RefinedVoxels::refineAround(const glm::dvec3& toolCentreMm, double outerRadi
   int created = 0;
   // Voxels whose cube comes within reach of the tool centre: the centre test widened by half
   // a voxel diagonal, then the exact point-to-cube distance.
-  hierarchy_->forEachVoxelInSphere(toolCentreMm, refineReachMm(outerRadiusMm), scratch_, cache,
-                                   [&](const glm::ivec3& v) {
-    const glm::dvec3 lo = grid_->worldFromGrid(glm::dvec3(v));
-    const glm::dvec3 d = glm::max(glm::max(lo - toolCentreMm, toolCentreMm - (lo + vs)), glm::dvec3(0.0));
-    if (glm::dot(d, d) > reachMm * reachMm) return;
-    const std::uint32_t cell = findCell(v);
-    if (cell != kNoCell) {
-      cells_[cell].lastNearS = nowS;
-    } else if (freeTop_ > 0) {
-      createCell(v, nowS);
-      ++created;
-    } else {
-      ++poolExhausted_;
-    }
-  });
+  hierarchy_->forEachVoxelInSphere(
+      toolCentreMm, refineReachMm(outerRadiusMm), scratch_, cache, [&](const glm::ivec3& v) {
+        const glm::dvec3 lo = grid_->worldFromGrid(glm::dvec3(v));
+        const glm::dvec3 d =
+            glm::max(glm::max(lo - toolCentreMm, toolCentreMm - (lo + vs)), glm::dvec3(0.0));
+        if (glm::dot(d, d) > reachMm * reachMm) return;
+        const std::uint32_t cell = findCell(v);
+        if (cell != kNoCell) {
+          cells_[cell].lastNearS = nowS;
+        } else if (freeTop_ > 0) {
+          createCell(v, nowS);
+          ++created;
+        } else {
+          ++poolExhausted_;
+        }
+      });
   return created;
 }
 
-int RefinedVoxels::refineNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double outerRadiusMm, double nowS,
-                                     DphNearCache* cache, std::size_t budget, int& deferred) {
+int RefinedVoxels::refineNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm,
+                                     double outerRadiusMm, double nowS, DphNearCache* cache,
+                                     std::size_t budget, int& deferred) {
   deferred = 0;
   if (depth_ == 0) return 0;
   lastRefineS_ = nowS;
@@ -296,17 +306,21 @@ int RefinedVoxels::expireAll() {
   return n;
 }
 
-double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms,
-                                   ShellHits& hits, bool wantSlack) const {
+double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
+                                     const ShellTerms& terms, ShellHits& hits,
+                                     bool wantSlack) const {
   hits.count = 0;
   // Smallest squared distance among samples beyond the outer layer, largest among those
   // within the inner one (for the slack; samples without bone do not count).
-  double minAbove2 = std::numeric_limits<double>::infinity(), maxBelow2 = -std::numeric_limits<double>::infinity();
+  double minAbove2 = std::numeric_limits<double>::infinity(),
+         maxBelow2 = -std::numeric_limits<double>::infinity();
   const auto slack = [&] {
     if (!wantSlack || hits.count > 0) return 0.0;
-    const double above = minAbove2 < std::numeric_limits<double>::infinity() ? std::sqrt(minAbove2) - terms.outerMm
-                                                                            : std::numeric_limits<double>::infinity();
-    const double below = maxBelow2 >= 0.0 ? terms.innerMm - std::sqrt(maxBelow2) : std::numeric_limits<double>::infinity();
+    const double above = minAbove2 < std::numeric_limits<double>::infinity()
+                             ? std::sqrt(minAbove2) - terms.outerMm
+                             : std::numeric_limits<double>::infinity();
+    const double below = maxBelow2 >= 0.0 ? terms.innerMm - std::sqrt(maxBelow2)
+                                          : std::numeric_limits<double>::infinity();
     return std::min(above, below);
   };
   if (cell.occupied == 0) return slack();  // drilled through: no sample left
@@ -357,8 +371,10 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
     return lo > terms.outer2 || hi <= terms.inner2;
   };
   if (n >= 2) {
-    const __m128d ax = _mm_set1_pd(terms.a.x), ay = _mm_set1_pd(terms.a.y), az = _mm_set1_pd(terms.a.z);
-    const __m128d bx = _mm_set1_pd(terms.ab.x), by = _mm_set1_pd(terms.ab.y), bz = _mm_set1_pd(terms.ab.z);
+    const __m128d ax = _mm_set1_pd(terms.a.x), ay = _mm_set1_pd(terms.a.y),
+                  az = _mm_set1_pd(terms.a.z);
+    const __m128d bx = _mm_set1_pd(terms.ab.x), by = _mm_set1_pd(terms.ab.y),
+                  bz = _mm_set1_pd(terms.ab.z);
     const __m128d inv = _mm_set1_pd(terms.invLen2), zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
     const __m128d inner2 = _mm_set1_pd(terms.inner2), outer2 = _mm_set1_pd(terms.outer2);
     const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
@@ -378,18 +394,23 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
           if (!f0 && !f1) continue;
           const __m128d dot = _mm_add_pd(_mm_add_pd(_mm_loadu_pd(&px[std::size_t(x)]), pyv), pzv);
           const __m128d t = _mm_min_pd(_mm_max_pd(_mm_mul_pd(dot, inv), zero), one);
-          const __m128d tx = _mm_sub_pd(_mm_add_pd(ax, _mm_mul_pd(t, bx)), _mm_loadu_pd(&cx[std::size_t(x)]));
+          const __m128d tx =
+              _mm_sub_pd(_mm_add_pd(ax, _mm_mul_pd(t, bx)), _mm_loadu_pd(&cx[std::size_t(x)]));
           const __m128d ty = _mm_sub_pd(_mm_add_pd(ay, _mm_mul_pd(t, by)), cyv);
           const __m128d tz = _mm_sub_pd(_mm_add_pd(az, _mm_mul_pd(t, bz)), czv);
-          const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(tx, tx), _mm_mul_pd(ty, ty)), _mm_mul_pd(tz, tz));
-          const int in = _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(d2, inner2), _mm_cmple_pd(d2, outer2))) &
-                         (int(f0) | (int(f1) << 1));
+          const __m128d d2 =
+              _mm_add_pd(_mm_add_pd(_mm_mul_pd(tx, tx), _mm_mul_pd(ty, ty)), _mm_mul_pd(tz, tz));
+          const int in =
+              _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(d2, inner2), _mm_cmple_pd(d2, outer2))) &
+              (int(f0) | (int(f1) << 1));
           if (wantSlack) {
             const __m128d bone = _mm_castsi128_pd(_mm_set_epi64x(f1 ? -1 : 0, f0 ? -1 : 0));
             const __m128d above = _mm_and_pd(_mm_cmpgt_pd(d2, outer2), bone);
             const __m128d below = _mm_and_pd(_mm_cmple_pd(d2, inner2), bone);
-            minAboveV = _mm_min_pd(minAboveV, _mm_or_pd(_mm_and_pd(above, d2), _mm_andnot_pd(above, inf)));
-            maxBelowV = _mm_max_pd(maxBelowV, _mm_or_pd(_mm_and_pd(below, d2), _mm_andnot_pd(below, negInf)));
+            minAboveV =
+                _mm_min_pd(minAboveV, _mm_or_pd(_mm_and_pd(above, d2), _mm_andnot_pd(above, inf)));
+            maxBelowV = _mm_max_pd(maxBelowV,
+                                   _mm_or_pd(_mm_and_pd(below, d2), _mm_andnot_pd(below, negInf)));
           }
           if (in == 0) continue;
           alignas(16) double vx[2], vy[2], vz[2];

@@ -1,15 +1,16 @@
 // A refined voxel's samples as the drilling step opens, settles and removes them, and the
 // queries and accessors around the refined set (refinement.cpp keeps the cell table and the
 // shell test).
-#include "osteon/geometry/hierarchy/refinement.h"
+#include <algorithm>
+#include <cmath>
+#include <emmintrin.h>
+#include <limits>
+#include <sstream>
+
 #include "osteon/core/assert.h"
 #include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/refinement.h"
 #include "sub_fill.h"
-#include <algorithm>
-#include <limits>
-#include <cmath>
-#include <sstream>
-#include <emmintrin.h>
 
 namespace osteon::geometry {
 
@@ -28,7 +29,8 @@ bool RefinedVoxels::openBlock(const glm::ivec3& voxel, SampleBlock& block) {
   return true;
 }
 
-bool RefinedVoxels::settleBlock(const SampleBlock& block, std::uint64_t removed, std::uint64_t removedFill) {
+bool RefinedVoxels::settleBlock(const SampleBlock& block, std::uint64_t removed,
+                                std::uint64_t removedFill) {
   if (removed == 0) return false;
   // The level -2 sub-voxels the removed samples cover.
   const int n = block.perEdge, merge = kSubPerEdge / n;
@@ -67,8 +69,8 @@ void RefinedVoxels::removeVoxel(const glm::ivec3& voxel) {
   hierarchy_->removeVoxel(voxel);
 }
 
-bool RefinedVoxels::collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, double reachMm, DphNearCache* cache,
-                                  std::vector<glm::ivec3>& out) {
+bool RefinedVoxels::collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, double reachMm,
+                                  DphNearCache* cache, std::vector<glm::ivec3>& out) {
   bool overflowed = false;
   const auto collect = [&](const glm::ivec3& v) {
     if (out.size() < out.capacity()) {
@@ -85,7 +87,8 @@ bool RefinedVoxels::collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, 
   return !overflowed;
 }
 
-bool RefinedVoxels::SphereAxes::build(const VoxelGrid& grid, const glm::dvec3& pointMm, double reachMm) {
+bool RefinedVoxels::SphereAxes::build(const VoxelGrid& grid, const glm::dvec3& pointMm,
+                                      double reachMm) {
   const double vs = grid.voxelSizeMm();
   const double r = reachMm / vs;
   if (!(r >= 0.0) || !(r < 0.5 * kMaxSize - 2.0)) return false;
@@ -116,8 +119,11 @@ double RefinedVoxels::cutReachMm(double radiusMm) const {
   return radiusMm + (depth_ > 0 ? 0.5 * std::sqrt(3.0) * vs : 0.0) + 1e-6 * vs;
 }
 
-DphNearCache RefinedVoxels::makeNearCache(double lengthMm, double reachMm, double skinMm, std::size_t sliceNodes) const {
-  DphNearCache cache(skinMm, DphNearCache::capacityFor(lengthMm, reachMm + skinMm, grid_->voxelSizeMm()), sliceNodes);
+DphNearCache RefinedVoxels::makeNearCache(double lengthMm, double reachMm, double skinMm,
+                                          std::size_t sliceNodes) const {
+  DphNearCache cache(skinMm,
+                     DphNearCache::capacityFor(lengthMm, reachMm + skinMm, grid_->voxelSizeMm()),
+                     sliceNodes);
   cache.reserveFor(*hierarchy_);
   return cache;
 }

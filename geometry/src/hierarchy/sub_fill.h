@@ -1,10 +1,10 @@
 // Exact splitting of a voxel's fill over its 64 level -2 sub-voxels (refinement, seed 3.5).
 #pragma once
 
-#include "osteon/geometry/hierarchy/fine_fill.h"
-
 #include <array>
 #include <cstdint>
+
+#include "osteon/geometry/hierarchy/fine_fill.h"
 
 namespace osteon::geometry::detail {
 

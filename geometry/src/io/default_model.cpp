@@ -1,6 +1,6 @@
-#include "osteon/geometry/io/humerus_model.h"
-
 #include <cstddef>
+
+#include "osteon/geometry/io/humerus_model.h"
 
 namespace osteon::geometry {
 

@@ -6,9 +6,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "surface/marching_tetrahedra.h"
 #include "osteon/core/checks.h"
 #include "osteon/core/error.h"
+#include "surface/marching_tetrahedra.h"
 
 namespace osteon::geometry {
 

@@ -1,11 +1,11 @@
 #include "osteon/geometry/io/mesh.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::geometry {
 
@@ -56,9 +56,7 @@ namespace {
 // Union-find over vertex indices, for connected components.
 struct DisjointSets {
   std::vector<std::uint32_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) {
-    std::iota(parent.begin(), parent.end(), 0u);
-  }
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
   std::uint32_t find(std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
@@ -102,8 +100,10 @@ std::size_t countPinchedVertices(const TriangleMesh& mesh) {
     };
     std::size_t groups = local.size();
     for (std::uint32_t k = b; k < e; ++k) {
-      const auto i = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k]) - local.begin());
-      const auto j = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k + 1]) - local.begin());
+      const auto i =
+          std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k]) - local.begin());
+      const auto j = std::uint32_t(std::lower_bound(local.begin(), local.end(), link[2 * k + 1]) -
+                                   local.begin());
       const std::uint32_t ri = find(i), rj = find(j);
       if (ri != rj) {
         parent[ri] = rj;
@@ -174,8 +174,8 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh) {
     ++vertices;
     if (sets.find(static_cast<std::uint32_t>(v)) == v) ++topo.components;
   }
-  topo.eulerCharacteristic = vertices - static_cast<long long>(topo.edges) +
-                             static_cast<long long>(mesh.triangles.size());
+  topo.eulerCharacteristic =
+      vertices - static_cast<long long>(topo.edges) + static_cast<long long>(mesh.triangles.size());
   return topo;
 }
 

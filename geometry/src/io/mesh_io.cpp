@@ -1,15 +1,6 @@
 // OpenMesh's MeshIO must come before its other headers; it also registers the readers and
 // writers we reach through IOManager.
-#include <OpenMesh/Core/IO/MeshIO.hh>
-
 #include "osteon/geometry/io/mesh_io.h"
-
-#include "openmesh_soup.h"
-#include "osteon/core/error.h"
-#include "osteon/core/input_file.h"
-#include "osteon/geometry/io/output_file.h"
-#include "osteon/geometry/io/units.h"
-#include "preflight.h"
 
 #include <algorithm>
 #include <cctype>
@@ -18,6 +9,15 @@
 #include <fstream>
 #include <sstream>
 #include <system_error>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+
+#include "openmesh_soup.h"
+#include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/io/units.h"
+#include "preflight.h"
 
 namespace osteon::geometry {
 
@@ -37,10 +37,14 @@ MeshFormat meshFormatFromPath(const std::string& path) {
 
 const char* meshFormatName(MeshFormat format) {
   switch (format) {
-    case MeshFormat::Stl: return "stl";
-    case MeshFormat::Obj: return "obj";
-    case MeshFormat::Ply: return "ply";
-    case MeshFormat::Off: return "off";
+    case MeshFormat::Stl:
+      return "stl";
+    case MeshFormat::Obj:
+      return "obj";
+    case MeshFormat::Ply:
+      return "ply";
+    case MeshFormat::Off:
+      return "off";
   }
   return "?";
 }
@@ -49,7 +53,9 @@ namespace {
 
 // OpenMesh's lower-case extension is how its IOManager picks a reader, whatever the case on
 // disk; a temporary link is not worth it, so we hand it a stream and the extension instead.
-std::string openMeshExtension(MeshFormat format) { return meshFormatName(format); }
+std::string openMeshExtension(MeshFormat format) {
+  return meshFormatName(format);
+}
 
 // OpenMesh's readers and writers chat on stdout/stderr; our errors are ours to report, and
 // --json output must stay one clean object on stdout.
@@ -97,9 +103,14 @@ TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* i
       local.binary = detail::preflightStl(path, fileBytes) == detail::StlKind::Binary;
       if (local.binary) options += OpenMesh::IO::Options::Binary;
       break;
-    case MeshFormat::Off: local.binary = detail::preflightOff(path, fileBytes); break;
-    case MeshFormat::Ply: local.binary = detail::preflightPly(path, fileBytes); break;
-    case MeshFormat::Obj: break;
+    case MeshFormat::Off:
+      local.binary = detail::preflightOff(path, fileBytes);
+      break;
+    case MeshFormat::Ply:
+      local.binary = detail::preflightPly(path, fileBytes);
+      break;
+    case MeshFormat::Obj:
+      break;
   }
   if (format == MeshFormat::Stl && local.binary) detail::checkBinaryStlFinite(path);
   if (format == MeshFormat::Obj) detail::checkObj(path);
@@ -111,8 +122,9 @@ TriangleMesh readMesh(const std::string& path, double scaleToMm, MeshFileInfo* i
   if (!in) throw InputError(path + ": cannot open for reading");
   const bool ok = OpenMesh::IO::IOManager().read(in, openMeshExtension(format), importer, options);
   if (importer.error()) throw InputError(path + ": " + *importer.error());
-  if (!ok) throw InputError(path + ": not a readable " + std::string(meshFormatName(format)) +
-                            " file (the parser rejected it)");
+  if (!ok)
+    throw InputError(path + ": not a readable " + std::string(meshFormatName(format)) +
+                     " file (the parser rejected it)");
 
   TriangleMesh mesh = importer.takeMesh();
   local.polygonsRead = importer.polygonsRead();
@@ -148,8 +160,8 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, bool asciiStl)
   {
     std::ofstream out(file.tempPath(), std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot open for writing");
-    const bool ok = OpenMesh::IO::IOManager().write(out, openMeshExtension(format), exporter,
-                                                    options, 17);
+    const bool ok =
+        OpenMesh::IO::IOManager().write(out, openMeshExtension(format), exporter, options, 17);
     out.close();
     if (!ok || !out) throw InputError(path + ": writing failed (disk full or not writable?)");
   }

@@ -5,8 +5,7 @@
 
 namespace osteon::geometry {
 
-TriangleMesh loadMeshArgument(const std::string& argument, double scaleToMm,
-                              MeshFileInfo* info) {
+TriangleMesh loadMeshArgument(const std::string& argument, double scaleToMm, MeshFileInfo* info) {
   if (argument != kDefaultModelArgument) return readMesh(argument, scaleToMm, info);
   resolveScaleToMm("mm", scaleToMm);
   TriangleMesh mesh = defaultHumerusModel().mesh;

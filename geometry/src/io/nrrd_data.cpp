@@ -1,7 +1,5 @@
 // Where a NRRD header's data lies and reading it (nrrd_header.h): the data file's name checked
 // against the header's folder, line and byte skips, raw and gzip lengths against the sizes.
-#include "io/nrrd_header.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -11,6 +9,7 @@
 #include <system_error>
 #include <zlib.h>
 
+#include "io/nrrd_header.h"
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
 

@@ -5,8 +5,6 @@
 // Every refusal is an InputError "<header>: <reason>" (or "<header>: data file <file>: ...").
 #pragma once
 
-#include "osteon/core/number_text.h"
-
 #include <cstdint>
 #include <fstream>
 #include <map>
@@ -15,6 +13,8 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "osteon/core/number_text.h"
 
 namespace osteon::geometry::nrrd {
 
@@ -34,8 +34,9 @@ struct Header {
   [[noreturn]] void fail(const std::string& reason) const;
 };
 
-// Text helpers every NRRD reader shares (nrrd_text.cpp): blanks trimmed; lowercase with runs of blanks made one
-// space ("Unsigned  Char" -> "unsigned char"); file text as one short printable quoted excerpt.
+// Text helpers every NRRD reader shares (nrrd_text.cpp): blanks trimmed; lowercase with runs of
+// blanks made one space ("Unsigned  Char" -> "unsigned char"); file text as one short printable
+// quoted excerpt.
 std::string trim(const std::string& s);
 std::string normaliseWords(const std::string& s);
 std::string excerpt(const std::string& s);
@@ -55,8 +56,8 @@ bool parseInteger(const std::string& text, long long& v);
 [[noreturn]] void failAt(const std::string& shown, const std::string& reason);
 void checkRegularFile(const std::string& path, const std::string& shown);
 
-// Reads the header of `path` (nrrd_header.cpp): the magic (NRRD0001..NRRD0005), field and key lines up to the
-// blank line. Refuses a file that is missing or not regular, a line longer than 64 KiB, a
+// Reads the header of `path` (nrrd_header.cpp): the magic (NRRD0001..NRRD0005), field and key lines
+// up to the blank line. Refuses a file that is missing or not regular, a line longer than 64 KiB, a
 // malformed line, a field or key given twice, and an attached header with no blank line.
 Header readHeader(const std::string& path);
 
@@ -87,9 +88,9 @@ struct Layout {
 };
 Layout readLayout(const Header& h);
 
-// Where the data lies (nrrd_data.cpp): the header's own file after its blank line, or its `data file:`, then
-// `line skip:` lines and `byte skip:` bytes on (byte skip -1: the last bytes of a raw file;
-// for gzip the byte skip is of the inflated stream). Checked before any data is read: a data
+// Where the data lies (nrrd_data.cpp): the header's own file after its blank line, or its `data
+// file:`, then `line skip:` lines and `byte skip:` bytes on (byte skip -1: the last bytes of a raw
+// file; for gzip the byte skip is of the inflated stream). Checked before any data is read: a data
 // file outside the header's folder (after `..` and symlinks) unless allowOutsideData, a list
 // or numbered data files, a raw data length other than `expectedBytes`, gzip data too short
 // to inflate to it.

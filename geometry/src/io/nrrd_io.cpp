@@ -1,5 +1,4 @@
 #include "osteon/geometry/io/nrrd_io.h"
-#include "osteon/core/constants.h"
 
 #include <algorithm>
 #include <cctype>
@@ -16,10 +15,11 @@
 #include <type_traits>
 #include <vector>
 
+#include "io/nrrd_header.h"
+#include "osteon/core/constants.h"
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/output_file.h"
-#include "io/nrrd_header.h"
 
 namespace osteon::geometry {
 
@@ -46,7 +46,6 @@ using nrrd::normaliseWords;
 using nrrd::parseNumber;
 using nrrd::parseNumbers;
 using nrrd::trim;
-
 
 // %.17g without the C locale's say over the decimal point: reads back to the same double.
 std::string num(double v) {
@@ -200,15 +199,14 @@ struct Header {
   std::string dataShown;       // the data's file, as messages name it
 };
 
-
-
 bool nearlyEqual(double a, double b, double scale) {
   return std::abs(a - b) <= 1e-6 * scale;
 }
 
 // Parses and checks a header (nrrd_header.h reads it, as for every NRRD osteon opens); leaves
 // `in` at the first data byte, wherever the header says the data lies.
-Header readHeader(const std::string& path, std::ifstream& in, ValueType expected, bool allowOutsideData) {
+Header readHeader(const std::string& path, std::ifstream& in, ValueType expected,
+                  bool allowOutsideData) {
   const nrrd::Header nh = nrrd::readHeader(path);
   const auto fail = [&nh](const std::string& reason) { nh.fail(reason); };
   const auto field = [&nh](const char* name) { return nh.field(name); };
@@ -218,7 +216,8 @@ Header readHeader(const std::string& path, std::ifstream& in, ValueType expected
   const std::map<std::string, std::string>& keys = nh.keys;
   Header h;
   h.sizes = nrrd::readSizes(nh);
-  const std::uint64_t voxels = std::uint64_t(h.sizes.x) * std::uint64_t(h.sizes.y) * std::uint64_t(h.sizes.z);
+  const std::uint64_t voxels =
+      std::uint64_t(h.sizes.x) * std::uint64_t(h.sizes.y) * std::uint64_t(h.sizes.z);
   const std::string type = normaliseWords(require("type", "type"));
   const std::optional<nrrd::Scalar> scalar = nrrd::scalarNamed(type);
   const std::string stored = scalar ? scalar->name : "";
@@ -476,14 +475,15 @@ NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData) {
     const bool steps = fillHeader.valueBytes == 1;
     readValues(fillHeader.dataShown, fillIn, fillHeader.bigEndian, fillHeader.valueBytes,
                Fill(steps ? kFillPerStep : 1), count, bytes, fills);
-    if (const auto over = std::find_if(fills.begin(), fills.end(), [](Fill f) { return f > kFillFull; });
+    if (const auto over =
+            std::find_if(fills.begin(), fills.end(), [](Fill f) { return f > kFillFull; });
         over != fills.end()) {
       throw InputError(fillPath + ": fill value " + std::to_string(*over) + " exceeds full (" +
                        std::to_string(kFillFull) + ")");
     }
     if (densityLoaded) {
-      readValues(densityHeader.dataShown, densityIn, densityHeader.bigEndian, std::size_t(2), Density(1), count,
-                 bytes, densities);
+      readValues(densityHeader.dataShown, densityIn, densityHeader.bigEndian, std::size_t(2),
+                 Density(1), count, bytes, densities);
     } else {
       densities.assign(count, 0);
     }

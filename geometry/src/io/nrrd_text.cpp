@@ -1,13 +1,13 @@
 // The NRRD readers' shared text helpers (nrrd_header.h): trimming, words, excerpts for
 // messages, and the one number parser every field goes through.
-#include "io/nrrd_header.h"
-
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <sstream>
 #include <system_error>
+
+#include "io/nrrd_header.h"
 
 namespace osteon::geometry::nrrd {
 

@@ -54,8 +54,7 @@ Vec3d SoupExporter::pointd(VertexHandle vh) const {
   return Vec3d(p.x, p.y, p.z);
 }
 
-unsigned int SoupExporter::get_vhandles(FaceHandle fh,
-                                        std::vector<VertexHandle>& corners) const {
+unsigned int SoupExporter::get_vhandles(FaceHandle fh, std::vector<VertexHandle>& corners) const {
   const glm::u32vec3& t = mesh_.triangles[static_cast<std::size_t>(fh.idx())];
   corners.clear();
   for (int c = 0; c < 3; ++c) corners.emplace_back(static_cast<int>(t[c]));

@@ -5,14 +5,14 @@
 // doubles (about 7 significant digits; 0.01 um at 100 mm).
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
+#include <cstdint>
+#include <optional>
+#include <string>
 
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 
-#include <cstdint>
-#include <optional>
-#include <string>
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::geometry::detail {
 

@@ -1,26 +1,25 @@
 #include "osteon/geometry/io/output_dir.h"
 
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <set>
+#include <signal.h>
 #include <sstream>
 #include <stdexcept>
-#include <system_error>
-
-#include <fcntl.h>
-#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
+#include <system_error>
 #include <unistd.h>
+
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
 
 namespace osteon::geometry {
 
@@ -28,17 +27,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::mutex gMutex;             // guards gOpen and its held-back files (commits from any thread)
+std::mutex gMutex;  // guards gOpen and its held-back files (commits from any thread)
 OutputDir* gOpen = nullptr;
 
 // The process id in an OutputFile temporary's name (.NAME.tmpPID-N.EXT), 0 when it is not one.
 long temporaryOwner(const std::string& name) {
   if (name.size() < 2 || name[0] != '.') return 0;
-  for (std::size_t at = name.rfind(".tmp"); at != std::string::npos && at > 0; at = name.rfind(".tmp", at - 1)) {
+  for (std::size_t at = name.rfind(".tmp"); at != std::string::npos && at > 0;
+       at = name.rfind(".tmp", at - 1)) {
     std::size_t i = at + 4;
     long pid = 0;
     const std::size_t digits = i;
-    while (i < name.size() && name[i] >= '0' && name[i] <= '9' && pid < 100000000) pid = pid * 10 + (name[i++] - '0');
+    while (i < name.size() && name[i] >= '0' && name[i] <= '9' && pid < 100000000)
+      pid = pid * 10 + (name[i++] - '0');
     if (i == digits || i >= name.size() || name[i] != '-') continue;
     const std::size_t counter = ++i;
     while (i < name.size() && name[i] >= '0' && name[i] <= '9') ++i;
@@ -47,7 +48,9 @@ long temporaryOwner(const std::string& name) {
   return 0;
 }
 
-bool processAlive(long pid) { return ::kill(pid_t(pid), 0) == 0 || errno == EPERM; }
+bool processAlive(long pid) {
+  return ::kill(pid_t(pid), 0) == 0 || errno == EPERM;
+}
 
 // The process holding a flock on the folder, from /proc/locks (Linux); 0 when unknown.
 long lockHolder(int fd) {
@@ -90,7 +93,8 @@ std::string canonicalKey(const std::string& path) {
 
 }  // namespace
 
-OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned, const std::string& option)
+OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned,
+                     const std::string& option)
     : folder_(folder), option_(option), owned_(std::move(owned)) {
   std::error_code ec;
   created_ = !fs::exists(folder_, ec);
@@ -100,7 +104,9 @@ OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned, 
                      (ec ? ec.message() : std::string("not a folder")) + ")");
   }
   root_ = fs::canonical(folder_, ec).string();
-  if (ec) throw InputError(option_ + " " + folder_ + ": cannot resolve the folder (" + ec.message() + ")");
+  if (ec)
+    throw InputError(option_ + " " + folder_ + ": cannot resolve the folder (" + ec.message() +
+                     ")");
   // The lock is the folder's own (no lock file to leave behind), held until the run ends.
   lockFd_ = ::open(folder_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (lockFd_ >= 0 && ::flock(lockFd_, LOCK_EX | LOCK_NB) != 0) {
@@ -110,7 +116,8 @@ OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned, 
       ::close(lockFd_);
       throw InputError(option_ + " " + folder_ + ": another osteon run" +
                        (pid > 0 ? " (process " + std::to_string(pid) + ")" : std::string()) +
-                       " is writing into this folder; wait for it to end, or choose another " + option_);
+                       " is writing into this folder; wait for it to end, or choose another " +
+                       option_);
     }
     // A file system without locks: the run goes on unlocked.
   }
@@ -121,11 +128,13 @@ OutputDir::OutputDir(const std::string& folder, std::vector<std::string> owned, 
     if (lockFd_ >= 0) ::close(lockFd_);
     throw;
   }
-  std::lock_guard<std::mutex> lock(gMutex);  // registered last: a constructor that threw is no open folder
+  std::lock_guard<std::mutex> lock(
+      gMutex);  // registered last: a constructor that threw is no open folder
   if (gOpen) {
     interrupts_.reset();
     if (lockFd_ >= 0) ::close(lockFd_);
-    throw std::logic_error("OutputDir: " + folder_ + " opened while " + gOpen->folder_ + " is open");
+    throw std::logic_error("OutputDir: " + folder_ + " opened while " + gOpen->folder_ +
+                           " is open");
   }
   gOpen = this;
 }
@@ -199,7 +208,8 @@ void OutputDir::removeLeftovers() const {
   std::error_code ec;
   fs::recursive_directory_iterator it(folder_, fs::directory_options::skip_permission_denied, ec);
   std::size_t seen = 0;
-  for (; !ec && it != fs::recursive_directory_iterator() && ++seen <= kMaxEntries; it.increment(ec)) {
+  for (; !ec && it != fs::recursive_directory_iterator() && ++seen <= kMaxEntries;
+       it.increment(ec)) {
     if (it.depth() >= kDepth - 1) it.disable_recursion_pending();
     removeIfLeftover(*it);
   }
@@ -242,8 +252,9 @@ void OutputDir::removeEmptyFolders(bool includeOwnedRoots) const {
       if (e.is_directory(ec) && !e.is_symlink(ec)) folders.push_back(e.path());
     }
     // Deepest first, so a folder emptied by its children's removal goes too.
-    std::sort(folders.begin(), folders.end(),
-              [](const fs::path& a, const fs::path& b) { return a.string().size() > b.string().size(); });
+    std::sort(folders.begin(), folders.end(), [](const fs::path& a, const fs::path& b) {
+      return a.string().size() > b.string().size();
+    });
     for (const fs::path& f : folders) {
       if (fs::is_empty(f, ec)) fs::remove(f, ec);
     }

@@ -1,15 +1,14 @@
 #include "osteon/geometry/io/output_file.h"
 
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/output_dir.h"
-
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
-
 #include <unistd.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/output_dir.h"
 
 namespace osteon::geometry {
 
@@ -37,7 +36,9 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
 }
 
 OutputFile::OutputFile(OutputFile&& other) noexcept
-    : path_(std::move(other.path_)), tempPath_(std::move(other.tempPath_)), committed_(other.committed_) {
+    : path_(std::move(other.path_)),
+      tempPath_(std::move(other.tempPath_)),
+      committed_(other.committed_) {
   other.committed_ = true;  // the moved-from object owns no temporary file
 }
 

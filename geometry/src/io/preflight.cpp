@@ -1,8 +1,5 @@
 #include "preflight.h"
 
-#include "osteon/core/error.h"
-#include "text_scan.h"
-
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -12,6 +9,9 @@
 #include <sstream>
 #include <utility>
 #include <vector>
+
+#include "osteon/core/error.h"
+#include "text_scan.h"
 
 namespace osteon::geometry::detail {
 namespace {
@@ -133,25 +133,26 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
     counts = tokensOf(line);
   }
   if (counts[0][0] == '#') {
-    throw InputError(path + ": line " + std::to_string(lineNo) + ": a comment before the OFF counts (the reader needs the counts first)");
+    throw InputError(path + ": line " + std::to_string(lineNo) +
+                     ": a comment before the OFF counts (the reader needs the counts first)");
   }
   // OpenMesh reads exactly three counts (vertices, faces, edges) as numbers of a stream: with
   // two it takes the first coordinate for the third, with four the rest of the line for a vertex.
   if (counts.size() != 3) {
-    throw InputError(path + ": line " + std::to_string(lineNo) + ": OFF counts must be 3 numbers (vertices faces edges), not '" +
-                     line + "'");
+    throw InputError(path + ": line " + std::to_string(lineNo) +
+                     ": OFF counts must be 3 numbers (vertices faces edges), not '" + line + "'");
   }
-  if (!isInteger(counts[0]) || !isInteger(counts[1]) ||
-      counts[0][0] == '-' || counts[1][0] == '-' || counts[0].size() > 12 || counts[1].size() > 12) {
+  if (!isInteger(counts[0]) || !isInteger(counts[1]) || counts[0][0] == '-' ||
+      counts[1][0] == '-' || counts[0].size() > 12 || counts[1].size() > 12) {
     throw InputError(path + ": OFF header counts are missing or negative: '" + line + "'");
   }
   const long long vertices = std::stoll(counts[0]);
   const long long faces = std::stoll(counts[1]);
   // Smallest possible records: "0 0 0\n" and "3 0 1 2\n".
   if (6.0L * vertices + 8.0L * faces > static_cast<long double>(fileBytes)) {
-    throw InputError(path + ": OFF header promises " + std::to_string(vertices) +
-                     " vertices and " + std::to_string(faces) + " faces, more than its " +
-                     std::to_string(fileBytes) + " bytes can hold (truncated file?)");
+    throw InputError(path + ": OFF header promises " + std::to_string(vertices) + " vertices and " +
+                     std::to_string(faces) + " faces, more than its " + std::to_string(fileBytes) +
+                     " bytes can hold (truncated file?)");
   }
   // One record per line: vertices with finite coordinates, faces whose corner count the line
   // actually lists (the parser trusts that count and would loop or allocate on it).
@@ -161,7 +162,9 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
     const std::vector<std::string> tokens = tokensOf(line);
     if (tokens.empty()) continue;
     if (tokens[0][0] == '#') {  // OpenMesh reads it as a vertex or a face, and goes astray
-      throw InputError(path + ": line " + std::to_string(lineNo) + ": a comment among the OFF vertices and faces (the reader does not skip it)");
+      throw InputError(
+          path + ": line " + std::to_string(lineNo) +
+          ": a comment among the OFF vertices and faces (the reader does not skip it)");
     }
     if (seenVertices < vertices) {
       // x y z first; normals, colours or texture coordinates may follow.
@@ -171,19 +174,22 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
       continue;
     }
     if (!isInteger(tokens[0]) || tokens[0][0] == '-' || tokens[0].size() > 6 ||
-        std::stoll(tokens[0]) > kMaxCorners || std::stoll(tokens[0]) + 1 > (long long)tokens.size()) {
+        std::stoll(tokens[0]) > kMaxCorners ||
+        std::stoll(tokens[0]) + 1 > (long long)tokens.size()) {
       throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner count '" +
                        tokens[0] + "' does not match the indices on the line");
     }
     if (std::stoll(tokens[0]) < 3) {  // fewer sends OpenMesh's reader astray (it allocated 2 GB)
-      throw InputError(path + ": line " + std::to_string(lineNo) + ": a face needs 3 corners, not " + tokens[0]);
+      throw InputError(path + ": line " + std::to_string(lineNo) +
+                       ": a face needs 3 corners, not " + tokens[0]);
     }
     // OpenMesh reads faces as one stream of numbers, not by line: anything after the indices (a
     // face colour) would be taken for the next face's corner count.
     if ((long long)tokens.size() > std::stoll(tokens[0]) + 1) {
       throw InputError(path + ": line " + std::to_string(lineNo) + ": " +
                        std::to_string((long long)tokens.size() - std::stoll(tokens[0]) - 1) +
-                       " value(s) after the face's " + tokens[0] + " corners (face colours are not supported)");
+                       " value(s) after the face's " + tokens[0] +
+                       " corners (face colours are not supported)");
     }
     // The reader extracts unsigned indices; anything else fails its stream for all that follows.
     for (long long k = 1; k <= std::stoll(tokens[0]); ++k) {
@@ -198,8 +204,9 @@ bool preflightOff(const std::string& path, std::uint64_t fileBytes) {
   // OpenMesh would repeat its last face for each one missing.
   if (seenVertices < vertices || seenFaces < faces) {
     throw InputError(path + ": OFF header promises " + std::to_string(vertices) + " vertices and " +
-                     std::to_string(faces) + " faces, the file ends after " + std::to_string(seenVertices) +
-                     " and " + std::to_string(seenFaces) + " (truncated file?)");
+                     std::to_string(faces) + " faces, the file ends after " +
+                     std::to_string(seenVertices) + " and " + std::to_string(seenFaces) +
+                     " (truncated file?)");
   }
   return false;
 }
@@ -209,8 +216,8 @@ namespace {
 int plyTypeBytes(const std::string& type) {
   if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
   if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" ||
-      type == "float" || type == "float32")
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
+      type == "float32")
     return 4;
   if (type == "double" || type == "float64") return 8;
   return -1;
@@ -418,7 +425,8 @@ bool preflightPly(const std::string& path, std::uint64_t fileBytes) {
       PlyElement e;
       std::string extra;
       words >> e.name >> e.count;
-      if (!words || e.count < 0 || (words >> extra)) throw bad(lineNo, "bad element line '" + line + "'");
+      if (!words || e.count < 0 || (words >> extra))
+        throw bad(lineNo, "bad element line '" + line + "'");
       elements.push_back(e);
     } else if (keyword == "property") {
       if (elements.empty()) throw bad(lineNo, "property before any element");

@@ -219,10 +219,13 @@ void checkObj(const std::string& path) {
       // overflows, so a corner must be an integer of that range.
       for (std::size_t k = 1; k < tokens.size(); ++k) {
         const std::string_view v = tokens[k].substr(0, tokens[k].find('/'));
-        const IntegerToken kind = classifyInteger(v, std::numeric_limits<int>::min() + 1, std::numeric_limits<int>::max());
+        const IntegerToken kind = classifyInteger(v, std::numeric_limits<int>::min() + 1,
+                                                  std::numeric_limits<int>::max());
         if (kind != IntegerToken::Integer) {
-          throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner '" + lineExcerpt(tokens[k]) +
-                           (kind == IntegerToken::OutOfRange ? "' is beyond any vertex index" : "' is not a vertex index"));
+          throw InputError(path + ": line " + std::to_string(lineNo) + ": face corner '" +
+                           lineExcerpt(tokens[k]) +
+                           (kind == IntegerToken::OutOfRange ? "' is beyond any vertex index"
+                                                             : "' is not a vertex index"));
         }
       }
     }

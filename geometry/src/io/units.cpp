@@ -1,18 +1,22 @@
 #include "osteon/geometry/io/units.h"
 
-#include "osteon/core/option_error.h"
-
 #include <cmath>
 #include <sstream>
+
+#include "osteon/core/option_error.h"
 
 namespace osteon::geometry {
 
 double millimetresPer(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::Millimetre: return 1.0;
-    case LengthUnit::Centimetre: return 10.0;
-    case LengthUnit::Metre: return 1000.0;
-    case LengthUnit::Inch: return 25.4;
+    case LengthUnit::Millimetre:
+      return 1.0;
+    case LengthUnit::Centimetre:
+      return 10.0;
+    case LengthUnit::Metre:
+      return 1000.0;
+    case LengthUnit::Inch:
+      return 25.4;
   }
   return 1.0;
 }
@@ -37,10 +41,14 @@ double resolveScaleToMm(const std::string& units, const std::optional<double>& s
 
 const char* unitName(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::Millimetre: return "mm";
-    case LengthUnit::Centimetre: return "cm";
-    case LengthUnit::Metre: return "m";
-    case LengthUnit::Inch: return "in";
+    case LengthUnit::Millimetre:
+      return "mm";
+    case LengthUnit::Centimetre:
+      return "cm";
+    case LengthUnit::Metre:
+      return "m";
+    case LengthUnit::Inch:
+      return "in";
   }
   return "mm";
 }
@@ -57,7 +65,9 @@ std::string unitsAdvice(double largestExtentMm, double scaleToMm) {
   double bestMiss = 0.0;
   for (int u = 0; u < 4; ++u) {
     const double mm = fileExtent * millimetresPer(units[u]);
-    if (mm < 10.0 || mm > 1000.0 || std::abs(millimetresPer(units[u]) - scaleToMm) < 1e-12 * scaleToMm) continue;
+    if (mm < 10.0 || mm > 1000.0 ||
+        std::abs(millimetresPer(units[u]) - scaleToMm) < 1e-12 * scaleToMm)
+      continue;
     const double miss = std::abs(std::log10(mm / 150.0));
     if (best < 0 || miss < bestMiss) best = u, bestMiss = miss;
   }

@@ -1,7 +1,5 @@
 // What a volume's voxels mean (volume_io.h): a label map or a CT, decided from the values as
 // stored (64-bit labels exact), then the grid built brick by brick.
-#include "osteon/geometry/io/volume_io.h"
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -16,15 +14,18 @@
 #include "osteon/core/memory.h"
 #include "osteon/core/number_text.h"
 #include "osteon/geometry/io/nrrd_io.h"
+#include "osteon/geometry/io/volume_io.h"
 
 namespace osteon::geometry {
 
 namespace {
 
 bool isNiftiPath(std::string path) {
-  std::transform(path.begin(), path.end(), path.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(path.begin(), path.end(), path.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   const auto endsWith = [&path](const std::string& tail) {
-    return path.size() >= tail.size() && path.compare(path.size() - tail.size(), tail.size(), tail) == 0;
+    return path.size() >= tail.size() &&
+           path.compare(path.size() - tail.size(), tail.size(), tail) == 0;
   };
   return endsWith(".nii") || endsWith(".nii.gz");
 }
@@ -59,7 +60,8 @@ std::vector<std::uint16_t> insideDistance(glm::ivec3 n, Inside inside) {
                 if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
                 const int nx = x + sign * dx, ny = y + sign * dy, nz = z + sign * dz;
                 const int e = (nx < 0 || ny < 0 || nz < 0 || nx >= n.x || ny >= n.y || nz >= n.z)
-                                  ? 0 : d[idx(nx, ny, nz)];
+                                  ? 0
+                                  : d[idx(nx, ny, nz)];
                 best = std::min(best, e + 1);
               }
             }
@@ -88,7 +90,8 @@ std::uint64_t buildGrid(VoxelGrid& grid, Voxel voxel) {
       for (int bx = 0; bx < nb.x; ++bx) {
         const glm::ivec3 lo(bx * kBrickEdge, by * kBrickEdge, bz * kBrickEdge);
         const glm::ivec3 hi = glm::min(lo + kBrickEdge, n);
-        if (hi - lo != glm::ivec3(kBrickEdge)) {  // a brick past the volume's edge: its padding empty
+        if (hi - lo !=
+            glm::ivec3(kBrickEdge)) {  // a brick past the volume's edge: its padding empty
           fill.fill(0);
           density.fill(0);
         }
@@ -96,8 +99,10 @@ std::uint64_t buildGrid(VoxelGrid& grid, Voxel voxel) {
         for (int z = lo.z; z < hi.z; ++z) {
           for (int y = lo.y; y < hi.y; ++y) {
             for (int x = lo.x; x < hi.x; ++x) {
-              const std::size_t local = std::size_t(VoxelGrid::voxelInBrick({x - lo.x, y - lo.y, z - lo.z}));
-              voxel((std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x) + std::size_t(x),
+              const std::size_t local =
+                  std::size_t(VoxelGrid::voxelInBrick({x - lo.x, y - lo.y, z - lo.z}));
+              voxel((std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x) +
+                        std::size_t(x),
                     fill[local], density[local]);
               inside += fill[local] >= kFillHalf;
               uniform = uniform && fill[local] == fill[0] && density[local] == density[0];
@@ -120,14 +125,16 @@ std::uint64_t buildGrid(VoxelGrid& grid, Voxel voxel) {
 }
 
 // A volume whose every voxel is bone has no surface to drill: a misread volume, not a bone.
-void refuseWholeBox(const std::string& path, std::uint64_t inside, std::uint64_t voxels, const std::string& how) {
+void refuseWholeBox(const std::string& path, std::uint64_t inside, std::uint64_t voxels,
+                    const std::string& how) {
   if (inside < voxels) return;
-  throw InputError(path + ": every voxel is bone: " + how + "; not a plausible bone, which needs voxels outside it");
+  throw InputError(path + ": every voxel is bone: " + how +
+                   "; not a plausible bone, which needs voxels outside it");
 }
 
 template <typename T>
-void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> values, const VolumeOptions& options,
-                 VolumeLoad& load) {
+void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> values,
+                 const VolumeOptions& options, VolumeLoad& load) {
   const glm::ivec3 n = raw.sizes;
   const std::size_t count = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
   // One pass: the range and, up to kMaxLabels + 1 of them, the distinct values and their counts
@@ -152,11 +159,15 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
   }
   if (!many) counts[run] += runLength;
   many = many || counts.size() > std::size_t(kMaxLabels);
-  const auto real = [&raw](T x) { return raw.integer ? double(x) : double(x) * raw.slope + raw.intercept; };
+  const auto real = [&raw](T x) {
+    return raw.integer ? double(x) : double(x) * raw.slope + raw.intercept;
+  };
   const double loReal = std::min(real(lo), real(hi)), hiReal = std::max(real(lo), real(hi));
-  if (!std::isfinite(loReal) || !std::isfinite(hiReal)) {  // finite stored values scaled past a double
-    throw InputError(path + ": scl_slope " + numberText(raw.slope) + " and scl_inter " + numberText(raw.intercept) +
-                     " scale values " + numberText(double(lo)) + " to " + numberText(double(hi)) + " past any number");
+  if (!std::isfinite(loReal) ||
+      !std::isfinite(hiReal)) {  // finite stored values scaled past a double
+    throw InputError(path + ": scl_slope " + numberText(raw.slope) + " and scl_inter " +
+                     numberText(raw.intercept) + " scale values " + numberText(double(lo)) +
+                     " to " + numberText(double(hi)) + " past any number");
   }
   load.minValue = loReal;
   load.maxValue = hiReal;
@@ -202,11 +213,13 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
       const std::uint64_t x = std::uint64_t(values[i]);
       return label ? x == *label : x != background;
     });
-    const int shell = int(std::clamp(std::ceil(options.corticalThicknessMm / raw.voxelSizeMm), 1.0, 1e6));
-    const std::uint64_t inside = buildGrid(load.grid, [&](std::size_t i, Fill& fill, Density& density) {
-      fill = dist[i] ? kFillFull : 0;
-      density = !dist[i] ? 0 : dist[i] <= shell ? kCtCorticalDensity : kCtCancellousDensity;
-    });
+    const int shell =
+        int(std::clamp(std::ceil(options.corticalThicknessMm / raw.voxelSizeMm), 1.0, 1e6));
+    const std::uint64_t inside =
+        buildGrid(load.grid, [&](std::size_t i, Fill& fill, Density& density) {
+          fill = dist[i] ? kFillFull : 0;
+          density = !dist[i] ? 0 : dist[i] <= shell ? kCtCorticalDensity : kCtCancellousDensity;
+        });
     refuseWholeBox(path, inside, count,
                    "read as a label map (" + raw.type + ", labels " + found + "), bone = " +
                        (label ? "--label " + std::to_string(*label)
@@ -214,29 +227,32 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
                                     (zero ? "" : " (0 absent: the most common value)")));
   } else if (ct) {
     if (options.label) {
-      throw InputError(path + ": a CT (" + raw.type + ", values " + numberText(loReal) + " to " + numberText(hiReal) +
-                       "): --label is for label maps; use --iso");
+      throw InputError(path + ": a CT (" + raw.type + ", values " + numberText(loReal) + " to " +
+                       numberText(hiReal) + "): --label is for label maps; use --iso");
     }
     load.kind = "ct";
     load.isoHu = options.isoHu.value_or(kDefaultIsoHu);
     const double iso = load.isoHu;
-    const std::uint64_t inside = buildGrid(load.grid, [&](std::size_t i, Fill& fill, Density& density) {
-      const double hu = real(values[i]);
-      const double t = (hu - (iso - kCtRampHalfWidthHu)) / (2.0 * kCtRampHalfWidthHu);
-      fill = Fill(std::lround(std::clamp(t, 0.0, 1.0) * kFillFull));
-      density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
-    });
+    const std::uint64_t inside =
+        buildGrid(load.grid, [&](std::size_t i, Fill& fill, Density& density) {
+          const double hu = real(values[i]);
+          const double t = (hu - (iso - kCtRampHalfWidthHu)) / (2.0 * kCtRampHalfWidthHu);
+          fill = Fill(std::lround(std::clamp(t, 0.0, 1.0) * kFillFull));
+          density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
+        });
     refuseWholeBox(path, inside, count,
-                   "read as a CT (" + raw.type + ", values " + numberText(loReal) + " to " + numberText(hiReal) +
-                       " HU), all at or above the iso level " + numberText(iso) + " HU" +
+                   "read as a CT (" + raw.type + ", values " + numberText(loReal) + " to " +
+                       numberText(hiReal) + " HU), all at or above the iso level " +
+                       numberText(iso) + " HU" +
                        (options.isoHu ? " (--iso)" : " (the default; --iso sets it)"));
   } else {
     std::ostringstream s;
-    s << path << ": neither a label map nor a CT: " << raw.type << ", values " << numberText(loReal) << " to "
-      << numberText(hiReal) << ", "
+    s << path << ": neither a label map nor a CT: " << raw.type << ", values " << numberText(loReal)
+      << " to " << numberText(hiReal) << ", "
       << (many ? "more than " + std::to_string(kMaxLabels) : std::to_string(counts.size()))
-      << (counts.size() == 1 ? " distinct value" : " distinct values") << " (a label map is an integer type with at most "
-      << kMaxLabels << " values, none negative; a CT a signed type spanning at least " << kMinCtRangeHu << " HU)";
+      << (counts.size() == 1 ? " distinct value" : " distinct values")
+      << " (a label map is an integer type with at most " << kMaxLabels
+      << " values, none negative; a CT a signed type spanning at least " << kMinCtRangeHu << " HU)";
     throw InputError(s.str());
   }
 }
@@ -283,8 +299,10 @@ VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
     raw.visit([&](auto values) { giveMeaning(path, raw, values, options, load); });
   } catch (const std::bad_alloc&) {
     // The estimate (volumeLoadMemoryBytes) passed, yet memory ran out: other processes hold it.
-    throw InputError(path + ": out of memory while loading the volume; crop or downsample it (fewer voxels), or "
-                     "free memory");
+    throw InputError(
+        path +
+        ": out of memory while loading the volume; crop or downsample it (fewer voxels), or "
+        "free memory");
   }
   return load;
 }

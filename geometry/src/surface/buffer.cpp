@@ -17,7 +17,9 @@ namespace {
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 constexpr std::size_t kHugeAdviceBytes = std::size_t(8) << 20;
 
-std::size_t roundedBytes(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+std::size_t roundedBytes(std::size_t bytes) {
+  return (bytes + kHugePage - 1) / kHugePage * kHugePage;
+}
 
 // A fresh block of `bytes` (a multiple of 2 MiB) on a 2 MiB boundary, or nullptr.
 void* mapBlock(std::size_t bytes, bool hugePages) {
@@ -30,7 +32,8 @@ void* mapBlock(std::size_t bytes, bool hugePages) {
   const auto start = reinterpret_cast<std::uintptr_t>(raw);
   const std::uintptr_t aligned = (start + kHugePage - 1) & ~(kHugePage - 1);
   if (aligned > start) munmap(raw, aligned - start);
-  if (start + span > aligned + bytes) munmap(reinterpret_cast<void*>(aligned + bytes), start + span - (aligned + bytes));
+  if (start + span > aligned + bytes)
+    munmap(reinterpret_cast<void*>(aligned + bytes), start + span - (aligned + bytes));
   void* p = reinterpret_cast<void*>(aligned);
 #if defined(MADV_HUGEPAGE)
   // Advice only: where transparent huge pages are off, this fails and nothing changes. Not
@@ -138,7 +141,8 @@ void freeLarge(void* p, std::size_t bytes) noexcept {
     Victims victims;  // declared first: unmapped after the lock is released
     BlockCache& c = cache();
     const std::lock_guard<std::mutex> lock(c.mutex);
-    while (c.count > 0 && (c.count == kCachedBufferBlocks || c.bytes + rounded > kCachedBufferBytes)) {
+    while (c.count > 0 &&
+           (c.count == kCachedBufferBlocks || c.bytes + rounded > kCachedBufferBytes)) {
       c.takeOldest(victims);
     }
     c.blocks[c.count++] = {p, rounded};

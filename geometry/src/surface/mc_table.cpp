@@ -1,16 +1,18 @@
 #include "mc_table.h"
 
-#include <glm/geometric.hpp>
-#include <glm/vec3.hpp>
-
 #include <stdexcept>
 #include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 namespace osteon::geometry::detail {
 
 namespace {
 
-glm::dvec3 cornerPosition(int c) { return glm::dvec3(c & 1, (c >> 1) & 1, (c >> 2) & 1); }
+glm::dvec3 cornerPosition(int c) {
+  return glm::dvec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+}
 
 int edgeBetween(int a, int b) {
   const int diff = a ^ b;

@@ -3,17 +3,18 @@
 // cases, and the crossings of the edges it owns, numbered.
 #pragma once
 
-#include "surface_cells.h"
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
+
+#include "surface_cells.h"
 
 namespace osteon::geometry::detail {
 
 // A layer's eight rows of bytes (mixed cells, crossings) are read as one 64-bit word, bit
 // x + 8 y, and a row's cases as bytes of its word: little-endian byte order.
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "bricks' bytes are read as little-endian words");
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "bricks' bytes are read as little-endian words");
 
 // Per active cell brick: where its fills are, how much it adds, and its rows of cells with
 // surface, each row's mixed cells and their cases.
@@ -23,12 +24,13 @@ struct BrickOut {
   BrickOut() {}  // NOLINT: deliberately not = default (that would zero the arrays)
   BlockSource source;
   std::uint32_t edges, extras, triangles, loopEntries;  // counts
-  std::uint64_t surfaceRows;  // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
+  std::uint64_t surfaceRows;   // bit ly + 8 lz: the row has a mixed cell (pass 1 finds them)
   std::uint64_t lastCellRows;  // and its last cell (x = 7) is mixed: it uses the +x brick's edges
   // Byte ly + 8 lz: the row's mixed cells as x bits (all eight rows of a surface layer, so a
   // layer reads as one 64-bit word, bit x + 8 y).
   std::array<std::uint8_t, kCellBrick * kCellBrick> mixed;
-  std::array<std::uint64_t, kCellBrick * kCellBrick> configs;  // byte x: cell x's case (surface rows)
+  std::array<std::uint64_t, kCellBrick * kCellBrick>
+      configs;  // byte x: cell x's case (surface rows)
 
   // Bit lz: layer lz has a surface row (a nonzero byte of surfaceRows).
   std::uint32_t surfaceLayers() const {
@@ -52,9 +54,10 @@ constexpr std::size_t edgeByte(int row, int axis) {  // row = ly + 8 lz
 }
 
 struct EdgeIndex {
-  EdgeIndex() {}  // NOLINT: left uninitialised, as BrickOut
-  std::uint32_t firstEdgeVertex;                          // global id of the brick's first
-  std::array<std::uint8_t, 3 * kCellBrick * kCellBrick> crossings;        // bit x: the edge of cell x crosses
+  EdgeIndex() {}                  // NOLINT: left uninitialised, as BrickOut
+  std::uint32_t firstEdgeVertex;  // global id of the brick's first
+  std::array<std::uint8_t, 3 * kCellBrick * kCellBrick>
+      crossings;  // bit x: the edge of cell x crosses
   std::array<std::uint16_t, 3 * kCellBrick * kCellBrick> crossingsBefore;
 };
 
@@ -62,7 +65,7 @@ struct EdgeIndex {
 // for a dense block), its mixed cells and their cases, its owned edges' crossings and their
 // prefix counts, and what it adds to the output (shared: one vertex per crossed edge, the
 // crack-free method; else every cell's own).
-void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::ivec3& cellBrick, bool shared,
-                BrickOut& out, EdgeIndex& index);
+void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::ivec3& cellBrick,
+                bool shared, BrickOut& out, EdgeIndex& index);
 
 }  // namespace osteon::geometry::detail

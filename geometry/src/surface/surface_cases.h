@@ -2,10 +2,10 @@
 // edge-id table, each case as slot offsets into it, the cases' counts, and bit-count tables.
 #pragma once
 
-#include "surface_cells.h"
-
 #include <array>
 #include <cstdint>
+
+#include "surface_cells.h"
 
 namespace osteon::geometry::detail {
 
@@ -18,7 +18,9 @@ namespace osteon::geometry::detail {
 inline constexpr int kSlotsPerRow = 3 * kBlock;
 inline constexpr int kIdSlots = kBlock * kBlock * kSlotsPerRow;
 using EdgeIds = std::array<std::uint32_t, kIdSlots>;
-constexpr int idSlot(int x, int y, int z, int axis) { return ((z * kBlock + y) * 3 + axis) * kBlock + x; }
+constexpr int idSlot(int x, int y, int z, int axis) {
+  return ((z * kBlock + y) * 3 + axis) * kBlock + x;
+}
 
 // For cube edge e of a cell, its slot's offset from the cell's slot (axis 0).
 inline constexpr std::array<std::uint16_t, 12> kEdgeSlot = [] {
@@ -56,8 +58,10 @@ const std::array<std::uint64_t, 256>& packedCaseCounts();
 // Set bits of each byte value.
 inline constexpr std::array<std::uint8_t, 256> kBitsInByte = [] {
   std::array<std::uint8_t, 256> t{};
-  for (int v = 0; v < 256; ++v) t[std::size_t(v)] = std::uint8_t((v & 1) + ((v >> 1) & 1) + ((v >> 2) & 1) + ((v >> 3) & 1) +
-                                                                   ((v >> 4) & 1) + ((v >> 5) & 1) + ((v >> 6) & 1) + ((v >> 7) & 1));
+  for (int v = 0; v < 256; ++v)
+    t[std::size_t(v)] =
+        std::uint8_t((v & 1) + ((v >> 1) & 1) + ((v >> 2) & 1) + ((v >> 3) & 1) + ((v >> 4) & 1) +
+                     ((v >> 5) & 1) + ((v >> 6) & 1) + ((v >> 7) & 1));
   return t;
 }();
 
@@ -66,7 +70,8 @@ struct alignas(16) BelowRow : std::array<std::uint32_t, kCellBrick> {};
 inline constexpr std::array<BelowRow, 256> kCrossingsBelow = [] {
   std::array<BelowRow, 256> t{};
   for (std::uint32_t b = 0; b < 256; ++b)
-    for (std::uint32_t x = 0, n = 0; x < std::uint32_t(kCellBrick); n += (b >> x) & 1u, ++x) t[b][x] = n;
+    for (std::uint32_t x = 0, n = 0; x < std::uint32_t(kCellBrick); n += (b >> x) & 1u, ++x)
+      t[b][x] = n;
   return t;
 }();
 

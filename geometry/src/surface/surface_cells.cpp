@@ -1,10 +1,11 @@
 #include "surface_cells.h"
-#include "osteon/core/timing.h"
-
-#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <chrono>
+
+#include <glm/geometric.hpp>
+
+#include "osteon/core/timing.h"
 
 namespace osteon::geometry::detail {
 
@@ -34,7 +35,8 @@ std::uint16_t partSides(const Fill* fill, std::uint8_t* rowBits) {
   // turned into bits once per part rather than once per row.
   const __m128i threshold = _mm_set1_epi16(std::int16_t(kInsideAbove));
   const auto inside = [&](int row) {
-    return _mm_cmpgt_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(fill + kCellBrick * row)), threshold);
+    return _mm_cmpgt_epi16(
+        _mm_loadu_si128(reinterpret_cast<const __m128i*>(fill + kCellBrick * row)), threshold);
   };
   const auto bits = [](__m128i m) {
     return std::uint32_t(_mm_movemask_epi8(_mm_packs_epi16(m, _mm_setzero_si128()))) & 0xffu;
@@ -63,7 +65,8 @@ std::uint16_t partSides(const Fill* fill, std::uint8_t* rowBits) {
     allB = _mm_and_si128(allB, _mm_and_si128(m0, m1));
     twoRows(row, m0, m1);
   }
-  const std::uint32_t anyAll = bits(anyB), allAll = bits(allB), anyZ0 = bits(anyZ), allZ0 = bits(allZ);
+  const std::uint32_t anyAll = bits(anyB), allAll = bits(allB), anyZ0 = bits(anyZ),
+                      allZ0 = bits(allZ);
   const std::uint32_t anyY0 = bits(anyY), allY0 = bits(allY), row0 = bits(inside(0));
 #else
   std::uint32_t anyAll = 0, allAll = 0xff, anyZ0 = 0, allZ0 = 0xff, anyY0 = 0, allY0 = 0xff;
@@ -89,8 +92,9 @@ std::uint16_t partSides(const Fill* fill, std::uint8_t* rowBits) {
   const auto sides = [](std::uint32_t any, std::uint32_t all, std::uint32_t mask) {
     return ((all & mask) != mask ? 1u : 0u) | ((any & mask) != 0 ? 2u : 0u);
   };
-  const std::uint32_t parts[8] = {sides(anyAll, allAll, 0xff), sides(anyAll, allAll, 1),  sides(anyY0, allY0, 0xff),
-                                  sides(anyY0, allY0, 1),      sides(anyZ0, allZ0, 0xff), sides(anyZ0, allZ0, 1),
+  const std::uint32_t parts[8] = {sides(anyAll, allAll, 0xff), sides(anyAll, allAll, 1),
+                                  sides(anyY0, allY0, 0xff),   sides(anyY0, allY0, 1),
+                                  sides(anyZ0, allZ0, 0xff),   sides(anyZ0, allZ0, 1),
                                   sides(row0, row0, 0xff),     sides(row0, row0, 1)};
   std::uint16_t packed = 0;
   for (int d = 0; d < 8; ++d) packed = std::uint16_t(packed | (parts[d] << (2 * d)));
@@ -131,7 +135,8 @@ void ActiveBrickScan::computeLayer(int z) {
       RowBits& bits = bitsLayer[at];
       if (x >= 0 && y >= 0 && z >= 0 && x < nb.x && y < nb.y && z < nb.z) {
         const std::size_t i = grid_.brickIndex({x, y, z});
-        if (i + 2 < grid_.brickCount()) prefetchFills(grid_.brickData(i + 2));  // across row ends too
+        if (i + 2 < grid_.brickCount())
+          prefetchFills(grid_.brickData(i + 2));  // across row ends too
         if (const VoxelGrid::Brick* brick = grid_.brickData(i)) {
           state = partSides(brick->fill.data(), bits.data());
         } else if (double(grid_.brickUniformFill(i)) > kIso) {
@@ -156,7 +161,8 @@ void ActiveBrickScan::slab(int z, std::vector<glm::ivec3>& active) {
       std::uint32_t sides = 0;
       for (int d = 0; d < 8; ++d) {
         const std::uint16_t* layer = layers[(d >> 2) & 1];
-        const std::size_t at = std::size_t(x + (d & 1)) + std::size_t(e_.x) * std::size_t(y + ((d >> 1) & 1));
+        const std::size_t at =
+            std::size_t(x + (d & 1)) + std::size_t(e_.x) * std::size_t(y + ((d >> 1) & 1));
         sides |= std::uint32_t(layer[at] >> (2 * d)) & 3u;
       }
       if (sides == 3) active.push_back({x - 1, y - 1, z});
@@ -234,13 +240,13 @@ void cellRange(const VoxelGrid& grid, const glm::ivec3& cb, glm::ivec3& lo, glm:
 
 namespace {
 
-
 void placeCentres(const Buffer<VertexInfo>& info, const Buffer<std::uint32_t>& loops,
                   Buffer<glm::dvec3>& positions) {
   for (std::size_t i = 0; i < info.size(); ++i) {
     if (info[i].axis != 3) continue;
     glm::dvec3 sum(0.0);
-    for (std::uint32_t k = 0; k < info[i].loopCount; ++k) sum += positions[loops[info[i].loopFirst + k]];
+    for (std::uint32_t k = 0; k < info[i].loopCount; ++k)
+      sum += positions[loops[info[i].loopFirst + k]];
     positions[i] = sum / double(info[i].loopCount);
   }
 }
@@ -298,8 +304,8 @@ void areaWeightedNormals(const Buffer<glm::dvec3>& positions, const Buffer<glm::
 
 void finishSurface(Buffer<VertexInfo>& vertices, const Buffer<std::uint32_t>& loopVertices,
                    Buffer<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
-                   Buffer<glm::dvec3>& positions, Buffer<glm::dvec3>& normals,
-                   double& otherMs, double& smoothMs, double& normalsMs) {
+                   Buffer<glm::dvec3>& positions, Buffer<glm::dvec3>& normals, double& otherMs,
+                   double& smoothMs, double& normalsMs) {
   Clock::time_point phase = Clock::now();
   const std::size_t n = vertices.size();
   positions.resize(n);

@@ -3,17 +3,17 @@
 // vertex on a crossed edge, and the case of one cell.
 #pragma once
 
-#include "mc_table.h"
-#include "osteon/geometry/surface/buffer.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
-#include <glm/vec3.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
 #include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mc_table.h"
+#include "osteon/geometry/surface/buffer.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -22,7 +22,7 @@
 namespace osteon::geometry::detail {
 
 inline constexpr int kCellBrick = kBrickEdge;  // cells per cell-brick edge
-inline constexpr int kBlock = kCellBrick + 1;             // voxels a cell brick reads per edge
+inline constexpr int kBlock = kCellBrick + 1;  // voxels a cell brick reads per edge
 // Between two integers, so no fill value sits exactly on the iso level.
 inline constexpr double kIso = double(kFillHalf) - 0.5;
 // Vertices stay this far (in voxels) from the cube corners: no coincident vertices, no
@@ -49,7 +49,9 @@ inline std::uint32_t insideOf8(const Fill* f) {
 #endif
 }
 
-inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+inline int floorDiv(int a, int b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
 
 // A vertex: on a grid edge (axis 0..2, parameter t from the edge's first voxel centre), or the
 // centre of a long loop (axis 3), which follows the loop's vertices.
@@ -60,7 +62,7 @@ struct VertexInfo {
   double lengthMm;          // edge vertices: the edge's length (a voxel, or a finer sample)
   std::uint32_t loopFirst;  // centre vertices: the loop's vertices
   std::uint32_t loopCount;
-  glm::ivec3 voxel;         // edge vertices: the edge's first voxel; centres: their cell
+  glm::ivec3 voxel;  // edge vertices: the edge's first voxel; centres: their cell
 };
 
 inline glm::dvec3 positionOf(const VertexInfo& v) {
@@ -81,8 +83,8 @@ struct SurfaceOptionsView {
 };
 void finishSurface(Buffer<VertexInfo>& vertices, const Buffer<std::uint32_t>& loopVertices,
                    Buffer<glm::u32vec3>& triangles, const SurfaceOptionsView& options,
-                   Buffer<glm::dvec3>& positions, Buffer<glm::dvec3>& normals,
-                   double& otherMs, double& smoothMs, double& normalsMs);
+                   Buffer<glm::dvec3>& positions, Buffer<glm::dvec3>& normals, double& otherMs,
+                   double& smoothMs, double& normalsMs);
 
 // Unit normals, each the sum of its triangles' area-weighted normals.
 void areaWeightedNormals(const Buffer<glm::dvec3>& positions, const Buffer<glm::u32vec3>& triangles,
@@ -146,14 +148,16 @@ class ActiveBrickScan {
   // Rows of inside bits of a grid brick: byte y + 8 z, bit x.
   using RowBits = std::array<std::uint8_t, VoxelGrid::kBrickSize * VoxelGrid::kBrickSize>;
   // states, rowBits: scratch (two layers of grid-brick states and their rows' inside bits).
-  ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states, std::vector<RowBits>& rowBits);
+  ActiveBrickScan(const VoxelGrid& grid, std::vector<std::uint16_t>& states,
+                  std::vector<RowBits>& rowBits);
   // Appends the active cell bricks of slab z (-1 .. brickDims().z - 1) in y, x order; slabs
   // are scanned in increasing z, each once.
   void slab(int z, std::vector<glm::ivec3>& active);
   // The inside bits of grid brick b's rows (zero outside the grid, every bit set in a full
   // brick), for the bricks the last slab's cell bricks read (layers z and z + 1).
   const RowBits& rowBits(const glm::ivec3& b) const {
-    return rowBits_[std::size_t((b.z + 1) & 1) * layerSize() + std::size_t(b.x + 1) + std::size_t(e_.x) * std::size_t(b.y + 1)];
+    return rowBits_[std::size_t((b.z + 1) & 1) * layerSize() + std::size_t(b.x + 1) +
+                    std::size_t(e_.x) * std::size_t(b.y + 1)];
   }
 
  private:
@@ -173,7 +177,8 @@ inline double edgeParameter(Fill a, Fill b) {
   return std::max(kEdgeMargin, std::min(t, 1.0 - kEdgeMargin));  // never NaN: a != b
 }
 
-inline VertexInfo edgeVertexInfo(const VoxelGrid& grid, const glm::ivec3& voxel, int axis, Fill a, Fill b) {
+inline VertexInfo edgeVertexInfo(const VoxelGrid& grid, const glm::ivec3& voxel, int axis, Fill a,
+                                 Fill b) {
   return {grid.voxelCentreMm(voxel), axis, edgeParameter(a, b), grid.voxelSizeMm(), 0, 0, voxel};
 }
 

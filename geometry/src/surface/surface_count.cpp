@@ -1,12 +1,12 @@
 // Pass 1 of the full extractor (surface_extract.cpp): per active cell brick, its block's
 // inside bits, its mixed cells and their cases, the crossings of the edges it owns, and what
 // it adds to the output.
-#include "surface_bricks.h"
-#include "osteon/core/constants.h"
-#include "surface_cases.h"
-
 #include <array>
 #include <cstdint>
+
+#include "osteon/core/constants.h"
+#include "surface_bricks.h"
+#include "surface_cases.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -15,7 +15,6 @@
 namespace osteon::geometry::detail {
 
 namespace {
-
 
 // Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
 // rows of cells with no crossing are skipped with a few word operations.
@@ -37,7 +36,8 @@ void insideRows(const BlockSource& src, RowMasks& rows) {
     for (int y = src.lo.y; y < src.hi.y; ++y) {
       const auto d = std::size_t(((y >> 3) << 1) | ((z >> 3) << 2));
       const int row = kCellBrick * ((y & 7) + kCellBrick * (z & 7));
-      std::uint32_t m = src.data[d] ? insideOf8(src.data[d] + row) : (src.uniform[d] > kInsideAbove ? 0xffu : 0u);
+      std::uint32_t m =
+          src.data[d] ? insideOf8(src.data[d] + row) : (src.uniform[d] > kInsideAbove ? 0xffu : 0u);
       const Fill next = src.data[d | 1] ? src.data[d | 1][row] : src.uniform[d | 1];
       m |= (next > kInsideAbove ? 1u : 0u) << 8;
       rows[std::size_t(y + kBlock * z)] = std::uint16_t(m & xValid);
@@ -70,8 +70,10 @@ std::uint64_t rowConfigs(const std::uint32_t (&r)[4]) {
 // compare of fills per row (81 rows), since the scan has already made those compares.
 void insideRowsFromScan(const ActiveBrickScan& scan, const glm::ivec3& cb, RowMasks& rows) {
   const ActiveBrickScan::RowBits* b[8];
-  for (int d = 0; d < 8; ++d) b[d] = &scan.rowBits(cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1));
-  const auto row = [](const ActiveBrickScan::RowBits& own, const ActiveBrickScan::RowBits& next, int at) {
+  for (int d = 0; d < 8; ++d)
+    b[d] = &scan.rowBits(cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1));
+  const auto row = [](const ActiveBrickScan::RowBits& own, const ActiveBrickScan::RowBits& next,
+                      int at) {
     return std::uint16_t(own[std::size_t(at)] | ((next[std::size_t(at)] & 1u) << 8));
   };
 #if defined(__SSE2__)
@@ -81,14 +83,18 @@ void insideRowsFromScan(const ActiveBrickScan& scan, const glm::ivec3& cb, RowMa
     const __m128i n = _mm_and_si128(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(next)), one);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_unpacklo_epi8(a, n));  // rows y = 0..7
   };
-  for (int z = 0; z < kBrickEdge; ++z) plane(b[0]->data() + kBrickEdge * z, b[1]->data() + kBrickEdge * z, rows.data() + kBlock * z);
+  for (int z = 0; z < kBrickEdge; ++z)
+    plane(b[0]->data() + kBrickEdge * z, b[1]->data() + kBrickEdge * z, rows.data() + kBlock * z);
   plane(b[4]->data(), b[5]->data(), rows.data() + kBlock * kBrickEdge);
 #else
   for (int z = 0; z < kBrickEdge; ++z)
-    for (int y = 0; y < kBrickEdge; ++y) rows[std::size_t(y + kBlock * z)] = row(*b[0], *b[1], y + kBrickEdge * z);
-  for (int y = 0; y < kBrickEdge; ++y) rows[std::size_t(y + kBlock * kBrickEdge)] = row(*b[4], *b[5], y);
+    for (int y = 0; y < kBrickEdge; ++y)
+      rows[std::size_t(y + kBlock * z)] = row(*b[0], *b[1], y + kBrickEdge * z);
+  for (int y = 0; y < kBrickEdge; ++y)
+    rows[std::size_t(y + kBlock * kBrickEdge)] = row(*b[4], *b[5], y);
 #endif
-  for (int z = 0; z < kBrickEdge; ++z) rows[std::size_t(kBrickEdge + kBlock * z)] = row(*b[2], *b[3], kBrickEdge * z);  // y = 8
+  for (int z = 0; z < kBrickEdge; ++z)
+    rows[std::size_t(kBrickEdge + kBlock * z)] = row(*b[2], *b[3], kBrickEdge * z);  // y = 8
   rows[std::size_t(kBrickEdge + kBlock * kBrickEdge)] = row(*b[6], *b[7], 0);
 }
 
@@ -104,15 +110,20 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
   std::uint16_t* before = edgeIndex.crossingsBefore.data() + edgeByte(kBrickEdge * lz, 0);
 #if defined(__SSE2__)
   // One 16-bit lane per row: its own inside bits (a), +y (b), +z (c), +y+z (d).
-  const auto load = [](const std::uint16_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); };
+  const auto load = [](const std::uint16_t* p) {
+    return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+  };
   const __m128i a = load(r), b = load(r + 1), c = load(r + kBlock), d = load(r + kBlock + 1);
   const __m128i laneBit = _mm_set_epi16(128, 64, 32, 16, 8, 4, 2, 1);
-  const __m128i rowIn = _mm_cmpeq_epi16(_mm_and_si128(_mm_set1_epi16(std::int16_t(rowsIn)), laneBit), laneBit);
+  const __m128i rowIn =
+      _mm_cmpeq_epi16(_mm_and_si128(_mm_set1_epi16(std::int16_t(rowsIn)), laneBit), laneBit);
   const __m128i in = _mm_and_si128(_mm_set1_epi16(std::int16_t(cells)), rowIn);
   const __m128i any = _mm_or_si128(_mm_or_si128(a, b), _mm_or_si128(c, d));
   const __m128i all = _mm_and_si128(_mm_and_si128(a, b), _mm_and_si128(c, d));
-  const __m128i mixedCells = _mm_and_si128(
-      _mm_andnot_si128(_mm_and_si128(all, _mm_srli_epi16(all, 1)), _mm_or_si128(any, _mm_srli_epi16(any, 1))), in);
+  const __m128i mixedCells =
+      _mm_and_si128(_mm_andnot_si128(_mm_and_si128(all, _mm_srli_epi16(all, 1)),
+                                     _mm_or_si128(any, _mm_srli_epi16(any, 1))),
+                    in);
   const __m128i zero = _mm_setzero_si128();
   const __m128i mixedBytes = _mm_packus_epi16(mixedCells, zero);
   _mm_storel_epi64(reinterpret_cast<__m128i*>(mixed), mixedBytes);
@@ -122,11 +133,13 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
   const __m128i cy = _mm_and_si128(_mm_xor_si128(a, b), in);
   const __m128i cz = _mm_and_si128(_mm_xor_si128(a, c), in);
   _mm_storeu_si128(reinterpret_cast<__m128i*>(crossings), _mm_packus_epi16(cx, cy));
-  _mm_storel_epi64(reinterpret_cast<__m128i*>(crossings + 2 * kBrickEdge), _mm_packus_epi16(cz, zero));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(crossings + 2 * kBrickEdge),
+                   _mm_packus_epi16(cz, zero));
   // Set bits of each lane (at most eight).
   const auto bitCount8 = [](__m128i v) {
     v = _mm_sub_epi16(v, _mm_and_si128(_mm_srli_epi16(v, 1), _mm_set1_epi16(0x55)));
-    v = _mm_add_epi16(_mm_and_si128(v, _mm_set1_epi16(0x33)), _mm_and_si128(_mm_srli_epi16(v, 2), _mm_set1_epi16(0x33)));
+    v = _mm_add_epi16(_mm_and_si128(v, _mm_set1_epi16(0x33)),
+                      _mm_and_si128(_mm_srli_epi16(v, 2), _mm_set1_epi16(0x33)));
     return _mm_and_si128(_mm_add_epi16(v, _mm_srli_epi16(v, 4)), _mm_set1_epi16(0x0f));
   };
   const __m128i nx = bitCount8(cx), ny = bitCount8(cy), nz = bitCount8(cz);
@@ -140,7 +153,8 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
     return _mm_unpackhi_epi64(high, high);
   };
   const __m128i ux = upTo(nx), uy = upTo(ny), uz = upTo(nz);
-  const __m128i firstX = _mm_set1_epi16(std::int16_t(edges));  // each axis's first id, in every lane
+  const __m128i firstX =
+      _mm_set1_epi16(std::int16_t(edges));  // each axis's first id, in every lane
   const __m128i firstY = _mm_add_epi16(firstX, total(ux));
   const __m128i firstZ = _mm_add_epi16(firstY, total(uy));
   const __m128i beforeX = _mm_add_epi16(_mm_sub_epi16(ux, nx), firstX);
@@ -149,7 +163,8 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
   _mm_storeu_si128(reinterpret_cast<__m128i*>(before), beforeX);
   _mm_storeu_si128(reinterpret_cast<__m128i*>(before + kBrickEdge), beforeY);
   _mm_storeu_si128(reinterpret_cast<__m128i*>(before + 2 * kBrickEdge), beforeZ);
-  edges += std::uint32_t(_mm_extract_epi16(ux, 7) + _mm_extract_epi16(uy, 7) + _mm_extract_epi16(uz, 7));
+  edges +=
+      std::uint32_t(_mm_extract_epi16(ux, 7) + _mm_extract_epi16(uy, 7) + _mm_extract_epi16(uz, 7));
   return layerRows;
 #else
   std::uint32_t layerRows = 0;
@@ -179,8 +194,8 @@ std::uint32_t classifyLayer(const RowMasks& rows, int lz, std::uint32_t cells, s
 
 // Pass 1: inside bits, cases, counts. A dense block (nearly all) takes its inside bits from
 // the scan; one at the grid's border reads and clips its fills.
-void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::ivec3& cb, bool shared,
-                BrickOut& o, EdgeIndex& edgeIndex) {
+void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::ivec3& cb,
+                bool shared, BrickOut& o, EdgeIndex& edgeIndex) {
   o.source.init(grid, cb);
   glm::ivec3 lo, hi;
   cellRange(grid, cb, lo, hi);
@@ -192,18 +207,21 @@ void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::i
   } else {
     insideRows(o.source, inside);
   }
-  const std::uint32_t cells = xRange(l0.x, l1.x);    // cells in the grid along x, as bits
-  const std::uint32_t rowsIn = xRange(l0.y, l1.y);   // and along y
+  const std::uint32_t cells = xRange(l0.x, l1.x);   // cells in the grid along x, as bits
+  const std::uint32_t rowsIn = xRange(l0.y, l1.y);  // and along y
   const auto& packed = packedCaseCounts();
   std::uint32_t edges = 0;
   std::uint64_t sums = 0;  // CaseCounts fields summed in 16-bit lanes (a brick's fit)
   std::uint64_t surfaceRows = 0, lastCellRows = 0;
   for (int lz = l0.z; lz < l1.z; ++lz) {
     std::uint8_t* mixed = o.mixed.data() + kBrickEdge * lz;
-    const std::uint32_t layerRows = classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
+    const std::uint32_t layerRows =
+        classifyLayer(inside, lz, cells, rowsIn, mixed, edgeIndex, edges);
     surfaceRows |= std::uint64_t(layerRows) << (kBrickEdge * lz);
 #if defined(__SSE2__)
-    const auto last = std::uint32_t(_mm_movemask_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(mixed)))) & 0xffu;
+    const auto last =
+        std::uint32_t(_mm_movemask_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(mixed)))) &
+        0xffu;
 #else
     std::uint32_t last = 0;
     for (int ly = 0; ly < kBrickEdge; ++ly) last |= std::uint32_t(mixed[ly] >> 7) << ly;
@@ -218,8 +236,8 @@ void countBrick(const VoxelGrid& grid, const ActiveBrickScan& scan, const glm::i
       // All eight cells, without a branch per mixed one: a cell that is not mixed (or lies
       // outside the grid, all its corners outside) has case 0 or 255, which add nothing.
       const auto* c = reinterpret_cast<const std::uint8_t*>(&configs);
-      sums += (packed[c[0]] + packed[c[1]]) + (packed[c[2]] + packed[c[3]]) + (packed[c[4]] + packed[c[5]]) +
-              (packed[c[6]] + packed[c[7]]);
+      sums += (packed[c[0]] + packed[c[1]]) + (packed[c[2]] + packed[c[3]]) +
+              (packed[c[4]] + packed[c[5]]) + (packed[c[6]] + packed[c[7]]);
     }
   }
   const auto lane = [sums](int i) { return std::uint32_t((sums >> (16 * i)) & 0xffffu); };

@@ -1,18 +1,3 @@
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/core/constants.h"
-#include "osteon/core/timing.h"
-
-#include "surface_bricks.h"
-#include "surface_cases.h"
-#include "surface_cells.h"
-#include "osteon/core/error.h"
-
-#include <glm/geometric.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -21,6 +6,20 @@
 #include <type_traits>
 #include <utility>
 
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "osteon/core/constants.h"
+#include "osteon/core/error.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/surface/surface.h"
+#include "surface_bricks.h"
+#include "surface_cases.h"
+#include "surface_cells.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -28,7 +27,6 @@
 namespace osteon::geometry {
 
 namespace {
-
 
 using namespace detail;
 
@@ -46,14 +44,15 @@ struct Scratch {
   std::vector<std::uint16_t> brickStates;  // what the parts of two layers of grid bricks hold
   std::vector<ActiveBrickScan::RowBits> brickRowBits;  // and their rows' inside bits
   std::vector<std::int32_t> slotOfBrick;  // cell brick -> its place in out and index (ring), or -1
-  std::vector<BrickOut> out;    // per brick state, at ring[s]
+  std::vector<BrickOut> out;              // per brick state, at ring[s]
   std::vector<EdgeIndex> index;
   std::vector<std::uint32_t> ring;  // brick s's place in out and index
   // Per brick (and one past the last): its first vertex, first loop centre (vertex id), the
   // centre's ordinal among all centres, first triangle, first loop entry.
   std::vector<std::uint32_t> vertexOffset, extraOffset, centreOffset, triOffset, loopOffset;
   Buffer<std::uint32_t> centreEntry;  // without smoothing: where each loop centre's loop starts
-  std::array<std::size_t, 4> lastTotals{};  // vertices, triangles, loop entries, centres made last time
+  std::array<std::size_t, 4>
+      lastTotals{};  // vertices, triangles, loop entries, centres made last time
 };
 
 // Marks a loop centre writeBrick placed itself (loopStart's top bit; loop entries stay below).
@@ -80,7 +79,10 @@ struct Builder : Scratch {
   Builder& operator=(const Builder&) = delete;
 
   Builder(const VoxelGrid& g, const SurfaceOptions& o)
-      : grid(g), options(o), dims(g.dims()), shared(o.method == SurfaceMethod::CrackFree),
+      : grid(g),
+        options(o),
+        dims(g.dims()),
+        shared(o.method == SurfaceMethod::CrackFree),
         direct(o.smoothIterations == 0) {
     cellBricks = g.brickDims() + 1;
     std::swap(static_cast<Scratch&>(*this), threadScratch());
@@ -89,7 +91,8 @@ struct Builder : Scratch {
 
   std::size_t cellBrickIndex(const glm::ivec3& cb) const {  // cb from -1
     return std::size_t(cb.x + 1) +
-           std::size_t(cellBricks.x) * (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
+           std::size_t(cellBricks.x) *
+               (std::size_t(cb.y + 1) + std::size_t(cellBricks.y) * std::size_t(cb.z + 1));
   }
 
   // The rows pass 1 found mixed cells in, in byte order: later passes skip the rest.
@@ -113,7 +116,8 @@ struct Builder : Scratch {
   // kDirect: positions straight away (no smoothing to follow), else edge records. Each
   // vertex's id also goes into the brick's edge-id table (ownIds) for its triangles.
   template <bool kDirect>
-  void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* ownIds) const {
+  void writeEdgeVertices(std::size_t s, VertexInfo* vertices, glm::dvec3* positions,
+                         std::uint32_t* ownIds) const {
     const BrickOut& o = out[ring[s]];
     const BlockSource& src = o.source;
     const glm::ivec3 cb = active[s];
@@ -121,7 +125,8 @@ struct Builder : Scratch {
     // Voxel centres as grid.voxelCentreMm makes them (so every extractor agrees to the bit),
     // each axis's once per brick.
     std::array<glm::dvec3, kCellBrick> centre;
-    for (int i = 0; i < kCellBrick; ++i) centre[std::size_t(i)] = grid.voxelCentreMm(cb * kBrickEdge + glm::ivec3(i));
+    for (int i = 0; i < kCellBrick; ++i)
+      centre[std::size_t(i)] = grid.voxelCentreMm(cb * kBrickEdge + glm::ivec3(i));
     const EdgeIndex& own = index[ring[s]];
     std::uint32_t id = own.firstEdgeVertex;
     VertexInfo* info = vertices + id;
@@ -136,7 +141,8 @@ struct Builder : Scratch {
         const auto make = [&](int lx, int ly, Fill a, Fill b) {
           layerIds[ly * kSlotsPerRow + lx] = id++;
           const double t = edgeParameter(a, b);
-          glm::dvec3 p(centre[std::size_t(lx)].x, centre[std::size_t(ly)].y, centre[std::size_t(lz)].z);
+          glm::dvec3 p(centre[std::size_t(lx)].x, centre[std::size_t(ly)].y,
+                       centre[std::size_t(lz)].z);
           if constexpr (kDirect) {
             p[axis] += t * vs;
             *position++ = p;
@@ -148,7 +154,8 @@ struct Builder : Scratch {
           for (; bits != 0; bits &= bits - 1) {
             const int cell = __builtin_ctzll(bits);
             const int lx = cell & (kBrickEdge - 1), ly = cell >> 3;
-            make(lx, ly, src.at(lx, ly, lz), src.at(lx + (axis == 0), ly + (axis == 1), lz + (axis == 2)));
+            make(lx, ly, src.at(lx, ly, lz),
+                 src.at(lx + (axis == 0), ly + (axis == 1), lz + (axis == 2)));
           }
           return;
         }
@@ -156,15 +163,20 @@ struct Builder : Scratch {
         // brick. The next along the axis is inner[cell], in the same brick, but for the last
         // voxel along the axis: its next is the first of the brick above, outer[cell - shift].
         const Fill* layer = src.data[0] + kBrickEdge * kBrickEdge * lz;
-        const Fill* inner = layer + (axis == 0 ? 1 : axis == 1 ? kBrickEdge : kBrickEdge * kBrickEdge);
-        const Fill* outer = axis == 0 ? src.data[1] + kBrickEdge * kBrickEdge * lz
+        const Fill* inner = layer + (axis == 0   ? 1
+                                     : axis == 1 ? kBrickEdge
+                                                 : kBrickEdge * kBrickEdge);
+        const Fill* outer = axis == 0   ? src.data[1] + kBrickEdge * kBrickEdge * lz
                             : axis == 1 ? src.data[2] + kBrickEdge * kBrickEdge * lz
                                         : (lz == kBrickEdge - 1 ? src.data[4] : inner);
-        constexpr int shift = axis == 0 ? kBrickEdge - 1 : axis == 1 ? kBrickEdge * (kBrickEdge - 1) : 0;
+        constexpr int shift = axis == 0   ? kBrickEdge - 1
+                              : axis == 1 ? kBrickEdge * (kBrickEdge - 1)
+                                          : 0;
         for (; bits != 0; bits &= bits - 1) {
           const int cell = __builtin_ctzll(bits);
           const int lx = cell & (kBrickEdge - 1), ly = cell >> 3;
-          const bool last = axis == 0 ? lx == kBrickEdge - 1 : (axis == 1 ? ly == kBrickEdge - 1 : true);
+          const bool last =
+              axis == 0 ? lx == kBrickEdge - 1 : (axis == 1 ? ly == kBrickEdge - 1 : true);
           const Fill* far = last ? outer : inner;  // selects, not branches
           make(lx, ly, layer[cell], far[cell - (last ? shift : 0)]);
         }
@@ -182,8 +194,9 @@ struct Builder : Scratch {
   // loop centres need vertices of bricks not yet made, so here a centre gets its loop's ids
   // (loopStart: where they start) and placeCentres makes it later.
   template <bool kDirect>
-  void writeBrick(std::size_t s, VertexInfo* vertices, glm::dvec3* positions, std::uint32_t* loopVertices,
-                  std::uint32_t* loopStart, glm::u32vec3* triangles) const {
+  void writeBrick(std::size_t s, VertexInfo* vertices, glm::dvec3* positions,
+                  std::uint32_t* loopVertices, std::uint32_t* loopStart,
+                  glm::u32vec3* triangles) const {
     const BrickOut& o = out[ring[s]];
     if (o.surfaceRows == 0) return;  // e.g. a border brick whose one layer of cells is all outside
     const auto& flat = flatCases();
@@ -193,16 +206,19 @@ struct Builder : Scratch {
     // Raw pointers, and counts read once: the writes go through types that may alias the
     // tables (bytes), so the compiler would otherwise reload them after every store.
     glm::u32vec3* tri = triangles + triOffset[s];
-    glm::u32vec3* const triEnd = triangles + triOffset[s + 1];  // the brick's range: never written past
+    glm::u32vec3* const triEnd =
+        triangles + triOffset[s + 1];  // the brick's range: never written past
     std::uint32_t nextExtra = extraOffset[s];
     std::uint32_t nextEntry = loopOffset[s];
-    std::uint32_t* centreStart = kDirect ? loopStart + centreOffset[s] : nullptr;  // by centre - extraOffset[s]
+    std::uint32_t* centreStart =
+        kDirect ? loopStart + centreOffset[s] : nullptr;  // by centre - extraOffset[s]
     // Cell by cell, a layer's mixed cells as one 64-bit word (bit x + 8 y), as in pass 2.
     for (std::uint32_t layers = o.surfaceLayers(); layers != 0; layers &= layers - 1) {
       const int lz = __builtin_ctz(layers);
       std::uint64_t bits;
       std::memcpy(&bits, o.mixed.data() + kBrickEdge * lz, sizeof bits);
-      const auto* configs = reinterpret_cast<const std::uint8_t*>(o.configs.data() + kBrickEdge * lz);  // byte x + 8 y
+      const auto* configs = reinterpret_cast<const std::uint8_t*>(o.configs.data() +
+                                                                  kBrickEdge * lz);  // byte x + 8 y
       const std::uint32_t* layerIds = edgeIds.data() + idSlot(0, 0, lz, 0);
       for (; bits != 0; bits &= bits - 1) {
         const int cell = __builtin_ctzll(bits);
@@ -225,7 +241,8 @@ struct Builder : Scratch {
               tri[3] = {cellIds[corner[9]], cellIds[corner[10]], cellIds[corner[11]]};
             }
           } else {
-            for (int t = 0; t < n; ++t, corner += 3) tri[t] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
+            for (int t = 0; t < n; ++t, corner += 3)
+              tri[t] = {cellIds[corner[0]], cellIds[corner[1]], cellIds[corner[2]]};
           }
           tri += n;
           continue;
@@ -239,7 +256,8 @@ struct Builder : Scratch {
           const std::uint32_t k = lengths[std::size_t(loop)];
           if (k < 5) {
             const std::uint32_t a = cellIds[slot[0]];
-            for (std::uint32_t i = 1; i + 1 < k; ++i) *tri++ = {a, cellIds[slot[i]], cellIds[slot[i + 1]]};
+            for (std::uint32_t i = 1; i + 1 < k; ++i)
+              *tri++ = {a, cellIds[slot[i]], cellIds[slot[i + 1]]};
             continue;
           }
           const std::uint32_t centre = nextExtra++;
@@ -312,7 +330,7 @@ struct Builder : Scratch {
     const BrickOut& o = out[ring[s]];
     const std::uint64_t lastX = o.lastCellRows;
     const std::uint64_t lastY = (o.surfaceRows >> 7) & kRowsY0;  // our rows (7, z), as (0, z)
-    const std::uint64_t lastZ = o.surfaceRows >> 56;              // our rows (y, 7), as (y, 0)
+    const std::uint64_t lastZ = o.surfaceRows >> 56;             // our rows (y, 7), as (y, 0)
     const std::uint64_t rowsOf[7] = {0,
                                      lastX | ((lastX << 1) & ~kRowsY0) | (lastX << 8),
                                      lastY | (lastY << 8),
@@ -322,7 +340,8 @@ struct Builder : Scratch {
                                      o.surfaceRows >> 63};
     const auto owner = [&](int d) -> std::int32_t {
       const glm::ivec3 nb = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1) return -1;
+      if (nb.x >= cellBricks.x - 1 || nb.y >= cellBricks.y - 1 || nb.z >= cellBricks.z - 1)
+        return -1;
       return slotOfBrick[cellBrickIndex(nb)];
     };
     // Along which axes the owner's edges lie on our faces, and whether all eight x of a row
@@ -336,8 +355,11 @@ struct Builder : Scratch {
       const std::int32_t slot = owner(d);
       if (slot < 0) return;
       const EdgeIndex& from = index[std::size_t(slot)];
-      std::uint32_t* shifted = edgeIds.data() + idSlot(kBrickEdge * (d & 1), kBrickEdge * ((d >> 1) & 1), kBrickEdge * ((d >> 2) & 1), 0);
-      for (std::uint64_t rows = out[std::size_t(slot)].surfaceRows & rowsTaken; rows != 0; rows &= rows - 1) {
+      std::uint32_t* shifted =
+          edgeIds.data() +
+          idSlot(kBrickEdge * (d & 1), kBrickEdge * ((d >> 1) & 1), kBrickEdge * ((d >> 2) & 1), 0);
+      for (std::uint64_t rows = out[std::size_t(slot)].surfaceRows & rowsTaken; rows != 0;
+           rows &= rows - 1) {
         const int row = __builtin_ctzll(rows);
         std::uint32_t* rowIds = shifted + idSlot(0, row & (kBrickEdge - 1), row >> 3, 0);
         const auto axis = [&](auto axisTag) {
@@ -372,15 +394,17 @@ struct Builder : Scratch {
     const __m128i base = _mm_set1_epi32(std::int32_t(first));
     const auto* b = reinterpret_cast<const __m128i*>(below);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(ids), _mm_add_epi32(base, _mm_load_si128(b)));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids + 4), _mm_add_epi32(base, _mm_load_si128(b + 1)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(ids + 4),
+                     _mm_add_epi32(base, _mm_load_si128(b + 1)));
 #else
     for (int x = 0; x < kCellBrick; ++x) ids[x] = first + below[x];
 #endif
   }
 
   // The naive baseline: every cube makes its own vertex on each of its crossed edges.
-  void writeTrianglesNaive(std::size_t s, Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions,
-                           Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles) {
+  void writeTrianglesNaive(std::size_t s, Buffer<VertexInfo>& vertices,
+                           Buffer<glm::dvec3>& positions, Buffer<std::uint32_t>& loopVertices,
+                           Buffer<glm::u32vec3>& triangles) {
     const auto& table = mcTable();
     const glm::ivec3 cb = active[s];
     const BrickOut& o = out[ring[s]];
@@ -395,7 +419,8 @@ struct Builder : Scratch {
         std::uint32_t ids[13];
         for (int loop = 0; loop < mc.loopCount; ++loop) {
           int count = 0;
-          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
+          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1];
+               ++k) {
             const int e = mc.edges[std::size_t(k)];
             const glm::ivec3 start = edgeStart(l, e);
             const int axis = e / 4;
@@ -422,23 +447,28 @@ struct Builder : Scratch {
               positions[nextExtra] = sum / double(count);
             } else {
               std::copy(ids, ids + count, loopVertices.begin() + nextEntry);
-              vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count), glm::ivec3(0)};
+              vertices[nextExtra] = {glm::dvec3(0.0), 3, 0.0, 0.0, nextEntry, std::uint32_t(count),
+                                     glm::ivec3(0)};
               nextEntry += std::uint32_t(count);
             }
             const std::uint32_t centre = nextExtra++;
-            for (int i = 0; i < count; ++i) triangles[nextTri++] = {centre, ids[i], ids[(i + 1) % count]};
+            for (int i = 0; i < count; ++i)
+              triangles[nextTri++] = {centre, ids[i], ids[(i + 1) % count]};
           }
         }
       }
     });
   }
 
-  void run(Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions, Buffer<std::uint32_t>& loopVertices,
-           Buffer<glm::u32vec3>& triangles, std::vector<SurfaceMesh::BrickRange>& ranges) {
+  void run(Buffer<VertexInfo>& vertices, Buffer<glm::dvec3>& positions,
+           Buffer<std::uint32_t>& loopVertices, Buffer<glm::u32vec3>& triangles,
+           std::vector<SurfaceMesh::BrickRange>& ranges) {
     // With one thread allowed, plain loops: TBB's tasks and partitioner cost a single thread
     // time and buy it nothing (a 64^3 extraction runs 27 loops, three per slab).
-    const bool serial = std::min<std::size_t>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
-                                              std::size_t(tbb::this_task_arena::max_concurrency())) <= 1;
+    const bool serial =
+        std::min<std::size_t>(
+            tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+            std::size_t(tbb::this_task_arena::max_concurrency())) <= 1;
     const auto forEachBrickIn = [&](std::size_t first, std::size_t last, auto&& work) {
       if (serial) {
         for (std::size_t s = first; s < last; ++s) work(s);
@@ -446,8 +476,8 @@ struct Builder : Scratch {
       }
       tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 4),
                         [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
-      });
+                          for (std::size_t s = r.begin(); s != r.end(); ++s) work(s);
+                        });
     };
     // Slab by slab (a z layer of cell bricks): which cell bricks hold surface and pass 1 on
     // them, their places in the output, then the slab below's vertices, ids and triangles
@@ -455,7 +485,8 @@ struct Builder : Scratch {
     // slab below that (their loops reach into the slab above them). What each step reads
     // was made a moment before and is still in cache. Numbering follows brick order (a
     // brick's edge vertices, then its loop centres), so it does not depend on scheduling.
-    slotOfBrick.assign(std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
+    slotOfBrick.assign(
+        std::size_t(cellBricks.x) * std::size_t(cellBricks.y) * std::size_t(cellBricks.z), -1);
     vertexOffset.assign(1, 0);
     centreOffset.assign(1, 0);
     triOffset.assign(1, 0);
@@ -473,10 +504,9 @@ struct Builder : Scratch {
     // 0.25-1.2 mm, a voxelized sphere) and about two triangles per vertex, so 96 leave room for
     // it without regrowing (a fresh allocation and a copy); noise makes ~1,000 and regrows.
     const std::size_t vertexGuess = 96 * grid.allocatedBrickCount();
-    const std::array<std::size_t, 4> room = {std::max(lastTotals[0], vertexGuess),
-                                             std::max(lastTotals[1], 2 * vertexGuess),
-                                             std::max(lastTotals[2], vertexGuess / 2),
-                                             std::max(lastTotals[3], vertexGuess / 8)};
+    const std::array<std::size_t, 4> room = {
+        std::max(lastTotals[0], vertexGuess), std::max(lastTotals[1], 2 * vertexGuess),
+        std::max(lastTotals[2], vertexGuess / 2), std::max(lastTotals[3], vertexGuess / 8)};
     if (direct) {
       positions.reserve(room[0]);
     } else {
@@ -489,12 +519,16 @@ struct Builder : Scratch {
       if (!shared) {
         writeTrianglesNaive(s, vertices, positions, loopVertices, triangles);
       } else if (direct) {
-        writeBrick<true>(s, nullptr, positions.data(), loopVertices.data(), centreEntry.data(), triangles.data());
+        writeBrick<true>(s, nullptr, positions.data(), loopVertices.data(), centreEntry.data(),
+                         triangles.data());
       } else {
-        writeBrick<false>(s, vertices.data(), nullptr, loopVertices.data(), nullptr, triangles.data());
+        writeBrick<false>(s, vertices.data(), nullptr, loopVertices.data(), nullptr,
+                          triangles.data());
       }
     };
-    const auto centres = [&](std::size_t s) { placeCentres(s, positions.data(), loopVertices.data(), centreEntry.data()); };
+    const auto centres = [&](std::size_t s) {
+      placeCentres(s, positions.data(), loopVertices.data(), centreEntry.data());
+    };
     const bool placeLater = direct && shared;
     ActiveBrickScan scan(grid, brickStates, brickRowBits);
     std::size_t written = 0, placed = 0;  // bricks before these are written, have their centres
@@ -502,7 +536,8 @@ struct Builder : Scratch {
       const std::size_t first = active.size();
       scan.slab(z, active);
       const std::size_t last = active.size();
-      for (std::size_t s = first; s < last; ++s) ring.push_back(std::uint32_t(((z + 1) & 1) * slabBricks + (s - first)));
+      for (std::size_t s = first; s < last; ++s)
+        ring.push_back(std::uint32_t(((z + 1) & 1) * slabBricks + (s - first)));
       forEachBrickIn(first, last, [&](std::size_t s) { count(s, scan); });
       for (std::size_t s = first; s < last; ++s) {
         const BrickOut& o = out[ring[s]];
@@ -517,7 +552,8 @@ struct Builder : Scratch {
       // Past the room reserved, regrow once for the whole grid, projected from the cell layers
       // done (a volume of noise, some 1,000 vertices per stored brick, shows on its first
       // slabs), rather than by doubling, each step of which is a fresh allocation and a copy.
-      const double layersDone = std::min(kBrickEdge * (z + 1) + 1, dims.z + 1);  // cell layers -1 .. 8 z + 7
+      const double layersDone =
+          std::min(kBrickEdge * (z + 1) + 1, dims.z + 1);  // cell layers -1 .. 8 z + 7
       const auto grow = [&](auto& buffer, std::size_t size) {
         if (size > buffer.capacity()) {
           buffer.reserve(std::size_t(double(size) * double(dims.z + 1) / layersDone * 1.25) + 1024);
@@ -565,9 +601,11 @@ struct Builder : Scratch {
 
 void validateSurfaceOptions(const SurfaceOptions& options) {
   if (options.smoothIterations < 0 || options.smoothIterations > 100) {
-    throw InputError("--smooth " + std::to_string(options.smoothIterations) + ": passes must be 0..100");
+    throw InputError("--smooth " + std::to_string(options.smoothIterations) +
+                     ": passes must be 0..100");
   }
-  if (!(options.lambda > 0.0 && options.lambda <= 1.0) || !(options.mu < 0.0 && options.mu >= -1.0)) {
+  if (!(options.lambda > 0.0 && options.lambda <= 1.0) ||
+      !(options.mu < 0.0 && options.mu >= -1.0)) {
     std::ostringstream s;
     s << "smoothing weights lambda " << options.lambda << ", mu " << options.mu
       << ": need 0 < lambda <= 1 and -1 <= mu < 0";
@@ -599,7 +637,8 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const SurfaceOptions& options,
     local.normalsMs = msSince(phase);
   } else {
     finishSurface(vertices, loopVertices, triangles,
-                  {options.smoothIterations, options.lambda, options.taubin, options.mu, options.computeNormals},
+                  {options.smoothIterations, options.lambda, options.taubin, options.mu,
+                   options.computeNormals},
                   mesh.positionsMm, mesh.normals, local.otherMs, local.smoothMs, local.normalsMs);
   }
   mesh.triangles = std::move(triangles);

@@ -1,17 +1,17 @@
 // Multi-resolution surface (see extractSurface(grid, refined, ...) in surface.h): refined
 // lattice inside cells with a refined corner, level-0 cells elsewhere, transition cells
 // between them whose loops follow the refined segments on the shared faces.
+#include <chrono>
+#include <unordered_map>
+#include <unordered_set>
+
+#include <glm/geometric.hpp>
+
 #include "osteon/core/error.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/surface/surface.h"
 #include "surface_cells.h"
-
-#include <glm/geometric.hpp>
-
-#include <chrono>
-#include <unordered_map>
-#include <unordered_set>
 
 namespace osteon::geometry {
 
@@ -68,7 +68,7 @@ void faceRule(const glm::dvec3 (&corner)[4], const bool (&inside)[4],
 
 struct MultiRes {
   const VoxelGrid& grid;
-  int n;          // refined samples per voxel edge
+  int n;  // refined samples per voxel edge
   double vs;
   double h;
   glm::ivec3 dims;
@@ -82,14 +82,19 @@ struct MultiRes {
   double subFull;
 
   MultiRes(const VoxelGrid& g, const RefinedVoxels& refined)
-      : grid(g), n(1 << refined.depth()), vs(g.voxelSizeMm()), h(g.voxelSizeMm() / double(1 << refined.depth())),
-        dims(g.dims()), subFull(double(kFillFull) / double(n * n * n)) {
+      : grid(g),
+        n(1 << refined.depth()),
+        vs(g.voxelSizeMm()),
+        h(g.voxelSizeMm() / double(1 << refined.depth())),
+        dims(g.dims()),
+        subFull(double(kFillFull) / double(n * n * n)) {
     for (const glm::ivec3& v : refined.refinedVoxels()) {
       std::array<Fill, kSubVoxels> fill;
       std::array<Density, kSubVoxels> density;
       refined.subFill(v, fill, density);
       sub.emplace(voxelKey(v), fill);
-      for (int d = 0; d < 8; ++d) fineCells.insert(voxelKey(v - glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1)));
+      for (int d = 0; d < 8; ++d)
+        fineCells.insert(voxelKey(v - glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1)));
     }
   }
 
@@ -369,7 +374,8 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const RefinedVoxels& refined,
   std::vector<std::uint64_t> fine(m.fineCells.begin(), m.fineCells.end());
   std::sort(fine.begin(), fine.end());
   for (const std::uint64_t key : fine) {
-    const glm::ivec3 c(int((key >> 42) & 0x1fffff) - 4, int((key >> 21) & 0x1fffff) - 4, int(key & 0x1fffff) - 4);
+    const glm::ivec3 c(int((key >> 42) & 0x1fffff) - 4, int((key >> 21) & 0x1fffff) - 4,
+                       int(key & 0x1fffff) - 4);
     for (int k = 0; k < m.n; ++k)
       for (int j = 0; j < m.n; ++j)
         for (int i = 0; i < m.n; ++i) m.fineCell(c * m.n + glm::ivec3(i, j, k));
@@ -377,7 +383,8 @@ SurfaceMesh extractSurface(const VoxelGrid& grid, const RefinedVoxels& refined,
   local.extractMs = msSince(start);
   SurfaceMesh mesh;
   finishSurface(m.vertices, m.loopVertices, m.triangles,
-                {options.smoothIterations, options.lambda, options.taubin, options.mu, options.computeNormals},
+                {options.smoothIterations, options.lambda, options.taubin, options.mu,
+                 options.computeNormals},
                 mesh.positionsMm, mesh.normals, local.otherMs, local.smoothMs, local.normalsMs);
   mesh.triangles = std::move(m.triangles);
   local.totalMs = msSince(start);

@@ -1,5 +1,4 @@
 #include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/core/timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,6 +6,7 @@
 #include <sstream>
 
 #include "osteon/core/error.h"
+#include "osteon/core/timing.h"
 #include "surface_updater_impl.h"
 
 namespace osteon::geometry {
@@ -70,10 +70,8 @@ SurfaceUpdater::UpdateStats SurfaceUpdater::update(
   const auto smoothStart = Clock::now();
   stats.extractMs = std::chrono::duration<double, std::milli>(smoothStart - start).count();
   stats.verticesSmoothed = m.resmooth(touched);
-  stats.smoothMs =
-      msSince(smoothStart);
-  stats.ms =
-      msSince(start);
+  stats.smoothMs = msSince(smoothStart);
+  stats.ms = msSince(start);
   return stats;
 }
 
@@ -93,7 +91,8 @@ SurfaceMesh SurfaceUpdater::mesh() const {
     const auto first = std::uint32_t(out.triangles.size());
     for (const glm::u32vec3& t : b->triangles)
       out.triangles.push_back({index[t.x], index[t.y], index[t.z]});
-    out.brickRanges.push_back({std::int64_t(bi), m.cellBrickOf(bi), first, std::uint32_t(b->triangles.size())});
+    out.brickRanges.push_back(
+        {std::int64_t(bi), m.cellBrickOf(bi), first, std::uint32_t(b->triangles.size())});
   }
   return out;
 }

@@ -4,10 +4,10 @@
 // the first one was made: cell bricks are extracted in parallel into their own lists, and
 // vertex slots are then numbered in the order the serial update allocates them (every brick's
 // edge vertices in brick order, then loop centres in brick order).
-#include "surface_updater_impl.h"
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include "surface_updater_impl.h"
 
 namespace osteon::geometry {
 
@@ -41,39 +41,45 @@ void SurfaceUpdater::Impl::buildAll() {
   std::vector<std::vector<std::pair<std::uint32_t, VertexInfo>>> edges(count);
   std::vector<std::uint32_t> centreCount(count, 0);
   const auto& table = mcTable();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
-      const glm::ivec3 cb = cellBrickOf(bi);
-      if (!cellBrickActive(*grid, cb)) continue;
-      auto b = std::make_unique<CellBrick>();
-      b->owned.fill(kNoVertex);
-      b->cellBegin.fill(0);
-      b->changed.fill(1);
-      loadBlock(*grid, cb, b->fills);
-      const FillBlock& block = b->fills;
-      glm::ivec3 lo, hi;
-      cellRange(*grid, cb, lo, hi);
-      for (int ci = 0; ci < kCells; ++ci) {
-        const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
-        const glm::ivec3 g = cb * kBrickEdge + l;
-        if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi))) continue;
-        Fill corner[8];
-        const McCase& mc = table[std::size_t(cellConfig(block, l, corner))];
-        for (int loop = 0; loop < mc.loopCount; ++loop) {
-          centreCount[bi] += mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)] > 4;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, count, kGrain),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
+          const glm::ivec3 cb = cellBrickOf(bi);
+          if (!cellBrickActive(*grid, cb)) continue;
+          auto b = std::make_unique<CellBrick>();
+          b->owned.fill(kNoVertex);
+          b->cellBegin.fill(0);
+          b->changed.fill(1);
+          loadBlock(*grid, cb, b->fills);
+          const FillBlock& block = b->fills;
+          glm::ivec3 lo, hi;
+          cellRange(*grid, cb, lo, hi);
+          for (int ci = 0; ci < kCells; ++ci) {
+            const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
+                               ci / (kBrickEdge * kBrickEdge));
+            const glm::ivec3 g = cb * kBrickEdge + l;
+            if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi)))
+              continue;
+            Fill corner[8];
+            const McCase& mc = table[std::size_t(cellConfig(block, l, corner))];
+            for (int loop = 0; loop < mc.loopCount; ++loop) {
+              centreCount[bi] +=
+                  mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)] > 4;
+            }
+            const Fill f0 = blockFill(block, l.x, l.y, l.z);
+            for (int axis = 0; axis < 3; ++axis) {
+              glm::ivec3 n = l;
+              ++n[axis];
+              const Fill f1 = blockFill(block, n.x, n.y, n.z);
+              if ((double(f0) > kIso) == (double(f1) > kIso)) continue;
+              edges[bi].emplace_back(std::uint32_t(3 * ci + axis),
+                                     edgeVertexInfo(*grid, g, axis, f0, f1));
+            }
+          }
+          bricks[bi] = std::move(b);
         }
-        const Fill f0 = blockFill(block, l.x, l.y, l.z);
-        for (int axis = 0; axis < 3; ++axis) {
-          glm::ivec3 n = l;
-          ++n[axis];
-          const Fill f1 = blockFill(block, n.x, n.y, n.z);
-          if ((double(f0) > kIso) == (double(f1) > kIso)) continue;
-          edges[bi].emplace_back(std::uint32_t(3 * ci + axis), edgeVertexInfo(*grid, g, axis, f0, f1));
-        }
-      }
-      bricks[bi] = std::move(b);
-    }
-  });
+      });
   std::size_t slots = 0;
   for (std::size_t bi = 0; bi < count; ++bi) slots += edges[bi].size() + centreCount[bi];
   reserveSlots(slots);
@@ -84,36 +90,44 @@ void SurfaceUpdater::Impl::buildAll() {
 
   // Triangles, every cell brick's own (the owned edges they read are all numbered now).
   std::vector<std::vector<PendingCentre>> centres(count);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
-      CellBrick* b = bricks[bi].get();
-      if (!b) continue;
-      const glm::ivec3 cb = cellBrickOf(bi);
-      glm::ivec3 lo, hi;
-      cellRange(*grid, cb, lo, hi);
-      for (int ci = 0; ci < kCells; ++ci) {
-        b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
-        const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
-        const glm::ivec3 g = cb * kBrickEdge + l;
-        if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi))) continue;
-        Fill corner[8];
-        const int config = cellConfig(b->fills, l, corner);
-        if (config == 0 || config == 255) continue;
-        const McCase& mc = table[std::size_t(config)];
-        std::uint32_t ids[13];
-        for (int loop = 0; loop < mc.loopCount; ++loop) {
-          int n = 0;
-          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
-            ids[n++] = sharedVertex(g, mc.edges[std::size_t(k)]);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, count, kGrain),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
+          CellBrick* b = bricks[bi].get();
+          if (!b) continue;
+          const glm::ivec3 cb = cellBrickOf(bi);
+          glm::ivec3 lo, hi;
+          cellRange(*grid, cb, lo, hi);
+          for (int ci = 0; ci < kCells; ++ci) {
+            b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
+            const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
+                               ci / (kBrickEdge * kBrickEdge));
+            const glm::ivec3 g = cb * kBrickEdge + l;
+            if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi)))
+              continue;
+            Fill corner[8];
+            const int config = cellConfig(b->fills, l, corner);
+            if (config == 0 || config == 255) continue;
+            const McCase& mc = table[std::size_t(config)];
+            std::uint32_t ids[13];
+            for (int loop = 0; loop < mc.loopCount; ++loop) {
+              int n = 0;
+              for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1];
+                   ++k) {
+                ids[n++] = sharedVertex(g, mc.edges[std::size_t(k)]);
+              }
+              if (n > 4)
+                centres[bi].push_back({g, std::uint32_t(b->triangles.size()),
+                                       std::vector<std::uint32_t>(ids, ids + n)});
+              appendLoopTriangles(b->triangles, ids, n,
+                                  kNoVertex);  // the centre's slot comes later
+            }
           }
-          if (n > 4) centres[bi].push_back({g, std::uint32_t(b->triangles.size()), std::vector<std::uint32_t>(ids, ids + n)});
-          appendLoopTriangles(b->triangles, ids, n, kNoVertex);  // the centre's slot comes later
+          b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
+          b->fillsValid = true;
         }
-      }
-      b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
-      b->fillsValid = true;
-    }
-  });
+      });
   for (std::size_t bi = 0; bi < count; ++bi) {
     CellBrick* b = bricks[bi].get();
     for (PendingCentre& c : centres[bi]) {
@@ -124,7 +138,8 @@ void SurfaceUpdater::Impl::buildAll() {
     std::vector<PendingCentre>().swap(centres[bi]);
     // A cell brick with no surface gives its memory back.
     if (b && b->triangles.empty() &&
-        std::all_of(b->owned.begin(), b->owned.end(), [](std::uint32_t s) { return s == kNoVertex; })) {
+        std::all_of(b->owned.begin(), b->owned.end(),
+                    [](std::uint32_t s) { return s == kNoVertex; })) {
       bricks[bi].reset();
     }
   }
@@ -166,9 +181,10 @@ void SurfaceUpdater::Impl::smoothAll() {
   std::vector<glm::dvec3> at(n);
   std::vector<double> t(n), nextT2(n);
   const auto each = [&](auto&& fn) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) fn(i);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) fn(i);
+                      });
   };
   each([&](std::size_t i) {
     t[i] = info[i].t;
@@ -182,7 +198,8 @@ void SurfaceUpdater::Impl::smoothAll() {
       double mean = 0.0;
       for (std::uint32_t k = rowStart[i]; k < rowStart[i + 1]; ++k) mean += at[rows[k]][v.axis];
       mean /= double(rowStart[i + 1] - rowStart[i]);
-      nextT2[i] = std::clamp(t[i] + step * (mean - at[i][v.axis]) / v.lengthMm, kEdgeMargin, 1.0 - kEdgeMargin);
+      nextT2[i] = std::clamp(t[i] + step * (mean - at[i][v.axis]) / v.lengthMm, kEdgeMargin,
+                             1.0 - kEdgeMargin);
     });
     each([&](std::size_t i) {
       VertexInfo v = info[i];

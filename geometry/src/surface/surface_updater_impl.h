@@ -2,9 +2,6 @@
 // changes; surface_updater_build.cpp: the first, whole extraction, in parallel).
 #pragma once
 
-#include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/core/constants.h"
-
 #include <algorithm>
 #include <array>
 #include <memory>
@@ -12,6 +9,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "osteon/core/constants.h"
+#include "osteon/geometry/surface/surface_updater.h"
 #include "surface_cells.h"
 
 namespace osteon::geometry {
@@ -170,7 +169,8 @@ struct SurfaceUpdater::Impl {
             any = true;
             for (int d = 0; d < 8; ++d) {
               const glm::ivec3 c(x - (d & 1), y - ((d >> 1) & 1), z - ((d >> 2) & 1));
-              if (c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < kBrickEdge && c.y < kBrickEdge && c.z < kBrickEdge) {
+              if (c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < kBrickEdge && c.y < kBrickEdge &&
+                  c.z < kBrickEdge) {
                 b.changed[std::size_t(cellIndex(c))] = 1;
               }
             }
@@ -181,7 +181,8 @@ struct SurfaceUpdater::Impl {
     cellRange(*grid, cb, lo, hi);
     for (int ci = 0; ci < kCells; ++ci) {
       if (!b.changed[std::size_t(ci)]) continue;
-      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
+      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
+                         ci / (kBrickEdge * kBrickEdge));
       const glm::ivec3 g = cb * kBrickEdge + l;
       const bool inRange = glm::all(glm::greaterThanEqual(g, lo)) && glm::all(glm::lessThan(g, hi));
       const Fill f0 = blockFill(block, l.x, l.y, l.z);
@@ -215,7 +216,8 @@ struct SurfaceUpdater::Impl {
   std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
     const glm::ivec3 owner = edgeStart(cell, e);
     const glm::ivec3 cb = brickOfCell(owner);
-    return bricks[brickIndex(cb)]->owned[std::size_t(3 * cellIndex(owner - cb * kBrickEdge) + e / 4)];
+    return bricks[brickIndex(cb)]
+        ->owned[std::size_t(3 * cellIndex(owner - cb * kBrickEdge) + e / 4)];
   }
 
   // Triangles of a cell brick's cells: a cell whose eight voxels kept their fill keeps its
@@ -254,7 +256,8 @@ struct SurfaceUpdater::Impl {
         ci = last;
         continue;
       }
-      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge));
+      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
+                         ci / (kBrickEdge * kBrickEdge));
       const int x = cb.x * kBrickEdge + l.x;
       const int y = cb.y * kBrickEdge + l.y;
       const int z = cb.z * kBrickEdge + l.z;
@@ -456,7 +459,8 @@ struct SurfaceUpdater::Impl {
   void reserveSlots(std::size_t slots);
   void smoothAll();
   glm::ivec3 cellBrickOf(std::size_t index) const {
-    return {int(index % std::size_t(cellBricks.x)) - 1, int(index / std::size_t(cellBricks.x) % std::size_t(cellBricks.y)) - 1,
+    return {int(index % std::size_t(cellBricks.x)) - 1,
+            int(index / std::size_t(cellBricks.x) % std::size_t(cellBricks.y)) - 1,
             int(index / (std::size_t(cellBricks.x) * std::size_t(cellBricks.y))) - 1};
   }
 

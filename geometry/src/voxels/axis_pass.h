@@ -19,8 +19,8 @@ struct AxisPass {
   const VoxelGrid* layout;
   int axis;
   int raysPerAxis;
-  bool abstain;              // robust: unresolved rays do not vote
-  int outwardSign;           // +1 outward mesh, -1 inward, 0 when orientation is unknown
+  bool abstain;     // robust: unresolved rays do not vote
+  int outwardSign;  // +1 outward mesh, -1 inward, 0 when orientation is unknown
   VoxelGrid* out;
   std::vector<std::uint8_t>* columnKnown;  // (u, v) bitmap, u fastest
   std::atomic<std::uint64_t> raysCast{0}, raysRetried{0}, raysUnresolved{0}, raysWinding{0};

@@ -16,8 +16,12 @@ int outwardSignOf(const TriangleMesh& mesh) {
 
 ColumnRay::ColumnRay(const EmbreeScene& scene, int axis, int outwardSign, double startMm,
                      double lengthMm, double toleranceMm)
-    : scene_(&scene), axis_(axis), outwardSign_(outwardSign), startMm_(startMm),
-      lengthMm_(lengthMm), toleranceMm_(toleranceMm) {
+    : scene_(&scene),
+      axis_(axis),
+      outwardSign_(outwardSign),
+      startMm_(startMm),
+      lengthMm_(lengthMm),
+      toleranceMm_(toleranceMm) {
   hits_.reserve(64);
   collector_.hits = &hits_;
   collector_.axis = axis;
@@ -32,9 +36,15 @@ void ColumnRay::collect(const RTCFilterFunctionNArguments* args) {
     std::vector<RayHit>& hits = collector->hits[RTCRayN_id(args->ray, args->N, i)];
     float ng = 0.f;
     switch (collector->axis) {
-      case 0: ng = RTCHitN_Ng_x(args->hit, args->N, i); break;
-      case 1: ng = RTCHitN_Ng_y(args->hit, args->N, i); break;
-      default: ng = RTCHitN_Ng_z(args->hit, args->N, i); break;
+      case 0:
+        ng = RTCHitN_Ng_x(args->hit, args->N, i);
+        break;
+      case 1:
+        ng = RTCHitN_Ng_y(args->hit, args->N, i);
+        break;
+      default:
+        ng = RTCHitN_Ng_z(args->hit, args->N, i);
+        break;
     }
     hits.push_back({double(t), ng > 0.f ? 1 : (ng < 0.f ? -1 : 0)});
     args->valid[i] = 0;  // reject, so traversal goes on and reports every hit

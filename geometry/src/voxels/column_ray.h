@@ -2,11 +2,11 @@
 // by the voxelizer and the fine (sub-voxel) sampling of refinement.
 #pragma once
 
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/io/mesh.h"
-#include "ray_classify.h"
-
 #include <vector>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "ray_classify.h"
 
 namespace osteon::geometry::detail {
 

@@ -1,11 +1,4 @@
 #include "osteon/geometry/voxels/density.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/core/constants.h"
-
-#include "osteon/core/error.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -14,6 +7,13 @@
 #include <limits>
 #include <sstream>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "osteon/core/constants.h"
+#include "osteon/core/error.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 
 namespace osteon::geometry {
 
@@ -42,10 +42,19 @@ struct Neighbour {
   int kind;
 };
 constexpr std::array<Neighbour, 13> kVisitedNeighbours{{
-    {{-1, 0, 0}, 0}, {{0, -1, 0}, 0}, {{0, 0, -1}, 0},
-    {{-1, -1, 0}, 1}, {{1, -1, 0}, 1}, {{-1, 0, -1}, 1}, {{1, 0, -1}, 1}, {{0, -1, -1}, 1},
+    {{-1, 0, 0}, 0},
+    {{0, -1, 0}, 0},
+    {{0, 0, -1}, 0},
+    {{-1, -1, 0}, 1},
+    {{1, -1, 0}, 1},
+    {{-1, 0, -1}, 1},
+    {{1, 0, -1}, 1},
+    {{0, -1, -1}, 1},
     {{0, 1, -1}, 1},
-    {{-1, -1, -1}, 2}, {{1, -1, -1}, 2}, {{-1, 1, -1}, 2}, {{1, 1, -1}, 2},
+    {{-1, -1, -1}, 2},
+    {{1, -1, -1}, 2},
+    {{-1, 1, -1}, 2},
+    {{1, 1, -1}, 2},
 }};
 
 // Bounds of a brick's voxels, padded by one voxel on every side the visited neighbours reach
@@ -53,7 +62,9 @@ constexpr std::array<Neighbour, 13> kVisitedNeighbours{{
 // bounds that bound nothing (0 and infinity).
 constexpr int kPad = kBrickEdge + 2;
 constexpr int kPaddedVoxels = kPad * kPad * (kBrickEdge + 1);
-constexpr int paddedIndex(int x, int y, int z) { return (x + 1) + kPad * ((y + 1) + kPad * (z + 1)); }
+constexpr int paddedIndex(int x, int y, int z) {
+  return (x + 1) + kPad * ((y + 1) + kPad * (z + 1));
+}
 
 constexpr std::size_t kMaxNearTriangles = 1024;
 
@@ -84,8 +95,8 @@ inline double boxDistance(const glm::dvec3& p, const glm::dvec3& lo, const glm::
 // stopAtMm: return the first distance found at or below it (then only an upper bound: *exact
 // is false), since that already decides the voxel.
 inline double distanceWithinNear(const std::vector<NearTriangle>& near, const glm::dvec3& p,
-                                 double pFromCentre, double reach, double upperMm,
-                                 double stopAtMm, bool* exact) {
+                                 double pFromCentre, double reach, double upperMm, double stopAtMm,
+                                 bool* exact) {
   *exact = true;
   double best = reach;
   double search = std::min(reach, upperMm * (1.0 + 1e-9) + 1e-9);
@@ -176,85 +187,87 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
   }
   std::atomic<std::uint64_t> corticalCount{0}, cancellousCount{0}, queryCount{0};
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.brickCount()),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-    std::uint64_t nCortical = 0, nCancellous = 0, nQueries = 0;
-    std::vector<double> lowerMm(kPaddedVoxels, 0.0);
-    std::vector<double> upperMm(kPaddedVoxels, kUnbounded);
-    bool interiorStale = false;  // a partial brick left values where padding must be
-    std::vector<std::uint32_t> nearIds;
-    std::vector<NearTriangle> near;
-    for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
-      const bool allocated = grid.brickAllocated(brick);
-      const Fill uniformFill = grid.brickUniformFill(brick);
-      if (!allocated && uniformFill == 0) continue;
-      const glm::ivec3 lo = grid.brickCoord(brick) * kBrickEdge;
-      const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
-      const glm::ivec3 span = hi - lo;
-      const glm::dvec3 centre = grid.worldFromGrid(glm::dvec3(lo) + 0.5 * glm::dvec3(span));
-      ++nQueries;
-      const double centreDistance = surface.distanceWithin(centre, brickReachMm);
-      if (centreDistance < 0.0 && !allocated) {
-        // Deep inside: the whole brick is cancellous and stays a few bytes.
-        grid.setBrickUniform(brick, uniformFill, rule.cancellousDensity);
-        nCancellous += std::uint64_t(span.x) * std::uint64_t(span.y) * std::uint64_t(span.z);
-        continue;
-      }
-      VoxelGrid::Brick& b = grid.materialiseBrick(brick);
-      const glm::dvec3 centreGrid = glm::dvec3(lo) + 0.5 * glm::dvec3(span);
-      const bool fullBrick = span == glm::ivec3(kBrickEdge);
-      if (!fullBrick || interiorStale) {
-        // Voxels past a partial brick's span are neighbours that bound nothing.
-        std::fill(lowerMm.begin(), lowerMm.end(), 0.0);
-        std::fill(upperMm.begin(), upperMm.end(), kUnbounded);
-      }
-      interiorStale = !fullBrick;
-      const double farthestMm = vs * glm::length(0.5 * glm::dvec3(span) - 0.5);
-      const bool useNear = farthestMm <= queryReachMm &&
-                           gatherNear(surface, centre, queryReachMm + farthestMm, nearIds, near);
-      if (!useNear) near.clear();
-      for (int z = lo.z; z < hi.z; ++z)
-        for (int y = lo.y; y < hi.y; ++y)
-          for (int x = lo.x; x < hi.x; ++x) {
-            const glm::ivec3 ijk(x, y, z);
-            const glm::ivec3 l = ijk - lo;
-            const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(l));
-            const double r = fullBrick ? fullBrickRadius[local]
-                                       : vs * glm::length(glm::dvec3(ijk) + 0.5 - centreGrid);
-            double lower = centreDistance < 0.0 ? brickReachMm - r : centreDistance - r;
-            double upper = centreDistance < 0.0 ? kUnbounded : centreDistance + r;
-            const int pi = paddedIndex(l.x, l.y, l.z);
-            for (int n = 0; n < 13; ++n) {
-              const int p = pi + neighbourDelta[n];
-              const double step = stepMm[kVisitedNeighbours[std::size_t(n)].kind];
-              lower = std::max(lower, lowerMm[std::size_t(p)] - step);
-              upper = std::min(upper, upperMm[std::size_t(p)] + step);
-            }
-            if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
-              ++nQueries;
-              bool exact = true;
-              const double d =
-                  useNear ? distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm, upper,
-                                               shellMm, &exact)
-                          : surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
-              if (exact) lower = d < 0.0 ? queryReachMm : d;
-              upper = d < 0.0 ? kUnbounded : d;
-            }
-            lowerMm[std::size_t(pi)] = lower;
-            upperMm[std::size_t(pi)] = upper;
-            if (b.fill[local] == 0) {
-              b.density[local] = 0;
-              continue;
-            }
-            const bool isCortical = upper <= shellMm;
-            b.density[local] = isCortical ? rule.corticalDensity : rule.cancellousDensity;
-            (isCortical ? nCortical : nCancellous) += 1;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, grid.brickCount()),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        std::uint64_t nCortical = 0, nCancellous = 0, nQueries = 0;
+        std::vector<double> lowerMm(kPaddedVoxels, 0.0);
+        std::vector<double> upperMm(kPaddedVoxels, kUnbounded);
+        bool interiorStale = false;  // a partial brick left values where padding must be
+        std::vector<std::uint32_t> nearIds;
+        std::vector<NearTriangle> near;
+        for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
+          const bool allocated = grid.brickAllocated(brick);
+          const Fill uniformFill = grid.brickUniformFill(brick);
+          if (!allocated && uniformFill == 0) continue;
+          const glm::ivec3 lo = grid.brickCoord(brick) * kBrickEdge;
+          const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
+          const glm::ivec3 span = hi - lo;
+          const glm::dvec3 centre = grid.worldFromGrid(glm::dvec3(lo) + 0.5 * glm::dvec3(span));
+          ++nQueries;
+          const double centreDistance = surface.distanceWithin(centre, brickReachMm);
+          if (centreDistance < 0.0 && !allocated) {
+            // Deep inside: the whole brick is cancellous and stays a few bytes.
+            grid.setBrickUniform(brick, uniformFill, rule.cancellousDensity);
+            nCancellous += std::uint64_t(span.x) * std::uint64_t(span.y) * std::uint64_t(span.z);
+            continue;
           }
-    }
-    corticalCount += nCortical;
-    cancellousCount += nCancellous;
-    queryCount += nQueries;
-  });
+          VoxelGrid::Brick& b = grid.materialiseBrick(brick);
+          const glm::dvec3 centreGrid = glm::dvec3(lo) + 0.5 * glm::dvec3(span);
+          const bool fullBrick = span == glm::ivec3(kBrickEdge);
+          if (!fullBrick || interiorStale) {
+            // Voxels past a partial brick's span are neighbours that bound nothing.
+            std::fill(lowerMm.begin(), lowerMm.end(), 0.0);
+            std::fill(upperMm.begin(), upperMm.end(), kUnbounded);
+          }
+          interiorStale = !fullBrick;
+          const double farthestMm = vs * glm::length(0.5 * glm::dvec3(span) - 0.5);
+          const bool useNear =
+              farthestMm <= queryReachMm &&
+              gatherNear(surface, centre, queryReachMm + farthestMm, nearIds, near);
+          if (!useNear) near.clear();
+          for (int z = lo.z; z < hi.z; ++z)
+            for (int y = lo.y; y < hi.y; ++y)
+              for (int x = lo.x; x < hi.x; ++x) {
+                const glm::ivec3 ijk(x, y, z);
+                const glm::ivec3 l = ijk - lo;
+                const std::size_t local = std::size_t(VoxelGrid::voxelInBrick(l));
+                const double r = fullBrick ? fullBrickRadius[local]
+                                           : vs * glm::length(glm::dvec3(ijk) + 0.5 - centreGrid);
+                double lower = centreDistance < 0.0 ? brickReachMm - r : centreDistance - r;
+                double upper = centreDistance < 0.0 ? kUnbounded : centreDistance + r;
+                const int pi = paddedIndex(l.x, l.y, l.z);
+                for (int n = 0; n < 13; ++n) {
+                  const int p = pi + neighbourDelta[n];
+                  const double step = stepMm[kVisitedNeighbours[std::size_t(n)].kind];
+                  lower = std::max(lower, lowerMm[std::size_t(p)] - step);
+                  upper = std::min(upper, upperMm[std::size_t(p)] + step);
+                }
+                if (upper > shellMm && lower <= shellMm && b.fill[local] != 0) {
+                  ++nQueries;
+                  bool exact = true;
+                  const double d =
+                      useNear ? distanceWithinNear(near, grid.voxelCentreMm(ijk), r, queryReachMm,
+                                                   upper, shellMm, &exact)
+                              : surface.distanceWithin(grid.voxelCentreMm(ijk), queryReachMm);
+                  if (exact) lower = d < 0.0 ? queryReachMm : d;
+                  upper = d < 0.0 ? kUnbounded : d;
+                }
+                lowerMm[std::size_t(pi)] = lower;
+                upperMm[std::size_t(pi)] = upper;
+                if (b.fill[local] == 0) {
+                  b.density[local] = 0;
+                  continue;
+                }
+                const bool isCortical = upper <= shellMm;
+                b.density[local] = isCortical ? rule.corticalDensity : rule.cancellousDensity;
+                (isCortical ? nCortical : nCancellous) += 1;
+              }
+        }
+        corticalCount += nCortical;
+        cancellousCount += nCancellous;
+        queryCount += nQueries;
+      });
   grid.compact();
   return DensityStats{corticalCount.load(), cancellousCount.load(), queryCount.load()};
 }

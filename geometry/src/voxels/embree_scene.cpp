@@ -1,10 +1,10 @@
 #include "osteon/geometry/voxels/embree_scene.h"
 
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+
+#include <glm/geometric.hpp>
 
 namespace osteon::geometry {
 
@@ -24,18 +24,18 @@ EmbreeScene::EmbreeScene(const TriangleMesh& mesh) : mesh_(&mesh) {
   rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
 
   RTCGeometry geometry = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-      mesh.positionsMm.size()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.positionsMm.size()));
   for (std::size_t v = 0; v < mesh.positionsMm.size(); ++v) {
     const glm::dvec3 local = mesh.positionsMm[v] - centreMm_;
     vertices[3 * v + 0] = float(local.x);
     vertices[3 * v + 1] = float(local.y);
     vertices[3 * v + 2] = float(local.z);
   }
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-      mesh.triangles.size()));
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (int c = 0; c < 3; ++c) indices[3 * t + std::size_t(c)] = mesh.triangles[t][c];
   }
@@ -209,4 +209,3 @@ bool EmbreeScene::segmentHits(const glm::dvec3& fromMm, const glm::dvec3& toMm) 
 }
 
 }  // namespace osteon::geometry
-

@@ -7,7 +7,8 @@ namespace osteon::geometry::detail {
 
 void pairByParity(const std::vector<RayHit>& hits, std::vector<Interval>& intervals) {
   intervals.clear();
-  for (std::size_t i = 0; i + 1 < hits.size(); i += 2) intervals.push_back({hits[i].t, hits[i + 1].t});
+  for (std::size_t i = 0; i + 1 < hits.size(); i += 2)
+    intervals.push_back({hits[i].t, hits[i + 1].t});
 }
 
 RayOutcome classifyRay(std::vector<RayHit>& hits, int outwardSign, double toleranceMm,

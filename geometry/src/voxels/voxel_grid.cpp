@@ -1,10 +1,10 @@
 #include "osteon/geometry/voxels/voxel_grid.h"
 
-#include "osteon/core/assert.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "osteon/core/assert.h"
 
 namespace osteon::geometry {
 
@@ -33,9 +33,13 @@ VoxelGrid::VoxelGrid(glm::ivec3 dims, glm::dvec3 originMm, double voxelSizeMm)
 }
 
 VoxelGrid::VoxelGrid(const VoxelGrid& other)
-    : dims_(other.dims_), brickDims_(other.brickDims_), originMm_(other.originMm_),
-      voxelSizeMm_(other.voxelSizeMm_), uniformFill_(other.uniformFill_),
-      uniformDensity_(other.uniformDensity_), dirty_(other.dirty_) {
+    : dims_(other.dims_),
+      brickDims_(other.brickDims_),
+      originMm_(other.originMm_),
+      voxelSizeMm_(other.voxelSizeMm_),
+      uniformFill_(other.uniformFill_),
+      uniformDensity_(other.uniformDensity_),
+      dirty_(other.dirty_) {
   bricks_.resize(other.bricks_.size());
   for (std::size_t i = 0; i < bricks_.size(); ++i) {
     if (other.bricks_[i]) bricks_[i] = std::make_unique<Brick>(*other.bricks_[i]);
@@ -61,7 +65,6 @@ glm::ivec3 VoxelGrid::brickCoord(std::size_t brick) const {
   return glm::ivec3(int(brick % nx), int((brick / nx) % ny), int(brick / (nx * ny)));
 }
 
-
 Fill VoxelGrid::fill(const glm::ivec3& ijk) const {
   std::size_t brick;
   int local;
@@ -77,7 +80,6 @@ Density VoxelGrid::density(const glm::ivec3& ijk) const {
   const Brick* b = bricks_[brick].get();
   return b ? b->density[std::size_t(local)] : uniformDensity_[brick];
 }
-
 
 void VoxelGrid::set(const glm::ivec3& ijk, Fill fill, Density density) {
   std::size_t brick;
@@ -173,7 +175,9 @@ std::vector<std::size_t> VoxelGrid::dirtyBricks() const {
   return out;
 }
 
-void VoxelGrid::clearDirty() { std::fill(dirty_.begin(), dirty_.end(), std::uint8_t(0)); }
+void VoxelGrid::clearDirty() {
+  std::fill(dirty_.begin(), dirty_.end(), std::uint8_t(0));
+}
 
 namespace {
 
@@ -211,13 +215,15 @@ void forEachFill(const VoxelGrid& grid, Fn&& fn) {
 
 std::uint64_t VoxelGrid::countVoxels(Fill minFill) const {
   std::uint64_t count = 0;
-  forEachFill(*this, [&](Fill fill, std::uint64_t voxels) { count += fill >= minFill ? voxels : 0u; });
+  forEachFill(*this,
+              [&](Fill fill, std::uint64_t voxels) { count += fill >= minFill ? voxels : 0u; });
   return count;
 }
 
 std::uint64_t VoxelGrid::totalFill() const {
   std::uint64_t total = 0;
-  forEachFill(*this, [&](Fill fill, std::uint64_t voxels) { total += std::uint64_t(fill) * voxels; });
+  forEachFill(*this,
+              [&](Fill fill, std::uint64_t voxels) { total += std::uint64_t(fill) * voxels; });
   return total;
 }
 
@@ -226,8 +232,8 @@ double VoxelGrid::filledVolumeMm3() const {
 }
 
 std::size_t VoxelGrid::memoryBytes() const {
-  const std::size_t perSlot = sizeof(std::unique_ptr<Brick>) + sizeof(Fill) + sizeof(Density) +
-                              sizeof(std::uint8_t);
+  const std::size_t perSlot =
+      sizeof(std::unique_ptr<Brick>) + sizeof(Fill) + sizeof(Density) + sizeof(std::uint8_t);
   return sizeof(*this) + bricks_.size() * perSlot + allocatedBrickCount() * sizeof(Brick) +
          spare_.capacity() * sizeof(std::unique_ptr<Brick>) + spare_.size() * sizeof(Brick);
 }

@@ -1,23 +1,23 @@
 #include "osteon/geometry/voxels/voxelizer.h"
-#include "osteon/core/constants.h"
-#include "osteon/core/timing.h"
-
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/core/error.h"
-#include "osteon/core/memory.h"
-#include "osteon/core/number_text.h"
-#include "osteon/geometry/io/units.h"
-#include "axis_pass.h"
-#include "column_ray.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "axis_pass.h"
+#include "column_ray.h"
+#include "osteon/core/constants.h"
+#include "osteon/core/error.h"
+#include "osteon/core/memory.h"
+#include "osteon/core/number_text.h"
+#include "osteon/core/timing.h"
+#include "osteon/geometry/io/units.h"
+#include "osteon/geometry/voxels/embree_scene.h"
 
 namespace osteon::geometry {
 
@@ -32,56 +32,57 @@ Fill median3(Fill a, Fill b, Fill c) {
 
 // Robust mode: each voxel takes the median of the axes that could see it (the mean of two,
 // or the single one), and voxels whose votes differ by more than half a voxel are counted.
-std::uint64_t combineAxes(const VoxelGrid (&axes)[3],
-                          const std::vector<std::uint8_t> (&known)[3], VoxelGrid& out) {
+std::uint64_t combineAxes(const VoxelGrid (&axes)[3], const std::vector<std::uint8_t> (&known)[3],
+                          VoxelGrid& out) {
   const glm::ivec3 dims = out.dims();
   std::atomic<std::uint64_t> disagreeing{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.brickCount()),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-    std::uint64_t localDisagree = 0;
-    for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
-      const glm::ivec3 lo = out.brickCoord(brick) * kBrickEdge;
-      const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
-      Fill values[VoxelGrid::kBrickVoxels] = {};
-      bool uniform = true;
-      for (int z = lo.z; z < hi.z; ++z)
-        for (int y = lo.y; y < hi.y; ++y)
-          for (int x = lo.x; x < hi.x; ++x) {
-            const glm::ivec3 ijk(x, y, z);
-            Fill vote[3];
-            int n = 0;
-            for (int a = 0; a < 3; ++a) {
-              const int u = (a + 1) % 3;
-              const int v = (a + 2) % 3;
-              if (known[a][std::size_t(ijk[u]) + std::size_t(dims[u]) * std::size_t(ijk[v])]) {
-                vote[n++] = axes[a].fill(ijk);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, out.brickCount()),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        std::uint64_t localDisagree = 0;
+        for (std::size_t brick = range.begin(); brick != range.end(); ++brick) {
+          const glm::ivec3 lo = out.brickCoord(brick) * kBrickEdge;
+          const glm::ivec3 hi = glm::min(lo + kBrickEdge, dims);
+          Fill values[VoxelGrid::kBrickVoxels] = {};
+          bool uniform = true;
+          for (int z = lo.z; z < hi.z; ++z)
+            for (int y = lo.y; y < hi.y; ++y)
+              for (int x = lo.x; x < hi.x; ++x) {
+                const glm::ivec3 ijk(x, y, z);
+                Fill vote[3];
+                int n = 0;
+                for (int a = 0; a < 3; ++a) {
+                  const int u = (a + 1) % 3;
+                  const int v = (a + 2) % 3;
+                  if (known[a][std::size_t(ijk[u]) + std::size_t(dims[u]) * std::size_t(ijk[v])]) {
+                    vote[n++] = axes[a].fill(ijk);
+                  }
+                }
+                Fill value = 0;
+                if (n == 3) value = median3(vote[0], vote[1], vote[2]);
+                if (n == 2) {  // mean of two, kept on the 1/255 steps
+                  value = Fill((int(vote[0] / kFillPerStep) + int(vote[1] / kFillPerStep) + 1) / 2 *
+                               kFillPerStep);
+                }
+                if (n == 1) value = vote[0];
+                if (n >= 2) {
+                  const Fill lowest = *std::min_element(vote, vote + n);
+                  const Fill highest = *std::max_element(vote, vote + n);
+                  if (highest - lowest > kFillHalf) ++localDisagree;
+                }
+                const int local = VoxelGrid::voxelInBrick(ijk - lo);
+                values[local] = value;
+                if (value != values[VoxelGrid::voxelInBrick({0, 0, 0})]) uniform = false;
               }
-            }
-            Fill value = 0;
-            if (n == 3) value = median3(vote[0], vote[1], vote[2]);
-            if (n == 2) {  // mean of two, kept on the 1/255 steps
-              value = Fill((int(vote[0] / kFillPerStep) + int(vote[1] / kFillPerStep) + 1) / 2 *
-                           kFillPerStep);
-            }
-            if (n == 1) value = vote[0];
-            if (n >= 2) {
-              const Fill lowest = *std::min_element(vote, vote + n);
-              const Fill highest = *std::max_element(vote, vote + n);
-              if (highest - lowest > kFillHalf) ++localDisagree;
-            }
-            const int local = VoxelGrid::voxelInBrick(ijk - lo);
-            values[local] = value;
-            if (value != values[VoxelGrid::voxelInBrick({0, 0, 0})]) uniform = false;
+          if (uniform) {
+            out.setBrickUniform(brick, values[0], 0);
+          } else {
+            VoxelGrid::Brick& b = out.materialiseBrick(brick);
+            std::copy(std::begin(values), std::end(values), b.fill.begin());
           }
-      if (uniform) {
-        out.setBrickUniform(brick, values[0], 0);
-      } else {
-        VoxelGrid::Brick& b = out.materialiseBrick(brick);
-        std::copy(std::begin(values), std::end(values), b.fill.begin());
-      }
-    }
-    disagreeing += localDisagree;
-  });
+        }
+        disagreeing += localDisagree;
+      });
   return disagreeing.load();
 }
 
@@ -90,8 +91,8 @@ std::string meshAtVoxelSize(const TriangleMesh& mesh, const VoxelizeOptions& opt
   const glm::dvec3 e = bounds(mesh).extentMm();
   std::ostringstream s;
   s << (options.meshName.empty() ? std::string("mesh") : options.meshName) << ": a " << e.x << " x "
-    << e.y << " x " << e.z << " mm mesh at " << (options.voxelSizeGiven ? "--voxel-size " : "voxels of ")
-    << options.voxelSizeMm << " mm";
+    << e.y << " x " << e.z << " mm mesh at "
+    << (options.voxelSizeGiven ? "--voxel-size " : "voxels of ") << options.voxelSizeMm << " mm";
   return s.str();
 }
 
@@ -105,11 +106,13 @@ std::string adviceFor(const TriangleMesh& mesh, const VoxelizeOptions& options) 
 // (uniform bricks hold no arrays), times the working copies of a run. The constants fit the
 // humerus from 0.4 to 0.05 mm (docs/performance.md, "Refused up front").
 double estimatePeakBytes(const TriangleMesh& mesh, double voxelSizeMm) {
-  const glm::dvec3 bricks = glm::ceil((bounds(mesh).extentMm() / voxelSizeMm + 3.0) / double(kBrickEdge));
+  const glm::dvec3 bricks =
+      glm::ceil((bounds(mesh).extentMm() / voxelSizeMm + 3.0) / double(kBrickEdge));
   const double slots = bricks.x * bricks.y * bricks.z;
   double areaMm2 = 0.0;
   for (const glm::u32vec3& t : mesh.triangles) {
-    const glm::dvec3 &a = mesh.positionsMm[t.x], &b = mesh.positionsMm[t.y], &c = mesh.positionsMm[t.z];
+    const glm::dvec3 &a = mesh.positionsMm[t.x], &b = mesh.positionsMm[t.y],
+                     &c = mesh.positionsMm[t.z];
     areaMm2 += 0.5 * glm::length(glm::cross(b - a, c - a));
   }
   const double brickAreaMm2 = (kBrickEdge * voxelSizeMm) * (kBrickEdge * voxelSizeMm);
@@ -128,7 +131,8 @@ void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options
   const glm::dvec3 e = bounds(mesh).extentMm();
   const double largest = std::max({e.x, e.y, e.z});
   if (vs > largest) {
-    throw InputError(meshAtVoxelSize(mesh, options) + ": the voxel is larger than the mesh (a voxel size below " +
+    throw InputError(meshAtVoxelSize(mesh, options) +
+                     ": the voxel is larger than the mesh (a voxel size below " +
                      numberText(largest) + " mm is needed)" + adviceFor(mesh, options));
   }
   const glm::dvec3 cells = glm::ceil(e / vs) + 3.0;
@@ -136,8 +140,9 @@ void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options
   const double peakBytes = estimatePeakBytes(mesh, vs);
   if (!(voxels <= double(VoxelGrid::kMaxVoxels))) {
     std::ostringstream s;
-    s << meshAtVoxelSize(mesh, options) << " would need " << voxels << " voxels (limit 2^32) and about "
-      << memoryText(peakBytes) << " of memory" << adviceFor(mesh, options);
+    s << meshAtVoxelSize(mesh, options) << " would need " << voxels
+      << " voxels (limit 2^32) and about " << memoryText(peakBytes) << " of memory"
+      << adviceFor(mesh, options);
     if (options.voxelSizeGiven) s << "; use a larger --voxel-size";
     throw InputError(s.str());
   }
@@ -166,8 +171,8 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
   if (!(voxels <= double(VoxelGrid::kMaxVoxels)) ||
       !(brickVoxels <= double(VoxelGrid::kMaxVoxels))) {
     std::ostringstream s;
-    s << "--voxel-size " << voxelSizeMm << ": a " << box.extentMm().x << " x "
-      << box.extentMm().y << " x " << box.extentMm().z << " mm mesh would need " << voxels
+    s << "--voxel-size " << voxelSizeMm << ": a " << box.extentMm().x << " x " << box.extentMm().y
+      << " x " << box.extentMm().z << " mm mesh would need " << voxels
       << " voxels (limit 2^32); use a larger voxel size";
     throw InputError(s.str());
   }
@@ -175,8 +180,7 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
   return VoxelGrid(dims, first * voxelSizeMm, voxelSizeMm);
 }
 
-VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
-                   VoxelizeStats* stats) {
+VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options, VoxelizeStats* stats) {
   const Clock::time_point start = Clock::now();
   if (options.raysPerAxis < 1 || options.raysPerAxis > 16) {
     throw InputError("--rays " + std::to_string(options.raysPerAxis) +
@@ -233,8 +237,10 @@ VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options,
     local.combineMs = msSince(phase);
   }
   if (options.requireInside && grid.countVoxels(kFillHalf) == 0) {
-    throw InputError(meshAtVoxelSize(mesh, options) + " has no voxel inside it (an open, flat or "
-                     "inside-out mesh, or voxels too coarse for it)" + adviceFor(mesh, options));
+    throw InputError(meshAtVoxelSize(mesh, options) +
+                     " has no voxel inside it (an open, flat or "
+                     "inside-out mesh, or voxels too coarse for it)" +
+                     adviceFor(mesh, options));
   }
 
   phase = Clock::now();

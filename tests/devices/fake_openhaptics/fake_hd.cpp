@@ -11,7 +11,9 @@ Arm& arm() {
   return a;
 }
 
-void reset() { arm() = Arm{}; }
+void reset() {
+  arm() = Arm{};
+}
 
 int runServo(int ticks) {
   Arm& a = arm();
@@ -36,12 +38,18 @@ namespace {
 
 std::string name(HDenum e) {
   switch (e) {
-    case HD_CURRENT_BUTTONS: return "HD_CURRENT_BUTTONS";
-    case HD_CURRENT_POSITION: return "HD_CURRENT_POSITION";
-    case HD_CURRENT_TRANSFORM: return "HD_CURRENT_TRANSFORM";
-    case HD_CURRENT_FORCE: return "HD_CURRENT_FORCE";
-    case HD_FORCE_OUTPUT: return "HD_FORCE_OUTPUT";
-    default: return "0x" + std::to_string(e);
+    case HD_CURRENT_BUTTONS:
+      return "HD_CURRENT_BUTTONS";
+    case HD_CURRENT_POSITION:
+      return "HD_CURRENT_POSITION";
+    case HD_CURRENT_TRANSFORM:
+      return "HD_CURRENT_TRANSFORM";
+    case HD_CURRENT_FORCE:
+      return "HD_CURRENT_FORCE";
+    case HD_FORCE_OUTPUT:
+      return "HD_FORCE_OUTPUT";
+    default:
+      return "0x" + std::to_string(e);
   }
 }
 
@@ -61,9 +69,15 @@ HHD hdInitDevice(HDstring config) {
   }
   return 7;
 }
-void hdDisableDevice(HHD h) { arm().calls.push_back("hdDisableDevice(" + std::to_string(h) + ")"); }
-void hdMakeCurrentDevice(HHD h) { arm().calls.push_back("hdMakeCurrentDevice(" + std::to_string(h) + ")"); }
-void hdEnable(HDenum cap) { arm().calls.push_back("hdEnable(" + fake_hd::name(cap) + ")"); }
+void hdDisableDevice(HHD h) {
+  arm().calls.push_back("hdDisableDevice(" + std::to_string(h) + ")");
+}
+void hdMakeCurrentDevice(HHD h) {
+  arm().calls.push_back("hdMakeCurrentDevice(" + std::to_string(h) + ")");
+}
+void hdEnable(HDenum cap) {
+  arm().calls.push_back("hdEnable(" + fake_hd::name(cap) + ")");
+}
 HDErrorInfo hdGetError(void) {
   arm().calls.push_back("hdGetError");
   HDErrorInfo e{arm().pending, 0, 7};
@@ -71,7 +85,8 @@ HDErrorInfo hdGetError(void) {
   return e;
 }
 HDstring hdGetErrorString(HDerror code) {
-  return code == HD_DEVICE_INITIALIZATION_FAILED ? "Device Initialization Failed" : "Communication Error";
+  return code == HD_DEVICE_INITIALIZATION_FAILED ? "Device Initialization Failed"
+                                                 : "Communication Error";
 }
 void hdStartScheduler(void) {
   arm().calls.push_back("hdStartScheduler");
@@ -85,9 +100,10 @@ void hdStopScheduler(void) {
   arm().calls.push_back("hdStopScheduler");
   arm().running = false;
 }
-HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback callback, void* user, HDushort priority) {
-  arm().calls.push_back("hdScheduleAsynchronous(" + std::string(priority == HD_MAX_SCHEDULER_PRIORITY ? "max" : "other") +
-                        ")");
+HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback callback, void* user,
+                                         HDushort priority) {
+  arm().calls.push_back("hdScheduleAsynchronous(" +
+                        std::string(priority == HD_MAX_SCHEDULER_PRIORITY ? "max" : "other") + ")");
   arm().callback = callback;
   arm().user = user;
   return 42;
@@ -96,8 +112,12 @@ void hdUnschedule(HDSchedulerHandle handle) {
   arm().calls.push_back("hdUnschedule(" + std::to_string(handle) + ")");
   arm().callback = nullptr;
 }
-void hdBeginFrame(HHD h) { arm().calls.push_back("hdBeginFrame(" + std::to_string(h) + ")"); }
-void hdEndFrame(HHD h) { arm().calls.push_back("hdEndFrame(" + std::to_string(h) + ")"); }
+void hdBeginFrame(HHD h) {
+  arm().calls.push_back("hdBeginFrame(" + std::to_string(h) + ")");
+}
+void hdEndFrame(HHD h) {
+  arm().calls.push_back("hdEndFrame(" + std::to_string(h) + ")");
+}
 void hdGetDoublev(HDenum pname, HDdouble* params) {
   arm().calls.push_back("hdGetDoublev(" + fake_hd::name(pname) + ")");
   if (pname == HD_CURRENT_TRANSFORM) {

@@ -1,19 +1,19 @@
 // The lattice build against the seed's insertion build (the slow reference): the same query
 // answers, as sets, on random voxels, the built-in humerus and a shared bone, before and after
 // removals; one structure for any input order and any thread count.
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/io/mesh_io.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-
-#include <gtest/gtest.h>
-#include <tbb/global_control.h>
-
 #include <algorithm>
 #include <array>
 #include <filesystem>
 #include <random>
 #include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/voxels/voxelizer.h"
 
 namespace osteon::geometry {
 namespace {
@@ -33,19 +33,24 @@ Answer sorted(Answer a) {
 
 // Spheres, capsules and nearest voxels around random points of `voxels`: both hierarchies give
 // the same voxels (the walk's order differs with the structure, so compared as sorted lists).
-void expectSameAnswers(const DynamicProximityHierarchy& lattice, const DynamicProximityHierarchy& reference,
-                       const std::vector<glm::ivec3>& voxels, int queries, double maxRadiusMm, unsigned seed) {
+void expectSameAnswers(const DynamicProximityHierarchy& lattice,
+                       const DynamicProximityHierarchy& reference,
+                       const std::vector<glm::ivec3>& voxels, int queries, double maxRadiusMm,
+                       unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<std::size_t> pick(0, voxels.size() - 1);
   std::uniform_real_distribution<double> jitter(-2.0, 2.0), radius(0.0, maxRadiusMm);
   DphQueryScratch s1, s2;
   const double vs = lattice.voxelSizeMm();
   for (int q = 0; q < queries; ++q) {
-    const glm::dvec3 a = lattice.voxelCentreMm(voxels[pick(rng)]) + vs * glm::dvec3(jitter(rng), jitter(rng), jitter(rng));
+    const glm::dvec3 a = lattice.voxelCentreMm(voxels[pick(rng)]) +
+                         vs * glm::dvec3(jitter(rng), jitter(rng), jitter(rng));
     const glm::dvec3 b = a + vs * 3.0 * glm::dvec3(jitter(rng), jitter(rng), jitter(rng));
     const double r = radius(rng);
     Answer got, want;
-    const auto into = [](Answer& out) { return [&out](const glm::ivec3& v) { out.push_back({v.x, v.y, v.z}); }; };
+    const auto into = [](Answer& out) {
+      return [&out](const glm::ivec3& v) { out.push_back({v.x, v.y, v.z}); };
+    };
     lattice.forEachVoxelInSphere(a, r, s1, into(got));
     reference.forEachVoxelInSphere(a, r, s2, into(want));
     ASSERT_EQ(sorted(got), sorted(want)) << "sphere query " << q;
@@ -57,13 +62,14 @@ void expectSameAnswers(const DynamicProximityHierarchy& lattice, const DynamicPr
     glm::ivec3 n1, n2;
     double d1 = 0.0, d2 = 0.0;
     ASSERT_EQ(lattice.nearestVoxel(a, s1, n1, d1), reference.nearestVoxel(a, s2, n2, d2));
-    EXPECT_EQ(d1, d2) << "nearest " << q;  // the same distance, computed the same way (ties may differ)
+    EXPECT_EQ(d1, d2) << "nearest "
+                      << q;  // the same distance, computed the same way (ties may differ)
   }
 }
 
 // Both builds, checked, compared; then the same removals from both, compared again.
-void expectLatticeMatchesInsertion(const std::vector<glm::ivec3>& voxels, glm::dvec3 originMm, double voxelMm,
-                                   int xi, double maxRadiusMm, int queries) {
+void expectLatticeMatchesInsertion(const std::vector<glm::ivec3>& voxels, glm::dvec3 originMm,
+                                   double voxelMm, int xi, double maxRadiusMm, int queries) {
   DphBuildOptions options;
   options.expansionRatio = xi;
   DphBuildOptions reference = insertion();
@@ -170,8 +176,12 @@ TEST(DphLattice, OneStructureForAnyInputOrderAndThreadCount) {
   for (std::size_t i = 0; i < voxels.size(); i += 997) {
     Answer x, y;
     const glm::dvec3 c = one.voxelCentreMm(voxels[i]);
-    one.forEachVoxelInSphere(c, 3.0, s1, [&](const glm::ivec3& v) { x.push_back({v.x, v.y, v.z}); });
-    many.forEachVoxelInSphere(c, 3.0, s2, [&](const glm::ivec3& v) { y.push_back({v.x, v.y, v.z}); });
+    one.forEachVoxelInSphere(c, 3.0, s1, [&](const glm::ivec3& v) {
+      x.push_back({v.x, v.y, v.z});
+    });
+    many.forEachVoxelInSphere(c, 3.0, s2, [&](const glm::ivec3& v) {
+      y.push_back({v.x, v.y, v.z});
+    });
     ASSERT_EQ(x, y);
   }
 }
@@ -180,7 +190,8 @@ TEST(DphLattice, OneStructureForAnyInputOrderAndThreadCount) {
 // structure node for node, on any thread count.
 void expectGridBuildAsVoxelList(const VoxelGrid& grid) {
   const std::vector<glm::ivec3> voxels = occupied(grid);
-  const auto fromList = DynamicProximityHierarchy::build(voxels, DphBuildOptions{}, grid.originMm(), grid.voxelSizeMm());
+  const auto fromList = DynamicProximityHierarchy::build(voxels, DphBuildOptions{}, grid.originMm(),
+                                                         grid.voxelSizeMm());
   DynamicProximityHierarchy one, many;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
@@ -242,7 +253,8 @@ TEST(DphLattice, GridsOfNoneOneAndTwoVoxels) {
 
 TEST(DphLattice, CellsTileTheLatticeFromTheLowestVoxel) {
   // Two voxels on either side of 0 share every cell above level 0 (the lattice starts at -1).
-  const auto h = DynamicProximityHierarchy::build({{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, DphBuildOptions{});
+  const auto h = DynamicProximityHierarchy::build({{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}},
+                                                  DphBuildOptions{});
   ASSERT_EQ(h.validate(), "");
   ASSERT_EQ(h.levelCount(), 3);
   EXPECT_EQ(h.nodeCount(1), 2u);  // cells x in [-1, 1] and [2, 4]
@@ -260,7 +272,8 @@ TEST(DphLattice, KeysTooWideFallBackToInsertion) {
   EXPECT_EQ(h.validate(), "");
   for (const glm::ivec3& v : far) EXPECT_TRUE(h.contains(v));
   // Wide but within 64 bits: the lattice, with the (key, index) pairs sorted unpacked.
-  const std::vector<glm::ivec3> wide = {{-(1 << 19), 0, 0}, {(1 << 19), 7, 0}, {5, 5, 5}, {6, 5, 5}, {7, 5, 5}};
+  const std::vector<glm::ivec3> wide = {
+      {-(1 << 19), 0, 0}, {(1 << 19), 7, 0}, {5, 5, 5}, {6, 5, 5}, {7, 5, 5}};
   auto w = DynamicProximityHierarchy::build(wide, DphBuildOptions{});
   EXPECT_TRUE(w.latticeBuilt());
   EXPECT_EQ(w.validate(), "");

@@ -1,11 +1,12 @@
 #include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/core/error.h"
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <set>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
 
 namespace osteon::geometry {
 namespace {
@@ -79,7 +80,8 @@ std::set<std::array<int, 3>> bruteCapsule(const std::vector<glm::ivec3>& voxels,
     // Closest point of the segment by its own formula, independent of the query's.
     const glm::dvec3 ab = s.b - s.a;
     const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(h.voxelCentreMm(v) - s.a, ab) / len2, 0.0, 1.0) : 0.0;
+    const double t =
+        len2 > 0.0 ? std::clamp(glm::dot(h.voxelCentreMm(v) - s.a, ab) / len2, 0.0, 1.0) : 0.0;
     if (glm::length(h.voxelCentreMm(v) - (s.a + t * ab)) <= s.radius) {
       out.insert({v.x, v.y, v.z});
     }
@@ -186,18 +188,22 @@ void expectCachedQueriesEqualTheWalk(std::size_t sliceNodes) {
   const glm::dvec3 axis = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
   for (int q = 0; q < 600; ++q) {
     tip += glm::dvec3(step(rng), step(rng), step(rng));
-    if (q % 97 == 96) tip += glm::dvec3(1.5, -0.7, 0.4);  // a jump beyond the skin
+    if (q % 97 == 96) tip += glm::dvec3(1.5, -0.7, 0.4);           // a jump beyond the skin
     for (int k = 0; k < 3; ++k) h.removeVoxel(voxels[pick(rng)]);  // drilled away (or already gone)
     const glm::dvec3 back = tip + 4.0 * axis;
     std::vector<glm::ivec3> walked, cached;
-    h.forEachVoxelInSphere(tip, radiusMm, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
-    h.forEachVoxelInSphere(tip, radiusMm, scratch, &sphereCache, [&](const glm::ivec3& v) { cached.push_back(v); });
+    h.forEachVoxelInSphere(tip, radiusMm, scratch,
+                           [&](const glm::ivec3& v) { walked.push_back(v); });
+    h.forEachVoxelInSphere(tip, radiusMm, scratch, &sphereCache,
+                           [&](const glm::ivec3& v) { cached.push_back(v); });
     ASSERT_EQ(cached, walked) << "sphere query " << q;
     ASSERT_FALSE(walked.empty()) << "query " << q << " found nothing to compare";
     walked.clear();
     cached.clear();
-    h.forEachVoxelInCapsule(tip, back, radiusMm, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
-    h.forEachVoxelInCapsule(tip, back, radiusMm, scratch, &capsuleCache, [&](const glm::ivec3& v) { cached.push_back(v); });
+    h.forEachVoxelInCapsule(tip, back, radiusMm, scratch,
+                            [&](const glm::ivec3& v) { walked.push_back(v); });
+    h.forEachVoxelInCapsule(tip, back, radiusMm, scratch, &capsuleCache,
+                            [&](const glm::ivec3& v) { cached.push_back(v); });
     ASSERT_EQ(cached, walked) << "capsule query " << q;
   }
   // Most queries came from the cache; the jumps walked, and so did the drift beyond the skin
@@ -216,7 +222,9 @@ void expectCachedQueriesEqualTheWalk(std::size_t sliceNodes) {
   }
 }
 
-TEST(Dph, CachedQueriesEqualTheWalkInTheSameOrder) { expectCachedQueriesEqualTheWalk(0); }
+TEST(Dph, CachedQueriesEqualTheWalkInTheSameOrder) {
+  expectCachedQueriesEqualTheWalk(0);
+}
 
 // Next answers gathered a few nodes per query while voxels go between the slices.
 TEST(Dph, CachedQueriesWithSlicesEqualTheWalkInTheSameOrder) {
@@ -240,10 +248,13 @@ TEST(Dph, ACacheAskedForSpheresAndCapsulesInTurnStillGivesTheWalksAnswers) {
     std::vector<glm::ivec3> walked, cached;
     if ((q / 25) % 2 == 0) {
       h.forEachVoxelInSphere(tip, 2.0, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
-      h.forEachVoxelInSphere(tip, 2.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+      h.forEachVoxelInSphere(tip, 2.0, scratch, &cache,
+                             [&](const glm::ivec3& v) { cached.push_back(v); });
     } else {
-      h.forEachVoxelInCapsule(tip, tip + 6.0 * axis, 2.0, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
-      h.forEachVoxelInCapsule(tip, tip + 6.0 * axis, 2.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+      h.forEachVoxelInCapsule(tip, tip + 6.0 * axis, 2.0, scratch,
+                              [&](const glm::ivec3& v) { walked.push_back(v); });
+      h.forEachVoxelInCapsule(tip, tip + 6.0 * axis, 2.0, scratch, &cache,
+                              [&](const glm::ivec3& v) { cached.push_back(v); });
     }
     ASSERT_EQ(cached, walked) << "query " << q;
   }
@@ -257,12 +268,14 @@ TEST(Dph, ACacheAskedForSpheresAndCapsulesInTurnStillGivesTheWalksAnswers) {
   std::vector<glm::ivec3> walked, cached;
   const auto capsule = [&](const glm::dvec3& a, DphNearCache* c) {
     std::vector<glm::ivec3> out;
-    h.forEachVoxelInCapsule(a, a + u, 1.0, scratch, c, [&](const glm::ivec3& w) { out.push_back(w); });
+    h.forEachVoxelInCapsule(a, a + u, 1.0, scratch, c,
+                            [&](const glm::ivec3& w) { out.push_back(w); });
     return out;
   };
-  capsule(a0, &mixed);                    // walks
-  capsule(a0 + 0.4 * v, &mixed);          // from the cache; a slice starts for the capsule
-  for (int q = 0; q < 300 && mixed.sliced() == 0; ++q) {  // covered point queries until a slice takes over
+  capsule(a0, &mixed);            // walks
+  capsule(a0 + 0.4 * v, &mixed);  // from the cache; a slice starts for the capsule
+  for (int q = 0; q < 300 && mixed.sliced() == 0;
+       ++q) {  // covered point queries until a slice takes over
     h.forEachVoxelInSphere(a0 + 0.4 * v, 0.3, scratch, &mixed, [](const glm::ivec3&) {});
   }
   ASSERT_EQ(mixed.sliced(), 1u);
@@ -282,19 +295,22 @@ TEST(Dph, CacheOverflowsAndOtherHierarchiesStillGetTheWalksAnswer) {
   std::vector<glm::ivec3> walked, cached;
   h1.forEachVoxelInSphere(c, 3.0, scratch, [&](const glm::ivec3& v) { walked.push_back(v); });
   DphNearCache tiny(1.0, 10);
-  h1.forEachVoxelInSphere(c, 3.0, scratch, &tiny, [&](const glm::ivec3& v) { cached.push_back(v); });
+  h1.forEachVoxelInSphere(c, 3.0, scratch, &tiny,
+                          [&](const glm::ivec3& v) { cached.push_back(v); });
   EXPECT_EQ(cached, walked);
   EXPECT_EQ(tiny.overflows(), 1u);
 
   DphNearCache cache(1.0, DphNearCache::capacityFor(0.0, 4.0, 1.0));
   cached.clear();
-  h1.forEachVoxelInSphere(c, 3.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+  h1.forEachVoxelInSphere(c, 3.0, scratch, &cache,
+                          [&](const glm::ivec3& v) { cached.push_back(v); });
   EXPECT_EQ(cached, walked);
   // The same voxels, but h2 loses one: the cache kept from h1 must not answer for it.
   const glm::ivec3 gone = walked.front();
   ASSERT_TRUE(h2.removeVoxel(gone));
   cached.clear();
-  h2.forEachVoxelInSphere(c, 3.0, scratch, &cache, [&](const glm::ivec3& v) { cached.push_back(v); });
+  h2.forEachVoxelInSphere(c, 3.0, scratch, &cache,
+                          [&](const glm::ivec3& v) { cached.push_back(v); });
   EXPECT_EQ(cached.size(), walked.size() - 1);
   EXPECT_EQ(std::count(cached.begin(), cached.end(), gone), 0);
   EXPECT_EQ(cache.walks(), 2u);
@@ -309,7 +325,7 @@ TEST(Dph, BuildsFromAGridAndTracksItsOccupiedVoxels) {
     for (int y = 0; y < 30; ++y)
       for (int x = 0; x < 40; ++x)
         if (x > 8) grid.set({x, y, z}, Fill(fill(rng) * 5000), 10);  // some stay 0
-  grid.setBrickUniform(grid.brickIndex({0, 0, 0}), kFillFull, 10);  // a full uniform brick
+  grid.setBrickUniform(grid.brickIndex({0, 0, 0}), kFillFull, 10);   // a full uniform brick
   auto h = DynamicProximityHierarchy::build(grid, DphBuildOptions{});
   EXPECT_EQ(h.validateAgainst(grid), "");
   EXPECT_EQ(h.voxelCount(), grid.countVoxels(1));

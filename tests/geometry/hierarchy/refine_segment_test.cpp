@@ -1,15 +1,15 @@
 // RefinedVoxels::refineNearSegment: the bone a part's shell around a segment can reach, and
 // no more; a budget leaves the rest to later calls, which continue until all are refined.
+#include <limits>
+#include <set>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <limits>
-#include <set>
-#include <tuple>
 
 namespace osteon::geometry {
 namespace {
@@ -74,7 +74,9 @@ TEST_F(RefineSegmentTest, RefinesTheBoneTheShellReachesAndNoMore) {
   for (const Key& k : got) EXPECT_TRUE(wider.count(k));
   // Far fewer than a sphere around the shaft's middle holds (the refinement the cutting parts
   // get), which would take bone the shell cannot reach.
-  EXPECT_LT(got.size(), expected(0.5 * (a_ + b_), 0.5 * (a_ + b_), 0.5 * glm::length(b_ - a_) + outerMm_).size());
+  EXPECT_LT(
+      got.size(),
+      expected(0.5 * (a_ + b_), 0.5 * (a_ + b_), 0.5 * glm::length(b_ - a_) + outerMm_).size());
   // Again: nothing new, all kept alive.
   EXPECT_EQ(refined.refineNearSegment(a_, b_, outerMm_, 1.0, nullptr, kNoLimit, deferred), 0);
   EXPECT_EQ(refined.expire(2.5), 0);
@@ -86,7 +88,8 @@ TEST_F(RefineSegmentTest, ABudgetLeavesTheRestForLaterCalls) {
   const int total = all.refineNearSegment(a_, b_, outerMm_, 0.0, nullptr, kNoLimit, deferred);
   int sum = 0, calls = 0;
   for (;;) {
-    const int created = budgeted.refineNearSegment(a_, b_, outerMm_, 0.001 * calls, nullptr, 7, deferred);
+    const int created =
+        budgeted.refineNearSegment(a_, b_, outerMm_, 0.001 * calls, nullptr, 7, deferred);
     ++calls;
     EXPECT_LE(created, 7);
     sum += created;

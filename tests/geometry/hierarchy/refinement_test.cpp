@@ -1,16 +1,16 @@
-#include "osteon/core/error.h"
 #include "osteon/geometry/hierarchy/refinement.h"
+
+#include <cstring>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "support/carve.h"
 #include "support/shapes.h"
-
-#include <gtest/gtest.h>
-
-#include <cstring>
-
-#include <random>
-#include <string>
 
 namespace osteon::geometry {
 namespace {
@@ -19,7 +19,8 @@ bool sameVoxels(const VoxelGrid& a, const VoxelGrid& b) {
   for (int z = 0; z < a.dims().z; ++z)
     for (int y = 0; y < a.dims().y; ++y)
       for (int x = 0; x < a.dims().x; ++x) {
-        if (a.fill({x, y, z}) != b.fill({x, y, z}) || a.density({x, y, z}) != b.density({x, y, z})) {
+        if (a.fill({x, y, z}) != b.fill({x, y, z}) ||
+            a.density({x, y, z}) != b.density({x, y, z})) {
           return false;
         }
       }
@@ -225,8 +226,9 @@ TEST_F(RefinementTest, SampleQueryEqualsABruteForceScan) {
   std::uniform_real_distribution<double> rad(0.0, 4.0);
   for (int q = 0; q < 200; ++q) {
     // Half of the queries near the refined spots.
-    const glm::dvec3 c = q % 2 ? glm::dvec3(pos(rng), pos(rng), pos(rng))
-                               : surfacePoint_ + glm::dvec3(rad(rng) - 2, rad(rng) - 2, rad(rng) - 2);
+    const glm::dvec3 c = q % 2
+                             ? glm::dvec3(pos(rng), pos(rng), pos(rng))
+                             : surfacePoint_ + glm::dvec3(rad(rng) - 2, rad(rng) - 2, rad(rng) - 2);
     const double r = rad(rng);
     std::uint64_t fillSeen = 0;
     int count = 0;

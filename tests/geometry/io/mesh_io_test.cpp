@@ -1,16 +1,17 @@
-#include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh_io.h"
-#include "osteon/geometry/io/mesh_source.h"
-#include "support/files.h"
-#include "support/shapes.h"
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
-#include <cstring>
-#include <filesystem>
-#include <algorithm>
-#include <limits>
-#include <random>
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/mesh_source.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {
@@ -93,8 +94,9 @@ TEST_F(MeshIoTest, BinaryStlWithSolidHeaderIsReadAsBinary) {
 }
 
 TEST_F(MeshIoTest, PolygonsAreTriangulatedAndDamagedSoupsLoadWhole) {
-  test::writeBytes(path("quad.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
-                                     "f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n");
+  test::writeBytes(path("quad.obj"),
+                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
+                   "f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n");
   MeshFileInfo info;
   const TriangleMesh pyramid = readMesh(path("quad.obj"), 1.0, &info);
   EXPECT_EQ(pyramid.triangleCount(), 6u);
@@ -171,9 +173,10 @@ TEST_F(MeshIoTest, BadInputsNameTheFileAndTheReason) {
 TEST_F(MeshIoTest, MalformedPlyHeadersAreRejectedBeforeParsing) {
   // Headers like these crashed or hung OpenMesh's PLY reader before the preflight.
   const std::string body = "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
-  const std::string good = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                           "property float y\nproperty float z\nelement face 1\n"
-                           "property list uchar int vertex_indices\n";
+  const std::string good =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\n";
   test::writeBytes(path("ok.ply"), good + body);
   EXPECT_EQ(readMesh(path("ok.ply")).triangleCount(), 1u);
   std::string typo = good;
@@ -213,17 +216,22 @@ TEST_F(MeshIoTest, CountsAndCornersTheParsersWouldTrustAreCheckedFirst) {
   // tests/data/bad/off/fuzz_counts_on_off_line.off), and a comment before them fails it.
   test::writeBytes(path("countsOnOffLine.off"), "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expectInputError(path("countsOnOffLine.off"), "OFF counts must be on the line after 'OFF'");
-  test::writeBytes(path("comment.off"), "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  test::writeBytes(path("comment.off"),
+                   "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expectInputError(path("comment.off"), "a comment before the OFF counts");
   test::writeBytes(path("float.obj"), "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
   expectInputError(path("float.obj"), "single precision");
 }
 
 TEST_F(MeshIoTest, AsciiStlWithByteOrderMarkOrUtf8NameIsText) {
-  const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
-                            "vertex 0 1 0\nendloop\nendfacet\n";
+  const std::string facet =
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+      "vertex 0 1 0\nendloop\nendfacet\n";
   test::writeBytes(path("bom.stl"), "\xEF\xBB\xBFsolid t\n" + facet + "endsolid t\n");
-  test::writeBytes(path("utf8.stl"), "  solid Sch\xC3\xA4" "del\n" + facet + "endsolid\n");
+  test::writeBytes(path("utf8.stl"),
+                   "  solid Sch\xC3\xA4"
+                   "del\n" +
+                       facet + "endsolid\n");
   for (const char* name : {"bom.stl", "utf8.stl"}) {
     MeshFileInfo info;
     EXPECT_EQ(readMesh(path(name), 1.0, &info).triangleCount(), 1u) << name;
@@ -250,10 +258,18 @@ TEST_F(MeshIoTest, MutatedFilesNeverCrashOrHang) {
     for (int e = 0; e < edits && !bytes.empty(); ++e) {
       const std::size_t at = rng() % bytes.size();
       switch (rng() % 4) {
-        case 0: bytes[at] = char(rng() % 256); break;
-        case 1: bytes[at] = "0123456789 -.e\n"[rng() % 15]; break;
-        case 2: bytes.erase(at, 1 + rng() % 20); break;
-        default: bytes.insert(at, std::string(1 + rng() % 4, char(rng() % 256))); break;
+        case 0:
+          bytes[at] = char(rng() % 256);
+          break;
+        case 1:
+          bytes[at] = "0123456789 -.e\n"[rng() % 15];
+          break;
+        case 2:
+          bytes.erase(at, 1 + rng() % 20);
+          break;
+        default:
+          bytes.insert(at, std::string(1 + rng() % 4, char(rng() % 256)));
+          break;
       }
     }
     const std::string file = path("m" + std::to_string(round) + "_" + name);
@@ -420,7 +436,8 @@ TEST_F(MeshIoTest, ObjAndOffVertexLinesNeedThreeNumbers) {
   test::writeBytes(path("colour.off"), "OFF\n3 1 0\n0 0 0 255 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   EXPECT_EQ(readMesh(path("colour.off")).triangleCount(), 1u);
   // A face colour is not: OpenMesh would read it as the next face (4 faces became 7).
-  test::writeBytes(path("face_colour.off"), "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0 0 255\n3 0 2 1\n");
+  test::writeBytes(path("face_colour.off"),
+                   "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0 0 255\n3 0 2 1\n");
   expectInputError(path("face_colour.off"), "face colours are not supported");
 }
 

@@ -1,11 +1,12 @@
 #include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/io/units.h"
-#include "osteon/core/error.h"
-#include "support/shapes.h"
+
+#include <cmath>
 
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/units.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {

@@ -9,11 +9,10 @@
 #include <string>
 #include <unistd.h>
 
-#include "support/files.h"
-
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
+#include "support/files.h"
 
 namespace osteon::geometry {
 namespace {
@@ -124,7 +123,8 @@ TEST(NrrdIo, FileIsHeaderPlusRawVoxels) {
 
   // x fastest, then y, then z; density little-endian.
   const std::string fillBytes = test::readBytes(path).substr(fillHeader.size());
-  const std::string densityBytes = test::readBytes(densityPathFor(path)).substr(densityHeader.size());
+  const std::string densityBytes =
+      test::readBytes(densityPathFor(path)).substr(densityHeader.size());
   const glm::ivec3 n = grid.dims();
   for (const glm::ivec3 p :
        {glm::ivec3(0), glm::ivec3(12, 0, 0), glm::ivec3(3, 8, 0), glm::ivec3(5, 4, 20), n - 1}) {
@@ -206,10 +206,10 @@ TEST(NrrdIo, ReadsForeignFiles) {
   std::string fill;
   for (int i = 0; i < 12; ++i) fill += char(i * 20);
   test::writeBytes(path, handHeader("unsigned char",
-                              "space: left-posterior-superior\r\n"
-                              "space directions: (0.5,0,0) (0,0.5,0) (0,0,0.5)\r\n"
-                              "space origin: (1,2,3)\r\n") +
-                       fill);
+                                    "space: left-posterior-superior\r\n"
+                                    "space directions: (0.5,0,0) (0,0.5,0) (0,0,0.5)\r\n"
+                                    "space origin: (1,2,3)\r\n") +
+                             fill);
   NrrdReadResult read = readNrrd(path);
   EXPECT_EQ(read.grid.dims(), glm::ivec3(3, 2, 2));
   EXPECT_DOUBLE_EQ(read.grid.voxelSizeMm(), 0.5);
@@ -227,7 +227,7 @@ TEST(NrrdIo, ReadsForeignFiles) {
     density += char(v & 0xff);
   }
   test::writeBytes(densityPathFor(path),
-             handHeader("signed short", "endian: big\nspacings: 2 2 2\n") + density);
+                   handHeader("signed short", "endian: big\nspacings: 2 2 2\n") + density);
   read = readNrrd(path);
   EXPECT_TRUE(read.densityLoaded);
   EXPECT_EQ(read.grid.voxelSizeMm(), 2.0);
@@ -342,8 +342,8 @@ TEST(NrrdIo, OverlongHeaderLineIsNamed) {
   const std::string path = dir.file("long.nrrd");
   const auto start = std::chrono::steady_clock::now();
   test::writeBytes(path, "NRRD0004\ntype: uint8\n# " + std::string(10 << 20, 'x') +
-                       "\ndimension: 3\nsizes: 3 2 2\nencoding: raw\nspacings: 1 1 1\n\n" +
-                       std::string(12, '\0'));
+                             "\ndimension: 3\nsizes: 3 2 2\nencoding: raw\nspacings: 1 1 1\n\n" +
+                             std::string(12, '\0'));
   expectInputError(path, "header line 3 is longer than 64 KiB");
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -357,7 +357,7 @@ TEST(NrrdIo, LyingHeaderFailsFastWithoutAllocating) {
   // Beyond 2^32 voxels, and within it but far beyond the 10 bytes present.
   for (const char* sizes : {"100000 100000 100000", "1024 1024 1024", "1073741824 4 1"}) {
     test::writeBytes(path, std::string("NRRD0004\ntype: uint8\ndimension: 3\nsizes: ") + sizes +
-                         "\nencoding: raw\nspacings: 1 1 1\n\n" + std::string(10, '\0'));
+                               "\nencoding: raw\nspacings: 1 1 1\n\n" + std::string(10, '\0'));
     EXPECT_THROW(readNrrd(path), InputError) << sizes;
   }
   const double seconds =
@@ -370,10 +370,11 @@ TEST(NrrdIo, DensityMustMatchFill) {
   const std::string path = dir.file("grid.nrrd");
   writeNrrd(makeTestGrid(), path);
   const std::string densityPath = densityPathFor(path);
-  test::writeBytes(densityPath,
-             "NRRD0004\ntype: int16\ndimension: 3\nsizes: 4 4 4\nendian: little\nencoding: raw\n"
-             "space directions: (0.54,0,0) (0,0.54,0) (0,0,0.54)\n\n" +
-                 std::string(128, '\0'));
+  test::writeBytes(
+      densityPath,
+      "NRRD0004\ntype: int16\ndimension: 3\nsizes: 4 4 4\nendian: little\nencoding: raw\n"
+      "space directions: (0.54,0,0) (0,0.54,0) (0,0,0.54)\n\n" +
+          std::string(128, '\0'));
   expectInputError(path, "do not match the fill file", densityPath);
 
   // A uint8 density file is as wrong as a mismatched one.

@@ -1,18 +1,18 @@
-#include "osteon/core/error.h"
-#include "osteon/core/interrupt.h"
 #include "osteon/geometry/io/output_dir.h"
-#include "osteon/geometry/io/output_file.h"
-#include "support/files.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <map>
 #include <string>
-
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/core/interrupt.h"
+#include "osteon/geometry/io/output_file.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {
@@ -23,7 +23,8 @@ namespace fs = std::filesystem;
 std::map<std::string, std::string> filesIn(const std::string& dir) {
   std::map<std::string, std::string> files;
   for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = test::readBytes(e.path().string());
+    if (e.is_regular_file())
+      files[fs::relative(e.path(), dir).string()] = test::readBytes(e.path().string());
   }
   return files;
 }
@@ -57,8 +58,9 @@ TEST_F(OutputDirTest, OutputsGoInPlaceTogetherOnCommitAndTheRestOfThePreviousSet
     EXPECT_EQ(OutputDir::currentPath(dir_ + "/notes.txt"), dir_ + "/notes.txt");
     out.commit();
   }
-  EXPECT_EQ(filesIn(dir_), (std::map<std::string, std::string>{
-                               {"logs/a.csv", "new a"}, {"report.txt", "new report"}, {"notes.txt", "the user's"}}));
+  EXPECT_EQ(filesIn(dir_), (std::map<std::string, std::string>{{"logs/a.csv", "new a"},
+                                                               {"report.txt", "new report"},
+                                                               {"notes.txt", "the user's"}}));
   // Outside an open folder, outputs go in place at once.
   writeFileAtomically(dir_ + "/report.txt", "later");
   EXPECT_EQ(test::readBytes(dir_ + "/report.txt"), "later");
@@ -112,8 +114,9 @@ TEST_F(OutputDirTest, TemporariesOfADeadProcessAreRemovedWhenTheFolderIsOpened) 
   test::writeBytes(dir_ + "/.other" + alive + ".txt", "a live process's");
   test::writeBytes(dir_ + "/.profile.tmp", "not a temporary of ours");
   { OutputDir out(dir_); }  // any run, whatever it owns
-  EXPECT_EQ(filesIn(dir_), (std::map<std::string, std::string>{{".other" + alive + ".txt", "a live process's"},
-                                                                {".profile.tmp", "not a temporary of ours"}}));
+  EXPECT_EQ(filesIn(dir_),
+            (std::map<std::string, std::string>{{".other" + alive + ".txt", "a live process's"},
+                                                {".profile.tmp", "not a temporary of ours"}}));
 }
 
 TEST_F(OutputDirTest, ASecondRunIntoTheFolderIsRefusedNamingTheFirst) {
@@ -126,7 +129,10 @@ TEST_F(OutputDirTest, ASecondRunIntoTheFolderIsRefusedNamingTheFirst) {
       OutputDir second(dir_);
     } catch (const InputError& e) {
       const std::string what = e.what();
-      code = what.find("another osteon run (process " + std::to_string(::getppid()) + ")") != std::string::npos ? 0 : 2;
+      code = what.find("another osteon run (process " + std::to_string(::getppid()) + ")") !=
+                     std::string::npos
+                 ? 0
+                 : 2;
     } catch (...) {
       code = 3;
     }

@@ -1,11 +1,12 @@
-#include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"
-#include "support/files.h"
-#include "support/shapes.h"
+
+#include <filesystem>
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
+#include "osteon/core/error.h"
+#include "support/files.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {

@@ -1,9 +1,10 @@
-#include "osteon/core/error.h"
 #include "osteon/geometry/io/units.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "support/shapes.h"
 
 #include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {
@@ -13,9 +14,11 @@ TEST(Units, AdviceOnlyForBonesUnderAMillimetreOrOverTwoMetres) {
   EXPECT_EQ(unitsAdvice(1.0), "");
   EXPECT_EQ(unitsAdvice(2000.0), "");
   // A humerus saved in metres and read as millimetres.
-  EXPECT_NE(unitsAdvice(0.361).find("metres read as millimetres: try --units m"), std::string::npos);
+  EXPECT_NE(unitsAdvice(0.361).find("metres read as millimetres: try --units m"),
+            std::string::npos);
   // Millimetres read with --units m.
-  EXPECT_NE(unitsAdvice(361000.0, 1000.0).find("millimetres read as metres: try --units mm"), std::string::npos);
+  EXPECT_NE(unitsAdvice(361000.0, 1000.0).find("millimetres read as metres: try --units mm"),
+            std::string::npos);
   // Centimetres read as millimetres are 36 mm: plausible, so no advice.
   EXPECT_EQ(unitsAdvice(36.1), "");
   // Nothing fits a bone: no advice rather than a wrong one.
@@ -32,7 +35,9 @@ TEST(Units, VoxelizeNamesTheMeshExtentAndUnitsWhenNothingFits) {
     FAIL() << "a voxel larger than the mesh was accepted";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("humerus.stl: a 0.05 x 0.05 x 0.36 mm mesh at --voxel-size 1.2 mm"), std::string::npos) << what;
+    EXPECT_NE(what.find("humerus.stl: a 0.05 x 0.05 x 0.36 mm mesh at --voxel-size 1.2 mm"),
+              std::string::npos)
+        << what;
     EXPECT_NE(what.find("try --units m"), std::string::npos) << what;
   }
   // A voxel that fits but a flat mesh with no inside: refused only when asked.

@@ -77,10 +77,14 @@ TEST_F(VolumeIo, LabelMapNrrdRawGzipAttachedAndDetached) {
 TEST_F(VolumeIo, EveryScalarTypeReadsTheSameLabelMap) {
   const TestVolume v = cube(1, 0);
   const std::vector<std::pair<std::string, std::string>> types = {
-      {"int8", test::encodeAs<std::int8_t>(v.values)},     {"uint8", test::encodeAs<std::uint8_t>(v.values)},
-      {"short", test::encodeAs<std::int16_t>(v.values)},   {"ushort", test::encodeAs<std::uint16_t>(v.values)},
-      {"int", test::encodeAs<std::int32_t>(v.values)},     {"uint", test::encodeAs<std::uint32_t>(v.values)},
-      {"int64", test::encodeAs<std::int64_t>(v.values)},   {"uint64", test::encodeAs<std::uint64_t>(v.values)}};
+      {"int8", test::encodeAs<std::int8_t>(v.values)},
+      {"uint8", test::encodeAs<std::uint8_t>(v.values)},
+      {"short", test::encodeAs<std::int16_t>(v.values)},
+      {"ushort", test::encodeAs<std::uint16_t>(v.values)},
+      {"int", test::encodeAs<std::int32_t>(v.values)},
+      {"uint", test::encodeAs<std::uint32_t>(v.values)},
+      {"int64", test::encodeAs<std::int64_t>(v.values)},
+      {"uint64", test::encodeAs<std::uint64_t>(v.values)}};
   for (const auto& [type, bytes] : types) {
     SCOPED_TRACE(type);
     test::writeTestNrrd(file(type + ".nrrd"), v, type, bytes, true);
@@ -173,7 +177,8 @@ TEST_F(VolumeIo, Int16CtThresholdsAtIsoAndDensityFromHu) {
   TestVolume ramp = cube(300, -1000);
   ramp.values[1] = 1000;  // range >= 1000 and many values: a CT
   for (std::size_t i = 0; i < 100; ++i) ramp.values[100 + i] = -1000 + double(i);
-  test::writeTestNrrd(file("ramp.nrrd"), ramp, "short", test::encodeAs<std::int16_t>(ramp.values), false);
+  test::writeTestNrrd(file("ramp.nrrd"), ramp, "short", test::encodeAs<std::int16_t>(ramp.values),
+                      false);
   const VolumeLoad r = loadVolume(file("ramp.nrrd"));
   ASSERT_EQ(r.kind, "ct");
   EXPECT_EQ(r.grid.fill({3, 3, 3}), kFillHalf);
@@ -190,20 +195,23 @@ TEST_F(VolumeIo, SpaceDirectionsAreHonouredAndRotationsRefused) {
   v.values[0] = 2;  // marks voxel (0,0,0) as stored
   const std::string bytes = test::encodeAs<std::uint8_t>(v.values);
   // x runs backwards: stored voxel 0 lies at the high x end.
-  test::writeTestNrrd(file("flip.nrrd"), v, "uint8", bytes, false, "", "(-0.5,0,0) (0,0.5,0) (0,0,0.5)");
+  test::writeTestNrrd(file("flip.nrrd"), v, "uint8", bytes, false, "",
+                      "(-0.5,0,0) (0,0.5,0) (0,0,0.5)");
   VolumeOptions two;
   two.label = 2;
   const VolumeLoad flipped = loadVolume(file("flip.nrrd"), two);
   EXPECT_EQ(flipped.grid.fill({7, 0, 0}), kFillFull);
   EXPECT_NEAR(flipped.grid.originMm().x, 10.25 - 3.5 - 0.25, 1e-5);
-  test::writeTestNrrd(file("rot.nrrd"), v, "uint8", bytes, false, "", "(0.35,0.35,0) (-0.35,0.35,0) (0,0,0.5)");
+  test::writeTestNrrd(file("rot.nrrd"), v, "uint8", bytes, false, "",
+                      "(0.35,0.35,0) (-0.35,0.35,0) (0,0,0.5)");
   try {
     loadVolume(file("rot.nrrd"));
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("not axis-aligned"), std::string::npos) << e.what();
   }
-  test::writeTestNrrd(file("aniso.nrrd"), v, "uint8", bytes, false, "", "(0.5,0,0) (0,0.5,0) (0,0,1)");
+  test::writeTestNrrd(file("aniso.nrrd"), v, "uint8", bytes, false, "",
+                      "(0.5,0,0) (0,0.5,0) (0,0,1)");
   EXPECT_THROW(loadVolume(file("aniso.nrrd")), InputError);
 }
 

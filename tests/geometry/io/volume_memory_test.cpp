@@ -2,21 +2,20 @@
 // against what loading really takes: the growth of the peak resident set while a gzip volume of
 // each kind loads (a label map with every brick allocated, a noisy CT, a double volume whose
 // axes are reordered and flipped) stays within the estimate's per-voxel part.
-#include "osteon/geometry/io/volume_io.h"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <malloc.h>
 #include <random>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <malloc.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
+#include "osteon/geometry/io/volume_io.h"
 #include "support/files.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
@@ -54,8 +53,12 @@ class VolumeMemory : public ::testing::Test {
 #endif
   }
   std::string dir_ = test::makeTempDir("volume_memory");
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string file(const std::string& name) const { return dir_ + "/" + name; }
+  void TearDown() override {
+    fs::remove_all(dir_);
+  }
+  std::string file(const std::string& name) const {
+    return dir_ + "/" + name;
+  }
 
   // The growth of the peak resident set while `name` loads; with exactMalloc, in a child process
   // whose allocator returns every large buffer when freed (a fixed mmap threshold), so the
@@ -72,7 +75,8 @@ class VolumeMemory : public ::testing::Test {
       close(fd[0]);
       int status = 0;
       waitpid(pid, &status, 0);
-      EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the child found other inside voxels";
+      EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+          << "the child found other inside voxels";
       return growth;
     }
     if (exactMalloc) mallopt(M_MMAP_THRESHOLD, 128 * 1024);
@@ -102,16 +106,20 @@ class VolumeMemory : public ::testing::Test {
     const double voxels = double(sizes.x) * sizes.y * sizes.z;
     const double exact = peakGrowth(name, expectedInside, true);
     const double asRun = peakGrowth(name, expectedInside, false);
-    if (exact < 0.0 || asRun < 0.0) GTEST_SKIP() << "/proc/self/clear_refs cannot reset the peak resident set here";
+    if (exact < 0.0 || asRun < 0.0)
+      GTEST_SKIP() << "/proc/self/clear_refs cannot reset the peak resident set here";
     RecordProperty(name + "_bytes_per_voxel_measured", std::to_string(exact / voxels));
     RecordProperty(name + "_bytes_per_voxel_estimated", std::to_string(perVoxelPart / voxels));
-    std::printf("%s: %.2f bytes a voxel live at the peak (%.2f as allocated), %.2f estimated\n", name.c_str(),
-                exact / voxels, asRun / voxels, perVoxelPart / voxels);
+    std::printf("%s: %.2f bytes a voxel live at the peak (%.2f as allocated), %.2f estimated\n",
+                name.c_str(), exact / voxels, asRun / voxels, perVoxelPart / voxels);
     // 8 MB for the code a forked child faults in afresh (osteon's own, in kVolumeLoadProcessBytes).
-    EXPECT_LE(exact, perVoxelPart + 8e6) << exact / voxels << " bytes a voxel, " << perVoxelPart / voxels << " estimated";
-    EXPECT_LE(asRun, allowed) << asRun / voxels << " bytes a voxel, " << allowed / voxels << " allowed";
+    EXPECT_LE(exact, perVoxelPart + 8e6)
+        << exact / voxels << " bytes a voxel, " << perVoxelPart / voxels << " estimated";
+    EXPECT_LE(asRun, allowed) << asRun / voxels << " bytes a voxel, " << allowed / voxels
+                              << " allowed";
     // And the estimate is not a blanket: loading does use most of it (a CT needs no distance).
-    EXPECT_GE(exact, 0.6 * perVoxelPart) << exact / voxels << " bytes a voxel, " << perVoxelPart / voxels << " estimated";
+    EXPECT_GE(exact, 0.6 * perVoxelPart)
+        << exact / voxels << " bytes a voxel, " << perVoxelPart / voxels << " estimated";
   }
 };
 
@@ -126,7 +134,8 @@ TEST_F(VolumeMemory, ALabelMapWithEveryBrickAllocatedStaysWithinTheEstimate) {
     x = double(rng() & 1u);
     ones += x > 0.0;
   }
-  test::writeTestNrrd(file("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values), true);
+  test::writeTestNrrd(file("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values),
+                      true);
   expectWithinEstimate("labels.nrrd", v.sizes, 1, ones);
 }
 

@@ -1,8 +1,6 @@
 // What a volume's voxels mean: non-finite values refused wherever they sit, a label map's
 // background, CTs of few values, a volume that is bone everywhere, 64-bit labels kept exact,
 // axes stored in another order, and NIfTI headers that disagree with themselves.
-#include "osteon/geometry/io/volume_io.h"
-
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/volume_io.h"
 #include "support/files.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
@@ -73,7 +72,8 @@ TEST_F(VolumeValues, NonFiniteVoxelsAnywhereAreRefusedWithTheirCountAndFirstPosi
   v.values[at(v, 3, 2, 1)] = std::numeric_limits<double>::quiet_NaN();
   v.values[at(v, 4, 4, 3)] = -std::numeric_limits<double>::infinity();
   test::writeTestNrrd(file("f.nrrd"), v, "float", test::encodeAs<float>(v.values), true);
-  test::writeTestNrrd(file("d.nhdr"), v, "double", test::encodeAs<double>(v.values), false, "d.raw");
+  test::writeTestNrrd(file("d.nhdr"), v, "double", test::encodeAs<double>(v.values), false,
+                      "d.raw");
   test::writeTestNifti(file("f.nii.gz"), v, 16, 32, test::encodeAs<float>(v.values), true);
   test::writeTestNifti(file("d.nii"), v, 64, 64, test::encodeAs<double>(v.values), false);
   for (const char* name : {"f.nrrd", "d.nhdr", "f.nii.gz", "d.nii"}) {
@@ -87,12 +87,14 @@ TEST_F(VolumeValues, NonFiniteVoxelsAnywhereAreRefusedWithTheirCountAndFirstPosi
   TestVolume huge = v;
   huge.values[at(huge, 3, 2, 1)] = 1e308;
   huge.values[at(huge, 4, 4, 3)] = -1000.0;
-  test::writeTestNifti(file("scaled.nii"), huge, 64, 64, test::encodeAs<double>(huge.values), false);
+  test::writeTestNifti(file("scaled.nii"), huge, 64, 64, test::encodeAs<double>(huge.values),
+                       false);
   std::string scaled = test::readBytes(file("scaled.nii"));
   const float slope = 10.0f;
   std::memcpy(&scaled[112], &slope, sizeof slope);
   test::writeBytes(file("scaled.nii"), scaled);
-  EXPECT_NE(refusal("scaled.nii").find("scl_slope 10 and scl_inter 0 scale values -1000 to 1e+308 past any number"),
+  EXPECT_NE(refusal("scaled.nii")
+                .find("scl_slope 10 and scl_inter 0 scale values -1000 to 1e+308 past any number"),
             std::string::npos)
       << refusal("scaled.nii");
   // Without them the same volume loads as the CT it is.
@@ -123,7 +125,8 @@ TEST_F(VolumeValues, ALabelMapsBackgroundIsZeroOrElseItsMostCommonValue) {
   // 0 present, even as the rarer value: 0 is the background.
   TestVolume z = box({6, 6, 6}, 5.0);
   z.values[at(z, 0, 0, 0)] = 0.0;
-  test::writeTestNrrd(file("l05.nrrd"), z, "uint16", test::encodeAs<std::uint16_t>(z.values), false);
+  test::writeTestNrrd(file("l05.nrrd"), z, "uint16", test::encodeAs<std::uint16_t>(z.values),
+                      false);
   const VolumeLoad l05 = loadVolume(file("l05.nrrd"));
   EXPECT_EQ(l05.background, 0u);
   EXPECT_EQ(l05.grid.countVoxels(kFillHalf), 215u);
@@ -135,7 +138,8 @@ TEST_F(VolumeValues, ALabelMapsBackgroundIsZeroOrElseItsMostCommonValue) {
   VolumeOptions one;
   one.label = 1;
   const std::string m = refusal("ones.nrrd", one);
-  EXPECT_NE(m.find("ones.nrrd: every voxel is bone: read as a label map (uint8, labels 1), bone = --label 1"),
+  EXPECT_NE(m.find("ones.nrrd: every voxel is bone: read as a label map (uint8, labels 1), bone = "
+                   "--label 1"),
             std::string::npos)
       << m;
 }
@@ -159,15 +163,18 @@ TEST_F(VolumeValues, SignedVolumesWithNegativeValuesAreCtsNeverLabelMaps) {
   }
   // All air (-1024 HU): not a label map whose every non-zero voxel is bone; neither, said so.
   const TestVolume air = box({8, 8, 8}, -1024.0);
-  test::writeTestNrrd(file("air.nrrd"), air, "short", test::encodeAs<std::int16_t>(air.values), true);
+  test::writeTestNrrd(file("air.nrrd"), air, "short", test::encodeAs<std::int16_t>(air.values),
+                      true);
   const std::string m = refusal("air.nrrd");
-  EXPECT_NE(m.find("neither a label map nor a CT: int16, values -1024 to -1024, 1 distinct value"), std::string::npos)
+  EXPECT_NE(m.find("neither a label map nor a CT: int16, values -1024 to -1024, 1 distinct value"),
+            std::string::npos)
       << m;
   // A CT wholly at or above the iso level is bone everywhere: refused.
   VolumeOptions low;
   low.isoHu = -2000;
   const std::string all = refusal("pm.nrrd", low);
-  EXPECT_NE(all.find("every voxel is bone: read as a CT (int16, values -1000 to 1000 HU), all at or above the iso "
+  EXPECT_NE(all.find("every voxel is bone: read as a CT (int16, values -1000 to 1000 HU), all at "
+                     "or above the iso "
                      "level -2000 HU (--iso)"),
             std::string::npos)
       << all;
@@ -181,7 +188,8 @@ TEST_F(VolumeValues, SixtyFourBitLabelsStayExact) {
   TestVolume v = box({4, 4, 4}, 0.0);
   test::writeTestNrrd(file("i64.nrrd"), v, "int64", bytesOf(signedLabels), false);
   const VolumeLoad all = loadVolume(file("i64.nrrd"));
-  EXPECT_EQ(all.labels, (std::vector<std::uint64_t>{0, std::uint64_t(big), std::uint64_t(big) + 1}));
+  EXPECT_EQ(all.labels,
+            (std::vector<std::uint64_t>{0, std::uint64_t(big), std::uint64_t(big) + 1}));
   EXPECT_EQ(all.grid.countVoxels(kFillHalf), 9u);
   VolumeOptions odd;
   odd.label = std::uint64_t(big) + 1;
@@ -212,7 +220,8 @@ TEST_F(VolumeValues, AxesStoredInAnotherOrderAreReordered) {
   v.values[at(v, 0, 0, 0)] = 0.0;
   v.values[at(v, 1, 2, 3)] = 2.0;
   const std::string bytes = test::encodeAs<std::uint8_t>(v.values);
-  test::writeTestNrrd(file("perm.nrrd"), v, "uint8", bytes, false, "", "(0,0.5,0) (0.5,0,0) (0,0,0.5)");
+  test::writeTestNrrd(file("perm.nrrd"), v, "uint8", bytes, false, "",
+                      "(0,0.5,0) (0.5,0,0) (0,0,0.5)");
   // The same in NIfTI: sform rows in RAS (LPS x and y negated).
   test::writeTestNifti(file("perm.nii"), v, 2, 8, bytes, false);
   std::string nii = test::readBytes(file("perm.nii"));
@@ -231,13 +240,16 @@ TEST_F(VolumeValues, AxesStoredInAnotherOrderAreReordered) {
     EXPECT_NEAR(load.grid.originMm().y, -5.0, 1e-5);
   }
   // Stored axis 1 also runs backwards (towards R): its index mirrors.
-  test::writeTestNrrd(file("permflip.nrrd"), v, "uint8", bytes, false, "", "(0,0.5,0) (-0.5,0,0) (0,0,0.5)");
+  test::writeTestNrrd(file("permflip.nrrd"), v, "uint8", bytes, false, "",
+                      "(0,0.5,0) (-0.5,0,0) (0,0,0.5)");
   const VolumeLoad flipped = loadVolume(file("permflip.nrrd"), two);
   EXPECT_EQ(flipped.grid.fill({3, 1, 3}), kFillFull);
   EXPECT_NEAR(flipped.grid.originMm().x, 10.25 - 2.5 - 0.25, 1e-5);
   // Two axes along one direction are no grid.
-  test::writeTestNrrd(file("degenerate.nrrd"), v, "uint8", bytes, false, "", "(0,0.5,0) (0,0.5,0) (0,0,0.5)");
-  EXPECT_NE(refusal("degenerate.nrrd").find("both run along P"), std::string::npos) << refusal("degenerate.nrrd");
+  test::writeTestNrrd(file("degenerate.nrrd"), v, "uint8", bytes, false, "",
+                      "(0,0.5,0) (0,0.5,0) (0,0,0.5)");
+  EXPECT_NE(refusal("degenerate.nrrd").find("both run along P"), std::string::npos)
+      << refusal("degenerate.nrrd");
 }
 
 TEST_F(VolumeValues, NiftiHeadersThatDisagreeWithThemselvesAreRefusedSayingHow) {
@@ -251,11 +263,14 @@ TEST_F(VolumeValues, NiftiHeadersThatDisagreeWithThemselvesAreRefusedSayingHow) 
     test::writeBytes(file(name), nii);
   };
   patched("bitpix.nii", 72, std::int16_t(16));
-  EXPECT_NE(refusal("bitpix.nii").find("bitpix 16 does not match datatype 2 (uint8, 8 bits)"), std::string::npos);
+  EXPECT_NE(refusal("bitpix.nii").find("bitpix 16 does not match datatype 2 (uint8, 8 bits)"),
+            std::string::npos);
   patched("dim0.nii", 40, std::int16_t(8));
-  EXPECT_NE(refusal("dim0.nii").find("dim[0] = 8 is not a number of dimensions (1 to 7)"), std::string::npos);
+  EXPECT_NE(refusal("dim0.nii").find("dim[0] = 8 is not a number of dimensions (1 to 7)"),
+            std::string::npos);
   patched("sform.nii", 280 + 12, std::numeric_limits<float>::quiet_NaN());
-  EXPECT_NE(refusal("sform.nii").find("the sform is not finite"), std::string::npos) << refusal("sform.nii");
+  EXPECT_NE(refusal("sform.nii").find("the sform is not finite"), std::string::npos)
+      << refusal("sform.nii");
   EXPECT_EQ(refusal("sform.nii").find("mm"), std::string::npos) << refusal("sform.nii");
   // The qform: a unit quaternion's b, c, d square-sum to at most 1.
   test::writeTestNifti(file("q.nii"), v, 2, 8, bytes, false);
@@ -270,14 +285,17 @@ TEST_F(VolumeValues, NiftiHeadersThatDisagreeWithThemselvesAreRefusedSayingHow) 
   const float bad[3] = {0.6f, 0.6f, 0.6f};
   std::memcpy(&q[256], bad, sizeof bad);
   test::writeBytes(file("qbad.nii"), q);
-  EXPECT_NE(refusal("qbad.nii").find("the qform quaternion (b, c, d) = (0.6, 0.6, 0.6) is invalid: b^2 + c^2 + d^2 = 1.08"),
+  EXPECT_NE(refusal("qbad.nii")
+                .find("the qform quaternion (b, c, d) = (0.6, 0.6, 0.6) is invalid: b^2 + c^2 + "
+                      "d^2 = 1.08"),
             std::string::npos)
       << refusal("qbad.nii");
 }
 
 TEST_F(VolumeValues, AnIsoLevelThatIsNotFiniteIsRefusedBeforeReading) {
-  for (const double iso : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                           -std::numeric_limits<double>::infinity()}) {
+  for (const double iso :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity()}) {
     VolumeOptions o;
     o.isoHu = iso;
     const std::string m = refusal("missing.nrrd", o);  // the file is not even read

@@ -2,15 +2,15 @@
 // 2 MiB boundaries kept for reuse when freed.
 #include "osteon/geometry/surface/buffer.h"
 
-#include <glm/vec3.hpp>
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <numeric>
 #include <thread>
 #include <vector>
+
+#include <glm/vec3.hpp>
+#include <gtest/gtest.h>
 
 namespace osteon::geometry {
 namespace {
@@ -123,7 +123,8 @@ TEST(Buffer, ThreadsTakeAndGiveBackLargeArraysTogether) {
       for (int i = 0; i < 200; ++i) {
         Buffer<std::uint32_t> b((std::size_t(1 + (i + t) % 5) << 18) + 7);  // 1-5 MiB
         std::fill(b.begin(), b.end(), std::uint32_t(t * 1000 + i));
-        if (b.front() != std::uint32_t(t * 1000 + i) || b.back() != std::uint32_t(t * 1000 + i)) ++wrong;
+        if (b.front() != std::uint32_t(t * 1000 + i) || b.back() != std::uint32_t(t * 1000 + i))
+          ++wrong;
         if (i % 50 == 49) releaseCachedBuffers();
       }
     });

@@ -67,7 +67,9 @@ inline std::string joinFirst(const std::vector<std::string>& lines, std::size_t 
   return out;
 }
 
-inline MeshTopology topologyOf(const SurfaceMesh& s) { return analyzeTopology(s.toTriangleMesh()); }
+inline MeshTopology topologyOf(const SurfaceMesh& s) {
+  return analyzeTopology(s.toTriangleMesh());
+}
 
 inline VoxelGrid voxelizeAt(const TriangleMesh& mesh, double voxelSizeMm) {
   VoxelizeOptions options;

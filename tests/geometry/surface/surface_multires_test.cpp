@@ -1,16 +1,16 @@
 // The multi-resolution surface: refined regions extracted at their own size and joined to the
 // level-0 surface without cracks.
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/hierarchy/refinement.h"
-#include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "support/carve.h"
-#include "support/shapes.h"
+#include <random>
 
 #include <gtest/gtest.h>
 
-#include <random>
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/embree_scene.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/carve.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {
@@ -52,14 +52,16 @@ TEST_F(MultiResolution, RefinedSpotsJoinTheLevelZeroSurfaceWithoutCracks) {
     RefinementOptions ro;
     ro.depth = depth;
     RefinedVoxels refined(grid_, hierarchy_, &source_, ro);
-    for (int k = 0; k < 6; ++k) refined.refineAround(model_.mesh.positionsMm[std::size_t(k) * 1500], 2.06, 0.0);
+    for (int k = 0; k < 6; ++k)
+      refined.refineAround(model_.mesh.positionsMm[std::size_t(k) * 1500], 2.06, 0.0);
     ASSERT_GT(refined.refinedCount(), 100u);
     for (const int passes : {0, 2, 10}) {
       SurfaceOptions options;
       options.smoothIterations = passes;
       const SurfaceMesh multi = extractSurface(grid_, refined, options);
       const SurfaceMesh plain = extractSurface(grid_, options);
-      const std::string what = "depth " + std::to_string(depth) + ", " + std::to_string(passes) + " passes";
+      const std::string what =
+          "depth " + std::to_string(depth) + ", " + std::to_string(passes) + " passes";
       expectSoundSurface(multi, 2, what);
       // Finer where refined: more triangles, and the same enclosed volume within 0.5 %.
       EXPECT_GT(multi.triangleCount(), plain.triangleCount()) << what;
@@ -88,11 +90,13 @@ TEST_F(MultiResolution, DrilledAtTheFinestLevelTheHoleIsFineAndTheSurfaceClosed)
   double longest = 0.0;
   int near = 0;
   for (const glm::u32vec3& t : multi.triangles) {
-    const glm::dvec3 c = (multi.positionsMm[t.x] + multi.positionsMm[t.y] + multi.positionsMm[t.z]) / 3.0;
+    const glm::dvec3 c =
+        (multi.positionsMm[t.x] + multi.positionsMm[t.y] + multi.positionsMm[t.z]) / 3.0;
     if (glm::length(c - tip) > 1.8) continue;
     ++near;
     for (int k = 0; k < 3; ++k) {
-      longest = std::max(longest, glm::length(multi.positionsMm[t[k]] - multi.positionsMm[t[(k + 1) % 3]]));
+      longest = std::max(longest,
+                         glm::length(multi.positionsMm[t[k]] - multi.positionsMm[t[(k + 1) % 3]]));
     }
   }
   EXPECT_GT(near, 20);
@@ -126,7 +130,7 @@ TEST(MultiResolutionNoise, RandomRefinementOfNoiseVolumesStaysSound) {
       EXPECT_EQ(t.nonManifoldVertices, 0u) << what;
       EXPECT_EQ(t.misorientedEdges, 0u) << what;
       EXPECT_EQ(t.degenerateTriangles, 0u) << what;
-        }
+    }
   }
 }
 

@@ -1,5 +1,19 @@
 // Surfaces of real shapes: topology, the naive per-cube baseline, a sphere (volume, normals,
 // brick ranges), and the options' checks.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh.h"
@@ -9,21 +23,6 @@
 #include "support/shapes.h"
 #include "support/surface_grids.h"
 #include "surface_checks.h"
-
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
-
-#include <gtest/gtest.h>
-#include <tbb/global_control.h>
-
-#include <algorithm>
-#include <cmath>
-#include <random>
-#include <set>
-#include <sstream>
-#include <string>
-#include <tuple>
-#include <vector>
 
 namespace osteon::geometry {
 namespace {
@@ -67,7 +66,9 @@ TEST(SurfaceTopology, EulerCharacteristicOfSphereTorusAndTwoHolePlate) {
 
 class SurfaceNaive : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { grid_ = new VoxelGrid(voxelizeAt(test::makeSphere(10.0, 128, 64), 1.0)); }
+  static void SetUpTestSuite() {
+    grid_ = new VoxelGrid(voxelizeAt(test::makeSphere(10.0, 128, 64), 1.0));
+  }
   static void TearDownTestSuite() {
     delete grid_;
     grid_ = nullptr;
@@ -101,7 +102,8 @@ TEST_F(SurfaceNaive, UnsmoothedNaiveIsTheSameGeometryWithoutSharing) {
   std::size_t differing = 0;
   for (std::size_t i = 0; i < naive.triangleCount(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      const glm::dvec3 d = naive.positionsMm[naive.triangles[i][c]] - crackFree.positionsMm[crackFree.triangles[i][c]];
+      const glm::dvec3 d = naive.positionsMm[naive.triangles[i][c]] -
+                           crackFree.positionsMm[crackFree.triangles[i][c]];
       if (glm::length(d) > 1e-12) ++differing;
     }
   }
@@ -109,7 +111,8 @@ TEST_F(SurfaceNaive, UnsmoothedNaiveIsTheSameGeometryWithoutSharing) {
   const double areaNaive = surfaceAreaMm2(naive.toTriangleMesh());
   const double areaCrackFree = surfaceAreaMm2(crackFree.toTriangleMesh());
   EXPECT_NEAR(areaNaive / areaCrackFree, 1.0, 1e-9);
-  EXPECT_NEAR(signedVolumeMm3(naive.toTriangleMesh()) / signedVolumeMm3(crackFree.toTriangleMesh()), 1.0, 1e-9);
+  EXPECT_NEAR(signedVolumeMm3(naive.toTriangleMesh()) / signedVolumeMm3(crackFree.toTriangleMesh()),
+              1.0, 1e-9);
 }
 
 // Smoothing the naive surface moves each cube's copy of an edge vertex differently: copies
@@ -160,7 +163,8 @@ TEST_F(SurfaceSphere, EnclosedVolumeMatchesTheGridAndTheSphere) {
 
 TEST_F(SurfaceSphere, EveryVertexLiesWithinOneVoxelOfTheSphere) {
   double worst = 0.0;
-  for (const glm::dvec3& p : surface_->positionsMm) worst = std::max(worst, std::abs(glm::length(p) - kRadius));
+  for (const glm::dvec3& p : surface_->positionsMm)
+    worst = std::max(worst, std::abs(glm::length(p) - kRadius));
   EXPECT_LT(worst, kVoxel);
 }
 
@@ -212,8 +216,8 @@ TEST_F(SurfaceSphere, BrickRangesCoverEveryTriangleExactlyOnce) {
 // [8 bx, 8 bx + 7] (and likewise y, z), or the border layer's cells at -1, so its vertices lie
 // in that brick's cell box, one voxel wider than its cells. Cell coordinates here are grid
 // coordinates minus 1/2 (voxel centres at integers).
-glm::ivec3 cellBrickOfRange(const VoxelGrid& g, const SurfaceMesh& s, const SurfaceMesh::BrickRange& r,
-                            bool& inOneBrick) {
+glm::ivec3 cellBrickOfRange(const VoxelGrid& g, const SurfaceMesh& s,
+                            const SurfaceMesh::BrickRange& r, bool& inOneBrick) {
   glm::dvec3 lo(1e300), hi(-1e300);
   for (std::uint32_t i = r.first; i < r.first + r.count; ++i) {
     for (int c = 0; c < 3; ++c) {
@@ -256,10 +260,12 @@ TEST_F(SurfaceSphere, BrickIdsAreTheDocumentedCellBrickKeys) {
         (cb.x + 1) + std::int64_t(nb.x + 1) * ((cb.y + 1) + std::int64_t(nb.y + 1) * (cb.z + 1));
     EXPECT_EQ(r.cellBrick, cb);
     if (r.brick != documented) {
-      const std::int64_t cellTable = (cb.x + 1) + (nb.x + 1) * ((cb.y + 1) + std::int64_t(nb.y + 1) * (cb.z + 1));
-      failures.push_back("cells of brick (" + std::to_string(cb.x) + "," + std::to_string(cb.y) + "," +
-                         std::to_string(cb.z) + "): id " + std::to_string(r.brick) + ", documented " +
-                         std::to_string(documented) + ", cell-brick table index " + std::to_string(cellTable));
+      const std::int64_t cellTable =
+          (cb.x + 1) + (nb.x + 1) * ((cb.y + 1) + std::int64_t(nb.y + 1) * (cb.z + 1));
+      failures.push_back("cells of brick (" + std::to_string(cb.x) + "," + std::to_string(cb.y) +
+                         "," + std::to_string(cb.z) + "): id " + std::to_string(r.brick) +
+                         ", documented " + std::to_string(documented) +
+                         ", cell-brick table index " + std::to_string(cellTable));
     }
   }
   EXPECT_TRUE(failures.empty()) << failures.size() << " of " << surface_->brickRanges.size()
@@ -278,10 +284,12 @@ TEST(SurfaceOptionsCheck, BadOptionsThrowInputError) {
     change(o);
     return o;
   };
-  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.smoothIterations = -1; })), InputError);
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.smoothIterations = -1; })),
+               InputError);
   EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = 0.0; })), InputError);
   EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = 1.5; })), InputError);
-  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = std::nan(""); })), InputError);
+  EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.lambda = std::nan(""); })),
+               InputError);
   EXPECT_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.mu = 0.1; })), InputError);
   // The limits themselves are fine.
   EXPECT_NO_THROW(extractSurface(g, with([](SurfaceOptions& o) { o.smoothIterations = 0; })));

@@ -1,18 +1,4 @@
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "support/shapes.h"
-#include "support/surface_grids.h"
-#include "surface_checks.h"
-
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
-
-#include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +8,20 @@
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/shapes.h"
+#include "support/surface_grids.h"
+#include "surface_checks.h"
 
 namespace osteon::geometry {
 namespace {
@@ -58,13 +58,16 @@ TEST(SurfaceCases, All256SingleCubeConfigurationsAreWatertightWithAndWithoutSmoo
   std::vector<std::string> failures;
   int nonEmpty = 0;
   for (const Fill background : {Fill(0), kFillFull}) {
-    for (const CornerFills mode : {CornerFills::Binary, CornerFills::Random, CornerFills::Extreme}) {
+    for (const CornerFills mode :
+         {CornerFills::Binary, CornerFills::Random, CornerFills::Extreme}) {
       for (int config = 0; config < 256; ++config) {
         std::mt19937 rng(std::uint32_t(1000 + config));  // fixed seed per case
         const VoxelGrid g = singleCubeGrid(config, background, mode, rng);
         std::ostringstream what;
         what << "config " << config << " background " << background << " fills "
-             << (mode == CornerFills::Binary ? "binary" : mode == CornerFills::Random ? "random" : "extreme");
+             << (mode == CornerFills::Binary   ? "binary"
+                 : mode == CornerFills::Random ? "random"
+                                               : "extreme");
         const auto f = watertightFailures(g, what.str());
         failures.insert(failures.end(), f.begin(), f.end());
         if (extractSurface(g, smoothing(0)).triangleCount() > 0) ++nonEmpty;
@@ -119,7 +122,8 @@ TEST(SurfaceHardVolumes, RandomNoiseIsWatertightAfterEverySmoothing) {
   for (const auto& [n, seeds] : {std::pair<int, int>{12, 3}, {16, 2}, {20, 1}}) {
     for (std::uint32_t seed = 1; seed <= std::uint32_t(seeds); ++seed) {
       const VoxelGrid g = test::noiseGrid(n, seed);
-      const auto f = watertightFailures(g, "noise " + std::to_string(n) + "^3 seed " + std::to_string(seed));
+      const auto f =
+          watertightFailures(g, "noise " + std::to_string(n) + "^3 seed " + std::to_string(seed));
       failures.insert(failures.end(), f.begin(), f.end());
     }
   }
@@ -216,7 +220,8 @@ TEST(SurfaceHardVolumes, CheckerboardIsWatertightWithACavityPerInteriorEmptyVoxe
 TEST(SurfaceHardVolumes, SingleVoxelIsAnOctahedronAnywhereInTheGrid) {
   // In the middle, and at a grid corner (its cells are in the border layer outside the grid).
   for (const glm::ivec3 v : {glm::ivec3(1, 1, 1), glm::ivec3(0, 0, 0), glm::ivec3(2, 0, 2)}) {
-    SCOPED_TRACE("voxel " + std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z));
+    SCOPED_TRACE("voxel " + std::to_string(v.x) + "," + std::to_string(v.y) + "," +
+                 std::to_string(v.z));
     for (const Fill f : {kFillHalf, Fill(12345), kFillFull}) {
       VoxelGrid g = emptyGrid({3, 3, 3}, 0.5);
       g.set(v, f, 1);
@@ -315,7 +320,8 @@ TEST(SurfaceHardVolumes, EmptyAndFullGrids) {
   // centres, the 12 edges bevelled (a^2 / 2 per unit length) and the 8 corners cut (5 a^3 / 6).
   const double a = 1.0 - (double(kFillHalf) - 0.5) / double(kFillFull);
   const double span = 8.0;  // between the outer voxel centres
-  const double expected = std::pow(span + 2.0 * a, 3) - 12.0 * span * a * a / 2.0 - 8.0 * 5.0 * a * a * a / 6.0;
+  const double expected =
+      std::pow(span + 2.0 * a, 3) - 12.0 * span * a * a / 2.0 - 8.0 * 5.0 * a * a * a / 6.0;
   EXPECT_NEAR(signedVolumeMm3(box.toTriangleMesh()) / expected, 1.0, 1e-12);
 }
 

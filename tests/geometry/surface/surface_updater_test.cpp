@@ -1,16 +1,17 @@
-#include "osteon/core/error.h"
-#include "osteon/geometry/io/humerus_model.h"
-#include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/geometry/voxels/voxelizer.h"
-#include "support/carve.h"
-#include "support/shapes.h"
-
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
 #include <random>
+
+#include <gtest/gtest.h>
+
+#include "osteon/core/error.h"
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/voxels/voxelizer.h"
+#include "support/carve.h"
+#include "support/shapes.h"
 
 namespace osteon::geometry {
 namespace {
@@ -22,12 +23,14 @@ std::string compareSurfaces(const SurfaceMesh& a, const SurfaceMesh& b) {
     return "vertices " + std::to_string(a.vertexCount()) + " vs " + std::to_string(b.vertexCount());
   }
   if (a.triangleCount() != b.triangleCount()) {
-    return "triangles " + std::to_string(a.triangleCount()) + " vs " + std::to_string(b.triangleCount());
+    return "triangles " + std::to_string(a.triangleCount()) + " vs " +
+           std::to_string(b.triangleCount());
   }
   const double cell = 1e-3;
   std::map<std::array<long long, 3>, std::vector<std::uint32_t>> buckets;
   const auto keyOf = [&](const glm::dvec3& p) {
-    return std::array<long long, 3>{(long long)std::floor(p.x / cell), (long long)std::floor(p.y / cell),
+    return std::array<long long, 3>{(long long)std::floor(p.x / cell),
+                                    (long long)std::floor(p.y / cell),
                                     (long long)std::floor(p.z / cell)};
   };
   for (std::uint32_t i = 0; i < a.vertexCount(); ++i) buckets[keyOf(a.positionsMm[i])].push_back(i);
@@ -64,7 +67,8 @@ std::string compareSurfaces(const SurfaceMesh& a, const SurfaceMesh& b) {
   std::sort(tb.begin(), tb.end());
   if (ta != tb) return "triangle sets differ";
   for (std::uint32_t i = 0; i < b.vertexCount(); ++i) {
-    if (glm::length(a.normals[toA[i]] - b.normals[i]) > 1e-6) return "normal " + std::to_string(i) + " differs";
+    if (glm::length(a.normals[toA[i]] - b.normals[i]) > 1e-6)
+      return "normal " + std::to_string(i) + " differs";
   }
   return "";
 }
@@ -141,10 +145,13 @@ TEST(SurfaceUpdater, FullExtractionAgreesOnGridsOfSizesAroundABrick) {
         for (int z = 0; z < sz; ++z)
           for (int y = 0; y < sy; ++y)
             for (int x = 0; x < sx; ++x) {
-              if (x < 8 && y < 8 && z < 8 && sx >= 16) continue;  // left to the uniform values below
+              if (x < 8 && y < 8 && z < 8 && sx >= 16)
+                continue;  // left to the uniform values below
               grid.set({x, y, z}, Fill(noise(rng) < int(kFillFull) / 2 ? 0 : noise(rng)), 5);
             }
-        if (sx >= 16) grid.setBrickUniform(grid.brickIndex({0, 0, 0}), sy >= 16 ? kFillFull : Fill(kFillHalf + 7), 5);
+        if (sx >= 16)
+          grid.setBrickUniform(grid.brickIndex({0, 0, 0}),
+                               sy >= 16 ? kFillFull : Fill(kFillHalf + 7), 5);
         SurfaceOptions options;
         options.smoothIterations = (sx + sy + sz) % 3;
         SurfaceUpdater updater(grid, options);

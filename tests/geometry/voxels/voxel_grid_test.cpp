@@ -246,7 +246,8 @@ TEST(VoxelGridTotals, TotalFillEqualsTheSumOverEveryVoxel) {
   VoxelGrid g({19, 10, 9}, glm::dvec3(0.0), 0.5);  // edge bricks partly outside the grid
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> fill(0, kFillFull);
-  for (int i = 0; i < 400; ++i) g.set({int(rng() % 19), int(rng() % 10), int(rng() % 9)}, Fill(fill(rng)), 1);
+  for (int i = 0; i < 400; ++i)
+    g.set({int(rng() % 19), int(rng() % 10), int(rng() % 9)}, Fill(fill(rng)), 1);
   g.setBrickUniform(g.brickIndex({1, 1, 0}), kFillFull, 3);
   std::uint64_t sum = 0;
   for (int z = 0; z < 9; ++z)
@@ -266,7 +267,7 @@ TEST(VoxelGridTotals, SpareBricksServeSetAndComeBackWhenFreed) {
   EXPECT_EQ(g.spareBricks(), 0u);
   EXPECT_EQ(g.spareMisses(), 0u);
   EXPECT_EQ(g.memoryBytes(), before);  // the same bricks, now in use
-  g.set({0, 9, 0}, 100, 1);  // the pool is empty: allocated, and counted
+  g.set({0, 9, 0}, 100, 1);            // the pool is empty: allocated, and counted
   EXPECT_EQ(g.spareMisses(), 1u);
   EXPECT_EQ(g.fill({0, 9, 0}), 100);
   EXPECT_EQ(g.fill({1, 9, 0}), 0);  // the rest of the brick keeps its uniform value

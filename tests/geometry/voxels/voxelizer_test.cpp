@@ -1,17 +1,18 @@
+#include "osteon/geometry/voxels/voxelizer.h"
+
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/voxels/embree_scene.h"
-#include "osteon/geometry/voxels/voxelizer.h"
 #include "support/shapes.h"
 // The ray caster is internal to the geometry library; its packet path is checked here.
-#include "../../../geometry/src/voxels/column_ray.h"
-
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <filesystem>
 #include <limits>
+
+#include <gtest/gtest.h>
+
+#include "../../../geometry/src/voxels/column_ray.h"
 
 namespace osteon::geometry {
 namespace {
@@ -37,8 +38,8 @@ TriangleMesh punchHole(const TriangleMesh& sphere, glm::dvec3 axis, double angle
   holed.triangles.clear();
   const double cosLimit = std::cos(angleDeg * kPi / 180.0);
   for (const glm::u32vec3& t : sphere.triangles) {
-    const glm::dvec3 c = (sphere.positionsMm[t.x] + sphere.positionsMm[t.y] +
-                          sphere.positionsMm[t.z]) / 3.0;
+    const glm::dvec3 c =
+        (sphere.positionsMm[t.x] + sphere.positionsMm[t.y] + sphere.positionsMm[t.z]) / 3.0;
     if (glm::dot(glm::normalize(c), glm::normalize(axis)) < cosLimit) holed.triangles.push_back(t);
   }
   return holed;
@@ -120,7 +121,8 @@ void expectPacketsMatchSingleRays(const TriangleMesh& mesh, double voxelSizeMm, 
             }
             ++rays;
             withHits += intervals.empty() ? 0u : 1u;
-            ASSERT_EQ(int(outcomes[i]), int(outcome)) << "axis " << axis << " column " << iu << ", " << iv;
+            ASSERT_EQ(int(outcomes[i]), int(outcome))
+                << "axis " << axis << " column " << iu << ", " << iv;
             ASSERT_EQ(attempts[i], singleAttempts);
             ASSERT_EQ(packed[i].size(), intervals.size());
             for (std::size_t k = 0; k < intervals.size(); ++k) {
@@ -171,7 +173,7 @@ TEST(Voxelizer, FillIsExactForAVoxelAlignedBoxAndFractionalAtItsFaces) {
   const VoxelGrid h = voxelizeAt(shifted, 1.0);
   EXPECT_EQ(h.countVoxels(kFillFull), 4u * 6u * 6u);
   EXPECT_NEAR(h.fill({2, 3, 1}), 0.75 * kFillFull, kFillPerStep);  // layer [0.25, 1) of voxel 1
-  EXPECT_NEAR(h.filledVolumeMm3(), 4 * 6 * 7.5, 0.1);  // 0.75 quantised to 191/255
+  EXPECT_NEAR(h.filledVolumeMm3(), 4 * 6 * 7.5, 0.1);              // 0.75 quantised to 191/255
   // Fresh fills sit on the voxelizer's 1/255 steps.
   EXPECT_EQ(h.fill({2, 3, 1}) % kFillPerStep, 0);
 }

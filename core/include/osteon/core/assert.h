@@ -12,7 +12,8 @@ namespace osteon::detail {
 
 [[noreturn]] inline void assertionFailed(const char* condition, const char* why, const char* file,
                                          int line) noexcept {
-  std::fprintf(stderr, "osteon: internal error: %s:%d: %s (assertion %s failed)\n", file, line, why, condition);
+  std::fprintf(stderr, "osteon: internal error: %s:%d: %s (assertion %s failed)\n", file, line, why,
+               condition);
   std::abort();
 }
 
@@ -23,5 +24,6 @@ namespace osteon::detail {
 #define OSTEON_ASSERT(cond, why) static_cast<void>(sizeof((cond) ? true : false))
 #else
 #define OSTEON_ASSERT(cond, why) \
-  ((cond) ? static_cast<void>(0) : ::osteon::detail::assertionFailed(#cond, why, __FILE__, __LINE__))
+  ((cond) ? static_cast<void>(0) \
+          : ::osteon::detail::assertionFailed(#cond, why, __FILE__, __LINE__))
 #endif

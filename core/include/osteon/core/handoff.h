@@ -33,7 +33,8 @@ class TripleBuffer {
   // Writer thread only. The reader sees this value, or a later one, on its next read.
   void write(const T& value) noexcept {
     slots_[back_].value = value;
-    back_ = std::uint8_t(middle_.exchange(std::uint8_t(back_ | kFresh), std::memory_order_acq_rel) & kIndex);
+    back_ = std::uint8_t(middle_.exchange(std::uint8_t(back_ | kFresh), std::memory_order_acq_rel) &
+                         kIndex);
   }
 
   // Reader thread only: the newest value, valid until the next read; `fresh` (when given) is set
@@ -52,9 +53,9 @@ class TripleBuffer {
     T value{};
   };
   std::array<Slot, 3> slots_{};
-  alignas(kCacheLineBytes) std::uint8_t back_ = 0;           // the writer's slot
+  alignas(kCacheLineBytes) std::uint8_t back_ = 0;                // the writer's slot
   alignas(kCacheLineBytes) std::atomic<std::uint8_t> middle_{1};  // the hand-over slot | kFresh
-  alignas(kCacheLineBytes) std::uint8_t front_ = 2;          // the reader's slot
+  alignas(kCacheLineBytes) std::uint8_t front_ = 2;               // the reader's slot
 };
 
 // A bounded queue of N items in order: push() refuses when full (the caller counts the loss),

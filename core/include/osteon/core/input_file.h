@@ -2,13 +2,12 @@
 // FIFO or a device (/dev/zero) would otherwise be read as an empty, blocking or endless file.
 #pragma once
 
-#include "osteon/core/error.h"
-
 #include <cerrno>
 #include <string>
+#include <sys/stat.h>
 #include <system_error>
 
-#include <sys/stat.h>
+#include "osteon/core/error.h"
 
 namespace osteon {
 
@@ -32,11 +31,16 @@ inline std::string inputFileProblem(const std::string& path) {
   struct stat s {};
   if (::stat(path.c_str(), &s) != 0) {
     switch (errno) {
-      case ENOENT: return "no such file";
-      case ELOOP: return "too many levels of symbolic links";
-      case ENOTDIR: return "no such file: a part of the path is not a folder";
-      case EACCES: return "permission denied: a folder on the path cannot be searched";
-      default: return std::generic_category().message(errno);
+      case ENOENT:
+        return "no such file";
+      case ELOOP:
+        return "too many levels of symbolic links";
+      case ENOTDIR:
+        return "no such file: a part of the path is not a folder";
+      case EACCES:
+        return "permission denied: a folder on the path cannot be searched";
+      default:
+        return std::generic_category().message(errno);
     }
   }
   if (S_ISREG(s.st_mode)) return "";
@@ -61,7 +65,8 @@ inline void requireInputFile(const std::string& path) {
 inline void requireRegularFile(const std::string& path, const std::string& what = "it") {
   const std::string problem = inputFileProblem(path);
   if (problem.empty()) return;
-  if (problem.rfind("not a regular file", 0) == 0) throw InputError(printableFileName(path) + ": " + problem);
+  if (problem.rfind("not a regular file", 0) == 0)
+    throw InputError(printableFileName(path) + ": " + problem);
   throw InputError(printableFileName(path) + ": cannot open " + what + " (" + problem + ")");
 }
 

@@ -5,23 +5,25 @@
 
 #include <atomic>
 #include <csignal>
+#include <signal.h>
 #include <stdexcept>
 #include <string>
-
-#include <signal.h>
 
 namespace osteon {
 
 // The signal caught, 0 for none. Lock-free, so the handler may store it.
 inline std::atomic<int> gInterruptSignal{0};
 
-inline bool interrupted() noexcept { return gInterruptSignal.load(std::memory_order_relaxed) != 0; }
+inline bool interrupted() noexcept {
+  return gInterruptSignal.load(std::memory_order_relaxed) != 0;
+}
 
 // A run stopped by SIGINT or SIGTERM: what() is one line; the exit code is 128 + the signal.
 class Interrupted : public std::runtime_error {
  public:
   explicit Interrupted(int signal)
-      : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM")),
+      : std::runtime_error(std::string("interrupted by ") +
+                           (signal == SIGINT ? "SIGINT" : "SIGTERM")),
         signal_(signal) {}
   int exitCode() const { return 128 + signal_; }
 

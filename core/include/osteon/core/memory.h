@@ -3,15 +3,14 @@
 // failing halfway through an allocation or being killed by the kernel.
 #pragma once
 
-#include "osteon/core/error.h"
-
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <string>
-
 #include <sys/resource.h>
 #include <unistd.h>
+
+#include "osteon/core/error.h"
 
 namespace osteon {
 
@@ -19,7 +18,8 @@ namespace osteon {
 inline std::uint64_t machineMemoryBytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES);
   const long pageBytes = ::sysconf(_SC_PAGE_SIZE);
-  std::uint64_t bytes = pages > 0 && pageBytes > 0 ? std::uint64_t(pages) * std::uint64_t(pageBytes) : UINT64_MAX;
+  std::uint64_t bytes =
+      pages > 0 && pageBytes > 0 ? std::uint64_t(pages) * std::uint64_t(pageBytes) : UINT64_MAX;
   rlimit limit{};
   if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
     bytes = std::min<std::uint64_t>(bytes, limit.rlim_cur);
@@ -49,11 +49,13 @@ inline std::string memoryText(double bytes) {
 }
 
 // Throws InputError "<what> would need about X of memory, more than this machine's Y; <advice>".
-inline void refuseOverMemory(const std::string& what, double estimateBytes, const std::string& advice) {
+inline void refuseOverMemory(const std::string& what, double estimateBytes,
+                             const std::string& advice) {
   const double available = double(machineMemoryBytes());
   if (!(estimateBytes > available)) return;
-  throw InputError(what + " would need about " + memoryText(estimateBytes) + " of memory, more than this machine's " +
-                   memoryText(available) + (advice.empty() ? "" : "; " + advice));
+  throw InputError(what + " would need about " + memoryText(estimateBytes) +
+                   " of memory, more than this machine's " + memoryText(available) +
+                   (advice.empty() ? "" : "; " + advice));
 }
 
 }  // namespace osteon

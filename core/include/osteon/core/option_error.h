@@ -3,10 +3,10 @@
 // knowing any command line. what() is the field's form: "<field> <value>: <reason>".
 #pragma once
 
-#include "osteon/core/error.h"
-
 #include <string>
 #include <utility>
+
+#include "osteon/core/error.h"
 
 namespace osteon {
 
@@ -25,7 +25,8 @@ class OptionError : public InputError {
   std::string renamed(const std::string& name) const { return render(name, value_, reason_); }
 
  private:
-  static std::string render(const std::string& name, const std::string& value, const std::string& reason) {
+  static std::string render(const std::string& name, const std::string& value,
+                            const std::string& reason) {
     return name + (value.empty() ? "" : " " + value) + ": " + reason;
   }
   std::string field_, value_, reason_;

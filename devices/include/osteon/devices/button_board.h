@@ -11,14 +11,14 @@
 // opened again by name until it returns.
 #pragma once
 
-#include "osteon/devices/device.h"
-#include "osteon/core/handoff.h"
-#include "osteon/devices/serial_port.h"
-
 #include <array>
 #include <atomic>
 #include <cstdint>
 #include <thread>
+
+#include "osteon/core/handoff.h"
+#include "osteon/devices/device.h"
+#include "osteon/devices/serial_port.h"
 
 namespace osteon::devices {
 
@@ -28,12 +28,12 @@ inline constexpr int kBoardPedalMax = 1023;
 struct BoardEvent {
   enum class Kind : std::uint8_t { Line, Malformed, Disconnected, Connected };
   Kind kind = Kind::Line;
-  double tS = 0.0;              // when it happened (seconds since the device opened)
-  std::uint32_t buttons = 0;    // Line: B
-  int pedal = 0;                // Line: P, 0..1023
-  std::int64_t knob = 0;        // Line: K (0 when absent)
+  double tS = 0.0;            // when it happened (seconds since the device opened)
+  std::uint32_t buttons = 0;  // Line: B
+  int pedal = 0;              // Line: P, 0..1023
+  std::int64_t knob = 0;      // Line: K (0 when absent)
   bool hasKnob = false;
-  const char* reason = "";      // Malformed: why (a string literal)
+  const char* reason = "";  // Malformed: why (a string literal)
 };
 
 // Bytes in, events out: splits the stream into bounded lines and decodes them. Pure apart from
@@ -81,8 +81,8 @@ class BoardLineParser {
 
 struct ButtonBoardOptions {
   int baud = 9600;
-  double silentS = 0.5;          // silent this long: disconnected
-  double reopenEveryS = 0.1;     // a port that went away is tried again this often
+  double silentS = 0.5;       // silent this long: disconnected
+  double reopenEveryS = 0.1;  // a port that went away is tried again this often
   std::uint32_t drillButtonMask = 1;
   double drillPedalAbove = 0.5;  // the pedal past half way drills too
 };
@@ -93,7 +93,8 @@ inline constexpr std::size_t kBoardEventCapacity = 4096;
 class ButtonBoardDevice final : public Device {
  public:
   // Opens the port (InputError naming the device when it cannot) and starts its reader thread.
-  ButtonBoardDevice(const std::string& name, const std::string& port, const ButtonBoardOptions& options = {});
+  ButtonBoardDevice(const std::string& name, const std::string& port,
+                    const ButtonBoardOptions& options = {});
   ~ButtonBoardDevice() override;
   Capabilities capabilities() const override;
   // Buttons, pedal (0..1), knob (counts summed), drill trigger; no pose. tS is when the

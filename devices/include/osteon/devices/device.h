@@ -11,9 +11,6 @@
 // recording) give the sample at the time asked, so a run over them needs no wall clock.
 #pragma once
 
-#include <glm/gtc/quaternion.hpp>
-#include <glm/vec3.hpp>
-
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -21,24 +18,27 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
 namespace osteon::devices {
 
 // What a device gives and takes.
 struct Capabilities {
-  bool pose = false;          // position (mm) and orientation
+  bool pose = false;  // position (mm) and orientation
   bool buttons = false;
-  bool pedal = false;         // analog 0..1
-  bool knob = false;          // relative encoder counts
-  bool force = false;         // takes a force back
-  double maxForceN = 0.0;     // what it can exert (3.3 N for the Touch); 0 without force
+  bool pedal = false;      // analog 0..1
+  bool knob = false;       // relative encoder counts
+  bool force = false;      // takes a force back
+  double maxForceN = 0.0;  // what it can exert (3.3 N for the Touch); 0 without force
   // The sample is a function of the time asked (a path, a recording): runs over it may use a
   // virtual clock (deterministic), and it ends at endS.
   bool timeDriven = false;
   // A recording: each new sample is one period of the haptic loop that recorded it, so a
   // replay sees the recorded loop's timing (the safety layer's watchdog).
   bool recorded = false;
-  double startS = 0.0;        // time-driven: the first sample's time
-  double endS = 0.0;          // time-driven: the last sample's time
+  double startS = 0.0;  // time-driven: the first sample's time
+  double endS = 0.0;    // time-driven: the last sample's time
   // Poses already in the session's frame (paths, recordings of such); live devices give
   // poses in their own workspace, which a front end maps onto the bone.
   bool worldFrame = false;
@@ -109,8 +109,8 @@ std::unique_ptr<Device> openDevice(const std::string& name, const DeviceOpeners&
 
 // What is attached: 3Dconnexion HID devices and USB serial ports.
 struct AttachedDevice {
-  std::string name;          // as openDevice takes it: spacemouse:/dev/hidraw0, serial:/dev/ttyACM0
-  std::string kind;          // spacemouse, serial
+  std::string name;  // as openDevice takes it: spacemouse:/dev/hidraw0, serial:/dev/ttyACM0
+  std::string kind;  // spacemouse, serial
   std::string path;
   std::uint16_t vendorId = 0;
   std::uint16_t productId = 0;

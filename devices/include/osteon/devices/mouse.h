@@ -4,8 +4,8 @@
 // staleAfterS makes the device report itself disconnected (a gap for the safety layer).
 #pragma once
 
-#include "osteon/devices/device.h"
 #include "osteon/core/handoff.h"
+#include "osteon/devices/device.h"
 
 namespace osteon::devices {
 

@@ -8,8 +8,6 @@
 // its own writes them to the file every 100 ms, so a crash loses at most that.
 #pragma once
 
-#include "osteon/devices/device.h"
-
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -17,6 +15,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "osteon/devices/device.h"
 
 namespace osteon::devices {
 
@@ -27,11 +27,12 @@ inline constexpr std::size_t kMaxRecordingRows = 4'000'000;
 
 // One row as text with its newline, at time tS. Returns the bytes written, 0 when `size` is too
 // small (256 bytes always suffice). No allocation.
-std::size_t formatRecordingRow(double tS, const DeviceSample& sample, char* out, std::size_t size) noexcept;
+std::size_t formatRecordingRow(double tS, const DeviceSample& sample, char* out,
+                               std::size_t size) noexcept;
 
 struct RecorderOptions {
-  double flushEveryS = 0.1;               // the writer thread's period
-  std::size_t bufferBytes = 4u << 20;     // about 25 s of rows at 1 kHz
+  double flushEveryS = 0.1;            // the writer thread's period
+  std::size_t bufferBytes = 4u << 20;  // about 25 s of rows at 1 kHz
   // Deterministic runs (faster than real time) wait for room instead of dropping a row; live
   // loops drop and count (a real-time loop never waits for a disk).
   bool waitWhenFull = false;

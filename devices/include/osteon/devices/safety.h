@@ -18,22 +18,22 @@
 // The per-step functions allocate nothing, lock nothing and throw nothing.
 #pragma once
 
-#include "osteon/devices/device.h"
-
 #include <cstdint>
+
+#include "osteon/devices/device.h"
 
 namespace osteon::devices {
 
 struct SafetyOptions {
-  double forceLimitN = 3.3;          // the device's limit
-  double engageBelowN = 0.2;         // the force asked for must be below this to engage
-  double rampInS = 0.5;              // from zero to the full force, once engaged
-  double rampOutNPerStep = 0.1;      // the largest fall per step while a fault ramps the force out
-  double periodS = 0.001;            // the haptic loop's period (1 kHz)
-  double maxGapS = 0.005;            // a pose stream silent longer than this is a gap
-  double maxJumpMm = 10.0;           // per period: a pose further from the last accepted is a jump
-  int watchdogMisses = 3;            // missed periods in a row that make a watchdog fault
-  double missFactor = 1.5;           // a period is missed when the loop's interval passes 1.5 periods
+  double forceLimitN = 3.3;      // the device's limit
+  double engageBelowN = 0.2;     // the force asked for must be below this to engage
+  double rampInS = 0.5;          // from zero to the full force, once engaged
+  double rampOutNPerStep = 0.1;  // the largest fall per step while a fault ramps the force out
+  double periodS = 0.001;        // the haptic loop's period (1 kHz)
+  double maxGapS = 0.005;        // a pose stream silent longer than this is a gap
+  double maxJumpMm = 10.0;       // per period: a pose further from the last accepted is a jump
+  int watchdogMisses = 3;        // missed periods in a row that make a watchdog fault
+  double missFactor = 1.5;       // a period is missed when the loop's interval passes 1.5 periods
   // After a jump, a stream that stays continuous from the new place for this long is accepted
   // there (the device was moved while unobserved); a one-sample spike is simply dropped.
   double resyncS = 0.05;
@@ -70,12 +70,12 @@ struct SafetyStats {
 
 // What the session may use this period.
 struct PoseVerdict {
-  bool valid = false;                          // an accepted pose exists (false before the first)
-  glm::dvec3 positionMm{0.0};                  // the newest accepted pose (held on a fault)
+  bool valid = false;          // an accepted pose exists (false before the first)
+  glm::dvec3 positionMm{0.0};  // the newest accepted pose (held on a fault)
   glm::dquat orientation{1.0, 0.0, 0.0, 0.0};
-  bool drillOn = false;                        // off while a fault holds the pose
+  bool drillOn = false;  // off while a fault holds the pose
   std::uint32_t buttons = 0;
-  std::uint32_t faults = 0;                    // FaultBits active now
+  std::uint32_t faults = 0;  // FaultBits active now
 };
 
 enum class ForceState : std::uint8_t { Off, RampIn, Engaged, RampOut };
@@ -109,11 +109,11 @@ class SafetyLayer {
   int misses_ = 0;
   bool watchdogActive_ = false;
   // pose stream
-  bool seen_ = false;              // any sample seen
-  double lastSampleS_ = 0.0;       // newest sample's time
-  double acceptedS_ = 0.0;         // accepted pose's sample time
-  bool jumping_ = false;           // rejecting a jump, watching the stream settle
-  glm::dvec3 candidateMm_{0.0};    // where the stream went
+  bool seen_ = false;            // any sample seen
+  double lastSampleS_ = 0.0;     // newest sample's time
+  double acceptedS_ = 0.0;       // accepted pose's sample time
+  bool jumping_ = false;         // rejecting a jump, watching the stream settle
+  glm::dvec3 candidateMm_{0.0};  // where the stream went
   double candidateS_ = 0.0, candidateSinceS_ = 0.0;
   // force
   ForceState state_ = ForceState::Off;

@@ -9,9 +9,6 @@
 // Vendor ids 0x046d (Logitech-era 3Dconnexion, known product ids only) and 0x256f (3Dconnexion).
 #pragma once
 
-#include "osteon/devices/device.h"
-#include "osteon/core/handoff.h"
-
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -20,6 +17,9 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "osteon/core/handoff.h"
+#include "osteon/devices/device.h"
 
 namespace osteon::devices {
 
@@ -39,21 +39,22 @@ enum class SpaceMouseReport { Translation, Rotation, Combined, Buttons, Unknown 
 
 // Applies one HID report (its first byte the report id) to `axes`. Pure: bytes in, state out.
 // Unknown ids and reports too short for their id leave `axes` unchanged and say Unknown.
-SpaceMouseReport parseSpaceMouseReport(const std::uint8_t* data, std::size_t size, SpaceMouseAxes& axes);
+SpaceMouseReport parseSpaceMouseReport(const std::uint8_t* data, std::size_t size,
+                                       SpaceMouseAxes& axes);
 
 struct SpaceMouseOptions {
-  double fullScale = 350.0;              // device units at full deflection
-  double deadZone = 0.08;                // fraction of full scale that counts as rest
-  double translationMmPerS = 60.0;       // at full deflection
-  double rotationDegPerS = 90.0;         // at full deflection
-  double workspaceMm = 150.0;            // the pose stays within this of the start, per axis
+  double fullScale = 350.0;         // device units at full deflection
+  double deadZone = 0.08;           // fraction of full scale that counts as rest
+  double translationMmPerS = 60.0;  // at full deflection
+  double rotationDegPerS = 90.0;    // at full deflection
+  double workspaceMm = 150.0;       // the pose stays within this of the start, per axis
   glm::dvec3 startMm{0.0};
   // Device axes to pose axes: HID x right, y towards the user, z down (pushing the cap). Pose
   // axes are the device frame of capabilities(): +x right, +y away from the user, +z up.
   std::array<double, 3> translationSign{1.0, -1.0, -1.0};
   std::array<double, 3> rotationSign{1.0, -1.0, -1.0};
-  std::uint32_t drillButtonMask = 1;     // the left button drills
-  double maxStepS = 0.05;                // a longer poll interval integrates as this (no leaps)
+  std::uint32_t drillButtonMask = 1;  // the left button drills
+  double maxStepS = 0.05;             // a longer poll interval integrates as this (no leaps)
 };
 
 // Integrates the cap's deflection into a pose. Pure apart from its own state.
@@ -95,7 +96,8 @@ struct HidDeviceInfo {
 std::vector<HidDeviceInfo> listSpaceMice();
 // hidapi on `path`, or on the first SpaceMouse found when `path` is empty. Throws InputError
 // naming the device (none attached, cannot open).
-std::unique_ptr<HidReportSource> openHidSource(const std::string& deviceName, const std::string& path);
+std::unique_ptr<HidReportSource> openHidSource(const std::string& deviceName,
+                                               const std::string& path);
 
 class SpaceMouseDevice final : public Device {
  public:

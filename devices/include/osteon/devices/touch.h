@@ -9,18 +9,18 @@
 // tests/devices/touch_test.cpp against a fake HD API (tests/devices/fake_openhaptics).
 #pragma once
 
-#include "osteon/devices/device.h"
-
 #include <memory>
 #include <string>
+
+#include "osteon/devices/device.h"
 
 namespace osteon::devices {
 
 struct TouchOptions {
-  double maxForceN = 3.3;                 // the Touch's peak force
-  int staleServoTicks = 3;                // servo periods without a new force before it ramps out
+  double maxForceN = 3.3;   // the Touch's peak force
+  int staleServoTicks = 3;  // servo periods without a new force before it ramps out
   double rampOutNPerTick = 0.1;
-  std::uint32_t drillButtonMask = 1;      // the stylus' first (dark grey) button drills
+  std::uint32_t drillButtonMask = 1;  // the stylus' first (dark grey) button drills
 };
 
 // True when osteon was built with OpenHaptics.

@@ -12,17 +12,17 @@
 // names it as its users know it (commandLineMessage: "--voxel-size 0: ...").
 #pragma once
 
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/volume_io.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/session.h"
-
-#include <memory>
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace osteon::simulation {
 
@@ -63,11 +63,11 @@ struct BoneSource {
 
 // What a source was read as.
 struct BoneRead {
-  std::string kind;                  // "mesh", or a volume's kind: "osteon grid", "label map", "ct"
-  double scaleToMm = 1.0;            // mesh coordinates to mm, as used
-  geometry::MeshFileInfo meshFile;   // mesh files: format, binary, faces triangulated or dropped
+  std::string kind;                 // "mesh", or a volume's kind: "osteon grid", "label map", "ct"
+  double scaleToMm = 1.0;           // mesh coordinates to mm, as used
+  geometry::MeshFileInfo meshFile;  // mesh files: format, binary, faces triangulated or dropped
   std::optional<geometry::VolumeLoad> volume;  // volumes: what was found (its grid is the bone's)
-  double loadMs = 0.0;               // the read (a volume's whole read, its density included)
+  double loadMs = 0.0;  // the read (a volume's whole read, its density included)
 };
 
 struct OpenedBone {

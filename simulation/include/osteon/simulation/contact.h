@@ -20,12 +20,12 @@
 // N_max. A non-finite result becomes zero force and is counted.
 #pragma once
 
-#include "osteon/geometry/hierarchy/refinement.h"
-#include "osteon/simulation/tool.h"
-
 #include <array>
 #include <cstdint>
 #include <vector>
+
+#include "osteon/geometry/hierarchy/refinement.h"
+#include "osteon/simulation/tool.h"
 
 namespace osteon::simulation {
 
@@ -61,7 +61,8 @@ class ForceModel {
                        ContactCaches* caches = nullptr) const;
   // Caches for this model's parts with the given skin and slices (geometry::DphNearCache),
   // sized so that answers always fit and ready for `voxels`' hierarchy.
-  ContactCaches makeCaches(double skinMm, std::size_t sliceNodes, const geometry::RefinedVoxels& voxels) const;
+  ContactCaches makeCaches(double skinMm, std::size_t sliceNodes,
+                           const geometry::RefinedVoxels& voxels) const;
   // The samples in part `part`'s shell, exactly those compute() counts, for checks that hold
   // the voxels' contact against something else (the surface). Allocates: not for the loop.
   std::vector<geometry::VoxelSample> shellSamples(geometry::RefinedVoxels& voxels,

@@ -159,7 +159,7 @@ class ProxyCoupling {
   };
   struct MoveResult {
     bool blocked = false;
-    glm::dvec3 normal{0.0};  // outward from the bone at the block (unit, or zero)
+    glm::dvec3 normal{0.0};          // outward from the bone at the block (unit, or zero)
     glm::dvec3 blockingNormal{0.0};  // outward from the samples that block (unit, or zero)
   };
 

@@ -13,18 +13,18 @@
 //   ... input.status() from the render thread ...
 #pragma once
 
-#include "osteon/devices/device.h"
+#include <functional>
+#include <memory>
+#include <string>
+
 #include "osteon/core/handoff.h"
+#include "osteon/devices/device.h"
 #include "osteon/devices/recording.h"
 #include "osteon/devices/safety.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
-
-#include <functional>
-#include <memory>
-#include <string>
 
 namespace osteon::simulation {
 
@@ -58,7 +58,7 @@ struct DeviceFrame {
 DeviceFrame defaultDeviceFrame(const Session& session);
 
 struct DeviceInputOptions {
-  devices::SafetyOptions safety;     // forceLimitN: lowered to the device's own limit when it has one
+  devices::SafetyOptions safety;  // forceLimitN: lowered to the device's own limit when it has one
   DeviceFrame frame;
   devices::StreamRecorder* recorder = nullptr;  // every new sample, in the session's frame
   // A deterministic replay: the watchdog takes its periods from the recording's rows (the
@@ -72,11 +72,11 @@ struct DeviceInputOptions {
 
 // What a render loop shows of the device (published every haptic period).
 struct DeviceStatus {
-  devices::DeviceSample sample;      // in the session's frame
+  devices::DeviceSample sample;  // in the session's frame
   devices::PoseVerdict verdict;
   devices::FaultCounts faults;
   devices::ForceState forceState = devices::ForceState::Off;
-  double forceN = 0.0;               // |F| sent to the device
+  double forceN = 0.0;  // |F| sent to the device
 };
 
 // Any device as the runtime's pose source and force sink: samples through the safety layer
@@ -103,8 +103,8 @@ class DeviceInput final : public PoseSource, public ForceSink {
   DeviceInputOptions options_;
   devices::SafetyLayer safety_;
   devices::DeviceSample sample_;
-  double recordedS_ = -1.0;    // the newest sample recorded
-  double loopS_ = -1.0;        // the newest recorded loop period (recordedLoop)
+  double recordedS_ = -1.0;  // the newest sample recorded
+  double loopS_ = -1.0;      // the newest recorded loop period (recordedLoop)
   DeviceStatus status_;
   core::TripleBuffer<DeviceStatus> published_;
 };
@@ -117,7 +117,7 @@ struct DeviceRunOptions {
 };
 
 struct DeviceRunResult {
-  RunResult run;                 // the summary's metrics (log rows go to onRow only)
+  RunResult run;  // the summary's metrics (log rows go to onRow only)
   devices::SafetyStats safety;
   std::uint64_t stepsBeforePose = 0;  // ticks skipped before the device's first accepted pose
   double startS = 0.0, endS = 0.0;
@@ -128,6 +128,7 @@ struct DeviceRunResult {
 // through it to the device. A scripted path gives drill's force log byte for byte, and so does
 // its recording replayed. Throws InputError for a live device or one without a pose. Stops
 // early once SIGINT/SIGTERM is recorded (core/interrupt.h; the caller throws Interrupted).
-DeviceRunResult runDevice(Session& session, devices::Device& device, const DeviceRunOptions& options = {});
+DeviceRunResult runDevice(Session& session, devices::Device& device,
+                          const DeviceRunOptions& options = {});
 
 }  // namespace osteon::simulation

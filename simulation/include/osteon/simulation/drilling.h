@@ -7,19 +7,19 @@
 // compute at VS/2 or VS/4 (dynamic).
 #pragma once
 
+#include <cstdint>
+#include <memory>
+
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/simulation/contact.h"
 #include "osteon/simulation/removal.h"
 #include "osteon/simulation/tool.h"
 
-#include <cstdint>
-#include <memory>
-
 namespace osteon::simulation {
 
 struct DrillingOptions {
-  int levels = 2;                           // 0 static, 1 or 2 dynamic
-  int decrement = 1;                        // density units per drilling step (seed: d - 1)
+  int levels = 2;                          // 0 static, 1 or 2 dynamic
+  int decrement = 1;                       // density units per drilling step (seed: d - 1)
   geometry::RefinementOptions refinement;  // depth is taken from `levels`
   // Bricks kept ready for removal in uniform bricks (2 KiB each), so a step never allocates.
   std::size_t spareBricks = 1024;
@@ -56,15 +56,15 @@ struct StepInput {
 };
 
 struct StepOutput {
-  ContactForce contact;            // from the bone before this step's removal
+  ContactForce contact;  // from the bone before this step's removal
   RemovalResult removal;
-  int refined = 0;                 // voxels newly refined this step
-  int deferred = 0;                // voxels a shell reached but left for later steps (the budget)
+  int refined = 0;   // voxels newly refined this step
+  int deferred = 0;  // voxels a shell reached but left for later steps (the budget)
 };
 
 struct DrillingTotals {
   std::uint64_t steps = 0;
-  std::uint64_t removedFill = 0;   // grid fill units: exact volume
+  std::uint64_t removedFill = 0;  // grid fill units: exact volume
   std::uint64_t samplesRemoved = 0;
   std::uint64_t voxelsEmptied = 0;
   std::uint64_t nonFiniteForces = 0;

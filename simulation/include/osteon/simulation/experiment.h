@@ -3,14 +3,14 @@
 // the deterministic mode.
 #pragma once
 
+#include <functional>
+#include <string>
+#include <vector>
+
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/path.h"
 #include "osteon/simulation/runner.h"
-
-#include <functional>
-#include <string>
-#include <vector>
 
 namespace osteon::simulation {
 
@@ -34,10 +34,10 @@ std::vector<ExperimentCase> seedExperimentCases();
 // finishes. `voxelizing` gives the voxelization's options but the voxel size (the mesh's name
 // and load scale for messages, the density rule). Throws InputError when the mesh has no
 // humeral head to drill, or no voxel inside it at a case's voxel size.
-std::vector<ExperimentRun> runSeedExperiment(const geometry::TriangleMesh& mesh,
-                                             const std::vector<ExperimentCase>& cases,
-                                             const std::function<void(const ExperimentRun&)>& progress = {},
-                                             const geometry::VoxelizeOptions& voxelizing = {});
+std::vector<ExperimentRun> runSeedExperiment(
+    const geometry::TriangleMesh& mesh, const std::vector<ExperimentCase>& cases,
+    const std::function<void(const ExperimentRun&)>& progress = {},
+    const geometry::VoxelizeOptions& voxelizing = {});
 
 const char* portalName(Portal portal);
 

@@ -2,13 +2,13 @@
 // and its CSV, written whole or streamed row by row as a run goes.
 #pragma once
 
-#include "osteon/geometry/io/output_file.h"
-#include "osteon/simulation/coupling.h"
-#include "osteon/simulation/drilling.h"
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/coupling.h"
+#include "osteon/simulation/drilling.h"
 
 namespace osteon::simulation {
 
@@ -24,23 +24,36 @@ struct ForceLogRow {
 };
 
 // The log row of one step: the pose it took, its force, the samples removed so far.
-inline ForceLogRow logRowOf(double tS, const ToolPose& pose, const StepOutput& out, std::uint64_t samplesRemoved) {
-  return {tS, pose.tipMm, out.contact.forceN, out.contact.magnitudeN, out.contact.contactVoxels, samplesRemoved,
+inline ForceLogRow logRowOf(double tS, const ToolPose& pose, const StepOutput& out,
+                            std::uint64_t samplesRemoved) {
+  return {tS,
+          pose.tipMm,
+          out.contact.forceN,
+          out.contact.magnitudeN,
+          out.contact.contactVoxels,
+          samplesRemoved,
           out.contact.level};
 }
 
 // The log row of one haptic step (coupling.h): the proxy's tip, the force sent to the device,
 // the commanded tip. Under direct coupling the same row as logRowOf(tS, pose, out, ...).
 inline ForceLogRow logRowOf(double tS, const HapticStep& h, std::uint64_t samplesRemoved) {
-  return {tS, h.proxy.tipMm, h.forceN, h.magnitudeN, h.step.contact.contactVoxels, samplesRemoved,
-          h.step.contact.level, h.commanded.tipMm};
+  return {tS,
+          h.proxy.tipMm,
+          h.forceN,
+          h.magnitudeN,
+          h.step.contact.contactVoxels,
+          samplesRemoved,
+          h.step.contact.level,
+          h.commanded.tipMm};
 }
 
 // CSV with a header row: t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level
 // (with commandColumns, as proxy coupling writes it: t,px,py,pz,cx,cy,cz,fx,...: the proxy's
 // tip, then the commanded one).
 // Throws InputError naming the file when it cannot be written.
-void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path, bool commandColumns = false);
+void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
+                   bool commandColumns = false);
 
 // The same CSV row by row as a run goes: written to a temporary file beside `path` and put in
 // place by commit(), so path() only ever holds a complete log. write() neither allocates, locks
@@ -85,7 +98,7 @@ class ForceLogWriter {
   geometry::OutputFile file_;
   std::vector<char> buffer_;
   std::size_t used_ = 0;
-  std::uint64_t linesInBuffer_ = 0;   // the header counts as a line
+  std::uint64_t linesInBuffer_ = 0;  // the header counts as a line
   std::uint64_t linesOnDisk_ = 0, bytesOnDisk_ = 0;
   int fd_ = -1;
   int error_ = 0;      // errno of the first failed write

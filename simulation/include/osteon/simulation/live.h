@@ -8,29 +8,29 @@
 // its next update.
 #pragma once
 
-#include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-#include "osteon/simulation/runtime.h"
-#include "osteon/simulation/session.h"
-
 #include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
 
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/simulation/runtime.h"
+#include "osteon/simulation/session.h"
+
 namespace osteon::simulation {
 
 // What a frame shows of the simulation, published by the collision thread.
 struct DisplayState {
   static constexpr std::size_t kMaxRefined = 4096;
-  double tS = -1.0;                  // < 0: no step yet
-  ToolPose pose;                     // the tool: the proxy under proxy coupling
-  ToolPose commanded;                // the device's pose (the tool's under direct coupling)
-  double gapMm = 0.0;                // between the two tips
+  double tS = -1.0;    // < 0: no step yet
+  ToolPose pose;       // the tool: the proxy under proxy coupling
+  ToolPose commanded;  // the device's pose (the tool's under direct coupling)
+  double gapMm = 0.0;  // between the two tips
   bool drillOn = false;
-  ContactForce contact;              // its forceN: what the device is sent (before the safety layer)
-  std::uint64_t removedFill = 0;     // grid fill units removed so far
+  ContactForce contact;           // its forceN: what the device is sent (before the safety layer)
+  std::uint64_t removedFill = 0;  // grid fill units removed so far
   double removedVolumeMm3 = 0.0;
   std::uint64_t steps = 0;
   // The voxels refined now and to which depth (refreshed every few steps).
@@ -45,7 +45,7 @@ struct LiveStats {
   std::uint64_t collisionSteps = 0, collisionOverruns = 0;
   std::uint64_t bricksHandedOver = 0, ringFull = 0;
   double collisionStepUsLast = 0.0;  // the latest step's duration
-  std::uint64_t standbySteps = 0;     // haptic periods run by its standby thread (runtime.h)
+  std::uint64_t standbySteps = 0;    // haptic periods run by its standby thread (runtime.h)
   int hapticCpu = -1, standbyCpu = -1;
 };
 
@@ -54,7 +54,8 @@ class LiveRuntime {
  public:
   // The session must outlive the runtime and must not be stepped by anyone else while it runs.
   // options.durationS is not read: start() takes the duration.
-  LiveRuntime(Session& session, PoseSource& source, ForceSink* sink, const RuntimeOptions& options = {});
+  LiveRuntime(Session& session, PoseSource& source, ForceSink* sink,
+              const RuntimeOptions& options = {});
   ~LiveRuntime();  // stops
   LiveRuntime(const LiveRuntime&) = delete;
   LiveRuntime& operator=(const LiveRuntime&) = delete;

@@ -9,12 +9,12 @@ namespace osteon::simulation {
 
 struct LateralSweepOptions {
   double durationS = 7.0;
-  double amplitudeMm = 2.5;     // side to side, across the plane of travel and the normal
+  double amplitudeMm = 2.5;  // side to side, across the plane of travel and the normal
   double frequencyHz = 0.5;
-  double reachS = 1.0;          // from clear of the surface down to startDepthMm
-  double startDepthMm = 1.0;    // the tip's centre below the surface's tangent plane
-  double sinkMmPerS = 0.3;      // then deeper at this rate, so every pass meets bone
-  double sampleS = 0.005;       // waypoint spacing
+  double reachS = 1.0;        // from clear of the surface down to startDepthMm
+  double startDepthMm = 1.0;  // the tip's centre below the surface's tangent plane
+  double sinkMmPerS = 0.3;    // then deeper at this rate, so every pass meets bone
+  double sampleS = 0.005;     // waypoint spacing
 };
 
 // The tool held at the plan's orientation, its tip shaving the surface at the portal's entry:
@@ -24,8 +24,8 @@ DrillPath lateralSweepPath(const PortalPlan& plan, const LateralSweepOptions& op
 
 struct FastPushOptions {
   double durationS = 7.0;
-  double holdS = 0.5;      // at the plan's start, clear of the surface
-  double pushS = 0.1;      // then to depthMm past the entry in this long
+  double holdS = 0.5;  // at the plan's start, clear of the surface
+  double pushS = 0.1;  // then to depthMm past the entry in this long
   double depthMm = 6.0;
   bool drillOn = true;
 };

@@ -17,11 +17,11 @@
 // depth of a suture-anchor hole, which is what the seed's drilling prepares.
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/simulation/tool.h"
-
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/simulation/tool.h"
 
 namespace osteon::simulation {
 
@@ -82,10 +82,10 @@ class DrillPath {
 
 struct PortalPathOptions {
   double durationS = 7.0;
-  double depthMm = 15.0;       // past the entry point, along the path
-  double entryAngleDeg = 45.0; // to the surface normal
-  double clearanceMm = 1.0;    // between the cushion and the surface at the start
-  double clockConeDeg = 45.0;  // the clock face's angle from the head axis
+  double depthMm = 15.0;        // past the entry point, along the path
+  double entryAngleDeg = 45.0;  // to the surface normal
+  double clearanceMm = 1.0;     // between the cushion and the surface at the start
+  double clockConeDeg = 45.0;   // the clock face's angle from the head axis
   // The tool turned about its tip by this much, in the plane of travel and the surface
   // normal, its tip towards the inward normal (the handle rising past the perpendicular at
   // 45): the tip follows the same path, the shaft levers against the hole's rim and wall.
@@ -94,10 +94,10 @@ struct PortalPathOptions {
 
 struct PortalPlan {
   DrillPath path;
-  glm::dvec3 entryMm{0.0};      // on the bone surface
-  glm::dvec3 normal{0.0};       // outward at the entry
+  glm::dvec3 entryMm{0.0};         // on the bone surface
+  glm::dvec3 normal{0.0};          // outward at the entry
   glm::dvec3 clockDirection{0.0};  // from the head centre
-  glm::dvec3 direction{0.0};    // of travel
+  glm::dvec3 direction{0.0};       // of travel
   double speedMmPerS = 0.0;
 };
 
@@ -106,8 +106,9 @@ Portal parsePortal(const std::string& text);
 // The entry point is where the ray from the head centre towards the clock position leaves
 // the bone for the last time (the mesh's outer surface there); the 45 degrees are to that
 // triangle's normal. Throws InputError when the ray never leaves the bone.
-PortalPlan makePortalPath(Portal portal, const HumeralHead& head, const geometry::TriangleMesh& mesh,
-                          double toolOuterRadiusMm, const PortalPathOptions& options = {});
+PortalPlan makePortalPath(Portal portal, const HumeralHead& head,
+                          const geometry::TriangleMesh& mesh, double toolOuterRadiusMm,
+                          const PortalPathOptions& options = {});
 
 // CSV with a header row: t, x, y, z, drill_on [, qw, qx, qy, qz] (seconds, millimetres, 0/1,
 // the tool's orientation, any non-zero scale; without it the tool points along the direction

@@ -4,12 +4,12 @@
 // present through the refined voxels' sample-mutation interface (refinement.h).
 #pragma once
 
-#include "osteon/geometry/hierarchy/refinement.h"
+#include <cstdint>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
-#include <cstdint>
-#include <vector>
+#include "osteon/geometry/hierarchy/refinement.h"
 
 namespace osteon::simulation {
 
@@ -39,7 +39,7 @@ struct CutVolume {
 };
 
 struct RemovalResult {
-  std::uint64_t removedFill = 0;   // fill units taken out of the grid (exact volume)
+  std::uint64_t removedFill = 0;  // fill units taken out of the grid (exact volume)
   std::uint32_t samplesRemoved = 0;
   std::uint32_t samplesDecremented = 0;
   std::uint32_t voxelsEmptied = 0;  // level-0 voxels that left grid and hierarchy
@@ -64,14 +64,15 @@ class MaterialRemoval {
   // Every sample in the volume loses `decrement` density; one at d <= 0 is removed. No
   // allocation, lock or throw. `cache` (may be null): the hierarchy query's cache for this
   // call site (dph.h); the same removal with or without it.
-  RemovalResult removeIn(const CutVolume& volume, int decrement = 1, geometry::DphNearCache* cache = nullptr);
+  RemovalResult removeIn(const CutVolume& volume, int decrement = 1,
+                         geometry::DphNearCache* cache = nullptr);
   RemovalResult removeInSphere(const glm::dvec3& centreMm, double radiusMm, int decrement = 1) {
     return removeIn(CutVolume::sphere(centreMm, radiusMm), decrement);
   }
 
  private:
-  RemovalResult removeFromBlock(const geometry::RefinedVoxels::SampleBlock& block, const CutVolume& volume,
-                                int decrement);
+  RemovalResult removeFromBlock(const geometry::RefinedVoxels::SampleBlock& block,
+                                const CutVolume& volume, int decrement);
 
   geometry::RefinedVoxels* voxels_;
   std::vector<glm::ivec3> found_;  // voxels of the current cut (reserved)

@@ -3,11 +3,11 @@
 // row as a run goes.
 #pragma once
 
-#include "osteon/simulation/force_log.h"
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "osteon/simulation/force_log.h"
 
 namespace osteon::simulation {
 

@@ -5,35 +5,35 @@
 // run_metrics.h's.
 #pragma once
 
-#include "osteon/simulation/coupling.h"
-#include "osteon/simulation/drilling.h"
-#include "osteon/simulation/force_log.h"
-#include "osteon/simulation/run_metrics.h"
-
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "osteon/simulation/coupling.h"
+#include "osteon/simulation/drilling.h"
+#include "osteon/simulation/force_log.h"
+#include "osteon/simulation/run_metrics.h"
+
 namespace osteon::simulation {
 
 struct RunSummary {
-  double jitterN = 0.0;           // docs/validation.md, "Force metrics" (t in [2, 5] s)
-  double maxStepChangeN = 0.0;    // largest |F| change between consecutive samples
+  double jitterN = 0.0;         // docs/validation.md, "Force metrics" (t in [2, 5] s)
+  double maxStepChangeN = 0.0;  // largest |F| change between consecutive samples
   double maxForceN = 0.0;
   double removedVolumeMm3 = 0.0;
-  Percentiles hapticStepUs;       // collision + force + removal per step
-  Percentiles remeshMs;           // incremental surface updates
-  std::uint64_t overruns = 0;     // steps over their period (threaded runtime; 0 here)
+  Percentiles hapticStepUs;    // collision + force + removal per step
+  Percentiles remeshMs;        // incremental surface updates
+  std::uint64_t overruns = 0;  // steps over their period (threaded runtime; 0 here)
   std::uint64_t steps = 0;
   DrillingTotals totals;  // the simulation's counters at the end of the run (drilling.h)
   CouplingMode coupling = CouplingMode::Direct;
-  double maxGapMm = 0.0;          // largest proxy-to-commanded tip distance (0 under direct)
-  std::uint64_t clampSteps = 0;   // steps whose force to the device was at N_max
+  double maxGapMm = 0.0;         // largest proxy-to-commanded tip distance (0 under direct)
+  std::uint64_t clampSteps = 0;  // steps whose force to the device was at N_max
   // The threaded runtime's hand-offs (RuntimeStats; 0 in the deterministic mode).
-  std::uint64_t ringFull = 0;     // changed bricks the visual side had to wait for
-  std::uint64_t logDropped = 0;   // force log rows lost on the way to the logging thread
+  std::uint64_t ringFull = 0;    // changed bricks the visual side had to wait for
+  std::uint64_t logDropped = 0;  // force log rows lost on the way to the logging thread
   // Counts one haptic step in maxGapMm and clampSteps.
   void tally(const HapticStep& h) {
     maxGapMm = std::max(maxGapMm, h.gapMm);

@@ -19,16 +19,16 @@
 // visual thread of its own.
 #pragma once
 
-#include "osteon/geometry/surface/surface_updater.h"
-#include "osteon/simulation/drilling.h"
-#include "osteon/simulation/path.h"
-#include "osteon/simulation/runner.h"
-
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/surface/surface_updater.h"
+#include "osteon/simulation/drilling.h"
+#include "osteon/simulation/path.h"
+#include "osteon/simulation/runner.h"
 
 namespace osteon::simulation {
 
@@ -51,7 +51,9 @@ class ForceSink {
 class PathPoseSource : public PoseSource {
  public:
   explicit PathPoseSource(const DrillPath& path) : path_(&path) {}
-  void sample(double tS, ToolPose& pose, bool& drillOn) noexcept override { path_->sample(tS, pose, drillOn); }
+  void sample(double tS, ToolPose& pose, bool& drillOn) noexcept override {
+    path_->sample(tS, pose, drillOn);
+  }
 
  private:
   const DrillPath* path_;
@@ -81,8 +83,8 @@ struct RuntimeStats {
   std::uint64_t hapticOverruns = 0, collisionOverruns = 0;
   std::uint64_t visualUpdates = 0;
   std::uint64_t bricksHandedOver = 0;
-  std::uint64_t ringFull = 0;       // changed bricks the visual thread could not be given
-  std::uint64_t logDropped = 0;    // force log rows the logging thread's ring had no room for
+  std::uint64_t ringFull = 0;    // changed bricks the visual thread could not be given
+  std::uint64_t logDropped = 0;  // force log rows the logging thread's ring had no room for
   Percentiles hapticStepUs, collisionStepUs, remeshMs;
   bool realtimeGranted = false;
   std::uint64_t standbySteps = 0;       // haptic periods its standby thread ran

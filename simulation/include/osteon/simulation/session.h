@@ -11,6 +11,13 @@
 //   const geometry::SurfaceMesh& bone = s.surface();
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/geometry/surface/surface_updater.h"
@@ -22,13 +29,6 @@
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/tool.h"
-
-#include <cstdint>
-#include <memory>
-#include <mutex>
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace osteon::geometry {
 class DynamicProximityHierarchy;
@@ -47,12 +47,12 @@ struct SessionOptions {
   // are set from the session's. A mesh whose grid has no voxel inside is refused (InputError).
   geometry::VoxelizeOptions voxelizing;
   // The drilling.
-  int levels = 2;                      // 0 static, 1 or 2 dynamic (refined near the tool)
+  int levels = 2;  // 0 static, 1 or 2 dynamic (refined near the tool)
   ToolKind tool = ToolKind::Drill;
   ToolOptions toolOptions;
-  DrillingOptions drilling;            // its `levels` is replaced by `levels` above
-  geometry::SurfaceOptions surface;    // the incremental surface kept by step() and run()
-  bool keepSurface = true;             // false: no visual work (faster batch runs)
+  DrillingOptions drilling;          // its `levels` is replaced by `levels` above
+  geometry::SurfaceOptions surface;  // the incremental surface kept by step() and run()
+  bool keepSurface = true;           // false: no visual work (faster batch runs)
   // How the commanded pose moves the tool (coupling.h): direct (the seed's scripted paths, the
   // library's default) or through a proxy that bone stops (hands: devices, recordings).
   CouplingMode coupling = CouplingMode::Direct;
@@ -63,7 +63,7 @@ struct SessionOptions {
 // integrators and front ends can see where the wait before the first step goes. A stage that
 // did not run is 0 (a bone from a grid has no voxelize, density or fine fills stage).
 struct SetupTimings {
-  double loadMs = 0.0;       // the mesh read and scaled, or the built-in bone built, or the volume read
+  double loadMs = 0.0;  // the mesh read and scaled, or the built-in bone built, or the volume read
   double voxelizeMs = 0.0;   // ray projection and fills (the voxelizer without its density pass)
   double densityMs = 0.0;    // cortical / cancellous density (the voxelizer's last pass)
   double fineFillsMs = 0.0;  // level -2 fills sampled from the mesh (sessions with levels 1 or 2)
@@ -91,20 +91,24 @@ class BoneModel {
   // From a mesh in millimetres. `name` names it in messages (a file, or "default");
   // loadScaleToMm is how it was scaled on loading (to suggest --units in messages).
   // sampleFineFills: sample the level -2 fills (needed for refinement from the mesh).
-  static std::shared_ptr<const BoneModel> fromMesh(geometry::TriangleMesh meshMm, double voxelSizeMm,
-                                                   const std::string& name = "mesh", double loadScaleToMm = 1.0,
+  static std::shared_ptr<const BoneModel> fromMesh(geometry::TriangleMesh meshMm,
+                                                   double voxelSizeMm,
+                                                   const std::string& name = "mesh",
+                                                   double loadScaleToMm = 1.0,
                                                    const geometry::VoxelizeOptions& voxelizing = {},
                                                    bool sampleFineFills = true);
   // From a source as front ends take it: a mesh file, `default` or a volume (bone_source.h),
   // with what it was read as. Every check of the source is made here.
   static OpenedBone open(const BoneSource& source);
   // Convenience: open() of a mesh argument (a mesh file or `default`), scaled to mm.
-  static std::shared_ptr<const BoneModel> open(const std::string& meshArgument, double scaleToMm, double voxelSizeMm,
+  static std::shared_ptr<const BoneModel> open(const std::string& meshArgument, double scaleToMm,
+                                               double voxelSizeMm,
                                                const geometry::VoxelizeOptions& voxelizing = {},
                                                bool sampleFineFills = true);
   // From a saved grid: no mesh, so refined voxels split their fill evenly.
   // loadMs: how long reading the grid took, reported by setupTimings().
-  static std::shared_ptr<const BoneModel> fromGrid(geometry::VoxelGrid grid, const std::string& name = "grid",
+  static std::shared_ptr<const BoneModel> fromGrid(geometry::VoxelGrid grid,
+                                                   const std::string& name = "grid",
                                                    double loadMs = 0.0);
 
   ~BoneModel();
@@ -127,10 +131,12 @@ class BoneModel {
  private:
   BoneModel() = default;
   // forSession: refuse a bone with no voxel inside, or past this machine's memory for a session.
-  static std::shared_ptr<BoneModel> build(geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name,
-                                          double loadScaleToMm, const geometry::VoxelizeOptions& voxelizing,
+  static std::shared_ptr<BoneModel> build(geometry::TriangleMesh meshMm, double voxelSizeMm,
+                                          const std::string& name, double loadScaleToMm,
+                                          const geometry::VoxelizeOptions& voxelizing,
                                           bool sampleFineFills, bool forSession = true);
-  static std::shared_ptr<BoneModel> wrapGrid(geometry::VoxelGrid grid, const std::string& name, double loadMs);
+  static std::shared_ptr<BoneModel> wrapGrid(geometry::VoxelGrid grid, const std::string& name,
+                                             double loadMs);
   std::string name_;
   SetupTimings setup_;
   std::optional<geometry::TriangleMesh> mesh_;
@@ -154,9 +160,10 @@ class Session {
   // the session.
   static Session fromMesh(geometry::TriangleMesh meshMm, const SessionOptions& options,
                           const std::string& name = "mesh", double loadScaleToMm = 1.0);
-  static Session open(const std::string& meshArgument, double scaleToMm, const SessionOptions& options);
-  static Session fromGrid(geometry::VoxelGrid grid, const SessionOptions& options, const std::string& name = "grid",
-                          double loadMs = 0.0);
+  static Session open(const std::string& meshArgument, double scaleToMm,
+                      const SessionOptions& options);
+  static Session fromGrid(geometry::VoxelGrid grid, const SessionOptions& options,
+                          const std::string& name = "grid", double loadMs = 0.0);
 
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
@@ -231,8 +238,8 @@ class Session {
   // The one step every path takes (step(), hapticStep(), run()): the coupling (null: direct)
   // and the simulation, timed into stepNs; then, with followSurface, the kept surface follows
   // the bricks the step changed, timed into surfaceNs. Either may be null.
-  HapticStep advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface, Durations* stepNs,
-                     Durations* surfaceNs);
+  HapticStep advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface,
+                     Durations* stepNs, Durations* surfaceNs);
   struct State;
   explicit Session(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;

@@ -7,11 +7,11 @@
 // the world (tip position, orientation).
 #pragma once
 
-#include <glm/gtc/quaternion.hpp>
-#include <glm/vec3.hpp>
-
 #include <array>
 #include <string>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
 
 namespace osteon::simulation {
 
@@ -22,12 +22,12 @@ ToolKind parseToolKind(const std::string& text);
 const char* toolKindName(ToolKind kind);
 
 struct ToolPart {
-  glm::dvec3 aMm{0.0};           // core segment, tool frame
+  glm::dvec3 aMm{0.0};  // core segment, tool frame
   glm::dvec3 bMm{0.0};
-  double innerRadiusMm = 0.0;    // removes material inside (when `cuts`)
-  double outerRadiusMm = 0.0;    // the shell (inner, outer] gives the force
+  double innerRadiusMm = 0.0;  // removes material inside (when `cuts`)
+  double outerRadiusMm = 0.0;  // the shell (inner, outer] gives the force
   bool cuts = false;
-  bool cutsOnSideOnly = false;   // cuts only where the projection falls on the segment
+  bool cutsOnSideOnly = false;  // cuts only where the projection falls on the segment
 
   double lengthMm() const;
   // Shell volume: pi (ro^2 - ri^2) L + 4/3 pi (ro^3 - ri^3).
@@ -40,19 +40,19 @@ struct Tool {
   ToolKind kind = ToolKind::Drill;
   std::array<ToolPart, kMaxToolParts> parts{};
   int partCount = 0;
-  double maxForceN = 3.3;  // N_max, what the haptic device can exert (seed 3.5)
+  double maxForceN = 3.3;         // N_max, what the haptic device can exert (seed 3.5)
   bool literalSeedCount = false;  // c as printed in the seed (see contact.h)
 };
 
 struct ToolOptions {
-  double tipDiameterMm = 2.92;     // drill tip and burr sphere; shaver cylinder (seed 4)
-  double cushionVoxels = 2.0;      // outer = inner + this many finest voxel sizes
-  double outerRadiusMm = -1.0;     // > 0: the outer radius of the cutting part, overriding
-  double shaftDiameterMm = 2.0;    // drill: the shaft behind the tip, collides, never cuts
+  double tipDiameterMm = 2.92;   // drill tip and burr sphere; shaver cylinder (seed 4)
+  double cushionVoxels = 2.0;    // outer = inner + this many finest voxel sizes
+  double outerRadiusMm = -1.0;   // > 0: the outer radius of the cutting part, overriding
+  double shaftDiameterMm = 2.0;  // drill: the shaft behind the tip, collides, never cuts
   double shaftLengthMm = 30.0;
-  double shaverWindowMm = 4.0;     // shaver: length of the cylinder that cuts on its side
+  double shaverWindowMm = 4.0;  // shaver: length of the cylinder that cuts on its side
   double maxForceN = 3.3;
-  bool literalSeedCount = false;   // c as printed in the seed's eq. (2) (see contact.h)
+  bool literalSeedCount = false;  // c as printed in the seed's eq. (2) (see contact.h)
 };
 
 // Throws InputError naming the option for non-positive or inconsistent sizes.

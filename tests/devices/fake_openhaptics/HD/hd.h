@@ -56,7 +56,8 @@ HDErrorInfo hdGetError(void);
 HDstring hdGetErrorString(HDerror errorCode);
 void hdStartScheduler(void);
 void hdStopScheduler(void);
-HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback pCallback, void* pUserData, HDushort nPriority);
+HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback pCallback, void* pUserData,
+                                         HDushort nPriority);
 void hdUnschedule(HDSchedulerHandle hHandle);
 void hdBeginFrame(HHD hHD);
 void hdEndFrame(HHD hHD);

@@ -20,11 +20,11 @@
 // than r_o - tolerance (Embree point query).
 #pragma once
 
+#include <cstdint>
+
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/session.h"
-
-#include <cstdint>
 
 namespace osteon::validation {
 
@@ -51,14 +51,15 @@ struct CollisionCheckResult {
   std::uint64_t skippedSteps = 0;     // contact steps with no ray to cast
   std::uint64_t raysCast = 0;         // up to raysPerStep a check, over the rest
   std::uint64_t missedSamples = 0;    // rays that met no surface
-  double worstMissMm = 0.0;           // largest distance from a missed sample's centre to the surface
-  simulation::RunResult run;          // the run itself (force log and summary)
+  double worstMissMm = 0.0;   // largest distance from a missed sample's centre to the surface
+  simulation::RunResult run;  // the run itself (force log and summary)
 };
 
 // Runs the path in the deterministic mode (Session::run, the surface extracted afresh from the
 // grid as it is at the start, then updated every step) and checks the tool's cutting part
 // against the surface as it goes. The session must keep its surface (keepSurface).
-CollisionCheckResult crossCheckCollisions(simulation::Session& session, const simulation::DrillPath& path,
+CollisionCheckResult crossCheckCollisions(simulation::Session& session,
+                                          const simulation::DrillPath& path,
                                           const CollisionCheckOptions& options = {});
 
 }  // namespace osteon::validation

@@ -2,12 +2,12 @@
 // written into one folder as one set, so a front end only names the folder.
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/validation/crack_metric.h"
-
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/validation/crack_metric.h"
 
 namespace osteon::geometry {
 class OutputDir;
@@ -33,7 +33,8 @@ class CrackImageFolder {
 
   // Measures `surface` at `pixels` per side, writes its six views and puts them in place;
   // returns the metric and fills `paths` with the files written.
-  CrackMetric write(const geometry::TriangleMesh& surface, int pixels, std::vector<std::string>& paths);
+  CrackMetric write(const geometry::TriangleMesh& surface, int pixels,
+                    std::vector<std::string>& paths);
 
  private:
   std::string folder_;
@@ -42,6 +43,7 @@ class CrackImageFolder {
 
 // Measures `surface` at `pixels` per side and writes its six views into `folder` (created when
 // missing), inside a run's own output set; returns the files written.
-std::vector<std::string> writeCrackImagesOf(const geometry::TriangleMesh& surface, int pixels, const std::string& folder);
+std::vector<std::string> writeCrackImagesOf(const geometry::TriangleMesh& surface, int pixels,
+                                            const std::string& folder);
 
 }  // namespace osteon::validation

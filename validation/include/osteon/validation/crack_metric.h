@@ -6,12 +6,12 @@
 // every machine.
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::validation {
 
@@ -32,11 +32,14 @@ struct CrackMetric {
   std::array<CrackView, 6> views;
   std::uint64_t white = 0;
   std::uint64_t red = 0;
-  double crackPercent() const { return red + white > 0 ? 100.0 * double(red) / double(red + white) : 0.0; }
+  double crackPercent() const {
+    return red + white > 0 ? 100.0 * double(red) / double(red + white) : 0.0;
+  }
 };
 
 // Throws InputError for pixels outside 16..4096 or an empty mesh.
-CrackMetric measureCracks(const geometry::TriangleMesh& mesh, const CrackMetricOptions& options = {});
+CrackMetric measureCracks(const geometry::TriangleMesh& mesh,
+                          const CrackMetricOptions& options = {});
 
 // Writes each kept view as DIR/cracks_<name>.png (OpenImageIO, through the osteon::image
 // plugin, loaded here on first use); returns the paths. Throws InputError naming the file when

@@ -5,9 +5,9 @@
 // translation unit (CGAL is slow to compile and spreads its flags).
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-
 #include <cstddef>
+
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::validation {
 
@@ -22,9 +22,9 @@ struct MeshReport {
   geometry::MeshTopology topology;
   std::size_t selfIntersections = 0;  // pairs, at most the cap
   bool selfIntersectionsCapped = false;
-  bool outwardOriented = false;       // CGAL, on closed self-intersection-free meshes only
-  double volumeMm3 = 0.0;             // signed; positive for an outward closed surface
-  long long genus = -1;               // closed, manifold, one component; else -1
+  bool outwardOriented = false;  // CGAL, on closed self-intersection-free meshes only
+  double volumeMm3 = 0.0;        // signed; positive for an outward closed surface
+  long long genus = -1;          // closed, manifold, one component; else -1
   // The winding numbers of the regions the surface bounds (outside is 0): a solid has 0 and 1
   // only. Two nested shells facing the same way give 2 inside the inner one; an inward shell
   // inside nothing gives -1. CGAL's volume components on closed self-intersection-free
@@ -38,8 +38,8 @@ struct MeshReport {
   // self-intersection, no degenerate face.
   bool passes() const {
     return watertight() && topology.consistentlyOriented() && selfIntersections == 0 &&
-           topology.degenerateTriangles == 0 && outwardOriented && windingNumberMin >= 0 && windingNumberMax <= 1 &&
-           !flat;
+           topology.degenerateTriangles == 0 && outwardOriented && windingNumberMin >= 0 &&
+           windingNumberMax <= 1 && !flat;
   }
 };
 
@@ -47,8 +47,8 @@ MeshReport checkMesh(const geometry::TriangleMesh& mesh, std::size_t intersectio
 
 // Accuracy of `surface` against the mesh it came from.
 struct Accuracy {
-  double hausdorffMm = 0.0;          // two-sided: max of the two directed distances
-  double surfaceToReferenceMm = 0.0; // directed, from points on `surface`
+  double hausdorffMm = 0.0;           // two-sided: max of the two directed distances
+  double surfaceToReferenceMm = 0.0;  // directed, from points on `surface`
   double referenceToSurfaceMm = 0.0;
   double volumeDifferenceMm3 = 0.0;  // surface - reference
   double volumeDifferencePercent = 0.0;
@@ -56,7 +56,7 @@ struct Accuracy {
 
 // CGAL's approximate Hausdorff distance (points sampled at `pointsPerMm2`, exact distances to
 // an AABB tree of the other mesh). Throws std::invalid_argument unless both are polygon meshes.
-Accuracy compareMeshes(const geometry::TriangleMesh& surface, const geometry::TriangleMesh& reference,
-                       double pointsPerMm2 = 4.0);
+Accuracy compareMeshes(const geometry::TriangleMesh& surface,
+                       const geometry::TriangleMesh& reference, double pointsPerMm2 = 4.0);
 
 }  // namespace osteon::validation

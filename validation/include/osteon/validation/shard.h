@@ -7,31 +7,34 @@
 // a nightly of 50 bones x 4 sizes still has 200 groups to balance.
 #pragma once
 
-#include "osteon/validation/validate.h"
-
 #include <cstddef>
 #include <string>
 #include <vector>
 
+#include "osteon/validation/validate.h"
+
 namespace osteon::validation {
 
 struct CaseGroup {
-  std::size_t model = 0;            // index into the run's models
+  std::size_t model = 0;  // index into the run's models
   double voxelSizeMm = 0.0;
-  double estimatedVoxels = 0.0;     // voxels inside the model at this size, estimated cheaply
-  double cost = 0.0;                // estimatedVoxels x the group's case weights
+  double estimatedVoxels = 0.0;  // voxels inside the model at this size, estimated cheaply
+  double cost = 0.0;             // estimatedVoxels x the group's case weights
 };
 
 // Every case of a group: crack-free and naive, static and dynamic, in runValidation's order.
 inline constexpr int kCasesPerGroup = 4;
 
 // The groups of a run in runValidation's order (models, then each model's voxel sizes).
-std::vector<CaseGroup> caseGroups(const std::vector<ValidationModel>& models, const ValidationOptions& options);
+std::vector<CaseGroup> caseGroups(const std::vector<ValidationModel>& models,
+                                  const ValidationOptions& options);
 
 // The case keys ("model|voxel mm|method|mode") of the groups, in run order: what a shard
 // report names its cases by, and what a merge orders them by.
-std::vector<std::string> caseKeys(const std::vector<ValidationModel>& models, const std::vector<CaseGroup>& groups);
-std::string caseKey(const std::string& model, double voxelSizeMm, const std::string& method, const std::string& mode);
+std::vector<std::string> caseKeys(const std::vector<ValidationModel>& models,
+                                  const std::vector<CaseGroup>& groups);
+std::string caseKey(const std::string& model, double voxelSizeMm, const std::string& method,
+                    const std::string& mode);
 
 // Shard (0..shardCount-1) of each cost: longest processing time first (costs descending, ties
 // by index), each to the shard with the least total so far (ties to the lowest shard). The

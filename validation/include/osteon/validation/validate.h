@@ -6,28 +6,29 @@
 // is measured beside it, expected to break them.
 #pragma once
 
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/validation/collision_check.h"
-#include "osteon/validation/crack_metric.h"
-#include "osteon/validation/mesh_checks.h"
-
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+#include "osteon/validation/collision_check.h"
+#include "osteon/validation/crack_metric.h"
+#include "osteon/validation/mesh_checks.h"
+
 namespace osteon::validation {
 
 // Forces at the base voxel size, or on voxels refined two levels near the tool.
 enum class ForceMode { Static, Dynamic };
-inline const char* forceModeName(ForceMode m) { return m == ForceMode::Static ? "static" : "dynamic"; }
+inline const char* forceModeName(ForceMode m) {
+  return m == ForceMode::Static ? "static" : "dynamic";
+}
 
 struct ValidationModel {
-  std::string name;                // as given: "default" or a path
-  geometry::TriangleMesh mesh;     // in mm (empty for a volume)
-  double loadScaleToMm = 1.0;      // how the file was scaled to mm (for messages)
+  std::string name;             // as given: "default" or a path
+  geometry::TriangleMesh mesh;  // in mm (empty for a volume)
+  double loadScaleToMm = 1.0;   // how the file was scaled to mm (for messages)
   // A volume (an osteon grid, a label map, a CT): checked and drilled at its own voxel size
   // only, with no source polygons to measure accuracy against.
   std::optional<geometry::VoxelGrid> volume;
@@ -38,7 +39,7 @@ struct ValidationModel {
 struct ValidationOptions {
   std::vector<double> voxelSizesMm{1.2, 0.9, 0.72, 0.54};
   int crackPixels = 512;
-  int checkEverySteps = 10;        // collision cross-check period along the paths
+  int checkEverySteps = 10;  // collision cross-check period along the paths
   bool drill = true;
   // Indexes into caseGroups(models, options) (shard.h) to run, in ascending order; unset runs
   // every group. A shard of the nightly runs its own groups only.
@@ -62,12 +63,12 @@ struct ValidationCase {
   CrackMetric cracks;
   Accuracy accuracy;
   bool accuracyKnown = false;
-  double extractMs = 0.0;                // wall time of the whole extraction
-  geometry::SurfaceTimings timings;       // its breakdown, as the seed's Table 2
-  std::uint64_t voxels = 0;               // voxels at least half full, as the seed's Table 1
+  double extractMs = 0.0;            // wall time of the whole extraction
+  geometry::SurfaceTimings timings;  // its breakdown, as the seed's Table 2
+  std::uint64_t voxels = 0;          // voxels at least half full, as the seed's Table 1
   std::size_t triangles = 0, vertices = 0;
   std::vector<PortalRun> portals;
-  MeshReport after;     // the drilled surface (both portals drilled into one bone)
+  MeshReport after;  // the drilled surface (both portals drilled into one bone)
   CrackMetric afterCracks;
   // Wall time, for sizing runs (docs/validation.md): the group's set-up (voxelize, density,
   // head fit) shared by its four cases, the surface and its checks shared by the method's two
@@ -83,7 +84,8 @@ struct ValidationReport {
   bool pass() const;
 };
 
-ValidationReport runValidation(const std::vector<ValidationModel>& models, const ValidationOptions& options,
+ValidationReport runValidation(const std::vector<ValidationModel>& models,
+                               const ValidationOptions& options,
                                const std::function<void(const ValidationCase&)>& progress = {});
 
 }  // namespace osteon::validation

@@ -20,14 +20,14 @@
 // once to its bound; queries and removals are safe in the 1 kHz loop.
 #pragma once
 
-#include "osteon/geometry/voxels/voxel_grid.h"
-
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 
@@ -37,10 +37,11 @@ enum class DphBuildMethod {
 };
 
 struct DphBuildOptions {
-  int expansionRatio = 3;    // xi: odd, 3..15
+  int expansionRatio = 3;  // xi: odd, 3..15
   DphBuildMethod method = DphBuildMethod::kLattice;
-  std::uint64_t seed = 1;    // kInsertion: insertion order at every level
-  bool shuffle = true;       // kInsertion; false: level 0 in the given order, higher levels in creation order
+  std::uint64_t seed = 1;  // kInsertion: insertion order at every level
+  bool shuffle =
+      true;  // kInsertion; false: level 0 in the given order, higher levels in creation order
 };
 
 // Caller-owned traversal memory, so queries never allocate once it has grown.
@@ -88,9 +89,9 @@ class DphNearCache {
   void reserveFor(const DynamicProximityHierarchy& h);
   double skinMm() const { return skinMm_; }
   std::size_t capacity() const { return kept_.nodes.capacity(); }
-  std::uint64_t walks() const { return walks_; }          // queries that had to walk at once
-  std::uint64_t reuses() const { return reuses_; }        // queries answered from a kept answer
-  std::uint64_t sliced() const { return sliced_; }        // answers gathered in slices
+  std::uint64_t walks() const { return walks_; }    // queries that had to walk at once
+  std::uint64_t reuses() const { return reuses_; }  // queries answered from a kept answer
+  std::uint64_t sliced() const { return sliced_; }  // answers gathered in slices
   std::uint64_t overflows() const { return overflows_; }
   // How far the query's ends have moved in all, in whole nanometres: per query max(|da|,
   // |db|) rounded up (and a non-finite move as a jump beyond any slack), summed exactly in
@@ -122,15 +123,15 @@ class DphNearCache {
   };
   // How far the query's ends lie from the answer's: max(|a - a0|, |b - b0|).
   static double moved(const Answer& answer, const glm::dvec3& a, const glm::dvec3& b);
-  bool covers(const DynamicProximityHierarchy& h, const Answer& answer, const glm::dvec3& a, const glm::dvec3& b,
-              double radiusMm) const;
+  bool covers(const DynamicProximityHierarchy& h, const Answer& answer, const glm::dvec3& a,
+              const glm::dvec3& b, double radiusMm) const;
 
   const DynamicProximityHierarchy* owner_ = nullptr;
   std::uint64_t generation_ = 0;
   double skinMm_ = 0.0;
   std::size_t sliceNodes_ = 0;
   Answer kept_, next_;
-  bool slicing_ = false;      // next_ is being gathered
+  bool slicing_ = false;  // next_ is being gathered
   bool nextFits_ = true;
   std::vector<std::uint64_t> stack_;  // the slices' traversal
   std::size_t top_ = 0;
@@ -172,7 +173,8 @@ class DynamicProximityHierarchy {
   // Index of the root at the top level, or kNone once every voxel is removed.
   std::uint32_t root() const;
   glm::ivec3 centre(int level, std::uint32_t node) const {
-    return level == 0 && compactVoxels() ? voxelInCell(parent(0, node), node) : levels_[std::size_t(level)].centre[node];
+    return level == 0 && compactVoxels() ? voxelInCell(parent(0, node), node)
+                                         : levels_[std::size_t(level)].centre[node];
   }
   // O(log n) for a voxel of the lattice build, which keeps no parent per voxel.
   std::uint32_t parent(int level, std::uint32_t node) const;
@@ -239,9 +241,9 @@ class DynamicProximityHierarchy {
 
  private:
   struct Level {
-    std::vector<glm::ivec3> centre;            // level 0 of the lattice build: empty (see digit)
-    std::vector<std::uint16_t> digit;          // lattice level 0: the voxel's place in its level-1 cell
-    std::vector<std::uint32_t> parent;         // lattice level 0: empty
+    std::vector<glm::ivec3> centre;     // level 0 of the lattice build: empty (see digit)
+    std::vector<std::uint16_t> digit;   // lattice level 0: the voxel's place in its level-1 cell
+    std::vector<std::uint32_t> parent;  // lattice level 0: empty
     std::vector<std::uint32_t> childBegin;     // level >= 1
     std::vector<std::uint32_t> childEnd;       // level >= 1
     std::vector<std::uint32_t> aliveChildren;  // level >= 1
@@ -277,19 +279,20 @@ class DynamicProximityHierarchy {
   // The same walk from a saved stack (top items), for at most `budget` nodes; true when done.
   void startTraversal(std::uint64_t* stack, std::size_t& top) const;
   template <typename Reach, typename Leaf>
-  bool traverseFrom(std::uint64_t* stack, std::size_t& top, std::size_t budget, Reach&& reach, Leaf&& leaf) const;
+  bool traverseFrom(std::uint64_t* stack, std::size_t& top, std::size_t budget, Reach&& reach,
+                    Leaf&& leaf) const;
   // A query through a cache. walkFrom(a, b, radiusMm, stack, top, budget, leaf) walks for the
   // query of those ends and radius (see traverseFrom); test(centre) is the walk's own leaf
   // test for this query.
   // A whole walk from the root through walkFrom (see answerThroughCache), in scratch.
   template <typename WalkFrom, typename Leaf>
-  void walkWhole(DphQueryScratch& scratch, WalkFrom&& walkFrom, const glm::dvec3& a, const glm::dvec3& b,
-                 double radiusMm, Leaf&& leaf) const;
+  void walkWhole(DphQueryScratch& scratch, WalkFrom&& walkFrom, const glm::dvec3& a,
+                 const glm::dvec3& b, double radiusMm, Leaf&& leaf) const;
   // kind: 1 sphere, 2 capsule (a slice started by one is not continued by the other).
   template <typename WalkFrom, typename Test, typename Fn>
   void answerThroughCache(int kind, const glm::dvec3& a, const glm::dvec3& b, double radiusMm,
-                          DphQueryScratch& scratch, DphNearCache& cache, WalkFrom&& walkFrom, Test&& test,
-                          Fn&& fn) const;
+                          DphQueryScratch& scratch, DphNearCache& cache, WalkFrom&& walkFrom,
+                          Test&& test, Fn&& fn) const;
 
   int xi_ = 3;
   glm::dvec3 originMm_{0.0};
@@ -305,8 +308,8 @@ class DynamicProximityHierarchy {
   bool lattice_ = false;
   glm::ivec3 latticeOriginVoxel_{0};
   std::vector<std::uint64_t> keySpread_[3];
-  std::vector<std::uint64_t> cellKeys_;      // level-1 node i's cell key (ascending)
-  std::vector<glm::ivec3> digitOffset_;      // a digit's voxel, from its cell's lowest corner
+  std::vector<std::uint64_t> cellKeys_;  // level-1 node i's cell key (ascending)
+  std::vector<glm::ivec3> digitOffset_;  // a digit's voxel, from its cell's lowest corner
   std::size_t maxChildren_ = 0;
   std::uint64_t generation_ = 0;
 };

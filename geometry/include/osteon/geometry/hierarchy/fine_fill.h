@@ -3,13 +3,13 @@
 // size, so refining at run time casts no rays and only copies.
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 

@@ -25,25 +25,25 @@
 // further voxels are left unrefined and counted.
 #pragma once
 
-#include "osteon/geometry/hierarchy/dph.h"
-#include "osteon/geometry/hierarchy/fine_fill.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
+#include "osteon/geometry/hierarchy/dph.h"
+#include "osteon/geometry/hierarchy/fine_fill.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
+
 namespace osteon::geometry {
 
 struct RefinementOptions {
-  int depth = 2;              // 0 (off), 1 (level -1, 8 sub-voxels) or 2 (level -2, 64)
-  double marginMm = -1.0;     // beyond the tool's outer sphere; < 0: one finest sample
-  double timeoutS = 2.0;      // a refined voxel expires this long after the tool left
-  std::size_t capacity = 4096;       // refined voxels at once (the cell pool)
+  int depth = 2;                       // 0 (off), 1 (level -1, 8 sub-voxels) or 2 (level -2, 64)
+  double marginMm = -1.0;              // beyond the tool's outer sphere; < 0: one finest sample
+  double timeoutS = 2.0;               // a refined voxel expires this long after the tool left
+  std::size_t capacity = 4096;         // refined voxels at once (the cell pool)
   std::size_t maskCapacity = 1 << 16;  // voxels whose removed sub-voxels are remembered
 };
 
@@ -51,8 +51,8 @@ struct RefinementOptions {
 struct VoxelSample {
   glm::dvec3 centreMm;
   double sizeMm;
-  int level;    // 0, -1 or -2
-  Fill fill;    // in grid fill units (full: kFillFull >> (3 * -level))
+  int level;  // 0, -1 or -2
+  Fill fill;  // in grid fill units (full: kFillFull >> (3 * -level))
   Density density;
 };
 
@@ -60,21 +60,22 @@ class RefinedVoxels {
  public:
   // grid and hierarchy must outlive this object and describe the same voxels; source may be
   // null (sub-voxels then inherit their parent's fill). Throws InputError for bad options.
-  RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarchy,
-                const FineFillSource* source, const RefinementOptions& options);
+  RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarchy, const FineFillSource* source,
+                const RefinementOptions& options);
 
   // Refines (or keeps alive) every voxel within the margin of the tool's outer sphere.
   // Returns the number of voxels newly refined.
   // `cache` (may be null): the hierarchy query's cache for this call site (dph.h).
-  int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS, DphNearCache* cache = nullptr);
+  int refineAround(const glm::dvec3& toolCentreMm, double outerRadiusMm, double nowS,
+                   DphNearCache* cache = nullptr);
   // Refines (or keeps alive) the voxels with bone that a part's shell around the segment a-b
   // (a point when a == b) of outer radius outerRadiusMm may reach: those whose centre lies
   // within segmentRefineReachMm(outerRadiusMm) of the segment, so a long shaft refines the
   // bone it touches, not its length. At most `budget` voxels are newly refined;
   // the others are left as they are and counted in `deferred`, for a later call to continue
   // (the query's voxels already refined are only kept alive). Returns the number newly refined.
-  int refineNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double outerRadiusMm, double nowS,
-                        DphNearCache* cache, std::size_t budget, int& deferred);
+  int refineNearSegment(const glm::dvec3& aMm, const glm::dvec3& bMm, double outerRadiusMm,
+                        double nowS, DphNearCache* cache, std::size_t budget, int& deferred);
   // The radii the hierarchy queries reach: refineAround's for a tool of outerRadiusMm,
   // forEachSampleInShell's for a shell of outerMm (refined voxels hold samples half their
   // samples' diagonal from their centre), a cut's of radiusMm (every voxel that may hold a
@@ -86,11 +87,14 @@ class RefinedVoxels {
   double segmentRefineReachMm(double outerRadiusMm) const {
     return outerRadiusMm + 0.5 * std::sqrt(3.0) * grid_->voxelSizeMm();
   }
-  double shellReachMm(double outerMm) const { return outerMm + (depth_ > 0 ? sampleHalfDiagonalMm() : 0.0); }
+  double shellReachMm(double outerMm) const {
+    return outerMm + (depth_ > 0 ? sampleHalfDiagonalMm() : 0.0);
+  }
   double cutReachMm(double radiusMm) const;
   // A cache for one query site whose core is lengthMm long (0: a point) and whose queries
   // reach reachMm: sized so that its answers always fit, ready for this hierarchy. Allocates.
-  DphNearCache makeNearCache(double lengthMm, double reachMm, double skinMm, std::size_t sliceNodes) const;
+  DphNearCache makeNearCache(double lengthMm, double reachMm, double skinMm,
+                             std::size_t sliceNodes) const;
   // Expires refined voxels not touched since nowS - timeoutS; returns how many.
   int expire(double nowS);
   int expireAll();
@@ -99,7 +103,8 @@ class RefinedVoxels {
   // fn(const VoxelSample&).
   template <typename Fn>
   void forEachSampleInSphere(const glm::dvec3& centreMm, double radiusMm, Fn&& fn) {
-    forEachSampleNearSegment(centreMm, centreMm, radiusMm, [](const glm::dvec3&, double) { return true; }, fn);
+    forEachSampleNearSegment(
+        centreMm, centreMm, radiusMm, [](const glm::dvec3&, double) { return true; }, fn);
   }
   // Samples whose centre lies within radiusMm of the segment a-b (a capsule; a sphere when
   // a == b), opening a refined voxel only when openVoxel(centreMm, halfDiagonalMm) says its
@@ -118,8 +123,8 @@ class RefinedVoxels {
   // `cache` (may be null): the hierarchy query's cache for this call site (dph.h); the same
   // samples in the same order with or without it.
   template <typename Open, typename Fn>
-  void forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm, double outerMm,
-                            DphNearCache* cache, Open&& openVoxel, Fn&& fn);
+  void forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm,
+                            double outerMm, DphNearCache* cache, Open&& openVoxel, Fn&& fn);
 
   // ---- Sample mutation: the interface material removal (osteon::simulation) works through ----
   // A refined voxel's samples, edited in place: perEdge^3 of them, x fastest.
@@ -147,8 +152,8 @@ class RefinedVoxels {
   // The level-0 voxels whose centre lies within reachMm of the segment a-b (a point when
   // a == b), appended to `out` up to its capacity; false when some did not fit. Collect before
   // editing: removal changes the hierarchy the query walks. `cache` as for forEachSampleInShell.
-  bool collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, double reachMm, DphNearCache* cache,
-                     std::vector<glm::ivec3>& out);
+  bool collectVoxels(const glm::dvec3& aMm, const glm::dvec3& bMm, double reachMm,
+                     DphNearCache* cache, std::vector<glm::ivec3>& out);
   const VoxelGrid& grid() const { return *grid_; }
 
   bool isRefined(const glm::ivec3& voxel) const { return findCell(voxel) != kNoCell; }
@@ -172,9 +177,9 @@ class RefinedVoxels {
   struct Cell {
     glm::ivec3 voxel;
     double lastNearS;
-    std::array<Fill, kSubVoxels> fill;        // level -depth sub-voxels, x fastest
+    std::array<Fill, kSubVoxels> fill;  // level -depth sub-voxels, x fastest
     std::array<Density, kSubVoxels> density;
-    std::uint64_t occupied;                   // bit i: fill[i] > 0 (rows of bone at a glance)
+    std::uint64_t occupied;  // bit i: fill[i] > 0 (rows of bone at a glance)
     // Around a segment: how far every sample with bone lay from the shell (of radii
     // slackInnerMm..slackOuterMm) of the query site whose cache has id slackSite, when it
     // last tested them all, and the site's odometer then. While the site has travelled less
@@ -218,8 +223,8 @@ class RefinedVoxels {
   };
   // With wantSlack, returns the least distance from a sample with bone to the shell (0 when
   // one lies in it; ShellTerms innerMm/outerMm); else 0.
-  double shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms, ShellHits& hits,
-                        bool wantSlack = false) const;
+  double shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm, const ShellTerms& terms,
+                        ShellHits& hits, bool wantSlack = false) const;
   // Per axis, over the voxels within reach of a point p (one more each side): voxel centres
   // c = origin + (i + 0.5) vs, toCore = p - c and its square, as voxelCentreMm and the shell
   // test compute them.
@@ -232,7 +237,8 @@ class RefinedVoxels {
     bool build(const VoxelGrid& grid, const glm::dvec3& pointMm, double reachMm);
   };
   // The level -2 fills of a voxel as first refined, summing exactly to firstFill.
-  void baseSubFill(const glm::ivec3& voxel, Fill firstFill, std::array<Fill, kSubVoxels>& out) const;
+  void baseSubFill(const glm::ivec3& voxel, Fill firstFill,
+                   std::array<Fill, kSubVoxels>& out) const;
 
   VoxelGrid* grid_;
   DynamicProximityHierarchy* hierarchy_;
@@ -247,7 +253,7 @@ class RefinedVoxels {
   std::vector<std::uint32_t> activeList_;  // cells in use, unordered
   std::vector<std::uint32_t> activeSlot_;  // cell -> position in activeList_
   std::size_t active_ = 0;
-  std::vector<std::uint64_t> tableKeys_;   // open addressing, linear probing; 0 = empty
+  std::vector<std::uint64_t> tableKeys_;  // open addressing, linear probing; 0 = empty
   std::vector<std::uint32_t> tableCells_;
   std::vector<Mask> masks_;
   std::size_t masksUsed_ = 0;
@@ -257,8 +263,9 @@ class RefinedVoxels {
 };
 
 template <typename Open, typename Fn>
-void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm, double innerMm,
-                                         double outerMm, DphNearCache* cache, Open&& openVoxel, Fn&& fn) {
+void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3& bMm,
+                                         double innerMm, double outerMm, DphNearCache* cache,
+                                         Open&& openVoxel, Fn&& fn) {
   const double vs = grid_->voxelSizeMm();
   // A refined voxel may hold samples in reach although its centre is not.
   // Its samples' centres lie within a cube one sample narrower than the voxel: half that
@@ -283,7 +290,8 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
   const auto visit = [&](const glm::ivec3& v) {
     const std::uint32_t cell = active_ == 0 ? kNoCell : findCell(v);
     if (tabled && cell == kNoCell) {
-      const auto ix = unsigned(v.x - axes.lo[0]), iy = unsigned(v.y - axes.lo[1]), iz = unsigned(v.z - axes.lo[2]);
+      const auto ix = unsigned(v.x - axes.lo[0]), iy = unsigned(v.y - axes.lo[1]),
+                 iz = unsigned(v.z - axes.lo[2]);
       if (ix < axes.size[0] && iy < axes.size[1] && iz < axes.size[2]) {
         const double d2 = axes.sq[0][ix] + axes.sq[1][iy] + axes.sq[2][iz];
         if (d2 > terms.inner2 && d2 <= terms.outer2) {
@@ -313,8 +321,8 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
     // Around a segment through a cache: skip the voxel while the site has not travelled its
     // slack (a margin far above the rounding of distances and travel).
     const bool slackable = cache && len2 > 0.0;
-    if (slackable && cl.slackSite == cache->id() && cl.slackInnerMm == innerMm && cl.slackOuterMm == outerMm &&
-        cache->travelNm() - cl.slackTravelNm < cl.slackNm) {
+    if (slackable && cl.slackSite == cache->id() && cl.slackInnerMm == innerMm &&
+        cl.slackOuterMm == outerMm && cache->travelNm() - cl.slackTravelNm < cl.slackNm) {
       return;
     }
     const glm::dvec3 corner = grid_->worldFromGrid(glm::dvec3(v));
@@ -323,8 +331,8 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
       // In whole nanometres, rounded down and one less for the rounding of the distances.
       cl.slackSite = cache->id();
       cl.slackNm = !(slack >= 0.0) ? 0
-                   : slack < 1e6    ? std::uint64_t(std::max(std::floor(slack * 1e6) - 1.0, 0.0))
-                                    : std::uint64_t(1) << 39;
+                   : slack < 1e6   ? std::uint64_t(std::max(std::floor(slack * 1e6) - 1.0, 0.0))
+                                   : std::uint64_t(1) << 39;
       cl.slackTravelNm = cache->travelNm();
       cl.slackInnerMm = innerMm;
       cl.slackOuterMm = outerMm;
@@ -336,7 +344,8 @@ void RefinedVoxels::forEachSampleInShell(const glm::dvec3& aMm, const glm::dvec3
       // Sub-voxel coordinates by shifts (n is a power of two), not integer divisions.
       const glm::ivec3 k(i & (n - 1), (i >> depth_) & (n - 1), i >> (2 * depth_));
       const glm::dvec3 sc = corner + (glm::dvec3(k) + 0.5) * sub;
-      fn(VoxelSample{sc, sub, -depth_, cl.fill[std::size_t(i)], cl.density[std::size_t(i)]}, hits.toCore[std::size_t(h)]);
+      fn(VoxelSample{sc, sub, -depth_, cl.fill[std::size_t(i)], cl.density[std::size_t(i)]},
+         hits.toCore[std::size_t(h)]);
     }
   };
   if (len2 > 0.0) {

@@ -7,9 +7,9 @@
 // pointing proximally; the head faces medially, superiorly and (retroversion) posteriorly.
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-
 #include <glm/vec3.hpp>
+
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::geometry {
 
@@ -23,10 +23,10 @@ struct HumerusModelParams {
 };
 
 struct HumerusModel {
-  TriangleMesh mesh;              // closed, 2-manifold, outward CCW, genus 0
-  glm::dvec3 headCentreMm{0.0};   // centre of the articular sphere
-  double headRadiusMm = 0.0;      // radius of the articular sphere
-  glm::dvec3 headAxis{0.0};       // unit; from the head centre through the articular pole
+  TriangleMesh mesh;                    // closed, 2-manifold, outward CCW, genus 0
+  glm::dvec3 headCentreMm{0.0};         // centre of the articular sphere
+  double headRadiusMm = 0.0;            // radius of the articular sphere
+  glm::dvec3 headAxis{0.0};             // unit; from the head centre through the articular pole
   glm::dvec3 shaftAxis{0.0, 0.0, 1.0};  // unit; along the shaft, pointing proximally
 };
 

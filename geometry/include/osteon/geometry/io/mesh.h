@@ -3,17 +3,17 @@
 // holes, fins or self-intersections load without losing a triangle.
 #pragma once
 
-#include <glm/vec3.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 namespace osteon::geometry {
 
 struct TriangleMesh {
-  std::vector<glm::dvec3> positionsMm;   // vertex positions (nv x 3), millimetres
-  std::vector<glm::u32vec3> triangles;   // vertex indices (nt x 3), outward CCW
+  std::vector<glm::dvec3> positionsMm;  // vertex positions (nv x 3), millimetres
+  std::vector<glm::u32vec3> triangles;  // vertex indices (nt x 3), outward CCW
 
   std::size_t vertexCount() const { return positionsMm.size(); }
   std::size_t triangleCount() const { return triangles.size(); }
@@ -39,13 +39,13 @@ void scaleInPlace(TriangleMesh& mesh, double factor);
 // Combinatorial facts about the soup, counted on undirected edges keyed by vertex index.
 struct MeshTopology {
   std::size_t edges = 0;
-  std::size_t borderEdges = 0;        // edges with one incident triangle
-  std::size_t nonManifoldEdges = 0;   // edges with more than two incident triangles
-  std::size_t misorientedEdges = 0;   // two-triangle edges traversed the same way by both
+  std::size_t borderEdges = 0;          // edges with one incident triangle
+  std::size_t nonManifoldEdges = 0;     // edges with more than two incident triangles
+  std::size_t misorientedEdges = 0;     // two-triangle edges traversed the same way by both
   std::size_t nonManifoldVertices = 0;  // triangles around the vertex form several fans
   std::size_t degenerateTriangles = 0;  // repeated index or zero area
-  std::size_t components = 0;         // connected through shared vertices
-  long long eulerCharacteristic = 0;  // V - E + F over referenced vertices
+  std::size_t components = 0;           // connected through shared vertices
+  long long eulerCharacteristic = 0;    // V - E + F over referenced vertices
   bool closed() const { return borderEdges == 0 && nonManifoldEdges == 0; }
   bool manifold() const { return nonManifoldEdges == 0 && nonManifoldVertices == 0; }
   bool consistentlyOriented() const { return misorientedEdges == 0; }

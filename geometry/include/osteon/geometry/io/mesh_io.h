@@ -3,10 +3,10 @@
 // one-line message names the file and the reason.
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-
 #include <cstddef>
 #include <string>
+
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::geometry {
 
@@ -18,10 +18,10 @@ const char* meshFormatName(MeshFormat format);
 
 struct MeshFileInfo {
   MeshFormat format = MeshFormat::Stl;
-  bool binary = false;                  // binary STL or PLY
-  std::size_t polygonsRead = 0;         // faces as stored in the file
+  bool binary = false;                   // binary STL or PLY
+  std::size_t polygonsRead = 0;          // faces as stored in the file
   std::size_t polygonsTriangulated = 0;  // faces with more than three corners
-  std::size_t degenerateDropped = 0;    // faces that repeat a corner (no area, no topology)
+  std::size_t degenerateDropped = 0;     // faces that repeat a corner (no area, no topology)
 };
 
 // Coordinates beyond +-1e9 mm (1000 km) are a units mistake: no bone is that large, and volume

@@ -1,10 +1,10 @@
 // A mesh argument as commands take it: a file path, or `default` for the built-in humerus.
 #pragma once
 
+#include <string>
+
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/io/mesh_io.h"
-
-#include <string>
 
 namespace osteon::geometry {
 

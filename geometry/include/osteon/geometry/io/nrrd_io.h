@@ -5,9 +5,9 @@
 // uses; "space origin" is the centre of voxel (0, 0, 0), as NRRD defines it for cell data.
 #pragma once
 
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <string>
+
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 
@@ -22,14 +22,13 @@ std::string densityPathFor(const std::string& fillPath);
 void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDensity = true);
 
 // Reads GRID.nrrd (fill as uint8 steps or uint16 units, raw encoding) and, when it exists,
-// GRID.density.nrrd (int16, either byte order). Without a density file, density is left 0 for the caller's rule.
-// Voxel size and origin come from osteon's keys when present (they must agree with the
-// standard fields), otherwise from "space directions" + "space origin" or "spacings".
-// Bricks whose voxels all agree stay uniform; the result has no dirty bricks.
-// The header is read as every NRRD osteon opens (src/io/nrrd_header.h): the data may be
-// attached or in a `data file:` inside the header's folder (anywhere with allowOutsideData),
-// after `line skip:` lines and `byte skip:` bytes.
-// Throws InputError "<file>: <reason>" for anything it cannot honour: a missing file, magic
+// GRID.density.nrrd (int16, either byte order). Without a density file, density is left 0 for the
+// caller's rule. Voxel size and origin come from osteon's keys when present (they must agree with
+// the standard fields), otherwise from "space directions" + "space origin" or "spacings". Bricks
+// whose voxels all agree stay uniform; the result has no dirty bricks. The header is read as every
+// NRRD osteon opens (src/io/nrrd_header.h): the data may be attached or in a `data file:` inside
+// the header's folder (anywhere with allowOutsideData), after `line skip:` lines and `byte skip:`
+// bytes. Throws InputError "<file>: <reason>" for anything it cannot honour: a missing file, magic
 // or field, a field given twice, a non-spatial kind, a fill type other than uint8/uint16 or a
 // density type other than int16, a dimension other than 3, gzip or other non-raw encodings, a
 // space other than LPS, non-axis-aligned or non-isotropic

@@ -28,10 +28,10 @@ namespace osteon::geometry {
 class OutputDir {
  public:
   // Creates `folder` when missing, locks it and removes killed runs' temporaries in it (three
-  // levels deep, as deep as commands write). `owned` names the entries of the folder (files, or folders filled by the run alone)
-  // that make up a run's set: after commit(), they hold this run's files only. Throws
-  // InputError naming the folder (after `option`, the command's name for it) when it cannot
-  // be made or another run holds it. One OutputDir is open at a time in a process.
+  // levels deep, as deep as commands write). `owned` names the entries of the folder (files, or
+  // folders filled by the run alone) that make up a run's set: after commit(), they hold this run's
+  // files only. Throws InputError naming the folder (after `option`, the command's name for it)
+  // when it cannot be made or another run holds it. One OutputDir is open at a time in a process.
   explicit OutputDir(const std::string& folder, std::vector<std::string> owned = {},
                      const std::string& option = "--out-dir");
   ~OutputDir();

@@ -18,7 +18,8 @@ LengthUnit parseLengthUnit(const std::string& text);
 // Millimetres per coordinate of a mesh: `scale` when given, else the unit's. The one check of
 // both: throws OptionError "scale 0: must be a positive finite number" (field "scale") or the
 // unit's.
-double resolveScaleToMm(const std::string& units, const std::optional<double>& scale = std::nullopt);
+double resolveScaleToMm(const std::string& units,
+                        const std::optional<double>& scale = std::nullopt);
 
 const char* unitName(LengthUnit unit);
 

@@ -21,32 +21,33 @@
 // are refused with a clear message.
 #pragma once
 
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstdint>
 #include <cstring>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "osteon/geometry/voxels/voxel_grid.h"
+
 namespace osteon::geometry {
 
-inline constexpr int kMaxLabels = 64;               // more distinct values: not a label map
-inline constexpr double kMinCtRangeHu = 1000.0;     // a CT spans at least this much
-inline constexpr double kDefaultIsoHu = 300.0;      // bone threshold by default
-inline constexpr double kCtRampHalfWidthHu = 100.0; // fill 0 at iso-100 HU, full at iso+100 HU
-inline constexpr double kCorticalHu = 800.0;        // cortical at or above, cancellous below
-inline constexpr Density kCtCorticalDensity = 40;   // as the mesh voxelizer's defaults
+inline constexpr int kMaxLabels = 64;                // more distinct values: not a label map
+inline constexpr double kMinCtRangeHu = 1000.0;      // a CT spans at least this much
+inline constexpr double kDefaultIsoHu = 300.0;       // bone threshold by default
+inline constexpr double kCtRampHalfWidthHu = 100.0;  // fill 0 at iso-100 HU, full at iso+100 HU
+inline constexpr double kCorticalHu = 800.0;         // cortical at or above, cancellous below
+inline constexpr Density kCtCorticalDensity = 40;    // as the mesh voxelizer's defaults
 inline constexpr Density kCtCancellousDensity = 15;
 
 // True for paths osteon reads as a volume: .nrrd, .nhdr, .nii, .nii.gz (any case).
 bool isVolumePath(const std::string& path);
 
 struct VolumeOptions {
-  std::optional<std::uint64_t> label;  // label maps: the bone label (default: all but the background)
-  std::optional<double> isoHu;         // CTs: the bone threshold (default kDefaultIsoHu); finite
-  double corticalThicknessMm = 2.0;    // label maps: voxels this close to outside are cortical
-  bool allowOutsideData = false;       // NRRD: a `data file:` may lie outside the header's folder
+  std::optional<std::uint64_t>
+      label;                         // label maps: the bone label (default: all but the background)
+  std::optional<double> isoHu;       // CTs: the bone threshold (default kDefaultIsoHu); finite
+  double corticalThicknessMm = 2.0;  // label maps: voxels this close to outside are cortical
+  bool allowOutsideData = false;     // NRRD: a `data file:` may lie outside the header's folder
 };
 
 struct VolumeLoad {
@@ -56,10 +57,10 @@ struct VolumeLoad {
   std::string type;                       // the stored scalar type ("uint8", "int16", ...)
   double minValue = 0.0, maxValue = 0.0;  // as numbers (label maps: exact in `labels`)
   std::vector<std::uint64_t> labels;      // label maps: the distinct values found, ascending
-  std::optional<std::uint64_t> label;     // label maps: the label used (none: all but the background)
-  std::uint64_t background = 0;           // label maps: 0 if present, else the most common value
-  double isoHu = kDefaultIsoHu;           // CTs: the threshold used
-  bool densityLoaded = false;             // osteon grids: a density file was read
+  std::optional<std::uint64_t> label;  // label maps: the label used (none: all but the background)
+  std::uint64_t background = 0;        // label maps: 0 if present, else the most common value
+  double isoHu = kDefaultIsoHu;        // CTs: the threshold used
+  bool densityLoaded = false;          // osteon grids: a density file was read
 };
 
 // NRRD headers are read once for all (src/io/nrrd_header.h): a field given twice, a
@@ -100,13 +101,15 @@ struct RawVolume {
   glm::ivec3 sizes{0};
   double voxelSizeMm = 1.0;
   glm::dvec3 originMm{0.0};
-  std::string type;          // "int8" "uint8" "int16" "uint16" "int32" "uint32" "int64" "uint64" "float" "double"
+  std::string
+      type;  // "int8" "uint8" "int16" "uint16" "int32" "uint32" "int64" "uint64" "float" "double"
   std::size_t scalarBytes = 1;
-  bool integer = true;       // the values are the stored integers (an integer type, unscaled)
-  bool isSigned = false;     // the values may be negative
-  double slope = 1.0, intercept = 0.0;  // NIfTI scl_slope, scl_inter: value = stored * slope + intercept
-  std::vector<unsigned char> data;      // sizes.x * sizes.y * sizes.z stored values
-  bool osteonGrid = false;  // osteon's own NRRD grid: loadVolume hands it to readNrrd
+  bool integer = true;    // the values are the stored integers (an integer type, unscaled)
+  bool isSigned = false;  // the values may be negative
+  double slope = 1.0,
+         intercept = 0.0;  // NIfTI scl_slope, scl_inter: value = stored * slope + intercept
+  std::vector<unsigned char> data;  // sizes.x * sizes.y * sizes.z stored values
+  bool osteonGrid = false;          // osteon's own NRRD grid: loadVolume hands it to readNrrd
 
   // Calls f(values) with `values` a StoredValues<T> of the stored type T.
   template <typename F>

@@ -29,7 +29,8 @@ void releaseCachedBuffers();
 
 namespace detail {
 inline constexpr std::size_t kLargeBufferBytes = std::size_t(1) << 20;
-void* allocateLarge(std::size_t bytes);  // aligned to 2 MiB (huge pages advised from 8 MiB); throws bad_alloc
+void* allocateLarge(
+    std::size_t bytes);  // aligned to 2 MiB (huge pages advised from 8 MiB); throws bad_alloc
 void freeLarge(void* p, std::size_t bytes) noexcept;  // bytes as allocated
 }  // namespace detail
 
@@ -45,7 +46,8 @@ struct DefaultInitAllocator : std::allocator<T> {
   };
   T* allocate(std::size_t n) {
     if (n > std::size_t(-1) / sizeof(T)) throw std::bad_alloc();
-    if (n * sizeof(T) >= detail::kLargeBufferBytes) return static_cast<T*>(detail::allocateLarge(n * sizeof(T)));
+    if (n * sizeof(T) >= detail::kLargeBufferBytes)
+      return static_cast<T*>(detail::allocateLarge(n * sizeof(T)));
     return std::allocator<T>::allocate(n);
   }
   void deallocate(T* p, std::size_t n) noexcept {

@@ -6,25 +6,27 @@
 // smoothing: that is what opens cracks.
 #pragma once
 
-#include "osteon/geometry/surface/buffer.h"
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstdint>
 #include <vector>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/surface/buffer.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 
 enum class SurfaceMethod { CrackFree, Naive };
 // "crackfree" or "naive", as the command line and reports name them.
-inline const char* surfaceMethodName(SurfaceMethod m) { return m == SurfaceMethod::Naive ? "naive" : "crackfree"; }
+inline const char* surfaceMethodName(SurfaceMethod m) {
+  return m == SurfaceMethod::Naive ? "naive" : "crackfree";
+}
 
 struct SurfaceOptions {
   SurfaceMethod method = SurfaceMethod::CrackFree;
-  int smoothIterations = 2;   // seed: two Laplacian passes
-  double lambda = 0.5;        // Laplacian step
-  bool taubin = false;        // alternate lambda and mu steps (no shrinkage)
-  double mu = -0.53;          // Taubin's second step
+  int smoothIterations = 2;  // seed: two Laplacian passes
+  double lambda = 0.5;       // Laplacian step
+  bool taubin = false;       // alternate lambda and mu steps (no shrinkage)
+  double mu = -0.53;         // Taubin's second step
   bool computeNormals = true;
 };
 
@@ -32,17 +34,17 @@ struct SurfaceOptions {
 // triangles grouped by the grid brick their cells belong to.
 struct SurfaceMesh {
   Buffer<glm::dvec3> positionsMm;
-  Buffer<glm::dvec3> normals;        // area-weighted, unit length (empty if not asked)
+  Buffer<glm::dvec3> normals;  // area-weighted, unit length (empty if not asked)
   Buffer<glm::u32vec3> triangles;
   // Triangles of the cells of one cell brick. Cells are numbered by their first voxel, from
   // -1 (the layer outside the grid that closes the surface) to dims - 1, and cell brick cb
   // holds cells 8 cb .. 8 cb + 7, so cb runs from -1 to brickDims - 1 on each axis.
   struct BrickRange {
-    std::int64_t brick;      // key of the cell brick: (cb.x + 1) + (nb.x + 1) ((cb.y + 1) +
-                             // (nb.y + 1) (cb.z + 1)), nb the grid's brickDims; stable across
-                             // updates
-    glm::ivec3 cellBrick;    // cb
-    std::uint32_t first;     // triangles [first, first + count)
+    std::int64_t brick;    // key of the cell brick: (cb.x + 1) + (nb.x + 1) ((cb.y + 1) +
+                           // (nb.y + 1) (cb.z + 1)), nb the grid's brickDims; stable across
+                           // updates
+    glm::ivec3 cellBrick;  // cb
+    std::uint32_t first;   // triangles [first, first + count)
     std::uint32_t count;
   };
   std::vector<BrickRange> brickRanges;
@@ -50,7 +52,8 @@ struct SurfaceMesh {
   std::size_t vertexCount() const { return positionsMm.size(); }
   std::size_t triangleCount() const { return triangles.size(); }
   TriangleMesh toTriangleMesh() const {
-    return TriangleMesh{{positionsMm.begin(), positionsMm.end()}, {triangles.begin(), triangles.end()}};
+    return TriangleMesh{{positionsMm.begin(), positionsMm.end()},
+                        {triangles.begin(), triangles.end()}};
   }
 };
 
@@ -59,7 +62,7 @@ struct SurfaceTimings {
   double extractMs = 0.0;  // marching cubes and triangle creation
   double smoothMs = 0.0;
   double normalsMs = 0.0;
-  double otherMs = 0.0;    // adjacency, packing
+  double otherMs = 0.0;  // adjacency, packing
   double totalMs = 0.0;
 };
 

@@ -4,13 +4,13 @@
 // the new grid (same triangles, vertex positions to rounding).
 #pragma once
 
-#include "osteon/geometry/surface/surface.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "osteon/geometry/surface/surface.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 
@@ -19,16 +19,16 @@ namespace osteon::geometry {
 // triangles (in slot indices) are replaced whole when the brick changes. A front end keeps a
 // vertex buffer indexed by slot and one triangle range per brick, and uploads only these.
 struct SurfaceDelta {
-  std::size_t slotCount = 0;             // slots in use or free: vertex buffer size
-  std::vector<std::uint32_t> slots;      // slots whose position or normal changed, or that died
-  std::vector<glm::dvec3> positionsMm;   // per listed slot (NaN for a dead slot)
+  std::size_t slotCount = 0;            // slots in use or free: vertex buffer size
+  std::vector<std::uint32_t> slots;     // slots whose position or normal changed, or that died
+  std::vector<glm::dvec3> positionsMm;  // per listed slot (NaN for a dead slot)
   std::vector<glm::dvec3> normals;
   struct Brick {
-    std::int64_t key;                    // SurfaceMesh::BrickRange::brick
+    std::int64_t key;                     // SurfaceMesh::BrickRange::brick
     std::vector<glm::u32vec3> triangles;  // the brick's triangles now (empty: none left)
   };
   std::vector<Brick> bricks;
-  bool everything = false;               // the first read: every slot and brick is listed
+  bool everything = false;  // the first read: every slot and brick is listed
 };
 
 class SurfaceUpdater {
@@ -37,9 +37,9 @@ class SurfaceUpdater {
     std::size_t cellBricks = 0;        // cell bricks extracted again
     std::size_t verticesTouched = 0;   // created, moved by their edge, or with new triangles
     std::size_t verticesSmoothed = 0;  // positions recomputed
-    double ms = 0.0;         // all of the update
-    double extractMs = 0.0;  // edges and triangles of the changed cells
-    double smoothMs = 0.0;   // smoothing and normals
+    double ms = 0.0;                   // all of the update
+    double extractMs = 0.0;            // edges and triangles of the changed cells
+    double smoothMs = 0.0;             // smoothing and normals
   };
 
   // Extracts the whole surface of `grid` (always the crack-free method; options.method is

@@ -2,9 +2,9 @@
 // bone within a shell under the surface, cancellous bone deeper inside.
 #pragma once
 
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstdint>
+
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 

@@ -4,14 +4,14 @@
 // cross-check).
 #pragma once
 
-#include "osteon/geometry/io/mesh.h"
-
-#include <embree3/rtcore.h>
-
 #include <cstdint>
 #include <memory>
 #include <type_traits>
 #include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "osteon/geometry/io/mesh.h"
 
 namespace osteon::geometry {
 

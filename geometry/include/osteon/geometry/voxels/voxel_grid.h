@@ -8,16 +8,16 @@
 // [j, j+1) x [k, k+1); world space is millimetres, worldFromGrid(g) = originMm + g * size.
 #pragma once
 
-#include "osteon/core/constants.h"
-
-#include <glm/mat4x4.hpp>
-#include <glm/vec3.hpp>
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "osteon/core/constants.h"
 
 namespace osteon::geometry {
 
@@ -29,9 +29,9 @@ using Fill = std::uint16_t;
 using Density = std::int16_t;  // seed 3.5: integer drilling difficulty d (0 where no bone)
 
 inline constexpr Fill kFillFull = 16320;
-inline constexpr Fill kFillHalf = 8160;     // a voxel is "inside" at or above half full
-inline constexpr Fill kFillPerStep = 64;    // one 1/255 step of the voxelizer
-inline constexpr int kFillSteps = 255;      // kFillFull / kFillPerStep
+inline constexpr Fill kFillHalf = 8160;   // a voxel is "inside" at or above half full
+inline constexpr Fill kFillPerStep = 64;  // one 1/255 step of the voxelizer
+inline constexpr int kFillSteps = 255;    // kFillFull / kFillPerStep
 
 class VoxelGrid {
  public:
@@ -43,7 +43,7 @@ class VoxelGrid {
   static constexpr std::uint64_t kMaxVoxels = std::uint64_t(1) << 32;
 
   struct Brick {
-    std::array<Fill, kBrickVoxels> fill;        // x fastest, then y, then z
+    std::array<Fill, kBrickVoxels> fill;  // x fastest, then y, then z
     std::array<Density, kBrickVoxels> density;
   };
 
@@ -64,9 +64,7 @@ class VoxelGrid {
 
   // Transforms (named "to from from", as pbrt does).
   glm::dvec3 worldFromGrid(const glm::dvec3& g) const { return originMm_ + g * voxelSizeMm_; }
-  glm::dvec3 gridFromWorld(const glm::dvec3& pMm) const {
-    return (pMm - originMm_) / voxelSizeMm_;
-  }
+  glm::dvec3 gridFromWorld(const glm::dvec3& pMm) const { return (pMm - originMm_) / voxelSizeMm_; }
   glm::dvec3 voxelCentreMm(const glm::ivec3& ijk) const {
     return worldFromGrid(glm::dvec3(ijk) + 0.5);
   }
@@ -99,8 +97,8 @@ class VoxelGrid {
   std::size_t brickCount() const { return uniformFill_.size(); }
   std::size_t brickIndex(const glm::ivec3& brickCoord) const {
     return std::size_t(brickCoord.x) +
-           std::size_t(brickDims_.x) * (std::size_t(brickCoord.y) +
-                                        std::size_t(brickDims_.y) * std::size_t(brickCoord.z));
+           std::size_t(brickDims_.x) *
+               (std::size_t(brickCoord.y) + std::size_t(brickDims_.y) * std::size_t(brickCoord.z));
   }
   glm::ivec3 brickCoord(std::size_t brick) const;
   static int voxelInBrick(const glm::ivec3& local) {
@@ -144,7 +142,7 @@ class VoxelGrid {
   std::vector<std::unique_ptr<Brick>> bricks_;  // null: uniform
   std::vector<Fill> uniformFill_;
   std::vector<Density> uniformDensity_;
-  std::vector<std::uint8_t> dirty_;  // bytes, not bits: threads write distinct bricks
+  std::vector<std::uint8_t> dirty_;            // bytes, not bits: threads write distinct bricks
   std::vector<std::unique_ptr<Brick>> spare_;  // not copied with the grid
   std::uint64_t spareMisses_ = 0;
 

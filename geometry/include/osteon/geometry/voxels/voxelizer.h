@@ -4,19 +4,19 @@
 // exactly with the column's voxels, giving each voxel a fill fraction 0..255.
 #pragma once
 
-#include "osteon/geometry/voxels/density.h"
-#include "osteon/geometry/io/mesh.h"
-#include "osteon/geometry/voxels/voxel_grid.h"
-
 #include <cstdint>
 #include <string>
+
+#include "osteon/geometry/io/mesh.h"
+#include "osteon/geometry/voxels/density.h"
+#include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 
 struct VoxelizeOptions {
   double voxelSizeMm = 1.0;
-  int raysPerAxis = 4;   // rays per column = raysPerAxis^2, stratified over the column
-  bool robust = false;   // all three axes, majority (median) vote, for damaged meshes
+  int raysPerAxis = 4;    // rays per column = raysPerAxis^2, stratified over the column
+  bool robust = false;    // all three axes, majority (median) vote, for damaged meshes
   int paddingVoxels = 1;  // empty voxels around the mesh's bounding box on every side
   DensityRule density;
   // Refuse a grid with no voxel at least half inside (InputError): drilling needs bone.
@@ -29,13 +29,13 @@ struct VoxelizeOptions {
 };
 
 struct VoxelizeStats {
-  std::uint64_t raysCast = 0;         // first casts (retries not included)
-  std::uint64_t raysRetried = 0;      // rays re-cast, slightly moved, after an odd hit list
-  std::uint64_t raysUnresolved = 0;   // rays still inconsistent after the retries
-  std::uint64_t raysWinding = 0;      // rays through overlapping shells, classified by winding
+  std::uint64_t raysCast = 0;           // first casts (retries not included)
+  std::uint64_t raysRetried = 0;        // rays re-cast, slightly moved, after an odd hit list
+  std::uint64_t raysUnresolved = 0;     // rays still inconsistent after the retries
+  std::uint64_t raysWinding = 0;        // rays through overlapping shells, classified by winding
   std::uint64_t disagreeingVoxels = 0;  // robust: voxels whose axis votes differ by > 1/2
   std::uint64_t abstainedColumns = 0;   // robust: columns with no consistent ray on an axis
-  bool orientedMesh = false;          // facing of hits was used to check rays
+  bool orientedMesh = false;            // facing of hits was used to check rays
   DensityStats density;
   double raysMs = 0.0;     // ray casting and fill, all axes
   double combineMs = 0.0;  // robust vote
