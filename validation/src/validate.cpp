@@ -38,6 +38,48 @@ void surfaceFailures(const MeshReport& r, const CrackMetric& c, const char* when
   add(c.red > 0, std::to_string(c.red) + " red pixels");
 }
 
+// Both portals drilled on a fresh session (static or dynamic by levels), each path's
+// collisions cross-checked, then the drilled surface checked: failures go into c.
+void drillCase(const std::shared_ptr<const sim::BoneModel>& bone, int levels,
+               const geometry::SurfaceOptions& so, const ValidationOptions& options,
+               const CrackMetricOptions& crackOptions, ValidationCase& c) {
+  sim::SessionOptions drilling;
+  drilling.levels = levels;
+  sim::Session session(bone, drilling);
+  const sim::DrillingSimulation& simulation = session.simulation();
+  for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
+    const sim::PortalPlan plan = session.portalPath(portal);
+    PortalRun run;
+    run.portal = sim::portalName(portal);
+    CollisionCheckOptions check;
+    check.everySteps = options.checkEverySteps;
+    check.method = so.method;  // naive: its surface re-extracted whole at each check
+    run.collisions = crossCheckCollisions(session, plan.path, check);
+    const sim::RunSummary& s = run.collisions.run.summary;
+    run.maxForceN = s.maxForceN;
+    run.jitterN = s.jitterN;
+    run.nonFiniteForces = s.totals.nonFiniteForces;
+    if (run.collisions.misses > 0) {
+      c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) +
+                           " collision misses");
+    }
+    if (run.nonFiniteForces > 0) c.failures.push_back(run.portal + ": NaN or infinite force");
+    if (run.maxForceN > simulation.tool().maxForceN + 1e-9)
+      c.failures.push_back(run.portal + ": force above the cap");
+    c.portals.push_back(std::move(run));
+    // The next path starts its own clock; after the last, the refined voxels stay
+    // so the drilled surface below includes them.
+    if (portal == sim::Portal::FiveOClock) session.simulation().voxels().expireAll();
+  }
+  const geometry::TriangleMesh drilled =
+      so.method == geometry::SurfaceMethod::CrackFree
+          ? geometry::extractSurface(session.grid(), simulation.voxels(), so).toTriangleMesh()
+          : geometry::extractSurface(session.grid(), so).toTriangleMesh();
+  c.after = checkMesh(drilled);
+  c.afterCracks = measureCracks(drilled, crackOptions);
+  surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);
+}
+
 }  // namespace
 
 std::vector<double> ValidationModel::voxelSizesMm(const std::vector<double>& requested) const {
@@ -112,45 +154,7 @@ ValidationReport runValidation(const std::vector<ValidationModel>& models,
         ValidationCase c = base;
         const Clock::time_point drillStart = Clock::now();
         c.mode = levels == 0 ? ForceMode::Static : ForceMode::Dynamic;
-        if (head) {
-          sim::SessionOptions drilling;
-          drilling.levels = levels;
-          sim::Session session(bone, drilling);
-          const sim::DrillingSimulation& simulation = session.simulation();
-          for (const sim::Portal portal : {sim::Portal::FiveOClock, sim::Portal::SevenOClock}) {
-            const sim::PortalPlan plan = session.portalPath(portal);
-            PortalRun run;
-            run.portal = sim::portalName(portal);
-            CollisionCheckOptions check;
-            check.everySteps = options.checkEverySteps;
-            check.method = so.method;  // naive: its surface re-extracted whole at each check
-            run.collisions = crossCheckCollisions(session, plan.path, check);
-            const sim::RunSummary& s = run.collisions.run.summary;
-            run.maxForceN = s.maxForceN;
-            run.jitterN = s.jitterN;
-            run.nonFiniteForces = s.totals.nonFiniteForces;
-            if (run.collisions.misses > 0) {
-              c.failures.push_back(run.portal + ": " + std::to_string(run.collisions.misses) +
-                                   " collision misses");
-            }
-            if (run.nonFiniteForces > 0)
-              c.failures.push_back(run.portal + ": NaN or infinite force");
-            if (run.maxForceN > simulation.tool().maxForceN + 1e-9)
-              c.failures.push_back(run.portal + ": force above the cap");
-            c.portals.push_back(std::move(run));
-            // The next path starts its own clock; after the last, the refined voxels stay
-            // so the drilled surface below includes them.
-            if (portal == sim::Portal::FiveOClock) session.simulation().voxels().expireAll();
-          }
-          const geometry::TriangleMesh drilled =
-              so.method == geometry::SurfaceMethod::CrackFree
-                  ? geometry::extractSurface(session.grid(), simulation.voxels(), so)
-                        .toTriangleMesh()
-                  : geometry::extractSurface(session.grid(), so).toTriangleMesh();
-          c.after = checkMesh(drilled);
-          c.afterCracks = measureCracks(drilled, crackOptions);
-          surfaceFailures(c.after, c.afterCracks, "after drilling", c.failures);
-        }
+        if (head) drillCase(bone, levels, so, options, crackOptions, c);
         c.drillMs = msSince(drillStart);
         if (progress) progress(c);
         report.cases.push_back(std::move(c));

@@ -51,6 +51,23 @@ std::vector<Entry> partialVoxels(const VoxelGrid& grid) {
   return entries;
 }
 
+// Adds to a voxel's sub-voxel tallies the part of each interval (along z, from the ray's start)
+// that lies in sub-voxels (sx, sy, 0..) of the voxel whose bottom is baseMm along the ray.
+void addOverlaps(const std::vector<detail::Interval>& intervals, double baseMm, double subMm,
+                 int sx, int sy, float* voxelAcc) {
+  for (const detail::Interval& in : intervals) {
+    // Interval ends in sub-voxel units from the bottom of this voxel.
+    const double s0 = std::max(0.0, (in.t0 - baseMm) / subMm);
+    const double s1 = std::min(double(kSubPerEdge), (in.t1 - baseMm) / subMm);
+    for (int sz = int(s0); sz < kSubPerEdge && sz < s1; ++sz) {
+      const double overlap = std::min(s1, sz + 1.0) - std::max(s0, double(sz));
+      if (overlap > 0.0) {
+        voxelAcc[std::size_t(sx + kSubPerEdge * (sy + kSubPerEdge * sz))] += float(overlap);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh& mesh,
@@ -101,20 +118,8 @@ FineFillSource FineFillSource::sample(const VoxelGrid& grid, const TriangleMesh&
                     detail::pairByParity(ray.hits(), intervals);
                   }
                   for (std::size_t e = first; e < last; ++e) {
-                    // Interval ends in sub-voxel units from the bottom of this voxel.
                     const double base = (entries[e].z + 1) * vs;  // ray starts one voxel below
-                    for (const detail::Interval& in : intervals) {
-                      const double s0 = std::max(0.0, (in.t0 - base) / sub);
-                      const double s1 = std::min(double(kSubPerEdge), (in.t1 - base) / sub);
-                      for (int sz = int(s0); sz < kSubPerEdge && sz < s1; ++sz) {
-                        const double overlap = std::min(s1, sz + 1.0) - std::max(s0, double(sz));
-                        if (overlap > 0.0) {
-                          acc[(e - first) * kSubVoxels +
-                              std::size_t(sx + kSubPerEdge * (sy + kSubPerEdge * sz))] +=
-                              float(overlap);
-                        }
-                      }
-                    }
+                    addOverlaps(intervals, base, sub, sx, sy, &acc[(e - first) * kSubVoxels]);
                   }
                 }
           for (std::size_t e = first; e < last; ++e) {

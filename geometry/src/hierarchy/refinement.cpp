@@ -306,28 +306,101 @@ int RefinedVoxels::expireAll() {
   return n;
 }
 
+namespace {
+
+// How far the shell can move before a sample with bone enters it: the nearest such sample
+// beyond the outer layer or within the inner one (squared distances; none: infinity).
+template <typename Terms>
+double shellSlackMm(double minAbove2, double maxBelow2, const Terms& terms) {
+  const double above = minAbove2 < std::numeric_limits<double>::infinity()
+                           ? std::sqrt(minAbove2) - terms.outerMm
+                           : std::numeric_limits<double>::infinity();
+  const double below = maxBelow2 >= 0.0 ? terms.innerMm - std::sqrt(maxBelow2)
+                                        : std::numeric_limits<double>::infinity();
+  return std::min(above, below);
+}
+
+// shellSamplesOf sample by sample, over the lattice it computed: a single sample per cell, or a
+// build without SSE2. Templates over RefinedVoxels' private shell types, which it receives from
+// its member.
+template <typename Cell, typename Terms, typename Hits>
+void scalarShellSamples(const Cell& cell, int n, const std::array<double, 4>& cx,
+                        const std::array<double, 4>& cy, const std::array<double, 4>& cz,
+                        const std::array<double, 4>& px, const std::array<double, 4>& py,
+                        const std::array<double, 4>& pz, const Terms& terms, Hits& hits,
+                        double& minAbove2, double& maxBelow2) {
+  const auto keep = [&](int i, double tx, double ty, double tz) {
+    hits.index[std::size_t(hits.count)] = std::uint8_t(i);
+    hits.toCore[std::size_t(hits.count)] = {tx, ty, tz};
+    ++hits.count;
+  };
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const int i = x + n * (y + n * z);
+        if (cell.fill[std::size_t(i)] == 0) continue;
+        double t = ((px[std::size_t(x)] + py[std::size_t(y)]) + pz[std::size_t(z)]) * terms.invLen2;
+        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+        const double tx = (terms.a.x + t * terms.ab.x) - cx[std::size_t(x)];
+        const double ty = (terms.a.y + t * terms.ab.y) - cy[std::size_t(y)];
+        const double tz = (terms.a.z + t * terms.ab.z) - cz[std::size_t(z)];
+        const double d2 = (tx * tx + ty * ty) + tz * tz;
+        if (d2 > terms.inner2 && d2 <= terms.outer2) keep(i, tx, ty, tz);
+        if (d2 > terms.outer2) minAbove2 = std::min(minAbove2, d2);
+        if (d2 <= terms.inner2) maxBelow2 = std::max(maxBelow2, d2);
+      }
+}
+
+#if defined(__SSE2__)
+// The vector loop's slack lanes into its scalars.
+[[gnu::always_inline]] inline void lanesToSlack(__m128d minAboveV, __m128d maxBelowV,
+                                                double& minAbove2, double& maxBelow2) {
+  alignas(16) double lo[2], hi[2];
+  _mm_store_pd(lo, minAboveV);
+  _mm_store_pd(hi, maxBelowV);
+  minAbove2 = std::min(lo[0], lo[1]);
+  maxBelow2 = std::max(hi[0], hi[1]);
+}
+
+// Samples i and i + 1 kept as `in` says (bit 0, bit 1), with their offsets to the core.
+template <typename Hits>
+[[gnu::always_inline]] inline void keepPair(int in, int i, __m128d tx, __m128d ty, __m128d tz,
+                                            Hits& hits) {
+  alignas(16) double vx[2], vy[2], vz[2];
+  _mm_store_pd(vx, tx);
+  _mm_store_pd(vy, ty);
+  _mm_store_pd(vz, tz);
+  for (int k = 0; k < 2; ++k) {
+    if ((in >> k & 1) == 0) continue;
+    hits.index[std::size_t(hits.count)] = std::uint8_t(i + k);
+    hits.toCore[std::size_t(hits.count)] = {vx[k], vy[k], vz[k]};
+    ++hits.count;
+  }
+}
+#endif
+
+}  // namespace
+
+// The samples of one refined cell within the shell, by distance to the segment a-b.
+// The lattice's per-axis terms are centre coordinates and their parts of (centre - a) . ab,
+// summed in the order glm::dot sums them, so every distance here equals the one glm computes
+// for the sample's centre to the bit (the same samples, whatever the caller checks them
+// against). Most of a haptic step is this loop. Around a point (the drill's tip, a burr) every
+// distance is ((a.x - x)^2 + (a.y - y)^2) + (a.z - z)^2, and rounded addition is monotonic, so a
+// row's smallest and largest squared x term bound all its distances exactly: rows wholly beyond
+// the outer layer or within the inner one are skipped without testing their samples. For the
+// slack: the smallest squared distance among samples beyond the outer layer, the largest among
+// those within the inner one (samples without bone do not count).
 double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerMm,
                                      const ShellTerms& terms, ShellHits& hits,
                                      bool wantSlack) const {
   hits.count = 0;
-  // Smallest squared distance among samples beyond the outer layer, largest among those
-  // within the inner one (for the slack; samples without bone do not count).
   double minAbove2 = std::numeric_limits<double>::infinity(),
          maxBelow2 = -std::numeric_limits<double>::infinity();
   const auto slack = [&] {
-    if (!wantSlack || hits.count > 0) return 0.0;
-    const double above = minAbove2 < std::numeric_limits<double>::infinity()
-                             ? std::sqrt(minAbove2) - terms.outerMm
-                             : std::numeric_limits<double>::infinity();
-    const double below = maxBelow2 >= 0.0 ? terms.innerMm - std::sqrt(maxBelow2)
-                                          : std::numeric_limits<double>::infinity();
-    return std::min(above, below);
+    return wantSlack && hits.count == 0 ? shellSlackMm(minAbove2, maxBelow2, terms) : 0.0;
   };
   if (cell.occupied == 0) return slack();  // drilled through: no sample left
-  // Per-axis terms of the samples' lattice: centre coordinates and their parts of
-  // (centre - a) . ab, summed in the order glm::dot sums them, so every distance here equals
-  // the one glm computes for the sample's centre to the bit (the same samples, whatever the
-  // caller checks them against). Most of a haptic step is this loop.
   const int n = 1 << depth_;
   const double sub = grid_->voxelSizeMm() / double(n);
   std::array<double, 4> cx, cy, cz, px, py, pz;
@@ -340,15 +413,6 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
     py[std::size_t(k)] = (c.y - terms.a.y) * terms.ab.y;
     pz[std::size_t(k)] = (c.z - terms.a.z) * terms.ab.z;
   }
-  const auto keep = [&](int i, double tx, double ty, double tz) {
-    hits.index[std::size_t(hits.count)] = std::uint8_t(i);
-    hits.toCore[std::size_t(hits.count)] = {tx, ty, tz};
-    ++hits.count;
-  };
-  // Around a point (the drill's tip, a burr) every distance is ((a.x - x)^2 + (a.y - y)^2) +
-  // (a.z - z)^2, and rounded addition is monotonic, so a row's smallest and largest squared
-  // x term bound all its distances exactly: rows wholly beyond the outer layer or within the
-  // inner one are skipped without testing their samples.
   const bool point = !(terms.invLen2 > 0.0);
   std::array<double, 4> dy2{}, dz2{};
   double minX2 = 0.0, maxX2 = 0.0;
@@ -413,39 +477,14 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
                                    _mm_or_pd(_mm_and_pd(below, d2), _mm_andnot_pd(below, negInf)));
           }
           if (in == 0) continue;
-          alignas(16) double vx[2], vy[2], vz[2];
-          _mm_store_pd(vx, tx);
-          _mm_store_pd(vy, ty);
-          _mm_store_pd(vz, tz);
-          if (in & 1) keep(i, vx[0], vy[0], vz[0]);
-          if (in & 2) keep(i + 1, vx[1], vy[1], vz[1]);
+          keepPair(in, i, tx, ty, tz, hits);
         }
       }
-    if (wantSlack) {
-      alignas(16) double lo[2], hi[2];
-      _mm_store_pd(lo, minAboveV);
-      _mm_store_pd(hi, maxBelowV);
-      minAbove2 = std::min(lo[0], lo[1]);
-      maxBelow2 = std::max(hi[0], hi[1]);
-    }
+    if (wantSlack) lanesToSlack(minAboveV, maxBelowV, minAbove2, maxBelow2);
     return slack();
   }
 #endif
-  for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const int i = x + n * (y + n * z);
-        if (cell.fill[std::size_t(i)] == 0) continue;
-        double t = ((px[std::size_t(x)] + py[std::size_t(y)]) + pz[std::size_t(z)]) * terms.invLen2;
-        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-        const double tx = (terms.a.x + t * terms.ab.x) - cx[std::size_t(x)];
-        const double ty = (terms.a.y + t * terms.ab.y) - cy[std::size_t(y)];
-        const double tz = (terms.a.z + t * terms.ab.z) - cz[std::size_t(z)];
-        const double d2 = (tx * tx + ty * ty) + tz * tz;
-        if (d2 > terms.inner2 && d2 <= terms.outer2) keep(i, tx, ty, tz);
-        if (d2 > terms.outer2) minAbove2 = std::min(minAbove2, d2);
-        if (d2 <= terms.inner2) maxBelow2 = std::max(maxBelow2, d2);
-      }
+  scalarShellSamples(cell, n, cx, cy, cz, px, py, pz, terms, hits, minAbove2, maxBelow2);
   return slack();
 }
 

@@ -10,6 +10,9 @@
 
 namespace osteon::geometry::detail {
 
+// Corners of one polygon (OFF, PLY faces); more is a corrupt count.
+inline constexpr long long kMaxCorners = 1024;
+
 enum class StlKind { Binary, Ascii };
 
 // Decides binary vs ASCII by the binary size law (84 + 50 n bytes), not by the "solid"

@@ -34,6 +34,13 @@ void SurfaceUpdater::Impl::reserveSlots(std::size_t slots) {
 }
 
 void SurfaceUpdater::Impl::buildAll() {
+  buildBricksAndEdges();
+  buildTriangles();
+  smoothAll();
+}
+
+// Every active cell brick's fills and its crossed owned edges' vertices.
+void SurfaceUpdater::Impl::buildBricksAndEdges() {
   const std::size_t count = bricks.size();
   constexpr std::size_t kGrain = 16;
   // Edges: each active cell brick's crossed owned edges, as (owned index, vertex), and how
@@ -87,8 +94,14 @@ void SurfaceUpdater::Impl::buildAll() {
     for (const auto& [k, v] : edges[bi]) bricks[bi]->owned[k] = allocate(v);
     std::vector<std::pair<std::uint32_t, VertexInfo>>().swap(edges[bi]);
   }
+}
 
-  // Triangles, every cell brick's own (the owned edges they read are all numbered now).
+// Every cell brick's own triangles (the owned edges they read are all numbered now), and the
+// loop centres of its long loops.
+void SurfaceUpdater::Impl::buildTriangles() {
+  const std::size_t count = bricks.size();
+  constexpr std::size_t kGrain = 16;
+  const auto& table = mcTable();
   std::vector<std::vector<PendingCentre>> centres(count);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, count, kGrain),
@@ -143,7 +156,6 @@ void SurfaceUpdater::Impl::buildAll() {
       bricks[bi].reset();
     }
   }
-  smoothAll();
 }
 
 // resmooth() over every vertex: every slot is touched, in slot order, at depth 0, so the

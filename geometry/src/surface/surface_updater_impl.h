@@ -455,6 +455,8 @@ struct SurfaceUpdater::Impl {
   // The first extraction, of every cell brick, with the same vertex slots, triangles and
   // positions as update() of every brick would give (surface_updater_build.cpp).
   void buildAll();
+  void buildBricksAndEdges();  // buildAll's parts
+  void buildTriangles();
   // Room for this many vertex slots in every per-slot array, sized once.
   void reserveSlots(std::size_t slots);
   void smoothAll();

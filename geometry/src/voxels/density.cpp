@@ -157,6 +157,16 @@ bool gatherNear(const EmbreeScene& surface, const glm::dvec3& centre, double rea
   return true;
 }
 
+// The 13 visited neighbours' offsets in the padded bounds arrays.
+std::array<int, 13> visitedNeighbourDeltas() {
+  std::array<int, 13> delta{};
+  for (std::size_t n = 0; n < kVisitedNeighbours.size(); ++n) {
+    const glm::ivec3 o = kVisitedNeighbours[n].offset;
+    delta[n] = paddedIndex(o.x, o.y, o.z) - paddedIndex(0, 0, 0);
+  }
+  return delta;
+}
+
 }  // namespace
 
 // Brick by brick: a brick whose centre is deep inside stays uniform and cancellous. In any
@@ -180,11 +190,7 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
   const double queryReachMm = shellMm + 2.0 * vs;
   const double stepMm[3] = {vs, std::sqrt(2.0) * vs, std::sqrt(3.0) * vs};
   const std::array<double, VoxelGrid::kBrickVoxels> fullBrickRadius = brickRadii(vs);
-  int neighbourDelta[13];
-  for (std::size_t n = 0; n < kVisitedNeighbours.size(); ++n) {
-    const glm::ivec3 o = kVisitedNeighbours[n].offset;
-    neighbourDelta[n] = paddedIndex(o.x, o.y, o.z) - paddedIndex(0, 0, 0);
-  }
+  const std::array<int, 13> neighbourDelta = visitedNeighbourDeltas();
   std::atomic<std::uint64_t> corticalCount{0}, cancellousCount{0}, queryCount{0};
 
   tbb::parallel_for(
@@ -238,7 +244,7 @@ DensityStats assignDensity(VoxelGrid& grid, const EmbreeScene& surface, const De
                 double upper = centreDistance < 0.0 ? kUnbounded : centreDistance + r;
                 const int pi = paddedIndex(l.x, l.y, l.z);
                 for (int n = 0; n < 13; ++n) {
-                  const int p = pi + neighbourDelta[n];
+                  const int p = pi + neighbourDelta[std::size_t(n)];
                   const double step = stepMm[kVisitedNeighbours[std::size_t(n)].kind];
                   lower = std::max(lower, lowerMm[std::size_t(p)] - step);
                   upper = std::min(upper, upperMm[std::size_t(p)] + step);
