@@ -281,61 +281,37 @@ void BM_ExtractSideBySide(benchmark::State& state, const std::string& name, bool
 }
 #endif
 
+// A benchmark registered for 64^3, 128^3 and 256^3 volumes, in milliseconds of wall-clock time.
+template <typename Fn>
+benchmark::internal::Benchmark* atEachSize(const std::string& name, Fn&& fn) {
+  return benchmark::RegisterBenchmark(name.c_str(), std::forward<Fn>(fn))
+      ->Arg(64)
+      ->Arg(128)
+      ->Arg(256)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
+}
+
 void registerExtraction() {
   for (const char* name : {"sphere_drilled", "humerus"}) {
     const std::string n = name;
-    benchmark::RegisterBenchmark(("extract/osteon_2threads/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractOsteon(s, n, false); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
-    benchmark::RegisterBenchmark(("extract/osteon_1thread/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractOsteon(s, n, true); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
-    benchmark::RegisterBenchmark(("extract/osteon_1thread_cold/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractOsteonCold(s, n); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
+    atEachSize("extract/osteon_2threads/" + n,
+               [n](benchmark::State& s) { BM_ExtractOsteon(s, n, false); });
+    atEachSize("extract/osteon_1thread/" + n,
+               [n](benchmark::State& s) { BM_ExtractOsteon(s, n, true); });
+    atEachSize("extract/osteon_1thread_cold/" + n,
+               [n](benchmark::State& s) { BM_ExtractOsteonCold(s, n); });
 #ifdef OSTEON_HAVE_VTK
-    benchmark::RegisterBenchmark(("extract/vtkFlyingEdges3D_1thread/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractFlyingEdges(s, n); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
-    benchmark::RegisterBenchmark(("extract/vtkFlyingEdges3D_1thread_cold/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractFlyingEdgesCold(s, n); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
-    benchmark::RegisterBenchmark(("extract/side_by_side_1thread/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractSideBySide(s, n, false); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->MinTime(2.0);
-    benchmark::RegisterBenchmark(("extract/side_by_side_1thread_cold/" + n).c_str(),
-                                 [n](benchmark::State& s) { BM_ExtractSideBySide(s, n, true); })
-        ->Arg(64)
-        ->Arg(128)
-        ->Arg(256)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->MinTime(2.0);
+    atEachSize("extract/vtkFlyingEdges3D_1thread/" + n,
+               [n](benchmark::State& s) { BM_ExtractFlyingEdges(s, n); });
+    atEachSize("extract/vtkFlyingEdges3D_1thread_cold/" + n,
+               [n](benchmark::State& s) { BM_ExtractFlyingEdgesCold(s, n); });
+    atEachSize("extract/side_by_side_1thread/" + n, [n](benchmark::State& s) {
+      BM_ExtractSideBySide(s, n, false);
+    })->MinTime(2.0);
+    atEachSize("extract/side_by_side_1thread_cold/" + n, [n](benchmark::State& s) {
+      BM_ExtractSideBySide(s, n, true);
+    })->MinTime(2.0);
 #endif
   }
 }

@@ -1,8 +1,11 @@
 # Warnings as errors on osteon's own targets only; third-party headers come in as SYSTEM
 # include directories through their imported targets, so their warnings do not stop us.
 function(osteon_target_warnings target)
+  # -Wconversion and -Wsign-conversion: a narrowing or a change of sign is written as a cast,
+  # so the ones meant are visible and the others are errors.
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
-                                           -Wnon-virtual-dtor -Wcast-align)
+                                           -Wnon-virtual-dtor -Wcast-align
+                                           -Wconversion -Wsign-conversion)
   if(OSTEON_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

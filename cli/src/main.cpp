@@ -22,13 +22,7 @@ using osteon::kExitInternal;
 using osteon::kExitOk;
 
 // CLI11 reports problems in paragraphs; we promise one line.
-std::string oneLine(std::string text) {
-  for (char& c : text) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
-}
+using osteon::oneLine;
 
 // "info, voxelize, ... or model": the table's names, for the unknown-command message.
 std::string commandList() {

@@ -111,7 +111,13 @@ const char* commandLineFlag(const std::string& field) {
       {"voxelSizeMm", "--voxel-size"},
       {"volume.label", "--label"},
       {"volume.isoHu", "--iso"},
-      {"volume.allowOutsideData", "--allow-outside-data"}};
+      {"volume.allowOutsideData", "--allow-outside-data"},
+      {"levels", "--levels"},
+      {"tool", "--tool"},
+      {"xi", "--xi"},
+      {"raysPerAxis", "--rays"},
+      {"corticalThicknessMm", "--cortical-mm"},
+      {"smoothIterations", "--smooth"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }
@@ -119,9 +125,7 @@ const char* commandLineFlag(const std::string& field) {
 }
 
 std::string commandLineMessage(const InputError& e) {
-  const auto* option = dynamic_cast<const OptionError*>(&e);
-  const char* flag = option ? commandLineFlag(option->field()) : nullptr;
-  return flag ? option->renamed(flag) : e.what();
+  return renderOptions(e.marked(), [](const std::string& field) { return commandLineFlag(field); });
 }
 
 }  // namespace osteon::simulation

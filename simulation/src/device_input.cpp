@@ -50,7 +50,7 @@ std::unique_ptr<devices::Device> openSessionDevice(const std::string& name,
     try {
       portal = parsePortal(n.argument);
     } catch (const InputError& e) {
-      throw InputError(n.text + ": " + e.what() +
+      throw InputError(n.text + ": " + e.marked() +
                        " (expected scripted:portal-5, scripted:portal-7 or scripted:PATH.csv)");
     }
     return std::make_unique<ScriptedDevice>(n.text, session.portalPath(portal).path);

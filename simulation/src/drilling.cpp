@@ -6,12 +6,13 @@
 #include <string>
 
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::simulation {
 
 void validateDrillingOptions(const DrillingOptions& options) {
   if (options.levels < 0 || options.levels > geometry::kMaxRefineDepth) {
-    throw InputError("--levels " + std::to_string(options.levels) + ": must be 0, 1 or 2");
+    throw OptionError("levels", std::to_string(options.levels), "must be 0, 1 or 2");
   }
   if (options.decrement < 1) {
     throw InputError("density decrement " + std::to_string(options.decrement) +

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "live_messages.h"
+#include "osteon/core/error.h"
 #include "osteon/core/handoff.h"
 #include "osteon/simulation/live.h"
 #include "realtime_thread.h"
@@ -50,10 +51,7 @@ std::string currentErrorLine() {
     text = e.what();
   } catch (...) {
   }
-  for (char& c : text) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  return text;
+  return oneLine(text);
 }
 
 }  // namespace live_detail

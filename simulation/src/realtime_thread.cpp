@@ -49,7 +49,7 @@ std::vector<int> allowedCpus() {
   CPU_ZERO(&set);
   if (sched_getaffinity(0, sizeof set, &set) != 0) return cpus;
   for (int c = 0; c < CPU_SETSIZE; ++c) {
-    if (CPU_ISSET(c, &set)) cpus.push_back(c);
+    if (CPU_ISSET(std::size_t(c), &set)) cpus.push_back(c);
   }
   return cpus;
 }
@@ -58,7 +58,7 @@ void pinTo(int cpu) {
   if (cpu < 0) return;
   cpu_set_t set;
   CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
+  CPU_SET(std::size_t(cpu), &set);
   pthread_setaffinity_np(pthread_self(), sizeof set, &set);  // best effort: unpinned still runs
 }
 

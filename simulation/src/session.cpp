@@ -69,11 +69,13 @@ std::shared_ptr<BoneModel> BoneModel::build(geometry::TriangleMesh meshMm, doubl
     const glm::dvec3 e = geometry::bounds(*bone->mesh_).extentMm();
     std::ostringstream what;
     what << name << ": a " << e.x << " x " << e.y << " x " << e.z << " mm mesh drilled at "
-         << (voxelizing.voxelSizeGiven ? "--voxel-size " : "voxels of ") << voxelSizeMm << " mm";
+         << (voxelizing.voxelSizeGiven ? optionRef("voxelSizeMm") + " " : std::string("voxels of "))
+         << voxelSizeMm << " mm";
     // A mesh in metres read as millimetres is the likelier mistake than a small machine.
     std::string advice = geometry::unitsAdvice(std::max({e.x, e.y, e.z}), loadScaleToMm);
     if (voxelizing.voxelSizeGiven)
-      advice += std::string(advice.empty() ? "" : "; ") + "use a larger --voxel-size";
+      advice +=
+          std::string(advice.empty() ? "" : "; ") + "use a larger " + optionRef("voxelSizeMm");
     refuseOverMemory(what.str(), estimateSessionBytes(*bone->mesh_, voxelSizeMm), advice);
   }
   geometry::VoxelizeOptions vo = voxelizing;
@@ -146,7 +148,7 @@ const HumeralHead& BoneModel::humeralHead() const {
     try {
       head_ = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap);
     } catch (const InputError& e) {
-      headError_ = name_ + ": " + e.what() + (mesh_ ? "" : " (fitted to the grid's surface)");
+      headError_ = name_ + ": " + e.marked() + (mesh_ ? "" : " (fitted to the grid's surface)");
     }
   });
   if (!head_) throw InputError(headError_);

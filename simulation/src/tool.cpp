@@ -7,6 +7,7 @@
 
 #include "osteon/core/checks.h"
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::simulation {
 
@@ -14,7 +15,7 @@ ToolKind parseToolKind(const std::string& text) {
   if (text == "drill") return ToolKind::Drill;
   if (text == "burr") return ToolKind::Burr;
   if (text == "shaver") return ToolKind::Shaver;
-  throw InputError("--tool " + text + ": unknown tool (use drill, burr or shaver)");
+  throw OptionError("tool", text, "unknown tool (use drill, burr or shaver)");
 }
 
 const char* toolKindName(ToolKind kind) {

@@ -161,7 +161,7 @@ TEST(Handoff, RingAcrossThreadsDeliversEveryValueInOrder) {
       continue;
     }
     outOfOrder += s.seq != expected ? 1 : 0;
-    torn += whole(s) ? 0 : 1;
+    torn += whole(s) ? 0u : 1u;
     expected = s.seq + 1;
     if (pace() % 128 == 0) std::this_thread::yield();
   }

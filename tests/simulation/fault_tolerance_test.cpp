@@ -25,6 +25,7 @@
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
 #include "support/files.h"
+#include "support/humerus_session.h"
 #include "support/shapes.h"
 
 namespace osteon::simulation {
@@ -38,23 +39,10 @@ double secondsSince(Clock::time_point t) {
 
 // The built-in humerus voxelized at 1.2 mm (a bone from a grid), and a portal-5 path in bone
 // from its first second.
-Session humerusSession(const geometry::HumerusModel& model) {
-  geometry::VoxelizeOptions vo;
-  vo.voxelSizeMm = 1.2;
-  return Session::fromGrid(geometry::voxelize(model.mesh, vo), SessionOptions{}, "humerus");
-}
-
 struct Humerus {
-  const geometry::HumerusModel& model = geometry::defaultHumerusModel();
-  Session session = humerusSession(model);
+  Session session = test::humerusGridSession();
   DrillPath path;
-  explicit Humerus(double pathS) {
-    PortalPathOptions po;
-    po.durationS = pathS;
-    path = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                          session.simulation().tool().parts[0].outerRadiusMm, po)
-               .path;
-  }
+  explicit Humerus(double pathS) : path(test::humerusMeshPortalPlan(session, pathS).path) {}
 };
 
 // What the device would get, counted on the haptic thread (read after the loops are joined).
@@ -189,7 +177,7 @@ TEST(LiveFaults, AVisualStallOf2SecondsLeavesTheHapticLoopAtRateAndTheSurfaceCat
 TEST(LiveFaults, ASurfaceUpdateThatThrowsIsOneErrorAndTheHapticLoopGoesOn) {
   SessionOptions options;
   options.levels = 0;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  Session session = test::humerusSession(options);
   PortalPathOptions po;
   po.durationS = 3.0;
   const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;
@@ -294,7 +282,7 @@ TEST(RuntimeFaults, ASurfaceUpdateThatThrowsStopsTheRunCleanlyWithOneLine) {
 TEST(RuntimeFaults, ASessionsSurfaceFollowsItsGridAfterAFault) {
   SessionOptions options;
   options.levels = 0;
-  Session session = Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
+  Session session = test::humerusSession(options);
   PortalPathOptions po;
   po.durationS = 2.0;
   const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;

@@ -10,6 +10,7 @@
 #include "osteon/geometry/io/humerus_model.h"
 #include "osteon/simulation/live.h"
 #include "support/allocation_counter.h"
+#include "support/humerus_session.h"
 
 namespace osteon::simulation {
 namespace {
@@ -31,8 +32,7 @@ TEST(LiveAllocation, TheCounterSeesAnotherThreadsAllocations) {
 }
 
 TEST(LiveAllocation, TheLoopsAllocateNothingOnceWarmedUpWhileTheyDrill) {
-  Session session =
-      Session::fromMesh(geometry::defaultHumerusModel().mesh, SessionOptions{}, "default");
+  Session session = test::humerusSession();
   PortalPathOptions po;
   po.durationS = 3.0;  // bone within the first second, drilled on to the end
   const DrillPath path = session.portalPath(Portal::FiveOClock, po).path;

@@ -36,7 +36,7 @@ TEST(LiveRuntime, DrillsWhileTheCallerRendersAndEndsEqualToTheGrid) {
     live.updateSurface();
     const SurfaceChanges c = live.takeSurfaceChanges();
     EXPECT_FALSE(c.everything);
-    changedFrames += c.bricks.empty() ? 0 : 1;
+    changedFrames += c.bricks.empty() ? 0u : 1u;
     const DisplayState& d = live.display();
     maxForce = std::max(maxForce, d.contact.magnitudeN);
     refinedSeen = std::max(refinedSeen, d.refinedCount);
@@ -118,7 +118,7 @@ TEST(LiveRuntime, TheHapticStandbyRunsThePeriodsOfAHeldCpu) {
   std::thread hog([&] {
     cpu_set_t set;
     CPU_ZERO(&set);
-    CPU_SET(before.hapticCpu, &set);
+    CPU_SET(std::size_t(before.hapticCpu), &set);
     pthread_setaffinity_np(pthread_self(), sizeof set, &set);
     sched_param p{};
     p.sched_priority = 90;  // above the haptic threads' 80

@@ -12,28 +12,16 @@
 #include "osteon/geometry/io/mesh.h"
 #include "osteon/geometry/voxels/voxelizer.h"
 #include "osteon/simulation/session.h"
+#include "support/humerus_session.h"
 
 namespace osteon::simulation {
 namespace {
 
 // The built-in humerus voxelized at 1.2 mm (a bone from a grid: refined voxels split their
 // fill evenly), and a short, fast portal-5 path: bone within the first second.
-Session humerusSession(const geometry::HumerusModel& model) {
-  geometry::VoxelizeOptions vo;
-  vo.voxelSizeMm = 1.2;
-  return Session::fromGrid(geometry::voxelize(model.mesh, vo), SessionOptions{}, "humerus");
-}
-
 struct HumerusRun {
-  geometry::HumerusModel model = geometry::buildHumerusModel();
-  Session session = humerusSession(model);
-  PortalPlan plan;
-  HumerusRun() {
-    PortalPathOptions po;
-    po.durationS = 1.5;
-    plan = makePortalPath(Portal::FiveOClock, fitHumeralHead(model.mesh), model.mesh,
-                          session.simulation().tool().parts[0].outerRadiusMm, po);
-  }
+  Session session = test::humerusGridSession();
+  PortalPlan plan = test::humerusMeshPortalPlan(session, 1.5);
 };
 
 TEST(Runtime, ThreeThreadsDrillAndTheVisualSurfaceMatchesTheGrid) {

@@ -8,6 +8,22 @@ simulation::Session humerusSession(const simulation::SessionOptions& options) {
   return simulation::Session::fromMesh(geometry::defaultHumerusModel().mesh, options, "default");
 }
 
+simulation::Session humerusGridSession(const simulation::SessionOptions& options) {
+  geometry::VoxelizeOptions vo;
+  vo.voxelSizeMm = 1.2;
+  return simulation::Session::fromGrid(geometry::voxelize(geometry::defaultHumerusModel().mesh, vo),
+                                       options, "humerus");
+}
+
+simulation::PortalPlan humerusMeshPortalPlan(const simulation::Session& session, double durationS) {
+  const geometry::TriangleMesh& mesh = geometry::defaultHumerusModel().mesh;
+  simulation::PortalPathOptions po;
+  po.durationS = durationS;
+  return simulation::makePortalPath(simulation::Portal::FiveOClock,
+                                    simulation::fitHumeralHead(mesh), mesh,
+                                    session.simulation().tool().parts[0].outerRadiusMm, po);
+}
+
 simulation::DrillPath portalFivePath(const simulation::Session& session, double durationS) {
   simulation::PortalPathOptions po;
   po.durationS = durationS;

@@ -17,6 +17,13 @@ namespace osteon::test {
 // A session on the built-in humerus (geometry::defaultHumerusModel()) with these options.
 simulation::Session humerusSession(const simulation::SessionOptions& options = {});
 
+// The built-in humerus voxelized at 1.2 mm as a bone from a grid (no mesh behind it: refined
+// voxels split their fill evenly), with these options.
+simulation::Session humerusGridSession(const simulation::SessionOptions& options = {});
+// The portal-5 plan on the built-in humerus's mesh (its head fitted to the mesh, whatever the
+// session's bone), for the session's tool, `durationS` seconds long.
+simulation::PortalPlan humerusMeshPortalPlan(const simulation::Session& session, double durationS);
+
 // The session's portal-5 (five o'clock) path, `durationS` seconds long, in bone from its first
 // second.
 simulation::DrillPath portalFivePath(const simulation::Session& session, double durationS);

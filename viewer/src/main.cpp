@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
   } catch (const viewer::WindowError& e) {
     return fail(kExitBadInput, e.what());
   } catch (const osteon::InputError& e) {
-    return fail(kExitBadInput, e.what());
+    return fail(kExitBadInput, osteon::simulation::commandLineMessage(e));
   } catch (const std::bad_alloc&) {
     return fail(kExitBadInput, "out of memory");
   } catch (const std::exception& e) {

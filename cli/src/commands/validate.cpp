@@ -297,7 +297,7 @@ json shardJson(const ShardPlan& plan, std::size_t shardIndex, std::size_t shardC
     if (!plan.ownGroup[g]) continue;
     cost += plan.groups[g].cost;
     for (int k = 0; k < val::kCasesPerGroup; ++k)
-      own.push_back(plan.runKeys[g * val::kCasesPerGroup + k]);
+      own.push_back(plan.runKeys[g * std::size_t(val::kCasesPerGroup) + std::size_t(k)]);
   }
   return {{"index", shardIndex}, {"count", shardCount},    {"case_list", plan.runKeys},
           {"cases", own},        {"estimated_cost", cost}, {"run_estimated_cost", totalCost}};

@@ -35,7 +35,7 @@ std::size_t imageModelIndex(const std::string& image) {
   if (image.rfind(prefix, 0) != 0) return 0;
   std::size_t i = prefix.size(), index = 0;
   while (i < image.size() && std::isdigit(static_cast<unsigned char>(image[i])))
-    index = index * 10 + (image[i++] - '0');
+    index = index * 10 + std::size_t(image[i++] - '0');
   return index;
 }
 

@@ -11,6 +11,7 @@
 
 #include "dph_internal.h"
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::geometry {
 
@@ -32,8 +33,8 @@ DynamicProximityHierarchy DynamicProximityHierarchy::build(const std::vector<glm
                                                            double voxelSizeMm) {
   const int xi = options.expansionRatio;
   if (xi < 3 || xi > 15 || xi % 2 == 0) {
-    throw InputError("--xi " + std::to_string(xi) +
-                     ": the expansion ratio must be odd, from 3 to 15 (cells centred on a voxel)");
+    throw OptionError("xi", std::to_string(xi),
+                      "the expansion ratio must be odd, from 3 to 15 (cells centred on a voxel)");
   }
   DynamicProximityHierarchy h;
   h.generation_ = nextGeneration();

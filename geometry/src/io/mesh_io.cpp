@@ -80,7 +80,8 @@ void checkScaledCoordinates(const TriangleMesh& mesh, const std::string& name, d
       if (std::abs(c) <= kMaxCoordinateMm) continue;  // also false for NaN
       std::ostringstream s;
       s << name << ": vertex " << v << " coordinate " << c << " mm after scaling by " << scaleToMm
-        << " is beyond +-1e9 mm (1000 km); check --units/--scale";
+        << " is beyond +-1e9 mm (1000 km); check " << optionRef("units") << "/"
+        << optionRef("scale");
       throw InputError(s.str());
     }
   }

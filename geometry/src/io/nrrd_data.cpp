@@ -77,8 +77,8 @@ std::string dataFilePath(const Header& h, const std::string& name, bool allowOut
     if (ec1 || ec2) failAt(shown, "cannot resolve the name (" + (ec1 ? ec1 : ec2).message() + ")");
     if (!isInside(realFile, realFolder)) {
       throw InputError(shown + " is outside the header's folder " + realFolder.string() +
-                       " (it resolves to " + realFile.string() +
-                       "); give --allow-outside-data to read it");
+                       " (it resolves to " + realFile.string() + "); give " +
+                       optionRef("volume.allowOutsideData") + " to read it");
     }
   }
   checkRegularFile(file.string(), shown);

@@ -83,7 +83,7 @@ std::string unitsAdvice(double largestExtentMm, double scaleToMm) {
   } else {
     s << "a scale of " << scaleToMm;
   }
-  s << ": try --units " << unitName(units[best]);
+  s << ": try " << optionRef("units") << " " << unitName(units[best]);
   return s.str();
 }
 

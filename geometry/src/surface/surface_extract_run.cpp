@@ -14,6 +14,7 @@
 
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/surface/surface.h"
 #include "surface_builder.h"
@@ -240,8 +241,8 @@ using namespace detail;
 
 void validateSurfaceOptions(const SurfaceOptions& options) {
   if (options.smoothIterations < 0 || options.smoothIterations > 100) {
-    throw InputError("--smooth " + std::to_string(options.smoothIterations) +
-                     ": passes must be 0..100");
+    throw OptionError("smoothIterations", std::to_string(options.smoothIterations),
+                      "passes must be 0..100");
   }
   if (!(options.lambda > 0.0 && options.lambda <= 1.0) ||
       !(options.mu < 0.0 && options.mu >= -1.0)) {

@@ -48,45 +48,43 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
   std::vector<std::vector<std::pair<std::uint32_t, VertexInfo>>> edges(count);
   std::vector<std::uint32_t> centreCount(count, 0);
   const auto& table = mcTable();
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, count, kGrain),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
-          const glm::ivec3 cb = cellBrickOf(bi);
-          if (!cellBrickActive(*grid, cb)) continue;
-          auto b = std::make_unique<CellBrick>();
-          b->owned.fill(kNoVertex);
-          b->cellBegin.fill(0);
-          b->changed.fill(1);
-          loadBlock(*grid, cb, b->fills);
-          const FillBlock& block = b->fills;
-          glm::ivec3 lo, hi;
-          cellRange(*grid, cb, lo, hi);
-          for (int ci = 0; ci < kCells; ++ci) {
-            const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
-                               ci / (kBrickEdge * kBrickEdge));
-            const glm::ivec3 g = cb * kBrickEdge + l;
-            if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi)))
-              continue;
-            Fill corner[8];
-            const McCase& mc = table[std::size_t(cellConfig(block, l, corner))];
-            for (int loop = 0; loop < mc.loopCount; ++loop) {
-              centreCount[bi] +=
-                  mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)] > 4;
-            }
-            const Fill f0 = blockFill(block, l.x, l.y, l.z);
-            for (int axis = 0; axis < 3; ++axis) {
-              glm::ivec3 n = l;
-              ++n[axis];
-              const Fill f1 = blockFill(block, n.x, n.y, n.z);
-              if ((double(f0) > kIso) == (double(f1) > kIso)) continue;
-              edges[bi].emplace_back(std::uint32_t(3 * ci + axis),
-                                     edgeVertexInfo(*grid, g, axis, f0, f1));
-            }
-          }
-          bricks[bi] = std::move(b);
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
+                        const glm::ivec3 cb = cellBrickOf(bi);
+                        if (!cellBrickActive(*grid, cb)) continue;
+                        auto b = std::make_unique<CellBrick>();
+                        b->owned.fill(kNoVertex);
+                        b->cellBegin.fill(0);
+                        b->changed.fill(1);
+                        loadBlock(*grid, cb, b->fills);
+                        const FillBlock& block = b->fills;
+                        glm::ivec3 lo, hi;
+                        cellRange(*grid, cb, lo, hi);
+                        for (int ci = 0; ci < kCells; ++ci) {
+                          const glm::ivec3 l = cellInBrick(ci);
+                          const glm::ivec3 g = cb * kBrickEdge + l;
+                          if (!cellInRange(g, lo, hi)) continue;
+                          Fill corner[8];
+                          const McCase& mc = table[std::size_t(cellConfig(block, l, corner))];
+                          for (int loop = 0; loop < mc.loopCount; ++loop) {
+                            centreCount[bi] += mc.loopBegin[std::size_t(loop) + 1] -
+                                                   mc.loopBegin[std::size_t(loop)] >
+                                               4;
+                          }
+                          const Fill f0 = blockFill(block, l.x, l.y, l.z);
+                          for (int axis = 0; axis < 3; ++axis) {
+                            glm::ivec3 n = l;
+                            ++n[axis];
+                            const Fill f1 = blockFill(block, n.x, n.y, n.z);
+                            if ((double(f0) > kIso) == (double(f1) > kIso)) continue;
+                            edges[bi].emplace_back(std::uint32_t(3 * ci + axis),
+                                                   edgeVertexInfo(*grid, g, axis, f0, f1));
+                          }
+                        }
+                        bricks[bi] = std::move(b);
+                      }
+                    });
   std::size_t slots = 0;
   for (std::size_t bi = 0; bi < count; ++bi) slots += edges[bi].size() + centreCount[bi];
   reserveSlots(slots);
@@ -103,44 +101,41 @@ void SurfaceUpdater::Impl::buildTriangles() {
   constexpr std::size_t kGrain = 16;
   const auto& table = mcTable();
   std::vector<std::vector<PendingCentre>> centres(count);
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, count, kGrain),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
-          CellBrick* b = bricks[bi].get();
-          if (!b) continue;
-          const glm::ivec3 cb = cellBrickOf(bi);
-          glm::ivec3 lo, hi;
-          cellRange(*grid, cb, lo, hi);
-          for (int ci = 0; ci < kCells; ++ci) {
-            b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
-            const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
-                               ci / (kBrickEdge * kBrickEdge));
-            const glm::ivec3 g = cb * kBrickEdge + l;
-            if (!glm::all(glm::greaterThanEqual(g, lo)) || !glm::all(glm::lessThan(g, hi)))
-              continue;
-            Fill corner[8];
-            const int config = cellConfig(b->fills, l, corner);
-            if (config == 0 || config == 255) continue;
-            const McCase& mc = table[std::size_t(config)];
-            std::uint32_t ids[13];
-            for (int loop = 0; loop < mc.loopCount; ++loop) {
-              int n = 0;
-              for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1];
-                   ++k) {
-                ids[n++] = sharedVertex(g, mc.edges[std::size_t(k)]);
-              }
-              if (n > 4)
-                centres[bi].push_back({g, std::uint32_t(b->triangles.size()),
-                                       std::vector<std::uint32_t>(ids, ids + n)});
-              appendLoopTriangles(b->triangles, ids, n,
-                                  kNoVertex);  // the centre's slot comes later
-            }
-          }
-          b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
-          b->fillsValid = true;
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t bi = r.begin(); bi < r.end(); ++bi) {
+                        CellBrick* b = bricks[bi].get();
+                        if (!b) continue;
+                        const glm::ivec3 cb = cellBrickOf(bi);
+                        glm::ivec3 lo, hi;
+                        cellRange(*grid, cb, lo, hi);
+                        for (int ci = 0; ci < kCells; ++ci) {
+                          b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
+                          const glm::ivec3 l = cellInBrick(ci);
+                          const glm::ivec3 g = cb * kBrickEdge + l;
+                          if (!cellInRange(g, lo, hi)) continue;
+                          Fill corner[8];
+                          const int config = cellConfig(b->fills, l, corner);
+                          if (config == 0 || config == 255) continue;
+                          const McCase& mc = table[std::size_t(config)];
+                          std::uint32_t ids[13];
+                          for (int loop = 0; loop < mc.loopCount; ++loop) {
+                            int n = 0;
+                            for (int k = mc.loopBegin[std::size_t(loop)];
+                                 k < mc.loopBegin[std::size_t(loop) + 1]; ++k) {
+                              ids[n++] = sharedVertex(g, mc.edges[std::size_t(k)]);
+                            }
+                            if (n > 4)
+                              centres[bi].push_back({g, std::uint32_t(b->triangles.size()),
+                                                     std::vector<std::uint32_t>(ids, ids + n)});
+                            appendLoopTriangles(b->triangles, ids, n,
+                                                kNoVertex);  // the centre's slot comes later
+                          }
+                        }
+                        b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
+                        b->fillsValid = true;
+                      }
+                    });
   for (std::size_t bi = 0; bi < count; ++bi) {
     CellBrick* b = bricks[bi].get();
     for (PendingCentre& c : centres[bi]) {

@@ -25,6 +25,16 @@ inline int cellIndex(const glm::ivec3& l) {
   return l.x + kBrickEdge * (l.y + kBrickEdge * l.z);
 }
 
+// Cell ci of a cell brick, its inverse: its coordinates in the brick.
+inline glm::ivec3 cellInBrick(int ci) {
+  return {ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge, ci / (kBrickEdge * kBrickEdge)};
+}
+
+// True for a grid cell g within the grid's cells [lo, hi) (cellRange).
+inline bool cellInRange(const glm::ivec3& g, const glm::ivec3& lo, const glm::ivec3& hi) {
+  return glm::all(glm::greaterThanEqual(g, lo)) && glm::all(glm::lessThan(g, hi));
+}
+
 }  // namespace updater_detail
 
 using namespace updater_detail;
@@ -181,10 +191,9 @@ struct SurfaceUpdater::Impl {
     cellRange(*grid, cb, lo, hi);
     for (int ci = 0; ci < kCells; ++ci) {
       if (!b.changed[std::size_t(ci)]) continue;
-      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
-                         ci / (kBrickEdge * kBrickEdge));
+      const glm::ivec3 l = cellInBrick(ci);
       const glm::ivec3 g = cb * kBrickEdge + l;
-      const bool inRange = glm::all(glm::greaterThanEqual(g, lo)) && glm::all(glm::lessThan(g, hi));
+      const bool inRange = cellInRange(g, lo, hi);
       const Fill f0 = blockFill(block, l.x, l.y, l.z);
       for (int axis = 0; axis < 3; ++axis) {
         std::uint32_t& s = b.owned[std::size_t(3 * ci + axis)];
@@ -256,8 +265,7 @@ struct SurfaceUpdater::Impl {
         ci = last;
         continue;
       }
-      const glm::ivec3 l(ci % kBrickEdge, (ci / kBrickEdge) % kBrickEdge,
-                         ci / (kBrickEdge * kBrickEdge));
+      const glm::ivec3 l = cellInBrick(ci);
       const int x = cb.x * kBrickEdge + l.x;
       const int y = cb.y * kBrickEdge + l.y;
       const int z = cb.z * kBrickEdge + l.z;

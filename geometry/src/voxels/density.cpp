@@ -13,6 +13,7 @@
 
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 #include "osteon/geometry/voxels/embree_scene.h"
 
 namespace osteon::geometry {
@@ -22,9 +23,9 @@ constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 void validateDensityRule(const DensityRule& rule) {
   if (!std::isfinite(rule.corticalThicknessMm) || rule.corticalThicknessMm < 0.0) {
-    std::ostringstream s;
-    s << "--cortical-mm " << rule.corticalThicknessMm << ": must be a finite thickness >= 0";
-    throw InputError(s.str());
+    std::ostringstream value;
+    value << rule.corticalThicknessMm;
+    throw OptionError("corticalThicknessMm", value.str(), "must be a finite thickness >= 0");
   }
   if (rule.corticalDensity <= 0 || rule.cancellousDensity <= 0) {
     throw InputError("densities must be positive integers (cortical " +

@@ -15,6 +15,7 @@
 #include "osteon/core/error.h"
 #include "osteon/core/memory.h"
 #include "osteon/core/number_text.h"
+#include "osteon/core/option_error.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/io/units.h"
 #include "osteon/geometry/voxels/embree_scene.h"
@@ -92,7 +93,8 @@ std::string meshAtVoxelSize(const TriangleMesh& mesh, const VoxelizeOptions& opt
   std::ostringstream s;
   s << (options.meshName.empty() ? std::string("mesh") : options.meshName) << ": a " << e.x << " x "
     << e.y << " x " << e.z << " mm mesh at "
-    << (options.voxelSizeGiven ? "--voxel-size " : "voxels of ") << options.voxelSizeMm << " mm";
+    << (options.voxelSizeGiven ? optionRef("voxelSizeMm") + " " : std::string("voxels of "))
+    << options.voxelSizeMm << " mm";
   return s.str();
 }
 
@@ -143,19 +145,19 @@ void checkVoxelSizeFits(const TriangleMesh& mesh, const VoxelizeOptions& options
     s << meshAtVoxelSize(mesh, options) << " would need " << voxels
       << " voxels (limit 2^32) and about " << memoryText(peakBytes) << " of memory"
       << adviceFor(mesh, options);
-    if (options.voxelSizeGiven) s << "; use a larger --voxel-size";
+    if (options.voxelSizeGiven) s << "; use a larger " << optionRef("voxelSizeMm");
     throw InputError(s.str());
   }
   refuseOverMemory(meshAtVoxelSize(mesh, options), peakBytes,
-                   options.voxelSizeGiven ? "use a larger --voxel-size" : "");
+                   options.voxelSizeGiven ? "use a larger " + optionRef("voxelSizeMm") : "");
 }
 
 }  // namespace
 
 VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingVoxels) {
   if (!std::isfinite(voxelSizeMm) || voxelSizeMm <= 0.0) {
-    throw InputError("--voxel-size " + numberText(voxelSizeMm) +
-                     ": must be a positive finite number of millimetres");
+    throw OptionError("voxelSizeMm", numberText(voxelSizeMm),
+                      "must be a positive finite number of millimetres");
   }
   if (paddingVoxels < 1) throw InputError("padding: at least one voxel is needed");
   const Aabb box = bounds(mesh);
@@ -171,8 +173,8 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
   if (!(voxels <= double(VoxelGrid::kMaxVoxels)) ||
       !(brickVoxels <= double(VoxelGrid::kMaxVoxels))) {
     std::ostringstream s;
-    s << "--voxel-size " << voxelSizeMm << ": a " << box.extentMm().x << " x " << box.extentMm().y
-      << " x " << box.extentMm().z << " mm mesh would need " << voxels
+    s << optionRef("voxelSizeMm") << " " << voxelSizeMm << ": a " << box.extentMm().x << " x "
+      << box.extentMm().y << " x " << box.extentMm().z << " mm mesh would need " << voxels
       << " voxels (limit 2^32); use a larger voxel size";
     throw InputError(s.str());
   }
@@ -183,8 +185,8 @@ VoxelGrid makeGridFor(const TriangleMesh& mesh, double voxelSizeMm, int paddingV
 VoxelGrid voxelize(const TriangleMesh& mesh, const VoxelizeOptions& options, VoxelizeStats* stats) {
   const Clock::time_point start = Clock::now();
   if (options.raysPerAxis < 1 || options.raysPerAxis > 16) {
-    throw InputError("--rays " + std::to_string(options.raysPerAxis) +
-                     ": rays per column axis must be 1..16");
+    throw OptionError("raysPerAxis", std::to_string(options.raysPerAxis),
+                      "rays per column axis must be 1..16");
   }
   validateDensityRule(options.density);
   checkVoxelSizeFits(mesh, options);

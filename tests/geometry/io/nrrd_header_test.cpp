@@ -204,7 +204,7 @@ TEST_F(NrrdHeader, DataFilesStayInTheHeadersFolder) {
   for (const auto& c : outside) {
     test::writeBytes(file("in/h.nhdr"), header("data file: " + c.dataFile + "\n"));
     expectRefused(file("in/h.nhdr"), "is outside the header's folder", c.dataFile);
-    expectRefused(file("in/h.nhdr"), "give --allow-outside-data to read it", c.resolved);
+    expectRefused(file("in/h.nhdr"), "give volume.allowOutsideData to read it", c.resolved);
     expectCube(file("in/h.nhdr"), allow);
   }
   for (const char* inside : {"sub/inside.raw", "sub/../sub/inside.raw", "./sub/inside.raw"}) {

@@ -14,10 +14,11 @@ TEST(Units, AdviceOnlyForBonesUnderAMillimetreOrOverTwoMetres) {
   EXPECT_EQ(unitsAdvice(1.0), "");
   EXPECT_EQ(unitsAdvice(2000.0), "");
   // A humerus saved in metres and read as millimetres.
-  EXPECT_NE(unitsAdvice(0.361).find("metres read as millimetres: try --units m"),
+  EXPECT_NE(unitsAdvice(0.361).find("metres read as millimetres: try " + optionRef("units") + " m"),
             std::string::npos);
   // Millimetres read with --units m.
-  EXPECT_NE(unitsAdvice(361000.0, 1000.0).find("millimetres read as metres: try --units mm"),
+  EXPECT_NE(unitsAdvice(361000.0, 1000.0)
+                .find("millimetres read as metres: try " + optionRef("units") + " mm"),
             std::string::npos);
   // Centimetres read as millimetres are 36 mm: plausible, so no advice.
   EXPECT_EQ(unitsAdvice(36.1), "");
@@ -38,7 +39,7 @@ TEST(Units, VoxelizeNamesTheMeshExtentAndUnitsWhenNothingFits) {
     EXPECT_NE(what.find("humerus.stl: a 0.05 x 0.05 x 0.36 mm mesh at --voxel-size 1.2 mm"),
               std::string::npos)
         << what;
-    EXPECT_NE(what.find("try --units m"), std::string::npos) << what;
+    EXPECT_NE(what.find("try units m"), std::string::npos) << what;
   }
   // A voxel that fits but a flat mesh with no inside: refused only when asked.
   const TriangleMesh flat = {{{0, 0, 0}, {10, 0, 0}, {0, 10, 0}}, {{0, 1, 2}}};

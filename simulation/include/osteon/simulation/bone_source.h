@@ -83,10 +83,10 @@ struct BoneMesh {
 };
 BoneMesh loadBoneMesh(const BoneSource& source);
 
-// The command-line flag of a BoneSource field ("voxelSizeMm" -> "--voxel-size"), as osteon's
+// The command-line flag of a library option field ("voxelSizeMm" -> "--voxel-size"), as osteon's
 // command lines (osteon, osteon-viewer) spell it; nullptr for a field they do not have.
 const char* commandLineFlag(const std::string& field);
-// e.what(), with an OptionError's field named by its flag.
+// e.what(), with an OptionError's field and every optionRef in it named by its flag.
 std::string commandLineMessage(const InputError& e);
 
 }  // namespace osteon::simulation
