@@ -2,6 +2,7 @@
 // the density rule of label maps and scalar volumes needs.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -52,47 +53,52 @@ std::vector<std::uint16_t> insideDistance(glm::ivec3 n, Inside inside) {
   return d;
 }
 
-// Sets every voxel from voxel(position, index, fill, density), a brick at a time: bricks whose
-// voxels all agree stay unallocated (a volume's air and deep bone cost no voxel arrays).
-// Returns the voxels inside (fill at or above half).
+// Sets every voxel from voxel(position, index, fill, density), a row of bricks at a time with
+// the voxels visited in storage order (x fastest: the values are read as they lie in memory),
+// then each brick stored: bricks whose voxels all agree stay unallocated (a volume's air and deep
+// bone cost no voxel arrays). Returns the voxels inside (fill at or above half).
 template <typename Voxel>
 std::uint64_t buildGrid(VoxelGrid& grid, Voxel voxel) {
   const glm::ivec3 n = grid.dims(), nb = grid.brickDims();
-  std::array<Fill, kBrickVoxels> fill{};
-  std::array<Density, kBrickVoxels> density{};
+  std::vector<std::array<Fill, kBrickVoxels>> fill(std::size_t(nb.x));
+  std::vector<std::array<Density, kBrickVoxels>> density(std::size_t(nb.x));
   std::uint64_t inside = 0;
   for (int bz = 0; bz < nb.z; ++bz) {
     for (int by = 0; by < nb.y; ++by) {
-      for (int bx = 0; bx < nb.x; ++bx) {
-        const glm::ivec3 lo(bx * kBrickEdge, by * kBrickEdge, bz * kBrickEdge);
-        const glm::ivec3 hi = glm::min(lo + kBrickEdge, n);
-        if (hi - lo != glm::ivec3(kBrickEdge)) {  // a brick past the volume's edge: padding empty
-          fill.fill(0);
-          density.fill(0);
-        }
-        bool uniform = true;  // compared with the brick's first voxel, local 0
-        for (int z = lo.z; z < hi.z; ++z) {
-          for (int y = lo.y; y < hi.y; ++y) {
-            std::size_t i =
-                (std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x) +
-                std::size_t(lo.x);
-            for (int x = lo.x; x < hi.x; ++x, ++i) {
-              const std::size_t local =
-                  std::size_t(VoxelGrid::voxelInBrick({x - lo.x, y - lo.y, z - lo.z}));
-              voxel(glm::ivec3(x, y, z), i, fill[local], density[local]);
-              inside += fill[local] >= kFillHalf;
-              uniform = uniform && fill[local] == fill[0] && density[local] == density[0];
-            }
+      const int y0 = by * kBrickEdge, z0 = bz * kBrickEdge;
+      const int y1 = std::min(y0 + kBrickEdge, n.y), z1 = std::min(z0 + kBrickEdge, n.z);
+      // Bricks past the volume's edge keep their padding empty.
+      if (y1 - y0 < kBrickEdge || z1 - z0 < kBrickEdge || n.x % kBrickEdge != 0) {
+        for (auto& f : fill) f.fill(0);
+        for (auto& d : density) d.fill(0);
+      }
+      for (int z = z0; z < z1; ++z) {
+        for (int y = y0; y < y1; ++y) {
+          std::size_t i = (std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x);
+          const int row = kBrickEdge * ((y - y0) + kBrickEdge * (z - z0));
+          for (int x = 0; x < n.x; ++x, ++i) {
+            const std::size_t bx = std::size_t(x / kBrickEdge);
+            const std::size_t local = std::size_t(row + x % kBrickEdge);
+            voxel(glm::ivec3(x, y, z), i, fill[bx][local], density[bx][local]);
           }
+        }
+      }
+      for (int bx = 0; bx < nb.x; ++bx) {
+        const auto& f = fill[std::size_t(bx)];
+        const auto& d = density[std::size_t(bx)];
+        bool uniform = true;
+        for (std::size_t local = 0; local < kBrickVoxels; ++local) {
+          inside += f[local] >= kFillHalf;
+          uniform = uniform && f[local] == f[0] && d[local] == d[0];
         }
         const std::size_t brick = grid.brickIndex({bx, by, bz});
         if (uniform) {
-          grid.setBrickUniform(brick, fill[0], density[0]);
+          grid.setBrickUniform(brick, f[0], d[0]);
           continue;
         }
         VoxelGrid::Brick& b = grid.materialiseBrick(brick);
-        b.fill = fill;
-        b.density = density;
+        b.fill = f;
+        b.density = d;
       }
     }
   }

@@ -77,6 +77,7 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
   g.sizes = end - first;
   g.offset = first;
   g.originMm = box.minMm + glm::dvec3(first) * g.voxelSizeMm;
+  g.whole = g.exact && g.sizes == g.stored;
   if (g.exact) return g;
   g.offset = glm::ivec3(0);
   const double voxels = double(g.sizes.x) * double(g.sizes.y) * double(g.sizes.z);

@@ -22,6 +22,7 @@ struct OutputGrid {
   bool exact = true;  // voxel p is stored voxel p + offset
   glm::ivec3 offset{0};
   glm::ivec3 stored{0};           // the stored (placed, when exact) sizes
+  bool whole = true;              // exact and uncropped: voxel i is stored voxel i
   glm::dmat3 lpsToIndex{1.0};     // resampled: an LPS point's continuous stored index...
   glm::dvec3 firstCentreMm{0.0};  // ...measured from stored voxel (0, 0, 0)'s centre
 
@@ -48,15 +49,11 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
 // LPS box of stored voxels [lo, hi] (inclusive indices), their full extent.
 BoxMm storedBoxMm(const RawVolume& raw, glm::ivec3 lo, glm::ivec3 hi);
 
-// The stored value's number at p (exact) or trilinear at p's centre (resampled); `outside` past
-// the stored grid's edge (by more than half a voxel).
+// The trilinear value at p's centre of a resampled grid; `outside` past the stored grid's edge
+// (by more than half a voxel).
 template <typename Values, typename Real>
-double sampleValue(const OutputGrid& g, const Values& values, glm::ivec3 p, std::size_t i,
-                   const Real& real, double outside) {
-  if (g.exact) {
-    if (g.offset == glm::ivec3(0) && g.sizes == g.stored) return real(values[i]);
-    return real(values[g.storedOffset(p + g.offset)]);
-  }
+double trilinearValue(const OutputGrid& g, const Values& values, glm::ivec3 p, const Real& real,
+                      double outside) {
   glm::dvec3 q = g.storedIndex(g.centreMm(p));
   glm::ivec3 i0;
   glm::dvec3 t;
@@ -78,6 +75,15 @@ double sampleValue(const OutputGrid& g, const Values& values, glm::ivec3 p, std:
   return sum;
 }
 
+// The stored value's number at p (exact: voxel i of an uncropped grid is stored voxel i) or
+// trilinear at p's centre (resampled).
+template <typename Values, typename Real>
+inline double sampleValue(const OutputGrid& g, const Values& values, glm::ivec3 p, std::size_t i,
+                          const Real& real, double outside) {
+  if (g.exact) return real(values[g.whole ? i : g.storedOffset(p + g.offset)]);
+  return trilinearValue(g, values, p, real, outside);
+}
+
 // Partial volume: the share of p's voxel inside the bone, sampled at kSubsamples^3 points
 // (nearest stored voxel each); exactly 0 or full when exact.
 inline constexpr int kSubsamples = 3;
@@ -85,8 +91,7 @@ template <typename Values, typename Inside>
 Fill labelFill(const OutputGrid& g, const Values& values, glm::ivec3 p, std::size_t i,
                const Inside& inside) {
   if (g.exact) {
-    const std::size_t s =
-        g.offset == glm::ivec3(0) && g.sizes == g.stored ? i : g.storedOffset(p + g.offset);
+    const std::size_t s = g.whole ? i : g.storedOffset(p + g.offset);
     return inside(values[s]) ? kFillFull : Fill(0);
   }
   int hits = 0;
