@@ -83,6 +83,10 @@ struct BoneMesh {
 };
 BoneMesh loadBoneMesh(const BoneSource& source);
 
+// A crop box as front ends take it, "X0:X1,Y0:Y1,Z0:Z1" in LPS mm (each range low below high).
+// Throws OptionError "volume.cropMm <text>: <reason>".
+geometry::BoxMm parseCropMm(const std::string& text);
+
 // The command-line flag of a BoneSource field ("voxelSizeMm" -> "--voxel-size"), as osteon's
 // command lines (osteon, osteon-viewer) spell it; nullptr for a field they do not have.
 const char* commandLineFlag(const std::string& field);
