@@ -32,21 +32,28 @@ struct ValueSummary {
 template <typename T>
 ValueSummary<T> summarise(StoredValues<T> values, std::size_t count) {
   ValueSummary<T> s;
-  s.lo = s.hi = values[0];
-  T run = values[0];
-  std::uint64_t runLength = 0;
+  // The range in a pass of its own, which the compiler vectorises.
+  T lo = values[0], hi = lo;
   for (std::size_t i = 0; i < count; ++i) {
     const T x = values[i];
-    s.lo = std::min(s.lo, x);
-    s.hi = std::max(s.hi, x);
+    lo = x < lo ? x : lo;
+    hi = x > hi ? x : hi;
+  }
+  s.lo = lo;
+  s.hi = hi;
+  // The distinct values, until there are too many to be labels (a scan: within a few voxels).
+  T run = values[0];
+  std::uint64_t runLength = 0;
+  for (std::size_t i = 0; i < count && !s.many; ++i) {
+    const T x = values[i];
     if (x == run) {
       ++runLength;
-    } else if (!s.many) {
-      s.counts[run] += runLength;
-      s.many = s.counts.size() > std::size_t(kMaxLabels);
-      run = x;
-      runLength = 1;
+      continue;
     }
+    s.counts[run] += runLength;
+    s.many = s.counts.size() > std::size_t(kMaxLabels);
+    run = x;
+    runLength = 1;
   }
   if (!s.many) s.counts[run] += runLength;
   s.many = s.many || s.counts.size() > std::size_t(kMaxLabels);
