@@ -3,6 +3,7 @@
 #include "command_table.h"
 
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -17,7 +18,8 @@
 #include "commands/replay.h"
 #include "commands/validate.h"
 #include "commands/voxelize.h"
-
+#include "osteon/core/option_error.h"
+#include "osteon/simulation/bone_source.h"
 namespace osteon::cli {
 
 namespace {
@@ -69,7 +71,24 @@ void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
          "Label map volumes: the bone label, 0 .. 2^64-1 (default: every voxel but the background, "
          "0 or else the most common value)")
       ->check(nonNegativeInteger("LABEL"));
-  cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
+  cmd.add_option("--iso", meaning.isoValue,
+                 "CT volumes: the bone threshold in HU (default 300); any other volume (micro-CT, "
+                 "probability map): bone above this value, in the volume's own units");
+  cmd.add_option_function<std::string>(
+      "--crop",
+      [&meaning](const std::string& text) {
+        try {
+          meaning.cropMm = simulation::parseCropMm(text);
+        } catch (const OptionError& e) {
+          throw CLI::ValidationError(e.renamed("--crop"));
+        }
+      },
+      "Volumes: load only X0:X1,Y0:Y1,Z0:Z1 (LPS mm, voxel centres inside)");
+  cmd.add_option("--crop-to-label", meaning.cropToLabel,
+                 "Label map volumes: load only the box of this label, grown by --crop-margin")
+      ->check(nonNegativeInteger("LABEL"));
+  cmd.add_option("--crop-margin", meaning.cropMarginMm,
+                 "mm added on every side of --crop-to-label's box (default 10)");
   cmd.add_flag(
       "--allow-outside-data", meaning.allowOutsideData,
       "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
@@ -184,6 +203,7 @@ void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   addRunOptions(cmd, o.levels, o.tool, o.outDir);
   addJson(cmd, o.json, "Print the summary as JSON on stdout");
+  addVolumeMeaning(cmd, o.bone.volume);
   addAllowEmpty(cmd, o.allowEmpty);
   cmd.add_option(
       "--coupling", o.coupling,

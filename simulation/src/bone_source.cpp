@@ -1,7 +1,9 @@
 // BoneModel::open and the BoneSource checks: the one way a bone is opened (bone_source.h).
 #include "osteon/simulation/bone_source.h"
 
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <utility>
 
@@ -47,8 +49,13 @@ void BoneSource::check() const {
   requirePositiveMm("defaultVoxelSizeMm", defaultVoxelSizeMm);
   if (isVolume()) return;
   scaleToMm();
-  if (volume.label || volume.isoHu) {
-    throw OptionError(volume.label ? "volume.label" : "volume.isoHu", "",
+  const char* volumeOnly = volume.label         ? "volume.label"
+                           : volume.isoValue    ? "volume.isoValue"
+                           : volume.cropMm      ? "volume.cropMm"
+                           : volume.cropToLabel ? "volume.cropToLabel"
+                                                : nullptr;
+  if (volumeOnly) {
+    throw OptionError(volumeOnly, "",
                       "only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + input + " is a mesh");
   }
 }
@@ -76,7 +83,10 @@ OpenedBone BoneModel::open(const BoneSource& source) {
   source.check();
   OpenedBone out;
   if (source.isVolume()) {
-    geometry::VolumeLoad load = geometry::loadVolume(source.input, source.volume);
+    // A resampled volume (anisotropic or oblique voxels) takes the source's voxel size.
+    geometry::VolumeOptions volume = source.volume;
+    volume.voxelSizeMm = source.voxelSizeMm;
+    geometry::VolumeLoad load = geometry::loadVolume(source.input, volume);
     out.read.loadMs = msSince(start);
     checkVolumeVoxelSize(source, load.grid.voxelSizeMm());
     out.read.kind = load.kind;
@@ -104,13 +114,46 @@ OpenedBone BoneModel::open(const BoneSource& source) {
   return out;
 }
 
+geometry::BoxMm parseCropMm(const std::string& text) {
+  const auto bad = [&text](const std::string& why) {
+    return OptionError("volume.cropMm", text, why);
+  };
+  std::vector<std::string> ranges;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) ranges.push_back(part);
+  if (ranges.size() != 3) throw bad("needs three ranges X0:X1,Y0:Y1,Z0:Z1 (mm)");
+  const auto number = [](const std::string& t, double& v) {
+    char* end = nullptr;
+    v = std::strtod(t.c_str(), &end);
+    return !t.empty() && end == t.c_str() + t.size() && std::isfinite(v);
+  };
+  geometry::BoxMm box;
+  for (int a = 0; a < 3; ++a) {
+    const std::string& r = ranges[std::size_t(a)];
+    const std::size_t colon = r.find(':');
+    double lo = 0.0, hi = 0.0;
+    if (colon == std::string::npos || !number(r.substr(0, colon), lo) ||
+        !number(r.substr(colon + 1), hi) || !(lo < hi)) {
+      throw bad(std::string("range ") + "XYZ"[a] + " '" + r +
+                "' is not LOW:HIGH (finite mm, low below high)");
+    }
+    box.minMm[a] = lo;
+    box.maxMm[a] = hi;
+  }
+  return box;
+}
+
 const char* commandLineFlag(const std::string& field) {
   static const std::pair<const char*, const char*> kFlags[] = {
       {"scale", "--scale"},
       {"units", "--units"},
       {"voxelSizeMm", "--voxel-size"},
       {"volume.label", "--label"},
-      {"volume.isoHu", "--iso"},
+      {"volume.isoValue", "--iso"},
+      {"volume.voxelSizeMm", "--voxel-size"},
+      {"volume.cropMm", "--crop"},
+      {"volume.cropToLabel", "--crop-to-label"},
+      {"volume.cropMarginMm", "--crop-margin"},
       {"volume.allowOutsideData", "--allow-outside-data"},
       {"levels", "--levels"},
       {"tool", "--tool"},
