@@ -106,7 +106,8 @@ OverlayRenderer::Mesh OverlayRenderer::makeMesh(const std::vector<float>& v,
 }
 
 OverlayRenderer::OverlayRenderer()
-    : program_(buildProgram("overlay", shaders::kOverlayVertex, shaders::kOverlayFragment)),
+    : program_(buildProgram("overlay", shaders::kOverlayVertex,
+                            shaders::withLighting(shaders::kOverlayFragment).c_str())),
       linesVao_(newVertexArray()),
       linesVbo_(newBuffer()) {
   std::vector<float> v;
@@ -132,8 +133,7 @@ void OverlayRenderer::begin(const FrameCamera& camera) {
   const GLuint p = program_.get();
   glUseProgram(p);
   setUniform(p, "uViewProj", camera.viewProj);
-  setUniform(p, "uEye", camera.eye);
-  setUniform(p, "uLight", camera.light);
+  setLightUniforms(p, camera);
 }
 
 void OverlayRenderer::drawMesh(const Mesh& mesh, const glm::mat4& model, const glm::vec4& colour,

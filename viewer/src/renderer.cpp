@@ -20,6 +20,16 @@ void describeVertices() {
 
 }  // namespace
 
+void setLightUniforms(GLuint program, const FrameCamera& camera) {
+  setUniform(program, "uEye", camera.eye);
+  setUniform(program, "uLight", camera.light);
+  setUniform(program, "uSpot", camera.spot ? 1 : 0);
+  setUniform(program, "uSpotPos", camera.spotPos);
+  setUniform(program, "uSpotDir", camera.spotDir);
+  setUniform(program, "uSpotCos", camera.spotCos);
+  setUniform(program, "uSpotGain", camera.spotGain);
+}
+
 GlSurfaceBuffers::GlSurfaceBuffers()
     : vao_(newVertexArray()), vbo_(newBuffer()), ibo_(newBuffer()) {
   glBindVertexArray(vao_.get());
@@ -61,7 +71,8 @@ void GlSurfaceBuffers::writeIndices(std::size_t first, std::size_t count,
 }
 
 BoneRenderer::BoneRenderer()
-    : program_(buildProgram("bone", shaders::kBoneVertex, shaders::kBoneFragment)),
+    : program_(buildProgram("bone", shaders::kBoneVertex,
+                            shaders::withLighting(shaders::kBoneFragment).c_str())),
       wholeVao_(newVertexArray()),
       wholeVbo_(newBuffer()),
       wholeIbo_(newBuffer()) {
@@ -114,8 +125,7 @@ void BoneRenderer::draw(const FrameCamera& camera, View view, SurfaceChoice surf
   const GLuint p = program_.get();
   glUseProgram(p);
   setUniform(p, "uViewProj", camera.viewProj);
-  setUniform(p, "uEye", camera.eye);
-  setUniform(p, "uLight", camera.light);
+  setLightUniforms(p, camera);
   textures_.bind(p);
   int mode = 0;
   if (view == View::Cracks) mode = 1;
