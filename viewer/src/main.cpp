@@ -48,6 +48,7 @@ struct CommandLine {
   int levels = 2;
   std::string tool = "drill", path, device, coupling, view = "shaded", method = "crackfree",
               size = "1280x800", camera = "anterior", focus = "bone";
+  std::string scopeDevice;
   bool noUi = false, noTool = false;
 };
 
@@ -110,8 +111,9 @@ void addDisplayOptions(CLI::App& app, CommandLine& c, viewer::ViewerOptions& opt
                  "The surface drawn: crackfree (live, incremental) or naive (seed's MC, whole)")
       ->default_val("crackfree");
   app.add_option("--camera", c.camera,
-                 "Start view, framed on the bone: anterior (looking along +y), posterior, right, "
-                 "left, superior or inferior")
+                 "Start view: anterior (looking along +y, framed on the bone), posterior, right, "
+                 "left, superior, inferior; scope (the 30 degree arthroscope at its portal) or "
+                 "follow (a camera on the tool)")
       ->default_val("anterior");
   app.add_option("--zoom", options.zoom, "Magnify the start view by this factor")->default_val(1.0);
   app.add_option("--focus", c.focus, "Centre of the start view: bone, or tool (its first pose)")
@@ -119,6 +121,11 @@ void addDisplayOptions(CLI::App& app, CommandLine& c, viewer::ViewerOptions& opt
   app.add_option("--size", c.size, "Window size WIDTHxHEIGHT in pixels")->default_val("1280x800");
   app.add_option("--record", options.record,
                  "Record the tool's path (1 kHz) from the start to exit into this CSV");
+  app.add_flag("--pip", options.pictureInPicture,
+               "Picture-in-picture: the arthroscope in the corner (the orbit view when the "
+               "main view is the scope); P toggles");
+  app.add_option("--scope-device", c.scopeDevice,
+                 "The arthroscope's pose (and its knob: the lens rotation) from a second device");
   app.add_flag("--json", options.json, "Print one JSON object on stdout at exit");
   app.add_flag("--no-ui", c.noUi, "Hide the panels (Tab toggles them)");
   app.add_flag("--no-tool", c.noTool,
@@ -143,7 +150,8 @@ void settle(const CommandLine& c, viewer::ViewerOptions& options) {
     options.load.coupling = osteon::simulation::parseCouplingMode(c.coupling);
   options.view = viewer::parseView(c.view);
   options.method = viewer::parseSurfaceChoice(c.method);
-  options.camera = viewer::parseAxisView(c.camera);
+  viewer::parseCamera(c.camera, options.camera, options.cameraMode);
+  options.load.scopeDevice = c.scopeDevice;
   if (c.focus != "bone" && c.focus != "tool") {
     throw osteon::InputError("--focus " + c.focus + ": expected bone or tool");
   }

@@ -39,6 +39,9 @@ struct PanelModel {
   bool drillOn = false;
   StatusNumbers status;
   const TimeSeries* force = nullptr;
+  double maxForceN = 3.3;               // N_max, where the force is clamped
+  double forceLimitN = 0.0;             // a task's force limit (0: none)
+  int densityLow = 0, densityHigh = 1;  // the density ramp's ends (d)
   PixelCounts counts;
   bool countsValid = false;
   bool recording = false;
@@ -55,21 +58,35 @@ struct PanelModel {
   SurfaceChoice method = SurfaceChoice::CrackFree;
   bool wire = false;
   bool showTool = true;
+  CameraMode cameraMode = CameraMode::Orbit;
+  bool pictureInPicture = false;
   bool liveMetric = true;
   int hierarchyLevel = 1;
   float hierarchyRadiusMm = 15.0f;
   char recordPath[1024] = {};
   char openPath[1024] = {};
-  double openScaleToMm = 1.0;  // mm per file unit of the mesh to open
-  double openVoxelMm = 1.2;    // its base voxel size (a grid keeps its own)
+  double openVoxelMm = 1.2;  // the base voxel size of the bone to open (a grid keeps its own)
+  // A mesh file's unit, asked each time one is opened: the question's file, and the answer.
+  std::string askUnitsFor;
+  std::optional<double> openUnitMm;
+  bool showHelp = false;     // the keys, over the view (F1, ?)
+  bool confirmQuit = false;  // Esc asked: Enter quits, Esc stays
 
   // Requests for the app, cleared by it.
   bool toggleDrill = false, toggleRecord = false, frameBone = false, resetTool = false;
+  bool focusTool = false, resetBone = false, quit = false;
   std::optional<AxisView> axisView;
   bool open = false;
 };
 
-// Draws every panel (between ImGui::NewFrame and ImGui::Render).
-void drawPanels(PanelModel& model);
+// Draws the panels when `ui`, and the floating windows (help, questions) whenever asked for
+// (between ImGui::NewFrame and ImGui::Render).
+void drawPanels(PanelModel& model, bool ui);
+
+// panels_help.cpp: the help, the quit and unit questions; the force plot (newton axis, N_max
+// and a task's limit as dashed lines) and the density ramp with its values.
+void drawFloatingWindows(PanelModel& model);
+void forcePlot(const TimeSeries& force, double maxForceN, double limitN);
+void densityLegend(int lowD, int highD);
 
 }  // namespace osteon::viewer

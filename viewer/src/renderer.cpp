@@ -86,6 +86,7 @@ BoneRenderer::BoneRenderer()
 
 std::string BoneRenderer::resetScene(const geometry::VoxelGrid& grid) {
   uploader_.reset();
+  uploader_.setNormalField(&grid);  // the live surface shades with the fill's gradient
   wholeIndexCount_ = 0;
   return textures_.reset(grid);
 }

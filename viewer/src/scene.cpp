@@ -17,20 +17,24 @@ std::unique_ptr<sim::Session> openSession(const LoadRequest& request,
 }
 
 // Without a path: aimed at the humeral head as the 5 o'clock portal starts (clear of the bone),
-// or, for a bone without a head (a grid), above the middle of the bone pointing down.
-sim::ToolPose restingPose(sim::Session& session, const glm::dvec3& lo, const glm::dvec3& hi) {
+// or, for a bone without a head (a grid), above the middle of the bone pointing down. `work`
+// gets the entry point and the surface's outward normal there (the arthroscope looks at it).
+sim::ToolPose restingPose(sim::Session& session, const glm::dvec3& lo, const glm::dvec3& hi,
+                          WorkSite& work) {
   try {
     if (session.bone().mesh()) {
       const sim::PortalPlan plan = session.portalPath(sim::Portal::FiveOClock);
       sim::ToolPose pose;
       bool on = false;
       plan.path.sample(0.0, pose, on);
+      work = {plan.entryMm, plan.normal};
       return pose;
     }
   } catch (const InputError&) {
     // no head to aim at: the fallback below
   }
   const glm::dvec3 centre = 0.5 * (lo + hi);
+  work = {{centre.x, centre.y, hi.z}, {0.0, 0.0, 1.0}};
   return sim::ToolPose::pointing({centre.x, centre.y, hi.z + 5.0}, {0.0, 0.0, -1.0});
 }
 
@@ -55,7 +59,11 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
       request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
   scene->session_ = openSession(request, options);
   sim::Session& session = *scene->session_;
-  if (portal) scene->path_ = session.portalPath(*portal).path;
+  if (portal) {
+    const sim::PortalPlan plan = session.portalPath(*portal);
+    scene->path_ = plan.path;
+    scene->work_ = {plan.entryMm, plan.normal};
+  }
 
   const geometry::VoxelGrid& grid = session.grid();
   scene->boundsMin_ = grid.originMm();
@@ -63,8 +71,10 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   if (scene->path_) {
     bool on = false;
     scene->path_->sample(0.0, scene->initialPose_, on);
+    // A CSV path: the work is where it starts, seen from behind the tool.
+    if (!portal) scene->work_ = {scene->initialPose_.tipMm, -scene->initialPose_.forward()};
   } else {
-    scene->initialPose_ = restingPose(session, scene->boundsMin_, scene->boundsMax_);
+    scene->initialPose_ = restingPose(session, scene->boundsMin_, scene->boundsMax_, scene->work_);
   }
 
   // The loops run until stop(); the log is not kept (a session can last for hours).
@@ -82,6 +92,10 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
     scene->live_ =
         std::make_unique<sim::LiveRuntime>(session, *scene->source_, nullptr, scene->options_);
   }
+  if (!request.scopeDevice.empty()) {
+    scene->scopeDevice_ = sim::openSessionDevice(request.scopeDevice, session);
+    scene->scopeFrame_ = sim::defaultDeviceFrame(session);
+  }
   scene->loadMs_ = msSince(start);
   return scene;
 }
@@ -92,6 +106,19 @@ sim::RuntimeResult Scene::stop() {
     source_->recorder().forceFinished();
   }
   return *result_;
+}
+
+bool Scene::pollScope(double tS, glm::dvec3& tipMm, glm::dvec3& axis, std::int64_t& knob) {
+  if (!scopeDevice_ || tS < 0.0) return false;
+  const devices::Capabilities caps = scopeDevice_->capabilities();
+  scopeDevice_->poll(caps.timeDriven ? caps.startS + tS : tS, scopeSample_);
+  if (scopeSample_.tS < 0.0 || !scopeSample_.connected) return false;
+  const glm::dvec3 p = scopeSample_.positionMm;
+  tipMm = caps.worldFrame ? p : scopeFrame_.originMm + scopeFrame_.scale * p;
+  // The scope's shaft is the device's tool axis: from the handle to the tip.
+  axis = scopeSample_.orientation * glm::dvec3(0.0, 0.0, -1.0);
+  knob = scopeSample_.knob;
+  return true;
 }
 
 Scene::~Scene() {

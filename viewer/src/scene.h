@@ -16,6 +16,12 @@
 
 namespace osteon::viewer {
 
+// Where the drilling happens: the entry point on the bone and the surface's outward normal.
+struct WorkSite {
+  glm::dvec3 pointMm{0.0};
+  glm::dvec3 outward{0.0, 0.0, 1.0};
+};
+
 class Scene {
  public:
   // Throws InputError "<file or value>: <reason>" for bad input.
@@ -40,6 +46,11 @@ class Scene {
   double pathDurationS() const { return path_ ? path_->durationS() : 0.0; }
   // Where the tool starts (the path's start, or aimed at the humeral head, or above the bone).
   const simulation::ToolPose& initialPose() const { return initialPose_; }
+  // The arthroscope's device (--scope-device): its newest pose in the session's frame, polled
+  // from the render thread at the loops' time tS. False without one or before its first sample.
+  bool pollScope(double tS, glm::dvec3& tipMm, glm::dvec3& axis, std::int64_t& knob);
+  // The portal's entry (or where the tool starts): what the arthroscope looks at.
+  const WorkSite& work() const { return work_; }
   // The grid's extent, what the camera frames.
   glm::dvec3 boundsMin() const { return boundsMin_; }
   glm::dvec3 boundsMax() const { return boundsMax_; }
@@ -57,8 +68,12 @@ class Scene {
   // With --device: the device, and its adapter through the safety layer (pose in, force out).
   std::unique_ptr<devices::Device> device_;
   std::unique_ptr<simulation::DeviceInput> deviceInput_;
+  std::unique_ptr<devices::Device> scopeDevice_;
+  simulation::DeviceFrame scopeFrame_;
+  devices::DeviceSample scopeSample_;
   std::unique_ptr<simulation::LiveRuntime> live_;
   simulation::ToolPose initialPose_;
+  WorkSite work_;
   glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
   double loadMs_ = 0.0;
   std::optional<simulation::RuntimeResult> result_;
