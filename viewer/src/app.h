@@ -36,6 +36,7 @@ class App {
 
   // ---- input (input.cpp), called from GLFW's callbacks ----
   void onKey(int key, int action, int mods);
+  void onCommandKey(int key);
   void onMouseButton(int button, int action, int mods);
   void onCursor(double x, double y);
   void onScroll(double dy);

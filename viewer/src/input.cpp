@@ -76,6 +76,11 @@ void App::onKey(int key, int action, int mods) {
     panel_.axisView = AxisView(key - GLFW_KEY_1);
     return;
   }
+  onCommandKey(key);
+}
+
+// The keys that act once per press and have no modifier of their own.
+void App::onCommandKey(int key) {
   switch (key) {
     case GLFW_KEY_ESCAPE:
       if (panel_.showHelp) {
