@@ -27,8 +27,8 @@ struct NoGoZones {
   // head axis (the middle of the articular surface), down to capDepthMm below the head sphere
   // (cartilage and subchondral plate). Breaking through it ruins the joint surface.
   bool articularCap = true;
-  double capHalfAngleDeg = 30.0;
-  double capDepthMm = 3.0;
+  double capHalfAngleDeg = 25.0;
+  double capDepthMm = 2.0;
   // The far cortex: bone within farCortexMm of the bone's outer surface, farther from the
   // planned entry than the planned hole reaches (its depth and diameter): a hole that goes
   // through the other side of the bone.
@@ -108,6 +108,11 @@ struct ExercisePlan {
   // axis to full depth at constant speed, a hold there and the way back out.
   DrillPath path;
 };
+
+// A straight hole as the plan drills it: from the cushion 1 mm clear of the surface along
+// `axis` to `depthMm` past the entry at 2.5 mm/s with the drill on, a 1 s hold, 2 s back out.
+DrillPath holePath(const glm::dvec3& entryMm, const glm::dvec3& axis, const glm::dvec3& normal,
+                   double depthMm, double toolOuterRadiusMm);
 
 // Throws InputError naming the bone when the plan needs a head the bone does not have (one
 // line suggesting --up or an explicit entry point), or when the entry or axis are unusable.

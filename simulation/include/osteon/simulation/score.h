@@ -33,7 +33,7 @@ class TrialRecorder {
  public:
   explicit TrialRecorder(std::size_t capacity = 600000);  // ten minutes at 1 kHz
   void add(const TrialSample& sample) noexcept;
-  void add(double tS, const HapticStep& step) noexcept;
+  void add(double tS, const HapticStep& step, bool drillOn) noexcept;
   void clear() noexcept;
   const std::vector<TrialSample>& samples() const { return samples_; }
   std::size_t dropped() const { return dropped_; }
