@@ -20,8 +20,8 @@ using nlohmann::json;
 
 // The built-ins are data too: the same parser reads them.
 constexpr const char* kAnchorTemplate = R"({
-  "title": "Suture-anchor hole from the PORTAL portal",
-  "instructions": "Drill the pilot hole for a suture anchor into the humeral head from the PORTAL portal. Touch down on the marked entry point, tilt the drill to the planned axis (45 degrees to the surface, leaning away from the cuff's pull: the deadman angle) and drill 20 mm deep with the drill running, without breaking through the articular cartilage or the far cortex. Keep the force below 3 N, and finish within a minute.",
+  "title": "Suture-anchor hole from the PORTAL o'clock portal",
+  "instructions": "Drill the pilot hole for a suture anchor into the humeral head from the PORTAL o'clock portal. Touch down on the marked entry point, tilt the drill to the planned axis (45 degrees to the surface, leaning away from the cuff's pull: the deadman angle) and drill 20 mm deep with the drill running, without breaking through the articular cartilage or the far cortex. Keep the force below 3 N, and finish within a minute.",
   "bone": {"input": "default", "units": "mm", "voxel_size_mm": 1.2},
   "levels": 2,
   "tool": "drill",

@@ -8,7 +8,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/simulation/exercise.h"
-#include "score_grid.h"
+#include "osteon/simulation/score.h"
 
 namespace osteon::simulation {
 

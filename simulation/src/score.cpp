@@ -9,8 +9,6 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "score_grid.h"
-
 namespace osteon::simulation {
 
 TrialRecorder::TrialRecorder(std::size_t capacity) {

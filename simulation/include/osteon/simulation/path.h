@@ -136,6 +136,9 @@ PortalPlan makePortalPath(Portal portal, const HumeralHead& head,
 // of travel), optionally after a UTF-8 byte order mark. Times from 0 to kMaxPathDurationS.
 // Throws InputError naming the file and line for anything else.
 DrillPath loadPathCsv(const std::string& path);
+// The path as that CSV, with its orientations (t,x,y,z,drill_on,qw,qx,qy,qz; 17 digits, so it
+// reads back to the same path).
+std::string drillPathCsv(const DrillPath& path);
 // True when a path argument names a CSV file (its extension, any case) rather than a portal.
 bool isPathCsv(const std::string& path);
 
