@@ -45,6 +45,7 @@ double BoneSource::scaleToMm() const {
 void BoneSource::check() const {
   requirePositiveMm("voxelSizeMm", voxelSizeMm);
   requirePositiveMm("defaultVoxelSizeMm", defaultVoxelSizeMm);
+  if (!up.empty()) parseUpAxis(up);
   if (isVolume()) return;
   scaleToMm();
   if (volume.label || volume.isoHu) {
@@ -85,6 +86,7 @@ OpenedBone BoneModel::open(const BoneSource& source) {
       throw InputError(source.input + ": the grid has no voxel inside (nothing to drill)");
     }
     out.read.volume = std::move(load);
+    if (!source.up.empty()) bone->up_ = parseUpAxis(source.up);
     out.bone = std::move(bone);
     return out;
   }
@@ -100,6 +102,7 @@ OpenedBone BoneModel::open(const BoneSource& source) {
       source.input, out.read.scaleToMm, voxelizing, source.sampleFineFills, source.forSession);
   bone->setup_.loadMs = out.read.loadMs;
   bone->setup_.totalMs = msSince(start);
+  if (!source.up.empty()) bone->up_ = parseUpAxis(source.up);
   out.bone = std::move(bone);
   return out;
 }
@@ -111,7 +114,8 @@ const char* commandLineFlag(const std::string& field) {
       {"voxelSizeMm", "--voxel-size"},
       {"volume.label", "--label"},
       {"volume.isoHu", "--iso"},
-      {"volume.allowOutsideData", "--allow-outside-data"}};
+      {"volume.allowOutsideData", "--allow-outside-data"},
+      {"up", "--up"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }

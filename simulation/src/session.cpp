@@ -143,10 +143,18 @@ const HumeralHead& BoneModel::humeralHead() const {
   // A failed fit is kept as its message and thrown outside call_once: an exception through
   // call_once leaves the flag locked where pthread_once cannot unwind (TSan's interceptor).
   std::call_once(headOnce_, [this, &mesh] {
+    HumeralHead head;
     try {
-      head_ = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap);
+      head = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap, up_);
     } catch (const InputError& e) {
       headError_ = name_ + ": " + e.what() + (mesh_ ? "" : " (fitted to the grid's surface)");
+      return;
+    }
+    try {
+      checkHumeralHead(head, name_);  // a sphere, but no humeral head: refused the same way
+      head_ = head;
+    } catch (const InputError& e) {
+      headError_ = e.what();
     }
   });
   if (!head_) throw InputError(headError_);
