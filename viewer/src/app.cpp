@@ -108,7 +108,9 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   drillOn_ = false;
   toolView_ = {};
   panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
-  panel_.sceneName = scene_->request().bone.input +
+  panel_.score.reset();
+  panel_.sceneName = (scene_->exercise() ? "exercise " + scene_->exercise()->name + " | " : "") +
+                     scene_->request().bone.input +
                      (scene_->path() ? " | path " + scene_->request().path : " | mouse");
   panel_.followsPath = scene_->path() != nullptr;
   panel_.pathDurationS = scene_->pathDurationS();
@@ -195,6 +197,7 @@ void App::frame(bool last) {
   toolView_.add(scene_->tool(), pose, commanded, d.gapMm,
                 options_.json ? &live.visualGrid() : nullptr);
   panel_.ghost = toolView_.ghostLast;
+  updateExercise(pose);
   drawOverlays(camera, pose, commanded);
   if (panel_.cameraMode == CameraMode::Scope)
     overlay_->drawFieldMask(double(std::max(width_, 1)) / double(std::max(height_, 1)));
@@ -202,7 +205,8 @@ void App::frame(bool last) {
 
   fillStatus(lastFrameMs_);
   if (panel_.showHelp) ++report_.helpFrames;
-  const bool floating = panel_.showHelp || panel_.confirmQuit || !panel_.askUnitsFor.empty();
+  const bool floating = panel_.showHelp || panel_.confirmQuit || !panel_.askUnitsFor.empty() ||
+                        panel_.plan != nullptr;
   if (options_.ui || floating) {
     panel_.drillOn = drillOn_;
     panel_.maxForceN = scene_->tool().maxForceN;
@@ -300,6 +304,11 @@ void App::fillStatus(double frameMs) {
 
 void App::finishReport() {
   const simulation::RuntimeResult result = scene_->stop();
+  if (scene_->exercise()) {
+    scoreTrial();  // scored now if the trial had not ended
+    report_.exercise = scene_->exercise()->name;
+    report_.scoreJson = simulation::scoreJsonText(*panel_.score);
+  }
   ViewerReport& r = report_;
   r.recordedSamples = scene_->poseSource().recorder().sampleCount();
   finishRecording(true);

@@ -81,6 +81,14 @@ class App {
   void zoomAtCursor(double steps);
   void focusOnTool();
   void cycleCamera();
+
+  // ---- an exercise (exercise_view.cpp) ----
+  // The readouts against the plan; a path's trial is scored once the path has ended.
+  void updateExercise(const simulation::ToolPose& pose);
+  // The plan over the bone: the entry marker, the axis, the depth ring; the head and the entry.
+  void drawPlan(const FrameCamera& camera);
+  // Stops the loops and scores the trial (once).
+  void scoreTrial();
   ViewerOptions options_;
   // Released last, in this reverse order, after every GL object below (window.h).
   GlfwLibrary glfw_;

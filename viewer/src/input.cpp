@@ -92,6 +92,9 @@ void App::onCommandKey(int key) {
     case GLFW_KEY_BACKSPACE:
       panel_.resetBone = true;
       break;
+    case GLFW_KEY_E:
+      panel_.scoreTrial = true;
+      break;
     case GLFW_KEY_V:
       cycleCamera();
       break;
@@ -253,6 +256,7 @@ void App::handleRequests() {
     panel_.cameraMode = CameraMode::Orbit;
   }
   if (panel_.focusTool) focusOnTool();
+  if (panel_.scoreTrial) scoreTrial();
   if (panel_.quit) {
     panel_.confirmQuit = false;
     glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
@@ -260,7 +264,7 @@ void App::handleRequests() {
   if (panel_.resetBone) startLoading(scene_->request(), "the bone, as it was");
   if (panel_.open) openFile(panel_.openPath);
   panel_.toggleDrill = panel_.resetTool = panel_.toggleRecord = panel_.frameBone = panel_.open =
-      panel_.focusTool = panel_.resetBone = panel_.quit = false;
+      panel_.focusTool = panel_.resetBone = panel_.quit = panel_.scoreTrial = false;
   panel_.axisView.reset();
   // A recording the haptic loop has let go of (stopped, or full) is written now.
   if (scene_->poseSource().recorder().finished()) finishRecording(false);

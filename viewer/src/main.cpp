@@ -48,7 +48,7 @@ struct CommandLine {
   int levels = 2;
   std::string tool = "drill", path, device, coupling, view = "shaded", method = "crackfree",
               size = "1280x800", camera = "anterior", focus = "bone";
-  std::string scopeDevice;
+  std::string scopeDevice, exercise;
   bool noUi = false, noTool = false;
 };
 
@@ -91,7 +91,11 @@ void addBoneOptions(CLI::App& app, CommandLine& c) {
 void addToolOptions(CLI::App& app, CommandLine& c) {
   app.add_option("--tool", c.tool, "drill, burr or shaver")->default_val("drill");
   app.add_option("--path", c.path,
-                 "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
+                 "portal-5, portal-7 or PATH.csv: play a path instead of the mouse (with "
+                 "--exercise, plan plays its ideal path)");
+  app.add_option("--exercise", c.exercise,
+                 "An exercise, built in (anchor-5, anchor-7) or a JSON file: its bone and tool, "
+                 "its plan drawn over the bone, live readouts and a score at the end");
   app.add_option("--coupling", c.coupling,
                  "proxy: bone stops the tool, a spring joins it to the hand (default, but for "
                  "portal paths); direct");
@@ -152,6 +156,7 @@ void settle(const CommandLine& c, viewer::ViewerOptions& options) {
   options.method = viewer::parseSurfaceChoice(c.method);
   viewer::parseCamera(c.camera, options.camera, options.cameraMode);
   options.load.scopeDevice = c.scopeDevice;
+  options.load.exercise = c.exercise;
   if (c.focus != "bone" && c.focus != "tool") {
     throw osteon::InputError("--focus " + c.focus + ": expected bone or tool");
   }

@@ -8,6 +8,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/exercise.h"
 #include "osteon/simulation/path.h"
 
 namespace osteon::viewer {
@@ -97,6 +98,12 @@ void parseCamera(const std::string& text, AxisView& axis, CameraMode& mode) {
                    "inferior, scope or follow)");
 }
 
+bool isExercise(const std::string& input) {
+  const std::vector<std::string> names = simulation::builtInExerciseNames();
+  return lowerExtension(input) == ".json" ||
+         std::find(names.begin(), names.end(), input) != names.end();
+}
+
 bool fileNeedsUnits(const std::string& input) {
   const std::string ext = lowerExtension(input);
   return ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".off";
@@ -110,6 +117,10 @@ LoadRequest requestForFile(const LoadRequest& current, const std::string& input,
   request.coupling = current.coupling;
   request.device = current.device;
   request.scopeDevice = current.scopeDevice;
+  if (isExercise(input)) {
+    request.exercise = input;  // the exercise names its own bone
+    return request;
+  }
   request.bone.input = input;
   request.bone.scale = scaleToMm;
   request.bone.defaultVoxelSizeMm = voxelMm;  // a grid keeps its own

@@ -49,6 +49,9 @@ struct LoadRequest {
   simulation::ToolKind tool = simulation::ToolKind::Drill;
   std::string path;    // "" (the mouse), portal-5, portal-7 or a PATH.csv
   std::string device;  // "" (the mouse or the path), or a device name (docs/devices.md)
+  // An exercise (a built-in name or a JSON file): its bone, tool and levels replace the ones
+  // above, its plan is drawn and the trial scored. With it, path "plan" plays its ideal path.
+  std::string exercise;
   // The arthroscope's device, a second slot ("": the mouse moves the scope); its pose is the
   // scope's tip and shaft, its knob the lens rotation.
   std::string scopeDevice;
@@ -79,6 +82,9 @@ struct ViewerOptions {
   bool ui = true;          // the ImGui panels (Tab toggles)
   bool tool = true;        // draw the tool (G toggles)
 };
+
+// An exercise: a built-in name (anchor-5, ...) or a .json file.
+bool isExercise(const std::string& input);
 
 // A mesh file (.stl .obj .ply .off, any case): its coordinates carry no unit, so the window
 // asks for one each time such a file is opened (volumes and `default` know theirs).

@@ -254,6 +254,14 @@ void OverlayRenderer::drawArrow(const FrameCamera& camera, const glm::dvec3& fro
   glUseProgram(0);
 }
 
+void OverlayRenderer::drawMarker(const FrameCamera& camera, const glm::dvec3& pointMm,
+                                 double radiusMm, const glm::vec4& colour) {
+  begin(camera);
+  glEnable(GL_DEPTH_TEST);
+  drawCapsule(pointMm, pointMm, radiusMm, colour);
+  glUseProgram(0);
+}
+
 void OverlayRenderer::drawFieldMask(double aspect) {
   FrameCamera screen;  // identity: the ring is given in normalized device coordinates
   begin(screen);

@@ -28,6 +28,9 @@ class OverlayRenderer {
   // An arrow from `fromMm` along `vectorMm` (its length in mm).
   void drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,
                  const glm::vec4& colour);
+  // A lit ball of `radiusMm` at a point (the plan's entry marker, the head's centre).
+  void drawMarker(const FrameCamera& camera, const glm::dvec3& pointMm, double radiusMm,
+                  const glm::vec4& colour);
   // Black around the arthroscope's circular field (Arthroscope::kFieldRadiusNdc of the
   // viewport's height), over everything drawn in the viewport.
   void drawFieldMask(double aspect);

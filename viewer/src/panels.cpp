@@ -39,7 +39,8 @@ void statusLine(const PanelModel& m) {
     std::snprintf(fields[n++], 64, "|F| %.2f N (level %d)", s.forceN, s.level);
     std::snprintf(fields[n++], 64, "gap %.1f mm", s.gapMm);
     std::snprintf(fields[n++], 64, "frame %.1f ms (p99 %.1f)", s.frameMs, s.frameP99Ms);
-    const float room = io.DisplaySize.x - 2.0f * ImGui::GetStyle().WindowPadding.x;
+    // A little spare: the window's border and rounding take a few pixels of their own.
+    const float room = io.DisplaySize.x - 2.0f * ImGui::GetStyle().WindowPadding.x - 12.0f;
     const float sep = ImGui::CalcTextSize(" | ").x;
     float x = 0.0f;
     for (int i = 0; i < n; ++i) {
@@ -206,6 +207,7 @@ void fileSection(PanelModel& m) {
 
 void drawPanels(PanelModel& m, bool ui) {
   drawFloatingWindows(m);
+  exerciseWindow(m);  // a task's window shows with the panels hidden too
   if (!ui) return;
   statusLine(m);
   // A fixed width; the height follows the open sections, up to the window's.

@@ -9,6 +9,8 @@
 #include "camera.h"
 #include "metrics.h"
 #include "options.h"
+#include "osteon/simulation/exercise.h"
+#include "osteon/simulation/score.h"
 
 namespace osteon::viewer {
 
@@ -27,6 +29,13 @@ struct StatusNumbers {
   double simTimeS = 0.0;
   int level = 0;       // finest level in contact
   double gapMm = 0.0;  // the proxy's tip to the commanded tip (0 under direct coupling)
+};
+
+// Where the tool is against an exercise's plan, each frame.
+struct PlanReadouts {
+  double entryDistanceMm = 0.0;  // the tip to the planned entry
+  double angleErrorDeg = 0.0;    // the tool's axis to the planned axis
+  double depthMm = 0.0;          // the tip past the entry along the planned axis
 };
 
 struct PanelModel {
@@ -53,6 +62,13 @@ struct PanelModel {
   int hierarchyLevels = 0;
   std::string hierarchyMessage;
 
+  // The exercise (null without one), the live readouts and the trial's score once scored.
+  const simulation::Exercise* exercise = nullptr;
+  const simulation::ExercisePlan* plan = nullptr;
+  PlanReadouts readouts;
+  std::optional<simulation::TrialScore> score;
+  bool showPlan = true;
+
   // Settings the panels edit in place.
   View view = View::Shaded;
   SurfaceChoice method = SurfaceChoice::CrackFree;
@@ -74,7 +90,7 @@ struct PanelModel {
 
   // Requests for the app, cleared by it.
   bool toggleDrill = false, toggleRecord = false, frameBone = false, resetTool = false;
-  bool focusTool = false, resetBone = false, quit = false;
+  bool focusTool = false, resetBone = false, quit = false, scoreTrial = false;
   std::optional<AxisView> axisView;
   bool open = false;
 };
@@ -88,5 +104,7 @@ void drawPanels(PanelModel& model, bool ui);
 void drawFloatingWindows(PanelModel& model);
 void forcePlot(const TimeSeries& force, double maxForceN, double limitN);
 void densityLegend(int lowD, int highD);
+// panels_exercise.cpp: the exercise's instructions, plan and live readouts; the score.
+void exerciseWindow(PanelModel& model);
 
 }  // namespace osteon::viewer

@@ -68,6 +68,8 @@ std::string reportJson(const ViewerReport& r) {
       {"help_frames", r.helpFrames},
       {"bones_loaded", r.bonesLoaded},
       {"lens_rotation_deg", r.lensRotationDeg},
+      {"exercise", r.exercise.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.exercise)},
+      {"score", r.scoreJson.empty() ? nlohmann::json(nullptr) : nlohmann::json::parse(r.scoreJson)},
   };
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }

@@ -52,6 +52,8 @@ struct ViewerReport {
   bool help = false;              // shown on the last frame
   std::size_t bonesLoaded = 0;    // the first, then each reset or opened file
   double lensRotationDeg = 0.0;   // the arthroscope's lens at exit
+  std::string exercise;           // its name ("" without one)
+  std::string scoreJson;          // the trial's score (scoreJsonText; "" when not scored)
 };
 
 std::string reportJson(const ViewerReport& report);

@@ -9,9 +9,9 @@ namespace sim = osteon::simulation;
 
 namespace {
 
-std::unique_ptr<sim::Session> openSession(const LoadRequest& request,
+std::unique_ptr<sim::Session> openSession(const sim::BoneSource& bone,
                                           const sim::SessionOptions& options) {
-  sim::BoneSource source = request.bone;
+  sim::BoneSource source = bone;
   source.sampleFineFills = options.levels > 0;
   return std::make_unique<sim::Session>(sim::BoneModel::open(source).bone, options);
 }
@@ -46,19 +46,39 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   scene->request_ = request;
   // What can be refused cheaply is refused first.
   std::optional<sim::Portal> portal;
+  const bool planPath = request.path == "plan";
+  if (planPath && request.exercise.empty()) {
+    throw InputError("--path plan: only with --exercise (the exercise's ideal path)");
+  }
   if (sim::isPathCsv(request.path)) {
     scene->path_ = sim::loadPathCsv(request.path);
-  } else if (!request.path.empty()) {
+  } else if (!request.path.empty() && !planPath) {
     portal = sim::parsePortal(request.path);
   }
   sim::SessionOptions options;
-  options.levels = request.levels;
-  options.tool = request.tool;
+  sim::BoneSource bone = request.bone;
+  if (!request.exercise.empty()) {
+    // The exercise's bone, tool (its tip the hole's diameter), levels and proxy coupling.
+    scene->exercise_ = sim::loadExercise(request.exercise);
+    bone = scene->exercise_->bone;
+    options = sim::exerciseSessionOptions(*scene->exercise_);
+    scene->request_.bone = bone;
+    scene->request_.levels = options.levels;
+    scene->request_.tool = options.tool;
+  } else {
+    options.levels = request.levels;
+    options.tool = request.tool;
+    options.coupling =
+        request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
+  }
   options.keepSurface = false;  // the live runtime's visual side keeps its own surface
-  options.coupling =
-      request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
-  scene->session_ = openSession(request, options);
+  scene->session_ = openSession(bone, options);
   sim::Session& session = *scene->session_;
+  if (scene->exercise_) {
+    scene->plan_ = sim::planExercise(*scene->exercise_, session);
+    scene->work_ = {scene->plan_->entryMm, scene->plan_->normal};
+    if (planPath) scene->path_ = scene->plan_->path;
+  }
   if (portal) {
     const sim::PortalPlan plan = session.portalPath(*portal);
     scene->path_ = plan.path;
@@ -72,7 +92,11 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
     bool on = false;
     scene->path_->sample(0.0, scene->initialPose_, on);
     // A CSV path: the work is where it starts, seen from behind the tool.
-    if (!portal) scene->work_ = {scene->initialPose_.tipMm, -scene->initialPose_.forward()};
+    if (!portal && !scene->plan_)
+      scene->work_ = {scene->initialPose_.tipMm, -scene->initialPose_.forward()};
+  } else if (scene->plan_) {
+    bool on = false;  // the mouse starts where the ideal path does, aimed along the plan
+    scene->plan_->path.sample(0.0, scene->initialPose_, on);
   } else {
     scene->initialPose_ = restingPose(session, scene->boundsMin_, scene->boundsMax_, scene->work_);
   }
@@ -80,6 +104,24 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   // The loops run until stop(); the log is not kept (a session can last for hours).
   scene->options_.keepLog = false;
   scene->source_ = std::make_unique<ViewerPoseSource>(scene->initialPose_, scene->path());
+  if (scene->exercise_) {
+    // Twice the time limit at 1 kHz, allocated here: the rows fill it without allocating.
+    const double seconds = std::max(2.0 * scene->exercise_->timeLimitS, 60.0);
+    scene->trial_ = std::make_unique<sim::TrialRecorder>(std::size_t(seconds * 1000.0));
+    Scene* self = scene.get();
+    const double maxForceN = session.simulation().tool().maxForceN;
+    scene->options_.onRow = [self, maxForceN](const sim::ForceLogRow& row) {
+      sim::TrialSample s;
+      sim::ToolPose pose;
+      self->source_->latestSample(pose, s.drillOn);
+      s.tS = row.tS;
+      s.tipMm = row.tipMm;  // the proxy's: where the bone let the tool go
+      s.orientation = pose.orientation;
+      s.forceN = row.magnitudeN;
+      s.clamped = row.magnitudeN >= maxForceN * (1.0 - 1e-9);
+      self->trial_->add(s);
+    };
+  }
   if (!request.device.empty()) {
     // A device drives the tool through the safety layer, and takes the force back.
     scene->device_ = sim::openSessionDevice(request.device, session);
@@ -106,6 +148,12 @@ sim::RuntimeResult Scene::stop() {
     source_->recorder().forceFinished();
   }
   return *result_;
+}
+
+sim::TrialScore Scene::scoreTrial() {
+  if (!exercise_) throw InputError("no exercise to score");
+  stop();
+  return sim::scoreSession(*exercise_, *plan_, *session_, trial_->samples());
 }
 
 bool Scene::pollScope(double tS, glm::dvec3& tipMm, glm::dvec3& axis, std::int64_t& knob) {

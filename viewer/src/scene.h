@@ -10,7 +10,9 @@
 
 #include "options.h"
 #include "osteon/simulation/device_input.h"
+#include "osteon/simulation/exercise.h"
 #include "osteon/simulation/live.h"
+#include "osteon/simulation/score.h"
 #include "osteon/simulation/session.h"
 #include "pose_source.h"
 
@@ -49,6 +51,12 @@ class Scene {
   // The arthroscope's device (--scope-device): its newest pose in the session's frame, polled
   // from the render thread at the loops' time tS. False without one or before its first sample.
   bool pollScope(double tS, glm::dvec3& tipMm, glm::dvec3& axis, std::int64_t& knob);
+  // The exercise and its plan against this bone (null without one).
+  const simulation::Exercise* exercise() const { return exercise_ ? &*exercise_ : nullptr; }
+  const simulation::ExercisePlan* plan() const { return plan_ ? &*plan_ : nullptr; }
+  // Stops the loops and scores the trial so far (an exercise only); the same metrics as
+  // `osteon score`. The loops do not start again: Backspace reloads the bone for another try.
+  simulation::TrialScore scoreTrial();
   // The portal's entry (or where the tool starts): what the arthroscope looks at.
   const WorkSite& work() const { return work_; }
   // The grid's extent, what the camera frames.
@@ -74,6 +82,10 @@ class Scene {
   std::unique_ptr<simulation::LiveRuntime> live_;
   simulation::ToolPose initialPose_;
   WorkSite work_;
+  std::optional<simulation::Exercise> exercise_;
+  std::optional<simulation::ExercisePlan> plan_;
+  // What the haptic loop did, for the score: filled on the runtime's logging thread.
+  std::unique_ptr<simulation::TrialRecorder> trial_;
   glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
   double loadMs_ = 0.0;
   std::optional<simulation::RuntimeResult> result_;

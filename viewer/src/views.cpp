@@ -105,6 +105,7 @@ void App::drawOverlays(const FrameCamera& camera, const simulation::ToolPose& po
     panel_.hierarchyMessage = text;
     overlay_->drawLines(camera, lines, glm::vec4(0.3f, 0.9f, 1.0f, 0.8f));
   }
+  drawPlan(camera);
   if (panel_.showTool) {
     overlay_->drawTool(camera, scene_->tool(), pose, d.drillOn);
     overlay_->drawArrow(camera, pose.tipMm, d.contact.forceN * kArrowMmPerN,
