@@ -104,24 +104,7 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   // The loops run until stop(); the log is not kept (a session can last for hours).
   scene->options_.keepLog = false;
   scene->source_ = std::make_unique<ViewerPoseSource>(scene->initialPose_, scene->path());
-  if (scene->exercise_) {
-    // Twice the time limit at 1 kHz, allocated here: the rows fill it without allocating.
-    const double seconds = std::max(2.0 * scene->exercise_->timeLimitS, 60.0);
-    scene->trial_ = std::make_unique<sim::TrialRecorder>(std::size_t(seconds * 1000.0));
-    Scene* self = scene.get();
-    const double maxForceN = session.simulation().tool().maxForceN;
-    scene->options_.onRow = [self, maxForceN](const sim::ForceLogRow& row) {
-      sim::TrialSample s;
-      sim::ToolPose pose;
-      self->source_->latestSample(pose, s.drillOn);
-      s.tS = row.tS;
-      s.tipMm = row.tipMm;  // the proxy's: where the bone let the tool go
-      s.orientation = pose.orientation;
-      s.forceN = row.magnitudeN;
-      s.clamped = row.magnitudeN >= maxForceN * (1.0 - 1e-9);
-      self->trial_->add(s);
-    };
-  }
+  if (scene->exercise_) scene->recordTrial();
   if (!request.device.empty()) {
     // A device drives the tool through the safety layer, and takes the force back.
     scene->device_ = sim::openSessionDevice(request.device, session);
@@ -148,6 +131,25 @@ sim::RuntimeResult Scene::stop() {
     source_->recorder().forceFinished();
   }
   return *result_;
+}
+
+void Scene::recordTrial() {
+  // Twice the time limit at 1 kHz, allocated here: the rows fill it without allocating.
+  const double seconds = std::max(2.0 * exercise_->timeLimitS, 60.0);
+  trial_ = std::make_unique<sim::TrialRecorder>(std::size_t(seconds * 1000.0));
+  Scene* self = this;
+  const double maxForceN = session_->simulation().tool().maxForceN;
+  options_.onRow = [self, maxForceN](const sim::ForceLogRow& row) {
+    sim::TrialSample s;
+    sim::ToolPose pose;
+    self->source_->latestSample(pose, s.drillOn);
+    s.tS = row.tS;
+    s.tipMm = row.tipMm;  // the proxy's: where the bone let the tool go
+    s.orientation = pose.orientation;
+    s.forceN = row.magnitudeN;
+    s.clamped = row.magnitudeN >= maxForceN * (1.0 - 1e-9);
+    self->trial_->add(s);
+  };
 }
 
 sim::TrialScore Scene::scoreTrial() {

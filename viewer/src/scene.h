@@ -68,6 +68,8 @@ class Scene {
 
  private:
   Scene() = default;
+  // The trial's samples: a buffer allocated now, filled by the runtime's rows.
+  void recordTrial();
   LoadRequest request_;
   simulation::RuntimeOptions options_;
   std::unique_ptr<simulation::Session> session_;
