@@ -36,6 +36,12 @@ TEST(OpenFileTest, ADroppedFileNeverInheritsThePreviousFilesUnit) {
   EXPECT_EQ(mm.tool, simulation::ToolKind::Burr);
   EXPECT_TRUE(mm.path.empty());
 
+  // An exercise names its own bone: nothing of the file's is set.
+  const LoadRequest exercise = requestForFile(current, "anchor-7", std::nullopt, 1.2);
+  EXPECT_EQ(exercise.exercise, "anchor-7");
+  EXPECT_TRUE(isExercise("my-task.JSON"));
+  EXPECT_FALSE(exercise.bone.scale);
+
   // A volume asked no unit: it gets none of the previous file's.
   const LoadRequest volume = requestForFile(current, "third.nrrd", std::nullopt, 1.2);
   EXPECT_FALSE(volume.bone.scale);
