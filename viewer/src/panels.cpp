@@ -18,43 +18,52 @@ void tip(const char* text) {
 // too narrow for one.
 void statusLine(const PanelModel& m) {
   const ImGuiIO& io = ImGui::GetIO();
+  const StatusNumbers& s = m.status;
+  char fields[10][64];
+  int n = 0;
+  std::snprintf(fields[n++], 64, "haptic %.0f Hz", s.hapticRateHz);
+  std::snprintf(fields[n++], 64, "step p99 %.0f us", s.stepP99Us);
+  std::snprintf(fields[n++], 64, "overruns %llu", static_cast<unsigned long long>(s.overruns));
+  std::snprintf(fields[n++], 64, "remesh %.2f ms", s.remeshMs);
+  std::snprintf(fields[n++], 64, "upload %.3f ms", s.uploadMs);
+  std::snprintf(fields[n++], 64, "%zu triangles", s.triangles);
+  std::snprintf(fields[n++], 64, "removed %.1f mm3", s.removedVolumeMm3);
+  std::snprintf(fields[n++], 64, "|F| %.2f N (level %d)", s.forceN, s.level);
+  std::snprintf(fields[n++], 64, "gap %.1f mm", s.gapMm);
+  std::snprintf(fields[n++], 64, "frame %.1f ms (p99 %.1f)", s.frameMs, s.frameP99Ms);
+  // Laid out first, so the window is sized for this frame's lines: the whole width, as many
+  // lines as the fields need.
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float room = io.DisplaySize.x - 2.0f * style.WindowPadding.x - 4.0f;
+  const float sep = ImGui::CalcTextSize(" | ").x;
+  bool newLine[10] = {};
+  int lines = 1;
+  float x = 0.0f;
+  for (int i = 0; i < n; ++i) {
+    const float w = ImGui::CalcTextSize(fields[i]).x;
+    newLine[i] = i > 0 && x + sep + w > room;
+    if (newLine[i]) {
+      ++lines;
+      x = 0.0f;
+    }
+    x += (i > 0 && !newLine[i] ? sep : 0.0f) + w;
+  }
+  const float height = float(lines) * ImGui::GetTextLineHeightWithSpacing() +
+                       2.0f * style.WindowPadding.y - style.ItemSpacing.y;
   ImGui::SetNextWindowPos(ImVec2(0.0f, io.DisplaySize.y), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
-  ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(io.DisplaySize.x, 200.0f));
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x, height), ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.6f);
-  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                 ImGuiWindowFlags_NoSavedSettings |
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings |
                                  ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                  ImGuiWindowFlags_NoMove;
   if (ImGui::Begin("status", nullptr, flags)) {
-    const StatusNumbers& s = m.status;
-    char fields[12][64];
-    int n = 0;
-    std::snprintf(fields[n++], 64, "haptic %.0f Hz", s.hapticRateHz);
-    std::snprintf(fields[n++], 64, "step p99 %.0f us", s.stepP99Us);
-    std::snprintf(fields[n++], 64, "overruns %llu", static_cast<unsigned long long>(s.overruns));
-    std::snprintf(fields[n++], 64, "remesh %.2f ms", s.remeshMs);
-    std::snprintf(fields[n++], 64, "upload %.3f ms", s.uploadMs);
-    std::snprintf(fields[n++], 64, "%zu triangles", s.triangles);
-    std::snprintf(fields[n++], 64, "removed %.1f mm3", s.removedVolumeMm3);
-    std::snprintf(fields[n++], 64, "|F| %.2f N (level %d)", s.forceN, s.level);
-    std::snprintf(fields[n++], 64, "gap %.1f mm", s.gapMm);
-    std::snprintf(fields[n++], 64, "frame %.1f ms (p99 %.1f)", s.frameMs, s.frameP99Ms);
-    // A little spare: the window's border and rounding take a few pixels of their own.
-    const float room = io.DisplaySize.x - 2.0f * ImGui::GetStyle().WindowPadding.x - 12.0f;
-    const float sep = ImGui::CalcTextSize(" | ").x;
-    float x = 0.0f;
     for (int i = 0; i < n; ++i) {
-      const float w = ImGui::CalcTextSize(fields[i]).x;
-      if (i > 0 && x + sep + w <= room) {
+      if (i > 0 && !newLine[i]) {
         ImGui::SameLine(0.0f, 0.0f);
         ImGui::TextUnformatted(" | ");
         ImGui::SameLine(0.0f, 0.0f);
-        x += sep;
-      } else {
-        x = 0.0f;
       }
       ImGui::TextUnformatted(fields[i]);
-      x += w;
     }
   }
   ImGui::End();

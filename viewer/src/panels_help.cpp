@@ -162,7 +162,9 @@ void densityLegend(int lowD, int highD) {
   ImGui::Text("%d", mid);
   ImGui::SameLine(w - 18.0f);
   ImGui::Text("%d", highD);
-  ImGui::TextDisabled("density d: drilling steps per voxel (cancellous .. cortical)");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+  ImGui::TextWrapped("density d: drilling steps per voxel, cancellous (brown) to cortical");
+  ImGui::PopStyleColor();
 }
 
 }  // namespace osteon::viewer
