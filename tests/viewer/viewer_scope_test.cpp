@@ -117,6 +117,26 @@ TEST_F(ViewerScopeTest, TheArthroscopeShowsBoneInsideItsCircularField) {
   EXPECT_GT(brightest, 180);
 }
 
+// A second device drives the scope: the scripted portal-7 path puts its tip and shaft where
+// the path's drill starts, so the field shows the head from elsewhere than the default aim.
+TEST_F(ViewerScopeTest, ASecondDeviceDrivesTheArthroscope) {
+  const std::string view = "default --camera scope --no-ui --no-tool --size 640x480";
+  const Image aimed = shot(view, "viewer_scope_aimed.png");
+  const Image driven = shot(view + " --scope-device scripted:portal-7", "viewer_scope_device.png");
+  ASSERT_EQ(driven.width, 640);
+  const double radius = 0.96 * 240.0;
+  const FieldCounts c = countField(driven, 320.0, 240.0, radius, 0, 0, 640, 480);
+  EXPECT_GT(double(c.insideBone), 0.05 * double(c.inside));
+  EXPECT_EQ(c.outsideNotBlack, 0u);
+  std::size_t differing = 0;
+  for (int y = 0; y < 480; ++y)
+    for (int x = 0; x < 640; ++x) {
+      const unsigned char *a = aimed.at(x, y), *b = driven.at(x, y);
+      if (std::abs(int(a[0]) - int(b[0])) > 40) ++differing;
+    }
+  EXPECT_GT(differing, 10000u);
+}
+
 // The orbit view with the scope in the top right corner: a square of side 2/5 of the height,
 // 12 px from the edges, its own circle of bone on black.
 TEST_F(ViewerScopeTest, PictureInPictureShowsTheScopeInTheCorner) {
