@@ -69,5 +69,22 @@ TEST_F(ViewerKeysTest, CameraKeysSwitchTheViewAndTurnTheLens) {
   EXPECT_NEAR(j["lens_rotation_deg"].get<double>(), 30.0, 1e-9);
 }
 
+// An exercise by hand: E ends the trial and scores it (the loops stop, the window goes on),
+// Backspace loads the exercise again for another trial, which is scored at exit.
+TEST_F(ViewerKeysTest, EEndsTheTrialAndBackspaceStartsAnother) {
+  const json scored =
+      hand("", "xdotool key e; sleep 2\n", "viewer_keys_scored.png", "--exercise anchor-5");
+  ASSERT_FALSE(scored.empty());
+  EXPECT_EQ(scored["exercise"], "anchor-5");
+  ASSERT_TRUE(scored["score"].is_object());
+  EXPECT_FALSE(scored["score"]["passed"].get<bool>());  // nothing was drilled
+  const json again = hand("", "xdotool key e; sleep 1; xdotool key BackSpace; sleep 8\n",
+                          "viewer_keys_again.png", "--exercise anchor-5");
+  ASSERT_FALSE(again.empty());
+  EXPECT_EQ(again["bones_loaded"].get<std::size_t>(), 2u);
+  EXPECT_EQ(again["exercise"], "anchor-5");
+  EXPECT_TRUE(again["score"].is_object());
+}
+
 }  // namespace
 }  // namespace osteon

@@ -49,8 +49,12 @@ void scoreSection(const simulation::TrialScore& s) {
     ImGui::EndTable();
   }
   ImGui::Text("time %.1f s, path %.0f mm, removed %.1f mm3", s.timeS, s.pathLengthMm, s.removedMm3);
-  ImGui::Text("depth %.1f mm (%+.1f against the plan), peak %.2f N", s.depthMm, s.depthVsPlanMm,
-              s.peakForceN);
+  if (s.entered) {
+    ImGui::Text("depth %.1f mm (%+.1f against the plan), peak %.2f N", s.depthMm, s.depthVsPlanMm,
+                s.peakForceN);
+  } else {
+    ImGui::TextColored(kFail, "the drill never entered the bone (peak %.2f N)", s.peakForceN);
+  }
   for (const simulation::NoGoBreach& b : s.noGo) {
     if (b.volumeMm3 > 0.0)
       ImGui::TextColored(kFail, "no-go %s: %.1f mm3 cut at (%.0f, %.0f, %.0f)", b.zone.c_str(),
