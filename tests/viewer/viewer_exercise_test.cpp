@@ -20,6 +20,20 @@ namespace {
 
 using nlohmann::json;
 
+// Pixels of the plan's and the entry's green in a PNG.
+std::size_t greenPixels(const std::string& png) {
+  int w = 0, h = 0, channels = 0;
+  std::unique_ptr<unsigned char, void (*)(void*)> rgb(stbi_load(png.c_str(), &w, &h, &channels, 3),
+                                                      stbi_image_free);
+  if (!rgb) return 0;
+  std::size_t green = 0;
+  for (std::size_t i = 0; i < std::size_t(w) * std::size_t(h); ++i) {
+    const unsigned char* p = rgb.get() + 3 * i;
+    if (p[1] > 180 && p[0] < 140 && p[2] < 170) ++green;
+  }
+  return green;
+}
+
 class ViewerExerciseTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -95,16 +109,17 @@ TEST_F(ViewerExerciseTest, AnExerciseFileOpensWithItsPlanDrawn) {
   EXPECT_EQ(j["exercise"], "hole-7");
   ASSERT_TRUE(j["score"].is_object());
   EXPECT_FALSE(j["score"]["passed"].get<bool>());
-  int w = 0, h = 0, channels = 0;
-  std::unique_ptr<unsigned char, void (*)(void*)> rgb(
-      stbi_load(path("viewer_exercise_file.png").c_str(), &w, &h, &channels, 3), stbi_image_free);
-  ASSERT_TRUE(rgb);
-  std::size_t green = 0;
-  for (std::size_t i = 0; i < std::size_t(w) * std::size_t(h); ++i) {
-    const unsigned char* p = rgb.get() + 3 * i;
-    if (p[1] > 180 && p[0] < 140 && p[2] < 170) ++green;
-  }
-  EXPECT_GT(green, 40u);
+  EXPECT_GT(greenPixels(path("viewer_exercise_file.png")), 40u);
+}
+
+// Without an exercise the humeral head the resting pose was fitted to and the portal's entry
+// are drawn too: the entry's green ball shows beside the tool.
+TEST_F(ViewerExerciseTest, WithoutAnExerciseTheHeadAndTheEntryAreDrawn) {
+  const json j = viewer("default --frames 5 --no-ui --camera left --focus tool --zoom 2",
+                        "viewer_head_entry.png");
+  ASSERT_FALSE(j.empty());
+  EXPECT_TRUE(j["exercise"].is_null());
+  EXPECT_GT(greenPixels(path("viewer_head_entry.png")), 40u);
 }
 
 TEST_F(ViewerExerciseTest, BadExercisesAreRefusedWithOneLine) {

@@ -87,6 +87,7 @@ class App {
   void updateExercise(const simulation::ToolPose& pose);
   // The plan over the bone: the entry marker, the axis, the depth ring; the head and the entry.
   void drawPlan(const FrameCamera& camera);
+  void drawHeadAndEntry(const FrameCamera& camera);
   // Stops the loops and scores the trial (once).
   void scoreTrial();
   ViewerOptions options_;

@@ -51,9 +51,30 @@ void App::scoreTrial() {
   panel_.score = scene_->scoreTrial();
 }
 
+void App::drawHeadAndEntry(const FrameCamera& camera) {
+  // Without an exercise: the humeral head a portal was fitted to, and the portal's entry.
+  const WorkSite& work = scene_->work();
+  if (!work.head) return;
+  const simulation::HumeralHead& h = *work.head;
+  std::vector<glm::vec3> head;
+  circle(h.centreMm, h.axis, h.radiusMm, head, 96);
+  circle(h.centreMm, h.superior, h.radiusMm, head, 96);
+  circle(h.centreMm, glm::cross(h.axis, h.superior), h.radiusMm, head, 96);
+  glDisable(GL_DEPTH_TEST);
+  overlay_->drawLines(camera, head, glm::vec4(0.55f, 0.75f, 1.0f, 0.3f));
+  glEnable(GL_DEPTH_TEST);
+  overlay_->drawMarker(camera, h.centreMm, 1.2, glm::vec4(0.55f, 0.75f, 1.0f, 1.0f));
+  if (work.entry)
+    overlay_->drawMarker(camera, work.pointMm, 0.9, glm::vec4(0.2f, 1.0f, 0.4f, 1.0f));
+}
+
 void App::drawPlan(const FrameCamera& camera) {
   const simulation::ExercisePlan* plan = scene_->plan();
-  if (!plan || !panel_.showPlan) return;
+  if (!panel_.showPlan) return;
+  if (!plan) {
+    drawHeadAndEntry(camera);
+    return;
+  }
   std::vector<glm::vec3> axis, ring, head;
   // The planned axis from 12 mm outside the entry to the planned depth.
   axis.push_back(glm::vec3(plan->entryMm - 12.0 * plan->axis));

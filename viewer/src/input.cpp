@@ -95,6 +95,9 @@ void App::onCommandKey(int key) {
     case GLFW_KEY_E:
       panel_.scoreTrial = true;
       break;
+    case GLFW_KEY_O:
+      panel_.showPlan = !panel_.showPlan;
+      break;
     case GLFW_KEY_V:
       cycleCamera();
       break;

@@ -87,6 +87,9 @@ void viewSection(PanelModel& m) {
   if (m.method == SurfaceChoice::Naive)
     ImGui::TextDisabled("naive: extracted whole, %.1f ms", m.status.naiveExtractMs);
   ImGui::Checkbox("edges (W)", &m.wire);
+  ImGui::SameLine();
+  ImGui::Checkbox("head and entry (O)", &m.showPlan);
+  tip("The fitted humeral head (blue) and the portal's entry (green); with an exercise, its plan");
   tip("The triangles' edges over the view");
   if (!m.texturesMessage.empty() && (m.view == View::Levels || m.view == View::Density)) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.7f, 0.3f, 1.0f));

@@ -44,6 +44,8 @@ const std::pair<const char*, const char*> kKeys[] = {
     {"- and =", "dim / brighten the arthroscope's light"},
     {"S C L D H, F2..F6", "views: shaded, cracks, levels, density, hierarchy, wireframe"},
     {"W / M / [ ]", "edges / naive surface / hierarchy level"},
+    {"O", "the humeral head, the entry and an exercise's plan on / off"},
+    {"E", "end an exercise's trial and score it"},
     {"Tab", "panels on / off"},
     {"F1 or ?", "this help"},
     {"Esc", "quit (asks first)"},

@@ -27,14 +27,14 @@ sim::ToolPose restingPose(sim::Session& session, const glm::dvec3& lo, const glm
       sim::ToolPose pose;
       bool on = false;
       plan.path.sample(0.0, pose, on);
-      work = {plan.entryMm, plan.normal};
+      work = {plan.entryMm, plan.normal, true, session.humeralHead()};
       return pose;
     }
   } catch (const InputError&) {
     // no head to aim at: the fallback below
   }
   const glm::dvec3 centre = 0.5 * (lo + hi);
-  work = {{centre.x, centre.y, hi.z}, {0.0, 0.0, 1.0}};
+  work = {{centre.x, centre.y, hi.z}, {0.0, 0.0, 1.0}, false, std::nullopt};
   return sim::ToolPose::pointing({centre.x, centre.y, hi.z + 5.0}, {0.0, 0.0, -1.0});
 }
 
@@ -76,13 +76,13 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   sim::Session& session = *scene->session_;
   if (scene->exercise_) {
     scene->plan_ = sim::planExercise(*scene->exercise_, session);
-    scene->work_ = {scene->plan_->entryMm, scene->plan_->normal};
+    scene->work_ = {scene->plan_->entryMm, scene->plan_->normal, true, scene->plan_->head};
     if (planPath) scene->path_ = scene->plan_->path;
   }
   if (portal) {
     const sim::PortalPlan plan = session.portalPath(*portal);
     scene->path_ = plan.path;
-    scene->work_ = {plan.entryMm, plan.normal};
+    scene->work_ = {plan.entryMm, plan.normal, true, session.humeralHead()};
   }
 
   const geometry::VoxelGrid& grid = session.grid();
@@ -93,7 +93,8 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
     scene->path_->sample(0.0, scene->initialPose_, on);
     // A CSV path: the work is where it starts, seen from behind the tool.
     if (!portal && !scene->plan_)
-      scene->work_ = {scene->initialPose_.tipMm, -scene->initialPose_.forward()};
+      scene->work_ = {scene->initialPose_.tipMm, -scene->initialPose_.forward(), false,
+                      std::nullopt};
   } else if (scene->plan_) {
     bool on = false;  // the mouse starts where the ideal path does, aimed along the plan
     scene->plan_->path.sample(0.0, scene->initialPose_, on);

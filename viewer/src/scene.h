@@ -22,6 +22,8 @@ namespace osteon::viewer {
 struct WorkSite {
   glm::dvec3 pointMm{0.0};
   glm::dvec3 outward{0.0, 0.0, 1.0};
+  bool entry = false;  // a portal's planned entry (not just where a path or the tool starts)
+  std::optional<simulation::HumeralHead> head;  // the head the portal was fitted to
 };
 
 class Scene {
