@@ -102,8 +102,12 @@ std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh mesh
                                                      double voxelSizeMm, const std::string& name,
                                                      double loadScaleToMm,
                                                      const geometry::VoxelizeOptions& voxelizing,
-                                                     bool sampleFineFills) {
-  return build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
+                                                     bool sampleFineFills,
+                                                     const std::optional<glm::dvec3>& up) {
+  std::shared_ptr<BoneModel> bone =
+      build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
+  bone->up_ = up;
+  return bone;
 }
 
 std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const std::string& name,
@@ -147,7 +151,8 @@ const HumeralHead& BoneModel::humeralHead() const {
     try {
       head = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap, up_);
     } catch (const InputError& e) {
-      headError_ = name_ + ": " + e.what() + (mesh_ ? "" : " (fitted to the grid's surface)");
+      headError_ = name_ + ": " + e.what() + (mesh_ ? "" : " (fitted to the grid's surface)") +
+                   "; give the up axis (--up x|y|z|-x|-y|-z) or an explicit entry point";
       return;
     }
     try {

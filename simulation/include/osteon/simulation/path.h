@@ -47,7 +47,7 @@ struct HumeralHead {
 // the sphere's area.
 inline constexpr double kMinHeadRadiusMm = 18.0;
 inline constexpr double kMaxHeadRadiusMm = 30.0;
-inline constexpr double kMinHeadCapShare = 0.10;
+inline constexpr double kMinHeadCapShare = 0.03;
 
 // Which end of the bone is the head, of the ends a sphere fits.
 enum class HeadEnd {

@@ -89,14 +89,13 @@ double estimateSessionBytes(const geometry::TriangleMesh& meshMm, double voxelSi
 class BoneModel {
  public:
   // From a mesh in millimetres. `name` names it in messages (a file, or "default");
-  // loadScaleToMm is how it was scaled on loading (to suggest --units in messages).
-  // sampleFineFills: sample the level -2 fills (needed for refinement from the mesh).
-  static std::shared_ptr<const BoneModel> fromMesh(geometry::TriangleMesh meshMm,
-                                                   double voxelSizeMm,
-                                                   const std::string& name = "mesh",
-                                                   double loadScaleToMm = 1.0,
-                                                   const geometry::VoxelizeOptions& voxelizing = {},
-                                                   bool sampleFineFills = true);
+  // loadScaleToMm is how it was scaled on loading (to suggest --units in messages); up: the
+  // head's end (BoneSource::up). sampleFineFills: sample the level -2 fills (needed for refinement
+  // from the mesh).
+  static std::shared_ptr<const BoneModel> fromMesh(
+      geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name = "mesh",
+      double loadScaleToMm = 1.0, const geometry::VoxelizeOptions& voxelizing = {},
+      bool sampleFineFills = true, const std::optional<glm::dvec3>& up = {});
   // From a source as front ends take it: a mesh file, `default` or a volume (bone_source.h),
   // with what it was read as. Every check of the source is made here.
   static OpenedBone open(const BoneSource& source);
