@@ -48,7 +48,7 @@ struct CommandLine {
   int levels = 2;
   std::string tool = "drill", path, device, coupling, view = "shaded", method = "crackfree",
               size = "1280x800", camera = "anterior", focus = "bone";
-  std::string scopeDevice, exercise;
+  std::string scopeDevice, exercise, up;
   bool noUi = false, noTool = false;
 };
 
@@ -80,6 +80,9 @@ void addBoneOptions(CLI::App& app, CommandLine& c) {
   CLI::Option* s =
       app.add_option("--scale", c.scale, "Multiply coordinates by S to get millimetres");
   u->excludes(s);
+  app.add_option("--up", c.up,
+                 "Which way is up, from the shaft to the humeral head: x, y, z, -x, -y or -z "
+                 "(default: found from the bone)");
   app.add_option("--voxel-size", c.voxelSize,
                  "Base voxel edge in mm (default 1.2 for a mesh; a grid has its own)");
   app.add_option("--levels", c.levels,
@@ -146,6 +149,7 @@ void settle(const CommandLine& c, viewer::ViewerOptions& options) {
   bone.volume.label = c.label;
   bone.volume.isoHu = c.isoHu;
   bone.volume.allowOutsideData = c.allowOutsideData;
+  bone.up = c.up;
   options.load.levels = c.levels;
   options.load.tool = osteon::simulation::parseToolKind(c.tool);
   options.load.path = c.path;
