@@ -29,8 +29,10 @@ endfunction()
 # libraries export their PRIVATE links too (as $<LINK_ONLY:...>), so every one of them must
 # exist in the consumer. The lines mirror the find_package calls in the top-level
 # CMakeLists.txt and the modules' CMakeLists.txt; the order is the order they are found in.
-set(_osteon_dependency_keys glm embree OpenMesh TBB Threads ZLIB CGAL OpenImageIO hidapi serialport)
+set(_osteon_dependency_keys glm nlohmann_json embree OpenMesh TBB Threads ZLIB CGAL OpenImageIO hidapi serialport)
 set(_osteon_dep_glm         "find_dependency(glm)")
+# simulation reads exercises (JSON), header-only.
+set(_osteon_dep_nlohmann_json "find_dependency(nlohmann_json 3)")
 set(_osteon_dep_embree      "find_dependency(embree 3)")
 # Debian's OpenMesh has no version file: no version, and CONFIG so CGAL's FindOpenMesh
 # (on CMAKE_MODULE_PATH once CGAL is found) is not used instead.
@@ -74,6 +76,8 @@ function(_osteon_dependency_key item out)
   set(key "")
   if(item MATCHES "^glm(::|$)")
     set(key glm)
+  elseif(item STREQUAL "nlohmann_json::nlohmann_json")
+    set(key nlohmann_json)
   elseif(item STREQUAL "embree")
     set(key embree)
   elseif(item MATCHES "^OpenMesh")

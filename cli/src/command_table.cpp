@@ -10,12 +10,14 @@
 #include "commands/check.h"
 #include "commands/devices.h"
 #include "commands/drill.h"
+#include "commands/exercise.h"
 #include "commands/experiment.h"
 #include "commands/hierarchy.h"
 #include "commands/info.h"
 #include "commands/mesh.h"
 #include "commands/model.h"
 #include "commands/replay.h"
+#include "commands/score.h"
 #include "commands/validate.h"
 #include "commands/voxelize.h"
 #include "osteon/core/option_error.h"
@@ -113,6 +115,12 @@ void addRunOptions(CLI::App& cmd, int& levels, std::string& tool, std::string& o
       ->default_val(".");
 }
 
+void addUp(CLI::App& cmd, std::string& up) {
+  cmd.add_option("--up", up,
+                 "The bone's up axis, from the shaft to the humeral head: x, y, z, -x, -y or -z "
+                 "(default: found from the bone)");
+}
+
 void addInfo(CLI::App& cmd, InfoOptions& o) {
   addMesh(cmd, o.bone);
   addUnits(cmd, o.bone);
@@ -190,6 +198,7 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
          "serial:PORT[@BAUD], touch[:NAME], replay:LOG.csv, scripted:portal-5|portal-7|PATH.csv")
       ->excludes(path);
   cmd.add_option("--duration", o.durationS, "Seconds to run a live device (required for one)");
+  addUp(cmd, o.bone.up);
   cmd.add_option("--record", o.record,
                  "Record the device's stream at 1 kHz to this CSV "
                  "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
@@ -278,7 +287,40 @@ void addExperiment(CLI::App& cmd, ExperimentCommandOptions& o) {
   addUnits(cmd, o.bone);
   cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs")
       ->default_val("experiment-seed");
+  addUp(cmd, o.bone.up);
   addJson(cmd, o.json, "Print the table as JSON on stdout");
+}
+
+void addExercise(CLI::App& cmd, ExerciseCommandOptions& o) {
+  cmd.require_subcommand(1);
+  CLI::App* list = cmd.add_subcommand("list", "The built-in exercises");
+  addJson(*list, o.json);
+  list->callback([&o] { o.which = "list"; });
+  CLI::App* show = cmd.add_subcommand("show", "An exercise whole: instructions and its JSON");
+  show->add_option("NAME", o.exercise, "anchor-5, anchor-7 or an exercise file (.json)")
+      ->required();
+  addJson(*show, o.json);
+  show->callback([&o] { o.which = "show"; });
+  CLI::App* plan =
+      cmd.add_subcommand("plan", "Resolve an exercise on its bone; write the ideal path CSV");
+  plan->add_option("NAME", o.exercise, "anchor-5, anchor-7 or an exercise file (.json)")
+      ->required();
+  plan->add_option("--out", o.out, "The path CSV to write (for drill --path and score)")
+      ->required();
+  addUp(*plan, o.up);
+  addJson(*plan, o.json);
+  plan->callback([&o] { o.which = "plan"; });
+}
+
+void addScore(CLI::App& cmd, ScoreCommandOptions& o) {
+  cmd.add_option("PATH", o.path, "A path CSV: a viewer recording or exercise plan's")->required();
+  cmd.add_option("--exercise", o.exercise, "anchor-5, anchor-7 or an exercise file (.json)")
+      ->required();
+  addUp(cmd, o.up);
+  cmd.add_option("--out-dir", o.outDir,
+                 "Folder for drill's files and score.json, score.html, score.png")
+      ->default_val(".");
+  addJson(cmd, o.json, "Print the score as JSON on stdout");
 }
 
 void addModel(CLI::App& cmd, ModelOptions& o) {
@@ -325,6 +367,10 @@ const std::vector<Subcommand>& subcommands() {
       row("experiment",
           "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)",
           addExperiment, runExperiment),
+      row("exercise", "The exercises: list them, show one, write one's planned path", addExercise,
+          runExercise),
+      row("score", "Drill a path into an exercise's bone and score it against the plan", addScore,
+          runScore),
       row("model",
           "Build the built-in proximal humerus (what 'default' means) and optionally write it",
           addModel, runModel),

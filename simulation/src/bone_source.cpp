@@ -47,6 +47,7 @@ double BoneSource::scaleToMm() const {
 void BoneSource::check() const {
   requirePositiveMm("voxelSizeMm", voxelSizeMm);
   requirePositiveMm("defaultVoxelSizeMm", defaultVoxelSizeMm);
+  if (!up.empty()) parseUpAxis(up);
   if (isVolume()) return;
   scaleToMm();
   const char* volumeOnly = volume.label         ? "volume.label"
@@ -95,6 +96,7 @@ OpenedBone BoneModel::open(const BoneSource& source) {
       throw InputError(source.input + ": the grid has no voxel inside (nothing to drill)");
     }
     out.read.volume = std::move(load);
+    if (!source.up.empty()) bone->up_ = parseUpAxis(source.up);
     out.bone = std::move(bone);
     return out;
   }
@@ -110,6 +112,7 @@ OpenedBone BoneModel::open(const BoneSource& source) {
       source.input, out.read.scaleToMm, voxelizing, source.sampleFineFills, source.forSession);
   bone->setup_.loadMs = out.read.loadMs;
   bone->setup_.totalMs = msSince(start);
+  if (!source.up.empty()) bone->up_ = parseUpAxis(source.up);
   out.bone = std::move(bone);
   return out;
 }
@@ -160,7 +163,11 @@ const char* commandLineFlag(const std::string& field) {
       {"xi", "--xi"},
       {"raysPerAxis", "--rays"},
       {"corticalThicknessMm", "--cortical-mm"},
-      {"smoothIterations", "--smooth"}};
+      {"smoothIterations", "--smooth"},
+      {"up", "--up"},
+      {"coupling", "--coupling"},
+      {"path", "--path"},
+      {"crackPixels", "--cracks"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }

@@ -8,13 +8,14 @@
 
 #include "osteon/core/checks.h"
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::simulation {
 
 CouplingMode parseCouplingMode(const std::string& text) {
   if (text == "proxy") return CouplingMode::Proxy;
   if (text == "direct") return CouplingMode::Direct;
-  throw InputError("--coupling " + text + ": unknown coupling (use proxy or direct)");
+  throw OptionError("coupling", text, "unknown coupling (use proxy or direct)");
 }
 
 const char* couplingModeName(CouplingMode mode) {

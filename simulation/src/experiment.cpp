@@ -24,7 +24,7 @@ std::vector<ExperimentCase> seedExperimentCases() {
 std::vector<ExperimentRun> runSeedExperiment(
     const geometry::TriangleMesh& mesh, const std::vector<ExperimentCase>& cases,
     const std::function<void(const ExperimentRun&)>& progress,
-    const geometry::VoxelizeOptions& voxelizing) {
+    const geometry::VoxelizeOptions& voxelizing, const std::optional<glm::dvec3>& up) {
   std::vector<ExperimentRun> runs;
   for (const ExperimentCase& c : cases) {
     // One bone per voxel size, its fine fills sampled once: every run drills a fresh copy.
@@ -32,7 +32,7 @@ std::vector<ExperimentRun> runSeedExperiment(
     vo.voxelSizeGiven = false;
     const std::shared_ptr<const BoneModel> bone = BoneModel::fromMesh(
         mesh, c.voxelSizeMm, voxelizing.meshName.empty() ? "mesh" : voxelizing.meshName,
-        voxelizing.loadScaleToMm, vo);
+        voxelizing.loadScaleToMm, vo, true, up);
     std::vector<int> levels = {0};
     levels.insert(levels.end(), c.dynamicLevels.begin(), c.dynamicLevels.end());
     for (const Portal portal : {Portal::FiveOClock, Portal::SevenOClock}) {

@@ -13,6 +13,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::simulation {
 
@@ -139,7 +140,8 @@ glm::dvec3 principalAxis(const std::vector<glm::dvec3>& points, const glm::dvec3
 
 }  // namespace
 
-HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, HeadEnd headEnd) {
+HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, HeadEnd headEnd,
+                           const std::optional<glm::dvec3>& up) {
   // Triangle centroids with their face normals, each triangle split into four first so a
   // low-poly head (a few dozen facets) still gives enough points.
   std::vector<glm::dvec3> points, normals;
@@ -164,7 +166,8 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
   glm::dvec3 mean(0.0);
   for (const glm::dvec3& p : points) mean += p;
   mean /= double(points.size());
-  const glm::dvec3 axis = principalAxis(points, mean);
+  // Given an up axis, the head is at its end: the other end is not fitted.
+  const glm::dvec3 axis = up ? glm::normalize(*up) : principalAxis(points, mean);
   std::vector<double> along(points.size());
   double lo = 1e300, hi = -1e300;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -175,8 +178,9 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
   const double length = hi - lo;
   const SphereFit top =
       robustEndFit(points, normals, areas, along, hi - 0.10 * length, hi - 0.30 * length, 1.0);
-  const SphereFit bottom = robustEndFit(points, normals, areas, along, -(lo + 0.10 * length),
-                                        -(lo + 0.30 * length), -1.0);
+  const SphereFit bottom = up ? SphereFit{}
+                              : robustEndFit(points, normals, areas, along, -(lo + 0.10 * length),
+                                             -(lo + 0.30 * length), -1.0);
   const auto score = [&](const SphereFit& f) {
     if (!(f.ok && f.used >= 20 && f.radius > 0.03 * length)) return 1e300;
     if (headEnd == HeadEnd::LargestCap) return f.areaMm2 > 0.0 ? 1.0 / f.areaMm2 : 1e300;
@@ -191,6 +195,10 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
   out.radiusMm = head.radius;
   out.rmsResidualMm = head.rms;
   out.pointsUsed = head.used;
+  out.capAreaMm2 = head.areaMm2;
+  out.boneLengthMm = length;
+  const double centreAlong = glm::dot(head.centre - mean, axis);
+  out.endGapMm = topIsHead ? hi - (centreAlong + head.radius) : (centreAlong - head.radius) - lo;
   // The articular surface is the part of the bone on the sphere: its middle gives the axis.
   const glm::dvec3 toCap = head.pointsMean - head.centre;
   out.axis = glm::length(toCap) > 1e-9 ? glm::normalize(toCap) : glm::dvec3(0.0);
@@ -219,7 +227,7 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
 Portal parsePortal(const std::string& text) {
   if (text == "portal-5") return Portal::FiveOClock;
   if (text == "portal-7") return Portal::SevenOClock;
-  throw InputError("--path " + text + ": not a portal (portal-5, portal-7) nor a .csv file");
+  throw OptionError("path", text, "not a portal (portal-5, portal-7) nor a .csv file");
 }
 
 namespace {

@@ -104,8 +104,12 @@ std::shared_ptr<const BoneModel> BoneModel::fromMesh(geometry::TriangleMesh mesh
                                                      double voxelSizeMm, const std::string& name,
                                                      double loadScaleToMm,
                                                      const geometry::VoxelizeOptions& voxelizing,
-                                                     bool sampleFineFills) {
-  return build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
+                                                     bool sampleFineFills,
+                                                     const std::optional<glm::dvec3>& up) {
+  std::shared_ptr<BoneModel> bone =
+      build(std::move(meshMm), voxelSizeMm, name, loadScaleToMm, voxelizing, sampleFineFills);
+  bone->up_ = up;
+  return bone;
 }
 
 std::shared_ptr<BoneModel> BoneModel::wrapGrid(geometry::VoxelGrid grid, const std::string& name,
@@ -145,10 +149,20 @@ const HumeralHead& BoneModel::humeralHead() const {
   // A failed fit is kept as its message and thrown outside call_once: an exception through
   // call_once leaves the flag locked where pthread_once cannot unwind (TSan's interceptor).
   std::call_once(headOnce_, [this, &mesh] {
+    HumeralHead head;
     try {
-      head_ = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap);
+      head = fitHumeralHead(mesh, true, mesh_ ? HeadEnd::TightestSphere : HeadEnd::LargestCap, up_);
     } catch (const InputError& e) {
-      headError_ = name_ + ": " + e.marked() + (mesh_ ? "" : " (fitted to the grid's surface)");
+      headError_ = name_ + ": " + e.marked() + (mesh_ ? "" : " (fitted to the grid's surface)") +
+                   "; give the up axis (" + optionRef("up") +
+                   " x|y|z|-x|-y|-z) or an explicit entry point";
+      return;
+    }
+    try {
+      checkHumeralHead(head, name_);  // a sphere, but no humeral head: refused the same way
+      head_ = head;
+    } catch (const InputError& e) {
+      headError_ = e.marked();
     }
   });
   if (!head_) throw InputError(headError_);

@@ -6,15 +6,13 @@
 //
 // Set OSTEON_VIEWER_SHOTS=DIR to keep the screenshots (they show the ghost inside the bone with
 // the proxy at the surface, and the hole drilled from the surface).
-#include <cstdlib>
-#include <filesystem>
+#include "viewer/viewer_hand.h"
+
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "support/files.h"
-#include "support/process.h"
 #include "support/shapes.h"
 
 namespace osteon {
@@ -33,57 +31,7 @@ const std::string kDrillAndBackOut =
     "xdotool keydown shift click --repeat 80 --delay 10 5 keyup shift\n"
     "sleep 1.5; xdotool key g; sleep 0.5\n";
 
-class ViewerHandTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    works_ = std::system(
-                 "command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1 && "
-                 "xvfb-run -a true >/dev/null 2>&1") == 0;
-  }
-  void SetUp() override {
-    if (!works_)
-      GTEST_SKIP()
-          << "no X input: xvfb-run or xdotool is missing, or Xvfb cannot start (scripts/setup)";
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-
-  // Opens the viewer on the built-in bone with the mouse tool, plays `input` (shell lines of
-  // xdotool) to its window, closes it with Esc, and returns its --json. The last frame goes to
-  // `png` (kept in OSTEON_VIEWER_SHOTS when set).
-  json hand(const std::string& args, const std::string& input, const std::string& png) const {
-    const std::string script =
-        "'" OSTEON_VIEWER "' default --voxel-size 1.2 --levels 2 --size 1024x700 " + args +
-        " --json --screenshot '" + path(png) + "' >'" + path("stdout") + "' 2>'" + path("stderr") +
-        "' </dev/null &\n"
-        "pid=$!\n"
-        "wid=$(timeout 120 xdotool search --sync --name '^osteon-viewer' | head -n 1)\n"
-        "if [ -z \"$wid\" ]; then kill $pid; wait $pid; exit 97; fi\n"
-        "xdotool windowfocus \"$wid\"; sleep 1\n"
-        "xdotool mousemove --window \"$wid\" 700 350\n" +  // over the bone's side, clear of the
-                                                           // panels
-        input +
-        "xdotool key Escape\n"
-        "wait $pid\n";
-    test::writeBytes(path("hand.sh"), script);
-    const int code = test::runShell("xvfb-run -a -s '-screen 0 1280x800x24' timeout 300 sh '" +
-                                        path("hand.sh") + "'",
-                                    path("xvfb.out"), path("xvfb.err"))
-                         .exitCode;
-    EXPECT_EQ(code, 0) << args << "\n" << test::readBytes(path("stderr"));
-    if (const char* keep = std::getenv("OSTEON_VIEWER_SHOTS")) {
-      std::filesystem::create_directories(keep);
-      std::filesystem::copy_file(path(png), std::string(keep) + "/" + png,
-                                 std::filesystem::copy_options::overwrite_existing);
-    }
-    EXPECT_GT(test::readBytes(path(png)).size(), 10000u);
-    return code == 0 ? json::parse(test::readBytes(path("stdout"))) : json::object();
-  }
-
-  std::string dir_ = test::makeTempDir("viewer_hand");
-  static bool works_;
-};
-bool ViewerHandTest::works_ = false;
+using ViewerHandTest = test::ViewerHand;
 
 // The mouse tool cannot be pushed into intact bone: the hand goes 12 mm in, the proxy stays
 // at the surface within its cushion, nothing is removed; the commanded pose shows as a ghost.

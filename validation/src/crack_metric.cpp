@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/geometry/voxels/embree_scene.h"
 #include "osteon/image/image_writer.h"
@@ -25,8 +26,8 @@ constexpr double kOffsetV = 0.5 + 0.0419;
 
 CrackMetric measureCracks(const geometry::TriangleMesh& mesh, const CrackMetricOptions& options) {
   if (options.pixels < 16 || options.pixels > 4096) {
-    throw InputError("--cracks " + std::to_string(options.pixels) +
-                     ": pixels per side must be 16..4096");
+    throw OptionError("crackPixels", std::to_string(options.pixels),
+                      "pixels per side must be 16..4096");
   }
   if (mesh.triangles.empty()) throw InputError("crack metric: the mesh has no triangles");
   const geometry::EmbreeScene scene(mesh);

@@ -23,7 +23,6 @@ namespace osteon::viewer {
 
 namespace {
 
-constexpr double kArrowMmPerN = 6.0;
 constexpr int kLiveMetricEveryFrames = 10;
 // After a path's last pose, how long the loops keep going before a --frames run's last frame:
 // the last steps' bricks reach the visual side within a few milliseconds.
@@ -67,10 +66,11 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
   panel_.view = options_.view;
   panel_.method = options_.method;
   panel_.showTool = options_.tool;
+  panel_.cameraMode = options_.cameraMode;
+  panel_.pictureInPicture = options_.pictureInPicture;
   recordTarget_ = options_.record.empty() ? timestampedRecordName() : options_.record;
   std::snprintf(panel_.recordPath, sizeof panel_.recordPath, "%s", recordTarget_.c_str());
   std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", scene->request().bone.input.c_str());
-  panel_.openScaleToMm = scene->request().bone.scaleToMm();
   const simulation::BoneSource& bone = scene->request().bone;
   panel_.openVoxelMm =
       bone.voxelSizeMm.value_or(bone.defaultVoxelSizeMm.value_or(kDefaultVoxelSizeMm));
@@ -94,6 +94,7 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
     scene_.reset();
   }
   scene_ = std::move(scene);
+  ++report_.bonesLoaded;
   panel_.texturesMessage = renderer_->resetScene(scene_->live().visualGrid());
   hierarchy_.clear();
   naiveStale_ = true;
@@ -102,11 +103,14 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   camera_.frame(scene_->boundsMin(), scene_->boundsMax());
   if (options_.focusTool) camera_.setTarget(scene_->initialPose().tipMm);
   camera_.magnify(options_.zoom);
+  aimScope();
   target_ = scene_->initialPose();
   drillOn_ = false;
   toolView_ = {};
   panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
-  panel_.sceneName = scene_->request().bone.input +
+  panel_.score.reset();
+  panel_.sceneName = (scene_->exercise() ? "exercise " + scene_->exercise()->name + " | " : "") +
+                     scene_->request().bone.input +
                      (scene_->path() ? " | path " + scene_->request().path : " | mouse");
   panel_.followsPath = scene_->path() != nullptr;
   panel_.pathDurationS = scene_->pathDurationS();
@@ -172,54 +176,42 @@ void App::frame(bool last) {
   }
   lastView_ = panel_.view;
 
-  FrameCamera camera;
-  const double aspect = double(std::max(width_, 1)) / double(std::max(height_, 1));
-  camera.viewProj = glm::mat4(camera_.projection(aspect) * camera_.view());
-  camera.eye = glm::vec3(camera_.eye());
-  camera.light =
-      glm::vec3(glm::normalize(-camera_.forward() + 0.4 * camera_.up() - 0.3 * camera_.right()));
+  updateCameras();
+  const FrameCamera camera = cameraFor(panel_.cameraMode, width_, height_);
   glViewport(0, 0, width_, height_);
-  if (panel_.view == View::Cracks) {
+  if (panel_.view == View::Cracks || panel_.cameraMode == CameraMode::Scope) {
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
   } else {
     glClearColor(0.13f, 0.14f, 0.16f, 1.0f);
   }
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  renderer_->draw(camera, panel_.view, panel_.method, panel_.wire);
+  drawBone(camera);
   // The metric reads the bone alone, before the tool and the panels are drawn.
   if (last ||
       (panel_.view == View::Cracks && panel_.liveMetric && frame_ % kLiveMetricEveryFrames == 0))
     readMetric();
 
-  if (panel_.view == View::Hierarchy && hierarchy_.ready()) {
-    std::vector<glm::vec3> lines;
-    const std::size_t drawn =
-        hierarchy_.linesAround(panel_.hierarchyLevel, d.tS >= 0.0 ? d.pose.tipMm : target_.tipMm,
-                               panel_.hierarchyRadiusMm, 4000, lines);
-    const DphBoxes& b = *hierarchy_.boxes();
-    char text[160];
-    std::snprintf(text, sizeof text, "%zu boxes at level %d of %d; %zu voxels, built in %.0f ms",
-                  drawn, panel_.hierarchyLevel, hierarchy_.levelCount(), b.voxels, b.buildMs);
-    panel_.hierarchyMessage = text;
-    overlay_->drawLines(camera, lines, glm::vec4(0.3f, 0.9f, 1.0f, 0.8f));
-  }
   const simulation::ToolPose pose = d.tS >= 0.0 ? d.pose : scene_->initialPose();
   const simulation::ToolPose commanded = d.tS >= 0.0 ? d.commanded : pose;
   // The depth walk is for the report only.
   toolView_.add(scene_->tool(), pose, commanded, d.gapMm,
                 options_.json ? &live.visualGrid() : nullptr);
   panel_.ghost = toolView_.ghostLast;
-  if (panel_.showTool) {
-    overlay_->drawTool(camera, scene_->tool(), pose, d.drillOn);
-    overlay_->drawArrow(camera, pose.tipMm, d.contact.forceN * kArrowMmPerN,
-                        glm::vec4(0.95f, 0.9f, 0.2f, 1.0f));
-    // Translucent, after everything opaque: where the hand is, when bone holds the tool back.
-    if (toolView_.ghostLast) overlay_->drawGhost(camera, scene_->tool(), commanded, pose);
-  }
+  updateExercise(pose);
+  drawOverlays(camera, pose, commanded);
+  if (panel_.cameraMode == CameraMode::Scope)
+    overlay_->drawFieldMask(double(std::max(width_, 1)) / double(std::max(height_, 1)));
+  if (panel_.pictureInPicture) drawPictureInPicture(pose, commanded);
 
   fillStatus(lastFrameMs_);
-  if (options_.ui) {
+  if (panel_.showHelp) ++report_.helpFrames;
+  const bool floating = panel_.showHelp || panel_.confirmQuit || !panel_.askUnitsFor.empty() ||
+                        panel_.plan != nullptr;
+  if (options_.ui || floating) {
     panel_.drillOn = drillOn_;
+    panel_.maxForceN = scene_->tool().maxForceN;
+    panel_.densityLow = renderer_->textures().densityLow();
+    panel_.densityHigh = renderer_->textures().densityHigh();
     panel_.force = &force_;
     panel_.hierarchyLevels = hierarchy_.levelCount();
     PathRecorder& recorder = scene_->poseSource().recorder();
@@ -228,7 +220,7 @@ void App::frame(bool last) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    drawPanels(panel_);
+    drawPanels(panel_, options_.ui);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   }
@@ -312,6 +304,11 @@ void App::fillStatus(double frameMs) {
 
 void App::finishReport() {
   const simulation::RuntimeResult result = scene_->stop();
+  if (scene_->exercise()) {
+    scoreTrial();  // scored now if the trial had not ended
+    report_.exercise = scene_->exercise()->name;
+    report_.scoreJson = simulation::scoreJsonText(*panel_.score);
+  }
   ViewerReport& r = report_;
   r.recordedSamples = scene_->poseSource().recorder().sampleCount();
   finishRecording(true);
@@ -370,6 +367,10 @@ void App::finishReport() {
   r.peakRssMb = peakRssMb();
   r.screenshot = options_.screenshot;
   r.record = options_.record;
+  r.camera = cameraModeName(panel_.cameraMode);
+  r.pictureInPicture = panel_.pictureInPicture;
+  r.help = panel_.showHelp;
+  r.lensRotationDeg = glm::degrees(scope_.lensRotation());
 }
 
 }  // namespace osteon::viewer

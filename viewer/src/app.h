@@ -16,6 +16,7 @@
 #include "renderer.h"
 #include "report.h"
 #include "scene.h"
+#include "scope.h"
 #include "tool_view.h"
 #include "window.h"
 
@@ -35,6 +36,7 @@ class App {
 
   // ---- input (input.cpp), called from GLFW's callbacks ----
   void onKey(int key, int action, int mods);
+  void onCommandKey(int key);
   void onMouseButton(int button, int action, int mods);
   void onCursor(double x, double y);
   void onScroll(double dy);
@@ -48,7 +50,9 @@ class App {
   void writeScreenshot();
   void waitForPath();
   void pollLoading();
-  void startLoading(const std::string& input);
+  // Opens a file from the window (asking a mesh file's unit first).
+  void openFile(const std::string& input);
+  void startLoading(const LoadRequest& request, const std::string& name);
   void handleRequests();
   void moveToolAlong(const glm::dvec3& direction, double mm);
   void toggleRecording();
@@ -60,6 +64,32 @@ class App {
   void fillStatus(double frameMs);
   void finishReport();
 
+  // ---- cameras and what each view draws (views.cpp) ----
+  // The arthroscope at its portal, looking at the work site from across the tool.
+  void aimScope();
+  // The scope's device, and the follow camera's target, each frame.
+  void updateCameras();
+  FrameCamera cameraFor(CameraMode mode, int width, int height) const;
+  // The main view's axes, for the mouse tool and zoom (eye, forward, right, up, vertical fov).
+  ViewBasis viewBasis() const;
+  void drawBone(const FrameCamera& camera);
+  void drawOverlays(const FrameCamera& camera, const simulation::ToolPose& pose,
+                    const simulation::ToolPose& commanded);
+  // The second view in the top right corner.
+  void drawPictureInPicture(const simulation::ToolPose& pose,
+                            const simulation::ToolPose& commanded);
+  void zoomAtCursor(double steps);
+  void focusOnTool();
+  void cycleCamera();
+
+  // ---- an exercise (exercise_view.cpp) ----
+  // The readouts against the plan; a path's trial is scored once the path has ended.
+  void updateExercise(const simulation::ToolPose& pose);
+  // The plan over the bone: the entry marker, the axis, the depth ring; the head and the entry.
+  void drawPlan(const FrameCamera& camera);
+  void drawHeadAndEntry(const FrameCamera& camera);
+  // Stops the loops and scores the trial (once).
+  void scoreTrial();
   ViewerOptions options_;
   // Released last, in this reverse order, after every GL object below (window.h).
   GlfwLibrary glfw_;
@@ -69,6 +99,10 @@ class App {
   std::unique_ptr<BoneRenderer> renderer_;
   std::unique_ptr<OverlayRenderer> overlay_;
   OrbitCamera camera_;
+  Arthroscope scope_;
+  OrbitCamera follow_;
+  std::int64_t scopeKnob0_ = 0;  // the scope device's knob at its first sample
+  bool scopeKnobSeen_ = false;
   HierarchyView hierarchy_;
   PanelModel panel_;
   TimeSeries force_{5.0};

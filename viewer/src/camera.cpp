@@ -85,6 +85,15 @@ void OrbitCamera::zoom(double steps) {
                          50.0 * sceneRadius_);
 }
 
+void OrbitCamera::zoomAt(double steps, double ndcX, double ndcY, double aspect) {
+  const double before = distance_;
+  zoom(steps);
+  // The cursor's point on the target's plane, before and after: the target moves so it stays.
+  const double halfH = std::tan(0.5 * glm::radians(kFovYDeg));
+  const glm::dvec3 offset = (ndcX * aspect * halfH * right() + ndcY * halfH * up());
+  target_ += offset * (before - distance_);
+}
+
 void OrbitCamera::magnify(double factor) {
   distance_ = std::clamp(distance_ / factor, 1e-2 * sceneRadius_, 50.0 * sceneRadius_);
 }
@@ -104,8 +113,12 @@ glm::dmat4 OrbitCamera::projection(double aspect) const {
 }
 
 double OrbitCamera::mmPerPixelAt(const glm::dvec3& pointMm, int viewportHeight) const {
-  const double depth = std::max(glm::dot(pointMm - eye(), forward()), 1e-3);
-  return 2.0 * depth * std::tan(0.5 * glm::radians(kFovYDeg)) / double(std::max(viewportHeight, 1));
+  return basis().mmPerPixelAt(pointMm, viewportHeight);
+}
+
+double ViewBasis::mmPerPixelAt(const glm::dvec3& pointMm, int viewportHeight) const {
+  const double depth = std::max(glm::dot(pointMm - eye, forward), 1e-3);
+  return 2.0 * depth * std::tan(0.5 * glm::radians(fovYDeg)) / double(std::max(viewportHeight, 1));
 }
 
 }  // namespace osteon::viewer

@@ -8,6 +8,8 @@
 // The viewer starts in the anterior view, framed on the bone.
 #pragma once
 
+#include <algorithm>
+
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -16,6 +18,14 @@ namespace osteon::viewer {
 
 enum class AxisView { Anterior, Posterior, Right, Left, Superior, Inferior };
 const char* axisViewName(AxisView view);
+
+// A view's axes, whichever camera gives them.
+struct ViewBasis {
+  glm::dvec3 eye{0.0}, forward{0.0, 0.0, -1.0}, right{1.0, 0.0, 0.0}, up{0.0, 1.0, 0.0};
+  double fovYDeg = 35.0;
+  // Millimetres per pixel at a point's depth.
+  double mmPerPixelAt(const glm::dvec3& pointMm, int viewportHeight) const;
+};
 
 class OrbitCamera {
  public:
@@ -34,6 +44,12 @@ class OrbitCamera {
   // Divides the distance by `factor` (> 1 magnifies).
   void magnify(double factor);
   void setTarget(const glm::dvec3& targetMm) { target_ = targetMm; }
+  void setOrientation(const glm::dquat& orientation) { orientation_ = orientation; }
+  void setDistance(double mm) { distance_ = std::max(mm, 1e-3); }
+  // Wheel steps towards the point under the cursor (x, y in [-1, 1], y up; aspect = w / h):
+  // that point stays under the cursor, on the plane through the target facing the camera.
+  void zoomAt(double steps, double ndcX, double ndcY, double aspect);
+  ViewBasis basis() const { return {eye(), forward(), right(), up(), kFovYDeg}; }
 
   glm::dvec3 eye() const { return target_ - forward() * distance_; }
   glm::dvec3 forward() const { return orientation_ * glm::dvec3(0.0, 0.0, -1.0); }

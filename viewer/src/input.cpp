@@ -18,6 +18,8 @@ namespace {
 constexpr double kRadiansPerPixel = 0.01;
 constexpr double kDepthStepMm = 1.0;     // Ctrl + wheel, Page Up / Down: along the view
 constexpr double kAdvanceStepMm = 0.25;  // Up / Down, Shift + wheel: along the tool's axis
+constexpr double kLensStepRad = 3.14159265358979 / 12.0;  // , and . turn the scope's lens 15 deg
+constexpr double kLightStep = 1.25;                       // - and = dim and brighten its light
 
 bool held(GLFWwindow* w, int key, int other) {
   return glfwGetKey(w, key) == GLFW_PRESS || glfwGetKey(w, other) == GLFW_PRESS;
@@ -27,8 +29,17 @@ bool held(GLFWwindow* w, int key, int other) {
 
 void App::onKey(int key, int action, int mods) {
   if (action == GLFW_RELEASE) return;
-  if (options_.ui && ImGui::GetIO().WantCaptureKeyboard) return;
   const bool press = action == GLFW_PRESS;
+  // Esc asks first: Enter or Y quits, Esc or N stays.
+  if (panel_.confirmQuit && press) {
+    if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER || key == GLFW_KEY_Y) {
+      panel_.confirmQuit = false;  // the last frame shows the view, not the question
+      glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+    }
+    if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_N) panel_.confirmQuit = false;
+    return;
+  }
+  if (options_.ui && ImGui::GetIO().WantCaptureKeyboard) return;
   const bool mouseTool = !scene_->poseSource().followsPath();
   // Movement keys repeat; everything else acts once per press.
   switch (key) {
@@ -40,23 +51,66 @@ void App::onKey(int key, int action, int mods) {
     case GLFW_KEY_PAGE_UP:
     case GLFW_KEY_PAGE_DOWN:
       if (mouseTool)
-        moveToolAlong(camera_.forward(), key == GLFW_KEY_PAGE_DOWN ? kDepthStepMm : -kDepthStepMm);
+        moveToolAlong(viewBasis().forward,
+                      key == GLFW_KEY_PAGE_DOWN ? kDepthStepMm : -kDepthStepMm);
       return;
     default:
       break;
   }
   if (!press) return;
-  if (key >= GLFW_KEY_F1 && key <= GLFW_KEY_F6) {
+  if (key >= GLFW_KEY_F2 && key <= GLFW_KEY_F6) {
     panel_.view = View(key - GLFW_KEY_F1);
+    return;
+  }
+  const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
+  // F1 and ? (Shift + / on most layouts) show the keys.
+  if (key == GLFW_KEY_F1 || (key == GLFW_KEY_SLASH && shift)) {
+    panel_.showHelp = !panel_.showHelp;
+    return;
+  }
+  if (key == GLFW_KEY_F && shift) {
+    panel_.focusTool = true;
     return;
   }
   if (key >= GLFW_KEY_1 && key <= GLFW_KEY_6) {
     panel_.axisView = AxisView(key - GLFW_KEY_1);
     return;
   }
+  onCommandKey(key);
+}
+
+// The keys that act once per press and have no modifier of their own.
+void App::onCommandKey(int key) {
   switch (key) {
     case GLFW_KEY_ESCAPE:
-      glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+      if (panel_.showHelp) {
+        panel_.showHelp = false;
+      } else {
+        panel_.confirmQuit = true;
+      }
+      break;
+    case GLFW_KEY_BACKSPACE:
+      panel_.resetBone = true;
+      break;
+    case GLFW_KEY_E:
+      panel_.scoreTrial = true;
+      break;
+    case GLFW_KEY_O:
+      panel_.showPlan = !panel_.showPlan;
+      break;
+    case GLFW_KEY_V:
+      cycleCamera();
+      break;
+    case GLFW_KEY_P:
+      panel_.pictureInPicture = !panel_.pictureInPicture;
+      break;
+    case GLFW_KEY_COMMA:
+    case GLFW_KEY_PERIOD:
+      scope_.rotateLens(key == GLFW_KEY_COMMA ? -kLensStepRad : kLensStepRad);
+      break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_EQUAL:
+      scope_.dimLight(key == GLFW_KEY_MINUS ? 1.0 / kLightStep : kLightStep);
       break;
     case GLFW_KEY_TAB:
       options_.ui = !options_.ui;
@@ -108,7 +162,6 @@ void App::onKey(int key, int action, int mods) {
     default:
       break;
   }
-  (void)mods;
 }
 
 void App::onMouseButton(int button, int action, int mods) {
@@ -130,7 +183,12 @@ void App::onCursor(double x, double y) {
   const bool shift = held(window_.get(), GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT);
   const bool turn = held(window_.get(), GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL) ||
                     held(window_.get(), GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT);
-  if (middleDown_ || (leftDown_ && shift)) {
+  const CameraMode mode = panel_.cameraMode;
+  if (leftDown_ && mode == CameraMode::Scope) {
+    scope_.pivot(dx, dy);  // the scope swings about its portal
+  } else if (leftDown_ && mode == CameraMode::Follow) {
+    follow_.rotate(dx, dy);
+  } else if (mode == CameraMode::Orbit && (middleDown_ || (leftDown_ && shift))) {
     camera_.pan(dx, dy, h);
   } else if (leftDown_) {
     camera_.rotate(dx, dy);
@@ -143,16 +201,17 @@ void App::onScroll(double dy) {
   if (options_.ui && ImGui::GetIO().WantCaptureMouse) return;
   const bool mouseTool = !scene_->poseSource().followsPath();
   if (mouseTool && held(window_.get(), GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL)) {
-    moveToolAlong(camera_.forward(), -dy * kDepthStepMm);  // wheel away: deeper into the view
+    moveToolAlong(viewBasis().forward, -dy * kDepthStepMm);  // wheel away: deeper into the view
   } else if (mouseTool && held(window_.get(), GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT)) {
     moveToolAlong(target_.forward(), dy * kAdvanceStepMm);
   } else {
-    camera_.zoom(dy);
+    zoomAtCursor(dy);
   }
 }
 
 void App::onDrop(const std::string& path) {
   std::snprintf(panel_.openPath, sizeof panel_.openPath, "%s", path.c_str());
+  panel_.openUnitMm.reset();  // a dropped file's unit is asked for that file
   panel_.open = true;
 }
 
@@ -163,8 +222,9 @@ void App::publishTarget() {
 void App::moveToolInView(double dxPixels, double dyPixels) {
   int w = 0, h = 0;
   glfwGetWindowSize(window_.get(), &w, &h);
-  const double mm = camera_.mmPerPixelAt(target_.tipMm, h);
-  target_.tipMm += (dxPixels * camera_.right() - dyPixels * camera_.up()) * mm;
+  const ViewBasis view = viewBasis();
+  const double mm = view.mmPerPixelAt(target_.tipMm, h);
+  target_.tipMm += (dxPixels * view.right - dyPixels * view.up) * mm;
   publishTarget();
 }
 
@@ -175,8 +235,9 @@ void App::moveToolAlong(const glm::dvec3& direction, double mm) {
 
 void App::turnTool(double dxPixels, double dyPixels) {
   // About the tip, around the view's axes: the shaft swings with the cursor.
-  const glm::dquat q = glm::angleAxis(dxPixels * kRadiansPerPixel, camera_.up()) *
-                       glm::angleAxis(dyPixels * kRadiansPerPixel, camera_.right());
+  const ViewBasis view = viewBasis();
+  const glm::dquat q = glm::angleAxis(dxPixels * kRadiansPerPixel, view.up) *
+                       glm::angleAxis(dyPixels * kRadiansPerPixel, view.right);
   target_.orientation = glm::normalize(q * target_.orientation);
   publishTarget();
 }
@@ -192,13 +253,21 @@ void App::handleRequests() {
   }
   if (panel_.toggleRecord) toggleRecording();
   if (panel_.frameBone) camera_.frame(scene_->boundsMin(), scene_->boundsMax());
+  // An axis view turns the orbit camera about its target: the zoom stays.
   if (panel_.axisView) {
     camera_.setAxisView(*panel_.axisView);
-    camera_.frame(scene_->boundsMin(), scene_->boundsMax());
+    panel_.cameraMode = CameraMode::Orbit;
   }
-  if (panel_.open) startLoading(panel_.openPath);
+  if (panel_.focusTool) focusOnTool();
+  if (panel_.scoreTrial) scoreTrial();
+  if (panel_.quit) {
+    panel_.confirmQuit = false;
+    glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+  }
+  if (panel_.resetBone) startLoading(scene_->request(), "the bone, as it was");
+  if (panel_.open) openFile(panel_.openPath);
   panel_.toggleDrill = panel_.resetTool = panel_.toggleRecord = panel_.frameBone = panel_.open =
-      false;
+      panel_.focusTool = panel_.resetBone = panel_.quit = panel_.scoreTrial = false;
   panel_.axisView.reset();
   // A recording the haptic loop has let go of (stopped, or full) is written now.
   if (scene_->poseSource().recorder().finished()) finishRecording(false);
@@ -237,18 +306,25 @@ void App::finishRecording(bool atExit) {
   }
 }
 
-void App::startLoading(const std::string& input) {
-  if (loading_.valid() || input.empty()) return;
-  LoadRequest request = scene_->request();
-  request.path.clear();  // another bone is drilled with the mouse
-  // The panel's mm per file unit and voxel mm (a grid keeps its own); BoneModel::open checks them.
-  request.bone.input = input;
-  request.bone.scale = panel_.openScaleToMm;
-  request.bone.voxelSizeMm.reset();
-  request.bone.defaultVoxelSizeMm = panel_.openVoxelMm;
-  loadingName_ = input;
+void App::openFile(const std::string& input) {
+  if (input.empty()) return;
+  // A mesh file's unit is asked each time: the panel shows the question, its answer opens it.
+  if (fileNeedsUnits(input) && !panel_.openUnitMm) {
+    panel_.askUnitsFor = input;
+    return;
+  }
+  panel_.askUnitsFor.clear();
+  const std::optional<double> unit = fileNeedsUnits(input) ? panel_.openUnitMm : std::nullopt;
+  panel_.openUnitMm.reset();
+  // BoneModel::open checks the unit and the voxel size.
+  startLoading(requestForFile(scene_->request(), input, unit, panel_.openVoxelMm), input);
+}
+
+void App::startLoading(const LoadRequest& request, const std::string& name) {
+  if (loading_.valid()) return;
+  loadingName_ = name;
   panel_.loading = true;
-  panel_.loadMessage = input;
+  panel_.loadMessage = name;
   loading_ = std::async(std::launch::async, [request] { return Scene::load(request); });
 }
 
@@ -260,7 +336,7 @@ void App::pollLoading() {
     std::unique_ptr<Scene> scene = loading_.get();
     installScene(std::move(scene), false);
     panel_.loadMessage.clear();
-    glfwSetWindowTitle(window_.get(), ("osteon-viewer: " + loadingName_).c_str());
+    glfwSetWindowTitle(window_.get(), ("osteon-viewer: " + scene_->request().bone.input).c_str());
   } catch (const InputError& e) {
     panel_.loadMessage = simulation::commandLineMessage(e);
   } catch (const std::bad_alloc&) {

@@ -19,6 +19,7 @@
 
 namespace {
 
+namespace viewer = osteon::viewer;
 using osteon::kExitBadInput;
 using osteon::kExitInternal;
 using osteon::kExitOk;
@@ -86,110 +87,129 @@ void applyVolumeFlags(const VolumeFlags& f, osteon::geometry::VolumeOptions& vol
   volume.cropMarginMm = f.cropMarginMm;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  namespace viewer = osteon::viewer;
-  CLI::App app{
-      "osteon-viewer: drill a bone with the mouse or a path, see the crack-free surface live"};
-  app.set_version_flag("--version", std::string("osteon-viewer ") + OSTEON_VERSION);
+// The command line as typed, before it is checked and turned into ViewerOptions.
+struct CommandLine {
   std::string input = "default";
   std::optional<std::string> units;
   std::optional<double> scale;
   std::optional<double> voxelSize;
+  VolumeFlags volume;
   int levels = 2;
-  std::string tool = "drill", path, view = "shaded", method = "crackfree", size = "1280x800",
-              camera = "anterior";
-  viewer::ViewerOptions options;
-  bool noUi = false;
-  app.add_option("MESH", input,
+  std::string tool = "drill", path, device, coupling, view = "shaded", method = "crackfree",
+              size = "1280x800", camera = "anterior", focus = "bone";
+  std::string scopeDevice, exercise, up;
+  bool noUi = false, noTool = false;
+};
+
+// The bone: the input, its units, voxel size and meaning.
+void addBoneOptions(CLI::App& app, CommandLine& c) {
+  app.add_option("MESH", c.input,
                  "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a volume: an "
                  "osteon grid, a "
                  "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
       ->default_val("default");
-  VolumeFlags volumeFlags;
-  addVolumeFlags(app, volumeFlags);
+  addVolumeFlags(app, c.volume);
   CLI::Option* u =
-      app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
-  CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
+      app.add_option("--units", c.units, "Unit of the mesh file's coordinates: mm, cm, m or in");
+  CLI::Option* s =
+      app.add_option("--scale", c.scale, "Multiply coordinates by S to get millimetres");
   u->excludes(s);
-  app.add_option("--voxel-size", voxelSize,
+  app.add_option("--up", c.up,
+                 "Which way is up, from the shaft to the humeral head: x, y, z, -x, -y or -z "
+                 "(default: found from the bone)");
+  app.add_option("--voxel-size", c.voxelSize,
                  "Base voxel edge in mm (default 1.2 for a mesh; a grid has its own)");
-  app.add_option("--levels", levels, "0: static voxels; 1 or 2: refine near the tool (VS/2, VS/4)")
+  app.add_option("--levels", c.levels,
+                 "0: static voxels; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
-  app.add_option("--tool", tool, "drill, burr or shaver")->default_val("drill");
-  app.add_option("--path", path,
-                 "portal-5, portal-7 or PATH.csv: play a path instead of the mouse");
-  std::string device;
-  std::string coupling;
-  app.add_option("--coupling", coupling,
+}
+
+// The tool and what drives it.
+void addToolOptions(CLI::App& app, CommandLine& c) {
+  app.add_option("--tool", c.tool, "drill, burr or shaver")->default_val("drill");
+  app.add_option("--path", c.path,
+                 "portal-5, portal-7 or PATH.csv: play a path instead of the mouse (with "
+                 "--exercise, plan plays its ideal path)");
+  app.add_option("--exercise", c.exercise,
+                 "An exercise, built in (anchor-5, anchor-7) or a JSON file: its bone and tool, "
+                 "its plan drawn over the bone, live readouts and a score at the end");
+  app.add_option("--coupling", c.coupling,
                  "proxy: bone stops the tool, a spring joins it to the hand (default, but for "
                  "portal paths); direct");
   app.add_option(
-      "--device", device,
+      "--device", c.device,
       "Drive the tool from a device (spacemouse, serial:PORT, touch, replay:LOG.csv, ...)");
+}
+
+// What is shown, and the run's outputs.
+void addDisplayOptions(CLI::App& app, CommandLine& c, viewer::ViewerOptions& options) {
   app.add_option("--frames", options.frames,
                  "Render N frames and exit (with --path, the last waits for its end)");
   app.add_option("--screenshot", options.screenshot, "Write the last frame to this PNG");
-  app.add_option("--view", view, "shaded, cracks, levels, density, hierarchy or wireframe")
+  app.add_option("--view", c.view, "shaded, cracks, levels, density, hierarchy or wireframe")
       ->default_val("shaded");
-  app.add_option("--method", method,
+  app.add_option("--method", c.method,
                  "The surface drawn: crackfree (live, incremental) or naive (seed's MC, whole)")
       ->default_val("crackfree");
-  app.add_option("--camera", camera,
-                 "Start view, framed on the bone: anterior (looking along +y), posterior, right, "
-                 "left, superior or inferior")
+  app.add_option("--camera", c.camera,
+                 "Start view: anterior (looking along +y, framed on the bone), posterior, right, "
+                 "left, superior, inferior; scope (the 30 degree arthroscope at its portal) or "
+                 "follow (a camera on the tool)")
       ->default_val("anterior");
   app.add_option("--zoom", options.zoom, "Magnify the start view by this factor")->default_val(1.0);
-  std::string focus = "bone";
-  app.add_option("--focus", focus, "Centre of the start view: bone, or tool (its first pose)")
+  app.add_option("--focus", c.focus, "Centre of the start view: bone, or tool (its first pose)")
       ->default_val("bone");
-  app.add_option("--size", size, "Window size WIDTHxHEIGHT in pixels")->default_val("1280x800");
+  app.add_option("--size", c.size, "Window size WIDTHxHEIGHT in pixels")->default_val("1280x800");
   app.add_option("--record", options.record,
                  "Record the tool's path (1 kHz) from the start to exit into this CSV");
+  app.add_flag("--pip", options.pictureInPicture,
+               "Picture-in-picture: the arthroscope in the corner (the orbit view when the "
+               "main view is the scope); P toggles");
+  app.add_option("--scope-device", c.scopeDevice,
+                 "The arthroscope's pose (and its knob: the lens rotation) from a second device");
   app.add_flag("--json", options.json, "Print one JSON object on stdout at exit");
-  app.add_flag("--no-ui", noUi, "Hide the panels (Tab toggles them)");
-  bool noTool = false;
-  app.add_flag("--no-tool", noTool,
+  app.add_flag("--no-ui", c.noUi, "Hide the panels (Tab toggles them)");
+  app.add_flag("--no-tool", c.noTool,
                "Do not draw the tool (G toggles it), to see the hole it drilled");
+}
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitOk;
-  } catch (const CLI::CallForVersion&) {
-    std::cout << "osteon-viewer " << OSTEON_VERSION << "\n";
-    return kExitOk;
-  } catch (const CLI::ParseError& e) {
-    return fail(kExitBadInput, std::string(e.what()) + " (see osteon-viewer --help)");
+// Turns the command line into options; throws InputError naming a bad value.
+void settle(const CommandLine& c, viewer::ViewerOptions& options) {
+  osteon::simulation::BoneSource& bone = options.load.bone;
+  bone.input = c.input;
+  bone.units = c.units.value_or("mm");
+  bone.scale = c.scale;
+  bone.voxelSizeMm = c.voxelSize;
+  applyVolumeFlags(c.volume, bone.volume);
+  bone.up = c.up;
+  options.load.levels = c.levels;
+  options.load.tool = osteon::simulation::parseToolKind(c.tool);
+  options.load.path = c.path;
+  options.load.device = c.device;
+  if (!c.coupling.empty())
+    options.load.coupling = osteon::simulation::parseCouplingMode(c.coupling);
+  options.view = viewer::parseView(c.view);
+  options.method = viewer::parseSurfaceChoice(c.method);
+  viewer::parseCamera(c.camera, options.camera, options.cameraMode);
+  options.load.scopeDevice = c.scopeDevice;
+  options.load.exercise = c.exercise;
+  if (c.focus != "bone" && c.focus != "tool") {
+    throw osteon::InputError("--focus " + c.focus + ": expected bone or tool");
   }
+  options.focusTool = c.focus == "tool";
+  options.ui = !c.noUi;
+  options.tool = !c.noTool;
+  viewer::parseWindowSize(c.size, options.width, options.height);
+  viewer::validateOptions(options);
+}
 
-  std::unique_ptr<viewer::Scene> scene;
+// Everything about the input is settled, and the bone loaded, before a window opens.
+int loadScene(const CommandLine& c, viewer::ViewerOptions& options,
+              std::unique_ptr<viewer::Scene>& scene) {
   try {
-    // Everything about the input is settled before a window opens.
-    options.load.bone.input = input;
-    options.load.bone.units = units.value_or("mm");
-    options.load.bone.scale = scale;
-    options.load.bone.voxelSizeMm = voxelSize;
-    options.load.levels = levels;
-    options.load.tool = osteon::simulation::parseToolKind(tool);
-    options.load.path = path;
-    options.load.device = device;
-    applyVolumeFlags(volumeFlags, options.load.bone.volume);
-    if (!coupling.empty()) options.load.coupling = osteon::simulation::parseCouplingMode(coupling);
-    options.view = viewer::parseView(view);
-    options.method = viewer::parseSurfaceChoice(method);
-    options.camera = viewer::parseAxisView(camera);
-    if (focus != "bone" && focus != "tool") {
-      throw osteon::InputError("--focus " + focus + ": expected bone or tool");
-    }
-    options.focusTool = focus == "tool";
-    options.ui = !noUi;
-    options.tool = !noTool;
-    viewer::parseWindowSize(size, options.width, options.height);
-    viewer::validateOptions(options);
+    settle(c, options);
     scene = viewer::Scene::load(options.load);
+    return kExitOk;
   } catch (const osteon::InputError& e) {
     return fail(kExitBadInput, osteon::simulation::commandLineMessage(e));
   } catch (const std::bad_alloc&) {
@@ -199,7 +219,9 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return fail(kExitInternal, e.what());
   }
+}
 
+int runWindow(const viewer::ViewerOptions& options, std::unique_ptr<viewer::Scene> scene) {
   try {
     std::string json;
     {
@@ -218,4 +240,31 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return fail(kExitInternal, e.what());
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "osteon-viewer: drill a bone with the mouse or a path, see the crack-free surface live"};
+  app.set_version_flag("--version", std::string("osteon-viewer ") + OSTEON_VERSION);
+  CommandLine c;
+  viewer::ViewerOptions options;
+  addBoneOptions(app, c);
+  addToolOptions(app, c);
+  addDisplayOptions(app, c, options);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitOk;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << "osteon-viewer " << OSTEON_VERSION << "\n";
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    return fail(kExitBadInput, std::string(e.what()) + " (see osteon-viewer --help)");
+  }
+  std::unique_ptr<viewer::Scene> scene;
+  if (const int code = loadScene(c, options, scene); code != kExitOk) return code;
+  return runWindow(options, std::move(scene));
 }

@@ -8,6 +8,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/simulation/exercise.h"
 #include "osteon/simulation/path.h"
 
 namespace osteon::viewer {
@@ -66,6 +67,64 @@ AxisView parseAxisView(const std::string& text) {
   throw InputError(
       "--camera " + text +
       ": unknown view (expected anterior, posterior, right, left, superior or inferior)");
+}
+
+const char* cameraModeName(CameraMode mode) {
+  switch (mode) {
+    case CameraMode::Orbit:
+      return "orbit";
+    case CameraMode::Scope:
+      return "scope";
+    case CameraMode::Follow:
+      return "follow";
+  }
+  return "?";
+}
+
+void parseCamera(const std::string& text, AxisView& axis, CameraMode& mode) {
+  if (text == "scope" || text == "follow") {
+    mode = text == "scope" ? CameraMode::Scope : CameraMode::Follow;
+    return;
+  }
+  for (int i = 0; i < 6; ++i) {
+    if (text == axisViewName(AxisView(i))) {
+      axis = AxisView(i);
+      mode = CameraMode::Orbit;
+      return;
+    }
+  }
+  throw InputError("--camera " + text +
+                   ": unknown view (expected anterior, posterior, right, left, superior, "
+                   "inferior, scope or follow)");
+}
+
+bool isExercise(const std::string& input) {
+  const std::vector<std::string> names = simulation::builtInExerciseNames();
+  return lowerExtension(input) == ".json" ||
+         std::find(names.begin(), names.end(), input) != names.end();
+}
+
+bool fileNeedsUnits(const std::string& input) {
+  const std::string ext = lowerExtension(input);
+  return ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".off";
+}
+
+LoadRequest requestForFile(const LoadRequest& current, const std::string& input,
+                           std::optional<double> scaleToMm, double voxelMm) {
+  LoadRequest request;
+  request.levels = current.levels;
+  request.tool = current.tool;
+  request.coupling = current.coupling;
+  request.device = current.device;
+  request.scopeDevice = current.scopeDevice;
+  if (isExercise(input)) {
+    request.exercise = input;  // the exercise names its own bone
+    return request;
+  }
+  request.bone.input = input;
+  request.bone.scale = scaleToMm;
+  request.bone.defaultVoxelSizeMm = voxelMm;  // a grid keeps its own
+  return request;
 }
 
 void parseWindowSize(const std::string& text, int& width, int& height) {

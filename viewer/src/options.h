@@ -30,6 +30,14 @@ SurfaceChoice parseSurfaceChoice(const std::string& text);
 // the value otherwise.
 AxisView parseAxisView(const std::string& text);
 
+// The main view's camera: the orbit camera (axis views, drags), the arthroscope at its portal,
+// or a camera that follows the tool's tip.
+enum class CameraMode { Orbit, Scope, Follow };
+const char* cameraModeName(CameraMode mode);
+// --camera: an axis view (the orbit camera), `scope` or `follow`; throws InputError naming the
+// value otherwise.
+void parseCamera(const std::string& text, AxisView& axis, CameraMode& mode);
+
 // What a bone is opened from (the command line, the File panel, a dropped file).
 inline constexpr double kDefaultVoxelSizeMm = 1.2;
 
@@ -41,6 +49,12 @@ struct LoadRequest {
   simulation::ToolKind tool = simulation::ToolKind::Drill;
   std::string path;    // "" (the mouse), portal-5, portal-7 or a PATH.csv
   std::string device;  // "" (the mouse or the path), or a device name (docs/devices.md)
+  // An exercise (a built-in name or a JSON file): its bone, tool and levels replace the ones
+  // above, its plan is drawn and the trial scored. With it, path "plan" plays its ideal path.
+  std::string exercise;
+  // The arthroscope's device, a second slot ("": the mouse moves the scope); its pose is the
+  // scope's tip and shaft, its knob the lens rotation.
+  std::string scopeDevice;
   // --coupling; unset: direct for portal paths, proxy for the mouse, devices and CSV paths.
   std::optional<simulation::CouplingMode> coupling;
 
@@ -56,8 +70,10 @@ struct ViewerOptions {
   View view = View::Shaded;
   SurfaceChoice method = SurfaceChoice::CrackFree;
   AxisView camera = AxisView::Anterior;  // the start view, framed on the bone
-  double zoom = 1.0;                     // > 1 magnifies the start view
-  bool focusTool = false;                // centre the start view on the tool's first pose
+  CameraMode cameraMode = CameraMode::Orbit;
+  bool pictureInPicture = false;  // a second view in the corner (P toggles)
+  double zoom = 1.0;              // > 1 magnifies the start view
+  bool focusTool = false;         // centre the start view on the tool's first pose
   int width = 1280, height = 800;
   int frames = 0;          // > 0: render this many frames and exit
   std::string screenshot;  // PNG of the last frame
@@ -66,6 +82,19 @@ struct ViewerOptions {
   bool ui = true;          // the ImGui panels (Tab toggles)
   bool tool = true;        // draw the tool (G toggles)
 };
+
+// An exercise: a built-in name (anchor-5, ...) or a .json file.
+bool isExercise(const std::string& input);
+
+// A mesh file (.stl .obj .ply .off, any case): its coordinates carry no unit, so the window
+// asks for one each time such a file is opened (volumes and `default` know theirs).
+bool fileNeedsUnits(const std::string& input);
+// What opening `input` from the window (the File panel, a dropped file) loads: the session's
+// levels, tool, coupling and devices, the mouse rather than a path, and of the bone only what
+// was chosen for this file: `scaleToMm` (its unit, asked for a mesh file) and `voxelMm`.
+// Nothing of the previous file's unit, scale, label or iso carries over.
+LoadRequest requestForFile(const LoadRequest& current, const std::string& input,
+                           std::optional<double> scaleToMm, double voxelMm);
 
 // Parses "WxH" (e.g. 1280x800), each 64..8192; throws InputError naming the value otherwise.
 void parseWindowSize(const std::string& text, int& width, int& height);

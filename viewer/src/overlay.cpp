@@ -5,6 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "scope.h"
 #include "shaders.h"
 
 namespace osteon::viewer {
@@ -65,6 +66,20 @@ void coneMesh(std::vector<float>& v, std::vector<std::uint32_t>& idx, int slices
     idx.insert(idx.end(), {centre, std::uint32_t(2 * (j + 1)), std::uint32_t(2 * j)});
 }
 
+// The ring between radius 1 and 4 in the z = 0 plane: scaled to the field, it covers the rest
+// of the viewport.
+void annulusMesh(std::vector<float>& v, std::vector<std::uint32_t>& idx, int slices = 128) {
+  for (int j = 0; j <= slices; ++j) {
+    const float theta = 2.0f * kPi * float(j) / float(slices);
+    const float x = std::cos(theta), y = std::sin(theta);
+    v.insert(v.end(), {x, y, 0.0f, 0.0f, 0.0f, 1.0f, 4.0f * x, 4.0f * y, 0.0f, 0.0f, 0.0f, 1.0f});
+  }
+  for (int j = 0; j < slices; ++j) {
+    const std::uint32_t a = std::uint32_t(2 * j);
+    idx.insert(idx.end(), {a, a + 1, a + 2, a + 2, a + 1, a + 3});
+  }
+}
+
 // The model matrix taking the unit z-segment of radius 1 to a..b of radius r.
 glm::mat4 segmentModel(const glm::dvec3& a, const glm::dvec3& b, double r) {
   glm::dvec3 w = b - a;
@@ -106,7 +121,8 @@ OverlayRenderer::Mesh OverlayRenderer::makeMesh(const std::vector<float>& v,
 }
 
 OverlayRenderer::OverlayRenderer()
-    : program_(buildProgram("overlay", shaders::kOverlayVertex, shaders::kOverlayFragment)),
+    : program_(buildProgram("overlay", shaders::kOverlayVertex,
+                            shaders::withLighting(shaders::kOverlayFragment).c_str())),
       linesVao_(newVertexArray()),
       linesVbo_(newBuffer()) {
   std::vector<float> v;
@@ -119,6 +135,9 @@ OverlayRenderer::OverlayRenderer()
   v.clear(), idx.clear();
   coneMesh(v, idx);
   cone_ = makeMesh(v, idx);
+  v.clear(), idx.clear();
+  annulusMesh(v, idx);
+  annulus_ = makeMesh(v, idx);
   glBindVertexArray(linesVao_.get());
   glBindBuffer(GL_ARRAY_BUFFER, linesVbo_.get());
   glEnableVertexAttribArray(0);
@@ -132,8 +151,7 @@ void OverlayRenderer::begin(const FrameCamera& camera) {
   const GLuint p = program_.get();
   glUseProgram(p);
   setUniform(p, "uViewProj", camera.viewProj);
-  setUniform(p, "uEye", camera.eye);
-  setUniform(p, "uLight", camera.light);
+  setLightUniforms(p, camera);
 }
 
 void OverlayRenderer::drawMesh(const Mesh& mesh, const glm::mat4& model, const glm::vec4& colour,
@@ -233,6 +251,26 @@ void OverlayRenderer::drawArrow(const FrameCamera& camera, const glm::dvec3& fro
   const glm::dvec3 neck = fromMm + dir * (len - head);
   drawMesh(cylinder_, segmentModel(fromMm, neck, 0.3), colour, true);
   drawMesh(cone_, segmentModel(neck, fromMm + vectorMm, 1.0), colour, true);
+  glUseProgram(0);
+}
+
+void OverlayRenderer::drawMarker(const FrameCamera& camera, const glm::dvec3& pointMm,
+                                 double radiusMm, const glm::vec4& colour) {
+  begin(camera);
+  glEnable(GL_DEPTH_TEST);
+  drawCapsule(pointMm, pointMm, radiusMm, colour);
+  glUseProgram(0);
+}
+
+void OverlayRenderer::drawFieldMask(double aspect) {
+  FrameCamera screen;  // identity: the ring is given in normalized device coordinates
+  begin(screen);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  const float r = float(Arthroscope::kFieldRadiusNdc);
+  drawMesh(annulus_, glm::scale(glm::mat4(1.0f), glm::vec3(r / float(aspect), r, 1.0f)),
+           glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), false);
+  glEnable(GL_DEPTH_TEST);
   glUseProgram(0);
 }
 

@@ -28,6 +28,12 @@ class OverlayRenderer {
   // An arrow from `fromMm` along `vectorMm` (its length in mm).
   void drawArrow(const FrameCamera& camera, const glm::dvec3& fromMm, const glm::dvec3& vectorMm,
                  const glm::vec4& colour);
+  // A lit ball of `radiusMm` at a point (the plan's entry marker, the head's centre).
+  void drawMarker(const FrameCamera& camera, const glm::dvec3& pointMm, double radiusMm,
+                  const glm::vec4& colour);
+  // Black around the arthroscope's circular field (Arthroscope::kFieldRadiusNdc of the
+  // viewport's height), over everything drawn in the viewport.
+  void drawFieldMask(double aspect);
   // Line segments: points in pairs (mm).
   void drawLines(const FrameCamera& camera, const std::vector<glm::vec3>& points,
                  const glm::vec4& colour);
@@ -46,7 +52,7 @@ class OverlayRenderer {
   void drawCapsule(const glm::dvec3& a, const glm::dvec3& b, double r, const glm::vec4& colour);
 
   GlProgram program_;
-  Mesh sphere_, cylinder_, cone_;
+  Mesh sphere_, cylinder_, cone_, annulus_;
   GlVertexArray linesVao_;
   GlBuffer linesVbo_;
 };

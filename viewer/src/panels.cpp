@@ -9,30 +9,69 @@ namespace osteon::viewer {
 
 namespace {
 
+// Hover help for the item just drawn.
+void tip(const char* text) {
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+// The status line across the bottom, its fields wrapped onto a second line when the window is
+// too narrow for one.
 void statusLine(const PanelModel& m) {
   const ImGuiIO& io = ImGui::GetIO();
+  const StatusNumbers& s = m.status;
+  char fields[10][64];
+  int n = 0;
+  std::snprintf(fields[n++], 64, "haptic %.0f Hz", s.hapticRateHz);
+  std::snprintf(fields[n++], 64, "step p99 %.0f us", s.stepP99Us);
+  std::snprintf(fields[n++], 64, "overruns %llu", static_cast<unsigned long long>(s.overruns));
+  std::snprintf(fields[n++], 64, "remesh %.2f ms", s.remeshMs);
+  std::snprintf(fields[n++], 64, "upload %.3f ms", s.uploadMs);
+  std::snprintf(fields[n++], 64, "%zu triangles", s.triangles);
+  std::snprintf(fields[n++], 64, "removed %.1f mm3", s.removedVolumeMm3);
+  std::snprintf(fields[n++], 64, "|F| %.2f N (level %d)", s.forceN, s.level);
+  std::snprintf(fields[n++], 64, "gap %.1f mm", s.gapMm);
+  std::snprintf(fields[n++], 64, "frame %.1f ms (p99 %.1f)", s.frameMs, s.frameP99Ms);
+  // Laid out first, so the window is sized for this frame's lines: the whole width, as many
+  // lines as the fields need.
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float room = io.DisplaySize.x - 2.0f * style.WindowPadding.x - 4.0f;
+  const float sep = ImGui::CalcTextSize(" | ").x;
+  bool newLine[10] = {};
+  int lines = 1;
+  float x = 0.0f;
+  for (int i = 0; i < n; ++i) {
+    const float w = ImGui::CalcTextSize(fields[i]).x;
+    newLine[i] = i > 0 && x + sep + w > room;
+    if (newLine[i]) {
+      ++lines;
+      x = 0.0f;
+    }
+    x += (i > 0 && !newLine[i] ? sep : 0.0f) + w;
+  }
+  const float height = float(lines) * ImGui::GetTextLineHeightWithSpacing() +
+                       2.0f * style.WindowPadding.y - style.ItemSpacing.y;
   ImGui::SetNextWindowPos(ImVec2(0.0f, io.DisplaySize.y), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x, height), ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.6f);
-  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
-                                 ImGuiWindowFlags_NoSavedSettings |
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings |
                                  ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                  ImGuiWindowFlags_NoMove;
   if (ImGui::Begin("status", nullptr, flags)) {
-    const StatusNumbers& s = m.status;
-    ImGui::Text(
-        "haptic %.0f Hz | step p99 %.0f us | overruns %llu | remesh %.2f ms | upload %.3f ms | "
-        "%zu triangles | removed %.1f mm3 | |F| %.2f N (level %d) | gap %.1f mm | frame %.1f ms "
-        "(p99 %.1f)",
-        s.hapticRateHz, s.stepP99Us, static_cast<unsigned long long>(s.overruns), s.remeshMs,
-        s.uploadMs, s.triangles, s.removedVolumeMm3, s.forceN, s.level, s.gapMm, s.frameMs,
-        s.frameP99Ms);
+    for (int i = 0; i < n; ++i) {
+      if (i > 0 && !newLine[i]) {
+        ImGui::SameLine(0.0f, 0.0f);
+        ImGui::TextUnformatted(" | ");
+        ImGui::SameLine(0.0f, 0.0f);
+      }
+      ImGui::TextUnformatted(fields[i]);
+    }
   }
   ImGui::End();
 }
 
 void viewSection(PanelModel& m) {
   if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  static const char* names[] = {"shaded (F1)",  "cracks (F2)",    "levels (F3)",
+  static const char* names[] = {"shaded (S)",   "cracks (F2)",    "levels (F3)",
                                 "density (F4)", "hierarchy (F5)", "wireframe (F6)"};
   int view = int(m.view);
   for (int i = 0; i < 6; ++i) {
@@ -48,6 +87,10 @@ void viewSection(PanelModel& m) {
   if (m.method == SurfaceChoice::Naive)
     ImGui::TextDisabled("naive: extracted whole, %.1f ms", m.status.naiveExtractMs);
   ImGui::Checkbox("edges (W)", &m.wire);
+  ImGui::SameLine();
+  ImGui::Checkbox("head and entry (O)", &m.showPlan);
+  tip("The fitted humeral head (blue) and the portal's entry (green); with an exercise, its plan");
+  tip("The triangles' edges over the view");
   if (!m.texturesMessage.empty() && (m.view == View::Levels || m.view == View::Density)) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.7f, 0.3f, 1.0f));
     ImGui::TextWrapped("%s", m.texturesMessage.c_str());
@@ -60,11 +103,8 @@ void viewSection(PanelModel& m) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.3f, 0.45f, 0.95f, 1.0f), "level -2");
   }
-  if (m.view == View::Density) {
-    ImGui::TextColored(ImVec4(0.96f, 0.94f, 0.86f, 1.0f), "cortical");
-    ImGui::SameLine();
-    ImGui::TextColored(ImVec4(0.72f, 0.42f, 0.26f, 1.0f), "cancellous");
-  }
+  if (m.view == View::Density && m.texturesMessage.empty())
+    densityLegend(m.densityLow, m.densityHigh);
   if (m.view == View::Hierarchy) {
     ImGui::SliderInt("level ([ ])", &m.hierarchyLevel, 0, std::max(m.hierarchyLevels - 1, 0));
     ImGui::SliderFloat("radius mm", &m.hierarchyRadiusMm, 2.0f, 60.0f, "%.0f");
@@ -76,11 +116,25 @@ void viewSection(PanelModel& m) {
 
 void cameraSection(PanelModel& m) {
   if (!ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  int mode = int(m.cameraMode);
+  static const char* modes[] = {"orbit", "arthroscope", "follow tool"};
+  for (int i = 0; i < 3; ++i) {
+    if (i > 0) ImGui::SameLine();
+    if (ImGui::RadioButton(modes[i], &mode, i)) m.cameraMode = CameraMode(i);
+  }
+  tip("V cycles. The arthroscope: a 30 degree lens at its portal, its spotlight at the tip;\n"
+      "left drag swings it about the portal, the wheel slides it, , and . turn the lens.");
+  ImGui::Checkbox("picture-in-picture (P)", &m.pictureInPicture);
+  tip("A second view in the top right corner: the arthroscope (the orbit view when the main\n"
+      "view is the arthroscope).");
   if (ImGui::Button("frame (F)")) m.frameBone = true;
-  static const char* labels[] = {"ant (1)",  "post (2)", "right (3)",
-                                 "left (4)", "sup (5)",  "inf (6)"};
+  tip("Frame the whole bone");
+  ImGui::SameLine();
+  if (ImGui::Button("focus tool (Shift+F)")) m.focusTool = true;
+  tip("Centre the view on the tool's tip");
+  static const char* labels[] = {"ant 1", "post 2", "right 3", "left 4", "sup 5", "inf 6"};
   for (int i = 0; i < 6; ++i) {
-    if (i != 3) ImGui::SameLine();
+    if (i != 0) ImGui::SameLine();
     if (ImGui::SmallButton(labels[i])) m.axisView = AxisView(i);
   }
 }
@@ -93,8 +147,12 @@ void toolSection(PanelModel& m) {
     if (ImGui::Button(m.drillOn ? "drill: ON (space)" : "drill: off (space)")) m.toggleDrill = true;
     ImGui::SameLine();
     if (ImGui::Button("reset tool (T)")) m.resetTool = true;
+    tip("The tool back to its start pose");
   }
+  if (ImGui::Button("reset bone (Backspace)")) m.resetBone = true;
+  tip("Reload the bone as it was before any drilling");
   ImGui::Checkbox("show the tool (G)", &m.showTool);
+  tip("Hide the tool to see the hole it drilled");
   if (!m.proxyCoupling) {
     ImGui::TextDisabled("coupling: direct (the tool goes where it is put)");
   } else if (m.ghost) {
@@ -103,14 +161,7 @@ void toolSection(PanelModel& m) {
   } else {
     ImGui::TextDisabled("coupling: proxy (bone stops the tool)");
   }
-  if (m.force && !m.force->values().empty()) {
-    char label[48];
-    std::snprintf(label, sizeof label, "|F| %.2f N", double(m.force->values().back()));
-    ImGui::PlotLines("##force", m.force->values().data(), int(m.force->values().size()), 0, label,
-                     0.0f, std::max(3.5f, m.force->max()),
-                     ImVec2(ImGui::GetContentRegionAvail().x, 80.0f));
-    ImGui::TextDisabled("last 5 s");
-  }
+  if (m.force) forcePlot(*m.force, m.maxForceN, m.forceLimitN);
 }
 
 void metricSection(PanelModel& m) {
@@ -148,17 +199,12 @@ void fileSection(PanelModel& m) {
   ImGui::SetNextItemWidth(-40.0f);
   ImGui::InputText("path", m.openPath, sizeof m.openPath);
   ImGui::SetNextItemWidth(120.0f);
-  ImGui::InputDouble("mm per file unit", &m.openScaleToMm, 0.0, 0.0, "%g");
-  static const std::pair<const char*, double> units[] = {
-      {"mm", 1.0}, {"cm", 10.0}, {"m", 1000.0}, {"in", 25.4}};
-  for (const auto& [name, scale] : units) {
-    if (ImGui::SmallButton(name)) m.openScaleToMm = scale;
-    ImGui::SameLine();
-  }
-  ImGui::NewLine();
-  ImGui::SetNextItemWidth(120.0f);
   ImGui::InputDouble("voxel mm", &m.openVoxelMm, 0.0, 0.0, "%g");
-  if (ImGui::Button("open") && !m.loading) m.open = true;
+  if (ImGui::Button("open") && !m.loading) {
+    m.openUnitMm.reset();  // a mesh file's unit is asked for that file
+    m.open = true;
+  }
+  tip("A mesh file (.stl .obj .ply .off) asks for its unit each time; a volume has its own");
   ImGui::SameLine();
   ImGui::TextDisabled("or drop a file on the window");
   if (m.loading) ImGui::Text("loading %s ...", m.loadMessage.c_str());
@@ -171,7 +217,10 @@ void fileSection(PanelModel& m) {
 
 }  // namespace
 
-void drawPanels(PanelModel& m) {
+void drawPanels(PanelModel& m, bool ui) {
+  drawFloatingWindows(m);
+  exerciseWindow(m);  // a task's window shows with the panels hidden too
+  if (!ui) return;
   statusLine(m);
   // A fixed width; the height follows the open sections, up to the window's.
   const float maxHeight = std::max(ImGui::GetIO().DisplaySize.y - 60.0f, 100.0f);

@@ -9,6 +9,8 @@
 #include "camera.h"
 #include "metrics.h"
 #include "options.h"
+#include "osteon/simulation/exercise.h"
+#include "osteon/simulation/score.h"
 
 namespace osteon::viewer {
 
@@ -29,6 +31,13 @@ struct StatusNumbers {
   double gapMm = 0.0;  // the proxy's tip to the commanded tip (0 under direct coupling)
 };
 
+// Where the tool is against an exercise's plan, each frame.
+struct PlanReadouts {
+  double entryDistanceMm = 0.0;  // the tip to the planned entry
+  double angleErrorDeg = 0.0;    // the tool's axis to the planned axis
+  double depthMm = 0.0;          // the tip past the entry along the planned axis
+};
+
 struct PanelModel {
   // What the app shows.
   std::string sceneName;
@@ -39,6 +48,9 @@ struct PanelModel {
   bool drillOn = false;
   StatusNumbers status;
   const TimeSeries* force = nullptr;
+  double maxForceN = 3.3;               // N_max, where the force is clamped
+  double forceLimitN = 0.0;             // a task's force limit (0: none)
+  int densityLow = 0, densityHigh = 1;  // the density ramp's ends (d)
   PixelCounts counts;
   bool countsValid = false;
   bool recording = false;
@@ -50,26 +62,49 @@ struct PanelModel {
   int hierarchyLevels = 0;
   std::string hierarchyMessage;
 
+  // The exercise (null without one), the live readouts and the trial's score once scored.
+  const simulation::Exercise* exercise = nullptr;
+  const simulation::ExercisePlan* plan = nullptr;
+  PlanReadouts readouts;
+  std::optional<simulation::TrialScore> score;
+  bool showPlan = true;
+
   // Settings the panels edit in place.
   View view = View::Shaded;
   SurfaceChoice method = SurfaceChoice::CrackFree;
   bool wire = false;
   bool showTool = true;
+  CameraMode cameraMode = CameraMode::Orbit;
+  bool pictureInPicture = false;
   bool liveMetric = true;
   int hierarchyLevel = 1;
   float hierarchyRadiusMm = 15.0f;
   char recordPath[1024] = {};
   char openPath[1024] = {};
-  double openScaleToMm = 1.0;  // mm per file unit of the mesh to open
-  double openVoxelMm = 1.2;    // its base voxel size (a grid keeps its own)
+  double openVoxelMm = 1.2;  // the base voxel size of the bone to open (a grid keeps its own)
+  // A mesh file's unit, asked each time one is opened: the question's file, and the answer.
+  std::string askUnitsFor;
+  std::optional<double> openUnitMm;
+  bool showHelp = false;     // the keys, over the view (F1, ?)
+  bool confirmQuit = false;  // Esc asked: Enter quits, Esc stays
 
   // Requests for the app, cleared by it.
   bool toggleDrill = false, toggleRecord = false, frameBone = false, resetTool = false;
+  bool focusTool = false, resetBone = false, quit = false, scoreTrial = false;
   std::optional<AxisView> axisView;
   bool open = false;
 };
 
-// Draws every panel (between ImGui::NewFrame and ImGui::Render).
-void drawPanels(PanelModel& model);
+// Draws the panels when `ui`, and the floating windows (help, questions) whenever asked for
+// (between ImGui::NewFrame and ImGui::Render).
+void drawPanels(PanelModel& model, bool ui);
+
+// panels_help.cpp: the help, the quit and unit questions; the force plot (newton axis, N_max
+// and a task's limit as dashed lines) and the density ramp with its values.
+void drawFloatingWindows(PanelModel& model);
+void forcePlot(const TimeSeries& force, double maxForceN, double limitN);
+void densityLegend(int lowD, int highD);
+// panels_exercise.cpp: the exercise's instructions, plan and live readouts; the score.
+void exerciseWindow(PanelModel& model);
 
 }  // namespace osteon::viewer

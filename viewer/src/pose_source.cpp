@@ -42,6 +42,7 @@ void ViewerPoseSource::sample(double tS, simulation::ToolPose& pose, bool& drill
   }
   lastTS_ = tS;
   recorder_.add(tS, pose, drillOn);
+  sampled_.write(Target{pose, drillOn});
 }
 
 }  // namespace osteon::viewer

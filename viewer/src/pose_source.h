@@ -25,6 +25,13 @@ class ViewerPoseSource : public simulation::PoseSource {
   void setTarget(const simulation::ToolPose& pose, bool drillOn);
   bool followsPath() const { return path_ != nullptr; }
   PathRecorder& recorder() { return recorder_; }
+  // ---- one other thread (the runtime's logging thread) ----
+  // The latest sample's pose and drill state, as the haptic loop took them.
+  void latestSample(simulation::ToolPose& pose, bool& drillOn) noexcept {
+    const Target& t = sampled_.read();
+    pose = t.pose;
+    drillOn = t.drillOn;
+  }
 
   // ---- haptic thread ----
   void sample(double tS, simulation::ToolPose& pose, bool& drillOn) noexcept override;
@@ -36,6 +43,7 @@ class ViewerPoseSource : public simulation::PoseSource {
   };
   const simulation::DrillPath* path_;
   core::TripleBuffer<Target> target_;
+  core::TripleBuffer<Target> sampled_;  // haptic thread -> logging thread
   // The haptic thread's own state.
   simulation::ToolPose current_;
   double lastTS_ = -1.0;

@@ -20,6 +20,16 @@ void describeVertices() {
 
 }  // namespace
 
+void setLightUniforms(GLuint program, const FrameCamera& camera) {
+  setUniform(program, "uEye", camera.eye);
+  setUniform(program, "uLight", camera.light);
+  setUniform(program, "uSpot", camera.spot ? 1 : 0);
+  setUniform(program, "uSpotPos", camera.spotPos);
+  setUniform(program, "uSpotDir", camera.spotDir);
+  setUniform(program, "uSpotCos", camera.spotCos);
+  setUniform(program, "uSpotGain", camera.spotGain);
+}
+
 GlSurfaceBuffers::GlSurfaceBuffers()
     : vao_(newVertexArray()), vbo_(newBuffer()), ibo_(newBuffer()) {
   glBindVertexArray(vao_.get());
@@ -61,7 +71,8 @@ void GlSurfaceBuffers::writeIndices(std::size_t first, std::size_t count,
 }
 
 BoneRenderer::BoneRenderer()
-    : program_(buildProgram("bone", shaders::kBoneVertex, shaders::kBoneFragment)),
+    : program_(buildProgram("bone", shaders::kBoneVertex,
+                            shaders::withLighting(shaders::kBoneFragment).c_str())),
       wholeVao_(newVertexArray()),
       wholeVbo_(newBuffer()),
       wholeIbo_(newBuffer()) {
@@ -75,6 +86,7 @@ BoneRenderer::BoneRenderer()
 
 std::string BoneRenderer::resetScene(const geometry::VoxelGrid& grid) {
   uploader_.reset();
+  uploader_.setNormalField(&grid);  // the live surface shades with the fill's gradient
   wholeIndexCount_ = 0;
   return textures_.reset(grid);
 }
@@ -114,8 +126,7 @@ void BoneRenderer::draw(const FrameCamera& camera, View view, SurfaceChoice surf
   const GLuint p = program_.get();
   glUseProgram(p);
   setUniform(p, "uViewProj", camera.viewProj);
-  setUniform(p, "uEye", camera.eye);
-  setUniform(p, "uLight", camera.light);
+  setLightUniforms(p, camera);
   textures_.bind(p);
   int mode = 0;
   if (view == View::Cracks) mode = 1;

@@ -33,7 +33,15 @@ struct FrameCamera {
   glm::mat4 viewProj{1.0f};
   glm::vec3 eye{0.0f};
   glm::vec3 light{0.0f, 0.0f, 1.0f};  // unit, towards the light
+  // The arthroscope's spotlight at its tip instead of the headlight.
+  bool spot = false;
+  glm::vec3 spotPos{0.0f}, spotDir{0.0f, 0.0f, -1.0f};
+  float spotCos = 0.5f;   // of the cone's half angle
+  float spotGain = 1.0f;  // the light source's setting
 };
+
+// The uniforms of the lighting both programs share (shaders.h).
+void setLightUniforms(GLuint program, const FrameCamera& camera);
 
 class BoneRenderer {
  public:

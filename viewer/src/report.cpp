@@ -62,6 +62,14 @@ std::string reportJson(const ViewerReport& r) {
       {"screenshot_ms", r.screenshotMs},
       {"record", r.record.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.record)},
       {"recorded_samples", r.recordedSamples},
+      {"camera", r.camera},
+      {"picture_in_picture", r.pictureInPicture},
+      {"help", r.help},
+      {"help_frames", r.helpFrames},
+      {"bones_loaded", r.bonesLoaded},
+      {"lens_rotation_deg", r.lensRotationDeg},
+      {"exercise", r.exercise.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.exercise)},
+      {"score", r.scoreJson.empty() ? nlohmann::json(nullptr) : nlohmann::json::parse(r.scoreJson)},
   };
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }

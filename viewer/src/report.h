@@ -46,6 +46,14 @@ struct ViewerReport {
   std::string screenshot, record;
   double screenshotMs = 0.0;  // read back, flipped and written (not in frameMs)
   std::size_t recordedSamples = 0;
+  std::string camera;             // the main view's camera at exit: orbit, scope or follow
+  bool pictureInPicture = false;  // at exit
+  std::uint64_t helpFrames = 0;   // frames drawn with the key help shown
+  bool help = false;              // shown on the last frame
+  std::size_t bonesLoaded = 0;    // the first, then each reset or opened file
+  double lensRotationDeg = 0.0;   // the arthroscope's lens at exit
+  std::string exercise;           // its name ("" without one)
+  std::string scoreJson;          // the trial's score (scoreJsonText; "" when not scored)
 };
 
 std::string reportJson(const ViewerReport& report);

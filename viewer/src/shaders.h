@@ -1,7 +1,46 @@
 // GLSL 3.30 core sources of the viewer's two programs.
 #pragma once
 
+#include <string>
+
 namespace osteon::viewer::shaders {
+
+// The light both programs shade with, written once and put after their `#version` line:
+// a headlight along uLight, or with uSpot the arthroscope's spotlight at its tip (uSpotPos,
+// along uSpotDir, a cone of cosine uSpotCos, brightness uSpotGain, falling off with distance).
+inline constexpr const char* kLighting = R"(
+uniform vec3 uEye;
+uniform vec3 uLight;
+uniform int uSpot;
+uniform vec3 uSpotPos;
+uniform vec3 uSpotDir;
+uniform float uSpotCos;
+uniform float uSpotGain;
+vec3 shade(vec3 colour, vec3 pos, vec3 normal, float ambient, float shininess, float gloss) {
+  vec3 n = dot(normal, normal) > 0.0 ? normalize(normal) : vec3(0.0, 0.0, 1.0);
+  if (!gl_FrontFacing) n = -n;
+  vec3 v = normalize(uEye - pos);
+  vec3 l = uLight;
+  float light = 1.0;
+  if (uSpot == 1) {
+    vec3 toLight = uSpotPos - pos;
+    float dist = length(toLight);
+    l = toLight / max(dist, 1e-4);
+    float cone = smoothstep(uSpotCos, mix(uSpotCos, 1.0, 0.6), dot(-l, uSpotDir));
+    light = uSpotGain * cone / (1.0 + 0.0006 * dist * dist);
+    ambient *= 0.25;
+  }
+  vec3 h = normalize(l + v);
+  float diffuse = max(dot(n, l), 0.0) * light;
+  float specular = pow(max(dot(n, h), 0.0), shininess) * gloss * light;
+  return colour * (ambient + (1.0 - ambient) * diffuse) + vec3(specular);
+}
+)";
+
+// A fragment shader: the version line, the lighting, then `body`.
+inline std::string withLighting(const char* body) {
+  return std::string("#version 330 core\n") + kLighting + body;
+}
 
 // The bone. uMode: 0 shaded, 1 cracks (unlit: front white, back red), 2 levels, 3 density,
 // 4 flat colour (uFlat; wireframe lines).
@@ -39,13 +78,11 @@ void main() {
 }
 )";
 
-inline constexpr const char* kBoneFragment = R"(#version 330 core
+inline constexpr const char* kBoneFragment = R"(
 in vec3 vPos;
 in vec3 vNormal;
 in vec3 vColour;
 uniform int uMode;
-uniform vec3 uEye;
-uniform vec3 uLight;
 uniform vec4 uFlat;
 out vec4 fragColour;
 void main() {
@@ -57,13 +94,7 @@ void main() {
     fragColour = uFlat;
     return;
   }
-  vec3 n = dot(vNormal, vNormal) > 0.0 ? normalize(vNormal) : vec3(0.0, 0.0, 1.0);
-  if (!gl_FrontFacing) n = -n;
-  vec3 v = normalize(uEye - vPos);
-  vec3 h = normalize(uLight + v);
-  float diffuse = max(dot(n, uLight), 0.0);
-  float specular = pow(max(dot(n, h), 0.0), 48.0) * 0.18;
-  vec3 c = vColour * (0.22 + 0.78 * diffuse) + vec3(specular);
+  vec3 c = shade(vColour, vPos, vNormal, 0.22, 48.0, 0.18);
   fragColour = vec4(gl_FrontFacing ? c : c * vec3(0.55, 0.55, 0.75), 1.0);
 }
 )";
@@ -84,26 +115,18 @@ void main() {
 }
 )";
 
-inline constexpr const char* kOverlayFragment = R"(#version 330 core
+inline constexpr const char* kOverlayFragment = R"(
 in vec3 vPos;
 in vec3 vNormal;
 uniform vec4 uColour;
 uniform int uLit;
-uniform vec3 uEye;
-uniform vec3 uLight;
 out vec4 fragColour;
 void main() {
   if (uLit == 0) {
     fragColour = uColour;
     return;
   }
-  vec3 n = dot(vNormal, vNormal) > 0.0 ? normalize(vNormal) : vec3(0.0, 0.0, 1.0);
-  if (!gl_FrontFacing) n = -n;
-  vec3 v = normalize(uEye - vPos);
-  vec3 h = normalize(uLight + v);
-  float diffuse = max(dot(n, uLight), 0.0);
-  float specular = pow(max(dot(n, h), 0.0), 32.0) * 0.35;
-  fragColour = vec4(uColour.rgb * (0.3 + 0.7 * diffuse) + vec3(specular) * uColour.a, uColour.a);
+  fragColour = vec4(shade(uColour.rgb, vPos, vNormal, 0.3, 32.0, 0.35 * uColour.a), uColour.a);
 }
 )";
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "field_normals.h"
+
 namespace osteon::viewer {
 
 namespace {
@@ -85,9 +87,12 @@ void SurfaceUploader::applyVertices(const geometry::SurfaceDelta& delta, bool ev
     const std::uint32_t slot = delta.slots[i];
     if (slot >= slotCount_) continue;  // a delta never lists one; guard the mirror anyway
     const glm::dvec3& p = delta.positionsMm[i];
-    vertices_[slot] = std::isfinite(p.x)
-                          ? toGpu(p, i < delta.normals.size() ? delta.normals[i] : glm::dvec3(0.0))
-                          : deadVertex();
+    if (!std::isfinite(p.x)) {
+      vertices_[slot] = deadVertex();
+      continue;
+    }
+    const glm::dvec3 n = i < delta.normals.size() ? delta.normals[i] : glm::dvec3(0.0);
+    vertices_[slot] = toGpu(p, field_ ? fieldNormal(*field_, p, n) : n);
   }
   if (everything || slotCount_ > vertexCapacity_) {
     vertexCapacity_ = grownCapacity(vertexCapacity_, kMinVertexCapacity, slotCount_);

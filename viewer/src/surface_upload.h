@@ -72,6 +72,10 @@ class SurfaceUploader {
   const UploadStats& apply(const geometry::SurfaceDelta& delta);
   // Forgets the surface (a new bone); the next delta must have `everything`.
   void reset();
+  // Shade with normals from this grid's fill gradient (field_normals.h) instead of the
+  // delta's; null (the default) keeps the delta's. Positions are never touched. The grid must
+  // be up to date with the deltas applied (the visual side's grid, on its thread).
+  void setNormalField(const geometry::VoxelGrid* grid) { field_ = grid; }
 
   // The mirror of the GPU's index buffer, and what to draw: indices [0, indexEnd()).
   const std::vector<std::uint32_t>& indices() const { return indices_; }
@@ -94,6 +98,7 @@ class SurfaceUploader {
   void pad(std::size_t firstTriangle, std::size_t triangles);
 
   SurfaceUploadTarget* target_;
+  const geometry::VoxelGrid* field_ = nullptr;
   std::vector<GpuVertex> vertices_;
   std::vector<std::uint32_t> indices_;
   std::size_t slotCount_ = 0, vertexCapacity_ = 0;

@@ -33,6 +33,9 @@ class VoxelTextures {
   // The density of every voxel in [lo, hi] (voxel indices, clamped to the grid).
   void updateDensityBox(const geometry::VoxelGrid& grid, glm::ivec3 lo, glm::ivec3 hi);
 
+  // The density ramp's ends: the smallest and largest positive density as loaded.
+  int densityLow() const { return densityLow_; }
+  int densityHigh() const { return densityHigh_; }
   // Binds the textures to units 0 (levels) and 1 (density) and sets the shader's uniforms.
   void bind(GLuint program) const;
 

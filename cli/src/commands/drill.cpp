@@ -107,11 +107,18 @@ json planPath(DrillPlan& plan, const sim::Session& session, const std::string& n
 // The path driven through the session, deterministic or threaded; its rows streamed to `forces`
 // (memory does not grow with the path). `runtime` gets the threaded runtime's statistics.
 sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool threaded,
-                     sim::ForceLogWriter& forces, json& runtime) {
+                     sim::ForceLogWriter& forces, json& runtime, const DrillExtension& extension) {
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   if (!threaded) {
     sim::DeterministicOptions deterministic;
     deterministic.onRow = logRow;
+    if (extension.onRow) {
+      deterministic.onRow = [&forces, &extension](const sim::ForceLogRow& row) {
+        forces.write(row);
+        extension.onRow(row);
+      };
+    }
+    deterministic.afterStep = extension.afterStep;
     deterministic.keepLog = false;
     return session.run(path, deterministic);
   }
@@ -129,6 +136,10 @@ sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool thr
 
 int runDrill(const DrillCommandOptions& options) {
   if (!options.device.empty()) return runDrillWithDevice(options);
+  return runDrill(options, DrillExtension{});
+}
+
+int runDrill(const DrillCommandOptions& options, const DrillExtension& extension) {
   DrillPlan plan = planDrill(options);
   RunFolder files(options.outDir);
   std::vector<std::string> inputs = options.bone.inputFiles();
@@ -154,7 +165,9 @@ int runDrill(const DrillCommandOptions& options) {
   so.tool = plan.kind;
   so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
   so.coupling = plan.coupling;
+  if (extension.sessionOptions) extension.sessionOptions(so);
   sim::Session session(std::move(opened.bone), so);
+  if (extension.opened) extension.opened(session);
   const Clock::time_point pathStart = Clock::now();
   const json pathJson = planPath(plan, session, options.path);
   r.pathMs = msSince(pathStart);
@@ -166,9 +179,10 @@ int runDrill(const DrillCommandOptions& options) {
 
   sim::ForceLogWriter forces(files.forcesPath, plan.coupling == sim::CouplingMode::Proxy);
   json runtime;
-  r.run = drive(session, plan.path, options.threaded, forces, runtime).summary;
+  r.run = drive(session, plan.path, options.threaded, forces, runtime, extension).summary;
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
+  if (extension.done) extension.done(session);
   // The drilled bone with its refined regions, crack-free and smoothed, made once the run's
   // own surface is gone (its memory is what this extraction uses).
   session.releaseSurface();
@@ -191,7 +205,7 @@ int runDrill(const DrillCommandOptions& options) {
   const std::string empty = markEmptyRun(r.summary, r.run);
   geo::writeFileAtomically(files.summaryPath, r.summary.dump(2) + "\n");
   files.dir.commit();
-  printReport(r, options.json);
+  if (extension.printReport) printReport(r, options.json);
   if (!empty.empty()) return emptyExit("drill", options.bone.input, empty, options.allowEmpty);
   return kExitOk;
 }

@@ -3,10 +3,12 @@
 // the run is driven by a device through the safety layer (drill_device.cpp).
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "osteon/simulation/bone_source.h"
+#include "osteon/simulation/runner.h"
 
 namespace osteon::cli {
 
@@ -25,7 +27,22 @@ struct DrillCommandOptions {
   std::string coupling;     // proxy or direct; empty: direct for portal paths, else proxy
 };
 
+// What a command that drills as `drill` does adds to its run (score): the session's options, a
+// look at the session once it is open, every step, and the session once the run is done; and
+// whether drill's own report is printed.
+struct DrillExtension {
+  std::function<void(simulation::SessionOptions&)> sessionOptions;
+  std::function<void(simulation::Session&)> opened;
+  std::function<void(const simulation::ForceLogRow&)> onRow;
+  std::function<void(std::size_t, const simulation::StepInput&, const simulation::StepOutput&)>
+      afterStep;
+  std::function<void(simulation::Session&)> done;  // before the surface is written
+  bool printReport = true;
+};
+
 int runDrill(const DrillCommandOptions& options);
+// The same run with `extension`'s additions (deterministic runs only).
+int runDrill(const DrillCommandOptions& options, const DrillExtension& extension);
 int runDrillWithDevice(const DrillCommandOptions& options);  // drill_device.cpp
 
 }  // namespace osteon::cli

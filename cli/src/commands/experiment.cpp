@@ -173,7 +173,9 @@ int runExperiment(const ExperimentCommandOptions& options) {
           std::cerr << "  " << r.name() << ": jitter " << r.result.summary.jitterN << " N\n";
         }
       },
-      voxelizing);
+      voxelizing,
+      options.bone.up.empty() ? std::nullopt
+                              : std::optional<glm::dvec3>(sim::parseUpAxis(options.bone.up)));
 
   ExperimentReport report{options.bone.input, options.outDir, &runs, {}};
   const std::vector<ForceFigure> figures = figuresOf(options.outDir, runs, report.images);

@@ -49,6 +49,10 @@ struct BoneSource {
   // on it would not fit in this machine's memory. false: read as it is (commands that report an
   // empty result).
   bool forSession = true;
+  // Which way is up, from the shaft to the humeral head: x, y, z, -x, -y or -z in the bone's
+  // own coordinates. Empty: found from the bone (its long axis, the end a sphere fits best).
+  // Portal paths and exercises fit the head at that end.
+  std::string up;
 
   bool isVolume() const { return geometry::isVolumePath(input); }
   bool isBuiltIn() const;

@@ -32,12 +32,13 @@ std::vector<ExperimentCase> seedExperimentCases();
 
 // Runs every case on both portals, static first. `progress` (may be empty) hears each run as it
 // finishes. `voxelizing` gives the voxelization's options but the voxel size (the mesh's name
-// and load scale for messages, the density rule). Throws InputError when the mesh has no
-// humeral head to drill, or no voxel inside it at a case's voxel size.
+// and load scale for messages, the density rule); `up` the head's end (BoneSource::up). Throws
+// InputError when the mesh has no humeral head to drill, or no voxel inside it at a case's voxel
+// size.
 std::vector<ExperimentRun> runSeedExperiment(
     const geometry::TriangleMesh& mesh, const std::vector<ExperimentCase>& cases,
     const std::function<void(const ExperimentRun&)>& progress = {},
-    const geometry::VoxelizeOptions& voxelizing = {});
+    const geometry::VoxelizeOptions& voxelizing = {}, const std::optional<glm::dvec3>& up = {});
 
 const char* portalName(Portal portal);
 

@@ -17,6 +17,7 @@
 // depth of a suture-anchor hole, which is what the seed's drilling prepares.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,19 @@ struct HumeralHead {
   glm::dvec3 superior{0.0, 0.0, 1.0};
   glm::dvec3 medial{1.0, 0.0, 0.0};
   glm::dvec3 anterior{0.0, -1.0, 0.0};
+  // What checkHumeralHead() judges: the area of the surface on the sphere (the fit's points),
+  // the bone's length along its long axis, and how far the sphere's top lies from that end.
+  double capAreaMm2 = 0.0;
+  double boneLengthMm = 0.0;
+  double endGapMm = 0.0;
 };
+
+// A humeral head is 18-30 mm in radius (adult humeri, 19-28 mm), at one end of the bone: its
+// top within a radius of the bone's end, its sphere covering a cap of at least this share of
+// the sphere's area.
+inline constexpr double kMinHeadRadiusMm = 18.0;
+inline constexpr double kMaxHeadRadiusMm = 30.0;
+inline constexpr double kMinHeadCapShare = 0.03;
 
 // Which end of the bone is the head, of the ends a sphere fits.
 enum class HeadEnd {
@@ -47,8 +60,16 @@ enum class HeadEnd {
 };
 
 // Throws InputError when the mesh has too few points or no end fits a sphere.
+// up: the unit direction from the shaft to the head (BoneSource::up); then the bone's long
+// axis is taken as up and the head sought at that end only.
 HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide = true,
-                           HeadEnd headEnd = HeadEnd::TightestSphere);
+                           HeadEnd headEnd = HeadEnd::TightestSphere,
+                           const std::optional<glm::dvec3>& up = std::nullopt);
+// Throws InputError, one line naming `name` (the bone's file) and suggesting --up or an
+// explicit entry point, unless the fit is a humeral head by the limits above.
+void checkHumeralHead(const HumeralHead& head, const std::string& name);
+// "x", "-y", ...: the unit axis; throws OptionError naming the field "up" otherwise.
+glm::dvec3 parseUpAxis(const std::string& text);
 
 // The longest drill path accepted from user data (an hour): the run's length, and so its
 // time and its logs, follow from the path's end time.
@@ -115,6 +136,9 @@ PortalPlan makePortalPath(Portal portal, const HumeralHead& head,
 // of travel), optionally after a UTF-8 byte order mark. Times from 0 to kMaxPathDurationS.
 // Throws InputError naming the file and line for anything else.
 DrillPath loadPathCsv(const std::string& path);
+// The path as that CSV, with its orientations (t,x,y,z,drill_on,qw,qx,qy,qz; 17 digits, so it
+// reads back to the same path).
+std::string drillPathCsv(const DrillPath& path);
 // True when a path argument names a CSV file (its extension, any case) rather than a portal.
 bool isPathCsv(const std::string& path);
 

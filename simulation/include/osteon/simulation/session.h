@@ -89,14 +89,13 @@ double estimateSessionBytes(const geometry::TriangleMesh& meshMm, double voxelSi
 class BoneModel {
  public:
   // From a mesh in millimetres. `name` names it in messages (a file, or "default");
-  // loadScaleToMm is how it was scaled on loading (to suggest --units in messages).
-  // sampleFineFills: sample the level -2 fills (needed for refinement from the mesh).
-  static std::shared_ptr<const BoneModel> fromMesh(geometry::TriangleMesh meshMm,
-                                                   double voxelSizeMm,
-                                                   const std::string& name = "mesh",
-                                                   double loadScaleToMm = 1.0,
-                                                   const geometry::VoxelizeOptions& voxelizing = {},
-                                                   bool sampleFineFills = true);
+  // loadScaleToMm is how it was scaled on loading (to suggest --units in messages); up: the
+  // head's end (BoneSource::up). sampleFineFills: sample the level -2 fills (needed for refinement
+  // from the mesh).
+  static std::shared_ptr<const BoneModel> fromMesh(
+      geometry::TriangleMesh meshMm, double voxelSizeMm, const std::string& name = "mesh",
+      double loadScaleToMm = 1.0, const geometry::VoxelizeOptions& voxelizing = {},
+      bool sampleFineFills = true, const std::optional<glm::dvec3>& up = {});
   // From a source as front ends take it: a mesh file, `default` or a volume (bone_source.h),
   // with what it was read as. Every check of the source is made here.
   static OpenedBone open(const BoneSource& source);
@@ -122,8 +121,12 @@ class BoneModel {
   // (safe from any thread): only portal paths pay for it.
   const geometry::TriangleMesh& headMesh() const;
   // The humeral head fitted to headMesh() (seed 4's portals), fitted once on first use (safe
-  // from any thread). Throws InputError when no end of the bone fits a head.
+  // from any thread) at the end up() names, or else at the end a sphere fits best. Throws
+  // InputError when no end of the bone fits a head, or the fit is no humeral head
+  // (checkHumeralHead: one line suggesting --up or an explicit entry point).
   const HumeralHead& humeralHead() const;
+  // The up axis the bone was opened with (BoneSource::up), if any.
+  const std::optional<glm::dvec3>& up() const { return up_; }
   // The bone's share of set-up: load (open() and fromGrid()'s loadMs only), voxelize, density,
   // fine fills and their total; hierarchy and surface are each session's (0 here).
   const SetupTimings& setupTimings() const { return setup_; }
@@ -147,6 +150,7 @@ class BoneModel {
   mutable std::once_flag headOnce_;
   mutable std::string headError_;  // why the fit failed, when it did
   mutable std::optional<HumeralHead> head_;
+  std::optional<glm::dvec3> up_;
 };
 
 // What changed in the surface since the last Session::takeSurfaceChanges() (surface_updater.h).

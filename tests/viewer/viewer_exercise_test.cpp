@@ -1,0 +1,136 @@
+// Exercises in the viewer under Xvfb: a built-in one played along its ideal path scores full
+// marks through the same API as `osteon score`; one read from a JSON file opens with its plan
+// drawn over the bone (green axis and entry pixels in the frame); bad ones are refused with
+// one line before any window. Skipped, with the reason, when no X server can start.
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <stb/stb_image.h>  // the implementation is in viewer_scope_test.cpp
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/files.h"
+#include "support/process.h"
+
+namespace osteon {
+namespace {
+
+using nlohmann::json;
+
+// Pixels of the plan's and the entry's green in a PNG.
+std::size_t greenPixels(const std::string& png) {
+  int w = 0, h = 0, channels = 0;
+  std::unique_ptr<unsigned char, void (*)(void*)> rgb(stbi_load(png.c_str(), &w, &h, &channels, 3),
+                                                      stbi_image_free);
+  if (!rgb) return 0;
+  std::size_t green = 0;
+  for (std::size_t i = 0; i < std::size_t(w) * std::size_t(h); ++i) {
+    const unsigned char* p = rgb.get() + 3 * i;
+    if (p[1] > 180 && p[0] < 140 && p[2] < 170) ++green;
+  }
+  return green;
+}
+
+class ViewerExerciseTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    xvfbWorks_ =
+        std::system("command -v xvfb-run >/dev/null 2>&1 && xvfb-run -a true >/dev/null 2>&1") == 0;
+  }
+  void SetUp() override {
+    if (!xvfbWorks_)
+      GTEST_SKIP()
+          << "no X server: xvfb-run is missing or Xvfb cannot start (scripts/setup installs xvfb)";
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+
+  test::ProcessRun run(const std::string& args, bool window = true) const {
+    const std::string prefix =
+        window ? "xvfb-run -a -s '-screen 0 1280x800x24' " : "env -u DISPLAY ";
+    return test::runShell(prefix + "timeout 300 '" OSTEON_VIEWER "' " + args, path("stdout"),
+                          path("stderr"));
+  }
+  json viewer(const std::string& args, const std::string& png) const {
+    const test::ProcessRun r = run(args + " --json --screenshot '" + path(png) + "'");
+    EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
+    if (const char* keep = std::getenv("OSTEON_VIEWER_SHOTS")) {
+      std::filesystem::create_directories(keep);
+      std::filesystem::copy_file(path(png), std::string(keep) + "/" + png,
+                                 std::filesystem::copy_options::overwrite_existing);
+    }
+    return r.exitCode == 0 ? json::parse(r.out) : json::object();
+  }
+
+  std::string dir_ = test::makeTempDir("viewer_exercise");
+  static bool xvfbWorks_;
+};
+bool ViewerExerciseTest::xvfbWorks_ = false;
+
+TEST_F(ViewerExerciseTest, ThePlanPathScoresFullMarksInTheViewer) {
+  const json j = viewer(
+      "--exercise anchor-5 --path plan --frames 20 --camera left --focus tool "
+      "--zoom 3",
+      "viewer_exercise_score.png");
+  ASSERT_FALSE(j.empty());
+  EXPECT_EQ(j["exercise"], "anchor-5");
+  const json& s = j["score"];
+  ASSERT_TRUE(s.is_object()) << j.dump();
+  EXPECT_TRUE(s["passed"].get<bool>()) << s.dump(2);
+  EXPECT_GE(s["score"].get<double>(), 95.0);
+  std::vector<std::string> names;
+  for (const json& c : s["criteria"]) {
+    names.push_back(c["name"].get<std::string>());
+    EXPECT_TRUE(c["passed"].get<bool>()) << c.dump();
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"entry", "angle", "depth", "overcut", "no_go", "force",
+                                             "time"}));
+  EXPECT_GT(j["removed_volume_mm3"].get<double>(), 50.0);
+}
+
+// An exercise from a file: portal 7, 15 mm deep. The mouse has not drilled: the plan is drawn
+// (green: the axis and the entry marker), and the score at exit fails.
+TEST_F(ViewerExerciseTest, AnExerciseFileOpensWithItsPlanDrawn) {
+  test::writeBytes(path("hole-7.json"), R"({
+  "title": "A test hole from the 7 o'clock portal",
+  "instructions": "Drill 15 mm along the plan.",
+  "bone": {"input": "default", "units": "mm", "voxel_size_mm": 1.2},
+  "levels": 2, "tool": "drill", "portal": "portal-7",
+  "axis": {"angle_deg": 45}, "depth_mm": 15, "diameter_mm": 2.92,
+  "force_limit_n": 3.0, "time_limit_s": 60
+})");
+  const json j = viewer("--exercise '" + path("hole-7.json") +
+                            "' --frames 5 --no-ui --camera left --focus tool --zoom 3",
+                        "viewer_exercise_file.png");
+  ASSERT_FALSE(j.empty());
+  EXPECT_EQ(j["exercise"], "hole-7");
+  ASSERT_TRUE(j["score"].is_object());
+  EXPECT_FALSE(j["score"]["passed"].get<bool>());
+  EXPECT_GT(greenPixels(path("viewer_exercise_file.png")), 40u);
+}
+
+// Without an exercise the humeral head the resting pose was fitted to and the portal's entry
+// are drawn too: the entry's green ball shows beside the tool.
+TEST_F(ViewerExerciseTest, WithoutAnExerciseTheHeadAndTheEntryAreDrawn) {
+  const json j = viewer("default --frames 5 --no-ui --camera left --focus tool --zoom 2",
+                        "viewer_head_entry.png");
+  ASSERT_FALSE(j.empty());
+  EXPECT_TRUE(j["exercise"].is_null());
+  EXPECT_GT(greenPixels(path("viewer_head_entry.png")), 40u);
+}
+
+TEST_F(ViewerExerciseTest, BadExercisesAreRefusedWithOneLine) {
+  for (const std::string& args :
+       {std::string("--exercise nonsense-9"), std::string("--exercise '") + path("none.json") + "'",
+        std::string("default --path plan")}) {
+    const test::ProcessRun r = run(args, false);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace osteon
