@@ -2,8 +2,12 @@
 // a bad exercise file is one line naming the file and the field.
 #include <fstream>
 
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "osteon/geometry/io/mesh_io.h"
+#include "osteon/simulation/exercise.h"
 #include "support/cli_fixture.h"
 
 namespace osteon {
@@ -48,6 +52,80 @@ TEST_F(CliTest, ABadExerciseFileIsOneLineNamingTheFileAndField) {
   expectBadInput("score x.csv --exercise anchor-9", "anchor-9", "no such exercise");
   expectBadInput("exercise plan anchor-5 --up q --out " + path("p.csv"), "--up q",
                  "must be x, y, z");
+}
+
+// The plan of anchor-7, and a path CSV of an attempt changed from it (entry, axis, depth).
+template <typename Change>
+std::string attemptCsv(Change change) {
+  using namespace simulation;
+  const Exercise ex = loadExercise("anchor-7");
+  Session session(BoneModel::open(ex.bone).bone, exerciseSessionOptions(ex));
+  const ExercisePlan plan = planExercise(ex, session);
+  glm::dvec3 entry = plan.entryMm, axis = plan.axis;
+  double depthMm = plan.depthMm;
+  change(plan, entry, axis, depthMm);
+  return drillPathCsv(holePath(entry, axis, plan.normal, depthMm,
+                               session.simulation().tool().parts[0].outerRadiusMm));
+}
+
+// Exit 1 (a verdict), and the criteria that failed.
+std::vector<std::string> failedCriteria(const CliTest& t, const CliRun& run) {
+  EXPECT_EQ(run.exitCode, 1) << run.err;
+  std::vector<std::string> failed;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  for (const auto& c : j["criteria"])
+    if (!c["passed"].get<bool>()) failed.push_back(c["name"].get<std::string>());
+  (void)t;
+  return failed;
+}
+
+TEST_F(CliTest, ScoreFailsTheThreeBadAttemptsForTheirReasons) {
+  using simulation::ExercisePlan;
+  test::writeBytes(path("deep.csv"), attemptCsv([](const ExercisePlan&, glm::dvec3&, glm::dvec3&,
+                                                   double& depthMm) { depthMm += 10.0; }));
+  test::writeBytes(path("tilt.csv"),
+                   attemptCsv([](const ExercisePlan& p, glm::dvec3&, glm::dvec3& axis, double&) {
+                     const glm::dvec3 about = glm::normalize(glm::cross(p.axis, -p.normal));
+                     axis = glm::angleAxis(30.0 * M_PI / 180.0, about) * p.axis;
+                   }));
+  test::writeBytes(path("off.csv"),
+                   attemptCsv([](const ExercisePlan& p, glm::dvec3& entry, glm::dvec3&, double&) {
+                     entry += 5.0 * glm::normalize(glm::cross(p.normal, p.axis));
+                   }));
+  const std::string args = " --exercise anchor-7 --json --out-dir " + path("s");
+  EXPECT_EQ(failedCriteria(*this, osteon("score " + path("tilt.csv") + args)),
+            (std::vector<std::string>{"angle", "overcut"}));
+  EXPECT_EQ(failedCriteria(*this, osteon("score " + path("off.csv") + args)),
+            (std::vector<std::string>{"entry", "overcut"}));
+  const CliRun deep = osteon("score " + path("deep.csv") + args);
+  EXPECT_EQ(failedCriteria(*this, deep), (std::vector<std::string>{"depth", "overcut", "no_go"}));
+  const nlohmann::json j = nlohmann::json::parse(deep.out);
+  EXPECT_GT(j["no_go"][1]["volume_mm3"].get<double>(), 0.5);
+  EXPECT_EQ(j["no_go"][1]["zone"], "far_cortex");
+}
+
+TEST_F(CliTest, UpFindsTheBuiltInsHeadAndANonHumerusIsRefused) {
+  // Given up = z the long axis is z itself, not its principal-component estimate: the same head
+  // within a fraction of a millimetre.
+  const std::string args = "drill default --voxel-size 1.2 --levels 0 --path portal-5 --json";
+  const CliRun a = osteon(args + " --out-dir " + path("a"));
+  const CliRun b = osteon(args + " --up z --out-dir " + path("b"));
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  const nlohmann::json ja = nlohmann::json::parse(a.out)["path"];
+  const nlohmann::json jb = nlohmann::json::parse(b.out)["path"];
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(ja["head_centre_mm"][std::size_t(i)].get<double>(),
+                jb["head_centre_mm"][std::size_t(i)].get<double>(), 0.5);
+  }
+  geometry::TriangleMesh shaft = test::makeSphere(1.0, 48, 96);
+  for (glm::dvec3& p : shaft.positionsMm) p *= glm::dvec3(6.0, 6.0, 60.0);
+  geometry::writeMesh(shaft, path("shaft.stl"));
+  expectBadInput(
+      "drill " + path("shaft.stl") + " --voxel-size 1.2 --path portal-5 --out-dir " + path("c"),
+      path("shaft.stl") + ": ", "--up x|y|z|-x|-y|-z) or an explicit entry point");
+  expectBadInput("drill default --voxel-size 1.2 --path portal-5 --up w --out-dir " + path("c"),
+                 "--up w", "must be x, y, z, -x, -y or -z");
 }
 
 }  // namespace
