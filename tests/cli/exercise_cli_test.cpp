@@ -128,5 +128,23 @@ TEST_F(CliTest, UpFindsTheBuiltInsHeadAndANonHumerusIsRefused) {
                  "--up w", "must be x, y, z, -x, -y or -z");
 }
 
+TEST_F(CliTest, AnExerciseFileFindsItsBoneBesideItAndTakesAnExplicitEntryAndAxis) {
+  // A box is no humerus: with an explicit entry and axis and no cartilage cap it needs none.
+  std::filesystem::create_directories(path("task"));
+  geometry::writeMesh(test::makeBox({0, 0, 0}, {30, 30, 30}), path("task/block.stl"));
+  test::writeBytes(path("task/block.json"), R"({"bone": {"input": "block.stl", "voxel_size_mm": 1},
+    "entry_mm": [15, 15, 32], "axis": {"direction": [0, 0, -1]}, "depth_mm": 10,
+    "no_go": {"articular_cap": {"enabled": false}}})");
+  const CliRun plan =
+      osteon("exercise plan " + path("task/block.json") + " --out " + path("b.csv") + " --json");
+  ASSERT_EQ(plan.exitCode, 0) << plan.err;
+  const nlohmann::json j = nlohmann::json::parse(plan.out)["plan"];
+  EXPECT_NEAR(j["entry_mm"][2].get<double>(), 30.0, 1e-9);
+  EXPECT_FALSE(j.contains("head"));
+  const CliRun score = osteon("score " + path("b.csv") + " --exercise " + path("task/block.json") +
+                              " --json --out-dir " + path("s"));
+  EXPECT_EQ(score.exitCode, 0) << score.err << score.out;
+}
+
 }  // namespace
 }  // namespace osteon
