@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "osteon/core/error.h"
+#include "osteon/core/number_text.h"
 #include "osteon/simulation/exercise.h"
 #include "osteon/simulation/score.h"
 
@@ -17,6 +18,7 @@ namespace {
 constexpr double kPlanSpeedMmPerS = 2.5;  // about the seed's portal paths' speed
 constexpr double kPlanHoldS = 1.0;        // at full depth, so a proxy that lags gets there
 constexpr double kPlanRetractS = 2.0;
+constexpr double kNormalRadiusMm = 4.0;  // the surface the plan's normal is averaged over
 
 glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
                              const glm::dvec3& c) {
@@ -65,6 +67,24 @@ void projectOntoSurface(const geometry::TriangleMesh& mesh, const geometry::Voxe
   const double stepMm = 1.5 * grid.voxelSizeMm();
   if (fillFractionAt(grid, onMm + stepMm * normal) > fillFractionAt(grid, onMm - stepMm * normal))
     normal = -normal;
+}
+
+// The surface's outward normal around the entry: the area-weighted normals of the triangles
+// within radiusMm, so one steep facet of a low-poly mesh does not turn the plan along the
+// surface. `facet` (outward) orients them.
+glm::dvec3 surfaceNormalAround(const geometry::TriangleMesh& mesh, const glm::dvec3& entryMm,
+                               const glm::dvec3& facet, double radiusMm) {
+  glm::dvec3 sum(0.0);
+  const std::size_t nv = mesh.positionsMm.size();
+  for (const glm::u32vec3& t : mesh.triangles) {
+    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
+    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
+                     c = mesh.positionsMm[t.z];
+    if (glm::length((a + b + c) / 3.0 - entryMm) > radiusMm) continue;
+    const glm::dvec3 n = glm::cross(b - a, c - a);  // twice the area, along the normal
+    sum += glm::dot(n, facet) >= 0.0 ? n : -n;
+  }
+  return glm::length(sum) > 0.0 ? glm::normalize(sum) : facet;
 }
 
 // Where the line from the entry along the axis leaves the bone (the grid's half-fill surface).
@@ -124,6 +144,7 @@ ExercisePlan planExercise(const Exercise& ex, const Session& session) {
     plan.entryMm = p.entryMm;
     plan.normal = p.normal;
   }
+  plan.normal = surfaceNormalAround(mesh, plan.entryMm, plan.normal, kNormalRadiusMm);
   if (ex.axis) {
     plan.axis = glm::normalize(*ex.axis);
     if (!(glm::dot(plan.axis, plan.normal) < -1e-6)) {
@@ -143,6 +164,14 @@ ExercisePlan planExercise(const Exercise& ex, const Session& session) {
   plan.radiusMm = 0.5 * ex.diameterMm;
   plan.endMm = plan.entryMm + plan.depthMm * plan.axis;
   plan.farExitMm = farExit(bone.grid(), plan.entryMm, plan.axis);
+  // A plan whose hole leaves the bone is no plan: its own path would breach the far side.
+  const double reachMm = plan.depthMm + plan.radiusMm + ex.noGo.farCortexMm;
+  if (plan.farExitMm && glm::length(*plan.farExitMm - plan.entryMm) < reachMm) {
+    throw InputError(bone.name() + ": the planned hole leaves the bone " +
+                     numberText(glm::length(*plan.farExitMm - plan.entryMm)) +
+                     " mm from the entry (it goes " + numberText(plan.depthMm) +
+                     " mm deep): give an explicit entry point (entry_mm) or axis (axis.direction)");
+  }
   plan.path = holePath(plan.entryMm, plan.axis, plan.normal, plan.depthMm, outerRadiusMm);
   return plan;
 }

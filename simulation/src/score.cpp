@@ -156,7 +156,8 @@ void scoreVolumes(const Exercise& ex, const ExercisePlan& plan, const geometry::
       continue;
     const glm::ivec3 origin = before.brickCoord(b) * geometry::VoxelGrid::kBrickSize;
     for (int i = 0; i < geometry::VoxelGrid::kBrickVoxels; ++i) {
-      const glm::ivec3 v = origin + glm::ivec3(i % 8, (i / 8) % 8, i / 64);
+      constexpr int kEdge = geometry::VoxelGrid::kBrickSize;
+      const glm::ivec3 v = origin + glm::ivec3(i % kEdge, (i / kEdge) % kEdge, i / (kEdge * kEdge));
       const double was = double(before.fill(v));
       if (was <= 0.0) continue;
       const double now = double(after.fill(v));

@@ -30,7 +30,7 @@ TEST_F(CliTest, TheHelpTheUnknownCommandMessageAndTheDispatchNameTheSameCommands
   const CliRun help = osteon("--help");
   ASSERT_EQ(help.exitCode, 0) << help.err;
   const std::vector<std::string> names = helpCommands(help.out);
-  ASSERT_EQ(names.size(), 11u) << help.out;
+  ASSERT_EQ(names.size(), 13u) << help.out;
   std::string expected;
   for (std::size_t i = 0; i < names.size(); ++i) {
     expected += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
@@ -47,7 +47,8 @@ TEST_F(CliTest, TheHelpTheUnknownCommandMessageAndTheDispatchNameTheSameCommands
   // Each command runs its own work: `model` builds the bone, `devices list` lists.
   EXPECT_EQ(osteon("model --json").exitCode, 0);
   EXPECT_EQ(osteon("devices list --json").exitCode, 0);
-  EXPECT_EQ(osteon("devices").exitCode, 2);  // a subcommand of devices is required
+  EXPECT_EQ(osteon("devices").exitCode, 2);   // a subcommand of devices is required
+  EXPECT_EQ(osteon("exercise").exitCode, 2);  // and of exercise
 }
 
 }  // namespace

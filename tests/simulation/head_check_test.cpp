@@ -1,11 +1,14 @@
 // The humeral head is found or refused: the built-in head passes the checks, a rotated humerus
 // is found at the end --up names (and refused at the other), a long shaft is refused with a
 // line naming it and suggesting --up or an explicit entry point.
+#include <filesystem>
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
 #include "osteon/geometry/io/humerus_model.h"
+#include "osteon/geometry/io/mesh_io.h"
 #include "osteon/simulation/exercise.h"
 #include "osteon/simulation/session.h"
 #include "support/shapes.h"
@@ -68,6 +71,22 @@ TEST(HeadCheck, TheWrongUpIsRefusedNamingTheFile) {
   EXPECT_EQ(why.rfind("rotated.stl: ", 0), 0u) << why;
   EXPECT_NE(why.find("--up"), std::string::npos) << why;
   EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+}
+
+TEST(HeadCheck, TheSharedHumerusWhoseLongAxisIsYIsFoundAtTheEndUpNames) {
+  const std::string file = std::string(OSTEON_SHARED_DATA_DIR) + "/humerus_R_opensim_myosuite.stl";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "shared data not found: " << file;
+  const geometry::TriangleMesh mesh = geometry::readMesh(file, 1000.0);  // metres
+  const HumeralHead found = fitHumeralHead(mesh);
+  const HumeralHead up = fitHumeralHead(mesh, true, HeadEnd::TightestSphere, glm::dvec3(0, 1, 0));
+  EXPECT_NO_THROW(checkHumeralHead(up, file));
+  EXPECT_LT(glm::length(up.centreMm - found.centreMm), 1.0);
+  EXPECT_GT(up.superior.y, 0.999);
+  // The other end is the elbow: no humeral head there.
+  const auto elbow = BoneModel::fromMesh(mesh, 1.2, file, 1000.0, {}, false, glm::dvec3(0, -1, 0));
+  const std::string why = refusal(*elbow);
+  EXPECT_EQ(why.rfind(file + ": ", 0), 0u) << why;
+  EXPECT_NE(why.find("--up"), std::string::npos) << why;
 }
 
 TEST(HeadCheck, ALongShaftIsNoHumerus) {

@@ -60,34 +60,67 @@ std::vector<std::string> scorePageFiles(const std::string& folder) {
   return {folder + "/score.json", folder + "/score.html", folder + "/score.png"};
 }
 
-std::vector<std::uint8_t> scoreCutaway(const sim::Exercise& ex, const sim::ExercisePlan& plan,
-                                       const sim::TrialScore& score,
-                                       const geometry::VoxelGrid& before,
-                                       const geometry::VoxelGrid& after, int pixels) {
-  // u along the planned axis (left to right), v the surface normal's part across it (up).
-  const glm::dvec3 u = plan.axis;
-  glm::dvec3 v = plan.normal - glm::dot(plan.normal, u) * u;
-  v = glm::length(v) > 1e-9 ? glm::normalize(v) : glm::normalize(glm::cross(u, {0.0, 0.0, 1.0}));
+namespace {
+
+// One square panel of the cut-away, in the plane through `centre` spanned by u (left to right)
+// and v (up), into columns [x0, x0 + pixels) of an image `width` pixels wide.
+void drawPanel(const sim::Exercise& ex, const sim::ExercisePlan& plan, const sim::TrialScore& score,
+               const geometry::VoxelGrid& before, const geometry::VoxelGrid& after,
+               const glm::dvec3& centre, const glm::dvec3& u, const glm::dvec3& v, int pixels,
+               int x0, int width, std::vector<std::uint8_t>& rgb) {
   const double halfMm = std::max(20.0, 0.5 * plan.depthMm + 12.0);
-  const glm::dvec3 centre = plan.entryMm + 0.5 * plan.depthMm * u;
   const double pixelMm = 2.0 * halfMm / pixels;
-  std::vector<std::uint8_t> rgb(std::size_t(pixels) * std::size_t(pixels) * 3);
   for (int row = 0; row < pixels; ++row) {
     for (int col = 0; col < pixels; ++col) {
       const glm::dvec3 p =
           centre + (-halfMm + (col + 0.5) * pixelMm) * u + (halfMm - (row + 0.5) * pixelMm) * v;
       Rgb c = boneColour(ex, plan, before, after, p, u, v);
-      const double along = glm::dot(p - plan.entryMm, u);
-      const glm::dvec3 nearest = along <= plan.depthMm ? plan.entryMm + along * u : plan.endMm;
+      const double along = glm::dot(p - plan.entryMm, plan.axis);
+      const glm::dvec3 nearest =
+          along <= plan.depthMm ? plan.entryMm + along * plan.axis : plan.endMm;
       if (std::abs(glm::length(p - nearest) - plan.radiusMm) < 0.6 * pixelMm && along > -8.0)
         c = {255, 255, 255};
       if (score.entered && segmentDistance(p, score.entryMm, score.bottomMm) < 0.8 * pixelMm)
         c = {230, 40, 230};
       if (glm::length(p - plan.entryMm) < 0.7) c = {250, 220, 40};
       if (score.entered && glm::length(p - score.entryMm) < 0.5) c = {230, 40, 230};
-      const std::size_t at = (std::size_t(row) * std::size_t(pixels) + std::size_t(col)) * 3;
+      const std::size_t at = (std::size_t(row) * std::size_t(width) + std::size_t(x0 + col)) * 3;
       std::copy(c.begin(), c.end(), rgb.begin() + std::ptrdiff_t(at));
     }
+  }
+}
+
+// The plane of `axis` and the normal's part across it: u along the axis, v up.
+void planeOf(const glm::dvec3& axis, const glm::dvec3& normal, glm::dvec3& u, glm::dvec3& v) {
+  u = axis;
+  v = normal - glm::dot(normal, u) * u;
+  v = glm::length(v) > 1e-9 ? glm::normalize(v) : glm::normalize(glm::cross(u, {0.0, 0.0, 1.0}));
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> scoreCutaway(const sim::Exercise& ex, const sim::ExercisePlan& plan,
+                                       const sim::TrialScore& score,
+                                       const geometry::VoxelGrid& before,
+                                       const geometry::VoxelGrid& after, int pixels) {
+  const int width = 2 * pixels;
+  std::vector<std::uint8_t> rgb(std::size_t(width) * std::size_t(pixels) * 3);
+  glm::dvec3 u, v;
+  planeOf(plan.axis, plan.normal, u, v);
+  drawPanel(ex, plan, score, before, after, plan.entryMm + 0.5 * plan.depthMm * u, u, v, pixels, 0,
+            width, rgb);
+  // The hole drilled, in its own plane (the plan's again when the tool never entered).
+  glm::dvec3 hole = plan.axis, from = plan.entryMm;
+  if (score.entered && score.depthMm > 1e-6) {
+    hole = (score.bottomMm - score.entryMm) / score.depthMm;
+    from = score.entryMm;
+  }
+  planeOf(hole, plan.normal, u, v);
+  drawPanel(ex, plan, score, before, after, from + 0.5 * plan.depthMm * u, u, v, pixels, pixels,
+            width, rgb);
+  for (int row = 0; row < pixels; ++row) {  // a divider
+    const std::size_t at = (std::size_t(row) * std::size_t(width) + std::size_t(pixels)) * 3;
+    std::fill(rgb.begin() + std::ptrdiff_t(at), rgb.begin() + std::ptrdiff_t(at + 3), 255);
   }
   return rgb;
 }
@@ -126,7 +159,8 @@ std::string html(const sim::Exercise& ex, const sim::TrialScore& s) {
                 "; peak force %.2f N, %.2f s above the limit, %.3f s at the clamp.</p>\n",
                 s.peakForceN, s.aboveForceLimitS, s.atClampS);
   h << line
-    << "<p>Cut-away in the plane of the planned axis: bone (beige), cut inside the plan "
+    << "<p>Cut-aways in the plane of the planned axis (left) and of the hole drilled (right): bone "
+       "(beige), cut inside the plan "
        "(green), cut outside it (red), the cartilage cap (blue) and the far cortex (violet) "
        "no-go zones, the planned hole (white), the planned entry (yellow), the hole drilled "
        "(magenta).</p>\n</body></html>\n";
@@ -141,7 +175,7 @@ void writeScorePage(const std::string& folder, const sim::Exercise& exercise,
   constexpr int kPixels = 480;
   const std::vector<std::uint8_t> rgb = scoreCutaway(exercise, plan, score, before, after, kPixels);
   const std::string png = folder + "/score.png";
-  const std::string error = image::writeImageU8(png, kPixels, kPixels, 3, rgb.data());
+  const std::string error = image::writeImageU8(png, 2 * kPixels, kPixels, 3, rgb.data());
   if (!error.empty()) throw InputError(png + ": " + error);
   geometry::writeFileAtomically(folder + "/score.html", html(exercise, score));
 }

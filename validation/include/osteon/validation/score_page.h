@@ -14,10 +14,11 @@ namespace osteon::validation {
 // The files a score's folder holds: score.json, score.html, score.png.
 std::vector<std::string> scorePageFiles(const std::string& folder);
 
-// The cut-away: the bone in the plane of the planned axis and the surface normal, before and
-// after (bone, cut inside the plan in green, outside it in red, the no-go zones tinted), the
-// planned hole outlined in white, the planned entry in yellow and the hole drilled in magenta.
-// RGB, top row first, `pixels` a side.
+// The cut-away: two panels, the bone in the plane of the planned axis and the surface normal
+// (left) and in the plane of the hole drilled (right), before and after (bone, cut inside the
+// plan in green, outside it in red, the no-go zones tinted), the planned hole outlined in white,
+// the planned entry in yellow and the hole drilled in magenta. RGB, top row first, 2 x pixels
+// wide, `pixels` high.
 std::vector<std::uint8_t> scoreCutaway(const simulation::Exercise& exercise,
                                        const simulation::ExercisePlan& plan,
                                        const simulation::TrialScore& score,
