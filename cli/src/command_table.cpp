@@ -43,7 +43,7 @@ void addMesh(CLI::App& cmd, BoneSource& source) {
 void addGridInput(CLI::App& cmd, BoneSource& source) {
   cmd.add_option("MESH", source.input,
                  "Mesh file, 'default', a GRID.nrrd written by osteon voxelize, or a volume "
-                 "(.nrrd .nhdr .nii .nii.gz: label map or CT)")
+                 "(.nrrd .nhdr .nii .nii.gz .mha .mhd, a DICOM folder or .dcm: label map or CT)")
       ->required();
   addUnits(cmd, source);
   cmd.add_option("--voxel-size", source.voxelSizeMm,
@@ -72,7 +72,11 @@ void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
   cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
   cmd.add_flag(
       "--allow-outside-data", meaning.allowOutsideData,
-      "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
+      "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "
+      "default)");
+  cmd.add_option("--series", meaning.series,
+                 "DICOM folders: the Series Instance UID to read (default: the series with most "
+                 "slices)");
 }
 
 void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
@@ -146,7 +150,8 @@ void addMeshCommand(CLI::App& cmd, MeshCommandOptions& o) {
 void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
   addMesh(cmd, o.bone);
   cmd.get_option("MESH")->description(
-      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz)");
+      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz .mha "
+      ".mhd, a DICOM folder or .dcm)");
   addUnits(cmd, o.bone);
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   cmd.add_option("--levels", o.levels,
@@ -232,8 +237,9 @@ void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
   cmd.add_option("--out-dir", o.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   cmd.add_option("--compare", o.compare, "A previous report.json: mark regressions");
-  cmd.add_flag("--allow-outside-data", o.source.volume.allowOutsideData,
-               "NRRD volumes in --models: read a 'data file:' outside the header's folder");
+  cmd.add_flag(
+      "--allow-outside-data", o.source.volume.allowOutsideData,
+      "NRRD and MetaImage volumes in --models: read a data file outside the header's folder");
   cmd.add_option(
       "--shard", o.shard,
       "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "

@@ -51,6 +51,10 @@ void BoneSource::check() const {
     throw OptionError(volume.label ? "volume.label" : "volume.isoHu", "",
                       "only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + input + " is a mesh");
   }
+  if (!volume.series.empty()) {
+    throw OptionError("volume.series", volume.series,
+                      "only for a DICOM volume (a folder or .dcm); " + input + " is a mesh");
+  }
 }
 
 std::vector<std::string> BoneSource::inputFiles() const {
@@ -111,7 +115,8 @@ const char* commandLineFlag(const std::string& field) {
       {"voxelSizeMm", "--voxel-size"},
       {"volume.label", "--label"},
       {"volume.isoHu", "--iso"},
-      {"volume.allowOutsideData", "--allow-outside-data"}};
+      {"volume.allowOutsideData", "--allow-outside-data"},
+      {"volume.series", "--series"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }
