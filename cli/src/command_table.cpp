@@ -2,7 +2,12 @@
 // main.cpp alone), and the table of subcommands.
 #include "command_table.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -62,6 +67,36 @@ CLI::Validator nonNegativeInteger(const char* name) {
       name);
 }
 
+// "X0:X1,Y0:Y1,Z0:Z1" in mm, each range low below high.
+geometry::BoxMm parseCropBox(const std::string& text) {
+  const auto bad = [&text](const std::string& why) {
+    return CLI::ValidationError("--crop", text + ": " + why);
+  };
+  std::vector<std::string> ranges;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) ranges.push_back(part);
+  if (ranges.size() != 3) throw bad("needs three ranges X0:X1,Y0:Y1,Z0:Z1 (mm)");
+  geometry::BoxMm box;
+  for (int a = 0; a < 3; ++a) {
+    const std::string& r = ranges[std::size_t(a)];
+    const std::size_t colon = r.find(':');
+    double lo = 0.0, hi = 0.0;
+    const auto number = [](const std::string& t, double& v) {
+      char* end = nullptr;
+      v = std::strtod(t.c_str(), &end);
+      return !t.empty() && end == t.c_str() + t.size() && std::isfinite(v);
+    };
+    if (colon == std::string::npos || !number(r.substr(0, colon), lo) ||
+        !number(r.substr(colon + 1), hi) || !(lo < hi)) {
+      throw bad(std::string("range ") + "XYZ"[a] + " '" + r +
+                "' is not LOW:HIGH (finite mm, low below high)");
+    }
+    box.minMm[a] = lo;
+    box.maxMm[a] = hi;
+  }
+  return box;
+}
+
 // What a volume (NRRD or NIfTI) means, and whether an empty result is accepted.
 void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
   cmd.add_option(
@@ -69,7 +104,17 @@ void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
          "Label map volumes: the bone label, 0 .. 2^64-1 (default: every voxel but the background, "
          "0 or else the most common value)")
       ->check(nonNegativeInteger("LABEL"));
-  cmd.add_option("--iso", meaning.isoHu, "CT volumes: the bone threshold in HU (default 300)");
+  cmd.add_option("--iso", meaning.isoValue,
+                 "CT volumes: the bone threshold in HU (default 300); any other volume (micro-CT, "
+                 "probability map): bone above this value, in the volume's own units");
+  cmd.add_option_function<std::string>(
+      "--crop", [&meaning](const std::string& text) { meaning.cropMm = parseCropBox(text); },
+      "Volumes: load only X0:X1,Y0:Y1,Z0:Z1 (LPS mm, voxel centres inside)");
+  cmd.add_option("--crop-to-label", meaning.cropToLabel,
+                 "Label map volumes: load only the box of this label, grown by --crop-margin")
+      ->check(nonNegativeInteger("LABEL"));
+  cmd.add_option("--crop-margin", meaning.cropMarginMm,
+                 "mm added on every side of --crop-to-label's box (default 10)");
   cmd.add_flag(
       "--allow-outside-data", meaning.allowOutsideData,
       "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "

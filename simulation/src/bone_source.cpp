@@ -1,6 +1,7 @@
 // BoneModel::open and the BoneSource checks: the one way a bone is opened (bone_source.h).
 #include "osteon/simulation/bone_source.h"
 
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -47,9 +48,15 @@ void BoneSource::check() const {
   requirePositiveMm("defaultVoxelSizeMm", defaultVoxelSizeMm);
   if (isVolume()) return;
   scaleToMm();
-  if (volume.label || volume.isoHu) {
-    throw OptionError(volume.label ? "volume.label" : "volume.isoHu", "",
-                      "only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + input + " is a mesh");
+  const char* volumeOnly = volume.label         ? "volume.label"
+                           : volume.isoValue    ? "volume.isoValue"
+                           : volume.cropMm      ? "volume.cropMm"
+                           : volume.cropToLabel ? "volume.cropToLabel"
+                                                : nullptr;
+  if (volumeOnly) {
+    throw OptionError(volumeOnly, "",
+                      "only for a volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, DICOM); " +
+                          input + " is a mesh");
   }
   if (!volume.series.empty()) {
     throw OptionError("volume.series", volume.series,
@@ -80,7 +87,10 @@ OpenedBone BoneModel::open(const BoneSource& source) {
   source.check();
   OpenedBone out;
   if (source.isVolume()) {
-    geometry::VolumeLoad load = geometry::loadVolume(source.input, source.volume);
+    // A resampled volume (anisotropic or oblique voxels) takes the source's voxel size.
+    geometry::VolumeOptions volume = source.volume;
+    volume.voxelSizeMm = source.voxelSizeMm;
+    geometry::VolumeLoad load = geometry::loadVolume(source.input, volume);
     out.read.loadMs = msSince(start);
     checkVolumeVoxelSize(source, load.grid.voxelSizeMm());
     out.read.kind = load.kind;
@@ -114,7 +124,11 @@ const char* commandLineFlag(const std::string& field) {
       {"units", "--units"},
       {"voxelSizeMm", "--voxel-size"},
       {"volume.label", "--label"},
-      {"volume.isoHu", "--iso"},
+      {"volume.isoValue", "--iso"},
+      {"volume.voxelSizeMm", "--voxel-size"},
+      {"volume.cropMm", "--crop"},
+      {"volume.cropToLabel", "--crop-to-label"},
+      {"volume.cropMarginMm", "--crop-margin"},
       {"volume.allowOutsideData", "--allow-outside-data"},
       {"volume.series", "--series"}};
   for (const auto& [name, flag] : kFlags) {
@@ -126,7 +140,21 @@ const char* commandLineFlag(const std::string& field) {
 std::string commandLineMessage(const InputError& e) {
   const auto* option = dynamic_cast<const OptionError*>(&e);
   const char* flag = option ? commandLineFlag(option->field()) : nullptr;
-  return flag ? option->renamed(flag) : e.what();
+  std::string text = flag ? option->renamed(flag) : e.what();
+  // A volume's messages name other options in their text ("volume.label is for label maps"):
+  // each named as a flag, longest names first so that none is a prefix of another's match.
+  static const char* const kNamed[] = {"volume.cropMarginMm", "volume.cropToLabel",
+                                       "volume.voxelSizeMm",  "volume.isoValue",
+                                       "volume.cropMm",       "volume.label"};
+  for (const char* field : kNamed) {
+    const std::string name = field;
+    for (std::size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
+      const std::size_t end = at + name.size();
+      if (end < text.size() && std::isalnum(static_cast<unsigned char>(text[end]))) continue;
+      text.replace(at, name.size(), commandLineFlag(name));
+    }
+  }
+  return text;
 }
 
 }  // namespace osteon::simulation

@@ -51,11 +51,11 @@ TEST_F(VolumeValuesCliTest, AnIsoLevelThatIsNotAFiniteNumberIsBadInput) {
     SCOPED_TRACE(iso);
     for (const std::string command : {"mesh", "hierarchy"}) {
       expectBadInput(command + " " + quoted(ct) + " --iso " + iso + " --json", "--iso ",
-                     "must be a finite number of HU");
+                     "must be a finite number (HU for a CT");
     }
     expectBadInput("drill " + quoted(ct) + " --voxel-size 2 --path portal-5 --iso " + iso +
                        " --out-dir " + quoted(path("d")),
-                   "--iso ", "must be a finite number of HU");
+                   "--iso ", "must be a finite number (HU for a CT");
   }
   EXPECT_EQ(osteon("mesh " + quoted(ct) + " --iso 250 --json").exitCode, 0);
 }

@@ -151,7 +151,10 @@ TEST_F(VolumesCliTest, AVolumeThatIsNeitherIsRefusedSayingWhatWasFound) {
   test::writeTestNrrd(path("rot.nrrd"), rotated, "uint8",
                       test::encodeAs<std::uint8_t>(rotated.values), false, "",
                       "(0.7,0.7,0) (-0.7,0.7,0) (0,0,1)");
-  expectBadInput("hierarchy " + quoted(path("rot.nrrd")), path("rot.nrrd"), "not axis-aligned");
+  // Rotated voxels are resampled, and the transform said.
+  const nlohmann::json rot = runJson("hierarchy " + quoted(path("rot.nrrd")) + " --json");
+  EXPECT_TRUE(rot["volume"]["transform"]["resampled"].get<bool>());
+  EXPECT_EQ(rot["volume"]["transform"]["interpolation"], "partial volume");
 }
 
 TEST_F(VolumesCliTest, EmptyResultsExitOneUnlessAllowed) {

@@ -51,7 +51,7 @@ TEST(BoneSource, EachRefusalNamesItsFieldAndTheFrontEndsFlag) {
   EXPECT_EQ(commandLineMessage(e), "--voxel-size: required when the input is a mesh");
 
   source.voxelSizeMm = 1.2;
-  source.volume.isoHu = 300.0;
+  source.volume.isoValue = 300.0;
   e = refusal(source);
   EXPECT_EQ(commandLineMessage(e),
             "--iso: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
                  "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
       ->default_val("default");
   std::optional<std::uint64_t> label;
-  std::optional<double> isoHu;
+  std::optional<double> isoValue;
   // CLI11 reads "-1" into an unsigned as 2^64 - 1: a label is refused rather than wrapped.
   app.add_option(
          "--label", label,
@@ -70,7 +70,9 @@ int main(int argc, char** argv) {
                        : std::string();
           },
           "LABEL"));
-  app.add_option("--iso", isoHu, "CT volumes: the bone threshold in HU (default 300)");
+  app.add_option(
+      "--iso", isoValue,
+      "CT volumes: the bone threshold in HU (default 300); other volumes: in their own units");
   bool allowOutsideData = false;
   app.add_flag(
       "--allow-outside-data", allowOutsideData,
@@ -143,7 +145,7 @@ int main(int argc, char** argv) {
     options.load.path = path;
     options.load.device = device;
     options.load.bone.volume.label = label;
-    options.load.bone.volume.isoHu = isoHu;
+    options.load.bone.volume.isoValue = isoValue;
     options.load.bone.volume.allowOutsideData = allowOutsideData;
     if (!coupling.empty()) options.load.coupling = osteon::simulation::parseCouplingMode(coupling);
     options.view = viewer::parseView(view);

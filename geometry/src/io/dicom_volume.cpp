@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/dicom_plugin_abi.h"
+#include "io/volume_place.h"
 #include "io/volume_readers.h"
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
@@ -72,7 +73,7 @@ void* allocate(void* context, std::size_t bytes) {
   try {
     if (to.volume) {
       const glm::ivec3 sizes(to.volume->sizes[0], to.volume->sizes[1], to.volume->sizes[2]);
-      refuseOverStoredMemory(*to.path, sizes, typeBytes(to.volume->type));
+      refuseOverVolumeMemory(*to.path, sizes, typeBytes(to.volume->type));
     }
     to.data->resize(bytes);
     return to.data->data();

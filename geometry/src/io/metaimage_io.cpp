@@ -9,6 +9,7 @@
 #include <map>
 
 #include "io/nrrd_header.h"
+#include "io/volume_place.h"
 #include "io/volume_readers.h"
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
@@ -140,12 +141,6 @@ bool orientationDirections(const MetaHeader& h, double dir[3][3]) {
   return true;
 }
 
-void swapBytes(std::vector<unsigned char>& bytes, std::size_t width) {
-  if (width == 1) return;
-  for (std::size_t i = 0; i + width <= bytes.size(); i += width)
-    std::reverse(bytes.begin() + std::ptrdiff_t(i), bytes.begin() + std::ptrdiff_t(i + width));
-}
-
 }  // namespace
 
 StoredVolume readMetaImage(const std::string& path, bool allowOutsideData) {
@@ -172,8 +167,6 @@ StoredVolume readMetaImage(const std::string& path, bool allowOutsideData) {
     if (voxels > VoxelGrid::kMaxVoxels) h.fail("DimSize exceeds 2^32 voxels");
   }
   const nrrd::Scalar scalar = elementType(h);
-  v.type = scalar.name;
-  v.scalarBytes = scalar.bytes;
   v.integer = scalar.integer;
   v.isSigned = scalar.isSigned;
   const std::vector<double> spacing =
@@ -207,16 +200,17 @@ StoredVolume readMetaImage(const std::string& path, bool allowOutsideData) {
   const bool bigEndian = flag(h, {"binarydatabyteordermsb", "elementbyteordermsb"});
   const std::uint64_t expected = voxels * scalar.bytes;
   const nrrd::DataLocation at = nrrd::locateData(where, expected, compressed, allowOutsideData);
-  refuseOverStoredMemory(path, v.sizes, scalar.bytes);
+  refuseOverVolumeMemory(path, v.sizes, scalar.bytes);
+  std::vector<unsigned char> bytes;
   if (compressed) {
-    v.data = nrrd::inflateData(at, expected);
+    bytes = nrrd::inflateData(at, expected);
   } else {
-    v.data.resize(expected);
+    bytes.resize(expected);
     std::ifstream data = nrrd::openData(at);
-    if (!data.read(reinterpret_cast<char*>(v.data.data()), std::streamsize(v.data.size())))
+    if (!data.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size())))
       throw InputError(at.shown + ": read failed in the data");
   }
-  if (bigEndian) swapBytes(v.data, scalar.bytes);
+  setVolumeValues(scalar, bigEndian, std::move(bytes), voxels, v);
   return out;
 }
 

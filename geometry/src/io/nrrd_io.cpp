@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "io/nrrd_grid_header.h"
 #include "io/nrrd_header.h"
 #include "osteon/core/constants.h"
 #include "osteon/core/error.h"
@@ -40,12 +41,6 @@ std::string densityPathFor(const std::string& fillPath) {
 }
 
 namespace {
-
-using nrrd::excerpt;
-using nrrd::normaliseWords;
-using nrrd::parseNumber;
-using nrrd::parseNumbers;
-using nrrd::trim;
 
 // %.17g without the C locale's say over the decimal point: reads back to the same double.
 std::string num(double v) {
@@ -188,171 +183,8 @@ void writeVolume(const VoxelGrid& grid, const OutputFile& file, const char* type
 
 // ---- Reading ----
 
-enum class ValueType { Fill, Int16 };
-
-struct Header {
-  glm::ivec3 sizes{0};
-  bool bigEndian = false;
-  double voxelSizeMm = 0.0;
-  glm::dvec3 originMm{0.0};
-  std::size_t valueBytes = 1;  // bytes per stored value
-  std::string dataShown;       // the data's file, as messages name it
-};
-
-bool nearlyEqual(double a, double b, double scale) {
-  return std::abs(a - b) <= 1e-6 * scale;
-}
-
-// Parses and checks a header (nrrd_header.h reads it, as for every NRRD osteon opens); leaves
-// `in` at the first data byte, wherever the header says the data lies.
-Header readHeader(const std::string& path, std::ifstream& in, ValueType expected,
-                  bool allowOutsideData) {
-  const nrrd::Header nh = nrrd::readHeader(path);
-  const auto fail = [&nh](const std::string& reason) { nh.fail(reason); };
-  const auto field = [&nh](const char* name) { return nh.field(name); };
-  const auto require = [&nh](const char* name, const char* shown) -> const std::string& {
-    return nh.require(name, shown);
-  };
-  const std::map<std::string, std::string>& keys = nh.keys;
-  Header h;
-  h.sizes = nrrd::readSizes(nh);
-  const std::uint64_t voxels =
-      std::uint64_t(h.sizes.x) * std::uint64_t(h.sizes.y) * std::uint64_t(h.sizes.z);
-  const std::string type = normaliseWords(require("type", "type"));
-  const std::optional<nrrd::Scalar> scalar = nrrd::scalarNamed(type);
-  const std::string stored = scalar ? scalar->name : "";
-  if (expected == ValueType::Fill) {
-    // uint8 holds the voxelizer's 1/255 steps; uint16 the full fill units (1/16320).
-    if (stored != "uint8" && stored != "uint16") {
-      fail("type " + excerpt(type) + " is not supported (fill must be uint8 or uint16)");
-    }
-  } else if (stored != "int16") {
-    fail("type " + excerpt(type) + " is not supported (density must be int16)");
-  }
-  const std::size_t valueBytes = scalar->bytes;
-  const nrrd::Layout layout = nrrd::readLayout(nh);
-  if (layout.gzip) fail("gzip encoding is not supported; save the volume uncompressed (raw)");
-  h.bigEndian = layout.bigEndian;
-
-  // Spacing and origin from the standard fields.
-  bool haveSpacing = false;
-  bool haveOrigin = false;
-  const char* spacingField = "";
-  const char* originField = "";
-  glm::dvec3 originAsGiven(0.0);  // the field's value: voxel (0,0,0)'s centre or corner
-  if (const std::string* space = field("space")) {
-    const std::string s = normaliseWords(*space);
-    if (s != "left-posterior-superior" && s != "lps") {
-      fail("space " + excerpt(s) + " is not supported (need left-posterior-superior)");
-    }
-  }
-  if (const std::string* dirs = field("spacedirections")) {
-    std::vector<double> m;
-    if (!parseNumbers(*dirs, m) || m.size() != 9) {
-      fail("space directions " + excerpt(*dirs) + " are not three 3-vectors");
-    }
-    const double scale = std::max({std::abs(m[0]), std::abs(m[4]), std::abs(m[8])});
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) {
-        if (r != c && !nearlyEqual(m[std::size_t(r * 3 + c)], 0.0, scale)) {
-          fail("space directions " + excerpt(*dirs) +
-               " are not axis-aligned (rotated grids are not supported)");
-        }
-      }
-      if (!(m[std::size_t(r * 4)] > 0.0)) {
-        fail("space directions " + excerpt(*dirs) + " have a non-positive axis");
-      }
-    }
-    if (!nearlyEqual(m[0], m[4], scale) || !nearlyEqual(m[0], m[8], scale)) {
-      fail("anisotropic spacing " + excerpt(*dirs) + " is not supported (voxels must be cubes)");
-    }
-    h.voxelSizeMm = (m[0] + m[4] + m[8]) / 3.0;
-    haveSpacing = true;
-    spacingField = "space directions";
-    if (const std::string* origin = field("spaceorigin")) {
-      std::vector<double> o;
-      if (!parseNumbers(*origin, o) || o.size() != 3) {
-        fail("space origin " + excerpt(*origin) + " is not a 3-vector");
-      }
-      h.originMm = glm::dvec3(o[0], o[1], o[2]) - 0.5 * h.voxelSizeMm;
-      haveOrigin = true;
-      originField = "space origin";
-      originAsGiven = glm::dvec3(o[0], o[1], o[2]);
-    }
-  } else if (const std::string* spacings = field("spacings")) {
-    std::vector<double> s;
-    if (!parseNumbers(*spacings, s) || s.size() != 3 || !(s[0] > 0) || !(s[1] > 0) || !(s[2] > 0)) {
-      fail("spacings " + excerpt(*spacings) + " are not three positive numbers");
-    }
-    if (!nearlyEqual(s[0], s[1], s[0]) || !nearlyEqual(s[0], s[2], s[0])) {
-      fail("anisotropic spacing " + excerpt(*spacings) +
-           " is not supported (voxels must be cubes)");
-    }
-    h.voxelSizeMm = (s[0] + s[1] + s[2]) / 3.0;
-    haveSpacing = true;
-    spacingField = "spacings";
-  }
-
-  // osteon's own keys carry the exact doubles; the standard fields, when present, must agree.
-  if (const auto it = keys.find("osteon_voxel_size_mm"); it != keys.end()) {
-    double vs;
-    if (!parseNumber(trim(it->second), vs) || vs <= 0.0) {
-      fail("osteon_voxel_size_mm is not a positive number");
-    }
-    if (haveSpacing && !nearlyEqual(vs, h.voxelSizeMm, vs)) {
-      fail("osteon_voxel_size_mm disagrees with the spacing fields");
-    }
-    h.voxelSizeMm = vs;
-    haveSpacing = true;
-    spacingField = "osteon_voxel_size_mm";
-  }
-  if (const auto it = keys.find("osteon_origin_mm"); it != keys.end()) {
-    std::vector<double> o;
-    if (!parseNumbers(it->second, o) || o.size() != 3) {
-      fail("osteon_origin_mm is not three numbers");
-    }
-    const glm::dvec3 origin(o[0], o[1], o[2]);
-    for (int a = 0; a < 3; ++a) {
-      if (haveOrigin && !nearlyEqual(origin[a], h.originMm[a], h.voxelSizeMm)) {
-        fail("osteon_origin_mm disagrees with the space origin field");
-      }
-    }
-    h.originMm = origin;
-    originField = "osteon_origin_mm";
-    originAsGiven = origin;
-  }
-  if (!haveSpacing) fail("no spacing ('space directions' or 'spacings' field)");
-  // Checked once combined: each field alone can be finite while the grid reaches infinity.
-  const std::string spacingFrom = std::string("from '") + spacingField + "'";
-  if (!std::isfinite(h.voxelSizeMm) || !(h.voxelSizeMm > 0.0)) {
-    fail("voxel size " + spacingFrom + " is not a positive finite number");
-  }
-  constexpr const char* kAxis[] = {"x", "y", "z"};
-  const std::string beyond = " mm, beyond +-1e9 mm (1000 km)";
-  for (int a = 0; a < 3; ++a) {
-    if (!(std::abs(originAsGiven[a]) <= kMaxCoordinateMm)) {
-      fail(std::string("origin from '") + originField + "' is at " + kAxis[a] + " = " +
-           numberText(originAsGiven[a]) + beyond);
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
-    const double nearCorner = h.originMm[a];
-    const double farCorner = h.originMm[a] + double(h.sizes[a]) * h.voxelSizeMm;
-    const bool farOut = !(std::abs(farCorner) <= kMaxCoordinateMm);
-    if (farOut || !(std::abs(nearCorner) <= kMaxCoordinateMm)) {
-      fail("voxel size " + numberText(h.voxelSizeMm) + " mm " + spacingFrom + " puts the " +
-           (farOut ? "far" : "near") + " corner at " + kAxis[a] + " = " +
-           numberText(farOut ? farCorner : nearCorner) + beyond);
-    }
-  }
-  h.valueBytes = valueBytes;
-
-  // Before anything is allocated: the data must be exactly as long as the sizes say.
-  const nrrd::DataLocation at = nrrd::locateData(nh, voxels * valueBytes, false, allowOutsideData);
-  in = nrrd::openData(at);
-  h.dataShown = at.shown;
-  return h;
-}
+using nrrd::GridHeader;
+using nrrd::GridValue;
 
 // Reads `count` values into `values`, converting from the file's byte order.
 // Reads `count` values of `width` bytes each into `values` (times `scale`), converting from
@@ -429,15 +261,17 @@ void writeNrrd(const VoxelGrid& grid, const std::string& fillPath, bool withDens
 
 NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData) {
   std::ifstream fillIn;
-  const Header fillHeader = readHeader(fillPath, fillIn, ValueType::Fill, allowOutsideData);
+  const GridHeader fillHeader =
+      nrrd::readGridHeader(fillPath, fillIn, GridValue::Fill, allowOutsideData);
 
   const std::string densityPath = densityPathFor(fillPath);
   std::error_code ec;
   const bool densityLoaded = fs::exists(densityPath, ec);
   std::ifstream densityIn;
-  Header densityHeader;
+  GridHeader densityHeader;
   if (densityLoaded) {
-    densityHeader = readHeader(densityPath, densityIn, ValueType::Int16, allowOutsideData);
+    densityHeader =
+        nrrd::readGridHeader(densityPath, densityIn, GridValue::Int16, allowOutsideData);
     const glm::ivec3 a = fillHeader.sizes;
     const glm::ivec3 b = densityHeader.sizes;
     if (a != b) {
@@ -447,7 +281,8 @@ NrrdReadResult readNrrd(const std::string& fillPath, bool allowOutsideData) {
     }
     const double vs = fillHeader.voxelSizeMm;
     const glm::dvec3 d = glm::abs(densityHeader.originMm - fillHeader.originMm);
-    if (!nearlyEqual(densityHeader.voxelSizeMm, vs, vs) || std::max({d.x, d.y, d.z}) > 1e-6 * vs) {
+    if (!(std::abs(densityHeader.voxelSizeMm - vs) <= 1e-6 * vs) ||
+        std::max({d.x, d.y, d.z}) > 1e-6 * vs) {
       throw InputError(densityPath + ": spacing or origin does not match the fill file's");
     }
   }

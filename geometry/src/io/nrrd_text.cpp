@@ -20,7 +20,8 @@ std::string trim(const std::string& s) {
 // Lowercase, runs of blanks made one space: "Unsigned  Char" -> "unsigned char".
 std::string normaliseWords(const std::string& s) {
   std::string out;
-  for (unsigned char c : trim(s)) {
+  for (const char ch : trim(s)) {
+    const auto c = static_cast<unsigned char>(ch);
     if (std::isspace(c)) {
       if (!out.empty() && out.back() != ' ') out += ' ';
     } else {
@@ -32,7 +33,7 @@ std::string normaliseWords(const std::string& s) {
 
 std::string excerpt(const std::string& s) {
   std::string out = "'";
-  for (unsigned char c : s.substr(0, 60)) out += std::isprint(c) ? static_cast<char>(c) : '?';
+  for (const char c : s.substr(0, 60)) out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
   return out + (s.size() > 60 ? "...'" : "'");
 }
 

@@ -4,9 +4,6 @@
 #include <cctype>
 #include <filesystem>
 
-#include "osteon/core/memory.h"
-#include "osteon/core/number_text.h"
-
 namespace osteon::geometry::io {
 
 namespace {
@@ -29,14 +26,6 @@ bool isDicomPath(const std::string& path) {
     return true;
   std::error_code ec;
   return std::filesystem::is_directory(path, ec);
-}
-
-void refuseOverStoredMemory(const std::string& path, glm::ivec3 sizes, std::size_t scalarBytes) {
-  refuseOverMemory(
-      path + ": a " + std::to_string(sizes.x) + " x " + std::to_string(sizes.y) + " x " +
-          std::to_string(sizes.z) + " volume",
-      volumeLoadMemoryBytes(sizes, scalarBytes),
-      "crop or downsample it (fewer voxels) before loading, or use a machine with more memory");
 }
 
 }  // namespace osteon::geometry::io

@@ -1,7 +1,7 @@
 // The volume readers beside NRRD and NIfTI (volume_io.cpp): MetaImage (metaimage_io.cpp) and
 // DICOM (dicom_volume.cpp, through the libosteon_dicom.so plugin). Each returns its values as
 // stored with the geometry the file gives; readRawVolume places them (LPS, axes reordered and
-// flipped) in the one step every volume goes through.
+// flipped, or resampled) in the one step every volume goes through (volume_place.h).
 #pragma once
 
 #include <string>
@@ -43,8 +43,5 @@ struct DicomSeries {
   std::string description;
 };
 std::vector<DicomSeries> listDicomSeries(const std::string& path);
-
-// A volume past the machine's memory is refused before its values are allocated.
-void refuseOverStoredMemory(const std::string& path, glm::ivec3 sizes, std::size_t scalarBytes);
 
 }  // namespace osteon::geometry::io

@@ -139,7 +139,7 @@ TEST_F(VolumeValues, ALabelMapsBackgroundIsZeroOrElseItsMostCommonValue) {
   one.label = 1;
   const std::string m = refusal("ones.nrrd", one);
   EXPECT_NE(m.find("ones.nrrd: every voxel is bone: read as a label map (uint8, labels 1), bone = "
-                   "--label 1"),
+                   "volume.label 1"),
             std::string::npos)
       << m;
 }
@@ -171,11 +171,11 @@ TEST_F(VolumeValues, SignedVolumesWithNegativeValuesAreCtsNeverLabelMaps) {
       << m;
   // A CT wholly at or above the iso level is bone everywhere: refused.
   VolumeOptions low;
-  low.isoHu = -2000;
+  low.isoValue = -2000;
   const std::string all = refusal("pm.nrrd", low);
   EXPECT_NE(all.find("every voxel is bone: read as a CT (int16, values -1000 to 1000 HU), all at "
                      "or above the iso "
-                     "level -2000 HU (--iso)"),
+                     "level -2000 HU (volume.isoValue)"),
             std::string::npos)
       << all;
 }
@@ -297,10 +297,10 @@ TEST_F(VolumeValues, AnIsoLevelThatIsNotFiniteIsRefusedBeforeReading) {
        {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
         -std::numeric_limits<double>::infinity()}) {
     VolumeOptions o;
-    o.isoHu = iso;
+    o.isoValue = iso;
     const std::string m = refusal("missing.nrrd", o);  // the file is not even read
-    EXPECT_EQ(m.rfind("--iso ", 0), 0u) << m;
-    EXPECT_NE(m.find("must be a finite number of HU"), std::string::npos) << m;
+    EXPECT_EQ(m.rfind("volume.isoValue ", 0), 0u) << m;
+    EXPECT_NE(m.find("must be a finite number"), std::string::npos) << m;
   }
 }
 

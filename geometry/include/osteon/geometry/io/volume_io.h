@@ -4,22 +4,29 @@
 // guessed silently:
 //   - osteon's own grids (NRRD with the content line and every key osteon writes) load as
 //     readNrrd reads them; one stray osteon_* key does not make a user's volume a grid;
-//   - a label map (integer type, at most kMaxLabels distinct values, none negative): the bone
-//     is one label (VolumeOptions::label) or every voxel but the background, which is 0 when 0
-//     is among the values, else the most common value (ties: the lowest); each voxel is 0 or
-//     full. Labels stay in their integer type (64-bit labels past 2^53 stay distinct);
-//   - a CT (signed integer or floating type, values spanning at least kMinCtRangeHu): fill
-//     ramps linearly from 0 at iso - kCtRampHalfWidthHu to full at iso + kCtRampHalfWidthHu,
-//     so the surface (half full) sits at the iso HU; density comes from HU: cortical at or
-//     above kCorticalHu, cancellous below (any voxel with fill > 0). Negative values make a
-//     volume a CT or nothing: labels are never negative, HU are;
+//   - a label map (an integer type, or a float type whose values are all whole, at most
+//     kMaxLabels distinct values, none negative): the bone is one label (VolumeOptions::label)
+//     or every voxel but the background, which is 0 when 0 is among the values, else the most
+//     common value (ties: the lowest); each voxel is 0 or full. Labels stay in their integer
+//     type (64-bit labels past 2^53 stay distinct). An all-zero volume is a label map of no bone;
+//   - a CT (signed values spanning at least kMinCtRangeHu): fill ramps linearly from 0 at
+//     iso - kCtRampHalfWidthHu to full at iso + kCtRampHalfWidthHu, so the surface (half full)
+//     sits at the iso HU; density comes from HU: cortical at or above kCorticalHu, cancellous
+//     below (any voxel with fill > 0). Negative values make a volume a CT or nothing unless an
+//     iso level is given: labels are never negative, HU are;
+//   - a scalar volume (any other type and range, given VolumeOptions::isoValue in its own units:
+//     micro-CT, probability or partial-volume maps): bone lies above the iso value, the fill
+//     ramped over kScalarRampHalfWidth of the value range either side; density by the distance
+//     rule of label maps (cortical within corticalThicknessMm of the outside);
 //   - anything else is an InputError naming the file and what was found (type, range,
 //     distinct values). So are NaN or infinite voxels (their count and the first one's file
 //     index), and a volume whose every voxel is bone (no surface to drill: not a bone).
-// Space is LPS in mm; NIfTI's RAS is turned to LPS. Axes that run backwards (a negative
-// direction) are flipped and axes stored in another order (a permuted, still axis-aligned
-// direction matrix) are reordered on loading; rotated (non-axis-aligned) or anisotropic grids
-// are refused with a clear message.
+// Space is LPS in mm; NIfTI's RAS is turned to LPS. Axis-aligned cubic voxels are placed
+// exactly (axes that run backwards are flipped, axes stored in another order reordered);
+// anisotropic or oblique voxels are resampled onto a cubic, axis-aligned LPS grid (trilinear for
+// CTs and scalar volumes, partial-volume for label maps), at VolumeOptions::voxelSizeMm or the
+// finest spacing. The transform is reported (VolumeLoad::transform). Library messages name the
+// VolumeOptions fields ("volume.isoValue"), which front ends rename to their own terms.
 #pragma once
 
 #include <cstdint>
@@ -28,16 +35,19 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
 
-inline constexpr int kMaxLabels = 64;                // more distinct values: not a label map
-inline constexpr double kMinCtRangeHu = 1000.0;      // a CT spans at least this much
-inline constexpr double kDefaultIsoHu = 300.0;       // bone threshold by default
-inline constexpr double kCtRampHalfWidthHu = 100.0;  // fill 0 at iso-100 HU, full at iso+100 HU
-inline constexpr double kCorticalHu = 800.0;         // cortical at or above, cancellous below
-inline constexpr Density kCtCorticalDensity = 40;    // as the mesh voxelizer's defaults
+inline constexpr int kMaxLabels = 64;                 // more distinct values: not a label map
+inline constexpr double kMinCtRangeHu = 1000.0;       // a CT spans at least this much
+inline constexpr double kDefaultIsoHu = 300.0;        // bone threshold by default
+inline constexpr double kCtRampHalfWidthHu = 100.0;   // fill 0 at iso-100 HU, full at iso+100 HU
+inline constexpr double kScalarRampHalfWidth = 0.05;  // scalar volumes: of the value range
+inline constexpr double kCorticalHu = 800.0;          // cortical at or above, cancellous below
+inline constexpr Density kCtCorticalDensity = 40;     // as the mesh voxelizer's defaults
 inline constexpr Density kCtCancellousDensity = 15;
 
 // True for paths osteon reads as a volume: .nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, .dcm,
@@ -46,34 +56,63 @@ bool isVolumePath(const std::string& path);
 // The format a volume path is read as: "nrrd", "nifti", "metaimage" or "dicom".
 std::string volumeFormat(const std::string& path);
 
+// An axis-aligned box in LPS mm: [minMm, maxMm] on each axis.
+struct BoxMm {
+  glm::dvec3 minMm{0.0}, maxMm{0.0};
+};
+
 struct VolumeOptions {
   std::optional<std::uint64_t>
-      label;                         // label maps: the bone label (default: all but the background)
-  std::optional<double> isoHu;       // CTs: the bone threshold (default kDefaultIsoHu); finite
+      label;  // label maps: the bone label (default: all but the background)
+  // CTs: the bone threshold in HU (default kDefaultIsoHu); any other volume: in its own units,
+  // which makes it a scalar volume. Finite.
+  std::optional<double> isoValue;
   double corticalThicknessMm = 2.0;  // label maps: voxels this close to outside are cortical
   bool allowOutsideData =
       false;           // NRRD, MetaImage: a data file may lie outside the header's folder
   std::string series;  // DICOM: the Series Instance UID to read (default: the most slices)
+  // Resampled volumes (anisotropic or oblique): the cubic voxel's edge (default: the finest
+  // spacing). Positive.
+  std::optional<double> voxelSizeMm;
+  // Only this box is loaded (LPS mm, voxels whose centres lie inside it); it must overlap the
+  // volume.
+  std::optional<BoxMm> cropMm;
+  // Label maps: only the bounding box of this label, grown by cropMarginMm on every side.
+  std::optional<std::uint64_t> cropToLabel;
+  double cropMarginMm = 10.0;  // at least 0
+};
+
+// How the stored grid was turned into osteon's (reported with every volume).
+struct VolumeTransform {
+  glm::ivec3 storedSizes{0};      // as stored
+  glm::dvec3 spacingMm{1.0};      // of each stored axis
+  glm::dmat3 directions{1.0};     // columns: each stored axis's unit direction in LPS
+  glm::dvec3 firstCentreMm{0.0};  // centre of stored voxel (0, 0, 0), LPS mm
+  bool resampled = false;         // anisotropic or oblique: resampled (else placed exactly)
+  std::string interpolation;      // "none", "trilinear" or "partial volume"
+  bool cropped = false;           // cropMm or cropToLabel took part of the volume
 };
 
 struct VolumeLoad {
   VoxelGrid grid;
-  std::string kind;                       // "osteon grid", "label map" or "ct"
+  std::string kind;                       // "osteon grid", "label map", "ct" or "scalar"
   std::string format;                     // as volumeFormat names it
   std::string type;                       // the stored scalar type ("uint8", "int16", ...)
   double minValue = 0.0, maxValue = 0.0;  // as numbers (label maps: exact in `labels`)
   std::vector<std::uint64_t> labels;      // label maps: the distinct values found, ascending
   std::optional<std::uint64_t> label;  // label maps: the label used (none: all but the background)
   std::uint64_t background = 0;        // label maps: 0 if present, else the most common value
-  double isoHu = kDefaultIsoHu;        // CTs: the threshold used
-  bool densityLoaded = false;          // osteon grids: a density file was read
+  double isoValue = kDefaultIsoHu;     // CTs and scalar volumes: the threshold used
+  double rampHalfWidth = kCtRampHalfWidthHu;  // CTs and scalar volumes: fill ramp either side
+  bool densityLoaded = false;                 // osteon grids: a density file was read
+  VolumeTransform transform;                  // volumes (not osteon grids)
 };
 
 // NRRD headers are read once for all (src/io/nrrd_header.h): a field given twice, a
 // non-spatial kind (colour, vector, list) or a `data file:` outside the header's folder
 // (unless allowOutsideData) is refused; `line skip:` and `byte skip:` are honoured.
-// Throws InputError "<file>: <reason>" for anything it cannot honour, and "--iso <value>: ..."
-// for an iso level that is not a finite number.
+// Throws InputError "<file>: <reason>" for anything it cannot honour, and OptionError
+// "volume.isoValue <value>: ..." (and so on) for an option that cannot be (not finite).
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options = {});
 
 // An upper bound of the memory loadVolume needs (bytes) for a volume of these sizes stored as
@@ -99,8 +138,10 @@ struct StoredValues {
   }
 };
 
-// The raw scalars of a volume, x fastest then y then z, in LPS with positive axes (for tests
-// and tools). voxelSizeMm is the (isotropic) edge, originMm the corner of voxel (0,0,0).
+// The raw scalars of a volume, x fastest then y then z (for tests and tools). Placed exactly
+// (resample false): in LPS with positive axes, voxelSizeMm the (isotropic) edge, originMm the
+// corner of voxel (0,0,0). Else as stored, the affine below saying where, and voxelSizeMm the
+// finest spacing.
 // The values stay in their stored type (in the host's byte order): 64-bit integers stay exact,
 // and a volume costs its stored bytes, not a double per voxel.
 struct RawVolume {
@@ -116,6 +157,12 @@ struct RawVolume {
          intercept = 0.0;  // NIfTI scl_slope, scl_inter: value = stored * slope + intercept
   std::vector<unsigned char> data;  // sizes.x * sizes.y * sizes.z stored values
   bool osteonGrid = false;          // osteon's own NRRD grid: loadVolume hands it to readNrrd
+  // The affine as read: stored voxel (i, j, k)'s centre lies at firstCentreMm + indexToLpsMm *
+  // (i, j, k) (columns: one step along each stored axis, LPS mm).
+  glm::dmat3 indexToLpsMm{1.0};
+  glm::dvec3 firstCentreMm{0.0};
+  glm::ivec3 storedSizes{0};
+  bool resample = false;  // anisotropic or oblique: data as stored, to be resampled
 
   // Calls f(values) with `values` a StoredValues<T> of the stored type T.
   template <typename F>
