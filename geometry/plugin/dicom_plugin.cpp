@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <gdcmExplicitDataElement.h>
+#include <gdcmFileMetaInformation.h>
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmImplicitDataElement.h>
@@ -110,9 +111,6 @@ void readImage(gdcm::ImageReader& reader, const std::string& file) {
   reader.SetFileName(file.c_str());
   if (!reader.Read()) fail(name(file) + ": GDCM cannot read it as a DICOM image (truncated?)");
   refuseTruncated(reader.GetFile(), file);
-  const gdcm::TransferSyntax& ts = reader.GetImage().GetTransferSyntax();
-  if (!ts.IsValid() || ts == gdcm::TransferSyntax::TS_END)
-    fail(name(file) + ": its transfer syntax is not one GDCM knows");
 }
 
 // Decodes one image's pixels into `to` (exactly `bytes`).

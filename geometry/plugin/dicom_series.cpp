@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <gdcmScanner.h>
 #include <gdcmTag.h>
+#include <gdcmTransferSyntax.h>
 #include <map>
 #include <sstream>
 
@@ -71,6 +73,28 @@ Slice sliceOf(const gdcm::Scanner& scanner, const std::string& file) {
   return s;
 }
 
+// A file GDCM passed over: not DICOM (no "DICM" after the 128-byte preamble), or DICOM that GDCM
+// cannot parse, which is refused, naming its transfer syntax when GDCM does not know it.
+void refuseUnparsed(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(&head[0], std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  if (head.size() < 132 || head.compare(128, 4, "DICM") != 0) return;
+  const std::string name = fs::path(file).filename().string();
+  // (0002,0010) UI, explicit VR little endian as the file meta always is.
+  const std::size_t at = head.find(std::string("\x02\x00\x10\x00UI", 6), 132);
+  if (at != std::string::npos && at + 8 <= head.size()) {
+    const std::size_t length = std::size_t(static_cast<unsigned char>(head[at + 6])) |
+                               std::size_t(static_cast<unsigned char>(head[at + 7])) << 8;
+    std::string uid = head.substr(at + 8, std::min(length, std::size_t(64)));
+    while (!uid.empty() && (uid.back() == '\0' || uid.back() == ' ')) uid.pop_back();
+    if (gdcm::TransferSyntax::GetTSType(uid.c_str()) == gdcm::TransferSyntax::TS_END)
+      fail(name + ": transfer syntax " + uid + " is not one GDCM knows");
+  }
+  fail(name + ": a DICOM file GDCM cannot parse (a corrupt header?)");
+}
+
 }  // namespace
 
 std::vector<Series> scanSeries(const std::string& path) {
@@ -84,7 +108,10 @@ std::vector<Series> scanSeries(const std::string& path) {
   if (!scanner.Scan(files)) fail("GDCM could not scan the files");
   std::string onlyUid;
   if (!folder) {
-    if (!scanner.IsKey(path.c_str())) fail("not a DICOM file");
+    if (!scanner.IsKey(path.c_str())) {
+      refuseUnparsed(path);
+      fail("not a DICOM file");
+    }
     const Slice s = sliceOf(scanner, path);
     onlyUid = trimmed(scanner.GetValue(path.c_str(), kSeriesUid));
     if (s.frames == 1) {
@@ -100,7 +127,10 @@ std::vector<Series> scanSeries(const std::string& path) {
   }
   std::map<std::string, Series> byUid;
   for (const std::string& file : files) {
-    if (!scanner.IsKey(file.c_str())) continue;  // not DICOM: other files of the folder
+    if (!scanner.IsKey(file.c_str())) {
+      refuseUnparsed(file);
+      continue;  // not DICOM: other files of the folder
+    }
     const std::string uid = trimmed(scanner.GetValue(file.c_str(), kSeriesUid));
     Series& series = byUid[uid];
     if (series.slices.empty()) {

@@ -35,6 +35,13 @@ struct MetaHeader {
   [[noreturn]] void fail(const std::string& reason) const {
     throw InputError(path + ": " + reason);
   }
+  // The key as written of the first of `names` given.
+  std::string shown(std::initializer_list<const char*> names) const {
+    for (const char* name : names) {
+      if (named.count(name)) return named.at(name);
+    }
+    return *names.begin();
+  }
   // The value of the first key given among `names` (synonyms); two of them given is refused.
   const std::string* field(std::initializer_list<const char*> names) const {
     const std::string* found = nullptr;
@@ -87,8 +94,7 @@ std::vector<double> numbers(const MetaHeader& h, std::initializer_list<const cha
   if (!text) return otherwise;
   std::vector<double> v;
   if (!nrrd::parseNumbers(*text, v) || v.size() != count) {
-    h.fail(std::string(*names.begin()) + " " + excerpt(*text) + " is not " + std::to_string(count) +
-           " numbers");
+    h.fail(h.shown(names) + " " + excerpt(*text) + " is not " + std::to_string(count) + " numbers");
   }
   return v;
 }
@@ -99,7 +105,7 @@ bool flag(const MetaHeader& h, std::initializer_list<const char*> names) {
   const std::string v = lowerText(*text);
   if (v == "true" || v == "1") return true;
   if (v == "false" || v == "0") return false;
-  h.fail(std::string(*names.begin()) + " " + excerpt(*text) + " is not True or False");
+  h.fail(h.shown(names) + " " + excerpt(*text) + " is not True or False");
 }
 
 nrrd::Scalar elementType(const MetaHeader& h) {

@@ -137,6 +137,8 @@ std::string volumeFormat(const std::string& path) {
   const std::string p = lower(path);
   if (endsWith(p, ".nii") || endsWith(p, ".nii.gz")) return "nifti";
   if (io::isMetaImagePath(path)) return "metaimage";
+  // By extension first: a folder named x.nrrd is a NRRD name that is not a file.
+  if (endsWith(p, ".nrrd") || endsWith(p, ".nhdr")) return "nrrd";
   if (io::isDicomPath(path)) return "dicom";
   return "nrrd";
 }
