@@ -332,7 +332,8 @@ Subcommand row(const char* name, const char* help, void (*add)(CLI::App&, Option
 
 const std::vector<Subcommand>& subcommands() {
   static const std::vector<Subcommand> table = {
-      row("info", "Print a mesh's size, bounds, volume and topology", addInfo, runInfo),
+      row("info", "Print a mesh's size, bounds, volume and topology, or a DICOM folder's series",
+          addInfo, runInfo),
       row("voxelize", "Voxelize a mesh by Embree ray projection (seed 3.2)", addVoxelize,
           runVoxelize),
       row("hierarchy",

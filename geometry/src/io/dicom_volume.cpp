@@ -12,6 +12,7 @@
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
 #include "osteon/core/plugin_loader.h"
+#include "osteon/geometry/io/dicom_series.h"
 
 namespace osteon::geometry::io {
 
@@ -117,6 +118,15 @@ StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
   return out;
 }
 
+}  // namespace osteon::geometry::io
+
+namespace osteon::geometry {
+
+using io::allocate;
+using io::Destination;
+using io::plugin;
+using io::Plugin;
+
 std::vector<DicomSeries> listDicomSeries(const std::string& path) {
   const Plugin& p = plugin();
   std::vector<unsigned char> text;
@@ -140,4 +150,18 @@ std::vector<DicomSeries> listDicomSeries(const std::string& path) {
   return all;
 }
 
-}  // namespace osteon::geometry::io
+int defaultDicomSeries(const std::vector<DicomSeries>& all) {
+  int best = -1;
+  bool tie = false;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (best < 0 || all[i].slices > all[std::size_t(best)].slices) {
+      best = int(i);
+      tie = false;
+    } else if (all[i].slices == all[std::size_t(best)].slices) {
+      tie = true;
+    }
+  }
+  return tie ? -1 : best;
+}
+
+}  // namespace osteon::geometry

@@ -36,12 +36,4 @@ StoredVolume readMetaImage(const std::string& path, bool allowOutsideData);
 // file (a multi-frame image, or one slice standing for its series in its folder).
 StoredVolume readDicom(const std::string& path, const std::string& seriesUid);
 
-// The series of a DICOM folder or file (for `osteon info`): UID, slice count, description.
-struct DicomSeries {
-  std::string uid;
-  int slices = 0;
-  std::string description;
-};
-std::vector<DicomSeries> listDicomSeries(const std::string& path);
-
 }  // namespace osteon::geometry::io

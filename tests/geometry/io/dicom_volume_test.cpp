@@ -11,6 +11,7 @@
 
 #include "io/volume_readers.h"
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/dicom_series.h"
 #include "osteon/geometry/io/volume_io.h"
 #include "support/dicom_series.h"
 #include "support/files.h"
@@ -157,10 +158,11 @@ TEST_F(DicomVolume, TheLargestSeriesUnlessOneIsNamed) {
   EXPECT_NE(wrong.find(folder + ": --series 9.9 is not among its series: "), std::string::npos)
       << wrong;
   EXPECT_NE(wrong.find("1.2.3.4.5 (3 slices)"), std::string::npos) << wrong;
-  const std::vector<io::DicomSeries> listed = io::listDicomSeries(folder);
+  const std::vector<DicomSeries> listed = listDicomSeries(folder);
   ASSERT_EQ(listed.size(), 2u);
   EXPECT_EQ(listed[1].uid, "1.2.826.0.1.3680043.2.1125.1");
   EXPECT_EQ(listed[1].slices, 5);
+  EXPECT_EQ(defaultDicomSeries(listed), 1);
 }
 
 TEST_F(DicomVolume, TiedSeriesAreRefusedWithTheirUids) {
