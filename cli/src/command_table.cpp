@@ -47,7 +47,7 @@ void addMesh(CLI::App& cmd, BoneSource& source) {
 void addGridInput(CLI::App& cmd, BoneSource& source) {
   cmd.add_option("MESH", source.input,
                  "Mesh file, 'default', a GRID.nrrd written by osteon voxelize, or a volume "
-                 "(.nrrd .nhdr .nii .nii.gz: label map or CT)")
+                 "(.nrrd .nhdr .nii .nii.gz .mha .mhd, a DICOM folder or .dcm: label map or CT)")
       ->required();
   addUnits(cmd, source);
   cmd.add_option("--voxel-size", source.voxelSizeMm,
@@ -93,7 +93,11 @@ void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
                  "mm added on every side of --crop-to-label's box (default 10)");
   cmd.add_flag(
       "--allow-outside-data", meaning.allowOutsideData,
-      "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
+      "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "
+      "default)");
+  cmd.add_option("--series", meaning.series,
+                 "DICOM folders: the Series Instance UID to read (default: the series with most "
+                 "slices)");
 }
 
 void addAllowEmpty(CLI::App& cmd, bool& allowEmpty) {
@@ -173,7 +177,8 @@ void addMeshCommand(CLI::App& cmd, MeshCommandOptions& o) {
 void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
   addMesh(cmd, o.bone);
   cmd.get_option("MESH")->description(
-      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz)");
+      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz .mha "
+      ".mhd, a DICOM folder or .dcm)");
   addUnits(cmd, o.bone);
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   cmd.add_option("--levels", o.levels,
@@ -261,8 +266,9 @@ void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
   cmd.add_option("--out-dir", o.outDir, "Folder for report.html, report.json, the log, images")
       ->default_val("validation-report");
   cmd.add_option("--compare", o.compare, "A previous report.json: mark regressions");
-  cmd.add_flag("--allow-outside-data", o.source.volume.allowOutsideData,
-               "NRRD volumes in --models: read a 'data file:' outside the header's folder");
+  cmd.add_flag(
+      "--allow-outside-data", o.source.volume.allowOutsideData,
+      "NRRD and MetaImage volumes in --models: read a data file outside the header's folder");
   cmd.add_option(
       "--shard", o.shard,
       "K/N: run only the K-th (0-based, 0..N-1) of N disjoint parts of the cases, balanced by "
@@ -343,7 +349,8 @@ Subcommand row(const char* name, const char* help, void (*add)(CLI::App&, Option
 
 const std::vector<Subcommand>& subcommands() {
   static const std::vector<Subcommand> table = {
-      row("info", "Print a mesh's size, bounds, volume and topology", addInfo, runInfo),
+      row("info", "Print a mesh's size, bounds, volume and topology, or a DICOM folder's series",
+          addInfo, runInfo),
       row("voxelize", "Voxelize a mesh by Embree ray projection (seed 3.2)", addVoxelize,
           runVoxelize),
       row("hierarchy",

@@ -57,7 +57,12 @@ void BoneSource::check() const {
                                                 : nullptr;
   if (volumeOnly) {
     throw OptionError(volumeOnly, "",
-                      "only for a volume (.nrrd, .nhdr, .nii, .nii.gz); " + input + " is a mesh");
+                      "only for a volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, DICOM); " +
+                          input + " is a mesh");
+  }
+  if (!volume.series.empty()) {
+    throw OptionError("volume.series", volume.series,
+                      "only for a DICOM volume (a folder or .dcm); " + input + " is a mesh");
   }
 }
 
@@ -167,7 +172,8 @@ const char* commandLineFlag(const std::string& field) {
       {"up", "--up"},
       {"coupling", "--coupling"},
       {"path", "--path"},
-      {"crackPixels", "--cracks"}};
+      {"crackPixels", "--cracks"},
+      {"volume.series", "--series"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }

@@ -106,7 +106,7 @@ class BadInputTableTest : public CliTest {
 
   // The command that reads a `loader`'s file, as a user would run it.
   std::vector<std::string> commandFor(const Case& c) const {
-    if (c.loader == "nrrd" || c.loader == "nifti")
+    if (c.loader == "nrrd" || c.loader == "nifti" || c.loader == "dicom" || c.loader == "metaimage")
       return {"mesh", c.file, "--out", path("out/volume.ply")};
     if (c.loader == "path") {
       return {"drill", cube_,    "--voxel-size", "1",         "--levels",
@@ -174,6 +174,8 @@ TEST_F(BadInputTableTest, EverySeedLoads) {
     std::string loader = ext.substr(1);
     if (ext == ".nhdr") loader = "nrrd";
     if (ext == ".nii" || ext == ".gz") loader = "nifti";
+    if (ext == ".mha" || ext == ".mhd") loader = "metaimage";
+    if (ext == ".dcm") loader = "dicom";
     if (ext == ".csv") loader = name.rfind("path", 0) == 0 ? "path" : "recording";
     seeds.push_back({loader, e.path().string(), 0, ""});
   }

@@ -3,7 +3,9 @@
 #include <cstdio>
 
 #include "osteon/core/error.h"
+#include "osteon/geometry/io/dicom_series.h"
 #include "osteon/geometry/io/mesh_io.h"
+#include "osteon/geometry/io/volume_io.h"
 #include "support/mesh_json.h"
 #include "support/output.h"
 
@@ -67,9 +69,37 @@ void printText(const InfoReport& r) {
       topo.eulerCharacteristic);
 }
 
+// A DICOM folder: its series, and which one a volume command reads by default.
+int runDicomInfo(const InfoOptions& options) {
+  const std::string& input = options.bone.input;
+  const std::vector<geo::DicomSeries> all = geo::listDicomSeries(input);
+  const int chosen = geo::defaultDicomSeries(all);
+  if (options.json) {
+    json series = json::array();
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      series.push_back({{"uid", all[i].uid},
+                        {"slices", all[i].slices},
+                        {"description", all[i].description},
+                        {"default", int(i) == chosen}});
+    }
+    printJson(json{{"input", input}, {"format", "dicom"}, {"series", series}});
+    return kExitOk;
+  }
+  std::printf("%s: DICOM, %zu series%s\n", input.c_str(), all.size(),
+              chosen < 0 ? " (several of the largest size: pick one with --series UID)" : "");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::printf("  series     %s: %d slice%s%s%s%s\n", all[i].uid.c_str(), all[i].slices,
+                all[i].slices == 1 ? "" : "s", all[i].description.empty() ? "" : ", ",
+                all[i].description.c_str(), int(i) == chosen ? " (read by default)" : "");
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int runInfo(const InfoOptions& options) {
+  if (options.bone.isVolume() && geo::volumeFormat(options.bone.input) == "dicom")
+    return runDicomInfo(options);
   InfoReport r;
   r.input = options.bone.input;
   r.builtIn = options.bone.isBuiltIn();

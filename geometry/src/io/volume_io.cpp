@@ -8,7 +8,9 @@
 
 #include "io/nrrd_header.h"
 #include "io/volume_place.h"
+#include "io/volume_readers.h"
 #include "osteon/core/error.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::geometry {
 
@@ -128,13 +130,36 @@ RawVolume readNrrdVolume(const std::string& path, bool allowOutsideData) {
 bool isVolumePath(const std::string& path) {
   const std::string p = lower(path);
   return endsWith(p, ".nrrd") || endsWith(p, ".nhdr") || endsWith(p, ".nii") ||
-         endsWith(p, ".nii.gz");
+         endsWith(p, ".nii.gz") || io::isMetaImagePath(path) || io::isDicomPath(path);
+}
+
+std::string volumeFormat(const std::string& path) {
+  const std::string p = lower(path);
+  if (endsWith(p, ".nii") || endsWith(p, ".nii.gz")) return "nifti";
+  if (io::isMetaImagePath(path)) return "metaimage";
+  // By extension first: a folder named x.nrrd is a NRRD name that is not a file.
+  if (endsWith(p, ".nrrd") || endsWith(p, ".nhdr")) return "nrrd";
+  if (io::isDicomPath(path)) return "dicom";
+  return "nrrd";
 }
 
 RawVolume readRawVolume(const std::string& path, bool allowOutsideData) {
   const std::string p = lower(path);
   if (endsWith(p, ".nii") || endsWith(p, ".nii.gz")) return readNiftiVolume(path);
   return readNrrdVolume(path, allowOutsideData);
+}
+
+RawVolume readRawVolume(const std::string& path, const VolumeOptions& options) {
+  const std::string format = volumeFormat(path);
+  if (!options.series.empty() && format != "dicom") {
+    throw OptionError("volume.series", options.series, "only for DICOM; " + path + " is " + format);
+  }
+  if (format != "metaimage" && format != "dicom")
+    return readRawVolume(path, options.allowOutsideData);
+  io::StoredVolume s = format == "dicom" ? io::readDicom(path, options.series)
+                                         : io::readMetaImage(path, options.allowOutsideData);
+  placeVolume(path, s.m, s.centre0, s.volume);
+  return std::move(s.volume);
 }
 
 }  // namespace osteon::geometry

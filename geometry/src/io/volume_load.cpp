@@ -24,16 +24,6 @@ namespace osteon::geometry {
 
 namespace {
 
-bool isNiftiPath(std::string path) {
-  std::transform(path.begin(), path.end(), path.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  const auto endsWith = [&path](const std::string& tail) {
-    return path.size() >= tail.size() &&
-           path.compare(path.size() - tail.size(), tail.size(), tail) == 0;
-  };
-  return endsWith(".nii") || endsWith(".nii.gz");
-}
-
 // A malloc'd brick costs its arrays plus the allocator's header; the brick table 13 bytes a brick
 // (pointer, uniform fill and density, dirty flag).
 constexpr double kBrickBytes = double(sizeof(VoxelGrid::Brick)) + 16.0 + 13.0;
@@ -241,9 +231,9 @@ void checkOptions(const VolumeOptions& options) {
 VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
   checkOptions(options);
   VolumeLoad load;
-  load.format = isNiftiPath(path) ? "nifti" : "nrrd";
+  load.format = volumeFormat(path);
   try {
-    RawVolume raw = readRawVolume(path, options.allowOutsideData);
+    RawVolume raw = readRawVolume(path, options);
     if (raw.osteonGrid) {
       if (options.label || options.isoValue || options.cropMm || options.cropToLabel) {
         throw InputError(path + ": an osteon grid (fill and density as saved): " +

@@ -1,5 +1,6 @@
-// Volumes as users have them: NRRD (attached or detached header, raw or gzip, any scalar type)
-// and NIfTI-1 (.nii, .nii.gz), turned into osteon's voxel grid with their meaning said, never
+// Volumes as users have them: NRRD (attached or detached header, raw or gzip, any scalar type),
+// NIfTI-1 (.nii, .nii.gz), MetaImage (.mha, .mhd) and DICOM CT series (a folder, or a .dcm file),
+// turned into osteon's voxel grid with their meaning said, never
 // guessed silently:
 //   - osteon's own grids (NRRD with the content line and every key osteon writes) load as
 //     readNrrd reads them; one stray osteon_* key does not make a user's volume a grid;
@@ -49,8 +50,11 @@ inline constexpr double kCorticalHu = 800.0;          // cortical at or above, c
 inline constexpr Density kCtCorticalDensity = 40;     // as the mesh voxelizer's defaults
 inline constexpr Density kCtCancellousDensity = 15;
 
-// True for paths osteon reads as a volume: .nrrd, .nhdr, .nii, .nii.gz (any case).
+// True for paths osteon reads as a volume: .nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, .dcm,
+// .dicom, .ima (any case) and folders (DICOM series).
 bool isVolumePath(const std::string& path);
+// The format a volume path is read as: "nrrd", "nifti", "metaimage" or "dicom".
+std::string volumeFormat(const std::string& path);
 
 // An axis-aligned box in LPS mm: [minMm, maxMm] on each axis.
 struct BoxMm {
@@ -64,7 +68,9 @@ struct VolumeOptions {
   // which makes it a scalar volume. Finite.
   std::optional<double> isoValue;
   double corticalThicknessMm = 2.0;  // label maps: voxels this close to outside are cortical
-  bool allowOutsideData = false;     // NRRD: a `data file:` may lie outside the header's folder
+  bool allowOutsideData =
+      false;           // NRRD, MetaImage: a data file may lie outside the header's folder
+  std::string series;  // DICOM: the Series Instance UID to read (default: the most slices)
   // Resampled volumes (anisotropic or oblique): the cubic voxel's edge (default: the finest
   // spacing). Positive.
   std::optional<double> voxelSizeMm;
@@ -90,7 +96,7 @@ struct VolumeTransform {
 struct VolumeLoad {
   VoxelGrid grid;
   std::string kind;                       // "osteon grid", "label map", "ct" or "scalar"
-  std::string format;                     // "nrrd" or "nifti"
+  std::string format;                     // as volumeFormat names it
   std::string type;                       // the stored scalar type ("uint8", "int16", ...)
   double minValue = 0.0, maxValue = 0.0;  // as numbers (label maps: exact in `labels`)
   std::vector<std::uint64_t> labels;      // label maps: the distinct values found, ascending
@@ -163,6 +169,8 @@ struct RawVolume {
   decltype(auto) visit(F&& f) const;
 };
 RawVolume readRawVolume(const std::string& path, bool allowOutsideData = false);
+// Every format; options.allowOutsideData and options.series as above (the rest is meaning).
+RawVolume readRawVolume(const std::string& path, const VolumeOptions& options);
 
 template <typename F>
 decltype(auto) RawVolume::visit(F&& f) const {

@@ -1,0 +1,309 @@
+// libosteon_dicom.so: CT series read with GDCM, behind the C interface of dicom_plugin_abi.h.
+// GDCM decodes what its Debian build was built with: uncompressed, JPEG (baseline, extended,
+// lossless), JPEG-LS (CharLS), JPEG 2000 (OpenJPEG) and RLE.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <gdcmExplicitDataElement.h>
+#include <gdcmFileMetaInformation.h>
+#include <gdcmImage.h>
+#include <gdcmImageReader.h>
+#include <gdcmImplicitDataElement.h>
+#include <gdcmTrace.h>
+#include <gdcmTransferSyntax.h>
+#include <gdcmVersion.h>
+#include <string>
+#include <vector>
+
+#include "dicom_plugin_abi.h"
+#include "dicom_series.h"
+
+namespace osteon::dicom {
+
+namespace {
+
+// CT Image Storage, Enhanced CT Image Storage, Legacy Converted Enhanced CT Image Storage.
+bool isCt(const std::string& sopClass) {
+  return sopClass == "1.2.840.10008.5.1.4.1.1.2" || sopClass == "1.2.840.10008.5.1.4.1.1.2.1" ||
+         sopClass == "1.2.840.10008.5.1.4.1.1.2.2";
+}
+
+std::string name(const std::string& file) {
+  return std::filesystem::path(file).filename().string();
+}
+
+struct Pixels {
+  const char* type = nullptr;
+  std::size_t bytes = 0;
+  bool isSigned = false;
+  int bitsStored = 0, bitsAllocated = 0;
+};
+
+Pixels pixelsOf(const gdcm::Image& image, const std::string& file) {
+  const gdcm::PixelFormat pf = image.GetPixelFormat();
+  if (pf.GetSamplesPerPixel() != 1)
+    fail(name(file) + ": " + std::to_string(pf.GetSamplesPerPixel()) +
+         " samples per pixel (colour), not a grey CT slice");
+  Pixels p;
+  switch (pf.GetScalarType()) {
+    case gdcm::PixelFormat::UINT8:
+      p = {"uint8", 1, false};
+      break;
+    case gdcm::PixelFormat::INT8:
+      p = {"int8", 1, true};
+      break;
+    case gdcm::PixelFormat::UINT12:
+    case gdcm::PixelFormat::UINT16:
+      p = {"uint16", 2, false};
+      break;
+    case gdcm::PixelFormat::INT12:
+    case gdcm::PixelFormat::INT16:
+      p = {"int16", 2, true};
+      break;
+    case gdcm::PixelFormat::UINT32:
+      p = {"uint32", 4, false};
+      break;
+    case gdcm::PixelFormat::INT32:
+      p = {"int32", 4, true};
+      break;
+    default:
+      fail(name(file) + ": pixels of " + pf.GetScalarTypeAsString() + " are not supported");
+  }
+  p.bitsStored = pf.GetBitsStored();
+  p.bitsAllocated = pf.GetBitsAllocated();
+  return p;
+}
+
+// Bits above BitsStored may hold overlays or garbage: masked, or the sign carried into them.
+template <typename T>
+void keepStoredBits(char* data, std::size_t count, const Pixels& p) {
+  if (p.bitsStored <= 0 || p.bitsStored >= int(8 * sizeof(T))) return;
+  using U = std::make_unsigned_t<T>;
+  const U mask = U((U(1) << p.bitsStored) - 1), sign = U(U(1) << (p.bitsStored - 1));
+  for (std::size_t i = 0; i < count; ++i) {
+    U u;
+    std::memcpy(&u, data + i * sizeof(T), sizeof(T));
+    u = U(u & mask);
+    if (p.isSigned && (u & sign)) u = U(u | U(~mask));
+    std::memcpy(data + i * sizeof(T), &u, sizeof(T));
+  }
+}
+
+// GDCM reads a pixel block cut short as if zeros followed ("incomplete pixel data"): the file
+// must be as long as its elements say.
+void refuseTruncated(const gdcm::File& f, const std::string& file) {
+  const bool implicit = f.GetHeader().GetDataSetTransferSyntax().IsImplicit();
+  const std::uint64_t dataSet = implicit ? f.GetDataSet().GetLength<gdcm::ImplicitDataElement>()
+                                         : f.GetDataSet().GetLength<gdcm::ExplicitDataElement>();
+  // The header's length counts the 128-byte preamble and "DICM" even when a file has none.
+  const std::uint64_t missingPreamble = f.GetHeader().GetPreamble().IsEmpty() ? 132 : 0;
+  const std::uint64_t expected = f.GetHeader().GetFullLength() + dataSet - missingPreamble;
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(file, ec);
+  if (!ec && size < expected) {
+    fail(name(file) + ": truncated: the file holds " + std::to_string(size) +
+         " bytes, its elements need " + std::to_string(expected) + " (a cut pixel block?)");
+  }
+}
+
+void readImage(gdcm::ImageReader& reader, const std::string& file) {
+  reader.SetFileName(file.c_str());
+  if (!reader.Read()) fail(name(file) + ": GDCM cannot read it as a DICOM image (truncated?)");
+  refuseTruncated(reader.GetFile(), file);
+}
+
+// Decodes one image's pixels into `to` (exactly `bytes`).
+void decode(const gdcm::Image& image, const std::string& file, char* to, std::size_t bytes) {
+  if (image.GetBufferLength() != bytes) {
+    fail(name(file) + ": its pixel data holds " + std::to_string(image.GetBufferLength()) +
+         " bytes, the other slices " + std::to_string(bytes));
+  }
+  if (!image.GetBuffer(to)) {
+    fail(name(file) + ": cannot decode its pixel data (transfer syntax " +
+         image.GetTransferSyntax().GetString() + "; truncated or corrupt?)");
+  }
+}
+
+struct Output {
+  osteon_dicom_volume* volume;
+  osteon_dicom_alloc_fn alloc;
+  void* context;
+  char* allocate(std::size_t bytes) const {
+    void* p = alloc(context, bytes);
+    if (!p) throw Failure{3, "no memory for the volume"};
+    return static_cast<char*>(p);
+  }
+};
+
+void readSeries(const Stack& stack, const Output& out) {
+  gdcm::ImageReader first;
+  readImage(first, stack.slices.front().file);
+  const gdcm::Image& image0 = first.GetImage();
+  const Pixels p = pixelsOf(image0, stack.slices.front().file);
+  const unsigned cols = image0.GetDimension(0), rows = image0.GetDimension(1);
+  const std::size_t perSlice = std::size_t(cols) * rows, n = stack.slices.size();
+  bool ownRescale = false;
+  for (const Slice& s : stack.slices) {
+    ownRescale = ownRescale || s.slope != stack.slices.front().slope ||
+                 s.intercept != stack.slices.front().intercept;
+  }
+  osteon_dicom_volume& v = *out.volume;
+  v.sizes[0] = int(cols);
+  v.sizes[1] = int(rows);
+  v.sizes[2] = int(n);
+  std::strcpy(v.type, ownRescale ? "float" : p.type);
+  v.slope = ownRescale ? 1.0 : stack.slices.front().slope;
+  v.intercept = ownRescale ? 0.0 : stack.slices.front().intercept;
+  v.slices_rescaled = ownRescale ? 1 : 0;
+  char* data = out.allocate(perSlice * n * (ownRescale ? sizeof(float) : p.bytes));
+  std::vector<char> slice(ownRescale ? perSlice * p.bytes : 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Slice& s = stack.slices[k];
+    gdcm::ImageReader reader;
+    if (k > 0) readImage(reader, s.file);
+    const gdcm::Image& image = k > 0 ? reader.GetImage() : image0;
+    if (image.GetDimension(0) != cols || image.GetDimension(1) != rows) {
+      fail(name(s.file) + ": " + std::to_string(image.GetDimension(0)) + " x " +
+           std::to_string(image.GetDimension(1)) + " pixels, the first slice " +
+           std::to_string(cols) + " x " + std::to_string(rows));
+    }
+    const Pixels q = pixelsOf(image, s.file);
+    if (std::strcmp(q.type, p.type) != 0)
+      fail(name(s.file) + ": pixels of " + q.type + ", the first slice's " + p.type);
+    char* to = ownRescale ? slice.data() : data + k * perSlice * p.bytes;
+    decode(image, s.file, to, perSlice * p.bytes);
+    const auto visit = [&](auto zero) {
+      using T = decltype(zero);
+      keepStoredBits<T>(to, perSlice, q);
+      if (!ownRescale) return;
+      for (std::size_t i = 0; i < perSlice; ++i) {
+        T stored;
+        std::memcpy(&stored, to + i * sizeof(T), sizeof(T));
+        const float hu = float(double(stored) * s.slope + s.intercept);
+        std::memcpy(data + (k * perSlice + i) * sizeof(float), &hu, sizeof(float));
+      }
+    };
+    const std::string t = p.type;
+    if (t == "uint8") visit(std::uint8_t());
+    if (t == "int8") visit(std::int8_t());
+    if (t == "uint16") visit(std::uint16_t());
+    if (t == "int16") visit(std::int16_t());
+    if (t == "uint32") visit(std::uint32_t());
+    if (t == "int32") visit(std::int32_t());
+  }
+}
+
+// One file holding every slice (Enhanced CT): GDCM gives its geometry from the frames.
+void readMultiFrame(const Slice& slice, const Output& out) {
+  gdcm::ImageReader reader;
+  readImage(reader, slice.file);
+  const gdcm::Image& image = reader.GetImage();
+  const Pixels p = pixelsOf(image, slice.file);
+  osteon_dicom_volume& v = *out.volume;
+  for (int a = 0; a < 3; ++a) v.sizes[a] = int(image.GetDimension(unsigned(a)));
+  const double* d = image.GetDirectionCosines();
+  const double row[3] = {d[0], d[1], d[2]}, col[3] = {d[3], d[4], d[5]};
+  const double normal[3] = {row[1] * col[2] - row[2] * col[1], row[2] * col[0] - row[0] * col[2],
+                            row[0] * col[1] - row[1] * col[0]};
+  for (int r = 0; r < 3; ++r) {
+    v.m[r][0] = row[r] * image.GetSpacing(0);
+    v.m[r][1] = col[r] * image.GetSpacing(1);
+    v.m[r][2] = normal[r] * image.GetSpacing(2);
+    v.centre0[r] = image.GetOrigin(unsigned(r));
+  }
+  std::strcpy(v.type, p.type);
+  v.slope = image.GetSlope();
+  v.intercept = image.GetIntercept();
+  v.slices_rescaled = 0;
+  const std::size_t bytes =
+      std::size_t(v.sizes[0]) * std::size_t(v.sizes[1]) * std::size_t(v.sizes[2]) * p.bytes;
+  decode(image, slice.file, out.allocate(bytes), bytes);
+}
+
+// GDCM's warnings and errors go to stderr; osteon says what went wrong in one line itself.
+void quiet() {
+  gdcm::Trace::SetWarning(false);
+  gdcm::Trace::SetError(false);
+  gdcm::Trace::SetDebug(false);
+}
+
+int failed(const Failure& f, char* errbuf, std::size_t errlen) {
+  if (errlen > 0) {
+    const std::size_t n = std::min(f.reason.size(), errlen - 1);
+    std::memcpy(errbuf, f.reason.data(), n);
+    errbuf[n] = '\0';
+  }
+  return f.code;
+}
+
+}  // namespace
+
+}  // namespace osteon::dicom
+
+using namespace osteon::dicom;
+
+extern "C" {
+
+__attribute__((visibility("default"))) int osteon_dicom_abi(void) {
+  return OSTEON_DICOM_ABI;
+}
+
+__attribute__((visibility("default"))) const char* osteon_dicom_library_version(void) {
+  return gdcm::Version::GetVersion();
+}
+
+__attribute__((visibility("default"))) int osteon_dicom_read(const char* path, const char* series,
+                                                             osteon_dicom_volume* out,
+                                                             osteon_dicom_alloc_fn alloc,
+                                                             void* context, char* errbuf,
+                                                             size_t errlen) {
+  quiet();
+  try {
+    const std::vector<Series> all = scanSeries(path);
+    const Series& chosen = pickSeries(all, series ? series : "");
+    if (!isCt(chosen.sopClass)) {
+      fail("series " + chosen.uid + " is of SOP class " + chosen.sopClass +
+           ", not CT image storage (1.2.840.10008.5.1.4.1.1.2)");
+    }
+    const Output output{out, alloc, context};
+    if (chosen.slices.size() == 1 && chosen.slices.front().frames > 1) {
+      readMultiFrame(chosen.slices.front(), output);
+      return 0;
+    }
+    const Stack stack = stackSlices(chosen);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) out->m[r][c] = stack.m[r][c];
+      out->centre0[r] = stack.centre0[r];
+    }
+    readSeries(stack, output);
+    return 0;
+  } catch (const Failure& f) {
+    return failed(f, errbuf, errlen);
+  } catch (const std::exception& e) {
+    return failed(Failure{2, std::string("GDCM failed: ") + e.what()}, errbuf, errlen);
+  }
+}
+
+__attribute__((visibility("default"))) int osteon_dicom_list(const char* path,
+                                                             osteon_dicom_alloc_fn alloc,
+                                                             void* context, char* errbuf,
+                                                             size_t errlen) {
+  quiet();
+  try {
+    std::string text;
+    for (const Series& s : scanSeries(path)) {
+      text += s.uid + "\t" + std::to_string(s.slices.size()) + "\t" + s.description + "\n";
+    }
+    char* to = static_cast<char*>(alloc(context, text.size() + 1));
+    if (!to) return failed(Failure{3, "no memory"}, errbuf, errlen);
+    std::memcpy(to, text.c_str(), text.size() + 1);
+    return 0;
+  } catch (const Failure& f) {
+    return failed(f, errbuf, errlen);
+  } catch (const std::exception& e) {
+    return failed(Failure{2, std::string("GDCM failed: ") + e.what()}, errbuf, errlen);
+  }
+}
+
+}  // extern "C"

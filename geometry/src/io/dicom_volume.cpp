@@ -1,0 +1,167 @@
+// The loader of libosteon_dicom.so (dicom_plugin_abi.h): the plugin is opened the first time a
+// DICOM volume is read, so programs that read none never load GDCM.
+#include <array>
+#include <dlfcn.h>
+#include <filesystem>
+#include <mutex>
+#include <sstream>
+
+#include "io/dicom_plugin_abi.h"
+#include "io/volume_place.h"
+#include "io/volume_readers.h"
+#include "osteon/core/error.h"
+#include "osteon/core/input_file.h"
+#include "osteon/core/plugin_loader.h"
+#include "osteon/geometry/io/dicom_series.h"
+
+namespace osteon::geometry::io {
+
+namespace {
+
+struct Plugin {
+  bool loaded = false;
+  osteon_dicom_read_fn read = nullptr;
+  osteon_dicom_list_fn list = nullptr;
+};
+
+std::mutex gMutex;
+Plugin gPlugin;
+
+const Plugin& plugin() {
+  const std::lock_guard<std::mutex> lock(gMutex);
+  if (gPlugin.loaded) return gPlugin;
+  const PluginPlaces places{"OSTEON_DICOM_PLUGIN", OSTEON_DICOM_PLUGIN_NAME, OSTEON_DICOM_BUILD_DIR,
+                            OSTEON_DICOM_INSTALL_RELATIVE_LIBDIR, OSTEON_DICOM_INSTALL_LIBDIR};
+  loadPlugin(places, "osteon's DICOM plugin (GDCM), needed to read DICOM",
+             [](void* handle, const std::string& path, std::string& error) {
+               const auto abi =
+                   reinterpret_cast<osteon_dicom_abi_fn>(::dlsym(handle, "osteon_dicom_abi"));
+               const auto read =
+                   reinterpret_cast<osteon_dicom_read_fn>(::dlsym(handle, "osteon_dicom_read"));
+               const auto list =
+                   reinterpret_cast<osteon_dicom_list_fn>(::dlsym(handle, "osteon_dicom_list"));
+               if (!abi || !read || !list) {
+                 error = path + ": not an osteon DICOM plugin (missing symbols)";
+                 return false;
+               }
+               if (abi() != OSTEON_DICOM_ABI) {
+                 error = path + ": built for DICOM interface " + std::to_string(abi()) +
+                         ", this osteon needs " + std::to_string(OSTEON_DICOM_ABI);
+                 return false;
+               }
+               gPlugin = {true, read, list};
+               return true;
+             });
+  return gPlugin;
+}
+
+std::size_t typeBytes(const std::string& type) {
+  if (type == "uint8" || type == "int8") return 1;
+  if (type == "uint16" || type == "int16") return 2;
+  return 4;
+}
+
+// Where the plugin puts the values: the volume's own buffer, after the memory check.
+struct Destination {
+  const std::string* path;
+  std::vector<unsigned char>* data;
+  const osteon_dicom_volume* volume;  // its sizes and type are set before it asks for values
+  std::string refusal;                // the memory check's message, when it refused
+};
+
+void* allocate(void* context, std::size_t bytes) {
+  auto& to = *static_cast<Destination*>(context);
+  try {
+    if (to.volume) {
+      const glm::ivec3 sizes(to.volume->sizes[0], to.volume->sizes[1], to.volume->sizes[2]);
+      refuseOverVolumeMemory(*to.path, sizes, typeBytes(to.volume->type));
+    }
+    to.data->resize(bytes);
+    return to.data->data();
+  } catch (const InputError& e) {
+    to.refusal = e.what();
+  } catch (const std::bad_alloc&) {
+    to.refusal = *to.path + ": out of memory for the volume (" + std::to_string(bytes) + " bytes)";
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(path, ec)) requireInputFile(path);
+  const Plugin& p = plugin();
+  StoredVolume out;
+  osteon_dicom_volume v{};
+  std::array<char, 1024> error{};
+  Destination to{&path, &out.volume.data, &v, {}};
+  const int code =
+      p.read(path.c_str(), seriesUid.c_str(), &v, allocate, &to, error.data(), error.size());
+  if (code == 3 && !to.refusal.empty()) throw InputError(to.refusal);
+  if (code != 0) throw InputError(path + ": " + error.data());
+  RawVolume& raw = out.volume;
+  for (int a = 0; a < 3; ++a) raw.sizes[a] = v.sizes[a];
+  raw.type = v.type;
+  raw.scalarBytes = typeBytes(raw.type);
+  const bool scaled = v.slope != 1.0 || v.intercept != 0.0;
+  raw.integer = raw.type != "float" && !scaled;
+  raw.isSigned = raw.type[0] == 'i' || raw.type == "float" || v.slope < 0 || v.intercept < 0;
+  if (scaled) {
+    raw.slope = v.slope;
+    raw.intercept = v.intercept;
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out.m[r][c] = v.m[r][c];
+    out.centre0[r] = v.centre0[r];
+  }
+  return out;
+}
+
+}  // namespace osteon::geometry::io
+
+namespace osteon::geometry {
+
+using io::allocate;
+using io::Destination;
+using io::plugin;
+using io::Plugin;
+
+std::vector<DicomSeries> listDicomSeries(const std::string& path) {
+  const Plugin& p = plugin();
+  std::vector<unsigned char> text;
+  Destination to{&path, &text, nullptr, {}};
+  std::array<char, 1024> error{};
+  if (p.list(path.c_str(), allocate, &to, error.data(), error.size()) != 0)
+    throw InputError(path + ": " + (to.refusal.empty() ? error.data() : to.refusal));
+  std::vector<DicomSeries> all;
+  std::istringstream lines(reinterpret_cast<const char*>(text.data()));
+  std::string line;
+  while (std::getline(lines, line)) {
+    DicomSeries s;
+    std::istringstream fields(line);
+    std::string count;
+    std::getline(fields, s.uid, '\t');
+    std::getline(fields, count, '\t');
+    std::getline(fields, s.description);
+    s.slices = std::stoi(count);
+    all.push_back(s);
+  }
+  return all;
+}
+
+int defaultDicomSeries(const std::vector<DicomSeries>& all) {
+  int best = -1;
+  bool tie = false;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (best < 0 || all[i].slices > all[std::size_t(best)].slices) {
+      best = int(i);
+      tie = false;
+    } else if (all[i].slices == all[std::size_t(best)].slices) {
+      tie = true;
+    }
+  }
+  return tie ? -1 : best;
+}
+
+}  // namespace osteon::geometry
