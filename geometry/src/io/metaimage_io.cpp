@@ -166,9 +166,10 @@ StoredVolume readMetaImage(const std::string& path, bool allowOutsideData) {
   if (sizes.empty()) h.fail("no DimSize");
   std::uint64_t voxels = 1;
   for (int a = 0; a < 3; ++a) {
-    if (!(sizes[a] >= 1 && sizes[a] <= double(1 << 30) && sizes[a] == std::floor(sizes[a])))
+    const double size = sizes[std::size_t(a)];
+    if (!(size >= 1 && size <= double(1 << 30) && size == std::floor(size)))
       h.fail("DimSize is not three integers from 1 to 2^30");
-    v.sizes[a] = int(sizes[a]);
+    v.sizes[a] = int(size);
     voxels *= std::uint64_t(v.sizes[a]);
     if (voxels > VoxelGrid::kMaxVoxels) h.fail("DimSize exceeds 2^32 voxels");
   }

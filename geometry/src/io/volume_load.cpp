@@ -36,7 +36,7 @@ std::string describeLabels(const std::string& path, const RawVolume& raw, const 
   if (options.isoValue) {
     throw InputError(path + ": a label map (" + raw.type + ", " + std::to_string(s.counts.size()) +
                      " distinct values): " + optionRef("volume.isoValue") +
-                     " is for CTs and scalar volumes; use " optionRef("volume.label"));
+                     " is for CTs and scalar volumes; use " + optionRef("volume.label"));
   }
   load.kind = "label map";
   std::uint64_t mostCommon = 0, mostCount = 0;

@@ -57,7 +57,8 @@ class DicomVolume : public ::testing::Test {
 // The HU of voxel (x, y, z) of a placed volume.
 double hu(const RawVolume& v, int x, int y, int z) {
   const std::size_t i =
-      std::size_t(x) + std::size_t(v.sizes.x) * (std::size_t(y) + std::size_t(v.sizes.y) * z);
+      std::size_t(x) +
+      std::size_t(v.sizes.x) * (std::size_t(y) + std::size_t(v.sizes.y) * std::size_t(z));
   return v.visit([&](auto values) { return double(values[i]) * v.slope + v.intercept; });
 }
 
