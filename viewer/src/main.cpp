@@ -76,7 +76,12 @@ int main(int argc, char** argv) {
   bool allowOutsideData = false;
   app.add_flag(
       "--allow-outside-data", allowOutsideData,
-      "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
+      "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "
+      "default)");
+  std::string series;
+  app.add_option("--series", series,
+                 "DICOM folders: the Series Instance UID to read (default: the series with most "
+                 "slices)");
   CLI::Option* u =
       app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
   CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
@@ -147,6 +152,7 @@ int main(int argc, char** argv) {
     options.load.bone.volume.label = label;
     options.load.bone.volume.isoValue = isoValue;
     options.load.bone.volume.allowOutsideData = allowOutsideData;
+    options.load.bone.volume.series = series;
     if (!coupling.empty()) options.load.coupling = osteon::simulation::parseCouplingMode(coupling);
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);
