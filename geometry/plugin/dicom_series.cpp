@@ -1,6 +1,7 @@
 #include "dicom_series.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -73,6 +74,44 @@ Slice sliceOf(const gdcm::Scanner& scanner, const std::string& file) {
   return s;
 }
 
+// The file meta group (0002,xxxx), explicit VR little endian after "DICM", checked before
+// GDCM reads it: Debian's GDCM is built with assertions, and an unknown VR there aborts the
+// process instead of failing the read.
+void refuseMalformedMeta(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(&head[0], std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  if (head.size() < 132 || head.compare(128, 4, "DICM") != 0) return;
+  static const std::string kVrs =
+      "AE AS AT CS DA DS DT FD FL IS LO LT OB OD OF OL OV OW PN SH SL SQ SS ST SV TM UC UI UL UN "
+      "UR US UT UV";
+  static const std::string kLongVrs = "OB OD OF OL OV OW SQ UC UN UR UT SV UV";
+  const auto byte = [&head](std::size_t i) {
+    return std::size_t(static_cast<unsigned char>(head[i]));
+  };
+  const std::string name = fs::path(file).filename().string();
+  for (std::size_t at = 132; at + 8 <= head.size() && byte(at) == 2 && byte(at + 1) == 0;) {
+    const std::string vr = head.substr(at + 4, 2);
+    if (vr.size() != 2 || !std::isupper(static_cast<unsigned char>(vr[0])) ||
+        !std::isupper(static_cast<unsigned char>(vr[1])) || kVrs.find(vr) == std::string::npos)
+      fail(name + ": a corrupt file meta header (element at byte " + std::to_string(at) +
+           " has no valid VR)");
+    std::size_t length = 0, next = 0;
+    if (kLongVrs.find(vr) != std::string::npos) {
+      if (at + 12 > head.size()) break;
+      length = byte(at + 8) | byte(at + 9) << 8 | byte(at + 10) << 16 | byte(at + 11) << 24;
+      next = at + 12;
+    } else {
+      length = byte(at + 6) | byte(at + 7) << 8;
+      next = at + 8;
+    }
+    if (length == 0xffffffff || length > head.size() - next)
+      fail(name + ": a corrupt file meta header (an element's length runs past it)");
+    at = next + length;
+  }
+}
+
 // A file GDCM passed over: not DICOM (no "DICM" after the 128-byte preamble), or DICOM that GDCM
 // cannot parse, which is refused, naming its transfer syntax when GDCM does not know it.
 void refuseUnparsed(const std::string& file) {
@@ -101,6 +140,7 @@ std::vector<Series> scanSeries(const std::string& path) {
   std::error_code ec;
   const bool folder = fs::is_directory(path, ec);
   const std::vector<std::string> files = folder ? folderFiles(path) : std::vector{path};
+  for (const std::string& file : files) refuseMalformedMeta(file);
   gdcm::Scanner scanner;
   for (const gdcm::Tag& t : {kSopClass, kDescription, kSeriesUid, kPosition, kOrientation, kFrames,
                              kPixelSpacing, kIntercept, kSlope})
