@@ -2,12 +2,8 @@
 // main.cpp alone), and the table of subcommands.
 #include "command_table.h"
 
-#include <cmath>
-#include <cstdlib>
 #include <memory>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -22,7 +18,8 @@
 #include "commands/replay.h"
 #include "commands/validate.h"
 #include "commands/voxelize.h"
-
+#include "osteon/core/option_error.h"
+#include "osteon/simulation/bone_source.h"
 namespace osteon::cli {
 
 namespace {
@@ -67,36 +64,6 @@ CLI::Validator nonNegativeInteger(const char* name) {
       name);
 }
 
-// "X0:X1,Y0:Y1,Z0:Z1" in mm, each range low below high.
-geometry::BoxMm parseCropBox(const std::string& text) {
-  const auto bad = [&text](const std::string& why) {
-    return CLI::ValidationError("--crop", text + ": " + why);
-  };
-  std::vector<std::string> ranges;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, ',');) ranges.push_back(part);
-  if (ranges.size() != 3) throw bad("needs three ranges X0:X1,Y0:Y1,Z0:Z1 (mm)");
-  geometry::BoxMm box;
-  for (int a = 0; a < 3; ++a) {
-    const std::string& r = ranges[std::size_t(a)];
-    const std::size_t colon = r.find(':');
-    double lo = 0.0, hi = 0.0;
-    const auto number = [](const std::string& t, double& v) {
-      char* end = nullptr;
-      v = std::strtod(t.c_str(), &end);
-      return !t.empty() && end == t.c_str() + t.size() && std::isfinite(v);
-    };
-    if (colon == std::string::npos || !number(r.substr(0, colon), lo) ||
-        !number(r.substr(colon + 1), hi) || !(lo < hi)) {
-      throw bad(std::string("range ") + "XYZ"[a] + " '" + r +
-                "' is not LOW:HIGH (finite mm, low below high)");
-    }
-    box.minMm[a] = lo;
-    box.maxMm[a] = hi;
-  }
-  return box;
-}
-
 // What a volume (NRRD or NIfTI) means, and whether an empty result is accepted.
 void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
   cmd.add_option(
@@ -108,7 +75,14 @@ void addVolumeMeaning(CLI::App& cmd, geometry::VolumeOptions& meaning) {
                  "CT volumes: the bone threshold in HU (default 300); any other volume (micro-CT, "
                  "probability map): bone above this value, in the volume's own units");
   cmd.add_option_function<std::string>(
-      "--crop", [&meaning](const std::string& text) { meaning.cropMm = parseCropBox(text); },
+      "--crop",
+      [&meaning](const std::string& text) {
+        try {
+          meaning.cropMm = simulation::parseCropMm(text);
+        } catch (const OptionError& e) {
+          throw CLI::ValidationError(e.renamed("--crop"));
+        }
+      },
       "Volumes: load only X0:X1,Y0:Y1,Z0:Z1 (LPS mm, voxel centres inside)");
   cmd.add_option("--crop-to-label", meaning.cropToLabel,
                  "Label map volumes: load only the box of this label, grown by --crop-margin")
@@ -234,6 +208,7 @@ void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
   addRunOptions(cmd, o.levels, o.tool, o.outDir);
   addJson(cmd, o.json, "Print the summary as JSON on stdout");
+  addVolumeMeaning(cmd, o.bone.volume);
   addAllowEmpty(cmd, o.allowEmpty);
   cmd.add_option(
       "--coupling", o.coupling,

@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <utility>
 
@@ -116,6 +117,35 @@ OpenedBone BoneModel::open(const BoneSource& source) {
   bone->setup_.totalMs = msSince(start);
   out.bone = std::move(bone);
   return out;
+}
+
+geometry::BoxMm parseCropMm(const std::string& text) {
+  const auto bad = [&text](const std::string& why) {
+    return OptionError("volume.cropMm", text, why);
+  };
+  std::vector<std::string> ranges;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) ranges.push_back(part);
+  if (ranges.size() != 3) throw bad("needs three ranges X0:X1,Y0:Y1,Z0:Z1 (mm)");
+  const auto number = [](const std::string& t, double& v) {
+    char* end = nullptr;
+    v = std::strtod(t.c_str(), &end);
+    return !t.empty() && end == t.c_str() + t.size() && std::isfinite(v);
+  };
+  geometry::BoxMm box;
+  for (int a = 0; a < 3; ++a) {
+    const std::string& r = ranges[std::size_t(a)];
+    const std::size_t colon = r.find(':');
+    double lo = 0.0, hi = 0.0;
+    if (colon == std::string::npos || !number(r.substr(0, colon), lo) ||
+        !number(r.substr(colon + 1), hi) || !(lo < hi)) {
+      throw bad(std::string("range ") + "XYZ"[a] + " '" + r +
+                "' is not LOW:HIGH (finite mm, low below high)");
+    }
+    box.minMm[a] = lo;
+    box.maxMm[a] = hi;
+  }
+  return box;
 }
 
 const char* commandLineFlag(const std::string& field) {

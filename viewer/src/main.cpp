@@ -4,12 +4,15 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <optional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "app.h"
 #include "options.h"
 #include "osteon/core/error.h"
+#include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/path.h"
 #include "report.h"
 #include "scene.h"
@@ -35,6 +38,60 @@ int fail(int code, const std::string& message) {
   return code;
 }
 
+// What a volume means and which part of it is loaded: the flags of osteon's own commands, turned
+// into VolumeOptions (the crop text parsed by the library, its errors named by flag).
+struct VolumeFlags {
+  std::optional<std::uint64_t> label;
+  std::optional<double> isoValue;
+  bool allowOutsideData = false;
+  std::optional<std::string> crop;
+  std::optional<std::uint64_t> cropToLabel;
+  double cropMarginMm = 10.0;
+  std::string series;
+};
+
+void addVolumeFlags(CLI::App& app, VolumeFlags& f) {
+  // CLI11 reads "-1" into an unsigned as 2^64 - 1: a label is refused rather than wrapped.
+  const CLI::Validator nonNegative(
+      [](std::string& text) {
+        const std::size_t first = text.find_first_not_of(" \t");
+        return first != std::string::npos && text[first] == '-'
+                   ? "must be a non-negative integer, not " + text
+                   : std::string();
+      },
+      "LABEL");
+  app.add_option(
+         "--label", f.label,
+         "Label maps: the bone label, 0 .. 2^64-1 (default: every voxel but the background)")
+      ->check(nonNegative);
+  app.add_option(
+      "--iso", f.isoValue,
+      "CT volumes: the bone threshold in HU (default 300); other volumes: in their own units");
+  app.add_flag(
+      "--allow-outside-data", f.allowOutsideData,
+      "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "
+      "default)");
+  app.add_option("--series", f.series,
+                 "DICOM folders: the Series Instance UID to read (default: the series with most "
+                 "slices)");
+  app.add_option("--crop", f.crop, "Volumes: load only X0:X1,Y0:Y1,Z0:Z1 (LPS mm)");
+  app.add_option("--crop-to-label", f.cropToLabel,
+                 "Label maps: load only the box of this label, grown by --crop-margin")
+      ->check(nonNegative);
+  app.add_option("--crop-margin", f.cropMarginMm,
+                 "mm added on every side of --crop-to-label's box (default 10)");
+}
+
+void applyVolumeFlags(const VolumeFlags& f, osteon::geometry::VolumeOptions& volume) {
+  volume.label = f.label;
+  volume.isoValue = f.isoValue;
+  volume.allowOutsideData = f.allowOutsideData;
+  volume.series = f.series;
+  if (f.crop) volume.cropMm = osteon::simulation::parseCropMm(*f.crop);
+  volume.cropToLabel = f.cropToLabel;
+  volume.cropMarginMm = f.cropMarginMm;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -56,32 +113,8 @@ int main(int argc, char** argv) {
                  "osteon grid, a "
                  "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
       ->default_val("default");
-  std::optional<std::uint64_t> label;
-  std::optional<double> isoValue;
-  // CLI11 reads "-1" into an unsigned as 2^64 - 1: a label is refused rather than wrapped.
-  app.add_option(
-         "--label", label,
-         "Label maps: the bone label, 0 .. 2^64-1 (default: every voxel but the background)")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            const std::size_t first = text.find_first_not_of(" \t");
-            return first != std::string::npos && text[first] == '-'
-                       ? "must be a non-negative integer, not " + text
-                       : std::string();
-          },
-          "LABEL"));
-  app.add_option(
-      "--iso", isoValue,
-      "CT volumes: the bone threshold in HU (default 300); other volumes: in their own units");
-  bool allowOutsideData = false;
-  app.add_flag(
-      "--allow-outside-data", allowOutsideData,
-      "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "
-      "default)");
-  std::string series;
-  app.add_option("--series", series,
-                 "DICOM folders: the Series Instance UID to read (default: the series with most "
-                 "slices)");
+  VolumeFlags volumeFlags;
+  addVolumeFlags(app, volumeFlags);
   CLI::Option* u =
       app.add_option("--units", units, "Unit of the mesh file's coordinates: mm, cm, m or in");
   CLI::Option* s = app.add_option("--scale", scale, "Multiply coordinates by S to get millimetres");
@@ -149,10 +182,7 @@ int main(int argc, char** argv) {
     options.load.tool = osteon::simulation::parseToolKind(tool);
     options.load.path = path;
     options.load.device = device;
-    options.load.bone.volume.label = label;
-    options.load.bone.volume.isoValue = isoValue;
-    options.load.bone.volume.allowOutsideData = allowOutsideData;
-    options.load.bone.volume.series = series;
+    applyVolumeFlags(volumeFlags, options.load.bone.volume);
     if (!coupling.empty()) options.load.coupling = osteon::simulation::parseCouplingMode(coupling);
     options.view = viewer::parseView(view);
     options.method = viewer::parseSurfaceChoice(method);

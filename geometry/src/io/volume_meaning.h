@@ -32,21 +32,28 @@ struct ValueSummary {
 template <typename T>
 ValueSummary<T> summarise(StoredValues<T> values, std::size_t count) {
   ValueSummary<T> s;
-  s.lo = s.hi = values[0];
-  T run = values[0];
-  std::uint64_t runLength = 0;
+  // The range in a pass of its own, which the compiler vectorises.
+  T lo = values[0], hi = lo;
   for (std::size_t i = 0; i < count; ++i) {
     const T x = values[i];
-    s.lo = std::min(s.lo, x);
-    s.hi = std::max(s.hi, x);
+    lo = x < lo ? x : lo;
+    hi = x > hi ? x : hi;
+  }
+  s.lo = lo;
+  s.hi = hi;
+  // The distinct values, until there are too many to be labels (a scan: within a few voxels).
+  T run = values[0];
+  std::uint64_t runLength = 0;
+  for (std::size_t i = 0; i < count && !s.many; ++i) {
+    const T x = values[i];
     if (x == run) {
       ++runLength;
-    } else if (!s.many) {
-      s.counts[run] += runLength;
-      s.many = s.counts.size() > std::size_t(kMaxLabels);
-      run = x;
-      runLength = 1;
+      continue;
     }
+    s.counts[run] += runLength;
+    s.many = s.counts.size() > std::size_t(kMaxLabels);
+    run = x;
+    runLength = 1;
   }
   if (!s.many) s.counts[run] += runLength;
   s.many = s.many || s.counts.size() > std::size_t(kMaxLabels);
@@ -111,8 +118,10 @@ std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Ins
   const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
     return g.exact ? labelFill(g, values, p, i, inside) : fills[i];
   };
-  const std::vector<std::uint16_t> dist = insideDistance(
-      g.sizes, [&](std::size_t i) { return fillAt(positionOf(g.sizes, i), i) >= kFillHalf; });
+  // Whole (uncropped, exact) grids index the values by i alone: no position to work out.
+  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
+    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
+  });
   const int shell = shellVoxels(options, g);
   return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
     fill = fillAt(p, i);
@@ -138,21 +147,31 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
   });
 }
 
-// A scalar volume's grid: fill ramped around the iso value, density by distance.
+// A scalar volume's grid: fill ramped around the iso value, density by distance. Placed
+// exactly, each fill is computed twice rather than held (the load's memory stays that of a label
+// map); resampled, the trilinear fills are held once.
 template <typename T, typename Real>
 std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Real& real,
                           double lowest, double iso, double halfWidth, const VolumeOptions& options,
                           VoxelGrid& grid) {
-  std::vector<Fill> fills(g.count());
-  for (std::size_t i = 0; i < fills.size(); ++i) {
-    fills[i] =
-        rampFill(sampleValue(g, values, positionOf(g.sizes, i), i, real, lowest), iso, halfWidth);
+  std::vector<Fill> fills;
+  if (!g.exact) {
+    fills.resize(g.count());
+    for (std::size_t i = 0; i < fills.size(); ++i) {
+      fills[i] =
+          rampFill(trilinearValue(g, values, positionOf(g.sizes, i), real, lowest), iso, halfWidth);
+    }
   }
-  const std::vector<std::uint16_t> dist =
-      insideDistance(g.sizes, [&](std::size_t i) { return fills[i] >= kFillHalf; });
+  const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
+    return g.exact ? rampFill(sampleValue(g, values, p, i, real, lowest), iso, halfWidth)
+                   : fills[i];
+  };
+  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
+    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
+  });
   const int shell = shellVoxels(options, g);
-  return buildGrid(grid, [&](glm::ivec3, std::size_t i, Fill& fill, Density& density) {
-    fill = fills[i];
+  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
+    fill = fillAt(p, i);
     density = distanceDensity(fill, dist[i], shell);
   });
 }

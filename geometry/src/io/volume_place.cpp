@@ -80,7 +80,8 @@ struct Alignment {
   bool cubic = true;       // and every spacing the same
   int row[3] = {0, 1, 2};  // the LPS axis each stored axis runs along
   bool flip[3] = {false, false, false};
-  double spacing[3] = {1.0, 1.0, 1.0};
+  double spacing[3] = {1.0, 1.0, 1.0};  // each column's length
+  double scale[3] = {1.0, 1.0, 1.0};    // each column's largest component (exact placement's)
 };
 
 Alignment alignmentOf(const std::string& path, const double m[3][3]) {
@@ -88,6 +89,7 @@ Alignment alignmentOf(const std::string& path, const double m[3][3]) {
   for (int axis = 0; axis < 3; ++axis) {
     const double scale =
         std::max({std::abs(m[0][axis]), std::abs(m[1][axis]), std::abs(m[2][axis])});
+    a.scale[axis] = scale;
     a.row[axis] = std::abs(m[0][axis]) == scale ? 0 : std::abs(m[1][axis]) == scale ? 1 : 2;
     for (int r = 0; r < 3; ++r) {
       if (r != a.row[axis] && std::abs(m[r][axis]) > 1e-6 * scale) a.aligned = false;
@@ -118,7 +120,7 @@ Alignment alignmentOf(const std::string& path, const double m[3][3]) {
     }
   }
   for (int axis = 1; axis < 3; ++axis) {
-    if (std::abs(a.spacing[axis] - a.spacing[0]) > 1e-6 * a.spacing[0]) a.cubic = false;
+    if (std::abs(a.scale[axis] - a.scale[0]) > 1e-6 * a.scale[0]) a.cubic = false;
   }
   return a;
 }
@@ -152,7 +154,7 @@ void reorder(const Alignment& al, glm::ivec3 stored, glm::ivec3 placed, RawVolum
 
 // Cubic axis-aligned voxels: the grid as stored, axes reordered and flipped into LPS.
 void placeExactly(const std::string& path, const Alignment& al, glm::dvec3 centre0, RawVolume& v) {
-  v.voxelSizeMm = (al.spacing[0] + al.spacing[1] + al.spacing[2]) / 3.0;
+  v.voxelSizeMm = (al.scale[0] + al.scale[1] + al.scale[2]) / 3.0;
   const glm::ivec3 stored = v.sizes;
   glm::ivec3 placed;
   glm::dvec3 lowCentre;

@@ -25,6 +25,19 @@ std::pair<int, int> voxelsWithin(double lowMm, double v, int n, double cropLo, d
   return {int(std::clamp(first, 0.0, double(n))), int(std::clamp(end, 0.0, double(n)))};
 }
 
+// A resampled grid too large: the voxel size's fault when one was given, else the volume's
+// (its finest spacing).
+[[noreturn]] void refuseResampling(const std::string& path, const VolumeOptions& options,
+                                   double voxelMm, const std::string& what) {
+  if (options.voxelSizeMm) {
+    throw OptionError("volume.voxelSizeMm", numberText(voxelMm),
+                      "resamples " + path + " to " + what + "; give a larger one or a crop");
+  }
+  throw InputError(path + ": resampled at its finest spacing, " + numberText(voxelMm) +
+                   " mm, it would be " + what +
+                   "; give a larger volume.voxelSizeMm or a volume.cropMm");
+}
+
 }  // namespace
 
 BoxMm storedBoxMm(const RawVolume& raw, glm::ivec3 lo, glm::ivec3 hi) {
@@ -62,8 +75,7 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
     const double extent = (box.maxMm[a] - box.minMm[a]) / g.voxelSizeMm;
     end[a] = g.exact ? raw.sizes[a] : int(std::max(1.0, std::ceil(extent - 1e-6)));
     if (!g.exact && !(extent < double(1 << 30))) {
-      throw OptionError("volume.voxelSizeMm", numberText(g.voxelSizeMm),
-                        "resamples " + path + " to more than 2^30 voxels along an axis");
+      refuseResampling(path, options, g.voxelSizeMm, "more than 2^30 voxels along an axis");
     }
     if (crop) {
       std::tie(first[a], end[a]) =
@@ -82,9 +94,7 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
   g.offset = glm::ivec3(0);
   const double voxels = double(g.sizes.x) * double(g.sizes.y) * double(g.sizes.z);
   if (voxels > double(VoxelGrid::kMaxVoxels)) {
-    throw OptionError("volume.voxelSizeMm", numberText(g.voxelSizeMm),
-                      "resamples " + path + " to " + numberText(voxels) +
-                          " voxels, more than 2^32: give a larger voxel size or a crop");
+    refuseResampling(path, options, g.voxelSizeMm, numberText(voxels) + " voxels, more than 2^32");
   }
   // The stored values, a fill and a distance per voxel, the grid's bricks at worst.
   refuseOverMemory(path + ": resampled at " + numberText(g.voxelSizeMm) + " mm",

@@ -33,12 +33,13 @@ struct BoneSource {
   // How a mesh's coordinates become millimetres: a unit (mm, cm, m, in), or a scale instead.
   std::string units = "mm";
   std::optional<double> scale;
-  // A mesh's voxel edge. A volume has its own: when given, it must be the volume's.
+  // A mesh's voxel edge. A volume has its own: when given, it must be the volume's, unless the
+  // volume is resampled (anisotropic or oblique voxels), which then takes it.
   std::optional<double> voxelSizeMm;
   // A mesh without voxelSizeMm is voxelized at this; none: voxelSizeMm is required for a mesh.
   std::optional<double> defaultVoxelSizeMm;
-  // What a volume means (its bone label, its iso level in HU) and how it is read; label and iso
-  // are refused for a mesh.
+  // What a volume means (its bone label, its iso level), which part is loaded (a crop) and how
+  // it is read; label, iso and crops are refused for a mesh. Its voxelSizeMm is this source's.
   geometry::VolumeOptions volume;
   // A mesh's voxelization (rays, density rule); its voxel size and names come from the source.
   geometry::VoxelizeOptions voxelizing;
@@ -82,6 +83,10 @@ struct BoneMesh {
   BoneRead read;
 };
 BoneMesh loadBoneMesh(const BoneSource& source);
+
+// A crop box as front ends take it, "X0:X1,Y0:Y1,Z0:Z1" in LPS mm (each range low below high).
+// Throws OptionError "volume.cropMm <text>: <reason>".
+geometry::BoxMm parseCropMm(const std::string& text);
 
 // The command-line flag of a BoneSource field ("voxelSizeMm" -> "--voxel-size"), as osteon's
 // command lines (osteon, osteon-viewer) spell it; nullptr for a field they do not have.
