@@ -77,12 +77,14 @@ Slice sliceOf(const gdcm::Scanner& scanner, const std::string& file) {
 // The file meta group (0002,xxxx), explicit VR little endian after "DICM", checked before
 // GDCM reads it: Debian's GDCM is built with assertions, and an unknown VR there aborts the
 // process instead of failing the read.
-void refuseMalformedMeta(const std::string& file) {
+// Returns the transfer syntax UID ("" when the file has no DICM preamble or names none).
+std::string refuseMalformedMeta(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   std::string head(65536, '\0');
   in.read(&head[0], std::streamsize(head.size()));
   head.resize(std::size_t(in.gcount()));
-  if (head.size() < 132 || head.compare(128, 4, "DICM") != 0) return;
+  if (head.size() < 132 || head.compare(128, 4, "DICM") != 0) return {};
+  std::string syntax;
   static const std::string kVrs =
       "AE AS AT CS DA DS DT FD FL IS LO LT OB OD OF OL OV OW PN SH SL SQ SS ST SV TM UC UI UL UN "
       "UR US UT UV";
@@ -108,8 +110,13 @@ void refuseMalformedMeta(const std::string& file) {
     }
     if (length == 0xffffffff || length > head.size() - next)
       fail(name + ": a corrupt file meta header (an element's length runs past it)");
+    if (byte(at + 2) == 0x10 && byte(at + 3) == 0) {
+      syntax = head.substr(next, length);
+      while (!syntax.empty() && (syntax.back() == '\0' || syntax.back() == ' ')) syntax.pop_back();
+    }
     at = next + length;
   }
+  return syntax;
 }
 
 // A file GDCM passed over: not DICOM (no "DICM" after the 128-byte preamble), or DICOM that GDCM
@@ -140,7 +147,7 @@ std::vector<Series> scanSeries(const std::string& path) {
   std::error_code ec;
   const bool folder = fs::is_directory(path, ec);
   const std::vector<std::string> files = folder ? folderFiles(path) : std::vector{path};
-  for (const std::string& file : files) refuseMalformedMeta(file);
+  for (const std::string& file : files) refuseLyingLengths(file, refuseMalformedMeta(file));
   gdcm::Scanner scanner;
   for (const gdcm::Tag& t : {kSopClass, kDescription, kSeriesUid, kPosition, kOrientation, kFrames,
                              kPixelSpacing, kIntercept, kSlope})
