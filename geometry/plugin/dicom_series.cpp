@@ -85,9 +85,6 @@ std::string refuseMalformedMeta(const std::string& file) {
   head.resize(std::size_t(in.gcount()));
   if (head.size() < 132 || head.compare(128, 4, "DICM") != 0) return {};
   std::string syntax;
-  static const std::string kVrs =
-      "AE AS AT CS DA DS DT FD FL IS LO LT OB OD OF OL OV OW PN SH SL SQ SS ST SV TM UC UI UL UN "
-      "UR US UT UV";
   static const std::string kLongVrs = "OB OD OF OL OV OW SQ UC UN UR UT SV UV";
   const auto byte = [&head](std::size_t i) {
     return std::size_t(static_cast<unsigned char>(head[i]));
@@ -95,8 +92,7 @@ std::string refuseMalformedMeta(const std::string& file) {
   const std::string name = fs::path(file).filename().string();
   for (std::size_t at = 132; at + 8 <= head.size() && byte(at) == 2 && byte(at + 1) == 0;) {
     const std::string vr = head.substr(at + 4, 2);
-    if (vr.size() != 2 || !std::isupper(static_cast<unsigned char>(vr[0])) ||
-        !std::isupper(static_cast<unsigned char>(vr[1])) || kVrs.find(vr) == std::string::npos)
+    if (!isVr(vr))
       fail(name + ": a corrupt file meta header (element at byte " + std::to_string(at) +
            " has no valid VR)");
     std::size_t length = 0, next = 0;

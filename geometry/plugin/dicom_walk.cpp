@@ -1,6 +1,7 @@
 // Every element length in a DICOM file checked against the file before GDCM reads it: GDCM
 // allocates what a header declares (a 4 GB element in a 1 KB file) before it finds the file
 // too short. Only the element headers are read; values are skipped.
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +56,12 @@ struct Walker {
         vr[0] = char(read(at + 4, 1));
         vr[1] = char(read(at + 5, 1));
         const std::string v(vr, 2);
+        // GDCM falls back to implicit VR where the bytes are no VR, and then trusts lengths
+        // this walk did not see: a data set must be what its transfer syntax says.
+        if (!isVr(v)) {
+          fail(name + ": element (" + hex(group) + "," + hex(element) +
+               ") has no valid VR, though its transfer syntax says explicit VR");
+        }
         if (longVr(v)) {
           length = read(at + 8, 4);
           at += 12;
@@ -92,6 +99,14 @@ struct Walker {
 };
 
 }  // namespace
+
+bool isVr(const std::string& vr) {
+  static const std::string kVrs =
+      "AE AS AT CS DA DS DT FD FL IS LO LT OB OD OF OL OV OW PN SH SL SQ SS ST SV TM UC UI UL UN "
+      "UR US UT UV";
+  return vr.size() == 2 && std::isupper(static_cast<unsigned char>(vr[0])) &&
+         std::isupper(static_cast<unsigned char>(vr[1])) && kVrs.find(vr) != std::string::npos;
+}
 
 void refuseLyingLengths(const std::string& file, const std::string& transferSyntax) {
   std::error_code ec;
