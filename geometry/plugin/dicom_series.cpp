@@ -90,7 +90,8 @@ std::string refuseMalformedMeta(const std::string& file) {
     return std::size_t(static_cast<unsigned char>(head[i]));
   };
   const std::string name = fs::path(file).filename().string();
-  for (std::size_t at = 132; at + 8 <= head.size() && byte(at) == 2 && byte(at + 1) == 0;) {
+  std::size_t at = 132;
+  for (; at + 8 <= head.size() && byte(at) == 2 && byte(at + 1) == 0;) {
     const std::string vr = head.substr(at + 4, 2);
     if (!isVr(vr))
       fail(name + ": a corrupt file meta header (element at byte " + std::to_string(at) +
@@ -112,6 +113,10 @@ std::string refuseMalformedMeta(const std::string& file) {
     }
     at = next + length;
   }
+  // A few bytes after the last element, too few for another: GDCM asserts reading them.
+  if (at < head.size() && head.size() < 65536 && at + 8 > head.size())
+    fail(name + ": truncated: " + std::to_string(head.size() - at) +
+         " stray bytes after its file meta header");
   return syntax;
 }
 
