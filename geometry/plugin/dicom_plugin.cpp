@@ -10,6 +10,7 @@
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmImplicitDataElement.h>
+#include <gdcmSequenceOfFragments.h>
 #include <gdcmTrace.h>
 #include <gdcmTransferSyntax.h>
 #include <gdcmVersion.h>
@@ -113,6 +114,27 @@ void readImage(gdcm::ImageReader& reader, const std::string& file) {
   refuseTruncated(reader.GetFile(), file);
 }
 
+// The pixel data must be able to hold the image its header describes, checked before the values
+// are allocated: native data at its full length, compressed data within 100000:1 (far past what
+// JPEG-LS makes of a blank slice), so a small file cannot ask for gigabytes.
+void refuseImplausible(const gdcm::File& f, const std::string& file, std::uint64_t bytes) {
+  const gdcm::Tag pixelData(0x7fe0, 0x0010);
+  if (!f.GetDataSet().FindDataElement(pixelData)) fail(name(file) + ": no pixel data");
+  const gdcm::DataElement& e = f.GetDataSet().GetDataElement(pixelData);
+  if (const gdcm::ByteValue* bv = e.GetByteValue()) {
+    if (bv->GetLength() < bytes) {
+      fail(name(file) + ": truncated: " + std::to_string(bv->GetLength()) +
+           " bytes of pixel data, its size needs " + std::to_string(bytes));
+    }
+  } else if (const gdcm::SequenceOfFragments* sf = e.GetSequenceOfFragments()) {
+    if (bytes / 100000 > sf->ComputeByteLength()) {
+      fail(name(file) + ": " + std::to_string(sf->ComputeByteLength()) +
+           " bytes of compressed pixel data cannot hold the " + std::to_string(bytes) +
+           " bytes its size needs");
+    }
+  }
+}
+
 // Decodes one image's pixels into `to` (exactly `bytes`).
 void decode(const gdcm::Image& image, const std::string& file, char* to, std::size_t bytes) {
   if (image.GetBufferLength() != bytes) {
@@ -156,6 +178,7 @@ void readSeries(const Stack& stack, const Output& out) {
   v.slope = ownRescale ? 1.0 : stack.slices.front().slope;
   v.intercept = ownRescale ? 0.0 : stack.slices.front().intercept;
   v.slices_rescaled = ownRescale ? 1 : 0;
+  refuseImplausible(first.GetFile(), stack.slices.front().file, perSlice * p.bytes);
   char* data = out.allocate(perSlice * n * (ownRescale ? sizeof(float) : p.bytes));
   std::vector<char> slice(ownRescale ? perSlice * p.bytes : 0);
   for (std::size_t k = 0; k < n; ++k) {
@@ -218,6 +241,7 @@ void readMultiFrame(const Slice& slice, const Output& out) {
   v.slices_rescaled = 0;
   const std::size_t bytes =
       std::size_t(v.sizes[0]) * std::size_t(v.sizes[1]) * std::size_t(v.sizes[2]) * p.bytes;
+  refuseImplausible(reader.GetFile(), slice.file, bytes);
   decode(image, slice.file, out.allocate(bytes), bytes);
 }
 

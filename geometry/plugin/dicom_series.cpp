@@ -1,6 +1,7 @@
 #include "dicom_series.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -73,6 +74,52 @@ Slice sliceOf(const gdcm::Scanner& scanner, const std::string& file) {
   return s;
 }
 
+// The file meta group (0002,xxxx), explicit VR little endian after "DICM", checked before
+// GDCM reads it: Debian's GDCM is built with assertions, and an unknown VR there aborts the
+// process instead of failing the read.
+// Returns the transfer syntax UID ("" when the file has no DICM preamble or names none).
+std::string refuseMalformedMeta(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(&head[0], std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  if (head.size() < 132 || head.compare(128, 4, "DICM") != 0) return {};
+  std::string syntax;
+  static const std::string kLongVrs = "OB OD OF OL OV OW SQ UC UN UR UT SV UV";
+  const auto byte = [&head](std::size_t i) {
+    return std::size_t(static_cast<unsigned char>(head[i]));
+  };
+  const std::string name = fs::path(file).filename().string();
+  std::size_t at = 132;
+  for (; at + 8 <= head.size() && byte(at) == 2 && byte(at + 1) == 0;) {
+    const std::string vr = head.substr(at + 4, 2);
+    if (!isVr(vr))
+      fail(name + ": a corrupt file meta header (element at byte " + std::to_string(at) +
+           " has no valid VR)");
+    std::size_t length = 0, next = 0;
+    if (kLongVrs.find(vr) != std::string::npos) {
+      if (at + 12 > head.size()) break;
+      length = byte(at + 8) | byte(at + 9) << 8 | byte(at + 10) << 16 | byte(at + 11) << 24;
+      next = at + 12;
+    } else {
+      length = byte(at + 6) | byte(at + 7) << 8;
+      next = at + 8;
+    }
+    if (length == 0xffffffff || length > head.size() - next)
+      fail(name + ": a corrupt file meta header (an element's length runs past it)");
+    if (byte(at + 2) == 0x10 && byte(at + 3) == 0) {
+      syntax = head.substr(next, length);
+      while (!syntax.empty() && (syntax.back() == '\0' || syntax.back() == ' ')) syntax.pop_back();
+    }
+    at = next + length;
+  }
+  // A few bytes after the last element, too few for another: GDCM asserts reading them.
+  if (at < head.size() && head.size() < 65536 && at + 8 > head.size())
+    fail(name + ": truncated: " + std::to_string(head.size() - at) +
+         " stray bytes after its file meta header");
+  return syntax;
+}
+
 // A file GDCM passed over: not DICOM (no "DICM" after the 128-byte preamble), or DICOM that GDCM
 // cannot parse, which is refused, naming its transfer syntax when GDCM does not know it.
 void refuseUnparsed(const std::string& file) {
@@ -101,6 +148,7 @@ std::vector<Series> scanSeries(const std::string& path) {
   std::error_code ec;
   const bool folder = fs::is_directory(path, ec);
   const std::vector<std::string> files = folder ? folderFiles(path) : std::vector{path};
+  for (const std::string& file : files) refuseLyingLengths(file, refuseMalformedMeta(file));
   gdcm::Scanner scanner;
   for (const gdcm::Tag& t : {kSopClass, kDescription, kSeriesUid, kPosition, kOrientation, kFrames,
                              kPixelSpacing, kIntercept, kSlope})

@@ -32,6 +32,12 @@ struct Series {
   std::vector<Slice> slices;
 };
 
+// Every element's declared length checked against the file (dicom_walk.cpp), given the file's
+// transfer syntax UID: GDCM would allocate what a header declares before finding the file short.
+void refuseLyingLengths(const std::string& file, const std::string& transferSyntax);
+// One of DICOM's two-letter value representations ("US", "OB", ...).
+bool isVr(const std::string& vr);
+
 // The series of a folder (its regular files, not its sub-folders), or of one file: a multi-frame
 // file alone, a one-frame file with the slices of its series beside it. Files that are not DICOM
 // are passed over; a folder with no DICOM slice is refused.

@@ -76,7 +76,8 @@ TEST_F(BoneSourceCliTest, AVolumesOwnVoxelSizeAndMeaningAreCheckedOnceForEveryCo
   expectSameRefusal(
       {"hierarchy default --voxel-size 1.2 --label 1", "mesh default --voxel-size 1.2 --label 1",
        "drill default --voxel-size 1.2 --path portal-5 --label 1 --out-dir " + out},
-      "osteon: error: --label: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");
+      "osteon: error: --label: only for a volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, DICOM); "
+      "default is a mesh");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -41,13 +42,19 @@ glm::dvec3 boxCentreMm() {
 }
 
 // 1200 HU inside the box, -1000 outside, stored as uint16 with intercept -1024.
-std::int32_t stored(int x, int y, int k) {
-  const bool in = x >= kLo && x < kHi && y >= kLo && y < kHi && k >= kSliceLo && k < kSliceHi;
+// Or, `ball`, a ball of 8 mm radius about the same centre (a head for validate's portal-5).
+std::int32_t stored(int x, int y, int k, bool ball = false) {
+  const glm::dvec3 at = kFirstMm + rowDir() * (x * kPixelMm) + colDir() * (y * kPixelMm) +
+                        glm::dvec3(0, 0, k * kSliceMm);
+  const bool in = ball
+                      ? glm::length(at - boxCentreMm()) < 8.0
+                      : x >= kLo && x < kHi && y >= kLo && y < kHi && k >= kSliceLo && k < kSliceHi;
   return (in ? 1200 : -1000) + 1024;
 }
 
 class DicomMetaImageCliTest : public CliTest {
  protected:
+  bool ball_ = false;  // write the ball, not the box
   // Slices first .. first + count - 1 of the stack, files named <uid>_<shuffled index>.
   std::string writeSeries(const std::string& name, const std::string& uid, int count,
                           int first = 0) {
@@ -69,7 +76,7 @@ class DicomMetaImageCliTest : public CliTest {
       std::copy(o, o + 6, s.orientation);
       for (int a = 0; a < 3; ++a) s.position[a] = p[a];
       for (int y = 0; y < kPixels; ++y)
-        for (int x = 0; x < kPixels; ++x) s.stored.push_back(stored(x, y, k));
+        for (int x = 0; x < kPixels; ++x) s.stored.push_back(stored(x, y, k, ball_));
       test::writeDicomSlice(
           folder + "/" + uid + "_" + std::to_string(order[std::size_t(k - first)]), s);
     }
@@ -81,7 +88,7 @@ class DicomMetaImageCliTest : public CliTest {
     for (int k = 0; k < kSlices; ++k) {
       for (int y = 0; y < kPixels; ++y) {
         for (int x = 0; x < kPixels; ++x) {
-          const std::int16_t hu = std::int16_t(stored(x, y, k) - 1024);
+          const std::int16_t hu = std::int16_t(stored(x, y, k, ball_) - 1024);
           data.append(reinterpret_cast<const char*>(&hu), 2);
         }
       }
@@ -134,6 +141,22 @@ TEST_F(DicomMetaImageCliTest, AnObliqueAnisotropicSeriesMeshesWhereTheScannerPut
   expectDrills(folder, "drill_dicom");
   expectMeshedInPlace(writeMha("ct.mha"), "metaimage");
   expectDrills(path("ct.mha"), "drill_mha");
+}
+
+TEST_F(DicomMetaImageCliTest, ValidateTakesBothAtTheirOwnVoxelSize) {
+  ball_ = true;
+  const std::string folder = writeSeries("ct", "1.2.826.0.1.3680043.2.1125.7", kSlices);
+  const std::string mha = writeMha("ct.mha");
+  const CliRun run = osteon("validate --quick --models '" + folder + "','" + mha + "' --out-dir '" +
+                            path("v") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.err << run.out;
+  std::ifstream in(path("v/report.json"));
+  const nlohmann::json report = nlohmann::json::parse(in);
+  ASSERT_EQ(report["cases"].size(), 8u);  // 2 volumes x 1 voxel size x 2 methods x 2 modes
+  for (const nlohmann::json& c : report["cases"]) {
+    EXPECT_DOUBLE_EQ(c["voxel_size_mm"].get<double>(), kPixelMm);  // the finest spacing
+    EXPECT_GT(c["triangles"].get<std::size_t>(), 0u);
+  }
 }
 
 TEST_F(DicomMetaImageCliTest, SeriesAreListedAndPicked) {

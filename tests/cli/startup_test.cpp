@@ -93,6 +93,23 @@ TEST_F(StartupTest, CommandsThatWriteNoImageNeverLoadOpenImageIO) {
   }
 }
 
+// GDCM's initialisers cost about 40 ms: only a command that reads DICOM loads it.
+TEST_F(StartupTest, OnlyCommandsThatReadDicomLoadGdcm) {
+  const std::string seeds = std::string(OSTEON_SOURCE_DIR) + "/tests/data/seeds/";
+  for (const std::string& args : {std::string("--help"), std::string("info default"),
+                                  "mesh '" + seeds + "volume.mha' --json"}) {
+    const LoaderLog l = withLoaderLog(args);
+    EXPECT_EQ(l.run.exitCode, 0) << args << "\n" << l.run.err;
+    ASSERT_TRUE(loaded(l, "libembree3")) << args << ": no loader log";
+    EXPECT_FALSE(loaded(l, "libgdcm")) << args;
+    EXPECT_FALSE(loaded(l, "libosteon_dicom")) << args;
+  }
+  const LoaderLog dicom = withLoaderLog("mesh '" + seeds + "volume.dcm' --json");
+  EXPECT_EQ(dicom.run.exitCode, 0) << dicom.run.err;
+  EXPECT_TRUE(loaded(dicom, "libosteon_dicom"));
+  EXPECT_TRUE(loaded(dicom, "libgdcmMSFF"));
+}
+
 TEST_F(StartupTest, HelpStaysSmall) {
   // Peak RSS of `osteon --help`, as /usr/bin/time measures it (135 MB with OpenImageIO linked).
   if (!std::filesystem::exists("/usr/bin/time")) GTEST_SKIP() << "no /usr/bin/time";

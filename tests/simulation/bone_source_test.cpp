@@ -54,7 +54,8 @@ TEST(BoneSource, EachRefusalNamesItsFieldAndTheFrontEndsFlag) {
   source.volume.isoValue = 300.0;
   e = refusal(source);
   EXPECT_EQ(commandLineMessage(e),
-            "--iso: only for a volume (.nrrd, .nhdr, .nii, .nii.gz); default is a mesh");
+            "--iso: only for a volume (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, DICOM); default is "
+            "a mesh");
 }
 
 TEST(BoneSource, AMeshIsReadScaledAndVoxelizedAsNamed) {

@@ -101,6 +101,36 @@ void writeDicomSlice(const std::string& path, const DicomSlice& s) {
   if (!rewriter.Write()) throw std::runtime_error("GDCM cannot write " + path);
 }
 
+void writeDicomMultiFrame(const std::string& path, const DicomSlice& s, int frames,
+                          double sliceSpacingMm) {
+  gdcm::Trace::SetWarning(false);
+  gdcm::ImageWriter writer;
+  gdcm::Image& image = writer.GetImage();
+  image.SetNumberOfDimensions(3);
+  image.SetDimension(0, unsigned(s.columns));
+  image.SetDimension(1, unsigned(s.rows));
+  image.SetDimension(2, unsigned(frames));
+  image.SetPixelFormat(gdcm::PixelFormat::INT16);
+  image.SetPhotometricInterpretation(gdcm::PhotometricInterpretation::MONOCHROME2);
+  const double spacing[3] = {s.pixelSpacing[1], s.pixelSpacing[0], sliceSpacingMm};
+  image.SetSpacing(spacing);
+  image.SetOrigin(s.position);
+  image.SetDirectionCosines(s.orientation);
+  std::vector<std::int32_t> values;
+  for (int k = 0; k < frames; ++k)
+    for (std::int32_t v : s.stored) values.push_back(v + 100 * k);
+  const std::vector<char> bytes = bytesOf<std::int16_t>(values);
+  gdcm::DataElement pixels(gdcm::Tag(0x7fe0, 0x0010));
+  pixels.SetByteValue(bytes.data(), gdcm::VL(std::uint32_t(bytes.size())));
+  image.SetDataElement(pixels);
+  image.SetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+  gdcm::Attribute<0x0008, 0x0016> sop;
+  sop.SetValue("1.2.840.10008.5.1.4.1.1.2.1");  // enhanced CT image storage
+  writer.GetFile().GetDataSet().Replace(sop.GetAsDataElement());
+  writer.SetFileName(path.c_str());
+  if (!writer.Write()) throw std::runtime_error("GDCM cannot write " + path);
+}
+
 std::vector<DicomSlice> dicomStack(int count, double z0, double spacingMm, int columns, int rows) {
   std::vector<DicomSlice> out(std::size_t(count), DicomSlice{});
   for (int k = 0; k < count; ++k) {

@@ -26,6 +26,11 @@ struct DicomSlice {
 // Writes one slice to `path`; throws std::runtime_error when GDCM cannot.
 void writeDicomSlice(const std::string& path, const DicomSlice& slice);
 
+// One multi-frame file of `frames` slices of `slice`'s size and geometry, `sliceSpacingMm` apart
+// along the normal, as GDCM writes a 3-D image (an enhanced CT: per-frame functional groups).
+void writeDicomMultiFrame(const std::string& path, const DicomSlice& slice, int frames,
+                          double sliceSpacingMm);
+
 // A stack of `count` slices along z, `spacingMm` apart from z = z0, slice k holding values
 // 100 * k + (x + columns * y) - 1024 (stored).
 std::vector<DicomSlice> dicomStack(int count, double z0, double spacingMm, int columns = 4,

@@ -14,6 +14,7 @@
 
 #include "support/files.h"
 #include "support/process.h"
+#include "viewer_fixture.h"
 
 namespace osteon {
 namespace {
@@ -34,41 +35,17 @@ std::size_t greenPixels(const std::string& png) {
   return green;
 }
 
-class ViewerExerciseTest : public ::testing::Test {
+class ViewerExerciseTest : public test::ViewerFixture {
  protected:
-  static void SetUpTestSuite() {
-    xvfbWorks_ =
-        std::system("command -v xvfb-run >/dev/null 2>&1 && xvfb-run -a true >/dev/null 2>&1") == 0;
-  }
-  void SetUp() override {
-    if (!xvfbWorks_)
-      GTEST_SKIP()
-          << "no X server: xvfb-run is missing or Xvfb cannot start (scripts/setup installs xvfb)";
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  ViewerExerciseTest() : ViewerFixture("viewer_exercise") {}
 
-  test::ProcessRun run(const std::string& args, bool window = true) const {
-    const std::string prefix =
-        window ? "xvfb-run -a -s '-screen 0 1280x800x24' " : "env -u DISPLAY ";
-    return test::runShell(prefix + "timeout 300 '" OSTEON_VIEWER "' " + args, path("stdout"),
-                          path("stderr"));
-  }
   json viewer(const std::string& args, const std::string& png) const {
     const test::ProcessRun r = run(args + " --json --screenshot '" + path(png) + "'");
     EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
-    if (const char* keep = std::getenv("OSTEON_VIEWER_SHOTS")) {
-      std::filesystem::create_directories(keep);
-      std::filesystem::copy_file(path(png), std::string(keep) + "/" + png,
-                                 std::filesystem::copy_options::overwrite_existing);
-    }
+    keepShot(png);
     return r.exitCode == 0 ? json::parse(r.out) : json::object();
   }
-
-  std::string dir_ = test::makeTempDir("viewer_exercise");
-  static bool xvfbWorks_;
 };
-bool ViewerExerciseTest::xvfbWorks_ = false;
 
 TEST_F(ViewerExerciseTest, ThePlanPathScoresFullMarksInTheViewer) {
   const json j = viewer(

@@ -12,25 +12,15 @@
 
 #include "support/files.h"
 #include "support/process.h"
+#include "viewer_fixture.h"
 
 namespace osteon::test {
 
 using nlohmann::json;
 
-class ViewerHand : public ::testing::Test {
+class ViewerHand : public ViewerFixture {
  protected:
-  static void SetUpTestSuite() {
-    works_ = std::system(
-                 "command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1 && "
-                 "xvfb-run -a true >/dev/null 2>&1") == 0;
-  }
-  void SetUp() override {
-    if (!works_)
-      GTEST_SKIP()
-          << "no X input: xvfb-run or xdotool is missing, or Xvfb cannot start (scripts/setup)";
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  ViewerHand() : ViewerFixture("viewer_hand", true) {}
 
   // Opens the viewer on `bone` (the built-in one) with the mouse tool, plays `input` (shell lines
   // of xdotool; $pid is the viewer's process) to its window, closes it with Esc and Enter (Esc asks
@@ -57,18 +47,10 @@ class ViewerHand : public ::testing::Test {
                                     path("xvfb.out"), path("xvfb.err"))
                          .exitCode;
     EXPECT_EQ(code, 0) << args << "\n" << test::readBytes(path("stderr"));
-    if (const char* keep = std::getenv("OSTEON_VIEWER_SHOTS")) {
-      std::filesystem::create_directories(keep);
-      std::filesystem::copy_file(path(png), std::string(keep) + "/" + png,
-                                 std::filesystem::copy_options::overwrite_existing);
-    }
+    keepShot(png);
     EXPECT_GT(test::readBytes(path(png)).size(), 10000u);
     return code == 0 ? json::parse(test::readBytes(path("stdout"))) : json::object();
   }
-
-  std::string dir_ = test::makeTempDir("viewer_hand");
-  static bool works_;
 };
-inline bool ViewerHand::works_ = false;
 
 }  // namespace osteon::test

@@ -16,6 +16,7 @@
 
 #include "support/files.h"
 #include "support/process.h"
+#include "viewer_fixture.h"
 
 namespace osteon {
 namespace {
@@ -64,19 +65,9 @@ FieldCounts countField(const Image& image, double cx, double cy, double radius, 
   return c;
 }
 
-class ViewerScopeTest : public ::testing::Test {
+class ViewerScopeTest : public test::ViewerFixture {
  protected:
-  static void SetUpTestSuite() {
-    xvfbWorks_ =
-        std::system("command -v xvfb-run >/dev/null 2>&1 && xvfb-run -a true >/dev/null 2>&1") == 0;
-  }
-  void SetUp() override {
-    if (!xvfbWorks_)
-      GTEST_SKIP()
-          << "no X server: xvfb-run is missing or Xvfb cannot start (scripts/setup installs xvfb)";
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  ViewerScopeTest() : ViewerFixture("viewer_scope") {}
 
   // Runs the viewer and returns its last frame.
   Image shot(const std::string& args, const std::string& png) const {
@@ -85,18 +76,10 @@ class ViewerScopeTest : public ::testing::Test {
                            args + " --frames 5 --json --screenshot '" + path(png) + "'",
                        path("stdout"), path("stderr"));
     EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
-    if (const char* keep = std::getenv("OSTEON_VIEWER_SHOTS")) {
-      std::filesystem::create_directories(keep);
-      std::filesystem::copy_file(path(png), std::string(keep) + "/" + png,
-                                 std::filesystem::copy_options::overwrite_existing);
-    }
+    keepShot(png);
     return readPng(path(png));
   }
-
-  std::string dir_ = test::makeTempDir("viewer_scope");
-  static bool xvfbWorks_;
 };
-bool ViewerScopeTest::xvfbWorks_ = false;
 
 // The scope at the 5 o'clock portal looks at the humeral head: bone fills much of its circle,
 // and everything outside the circle is black.

@@ -14,45 +14,26 @@
 #include "support/files.h"
 #include "support/process.h"
 #include "support/shapes.h"
+#include "viewer_fixture.h"
 
 namespace osteon {
 namespace {
 
 using ViewerRun = test::ProcessRun;
 
-class ViewerTest : public ::testing::Test {
+class ViewerTest : public test::ViewerFixture {
  protected:
-  static void SetUpTestSuite() {
-    xvfbWorks_ =
-        std::system("command -v xvfb-run >/dev/null 2>&1 && xvfb-run -a true >/dev/null 2>&1") == 0;
-  }
-  void SetUp() override {
-    if (!xvfbWorks_)
-      GTEST_SKIP()
-          << "no X server: xvfb-run is missing or Xvfb cannot start (scripts/setup installs xvfb)";
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  ViewerTest() : ViewerFixture("viewer") {}
 
-  ViewerRun run(const std::string& program, const std::string& args, bool window = true) const {
-    const std::string prefix =
-        window ? "xvfb-run -a -s '-screen 0 1280x800x24' " : "env -u DISPLAY ";
-    return test::runShell(prefix + "timeout 300 '" + program + "' " + args, path("stdout"),
-                          path("stderr"));
-  }
   nlohmann::json viewer(const std::string& args) const {
-    const ViewerRun r = run(OSTEON_VIEWER, args + " --size 640x480 --json");
+    const ViewerRun r = runProgram(OSTEON_VIEWER, args + " --size 640x480 --json");
     EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
     return r.exitCode == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
   }
   static std::uint64_t cracks(const nlohmann::json& j) {
     return j["red_pixels"].get<std::uint64_t>() - j["red_silhouette_pixels"].get<std::uint64_t>();
   }
-
-  std::string dir_ = test::makeTempDir("viewer");
-  static bool xvfbWorks_;
 };
-bool ViewerTest::xvfbWorks_ = false;
 
 TEST_F(ViewerTest, TheFrontViewShowsTheBoneInTheMiddle) {
   const nlohmann::json shaded =
@@ -119,10 +100,10 @@ TEST_F(ViewerTest, ARecordedPathReplaysInDrillToTheSameRemovedVolume) {
   ASSERT_GT(live["recorded_samples"].get<std::size_t>(), 7000u);
   // The recording is the portal path's poses: replayed as they were, without a proxy.
   const ViewerRun replay =
-      run(OSTEON_CLI,
-          "drill default --voxel-size 1.2 --levels 2 --coupling direct --path '" + path("r.csv") +
-              "' --out-dir '" + path("replay") + "' --json",
-          false);
+      runProgram(OSTEON_CLI,
+                 "drill default --voxel-size 1.2 --levels 2 --coupling direct --path '" +
+                     path("r.csv") + "' --out-dir '" + path("replay") + "' --json",
+                 false);
   ASSERT_EQ(replay.exitCode, 0) << replay.err;
   const nlohmann::json summary = nlohmann::json::parse(replay.out);
   const double liveMm3 = live["removed_volume_mm3"].get<double>();
@@ -141,17 +122,17 @@ TEST_F(ViewerTest, ARecordedPathReplaysInDrillToTheSameRemovedVolume) {
 // device, replayed as a device.
 TEST_F(ViewerTest, ADeviceDrivesTheTool) {
   const ViewerRun record =
-      run(OSTEON_CLI,
-          "drill default --voxel-size 1.2 --levels 2 --device scripted:portal-5 --record '" +
-              path("portal5.csv") + "' --out-dir '" + path("d") + "'",
-          false);
+      runProgram(OSTEON_CLI,
+                 "drill default --voxel-size 1.2 --levels 2 --device scripted:portal-5 --record '" +
+                     path("portal5.csv") + "' --out-dir '" + path("d") + "'",
+                 false);
   ASSERT_EQ(record.exitCode, 0) << record.err;
   const nlohmann::json j =
       viewer("default --device 'replay:" + path("portal5.csv") + "' --frames 400");
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 1.0);
   EXPECT_GT(j["max_force_n"].get<double>(), 0.5);
   EXPECT_LE(j["max_force_n"].get<double>(), 3.3 + 1e-9);
-  const ViewerRun bad = run(OSTEON_VIEWER, "default --device nonsense:x", false);
+  const ViewerRun bad = runProgram(OSTEON_VIEWER, "default --device nonsense:x", false);
   EXPECT_EQ(bad.exitCode, 2) << bad.err;
   EXPECT_NE(bad.err.find("nonsense:x"), std::string::npos) << bad.err;
 }
@@ -159,10 +140,10 @@ TEST_F(ViewerTest, ADeviceDrivesTheTool) {
 // The built-in bone as a label map and as a CT (seeded noise) opens like its mesh: the same bone
 // in view, crack-free, and portal-5 drills it with the head fitted to the volume's own surface.
 TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
-  ASSERT_EQ(
-      run(OSTEON_CLI, "voxelize default --voxel-size 1.5 --out '" + path("g.nrrd") + "'", false)
-          .exitCode,
-      0);
+  ASSERT_EQ(runProgram(OSTEON_CLI,
+                       "voxelize default --voxel-size 1.5 --out '" + path("g.nrrd") + "'", false)
+                .exitCode,
+            0);
   const geometry::VoxelGrid bone = geometry::readNrrd(path("g.nrrd")).grid;
   test::BoneVolumes made = test::boneVolumes(bone, 3.0, 30.0, 7, false);
   const test::TestVolume& v = made.geometry;
@@ -183,7 +164,7 @@ TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
     EXPECT_EQ(cracks(j), 0u);
     EXPECT_GT(j["removed_volume_mm3"].get<double>(), 10.0);
   }
-  const ViewerRun label = run(OSTEON_VIEWER, "default --label 1", false);
+  const ViewerRun label = runProgram(OSTEON_VIEWER, "default --label 1", false);
   EXPECT_EQ(label.exitCode, 2) << label.err;
   EXPECT_NE(label.err.find("--label: only for a volume"), std::string::npos) << label.err;
 }
@@ -192,13 +173,14 @@ TEST_F(ViewerTest, BadInputExitsTwoWithOneLineBeforeAnyWindow) {
   for (const std::string& args :
        {std::string("'") + path("missing.stl") + "'", std::string("default --voxel-size -1"),
         std::string("default --size 0x0"), std::string("default --view nonsense")}) {
-    const ViewerRun r = run(OSTEON_VIEWER, args,
-                            false);  // no DISPLAY: input is refused before a window is asked for
+    const ViewerRun r =
+        runProgram(OSTEON_VIEWER, args,
+                   false);  // no DISPLAY: input is refused before a window is asked for
     EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
     EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
   }
-  const ViewerRun noWindow = run(OSTEON_VIEWER, "default --frames 1", false);
+  const ViewerRun noWindow = runProgram(OSTEON_VIEWER, "default --frames 1", false);
   EXPECT_EQ(noWindow.exitCode, 2) << noWindow.err;
   EXPECT_NE(noWindow.err.find("window"), std::string::npos) << noWindow.err;
 }

@@ -48,6 +48,7 @@ struct VolumeFlags {
   std::optional<std::string> crop;
   std::optional<std::uint64_t> cropToLabel;
   double cropMarginMm = 10.0;
+  std::string series;
 };
 
 void addVolumeFlags(CLI::App& app, VolumeFlags& f) {
@@ -69,7 +70,11 @@ void addVolumeFlags(CLI::App& app, VolumeFlags& f) {
       "CT volumes: the bone threshold in HU (default 300); other volumes: in their own units");
   app.add_flag(
       "--allow-outside-data", f.allowOutsideData,
-      "NRRD volumes: read a 'data file:' outside the header's folder (refused by default)");
+      "NRRD and MetaImage volumes: read a data file outside the header's folder (refused by "
+      "default)");
+  app.add_option("--series", f.series,
+                 "DICOM folders: the Series Instance UID to read (default: the series with most "
+                 "slices)");
   app.add_option("--crop", f.crop, "Volumes: load only X0:X1,Y0:Y1,Z0:Z1 (LPS mm)");
   app.add_option("--crop-to-label", f.cropToLabel,
                  "Label maps: load only the box of this label, grown by --crop-margin")
@@ -82,6 +87,7 @@ void applyVolumeFlags(const VolumeFlags& f, osteon::geometry::VolumeOptions& vol
   volume.label = f.label;
   volume.isoValue = f.isoValue;
   volume.allowOutsideData = f.allowOutsideData;
+  volume.series = f.series;
   if (f.crop) volume.cropMm = osteon::simulation::parseCropMm(*f.crop);
   volume.cropToLabel = f.cropToLabel;
   volume.cropMarginMm = f.cropMarginMm;

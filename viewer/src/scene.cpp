@@ -143,7 +143,14 @@ void Scene::recordTrial() {
   options_.onRow = [self, maxForceN](const sim::ForceLogRow& row) {
     sim::TrialSample s;
     sim::ToolPose pose;
-    self->source_->latestSample(pose, s.drillOn);
+    if (self->deviceInput_) {
+      // A device's drill state and pose as the safety layer passed them to the session.
+      const sim::DeviceStatus status = self->deviceInput_->status();
+      s.drillOn = status.verdict.valid && status.verdict.drillOn;
+      pose.orientation = status.verdict.orientation;
+    } else {
+      self->source_->latestSample(pose, s.drillOn);
+    }
     s.tS = row.tS;
     s.tipMm = row.tipMm;  // the proxy's: where the bone let the tool go
     s.orientation = pose.orientation;

@@ -99,7 +99,14 @@ StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
   const int code =
       p.read(path.c_str(), seriesUid.c_str(), &v, allocate, &to, error.data(), error.size());
   if (code == 3 && !to.refusal.empty()) throw InputError(to.refusal);
-  if (code != 0) throw InputError(path + ": " + error.data());
+  if (code != 0) {
+    // The plugin names the slice at fault; for a single file that is the path itself.
+    std::string reason = error.data();
+    const std::string own = std::filesystem::path(path).filename().string() + ": ";
+    if (!std::filesystem::is_directory(path, ec) && reason.rfind(own, 0) == 0)
+      reason = reason.substr(own.size());
+    throw InputError(path + ": " + reason);
+  }
   RawVolume& raw = out.volume;
   for (int a = 0; a < 3; ++a) raw.sizes[a] = v.sizes[a];
   raw.type = v.type;

@@ -104,6 +104,23 @@ inline int shellVoxels(const VolumeOptions& options, const OutputGrid& g) {
   return int(std::clamp(std::ceil(options.corticalThicknessMm / g.voxelSizeMm), 1.0, 1e6));
 }
 
+// The grid of a fill per voxel (fillAt(position, index)), its density by the distance rule:
+// cortical within the shell of voxels nearest the outside, cancellous deeper. Returns the voxels
+// inside.
+template <typename FillAt>
+std::uint64_t buildByDistance(const OutputGrid& g, const FillAt& fillAt,
+                              const VolumeOptions& options, VoxelGrid& grid) {
+  // Whole (uncropped, exact) grids index the values by i alone: no position to work out.
+  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
+    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
+  });
+  const int shell = shellVoxels(options, g);
+  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
+    fill = fillAt(p, i);
+    density = distanceDensity(fill, dist[i], shell);
+  });
+}
+
 // A label map's grid: each voxel 0 or full where placed exactly, its share inside where
 // resampled; `inside` says which stored values are bone. Returns the voxels inside.
 template <typename T, typename Inside>
@@ -118,15 +135,7 @@ std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Ins
   const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
     return g.exact ? labelFill(g, values, p, i, inside) : fills[i];
   };
-  // Whole (uncropped, exact) grids index the values by i alone: no position to work out.
-  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
-    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
-  });
-  const int shell = shellVoxels(options, g);
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
-    fill = fillAt(p, i);
-    density = distanceDensity(fill, dist[i], shell);
-  });
+  return buildByDistance(g, fillAt, options, grid);
 }
 
 // The fill of a value: 0 at iso - halfWidth, full at iso + halfWidth (a step when 0).
@@ -166,14 +175,7 @@ std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Rea
     return g.exact ? rampFill(sampleValue(g, values, p, i, real, lowest), iso, halfWidth)
                    : fills[i];
   };
-  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
-    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
-  });
-  const int shell = shellVoxels(options, g);
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
-    fill = fillAt(p, i);
-    density = distanceDensity(fill, dist[i], shell);
-  });
+  return buildByDistance(g, fillAt, options, grid);
 }
 
 }  // namespace osteon::geometry

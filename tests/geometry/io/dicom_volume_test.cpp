@@ -216,6 +216,31 @@ TEST_F(DicomVolume, ObliqueAndTiltedSeriesGiveTheirFullGeometry) {
   EXPECT_EQ(v.volume.sizes, glm::ivec3(4, 3, 4));
 }
 
+TEST_F(DicomVolume, AMultiFrameFileKeepsItsGeometry) {
+  test::DicomSlice s = test::dicomStack(1, 0.0, 1.0).front();
+  const double a = 15.0 * M_PI / 180.0;
+  const double o[6] = {std::cos(a), std::sin(a), 0, -std::sin(a), std::cos(a), 0};
+  std::copy(o, o + 6, s.orientation);
+  s.pixelSpacing[0] = 0.5;
+  s.pixelSpacing[1] = 0.75;
+  s.position[0] = 1.0;
+  s.position[1] = 2.0;
+  s.position[2] = 3.0;
+  fs::create_directories(dir_ + "/multi");
+  test::writeDicomMultiFrame(dir_ + "/multi/ct.dcm", s, 5, 2.0);
+  const io::StoredVolume v = io::readDicom(dir_ + "/multi/ct.dcm", "");
+  EXPECT_EQ(v.volume.sizes, glm::ivec3(4, 3, 5));
+  EXPECT_NEAR(v.m[0][0], 0.75 * std::cos(a), 1e-6);
+  EXPECT_NEAR(v.m[1][1], 0.5 * std::cos(a), 1e-6);
+  EXPECT_NEAR(v.m[2][2], 2.0, 1e-6);
+  EXPECT_NEAR(v.centre0.x, 1.0, 1e-9);
+  EXPECT_NEAR(v.centre0.z, 3.0, 1e-9);
+  v.volume.visit([&](auto values) {
+    for (int k = 0; k < 5; ++k)
+      EXPECT_EQ(double(values[std::size_t(12 * k + 5)]), 100 * k + 5 - 1024);
+  });
+}
+
 TEST_F(DicomVolume, OtherImagesAndBrokenFilesAreRefused) {
   std::vector<test::DicomSlice> mr = rescaled(3);
   for (test::DicomSlice& s : mr) s.sopClass = "1.2.840.10008.5.1.4.1.1.4";

@@ -11,6 +11,7 @@
 #include "osteon/geometry/io/volume_io.h"
 #include "support/files.h"
 #include "support/volume_files.h"
+#include "support/volume_fixture.h"
 
 namespace osteon::geometry {
 namespace {
@@ -18,19 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 using test::TestVolume;
 
-class VolumeScalar : public ::testing::Test {
+class VolumeScalar : public test::VolumeFolderTest {
  protected:
-  std::string dir_ = test::makeTempDir("volume_scalar");
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string file(const std::string& name) const { return dir_ + "/" + name; }
-  std::string refusal(const std::string& name, const VolumeOptions& options = {}) const {
-    try {
-      loadVolume(file(name), options);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  }
+  VolumeScalar() : VolumeFolderTest("volume_scalar") {}
 };
 
 // 24^3 voxels of 0.5 mm from (0.25, 0.25, 0.25); a 12^3 cube of `inside` in voxels 6..17, the

@@ -15,6 +15,7 @@
 #include "support/files.h"
 #include "support/shapes.h"
 #include "support/volume_files.h"
+#include "support/volume_fixture.h"
 
 namespace osteon::geometry {
 namespace {
@@ -22,21 +23,9 @@ namespace {
 namespace fs = std::filesystem;
 using test::TestVolume;
 
-class VolumeValues : public ::testing::Test {
+class VolumeValues : public test::VolumeFolderTest {
  protected:
-  std::string dir_ = test::makeTempDir("volume_values");
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string file(const std::string& name) const { return dir_ + "/" + name; }
-
-  // The message loadVolume refuses `name` with ("" if it loads).
-  std::string refusal(const std::string& name, const VolumeOptions& options = {}) const {
-    try {
-      loadVolume(file(name), options);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  }
+  VolumeValues() : VolumeFolderTest("volume_values") {}
 };
 
 TestVolume box(glm::ivec3 sizes, double value) {
