@@ -52,7 +52,7 @@ std::string describeLabels(const std::string& path, const RawVolume& raw, const 
   for (std::uint64_t l : load.labels) found += (found.empty() ? "" : ", ") + std::to_string(l);
   const auto check = [&](const char* field, std::uint64_t label) {
     if (!std::binary_search(load.labels.begin(), load.labels.end(), label)) {
-      throw InputError(path + ": " + field + " " + std::to_string(label) +
+      throw InputError(path + ": " + optionRef(field) + " " + std::to_string(label) +
                        " is not in the label map (labels found: " + found + ")");
     }
   };

@@ -134,7 +134,7 @@ TEST_F(MetaImage, BadHeadersAndDataFilesAreRefused) {
   fs::create_directories(file("sub"));
   test::writeBytes(file("outside.raw"), int16Bytes());
   test::writeBytes(file("sub/out.mhd"), header("", "../outside.raw"));
-  EXPECT_NE(refusal(file("sub/out.mhd")).find("--allow-outside-data"), std::string::npos);
+  EXPECT_NE(refusal(file("sub/out.mhd")).find("volume.allowOutsideData"), std::string::npos);
   expectIdentityLayout(readRawVolume(file("sub/out.mhd"), [] {
     VolumeOptions o;
     o.allowOutsideData = true;

@@ -36,7 +36,7 @@ TEST(Units, VoxelizeNamesTheMeshExtentAndUnitsWhenNothingFits) {
     FAIL() << "a voxel larger than the mesh was accepted";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("humerus.stl: a 0.05 x 0.05 x 0.36 mm mesh at --voxel-size 1.2 mm"),
+    EXPECT_NE(what.find("humerus.stl: a 0.05 x 0.05 x 0.36 mm mesh at voxelSizeMm 1.2 mm"),
               std::string::npos)
         << what;
     EXPECT_NE(what.find("try units m"), std::string::npos) << what;
