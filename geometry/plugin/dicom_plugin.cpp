@@ -10,7 +10,9 @@
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmImplicitDataElement.h>
+#include <gdcmReader.h>
 #include <gdcmSequenceOfFragments.h>
+#include <gdcmSequenceOfItems.h>
 #include <gdcmTrace.h>
 #include <gdcmTransferSyntax.h>
 #include <gdcmVersion.h>
@@ -108,7 +110,67 @@ void refuseTruncated(const gdcm::File& f, const std::string& file) {
   }
 }
 
+// Six finite numbers in a DS element (an image orientation: a row and a column direction).
+bool sixNumbers(const gdcm::DataSet& ds, const gdcm::Tag& tag) {
+  if (!ds.FindDataElement(tag)) return false;
+  const gdcm::ByteValue* bv = ds.GetDataElement(tag).GetByteValue();
+  if (!bv || bv->GetLength() == 0) return false;
+  std::string text(bv->GetPointer(), bv->GetLength());
+  std::replace(text.begin(), text.end(), '\\', ' ');
+  const char* p = text.c_str();
+  int count = 0;
+  for (char* end = nullptr;; p = end) {
+    const double v = std::strtod(p, &end);
+    if (end == p) break;
+    if (!std::isfinite(v)) return false;
+    ++count;
+  }
+  return count == 6;
+}
+
+// The first item of a sequence's first item's plane orientation holds one (functional groups).
+bool orientationInGroups(const gdcm::DataSet& ds, const gdcm::Tag& groups) {
+  const gdcm::Tag planeOrientation(0x0020, 0x9116);
+  for (const gdcm::Tag& t : {groups, planeOrientation}) {
+    if (!ds.FindDataElement(t)) return false;
+    const gdcm::SmartPointer<gdcm::SequenceOfItems> sq = ds.GetDataElement(t).GetValueAsSQ();
+    if (!sq || sq->GetNumberOfItems() == 0) return false;
+    if (t == planeOrientation) return sixNumbers(sq->GetItem(1).GetNestedDataSet(), {0x20, 0x37});
+    return orientationInGroups(sq->GetItem(1).GetNestedDataSet(), planeOrientation);
+  }
+  return false;
+}
+
+// GDCM asserts, aborting the process, when an enhanced CT file has no image orientation in any
+// place it looks for one (its functional groups, or the data set itself): such a file is refused
+// here, from its data set alone, before GDCM reads it as an image.
+void refuseEnhancedWithoutOrientation(const std::string& file) {
+  gdcm::Reader plain;
+  plain.SetFileName(file.c_str());
+  if (!plain.Read()) fail(name(file) + ": GDCM cannot read it as a DICOM file (truncated?)");
+  const gdcm::DataSet& ds = plain.GetFile().GetDataSet();
+  const gdcm::Tag sopClass(0x0008, 0x0016);
+  std::string sop;
+  if (ds.FindDataElement(sopClass)) {
+    if (const gdcm::ByteValue* bv = ds.GetDataElement(sopClass).GetByteValue())
+      sop.assign(bv->GetPointer(), bv->GetLength());
+  }
+  while (!sop.empty() && (sop.back() == '\0' || sop.back() == ' ')) sop.pop_back();
+  const bool enhanced =
+      sop == "1.2.840.10008.5.1.4.1.1.2.1" || sop == "1.2.840.10008.5.1.4.1.1.2.2";
+  const bool groups = ds.FindDataElement(gdcm::Tag(0x5200, 0x9229)) ||
+                      ds.FindDataElement(gdcm::Tag(0x5200, 0x9230));
+  if (!enhanced && !groups) return;
+  if (orientationInGroups(ds, {0x5200, 0x9229}) || orientationInGroups(ds, {0x5200, 0x9230}) ||
+      sixNumbers(ds, {0x0020, 0x0037}))
+    return;
+  fail(name(file) +
+       ": a multi-frame CT without an image orientation (0020,0037), shared, per "
+       "frame or in the data set");
+}
+
 void readImage(gdcm::ImageReader& reader, const std::string& file) {
+  refuseEnhancedWithoutOrientation(file);
   reader.SetFileName(file.c_str());
   if (!reader.Read()) fail(name(file) + ": GDCM cannot read it as a DICOM image (truncated?)");
   refuseTruncated(reader.GetFile(), file);

@@ -86,6 +86,15 @@ void* allocate(void* context, std::size_t bytes) {
   return nullptr;
 }
 
+// The plugin names the slice at fault; for a single file that is the path itself, named once.
+std::string pluginReason(const std::string& path, std::string reason) {
+  std::error_code ec;
+  const std::string own = std::filesystem::path(path).filename().string() + ": ";
+  if (!std::filesystem::is_directory(path, ec) && reason.rfind(own, 0) == 0)
+    reason = reason.substr(own.size());
+  return reason;
+}
+
 }  // namespace
 
 StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
@@ -99,14 +108,7 @@ StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
   const int code =
       p.read(path.c_str(), seriesUid.c_str(), &v, allocate, &to, error.data(), error.size());
   if (code == 3 && !to.refusal.empty()) throw InputError(to.refusal);
-  if (code != 0) {
-    // The plugin names the slice at fault; for a single file that is the path itself.
-    std::string reason = error.data();
-    const std::string own = std::filesystem::path(path).filename().string() + ": ";
-    if (!std::filesystem::is_directory(path, ec) && reason.rfind(own, 0) == 0)
-      reason = reason.substr(own.size());
-    throw InputError(path + ": " + reason);
-  }
+  if (code != 0) throw InputError(path + ": " + pluginReason(path, error.data()));
   RawVolume& raw = out.volume;
   for (int a = 0; a < 3; ++a) raw.sizes[a] = v.sizes[a];
   raw.type = v.type;
@@ -133,6 +135,7 @@ using io::allocate;
 using io::Destination;
 using io::plugin;
 using io::Plugin;
+using io::pluginReason;
 
 std::vector<DicomSeries> listDicomSeries(const std::string& path) {
   const Plugin& p = plugin();
@@ -140,7 +143,8 @@ std::vector<DicomSeries> listDicomSeries(const std::string& path) {
   Destination to{&path, &text, nullptr, {}};
   std::array<char, 1024> error{};
   if (p.list(path.c_str(), allocate, &to, error.data(), error.size()) != 0)
-    throw InputError(path + ": " + (to.refusal.empty() ? error.data() : to.refusal));
+    throw InputError(to.refusal.empty() ? path + ": " + pluginReason(path, error.data())
+                                        : to.refusal);
   std::vector<DicomSeries> all;
   std::istringstream lines(reinterpret_cast<const char*>(text.data()));
   std::string line;

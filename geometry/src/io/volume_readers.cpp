@@ -24,6 +24,11 @@ bool isMetaImagePath(const std::string& path) {
 bool isDicomPath(const std::string& path) {
   if (endsWithLower(path, ".dcm") || endsWithLower(path, ".dicom") || endsWithLower(path, ".ima"))
     return true;
+  // A folder is a DICOM series, unless its name is a mesh file's: then the mesh reader says
+  // that it is a folder.
+  for (const char* mesh : {".stl", ".obj", ".ply", ".off"}) {
+    if (endsWithLower(path, mesh)) return false;
+  }
   std::error_code ec;
   return std::filesystem::is_directory(path, ec);
 }
