@@ -289,8 +289,11 @@ void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
 
 void addExperiment(CLI::App& cmd, ExperimentCommandOptions& o) {
   cmd.add_option("NAME", o.name, "Experiment: seed")->required();
-  cmd.add_option("--mesh", o.bone.input, "Humerus mesh, or 'default'")->default_val("default");
+  cmd.add_option("--mesh", o.bone.input,
+                 "Humerus mesh, 'default', or a volume (its surface at its own voxels)")
+      ->default_val("default");
   addUnits(cmd, o.bone);
+  addVolumeMeaning(cmd, o.bone.volume);
   cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs")
       ->default_val("experiment-seed");
   addUp(cmd, o.bone.up);

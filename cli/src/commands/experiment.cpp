@@ -17,6 +17,7 @@
 #include "osteon/geometry/io/mesh_source.h"
 #include "osteon/geometry/io/output_dir.h"
 #include "osteon/geometry/io/output_file.h"
+#include "osteon/geometry/surface/surface.h"
 #include "osteon/simulation/experiment.h"
 #include "support/files.h"
 #include "support/force_plots.h"
@@ -123,6 +124,16 @@ void printText(const ExperimentReport& report) {
   std::cout << "\n";
 }
 
+// A volume's experiment runs on its surface, extracted crack-free at the volume's own voxels and
+// voxelized at each case's size as any mesh is: the seed's voxel sizes are not a volume's.
+sim::BoneMesh experimentMesh(const sim::BoneSource& source) {
+  if (!source.isVolume()) return sim::loadBoneMesh(source);
+  const sim::OpenedBone opened = sim::BoneModel::open(source);
+  return {
+      geometry::extractSurface(opened.bone->grid(), geometry::SurfaceOptions{}).toTriangleMesh(),
+      opened.read};
+}
+
 }  // namespace
 
 int runExperiment(const ExperimentCommandOptions& options) {
@@ -155,7 +166,7 @@ int runExperiment(const ExperimentCommandOptions& options) {
   if (ec)
     throw InputError("--out-dir " + options.outDir + ": cannot create the folder (" + ec.message() +
                      ")");
-  const sim::BoneMesh loaded = sim::loadBoneMesh(options.bone);
+  const sim::BoneMesh loaded = experimentMesh(options.bone);
   const geometry::TriangleMesh& mesh = loaded.mesh;
   const double scale = loaded.read.scaleToMm;
   geometry::VoxelizeOptions voxelizing;
