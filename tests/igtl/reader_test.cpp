@@ -1,0 +1,101 @@
+// The stream reader against messages packed by the reference library: framing across any
+// split, the CRC, unknown types, and a hostile header that asks for more than the limit.
+#include "osteon/igtl/reader.h"
+
+#include <gtest/gtest.h>
+
+#include "igtlStringMessage.h"
+#include "igtlTransformMessage.h"
+
+namespace osteon::igtl {
+namespace {
+
+std::vector<std::uint8_t> packed(::igtl::MessageBase& m) {
+  m.Pack();
+  const auto* p = static_cast<const std::uint8_t*>(m.GetPackPointer());
+  return {p, p + m.GetPackSize()};
+}
+
+std::vector<std::uint8_t> transformBytes(float x, float y, float z) {
+  ::igtl::TransformMessage::Pointer t = ::igtl::TransformMessage::New();
+  t->SetDeviceName("Stylus");
+  ::igtl::Matrix4x4 m;
+  ::igtl::IdentityMatrix(m);
+  m[0][3] = x;
+  m[1][3] = y;
+  m[2][3] = z;
+  t->SetMatrix(m);
+  return packed(*t);
+}
+
+std::vector<std::uint8_t> stringBytes(const char* text) {
+  ::igtl::StringMessage::Pointer s = ::igtl::StringMessage::New();
+  s->SetDeviceName("Note");
+  s->SetString(text);
+  return packed(*s);
+}
+
+TEST(IgtlReader, FramesMessagesSplitAnywhereAndSkipsOtherTypes) {
+  std::vector<std::uint8_t> stream = transformBytes(1.0f, 2.0f, 3.0f);
+  const std::vector<std::uint8_t> note = stringBytes("hello");
+  stream.insert(stream.end(), note.begin(), note.end());
+  const std::vector<std::uint8_t> second = transformBytes(4.0f, 5.0f, 6.0f);
+  stream.insert(stream.end(), second.begin(), second.end());
+  for (std::size_t chunk : {std::size_t(1), std::size_t(7), std::size_t(58), stream.size()}) {
+    StreamReader reader({"TRANSFORM"});
+    std::vector<glm::dvec3> got;
+    for (std::size_t at = 0; at < stream.size(); at += chunk) {
+      ASSERT_TRUE(reader.feed(stream.data() + at, std::min(chunk, stream.size() - at)));
+      Message m;
+      while (reader.next(m)) {
+        EXPECT_EQ(m.name, "Stylus");
+        glm::dmat4 t;
+        ASSERT_TRUE(decodeTransform(m, t));
+        got.push_back(glm::dvec3(t[3]));
+      }
+    }
+    ASSERT_EQ(got.size(), 2u) << chunk;
+    EXPECT_EQ(got[1], glm::dvec3(4.0, 5.0, 6.0));
+    EXPECT_EQ(reader.stats().skipped, 1u);
+  }
+}
+
+TEST(IgtlReader, ABadCrcIsSkippedAndCounted) {
+  std::vector<std::uint8_t> bad = transformBytes(1.0f, 2.0f, 3.0f);
+  bad[kHeaderBytes + 40] ^= 0x10;  // a bit of the translation
+  const std::vector<std::uint8_t> good = transformBytes(7.0f, 8.0f, 9.0f);
+  bad.insert(bad.end(), good.begin(), good.end());
+  StreamReader reader({"TRANSFORM"});
+  reader.feed(bad.data(), bad.size());
+  Message m;
+  ASSERT_TRUE(reader.next(m));
+  glm::dmat4 t;
+  ASSERT_TRUE(decodeTransform(m, t));
+  EXPECT_EQ(glm::dvec3(t[3]), glm::dvec3(7.0, 8.0, 9.0));
+  EXPECT_EQ(reader.stats().crcErrors, 1u);
+  EXPECT_FALSE(reader.next(m));
+}
+
+TEST(IgtlReader, ABodyOverTheLimitBreaksTheStreamBeforeAnyAllocation) {
+  std::vector<std::uint8_t> huge = transformBytes(1.0f, 2.0f, 3.0f);
+  for (std::size_t i = 42; i < 50; ++i) huge[i] = 0xFF;  // body size 2^64 - 1
+  StreamReader reader({}, 1024);
+  reader.feed(huge.data(), kHeaderBytes);
+  Message m;
+  EXPECT_FALSE(reader.next(m));
+  EXPECT_TRUE(reader.broken());
+  EXPECT_FALSE(reader.feed(huge.data(), huge.size()));
+  EXPECT_NE(reader.brokenReason().find("over the limit"), std::string::npos);
+}
+
+TEST(IgtlReader, ATransformOfTheWrongSizeOrNotFiniteIsRefused) {
+  Message m;
+  m.body.assign(47, 0);
+  glm::dmat4 t;
+  EXPECT_FALSE(decodeTransform(m, t));
+  m.body.assign(48, 0xFF);  // NaNs
+  EXPECT_FALSE(decodeTransform(m, t));
+}
+
+}  // namespace
+}  // namespace osteon::igtl
