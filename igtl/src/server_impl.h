@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "messages.h"
-#include "osteon/igtl/reader.h"
+#include "osteon/devices/igtl_reader.h"
 #include "osteon/igtl/server.h"
 
 namespace osteon::igtl {
@@ -23,7 +23,7 @@ struct Client {
   bool needsVolume = true;    // the whole volume (new, or an image update was dropped)
   bool needsTool = true;
   bool wantsSurface = false;
-  StreamReader reader{{"GET_POLYDATA", "GET_IMAGE", "GET_TRANS"}};
+  devices::IgtlStreamReader reader{{"GET_POLYDATA", "GET_IMAGE", "GET_TRANS"}};
 };
 
 struct Server::Impl {

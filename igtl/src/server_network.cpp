@@ -1,5 +1,6 @@
 // The server's network thread: accepts clients, writes their queues without blocking, reads
-// their requests through the StreamReader. POSIX sockets, non-blocking, one poll() per round.
+// their requests through the devices::IgtlStreamReader. POSIX sockets, non-blocking, one poll() per
+// round.
 #include <arpa/inet.h>
 #include <cerrno>
 #include <chrono>
@@ -49,7 +50,7 @@ bool readSome(Client& c, ServerStats& stats) {
     if (n < 0) break;
     if (!c.reader.feed(buffer, static_cast<std::size_t>(n))) break;
   }
-  Message m;
+  devices::IgtlMessage m;
   while (c.reader.next(m)) {
     if (m.type == "GET_POLYDATA") c.wantsSurface = true;
     if (m.type == "GET_IMAGE") c.needsVolume = true;

@@ -1,13 +1,13 @@
 // The stream reader against messages packed by the reference library: framing across any
 // split, the CRC, unknown types, and a hostile header that asks for more than the limit.
-#include "osteon/igtl/reader.h"
+#include "osteon/devices/igtl_reader.h"
 
 #include <gtest/gtest.h>
 
 #include "igtlStringMessage.h"
 #include "igtlTransformMessage.h"
 
-namespace osteon::igtl {
+namespace osteon::devices {
 namespace {
 
 std::vector<std::uint8_t> packed(::igtl::MessageBase& m) {
@@ -42,15 +42,15 @@ TEST(IgtlReader, FramesMessagesSplitAnywhereAndSkipsOtherTypes) {
   const std::vector<std::uint8_t> second = transformBytes(4.0f, 5.0f, 6.0f);
   stream.insert(stream.end(), second.begin(), second.end());
   for (std::size_t chunk : {std::size_t(1), std::size_t(7), std::size_t(58), stream.size()}) {
-    StreamReader reader({"TRANSFORM"});
+    IgtlStreamReader reader({"TRANSFORM"});
     std::vector<glm::dvec3> got;
     for (std::size_t at = 0; at < stream.size(); at += chunk) {
       ASSERT_TRUE(reader.feed(stream.data() + at, std::min(chunk, stream.size() - at)));
-      Message m;
+      IgtlMessage m;
       while (reader.next(m)) {
         EXPECT_EQ(m.name, "Stylus");
         glm::dmat4 t;
-        ASSERT_TRUE(decodeTransform(m, t));
+        ASSERT_TRUE(decodeIgtlTransform(m, t));
         got.push_back(glm::dvec3(t[3]));
       }
     }
@@ -62,15 +62,15 @@ TEST(IgtlReader, FramesMessagesSplitAnywhereAndSkipsOtherTypes) {
 
 TEST(IgtlReader, ABadCrcIsSkippedAndCounted) {
   std::vector<std::uint8_t> bad = transformBytes(1.0f, 2.0f, 3.0f);
-  bad[kHeaderBytes + 40] ^= 0x10;  // a bit of the translation
+  bad[kIgtlHeaderBytes + 40] ^= 0x10;  // a bit of the translation
   const std::vector<std::uint8_t> good = transformBytes(7.0f, 8.0f, 9.0f);
   bad.insert(bad.end(), good.begin(), good.end());
-  StreamReader reader({"TRANSFORM"});
+  IgtlStreamReader reader({"TRANSFORM"});
   reader.feed(bad.data(), bad.size());
-  Message m;
+  IgtlMessage m;
   ASSERT_TRUE(reader.next(m));
   glm::dmat4 t;
-  ASSERT_TRUE(decodeTransform(m, t));
+  ASSERT_TRUE(decodeIgtlTransform(m, t));
   EXPECT_EQ(glm::dvec3(t[3]), glm::dvec3(7.0, 8.0, 9.0));
   EXPECT_EQ(reader.stats().crcErrors, 1u);
   EXPECT_FALSE(reader.next(m));
@@ -79,9 +79,9 @@ TEST(IgtlReader, ABadCrcIsSkippedAndCounted) {
 TEST(IgtlReader, ABodyOverTheLimitBreaksTheStreamBeforeAnyAllocation) {
   std::vector<std::uint8_t> huge = transformBytes(1.0f, 2.0f, 3.0f);
   for (std::size_t i = 42; i < 50; ++i) huge[i] = 0xFF;  // body size 2^64 - 1
-  StreamReader reader({}, 1024);
-  reader.feed(huge.data(), kHeaderBytes);
-  Message m;
+  IgtlStreamReader reader({}, 1024);
+  reader.feed(huge.data(), kIgtlHeaderBytes);
+  IgtlMessage m;
   EXPECT_FALSE(reader.next(m));
   EXPECT_TRUE(reader.broken());
   EXPECT_FALSE(reader.feed(huge.data(), huge.size()));
@@ -89,13 +89,13 @@ TEST(IgtlReader, ABodyOverTheLimitBreaksTheStreamBeforeAnyAllocation) {
 }
 
 TEST(IgtlReader, ATransformOfTheWrongSizeOrNotFiniteIsRefused) {
-  Message m;
+  IgtlMessage m;
   m.body.assign(47, 0);
   glm::dmat4 t;
-  EXPECT_FALSE(decodeTransform(m, t));
+  EXPECT_FALSE(decodeIgtlTransform(m, t));
   m.body.assign(48, 0xFF);  // NaNs
-  EXPECT_FALSE(decodeTransform(m, t));
+  EXPECT_FALSE(decodeIgtlTransform(m, t));
 }
 
 }  // namespace
-}  // namespace osteon::igtl
+}  // namespace osteon::devices

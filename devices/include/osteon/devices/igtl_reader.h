@@ -11,11 +11,11 @@
 
 #include <glm/glm.hpp>
 
-namespace osteon::igtl {
+namespace osteon::devices {
 
-inline constexpr std::size_t kHeaderBytes = 58;
+inline constexpr std::size_t kIgtlHeaderBytes = 58;
 
-struct Message {
+struct IgtlMessage {
   std::string type;  // "TRANSFORM", "GET_POLYDATA", ...
   std::string name;  // the device name
   std::uint16_t version = 0;
@@ -23,25 +23,25 @@ struct Message {
   std::vector<std::uint8_t> body;
 };
 
-struct ReaderStats {
+struct IgtlReaderStats {
   std::uint64_t messages = 0;   // complete, checked and of a type asked for
   std::uint64_t skipped = 0;    // of other types
   std::uint64_t crcErrors = 0;  // skipped: the body's CRC-64 is not the header's
 };
 
-class StreamReader {
+class IgtlStreamReader {
  public:
   // types: the message types kept (empty: all); maxBodyBytes: the largest body accepted.
-  explicit StreamReader(std::vector<std::string> types = {},
-                        std::size_t maxBodyBytes = std::size_t(64) << 20);
+  explicit IgtlStreamReader(std::vector<std::string> types = {},
+                            std::size_t maxBodyBytes = std::size_t(64) << 20);
   // Takes bytes as they arrive. Returns false once the stream is broken (a body over the
   // limit): nothing after it can be framed, the connection is to be closed.
   bool feed(const std::uint8_t* data, std::size_t size);
   // The next complete message, if any.
-  bool next(Message& out);
+  bool next(IgtlMessage& out);
   bool broken() const { return !broken_.empty(); }
   const std::string& brokenReason() const { return broken_; }
-  const ReaderStats& stats() const { return stats_; }
+  const IgtlReaderStats& stats() const { return stats_; }
 
  private:
   std::vector<std::string> types_;
@@ -49,11 +49,11 @@ class StreamReader {
   std::vector<std::uint8_t> pending_;
   std::size_t start_ = 0;  // first unread byte of pending_
   std::string broken_;
-  ReaderStats stats_;
+  IgtlReaderStats stats_;
 };
 
 // A TRANSFORM body (12 big-endian float32: the rotation's columns, then the translation) as a
 // 4x4 matrix; false for a body of another size or with values that are not finite.
-bool decodeTransform(const Message& message, glm::dmat4& out);
+bool decodeIgtlTransform(const IgtlMessage& message, glm::dmat4& out);
 
-}  // namespace osteon::igtl
+}  // namespace osteon::devices

@@ -1,12 +1,11 @@
-#include "osteon/igtl/reader.h"
+#include "osteon/devices/igtl_reader.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
-#include "igtl_util.h"
-
-namespace osteon::igtl {
+namespace osteon::devices {
 
 namespace {
 
@@ -23,12 +22,30 @@ std::string field(const std::uint8_t* p, std::size_t width) {
   return std::string(reinterpret_cast<const char*>(p), n);
 }
 
+// CRC-64 as OpenIGTLink computes it (ECMA-182 polynomial, MSB first, no reflection, initial and
+// final value 0): written here so that devices needs no OpenIGTLink.
+std::uint64_t crc64(const std::uint8_t* data, std::uint64_t size) {
+  static const auto table = [] {
+    std::array<std::uint64_t, 256> t{};
+    for (std::uint64_t i = 0; i < 256; ++i) {
+      std::uint64_t c = i << 56;
+      for (int b = 0; b < 8; ++b)
+        c = (c & (1ULL << 63)) ? (c << 1) ^ 0x42F0E1EBA9EA3693ULL : c << 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint64_t crc = 0;
+  for (std::uint64_t i = 0; i < size; ++i) crc = table[((crc >> 56) ^ data[i]) & 0xFF] ^ (crc << 8);
+  return crc;
+}
+
 }  // namespace
 
-StreamReader::StreamReader(std::vector<std::string> types, std::size_t maxBodyBytes)
+IgtlStreamReader::IgtlStreamReader(std::vector<std::string> types, std::size_t maxBodyBytes)
     : types_(std::move(types)), maxBodyBytes_(maxBodyBytes) {}
 
-bool StreamReader::feed(const std::uint8_t* data, std::size_t size) {
+bool IgtlStreamReader::feed(const std::uint8_t* data, std::size_t size) {
   if (broken()) return false;
   if (start_ > 0 && start_ == pending_.size()) {
     pending_.clear();
@@ -38,10 +55,10 @@ bool StreamReader::feed(const std::uint8_t* data, std::size_t size) {
   return true;
 }
 
-bool StreamReader::next(Message& out) {
+bool IgtlStreamReader::next(IgtlMessage& out) {
   while (!broken()) {
     const std::size_t available = pending_.size() - start_;
-    if (available < kHeaderBytes) return false;
+    if (available < kIgtlHeaderBytes) return false;
     const std::uint8_t* h = pending_.data() + start_;
     const std::uint64_t bodyBytes = bigEndian(h + 42, 8);
     // Checked before anything is allocated for it: a hostile header cannot ask for memory.
@@ -50,15 +67,15 @@ bool StreamReader::next(Message& out) {
                 std::to_string(maxBodyBytes_);
       return false;
     }
-    const std::size_t total = kHeaderBytes + static_cast<std::size_t>(bodyBytes);
+    const std::size_t total = kIgtlHeaderBytes + static_cast<std::size_t>(bodyBytes);
     if (available < total) return false;
     const std::string type = field(h + 2, 12);
-    const std::uint8_t* body = h + kHeaderBytes;
+    const std::uint8_t* body = h + kIgtlHeaderBytes;
     const bool wanted =
         types_.empty() || std::find(types_.begin(), types_.end(), type) != types_.end();
     bool crcOk = true;
     if (wanted) {
-      const std::uint64_t crc = crc64(const_cast<unsigned char*>(body), bodyBytes, 0ULL);
+      const std::uint64_t crc = crc64(body, bodyBytes);
       crcOk = crc == bigEndian(h + 50, 8);
     }
     if (wanted && crcOk) {
@@ -88,7 +105,7 @@ bool StreamReader::next(Message& out) {
   return false;
 }
 
-bool decodeTransform(const Message& message, glm::dmat4& out) {
+bool decodeIgtlTransform(const IgtlMessage& message, glm::dmat4& out) {
   if (message.body.size() != 48) return false;
   float v[12];
   for (int i = 0; i < 12; ++i) {
@@ -104,4 +121,4 @@ bool decodeTransform(const Message& message, glm::dmat4& out) {
   return true;
 }
 
-}  // namespace osteon::igtl
+}  // namespace osteon::devices

@@ -1,0 +1,21 @@
+// `igtl:HOST:PORT[/NAME]`: a tracked tool over OpenIGTLink (a tracker through the PLUS toolkit,
+// 3D Slicer, or another osteon serving --igtl). Its TRANSFORM messages (those named NAME, or
+// any without one) are the tool pose, taken from RAS to osteon's LPS (x and y negated, the
+// tool frame alike: osteon's own DrillToRAS comes back as the pose it was sent from), in the
+// session's frame. The drill runs while the stream does; a stream that stops leaves the last
+// sample ageing, which the safety layer's watchdog faults. A reader thread of its own takes the
+// stream through IgtlStreamReader (igtl_reader.h); poll() only reads a triple buffer.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "osteon/devices/device.h"
+
+namespace osteon::devices {
+
+// argument: HOST:PORT[/NAME]. Throws InputError naming `text` when it is malformed or nothing
+// listens there.
+std::unique_ptr<Device> openIgtlDevice(const std::string& text, const std::string& argument);
+
+}  // namespace osteon::devices
