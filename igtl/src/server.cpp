@@ -62,7 +62,13 @@ void Server::publish(simulation::LiveRuntime& live, bool last) noexcept {
   try {
     const double t = nowS();
     const geo::VoxelGrid& grid = live.visualGrid();
-    if (m.brickPending.size() != grid.brickCount()) m.brickPending.assign(grid.brickCount(), 0);
+    if (grid.dims() != m.gridDims) {
+      m.gridDims = grid.dims();
+      m.brickPending.assign(grid.brickCount(), 0);
+      m.pendingBricks.clear();
+      std::lock_guard<std::mutex> lock(m.mutex);
+      for (const auto& c : m.clients) c->needsVolume = true;
+    }
     for (const std::size_t b : live.changedBricks()) {
       if (!m.brickPending[b]) m.pendingBricks.push_back(b);
       m.brickPending[b] = 1;

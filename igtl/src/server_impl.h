@@ -44,6 +44,7 @@ struct Server::Impl {
   // Producer side (the visual thread only).
   std::vector<std::uint8_t> brickPending;  // per brick: changed since the last image
   std::vector<std::size_t> pendingBricks;
+  glm::ivec3 gridDims{-1};  // a new grid (the viewer opened another file): the whole one again
   double lastTransformS = -1e9, lastImageS = -1e9, lastSurfaceS = -1e9, lastStringS = -1e9;
 
   void startNetwork();  // server_network.cpp
