@@ -70,12 +70,15 @@ class IgtlDevice final : public Device {
     const Received& r = latest_.read();
     sample.connected = open_.load(std::memory_order_acquire) && r.count > 0;
     if (r.count == 0) return;
-    if (r.count != seen_) {  // stamped when first seen: its age is the caller's clock
+    if (r.count != seen_) {
       seen_ = r.count;
-      sample.tS = nowS;
+      seenS_ = nowS;
       sample.positionMm = r.positionMm;
       sample.orientation = r.orientation;
     }
+    // Trackers send at 20-60 Hz: the pose holds between messages (fresh at each poll) until the
+    // stream has been silent for kStoppedS; then the sample ages and the safety layer faults it.
+    if (nowS - seenS_ < kStoppedS) sample.tS = nowS;
     sample.drillOn = sample.connected;
   }
 
@@ -110,7 +113,9 @@ class IgtlDevice final : public Device {
   std::thread reader_;
   std::atomic<bool> stop_{false}, open_{true};
   core::TripleBuffer<Received> latest_;
+  static constexpr double kStoppedS = 0.25;
   std::uint64_t seen_ = 0;  // poll's thread only
+  double seenS_ = 0.0;
 };
 
 }  // namespace

@@ -62,7 +62,7 @@ typename M::Pointer body(::igtl::Socket& socket, ::igtl::MessageHeader::Pointer&
 IgtlReceived receiveAll(int port, bool getPolyData) {
   IgtlReceived r;
   ::igtl::ClientSocket::Pointer socket = ::igtl::ClientSocket::New();
-  for (int i = 0; i < 100 && socket->ConnectToServer("127.0.0.1", port) != 0; ++i) {
+  for (int i = 0; i < 3000 && socket->ConnectToServer("127.0.0.1", port) != 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   if (getPolyData) {

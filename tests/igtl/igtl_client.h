@@ -28,7 +28,7 @@ struct IgtlReceived {
   double firstS = 0.0, lastS = 0.0;  // receive times
 };
 
-// Connects (retrying for a second), then reads until the server closes the connection.
+// Connects (retrying for 30 s), then reads until the server closes the connection.
 // getPolyData: sends GET_POLYDATA once connected.
 IgtlReceived receiveAll(int port, bool getPolyData = false);
 

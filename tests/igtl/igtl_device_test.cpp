@@ -1,6 +1,6 @@
 // `igtl:HOST:PORT[/NAME]` against a tracker written with the reference library (its
 // ServerSocket and TransformMessage): poses come in RAS and go out in LPS, a stream that stops
-// is a watchdog fault, and a stream of a path drives a run to the path's removed volume.
+// is a safety fault (a gap), and a stream of a path drives a run to the path's removed volume.
 #include <atomic>
 #include <chrono>
 #include <thread>
@@ -68,14 +68,14 @@ class Tracker {
 TEST(IgtlDevice, TakesRasTransformsAsLpsPosesAndGoesSilentWhenTheStreamStops) {
   ToolPose pose = ToolPose::pointing({10.0, -20.0, 30.0}, {1.0, 2.0, -3.0});
   Tracker tracker(
-      18990, [pose](double) { return pose; }, 0.3, 0.5);
+      18990, [pose](double) { return pose; }, 0.3, 0.7);
   std::unique_ptr<Device> device = openDevice("igtl:127.0.0.1:18990/DrillToRAS");
   EXPECT_TRUE(device->capabilities().pose);
   DeviceSample s;
   double lastNewS = -1.0;
   const auto start = std::chrono::steady_clock::now();
   double t = 0.0;
-  while (t < 0.6) {
+  while (t < 0.9) {
     t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     device->poll(t, s);
     if (s.tS == t) lastNewS = t;
@@ -85,7 +85,29 @@ TEST(IgtlDevice, TakesRasTransformsAsLpsPosesAndGoesSilentWhenTheStreamStops) {
   EXPECT_NEAR(glm::length(s.positionMm - pose.tipMm), 0.0, 1e-4);
   EXPECT_NEAR(std::abs(glm::dot(s.orientation, pose.orientation)), 1.0, 1e-5);
   EXPECT_TRUE(s.drillOn);
-  EXPECT_LT(lastNewS, 0.45);  // nothing new once the stream stopped at 0.3 s: its age grows
+  // Fresh at each poll while the stream flows, ageing 250 ms after it stopped at 0.3 s.
+  EXPECT_GT(lastNewS, 0.45);
+  EXPECT_LT(lastNewS, 0.75);
+}
+
+// Through DeviceInput: a stream that stops mid-run is a safety-layer fault (a gap).
+TEST(IgtlDevice, AStreamThatStopsIsASafetyFault) {
+  SessionOptions options;
+  options.levels = 0;
+  Session session = test::humerusSession(options);
+  const ToolPose pose = ToolPose::pointing({0.0, 0.0, 200.0}, {0.0, 0.0, -1.0});  // off the bone
+  Tracker tracker(
+      18993, [pose](double) { return pose; }, 0.4, 1.0);
+  std::unique_ptr<Device> device = openDevice("igtl:127.0.0.1:18993");
+  DeviceInput input(*device);
+  RuntimeOptions ro;
+  ro.durationS = 1.0;
+  ro.realtimePriority = false;
+  ro.keepLog = false;
+  session.runThreaded(input, &input, ro);
+  EXPECT_TRUE(input.hasPose());
+  EXPECT_GT(input.safety().stats().faults.gaps, 0u);
+  EXPECT_GT(input.safety().stats().heldSteps, 100u);  // the tool held from ~0.65 s to 1 s
 }
 
 TEST(IgtlDevice, RefusesMalformedAddressesAndAnAddressWhereNothingListens) {

@@ -2,9 +2,11 @@
 // 3D Slicer, or another osteon serving --igtl). Its TRANSFORM messages (those named NAME, or
 // any without one) are the tool pose, taken from RAS to osteon's LPS (x and y negated, the
 // tool frame alike: osteon's own DrillToRAS comes back as the pose it was sent from), in the
-// session's frame. The drill runs while the stream does; a stream that stops leaves the last
-// sample ageing, which the safety layer's watchdog faults. A reader thread of its own takes the
-// stream through IgtlStreamReader (igtl_reader.h); poll() only reads a triple buffer.
+// session's frame. The drill runs while the stream does. The pose holds between messages (fresh
+// at each poll, as trackers send at 20-60 Hz) until the stream has been silent for 250 ms: then
+// the last sample ages, which the safety layer faults (a gap) and the session holds the tool. A
+// reader thread of its own takes the stream through IgtlStreamReader (igtl_reader.h); poll() only
+// reads a triple buffer.
 #pragma once
 
 #include <memory>
