@@ -84,7 +84,7 @@ class IgtlDevice final : public Device {
 
  private:
   void readLoop() {
-    IgtlStreamReader reader({"TRANSFORM"}, std::size_t(1) << 20);
+    IgtlStreamReader reader({"TRANSFORM", "TDATA", "QTDATA"}, std::size_t(1) << 20);
     std::uint8_t buffer[4096];
     IgtlMessage m;
     Received r;
@@ -95,7 +95,7 @@ class IgtlDevice final : public Device {
       if (!reader.feed(buffer, static_cast<std::size_t>(n))) break;
       while (reader.next(m)) {
         glm::dmat4 t;
-        if ((!name_.empty() && m.name != name_) || !decodeIgtlTransform(m, t)) continue;
+        if (!decodeIgtlPose(m, name_, t)) continue;
         // RAS -> LPS on both sides: F t F with F = diag(-1, -1, 1).
         const glm::dmat3 f(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1));
         const glm::dmat3 rotation = f * glm::dmat3(t) * f;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <glm/gtc/quaternion.hpp>
+
 namespace osteon::devices {
 
 namespace {
@@ -119,6 +121,49 @@ bool decodeIgtlTransform(const IgtlMessage& message, glm::dmat4& out) {
     for (int r = 0; r < 3; ++r) out[c][r] = double(v[3 * c + r]);
   }
   return true;
+}
+
+namespace {
+
+bool floatsAt(const std::uint8_t* p, int count, float* out) {
+  for (int i = 0; i < count; ++i) {
+    const auto bits = static_cast<std::uint32_t>(bigEndian(p + 4 * i, 4));
+    std::memcpy(&out[i], &bits, sizeof bits);
+    if (!std::isfinite(out[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool decodeIgtlPose(const IgtlMessage& message, const std::string& name, glm::dmat4& out) {
+  if (message.type == "TRANSFORM")
+    return (name.empty() || message.name == name) && decodeIgtlTransform(message, out);
+  const bool quaternion = message.type == "QTDATA";
+  if (!quaternion && message.type != "TDATA") return false;
+  const std::size_t elementBytes = quaternion ? 50 : 70;
+  const std::vector<std::uint8_t>& b = message.body;
+  if (b.empty() || b.size() % elementBytes != 0) return false;
+  for (std::size_t at = 0; at < b.size(); at += elementBytes) {
+    if (!name.empty() && field(b.data() + at, 20) != name) continue;
+    float v[12];
+    out = glm::dmat4(1.0);
+    if (quaternion) {
+      if (!floatsAt(b.data() + at + 22, 7, v)) return false;
+      const glm::dquat q{static_cast<double>(v[6]), static_cast<double>(v[3]),
+                         static_cast<double>(v[4]), static_cast<double>(v[5])};
+      if (!(glm::length(q) > 0.5)) return false;
+      out = glm::dmat4(glm::mat3_cast(glm::normalize(q)));
+      out[3] = glm::dvec4(double(v[0]), double(v[1]), double(v[2]), 1.0);
+      return true;
+    }
+    if (!floatsAt(b.data() + at + 22, 12, v)) return false;
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 3; ++r) out[c][r] = double(v[3 * c + r]);
+    }
+    return true;
+  }
+  return false;
 }
 
 }  // namespace osteon::devices

@@ -14,7 +14,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   glm::dmat4 t;
   for (std::size_t at = 1; at < size; at += chunk) {
     if (!reader.feed(data + at, std::min(chunk, size - at))) break;
-    while (reader.next(m)) osteon::devices::decodeIgtlTransform(m, t);
+    while (reader.next(m)) {
+      osteon::devices::decodeIgtlTransform(m, t);
+      osteon::devices::decodeIgtlPose(m, "", t);
+      osteon::devices::decodeIgtlPose(m, "Stylus", t);
+    }
   }
   return 0;
 }

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "igtlQuaternionTrackingDataMessage.h"
 #include "igtlStringMessage.h"
+#include "igtlTrackingDataMessage.h"
 #include "igtlTransformMessage.h"
 
 namespace osteon::devices {
@@ -95,6 +97,46 @@ TEST(IgtlReader, ATransformOfTheWrongSizeOrNotFiniteIsRefused) {
   EXPECT_FALSE(decodeIgtlTransform(m, t));
   m.body.assign(48, 0xFF);  // NaNs
   EXPECT_FALSE(decodeIgtlTransform(m, t));
+}
+
+// TDATA and QTDATA from the reference library: the element named, or the first.
+TEST(IgtlReader, TrackingDataGivesTheNamedElementsPose) {
+  ::igtl::TrackingDataMessage::Pointer td = ::igtl::TrackingDataMessage::New();
+  for (const char* tool : {"Probe", "Stylus"}) {
+    ::igtl::TrackingDataElement::Pointer e = ::igtl::TrackingDataElement::New();
+    e->SetName(tool);
+    ::igtl::Matrix4x4 m;
+    ::igtl::IdentityMatrix(m);
+    m[0][3] = tool[0] == 'P' ? 1.0f : 5.0f;
+    m[1][0] = 1.0f;  // a shear only to see the columns land where they belong
+    e->SetMatrix(m);
+    td->AddTrackingDataElement(e);
+  }
+  const std::vector<std::uint8_t> tdBytes = packed(*td);
+  ::igtl::QuaternionTrackingDataMessage::Pointer qt = ::igtl::QuaternionTrackingDataMessage::New();
+  ::igtl::QuaternionTrackingDataElement::Pointer q = ::igtl::QuaternionTrackingDataElement::New();
+  q->SetName("Stylus");
+  q->SetPosition(7.0f, 8.0f, 9.0f);
+  q->SetQuaternion(0.0f, 0.0f, 0.70710678f, 0.70710678f);  // 90 degrees about z
+  qt->AddQuaternionTrackingDataElement(q);
+  const std::vector<std::uint8_t> qtBytes = packed(*qt);
+
+  IgtlStreamReader reader({"TDATA", "QTDATA"});
+  reader.feed(tdBytes.data(), tdBytes.size());
+  reader.feed(qtBytes.data(), qtBytes.size());
+  IgtlMessage m;
+  glm::dmat4 t;
+  ASSERT_TRUE(reader.next(m));
+  ASSERT_TRUE(decodeIgtlPose(m, "Stylus", t));
+  EXPECT_EQ(t[3].x, 5.0);
+  EXPECT_EQ(t[0].y, 1.0);  // row 1, column 0
+  ASSERT_TRUE(decodeIgtlPose(m, "", t));
+  EXPECT_EQ(t[3].x, 1.0);
+  EXPECT_FALSE(decodeIgtlPose(m, "Needle", t));
+  ASSERT_TRUE(reader.next(m));
+  ASSERT_TRUE(decodeIgtlPose(m, "Stylus", t));
+  EXPECT_EQ(glm::dvec3(t[3]), glm::dvec3(7.0, 8.0, 9.0));
+  EXPECT_NEAR(t[0].y, 1.0, 1e-6);  // x goes to y
 }
 
 }  // namespace

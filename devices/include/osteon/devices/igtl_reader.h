@@ -56,4 +56,10 @@ class IgtlStreamReader {
 // 4x4 matrix; false for a body of another size or with values that are not finite.
 bool decodeIgtlTransform(const IgtlMessage& message, glm::dmat4& out);
 
+// A tracked tool's pose from a TRANSFORM named `name`, or from the element named `name` of a
+// TDATA (70-byte elements: name, type, reserved, a TRANSFORM's 12 floats) or QTDATA (50-byte
+// elements: name, type, reserved, position, quaternion x y z w); an empty `name` takes any
+// (the first element). False when there is none, or it is malformed or not finite.
+bool decodeIgtlPose(const IgtlMessage& message, const std::string& name, glm::dmat4& out);
+
 }  // namespace osteon::devices
