@@ -53,7 +53,8 @@ DeviceName parseDeviceName(const std::string& text) {
   } else if (n.kind == "replay") {
     if (n.argument.empty()) throw InputError(text + ": no recording (expected replay:LOG.csv)");
   } else if (n.kind == "igtl") {
-    if (n.argument.empty()) throw InputError(text + ": no address (expected igtl:HOST:PORT[/NAME])");
+    if (n.argument.empty())
+      throw InputError(text + ": no address (expected igtl:HOST:PORT[/NAME])");
   } else if (n.kind == "scripted") {
     if (n.argument.empty())
       throw InputError(text + ": no path (expected scripted:portal-5|portal-7|PATH.csv)");
