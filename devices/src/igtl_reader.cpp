@@ -53,8 +53,21 @@ bool IgtlStreamReader::feed(const std::uint8_t* data, std::size_t size) {
     pending_.clear();
     start_ = 0;
   }
-  pending_.insert(pending_.end(), data, data + size);
+  // The rest of a body of a type not asked for is dropped as it comes, never kept.
+  const std::size_t skip = static_cast<std::size_t>(std::min<std::uint64_t>(skipBytes_, size));
+  skipBytes_ -= skip;
+  pending_.insert(pending_.end(), data + skip, data + size);
   return true;
+}
+
+void IgtlStreamReader::compact() {
+  if (start_ == pending_.size()) {
+    pending_.clear();
+    start_ = 0;
+  } else if (start_ > (std::size_t(1) << 20)) {  // keep the buffer from creeping
+    pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(start_));
+    start_ = 0;
+  }
 }
 
 bool IgtlStreamReader::next(IgtlMessage& out) {
@@ -63,6 +76,17 @@ bool IgtlStreamReader::next(IgtlMessage& out) {
     if (available < kIgtlHeaderBytes) return false;
     const std::uint8_t* h = pending_.data() + start_;
     const std::uint64_t bodyBytes = bigEndian(h + 42, 8);
+    const std::string type = field(h + 2, 12);
+    const bool wanted =
+        types_.empty() || std::find(types_.begin(), types_.end(), type) != types_.end();
+    if (!wanted) {  // skipped whatever its size: what is here now, the rest as it comes
+      const std::uint64_t here = std::min<std::uint64_t>(bodyBytes, available - kIgtlHeaderBytes);
+      start_ += kIgtlHeaderBytes + static_cast<std::size_t>(here);
+      skipBytes_ = bodyBytes - here;
+      ++stats_.skipped;
+      compact();
+      continue;
+    }
     // Checked before anything is allocated for it: a hostile header cannot ask for memory.
     if (bodyBytes > maxBodyBytes_) {
       broken_ = "a message body of " + std::to_string(bodyBytes) + " bytes, over the limit of " +
@@ -71,16 +95,9 @@ bool IgtlStreamReader::next(IgtlMessage& out) {
     }
     const std::size_t total = kIgtlHeaderBytes + static_cast<std::size_t>(bodyBytes);
     if (available < total) return false;
-    const std::string type = field(h + 2, 12);
     const std::uint8_t* body = h + kIgtlHeaderBytes;
-    const bool wanted =
-        types_.empty() || std::find(types_.begin(), types_.end(), type) != types_.end();
-    bool crcOk = true;
-    if (wanted) {
-      const std::uint64_t crc = crc64(body, bodyBytes);
-      crcOk = crc == bigEndian(h + 50, 8);
-    }
-    if (wanted && crcOk) {
+    const bool crcOk = crc64(body, bodyBytes) == bigEndian(h + 50, 8);
+    if (crcOk) {
       out.version = static_cast<std::uint16_t>(bigEndian(h, 2));
       out.type = type;
       out.name = field(h + 14, 20);
@@ -88,16 +105,8 @@ bool IgtlStreamReader::next(IgtlMessage& out) {
       out.body.assign(body, body + bodyBytes);
     }
     start_ += total;
-    if (start_ == pending_.size()) {
-      pending_.clear();
-      start_ = 0;
-    } else if (start_ > (std::size_t(1) << 20)) {  // keep the buffer from creeping
-      pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(start_));
-      start_ = 0;
-    }
-    if (!wanted) {
-      ++stats_.skipped;
-    } else if (!crcOk) {
+    compact();
+    if (!crcOk) {
       ++stats_.crcErrors;
     } else {
       ++stats_.messages;

@@ -23,7 +23,8 @@ struct Client {
   bool needsVolume = true;    // the whole volume (new, or an image update was dropped)
   bool needsTool = true;
   bool wantsSurface = false;
-  devices::IgtlStreamReader reader{{"GET_POLYDATA", "GET_IMAGE", "GET_TRANS"}};
+  devices::IgtlStreamReader reader{{"GET_POLYDATA", "GET_IMAGE", "GET_TRANS"},
+                                   std::size_t(1) << 16};
 };
 
 struct Server::Impl {

@@ -139,5 +139,22 @@ TEST(IgtlReader, TrackingDataGivesTheNamedElementsPose) {
   EXPECT_NEAR(t[0].y, 1.0, 1e-6);  // x goes to y
 }
 
+// A type not asked for streams past whatever its size (here over the limit), fed in pieces.
+TEST(IgtlReader, AHugeMessageOfAnotherTypeIsSkippedWithoutBeingKept) {
+  std::vector<std::uint8_t> stream = stringBytes(std::string(5000, 'x').c_str());
+  const std::vector<std::uint8_t> after = transformBytes(1.0f, 2.0f, 3.0f);
+  stream.insert(stream.end(), after.begin(), after.end());
+  IgtlStreamReader reader({"TRANSFORM"}, 1024);
+  IgtlMessage m;
+  int got = 0;
+  for (std::size_t at = 0; at < stream.size(); at += 100) {
+    ASSERT_TRUE(reader.feed(stream.data() + at, std::min<std::size_t>(100, stream.size() - at)));
+    while (reader.next(m)) ++got;
+  }
+  EXPECT_EQ(got, 1);
+  EXPECT_EQ(reader.stats().skipped, 1u);
+  EXPECT_FALSE(reader.broken());
+}
+
 }  // namespace
 }  // namespace osteon::devices

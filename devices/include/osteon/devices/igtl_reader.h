@@ -1,7 +1,8 @@
 // The one reader of OpenIGTLink streams (protocol 2 headers, 58 bytes): what comes off the
-// network, from a client of the server or from a tracker, goes through it. A body larger than
-// the limit breaks the stream before anything is allocated for it; a message whose CRC does
-// not match, or of a type not asked for, is skipped and counted. It never throws on bad bytes.
+// network, from a client of the server or from a tracker, goes through it. A message of a type
+// not asked for is skipped as it streams past, whatever its size, and never kept; one asked for
+// whose body is over the limit breaks the stream before anything is allocated for it; one whose
+// CRC does not match is skipped. Each is counted. It never throws on bad bytes.
 #pragma once
 
 #include <cstddef>
@@ -47,7 +48,9 @@ class IgtlStreamReader {
   std::vector<std::string> types_;
   std::size_t maxBodyBytes_;
   std::vector<std::uint8_t> pending_;
-  std::size_t start_ = 0;  // first unread byte of pending_
+  std::size_t start_ = 0;        // first unread byte of pending_
+  std::uint64_t skipBytes_ = 0;  // of a skipped body, still to come (dropped by feed)
+  void compact();
   std::string broken_;
   IgtlReaderStats stats_;
 };
