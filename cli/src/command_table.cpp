@@ -119,6 +119,16 @@ void addRunOptions(CLI::App& cmd, int& levels, std::string& tool, std::string& o
       ->default_val(".");
 }
 
+// A live run served over OpenIGTLink (docs/slicer.md).
+void addIgtl(CLI::App& cmd, IgtlCommandOptions& o) {
+  cmd.add_option("--igtl", o.port,
+                 "Serve the live run over OpenIGTLink on this TCP port (3D Slicer: 18944)");
+  cmd.add_option("--igtl-bind", o.bind, "The address --igtl listens on (default 127.0.0.1)");
+  cmd.add_option("--igtl-content", o.content, "The IMAGE Bone's voxels: fill (uint8) or density");
+  cmd.add_option("--igtl-surface-every", o.surfaceEveryS,
+                 "Send the surface (POLYDATA BoneSurface) every S seconds, not only on request");
+}
+
 void addUp(CLI::App& cmd, std::string& up) {
   cmd.add_option("--up", up,
                  "The bone's up axis, from the shaft to the humeral head: x, y, z, -x, -y or -z "
@@ -207,6 +217,7 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
   cmd.add_option("--record", o.record,
                  "Record the device's stream at 1 kHz to this CSV "
                  "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
+  addIgtl(cmd, o.igtl);
 }
 
 void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {

@@ -6,6 +6,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/devices/button_board.h"
+#include "osteon/devices/igtl_device.h"
 #include "osteon/devices/mouse.h"
 #include "osteon/devices/recording.h"
 #include "osteon/devices/serial_port.h"
@@ -51,6 +52,9 @@ DeviceName parseDeviceName(const std::string& text) {
       throw InputError(text + ": no port (expected serial:PORT[@BAUD], e.g. serial:/dev/ttyACM0)");
   } else if (n.kind == "replay") {
     if (n.argument.empty()) throw InputError(text + ": no recording (expected replay:LOG.csv)");
+  } else if (n.kind == "igtl") {
+    if (n.argument.empty())
+      throw InputError(text + ": no address (expected igtl:HOST:PORT[/NAME])");
   } else if (n.kind == "scripted") {
     if (n.argument.empty())
       throw InputError(text + ": no path (expected scripted:portal-5|portal-7|PATH.csv)");
@@ -132,6 +136,7 @@ std::unique_ptr<Device> openOne(const std::string& text, const DeviceOpeners& ex
     return std::make_unique<ButtonBoardDevice>(n.text, n.argument, options);
   }
   if (n.kind == "touch") return openTouch(n.text, n.argument);
+  if (n.kind == "igtl") return openIgtlDevice(n.text, n.argument);
   if (n.kind == "replay") return std::make_unique<ReplayDevice>(n.text, loadRecording(n.argument));
   throw InputError(
       n.text +

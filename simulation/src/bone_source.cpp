@@ -173,7 +173,10 @@ const char* commandLineFlag(const std::string& field) {
       {"coupling", "--coupling"},
       {"path", "--path"},
       {"crackPixels", "--cracks"},
-      {"volume.series", "--series"}};
+      {"volume.series", "--series"},
+      {"igtl.port", "--igtl"},
+      {"igtl.bind", "--igtl-bind"},
+      {"igtl.content", "--igtl-content"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }

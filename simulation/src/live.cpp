@@ -140,6 +140,10 @@ const geometry::VoxelGrid& LiveRuntime::visualGrid() const {
   return impl_->visualGrid;
 }
 
+const std::vector<std::size_t>& LiveRuntime::changedBricks() const {
+  return impl_->lastChanged;
+}
+
 const DisplayState& LiveRuntime::display() {
   Impl& m = *impl_;
   const DisplayCore& core = m.displayCore.read();

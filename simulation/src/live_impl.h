@@ -82,6 +82,7 @@ struct LiveRuntime::Impl {
   VoxelGrid visualGrid;
   std::unique_ptr<geometry::SurfaceUpdater> updater;
   std::vector<std::size_t> changed;
+  std::vector<std::size_t> lastChanged;  // the last drain's bricks (LiveRuntime::changedBricks)
   BrickMessage drainMsg;
   DisplayState shown;
   std::uint64_t visualUpdates = 0;
@@ -310,6 +311,7 @@ struct LiveRuntime::Impl {
   double drainVisual() {
     try {
       changed.clear();
+      lastChanged.clear();
       while (bricks.pop(drainMsg)) {
         apply(visualGrid, drainMsg);
         changed.push_back(drainMsg.brick);
@@ -335,6 +337,7 @@ struct LiveRuntime::Impl {
     remeshNs.addMs(ms);
     visualGrid.clearDirty();
     ++visualUpdates;
+    lastChanged.swap(changed);
     changed.clear();
     return ms;
   }

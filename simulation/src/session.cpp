@@ -326,8 +326,9 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink,
   std::thread visual([&] {
     while (!loopsOver.load(std::memory_order_acquire)) {
       try {
-        if (live.updateSurface() == 0.0)
-          std::this_thread::sleep_for(std::chrono::microseconds(500));
+        const double ms = live.updateSurface();
+        if (options.onVisual) options.onVisual(live, false);
+        if (ms == 0.0) std::this_thread::sleep_for(std::chrono::microseconds(500));
       } catch (...) {  // RuntimeFault: the error is kept in live.visualFault()
         visualFailed.store(true, std::memory_order_release);
         return;
@@ -342,6 +343,7 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink,
   visual.join();
   // Drilled up to here; stop() starts the session's own surface again from the grid.
   RuntimeResult result = live.stop();
+  if (options.onVisual && result.visualFault.empty()) options.onVisual(live, true);
   s.surfaceStale = true;
   if (!result.visualFault.empty()) {
     std::ostringstream m;

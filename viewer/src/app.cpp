@@ -74,7 +74,20 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
   const simulation::BoneSource& bone = scene->request().bone;
   panel_.openVoxelMm =
       bone.voxelSizeMm.value_or(bone.defaultVoxelSizeMm.value_or(kDefaultVoxelSizeMm));
+  if (options_.igtlPort) {
+    igtl::ServerOptions so;
+    so.port = *options_.igtlPort;
+    so.bindAddress = options_.igtlBind;
+    so.content = igtl::parseImageContent(options_.igtlContent);
+    igtl_ = std::make_unique<igtl::Server>(so, scene->session().simulation().tool());
+    std::fprintf(stderr, "osteon-viewer: serving OpenIGTLink on %s:%d\n", so.bindAddress.c_str(),
+                 igtl_->port());
+  }
   installScene(std::move(scene), !options_.record.empty());
+}
+
+void App::serveIgtl(bool last) {
+  if (igtl_) igtl_->publish(scene_->live(), last);
 }
 
 App::~App() {
@@ -153,6 +166,7 @@ void App::waitForPath() {
     glfwPollEvents();
     // Keeps the ring drained; the changes add up for the frame.
     if (scene_->live().updateSurface() > 0.0) naiveStale_ = true;
+    serveIgtl(false);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   waitedForPath_ = true;
@@ -232,6 +246,7 @@ void App::frame(bool last) {
 void App::updateSurfaces() {
   simulation::LiveRuntime& live = scene_->live();
   const double remeshMs = live.updateSurface();
+  serveIgtl(false);
   if (remeshMs > 0.0) {
     panel_.status.remeshMs = remeshMs;
     naiveStale_ = true;
@@ -304,6 +319,10 @@ void App::fillStatus(double frameMs) {
 
 void App::finishReport() {
   const simulation::RuntimeResult result = scene_->stop();
+  if (igtl_) {
+    serveIgtl(true);
+    igtlStats = igtl_->stop();
+  }
   if (scene_->exercise()) {
     scoreTrial();  // scored now if the trial had not ended
     report_.exercise = scene_->exercise()->name;

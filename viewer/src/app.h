@@ -3,14 +3,17 @@
 // incremental upload, the draw, the metric, the panels.
 #pragma once
 
+#include <cstdio>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "camera.h"
 #include "hierarchy_view.h"
 #include "metrics.h"
 #include "options.h"
+#include "osteon/igtl/server.h"
 #include "overlay.h"
 #include "panels.h"
 #include "renderer.h"
@@ -24,6 +27,9 @@ namespace osteon::viewer {
 
 class App {
  public:
+  // Its clients' counters, when --igtl serves the session.
+  std::optional<igtl::ServerStats> igtlStats;
+
   // Opens the window (throws WindowError); the scene is loaded and not yet started.
   App(const ViewerOptions& options, std::unique_ptr<Scene> scene);
   ~App();
@@ -46,6 +52,8 @@ class App {
   void installScene(std::unique_ptr<Scene> scene, bool recordFromStart);
   void frame(bool last);
   void updateSurfaces();
+  // The visual side's state to the OpenIGTLink server, if --igtl (last: after the loops stop).
+  void serveIgtl(bool last);
   void readMetric();
   void writeScreenshot();
   void waitForPath();
@@ -132,6 +140,7 @@ class App {
   bool waitedForPath_ = false;
   ToolViewTally toolView_;  // the ghost and how deep the proxy and the hand reached, per frame
   ViewerReport report_;
+  std::unique_ptr<igtl::Server> igtl_;  // --igtl
 };
 
 }  // namespace osteon::viewer

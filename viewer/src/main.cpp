@@ -1,6 +1,7 @@
 // `osteon-viewer`: parses the options (CLI11 lives here alone), loads the bone, then opens the
 // window. Every refusal of the input comes before a window opens; errors are one line on stderr
 // and the exit codes are the CLI's: 0 success, 2 bad input or no window, 3 an internal error.
+#include <cstdio>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -174,6 +175,10 @@ void addDisplayOptions(CLI::App& app, CommandLine& c, viewer::ViewerOptions& opt
   app.add_option("--scope-device", c.scopeDevice,
                  "The arthroscope's pose (and its knob: the lens rotation) from a second device");
   app.add_flag("--json", options.json, "Print one JSON object on stdout at exit");
+  app.add_option("--igtl", options.igtlPort,
+                 "Serve the session over OpenIGTLink on this TCP port (3D Slicer: 18944)");
+  app.add_option("--igtl-bind", options.igtlBind, "The address --igtl listens on (127.0.0.1)");
+  app.add_option("--igtl-content", options.igtlContent, "The IMAGE Bone: fill (uint8) or density");
   app.add_flag("--no-ui", c.noUi, "Hide the panels (Tab toggles them)");
   app.add_flag("--no-tool", c.noTool,
                "Do not draw the tool (G toggles it), to see the hole it drilled");
@@ -234,6 +239,15 @@ int runWindow(const viewer::ViewerOptions& options, std::unique_ptr<viewer::Scen
       viewer::App window(options, std::move(scene));
       window.run();
       if (options.json) json = viewer::reportJson(window.report());
+      if (const auto& s = window.igtlStats) {
+        std::fprintf(stderr,
+                     "osteon-viewer: OpenIGTLink: %llu client(s), %llu messages, %llu bytes sent, "
+                     "%llu dropped\n",
+                     static_cast<unsigned long long>(s->clients),
+                     static_cast<unsigned long long>(s->messagesSent),
+                     static_cast<unsigned long long>(s->bytesSent),
+                     static_cast<unsigned long long>(s->dropped));
+      }
     }  // the window closes here, before anything is printed
     if (options.json) std::cout << json << "\n";
     return kExitOk;

@@ -81,6 +81,10 @@ struct ViewerOptions {
   bool json = false;       // one JSON object on stdout at exit
   bool ui = true;          // the ImGui panels (Tab toggles)
   bool tool = true;        // draw the tool (G toggles)
+  // --igtl PORT: the session served over OpenIGTLink (osteon/igtl/server.h, docs/slicer.md).
+  std::optional<int> igtlPort;
+  std::string igtlBind = "127.0.0.1";
+  std::string igtlContent = "fill";
 };
 
 // An exercise: a built-in name (anchor-5, ...) or a .json file.

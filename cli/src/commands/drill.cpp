@@ -43,6 +43,7 @@ DrillPlan planDrill(const DrillCommandOptions& options) {
     throw InputError(std::string(options.durationS ? "--duration" : "--record") +
                      ": only with --device");
   }
+  checkIgtlOptions(options.igtl, options.threaded);
   sim::DrillingOptions drilling;
   drilling.levels = options.levels;
   sim::validateDrillingOptions(drilling);
@@ -107,7 +108,8 @@ json planPath(DrillPlan& plan, const sim::Session& session, const std::string& n
 // The path driven through the session, deterministic or threaded; its rows streamed to `forces`
 // (memory does not grow with the path). `runtime` gets the threaded runtime's statistics.
 sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool threaded,
-                     sim::ForceLogWriter& forces, json& runtime, const DrillExtension& extension) {
+                     sim::ForceLogWriter& forces, json& runtime, const DrillExtension& extension,
+                     const IgtlCommandOptions& igtl) {
   const auto logRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   if (!threaded) {
     sim::DeterministicOptions deterministic;
@@ -127,9 +129,7 @@ sim::RunResult drive(sim::Session& session, const sim::DrillPath& path, bool thr
   ro.durationS = path.durationS();
   ro.onRow = logRow;
   ro.keepLog = false;
-  const sim::RuntimeResult r = runThreadedLogged(session, device, nullptr, ro, forces);
-  runtime = runtimeStatsJson(r.stats);
-  return r.run;
+  return runThreadedLogged(session, device, nullptr, ro, forces, igtl, runtime).run;
 }
 
 }  // namespace
@@ -179,7 +179,8 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
 
   sim::ForceLogWriter forces(files.forcesPath, plan.coupling == sim::CouplingMode::Proxy);
   json runtime;
-  r.run = drive(session, plan.path, options.threaded, forces, runtime, extension).summary;
+  r.run =
+      drive(session, plan.path, options.threaded, forces, runtime, extension, options.igtl).summary;
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
   if (extension.done) extension.done(session);

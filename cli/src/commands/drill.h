@@ -9,6 +9,7 @@
 
 #include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/runner.h"
+#include "support/igtl_serve.h"
 
 namespace osteon::cli {
 
@@ -25,6 +26,7 @@ struct DrillCommandOptions {
   std::string record;               // record the device's stream to this CSV
   bool allowEmpty = false;  // a path that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;     // proxy or direct; empty: direct for portal paths, else proxy
+  IgtlCommandOptions igtl;  // serve the live run over OpenIGTLink (support/igtl_serve.h)
 };
 
 // What a command that drills as `drill` does adds to its run (score): the session's options, a

@@ -122,10 +122,10 @@ DeviceOutcome drive(const DrillCommandOptions& options, sim::Session& session, d
   ro.durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
   ro.onRow = logRow;
   ro.keepLog = false;
-  const sim::RuntimeResult r = runThreadedLogged(session, input, &input, ro, forces);
+  const sim::RuntimeResult r =
+      runThreadedLogged(session, input, &input, ro, forces, options.igtl, out.extra["runtime"]);
   out.run = r.run.summary;
   out.safety = input.safety().stats();
-  out.extra["runtime"] = runtimeStatsJson(r.stats);
   out.extra["device"] = {
       {"name", options.device},
       {"duration_s", ro.durationS},
@@ -147,6 +147,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   std::unique_ptr<dev::Device> device = sim::openSessionDevice(options.device, session);
   const dev::Capabilities caps = device->capabilities();
   const bool deterministic = deterministicFor(options, caps);
+  checkIgtlOptions(options.igtl, !deterministic);
 
   // Recorded into a temporary, put in place only when the run and the recording are complete:
   // an existing recording stays until then (and is kept when the run fails or is stopped).

@@ -86,9 +86,16 @@ sim::RuntimeOptions threadedRunOptions() {
 
 sim::RuntimeResult runThreadedLogged(sim::Session& session, sim::PoseSource& source,
                                      sim::ForceSink* sink, const sim::RuntimeOptions& options,
-                                     sim::ForceLogWriter& forces) {
+                                     sim::ForceLogWriter& forces, const IgtlCommandOptions& igtl,
+                                     nlohmann::json& runtime) {
   try {
-    return session.runThreaded(source, sink, options);
+    IgtlServe serve(igtl, session);
+    sim::RuntimeOptions served = options;
+    serve.attach(served);
+    const sim::RuntimeResult r = session.runThreaded(source, sink, served);
+    runtime = runtimeStatsJson(r.stats);
+    if (igtl.port) runtime["igtl"] = serve.finish();
+    return r;
   } catch (const sim::RuntimeFault& e) {
     throw sim::RuntimeFault(std::string(e.what()) + "; " + forces.abandon());
   }

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "support/igtl_serve.h"
+
 namespace osteon::simulation {
 enum class CouplingMode;
 struct RunSummary;
@@ -50,11 +52,11 @@ nlohmann::json runtimeStatsJson(const simulation::RuntimeStats& stats);
 simulation::RuntimeOptions threadedRunOptions();
 
 // session.runThreaded, its rows logged by `forces`: a RuntimeFault is told in one line that
-// also says where the rows logged so far are.
-simulation::RuntimeResult runThreadedLogged(simulation::Session& session,
-                                            simulation::PoseSource& source,
-                                            simulation::ForceSink* sink,
-                                            const simulation::RuntimeOptions& options,
-                                            simulation::ForceLogWriter& forces);
+// also says where the rows logged so far are. With --igtl the run is served over OpenIGTLink
+// while it runs, and `runtime` (the run's "runtime" object) gets the link's "igtl" object.
+simulation::RuntimeResult runThreadedLogged(
+    simulation::Session& session, simulation::PoseSource& source, simulation::ForceSink* sink,
+    const simulation::RuntimeOptions& options, simulation::ForceLogWriter& forces,
+    const IgtlCommandOptions& igtl, nlohmann::json& runtime);
 
 }  // namespace osteon::cli

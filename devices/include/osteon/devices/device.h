@@ -92,7 +92,7 @@ struct DeviceName {
 // The names osteon knows, for messages.
 inline constexpr const char* kDeviceNames =
     "mouse, spacemouse[:PATH], serial:PORT[@BAUD], touch[:NAME], replay:LOG.csv or "
-    "scripted:portal-5|portal-7|PATH.csv, or two of them joined by '+'";
+    "scripted:portal-5|portal-7|PATH.csv, igtl:HOST:PORT[/NAME], or two of them joined by '+'";
 
 // Parses one name (not a '+' composite). Throws InputError naming the text and the reason.
 DeviceName parseDeviceName(const std::string& text);

@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "osteon/geometry/surface/surface_updater.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
@@ -82,6 +83,8 @@ class LiveRuntime {
   const geometry::SurfaceUpdater& visualSurface() const;
   // The visual thread's copy of the grid (fill and density), as of the last updateSurface().
   const geometry::VoxelGrid& visualGrid() const;
+  // The bricks the last updateSurface() (or stop()) applied to visualGrid(), sorted, unique.
+  const std::vector<std::size_t>& changedBricks() const;
   // The latest display state (a reference valid until the next call).
   const DisplayState& display();
   // The surface update's error in one line, empty while there is none.

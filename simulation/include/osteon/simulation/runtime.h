@@ -32,6 +32,8 @@
 
 namespace osteon::simulation {
 
+class LiveRuntime;
+
 // The device side: where the tool is, and where the force goes. Called from the haptic loop
 // only, on either of its two threads but never on both at once; each call sees all that the
 // previous one did. Must not block, allocate or throw.
@@ -76,6 +78,11 @@ struct RuntimeOptions {
   // through which tests make the update throw (the CLI's OSTEON_INJECT_FAULT=surface-update
   // sets it, for tests of the whole program).
   std::function<void()> beforeSurfaceUpdate;
+  // Called on Session::runThreaded's visual thread after each surface update (last: once more
+  // after the loops stopped, with what was left), never in a 1 kHz loop: front ends that serve
+  // the session elsewhere (the OpenIGTLink server) read display(), visualGrid() and
+  // changedBricks() there. Must not throw.
+  std::function<void(LiveRuntime& live, bool last)> onVisual;
 };
 
 struct RuntimeStats {
