@@ -9,7 +9,7 @@
 # empty. So the libraries are found by name here, under the include folder GDCM's config names.
 include(GNUInstallDirs)
 find_path(GDCM_INCLUDE_DIR gdcmImageReader.h PATH_SUFFIXES gdcm-3.0 REQUIRED)
-foreach(_lib gdcmMSFF gdcmDSED gdcmCommon)
+foreach(_lib gdcmMSFF gdcmDICT gdcmDSED gdcmCommon)
   find_library(GDCM_${_lib}_LIBRARY ${_lib} REQUIRED)
   list(APPEND _osteon_gdcm_libraries ${GDCM_${_lib}_LIBRARY})
 endforeach()

@@ -3,10 +3,14 @@
 // lossless), JPEG-LS (CharLS), JPEG 2000 (OpenJPEG) and RLE.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <gdcmDictEntry.h>
+#include <gdcmDicts.h>
 #include <gdcmExplicitDataElement.h>
 #include <gdcmFileMetaInformation.h>
+#include <gdcmGlobal.h>
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmImplicitDataElement.h>
@@ -141,14 +145,43 @@ bool orientationInGroups(const gdcm::DataSet& ds, const gdcm::Tag& groups) {
   return false;
 }
 
-// GDCM asserts, aborting the process, when an enhanced CT file has no image orientation in any
-// place it looks for one (its functional groups, or the data set itself): such a file is refused
-// here, from its data set alone, before GDCM reads it as an image.
+// GDCM asserts, aborting the process, when it reads an element of a known tag whose explicit VR
+// its dictionary does not allow (gdcm::Attribute::SetFromDataElement): every element of the data
+// set and of its items is compared with the dictionary first.
+void refuseForeignVrs(const gdcm::DataSet& ds, const std::string& file, int depth) {
+  const gdcm::Dicts& dicts = gdcm::Global::GetInstance().GetDicts();
+  for (auto it = ds.Begin(); it != ds.End(); ++it) {
+    const gdcm::DataElement& de = *it;
+    const gdcm::VR vr = de.GetVR();
+    const gdcm::Tag& tag = de.GetTag();
+    if (vr != gdcm::VR::INVALID && !tag.IsPrivate()) {
+      const gdcm::VR expected = dicts.GetDictEntry(tag).GetVR();
+      if (expected != gdcm::VR::INVALID && !expected.Compatible(vr)) {
+        char at[16];
+        std::snprintf(at, sizeof at, "(%04x,%04x)", unsigned(tag.GetGroup()),
+                      unsigned(tag.GetElement()));
+        fail(name(file) + ": element " + at + " has VR " + gdcm::VR::GetVRString(vr) +
+             ", which its tag does not allow");
+      }
+    }
+    if (vr != gdcm::VR::SQ || depth >= 16) continue;
+    const gdcm::SmartPointer<gdcm::SequenceOfItems> sq = de.GetValueAsSQ();
+    if (!sq) continue;
+    for (gdcm::SequenceOfItems::SizeType i = 1; i <= sq->GetNumberOfItems(); ++i)
+      refuseForeignVrs(sq->GetItem(i).GetNestedDataSet(), file, depth + 1);
+  }
+}
+
+// What GDCM would assert on, aborting the process, refused from the data set alone before GDCM
+// reads it as an image: an element whose VR its tag does not allow, and an enhanced CT file
+// with no image orientation in any place GDCM looks for one (its functional groups, or the
+// data set itself).
 void refuseEnhancedWithoutOrientation(const std::string& file) {
   gdcm::Reader plain;
   plain.SetFileName(file.c_str());
   if (!plain.Read()) fail(name(file) + ": GDCM cannot read it as a DICOM file (truncated?)");
   const gdcm::DataSet& ds = plain.GetFile().GetDataSet();
+  refuseForeignVrs(ds, file, 0);
   const gdcm::Tag sopClass(0x0008, 0x0016);
   std::string sop;
   if (ds.FindDataElement(sopClass)) {

@@ -1,10 +1,17 @@
 // The loader of libosteon_dicom.so (dicom_plugin_abi.h): the plugin is opened the first time a
 // DICOM volume is read, so programs that read none never load GDCM.
 #include <array>
+#include <chrono>
+#include <csignal>
+#include <cstring>
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <filesystem>
 #include <mutex>
 #include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
 
 #include "io/dicom_plugin_abi.h"
 #include "io/volume_place.h"
@@ -95,6 +102,43 @@ std::string pluginReason(const std::string& path, std::string reason) {
   return reason;
 }
 
+// GDCM, as Debian builds it, keeps its assertions: some malformed files abort the process from
+// inside it, past any check osteon can make first. So a read runs first in a child process;
+// a child that dies by a signal (or hangs past a minute) gets the file refused, and only a file
+// the child read through is read again in this process.
+template <typename Read>
+void refuseWhatAbortsGdcm(const std::string& path, Read&& read) {
+  const pid_t child = fork();
+  if (child < 0) return;  // no process to spare: read in this one, as before
+  if (child == 0) {
+    // GDCM's assertion and warnings stay in the child: the parent says it in one line.
+    const int quiet = open("/dev/null", O_WRONLY);
+    if (quiet >= 0) dup2(quiet, STDERR_FILENO);
+    // A crash is the child's death, not a handler's tidy exit (a fuzzer's, a sanitizer's).
+    for (const int sig : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(sig, SIG_DFL);
+    try {
+      read();
+    } catch (...) {
+    }
+    _exit(0);
+  }
+  int status = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (waitpid(child, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(child, SIGKILL);
+      waitpid(child, &status, 0);
+      throw InputError(path + ": GDCM did not finish reading it within a minute");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  // The child exits 0 whatever the plugin said; anything else is a crash a handler caught.
+  if (WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) != 0)) {
+    const std::string how = WIFSIGNALED(status) ? strsignal(WTERMSIG(status)) : "a crash";
+    throw InputError(path + ": GDCM aborted reading it (" + how + "): a malformed DICOM file");
+  }
+}
+
 }  // namespace
 
 StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
@@ -105,6 +149,9 @@ StoredVolume readDicom(const std::string& path, const std::string& seriesUid) {
   osteon_dicom_volume v{};
   std::array<char, 1024> error{};
   Destination to{&path, &out.volume.data, &v, {}};
+  refuseWhatAbortsGdcm(path, [&] {
+    p.read(path.c_str(), seriesUid.c_str(), &v, allocate, &to, error.data(), error.size());
+  });
   const int code =
       p.read(path.c_str(), seriesUid.c_str(), &v, allocate, &to, error.data(), error.size());
   if (code == 3 && !to.refusal.empty()) throw InputError(to.refusal);
@@ -142,6 +189,8 @@ std::vector<DicomSeries> listDicomSeries(const std::string& path) {
   std::vector<unsigned char> text;
   Destination to{&path, &text, nullptr, {}};
   std::array<char, 1024> error{};
+  io::refuseWhatAbortsGdcm(
+      path, [&] { p.list(path.c_str(), allocate, &to, error.data(), error.size()); });
   if (p.list(path.c_str(), allocate, &to, error.data(), error.size()) != 0)
     throw InputError(to.refusal.empty() ? path + ": " + pluginReason(path, error.data())
                                         : to.refusal);
