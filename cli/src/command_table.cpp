@@ -233,6 +233,7 @@ void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
   cmd.add_option(
       "--coupling", o.coupling,
       "proxy (default): bone stops the tool, a spring joins it to the recording; direct");
+  addIgtl(cmd, o.igtl);  // replays in real time (threaded), served while it runs
 }
 
 void addDevices(CLI::App& cmd, DevicesCommandOptions& o) {

@@ -144,6 +144,26 @@ void Server::publish(simulation::LiveRuntime& live, bool last) noexcept {
   }
 }
 
+void Server::sendString(const std::string& name, const std::string& text) noexcept {
+  Impl& m = *impl_;
+  try {
+    const SharedBytes bytes = packString(name, text);
+    std::lock_guard<std::mutex> lock(m.mutex);
+    auto kept = std::find_if(m.keptStrings.begin(), m.keptStrings.end(),
+                             [&](const auto& k) { return k.first == name; });
+    if (kept == m.keptStrings.end()) {
+      m.keptStrings.emplace_back(name, bytes);
+    } else {
+      kept->second = bytes;
+    }
+    ++m.stats.strings;
+    for (const auto& c : m.clients) m.pushLocked(*c, bytes, false);
+    m.wake();
+  } catch (...) {
+    // Out of memory: the string is lost, the session goes on.
+  }
+}
+
 ServerStats Server::stop(double flushS) {
   Impl& m = *impl_;
   if (m.network.joinable()) {

@@ -41,6 +41,7 @@ struct Server::Impl {
   mutable std::mutex mutex;  // guards clients and stats
   std::vector<std::unique_ptr<Client>> clients;
   ServerStats stats;
+  std::vector<std::pair<std::string, SharedBytes>> keptStrings;  // by name, the latest text
 
   // Producer side (the visual thread only).
   std::vector<std::uint8_t> brickPending;  // per brick: changed since the last image

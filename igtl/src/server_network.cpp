@@ -146,6 +146,7 @@ void Server::Impl::networkLoop() {
       auto c = std::make_unique<Client>();
       c->fd = fd;
       std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& kept : keptStrings) pushLocked(*c, kept.second, false);
       clients.push_back(std::move(c));
       ++stats.clients;
     }

@@ -1,5 +1,6 @@
-// `drill --igtl PORT`: the threaded run served to a client written with OpenIGTLink itself
-// (tests/igtl/igtl_client.cpp), its counters in summary.json, and the refusals.
+// `drill --igtl PORT` and `replay --igtl PORT`: the threaded run served to a client written
+// with OpenIGTLink itself (tests/igtl/igtl_client.cpp), its counters in summary.json, and the
+// refusals.
 #include <future>
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,30 @@ TEST_F(CliTest, DrillIgtlServesAThreadedRunToAClient) {
   EXPECT_EQ(got.wholeVolumes, 1);
   EXPECT_GT(got.subVolumes, 5);
   EXPECT_GT(got.transforms.size(), 200u);  // 100 Hz over a 7 s path
+}
+
+TEST_F(CliTest, ReplayIgtlPlaysARecordingAtItsPaceToAClient) {
+  const std::string common = " --voxel-size 1.2 --levels 0 --out-dir ";
+  const CliRun recorded = osteon("drill default --device scripted:portal-5 --record " +
+                                 path("portal5.csv") + common + path("rec") + " --json");
+  ASSERT_EQ(recorded.exitCode, 0) << recorded.err;
+  auto client = std::async(std::launch::async, [] { return test::receiveAll(18983); });
+  const CliRun run = osteon("replay " + path("portal5.csv") + " default --igtl 18983" + common +
+                            path("replay") + " --json");
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const test::IgtlReceived got = client.get();
+  const json r = json::parse(run.out);
+  EXPECT_EQ(r["mode"], "replay-threaded");
+  EXPECT_EQ(r["runtime"]["igtl"]["clients"], 1);
+  EXPECT_EQ(r["runtime"]["igtl"]["messages_sent"], got.messages);
+  EXPECT_EQ(got.wholeVolumes, 1);
+  EXPECT_GT(got.subVolumes, 5);
+  EXPECT_GT(got.transforms.size(), 200u);  // 100 Hz over the recording's 7 s
+  // Played at its pace: the client saw the run span most of the recording's length.
+  EXPECT_GT(got.lastS - got.firstS, 5.0);
+  // The same bone comes off as in the deterministic replay, within the threaded clock's slack.
+  const double recordedMm3 = json::parse(recorded.out)["removed_volume_mm3"];
+  EXPECT_NEAR(double(r["removed_volume_mm3"]), recordedMm3, 0.1 * recordedMm3);
 }
 
 TEST_F(CliTest, DrillIgtlRefusalsAreOneLine) {

@@ -133,6 +133,31 @@ TEST(IgtlServer, TransformsFollowThePathInRas) {
       1e3 * percentile(got.latenciesS, 0.5), 1e3 * percentile(got.latenciesS, 0.99));
 }
 
+// A score sent once reaches the client connected then and one that connects later.
+TEST(IgtlServer, KeptStringsReachClientsThatConnectLater) {
+  SessionOptions options;
+  options.levels = 0;
+  Session session = test::humerusSession(options);
+  const DrillPath path = test::portalFivePath(session, 1.0);
+  Server server(anyPort(), session.simulation().tool());
+  auto early = std::async(std::launch::async, [&] { return test::receiveAll(server.port()); });
+  while (server.stats().clients == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  server.sendString("Score", "first");
+  server.sendString("Score", "PASSED, score 90 / 100");
+  auto late = std::async(std::launch::async, [&] { return test::receiveAll(server.port()); });
+  while (server.stats().clients < 2) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  runServed(session, path, server);
+  server.stop();
+  const std::vector<std::string> a = early.get().strings, b = late.get().strings;
+  const auto count = [](const std::vector<std::string>& v, const std::string& s) {
+    return std::count(v.begin(), v.end(), s);
+  };
+  EXPECT_EQ(count(a, "Score=first"), 1);
+  EXPECT_EQ(count(a, "Score=PASSED, score 90 / 100"), 1);
+  EXPECT_EQ(count(b, "Score=first"), 0);  // only the latest text of a name is kept
+  EXPECT_EQ(count(b, "Score=PASSED, score 90 / 100"), 1);
+}
+
 // A raw TCP client that connects and never reads: its queue fills, messages are dropped, and
 // the haptic loop's overruns stay those of a run with no client at all.
 TEST(IgtlServer, AClientThatStopsReadingDoesNotSlowTheHapticLoop) {

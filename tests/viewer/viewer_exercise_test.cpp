@@ -4,6 +4,7 @@
 // one line before any window. Skipped, with the reason, when no X server can start.
 #include <cstdlib>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <stb/stb_image.h>  // the implementation is in viewer_scope_test.cpp
 #include <string>
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "igtl/igtl_client.h"
 #include "support/files.h"
 #include "support/process.h"
 #include "viewer_fixture.h"
@@ -66,6 +68,28 @@ TEST_F(ViewerExerciseTest, ThePlanPathScoresFullMarksInTheViewer) {
   EXPECT_EQ(names, (std::vector<std::string>{"entry", "angle", "depth", "overcut", "no_go", "force",
                                              "time"}));
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 50.0);
+}
+
+// With --igtl the score reaches the OpenIGTLink clients as STRING Score (one line) and
+// ScoreDetails (the score's JSON), and the report counts the link.
+TEST_F(ViewerExerciseTest, TheScoreIsSentOverOpenIgtLink) {
+  auto client = std::async(std::launch::async, [] { return test::receiveAll(18984); });
+  const json j = viewer("--exercise anchor-5 --path plan --frames 20 --igtl 18984",
+                        "viewer_exercise_igtl.png");
+  ASSERT_FALSE(j.empty());
+  const test::IgtlReceived got = client.get();
+  ASSERT_TRUE(j["igtl"].is_object()) << j.dump();
+  EXPECT_EQ(j["igtl"]["clients"], 1);
+  EXPECT_EQ(j["igtl"]["messages_sent"], got.messages);
+  std::string score, details;
+  for (const std::string& s : got.strings) {
+    if (s.rfind("Score=", 0) == 0) score = s.substr(6);
+    if (s.rfind("ScoreDetails=", 0) == 0) details = s.substr(13);
+  }
+  EXPECT_EQ(score.rfind("PASSED, score ", 0), 0u) << score;
+  ASSERT_FALSE(details.empty());
+  EXPECT_EQ(json::parse(details), j["score"]);
+  EXPECT_EQ(got.wholeVolumes, 1);
 }
 
 // An exercise from a file: portal 7, 15 mm deep. The mouse has not drilled: the plan is drawn

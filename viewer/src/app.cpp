@@ -319,16 +319,25 @@ void App::fillStatus(double frameMs) {
 
 void App::finishReport() {
   const simulation::RuntimeResult result = scene_->stop();
-  if (igtl_) {
-    serveIgtl(true);
-    igtlStats = igtl_->stop();
-  }
   if (scene_->exercise()) {
-    scoreTrial();  // scored now if the trial had not ended
+    scoreTrial();  // scored now if the trial had not ended (and sent to --igtl's clients)
     report_.exercise = scene_->exercise()->name;
     report_.scoreJson = simulation::scoreJsonText(*panel_.score);
   }
   ViewerReport& r = report_;
+  if (igtl_) {
+    serveIgtl(true);
+    igtlStats = igtl_->stop();
+    r.igtlServed = true;
+    r.igtlAddress = options_.igtlBind + ":" + std::to_string(igtl_->port());
+    r.igtlClients = igtlStats->clients;
+    r.igtlMessages = igtlStats->messagesSent;
+    r.igtlBytes = igtlStats->bytesSent;
+    r.igtlDropped = igtlStats->dropped;
+    r.igtlVolumes = igtlStats->volumesSent;
+    r.igtlStrings = igtlStats->strings;
+    r.igtlRejected = igtlStats->rejected;
+  }
   r.recordedSamples = scene_->poseSource().recorder().sampleCount();
   finishRecording(true);
   r.input = scene_->request().bone.input;

@@ -49,6 +49,19 @@ void App::updateExercise(const simulation::ToolPose& pose) {
 void App::scoreTrial() {
   if (!scene_->exercise() || panel_.score) return;
   panel_.score = scene_->scoreTrial();
+  if (igtl_) {
+    // Score: one line for Slicer's text node; ScoreDetails: the same JSON as `osteon score`.
+    const simulation::TrialScore& s = *panel_.score;
+    std::string line = std::string(s.passed ? "PASSED" : "FAILED") + ", score " +
+                       std::to_string(int(std::lround(s.score))) + " / 100";
+    std::string failed;
+    for (const simulation::Criterion& c : s.criteria) {
+      if (!c.passed) failed += (failed.empty() ? "" : ", ") + c.name;
+    }
+    if (!failed.empty()) line += " (failed: " + failed + ")";
+    igtl_->sendString("Score", line);
+    igtl_->sendString("ScoreDetails", simulation::scoreJsonText(s));
+  }
 }
 
 void App::drawHeadAndEntry(const FrameCamera& camera) {

@@ -71,6 +71,14 @@ std::string reportJson(const ViewerReport& r) {
       {"exercise", r.exercise.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.exercise)},
       {"score", r.scoreJson.empty() ? nlohmann::json(nullptr) : nlohmann::json::parse(r.scoreJson)},
   };
+  // The same fields as the CLI's run JSON "igtl" (cli/src/support/igtl_serve.cpp).
+  j["igtl"] =
+      !r.igtlServed
+          ? nlohmann::json(nullptr)
+          : nlohmann::json{{"address", r.igtlAddress},        {"clients", r.igtlClients},
+                           {"messages_sent", r.igtlMessages}, {"bytes_sent", r.igtlBytes},
+                           {"dropped", r.igtlDropped},        {"volumes_sent", r.igtlVolumes},
+                           {"strings", r.igtlStrings},        {"rejected", r.igtlRejected}};
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -54,6 +54,11 @@ struct ViewerReport {
   double lensRotationDeg = 0.0;   // the arthroscope's lens at exit
   std::string exercise;           // its name ("" without one)
   std::string scoreJson;          // the trial's score (scoreJsonText; "" when not scored)
+  // --igtl: the server's counters at exit (igtl::ServerStats); served false without it.
+  bool igtlServed = false;
+  std::string igtlAddress;
+  std::uint64_t igtlClients = 0, igtlMessages = 0, igtlBytes = 0, igtlDropped = 0;
+  std::uint64_t igtlVolumes = 0, igtlStrings = 0, igtlRejected = 0;
 };
 
 std::string reportJson(const ViewerReport& report);

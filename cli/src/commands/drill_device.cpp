@@ -116,19 +116,15 @@ DeviceOutcome drive(const DrillCommandOptions& options, sim::Session& session, d
     return out;
   }
   const dev::Capabilities caps = device.capabilities();
-  sim::DeviceInput input(device, io);
-  sim::RuntimeOptions ro = threadedRunOptions();
   // A recording runs for its length, whatever its stamps (DeviceInput shifts its clock).
-  ro.durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
-  ro.onRow = logRow;
-  ro.keepLog = false;
-  const sim::RuntimeResult r =
-      runThreadedLogged(session, input, &input, ro, forces, options.igtl, out.extra["runtime"]);
-  out.run = r.run.summary;
-  out.safety = input.safety().stats();
+  const double durationS = options.durationS ? *options.durationS : caps.endS - caps.startS;
+  ThreadedDeviceRun r = runDeviceThreaded(session, device, io, durationS, forces, options.igtl);
+  out.run = r.run;
+  out.safety = r.safety;
+  out.extra["runtime"] = std::move(r.runtime);
   out.extra["device"] = {
       {"name", options.device},
-      {"duration_s", ro.durationS},
+      {"duration_s", durationS},
       {"frame_origin_mm", {io.frame.originMm.x, io.frame.originMm.y, io.frame.originMm.z}}};
   return out;
 }

@@ -24,13 +24,42 @@ int runReplay(const ReplayCommandOptions& options) {
   inputs.push_back(options.log);
   geo::refuseOverwritingInputs({files.forcesPath, files.summaryPath, files.surfacePath}, inputs);
 
+  const bool live = options.igtl.port.has_value();
+  checkIgtlOptions(options.igtl, live);
+
   sim::Session session = openDeviceRunSession(options.bone, options.levels, kind, coupling);
   const std::size_t rows = recording.rows.size();
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
   sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy);
   sim::DeviceRunOptions ro;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
-  const sim::DeviceRunResult r = sim::runDevice(session, device, ro);
+  sim::RunSummary run;
+  json extra;
+  if (live) {
+    // At the recording's pace, so that Slicer watches it as it was drilled; its forces come from
+    // the threaded runtime's clock, not byte for byte the deterministic replay's.
+    const dev::Capabilities caps = device.capabilities();
+    ThreadedDeviceRun r =
+        runDeviceThreaded(session, device, ro.input, caps.endS - caps.startS, forces, options.igtl);
+    run = r.run;
+    extra = {
+        {"faults", faultsJson(r.safety.faults)},
+        {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
+        {"runtime", std::move(r.runtime)},
+        {"recording",
+         {{"file", options.log}, {"rows", rows}, {"start_s", caps.startS}, {"end_s", caps.endS}}}};
+  } else {
+    const sim::DeviceRunResult r = sim::runDevice(session, device, ro);
+    run = r.run.summary;
+    extra = {{"faults", faultsJson(r.safety.faults)},
+             {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
+             {"recording",
+              {{"file", options.log},
+               {"rows", rows},
+               {"start_s", r.startS},
+               {"end_s", r.endS},
+               {"steps_before_pose", r.stepsBeforePose}}}};
+  }
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
 
@@ -39,17 +68,9 @@ int runReplay(const ReplayCommandOptions& options) {
                              *options.bone.voxelSizeMm,
                              options.levels,
                              options.json,
-                             "replay",
+                             live ? "replay-threaded" : "replay",
                              options.allowEmpty};
-  json extra = {{"faults", faultsJson(r.safety.faults)},
-                {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
-                {"recording",
-                 {{"file", options.log},
-                  {"rows", rows},
-                  {"start_s", r.startS},
-                  {"end_s", r.endS},
-                  {"steps_before_pose", r.stepsBeforePose}}}};
-  return finishDeviceRun(setup, files, session, r.run.summary, extra, "replayed " + options.log);
+  return finishDeviceRun(setup, files, session, run, extra, "replayed " + options.log);
 }
 
 }  // namespace osteon::cli

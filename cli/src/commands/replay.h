@@ -1,10 +1,12 @@
 // `osteon replay LOG.csv MESH`: a device recording replayed through the safety layer into a
-// deterministic session, written as `drill` writes its runs.
+// deterministic session, written as `drill` writes its runs. With --igtl it is played at its
+// own pace on the threaded runtime instead, served over OpenIGTLink while it runs.
 #pragma once
 
 #include <string>
 
 #include "osteon/simulation/bone_source.h"
+#include "support/igtl_serve.h"
 
 namespace osteon::cli {
 
@@ -18,6 +20,7 @@ struct ReplayCommandOptions {
   bool allowEmpty =
       false;             // a recording that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;  // proxy (the default) or direct
+  IgtlCommandOptions igtl;
 };
 
 int runReplay(const ReplayCommandOptions& options);

@@ -34,6 +34,20 @@ sim::Session openDeviceRunSession(const sim::BoneSource& bone, int levels, sim::
   return sim::Session(sim::BoneModel::open(source).bone, so);
 }
 
+ThreadedDeviceRun runDeviceThreaded(sim::Session& session, dev::Device& device,
+                                    const sim::DeviceInputOptions& io, double durationS,
+                                    sim::ForceLogWriter& forces, const IgtlCommandOptions& igtl) {
+  sim::DeviceInput input(device, io);
+  sim::RuntimeOptions ro = threadedRunOptions();
+  ro.durationS = durationS;
+  ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
+  ro.keepLog = false;
+  ThreadedDeviceRun out;
+  out.run = runThreadedLogged(session, input, &input, ro, forces, igtl, out.runtime).run.summary;
+  out.safety = input.safety().stats();
+  return out;
+}
+
 // The files a device name reads (recordings, path CSVs), which no output may overwrite.
 std::vector<std::string> deviceInputs(const std::string& name) {
   std::vector<std::string> files;

@@ -12,10 +12,12 @@
 #include "osteon/geometry/io/output_file.h"
 #include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/coupling.h"
+#include "osteon/simulation/device_input.h"
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/session.h"
 #include "osteon/simulation/tool.h"
 #include "support/files.h"
+#include "support/igtl_serve.h"
 
 namespace osteon::cli {
 
@@ -25,7 +27,7 @@ struct DeviceRunSetup {
   double voxelSizeMm = 0.0;
   int levels = 2;
   bool json = false;
-  std::string mode;  // replay, device, device-threaded
+  std::string mode;  // replay, replay-threaded, device, device-threaded
   bool allowEmpty = false;
 };
 
@@ -40,6 +42,18 @@ simulation::Session openDeviceRunSession(const simulation::BoneSource& bone, int
 // The files a device name reads (recordings, path CSVs), which no output may overwrite.
 std::vector<std::string> deviceInputs(const std::string& name);
 bool sameLexicalPath(const std::string& a, const std::string& b);
+
+// A device run in real time on the threaded runtime (a live device, or a recording played at
+// its own pace) for durationS: rows to `forces`; served over OpenIGTLink with --igtl.
+struct ThreadedDeviceRun {
+  simulation::RunSummary run;
+  devices::SafetyStats safety;
+  nlohmann::json runtime;  // the run's "runtime" object (with "igtl" when served)
+};
+ThreadedDeviceRun runDeviceThreaded(simulation::Session& session, devices::Device& device,
+                                    const simulation::DeviceInputOptions& io, double durationS,
+                                    simulation::ForceLogWriter& forces,
+                                    const IgtlCommandOptions& igtl);
 
 nlohmann::json faultsJson(const devices::FaultCounts& faults);
 nlohmann::json safetyJson(const devices::SafetyStats& stats, double limitN);

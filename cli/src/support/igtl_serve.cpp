@@ -59,10 +59,10 @@ void IgtlServe::attach(sim::RuntimeOptions& runtime) {
 nlohmann::json IgtlServe::finish() {
   if (!impl_->server) return nullptr;
   const igtl::ServerStats s = impl_->server->stop();
-  return {{"address", impl_->where},    {"clients", s.clients}, {"messages_sent", s.messagesSent},
-          {"bytes_sent", s.bytesSent},  {"dropped", s.dropped}, {"volumes_sent", s.volumesSent},
-          {"transforms", s.transforms}, {"images", s.images},   {"surfaces", s.surfaces},
-          {"rejected", s.rejected}};
+  return {{"address", impl_->where},    {"clients", s.clients},  {"messages_sent", s.messagesSent},
+          {"bytes_sent", s.bytesSent},  {"dropped", s.dropped},  {"volumes_sent", s.volumesSent},
+          {"transforms", s.transforms}, {"images", s.images},    {"surfaces", s.surfaces},
+          {"strings", s.strings},       {"rejected", s.rejected}};
 }
 
 }  // namespace osteon::cli

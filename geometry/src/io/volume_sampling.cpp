@@ -96,6 +96,14 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
   if (voxels > double(VoxelGrid::kMaxVoxels)) {
     refuseResampling(path, options, g.voxelSizeMm, numberText(voxels) + " voxels, more than 2^32");
   }
+  // Spacings that differ a thousandfold are a corrupt header, not a scan (a clinical CT's slices
+  // are at most some twenty times its pixels): resampling them unasked would take minutes.
+  const double stored = double(g.stored.x) * double(g.stored.y) * double(g.stored.z);
+  if (!options.voxelSizeMm && voxels > double(1 << 20) && voxels > 1000.0 * stored) {
+    refuseResampling(path, options, g.voxelSizeMm,
+                     numberText(voxels) + " voxels from " + numberText(stored) +
+                         " stored (its spacings differ more than a thousandfold)");
+  }
   // The stored values, a fill and a distance per voxel, the grid's bricks at worst.
   refuseOverMemory(path + ": resampled at " + numberText(g.voxelSizeMm) + " mm",
                    double(raw.data.size()) + voxels * 8.0 + kVolumeLoadProcessBytes,

@@ -6,6 +6,8 @@
 //                          bricks that changed, at up to imageHz
 //   POLYDATA  BoneSurface  the crack-free surface in RAS, on GET_POLYDATA or every surfaceEveryS
 //   STRING    Force, RemovedVolume   the force sent (N) and the bone removed (mm3)
+//   STRING    (any, by sendString)   e.g. the exercise's Score: kept, and sent to clients that
+//                                    connect later
 // publish() is called on the threaded runtime's visual thread (RuntimeOptions::onVisual), never
 // in a 1 kHz loop; it packs messages and puts them in each client's bounded queue. A network
 // thread of the server's own writes them without blocking: a client that reads slowly or not
@@ -58,6 +60,9 @@ class Server {
   // On the visual thread: what changed since the last call, into the clients' queues. last:
   // the run is over: everything pending goes out now, whatever the rates.
   void publish(simulation::LiveRuntime& live, bool last) noexcept;
+  // A STRING message to every client now, from any thread but a 1 kHz loop. The latest text
+  // of each name is kept and sent to every client that connects later (a score stays visible).
+  void sendString(const std::string& name, const std::string& text) noexcept;
   // Gives the queues up to flushS to drain, then closes every connection.
   ServerStats stop(double flushS = 2.0);
   ServerStats stats() const;
