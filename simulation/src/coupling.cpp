@@ -147,7 +147,7 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   const double aheadMm = glm::length(ahead);
   if (cutAdvanceMm_ > 0.0 && aheadMm > 0.0)
     h.stepPose.tipMm += (std::min(cutAdvanceMm_, aheadMm) / aheadMm) * ahead;
-  h.step = sim_->step({commanded.tS, h.stepPose, commanded.drillOn});
+  h.step = sim_->step({commanded.tS, h.stepPose, commanded.drillOn, commanded.settings});
 
   // The spring's anchor follows the proxy at most anchorSpeedMmPerS, also as the proxy catches
   // up with the command: were the anchor set onto it then, the spring's force would drop in one

@@ -225,40 +225,40 @@ struct LiveRuntime::Impl {
     if (options.realtimePriority && realtime::askRealtime(79)) granted.fetch_add(1);
     BrickMessage handover;
     RefinedList refined;
-    periodic(startNs, collisionSteps, collisionOverruns, collisionOverrunNs, collisionNs,
-             [&](double) {
-               const std::int64_t begin = nowNs();
-               const PoseMessage& m = poses.read();
-               if (m.tS < 0.0) return;
-               const HapticStep h = stepHaptic(*sim, coupling, {m.tS, m.pose, m.drillOn});
-               const StepOutput& out = h.step;
-               // The haptic thread sends the coupling's force (direct: the contact force).
-               ContactForce sent = out.contact;
-               sent.forceN = h.forceN;
-               sent.magnitudeN = h.magnitudeN;
-               forces.write(sent);
-               tallies.tally(h);
-               const DrillingTotals& totals = sim->totals();
-               if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
-                 logDropped.fetch_add(1, std::memory_order_relaxed);
-               }
-               displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent,
-                                  totals.removedFill, sim->removedVolumeMm3(), totals.steps});
-               if (totals.steps % kRefinedEverySteps == 0) {
-                 const geometry::RefinedVoxels& voxels = sim->voxels();
-                 refined.depth = voxels.depth();
-                 refined.count = std::min(voxels.refinedCount(), refined.voxels.size());
-                 for (std::size_t i = 0; i < refined.count; ++i)
-                   refined.voxels[i] = voxels.refinedVoxelAt(i);
-                 refinedList.write(refined);
-               }
-               if (out.removal.removedFill > 0) {
-                 PoseMessage at = m;  // the bone changed where the step ran (the cut pose)
-                 at.pose = h.stepPose;
-                 handOver(at, handover);
-               }
-               lastStepNs.store(nowNs() - begin, std::memory_order_relaxed);
-             });
+    periodic(
+        startNs, collisionSteps, collisionOverruns, collisionOverrunNs, collisionNs, [&](double) {
+          const std::int64_t begin = nowNs();
+          const PoseMessage& m = poses.read();
+          if (m.tS < 0.0) return;
+          const HapticStep h = stepHaptic(*sim, coupling, {m.tS, m.pose, m.drillOn, m.settings});
+          const StepOutput& out = h.step;
+          // The haptic thread sends the coupling's force (direct: the contact force).
+          ContactForce sent = out.contact;
+          sent.forceN = h.forceN;
+          sent.magnitudeN = h.magnitudeN;
+          forces.write(sent);
+          tallies.tally(h);
+          const DrillingTotals& totals = sim->totals();
+          if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
+            logDropped.fetch_add(1, std::memory_order_relaxed);
+          }
+          displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent,
+                             totals.removedFill, sim->removedVolumeMm3(), totals.steps});
+          if (totals.steps % kRefinedEverySteps == 0) {
+            const geometry::RefinedVoxels& voxels = sim->voxels();
+            refined.depth = voxels.depth();
+            refined.count = std::min(voxels.refinedCount(), refined.voxels.size());
+            for (std::size_t i = 0; i < refined.count; ++i)
+              refined.voxels[i] = voxels.refinedVoxelAt(i);
+            refinedList.write(refined);
+          }
+          if (out.removal.removedFill > 0) {
+            PoseMessage at = m;  // the bone changed where the step ran (the cut pose)
+            at.pose = h.stepPose;
+            handOver(at, handover);
+          }
+          lastStepNs.store(nowNs() - begin, std::memory_order_relaxed);
+        });
   }
 
   // The changed bricks around the cutting parts, to the visual side.

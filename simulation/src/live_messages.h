@@ -42,6 +42,7 @@ struct PoseMessage {
   double tS = -1.0;  // < 0: no pose yet
   ToolPose pose;
   bool drillOn = false;
+  DrillSettings settings;
 };
 
 // The display state without the refined voxels (published every step).

@@ -302,7 +302,8 @@ RunResult Session::run(const DrillPath& path, const DeterministicOptions& option
     const HapticStep h = advance(input, proxy, follow, &stepNs, &surfaceNs);
     tallies.tally(h);
     recorder.add(logRowOf(input.tS, h, totals().samplesRemoved));
-    if (options.afterStep) options.afterStep(i, {input.tS, h.proxy, input.drillOn}, h.step);
+    if (options.afterStep)
+      options.afterStep(i, {input.tS, h.proxy, input.drillOn, input.settings}, h.step);
     if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted
   }
   RunResult result = recorder.finish(simulation(), proxy != nullptr);

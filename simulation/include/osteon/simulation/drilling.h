@@ -12,6 +12,7 @@
 
 #include "osteon/geometry/hierarchy/refinement.h"
 #include "osteon/simulation/contact.h"
+#include "osteon/simulation/cutting.h"
 #include "osteon/simulation/removal.h"
 #include "osteon/simulation/tool.h"
 
@@ -50,9 +51,13 @@ struct DrillingOptions {
 void validateDrillingOptions(const DrillingOptions& options);
 
 struct StepInput {
-  double tS = 0.0;
+  // A constructor, not an aggregate: {t, pose, on} keeps the default settings.
+  StepInput(double t = 0.0, const ToolPose& p = {}, bool on = false, const DrillSettings& s = {})
+      : tS(t), pose(p), drillOn(on), settings(s) {}
+  double tS;
   ToolPose pose;
-  bool drillOn = false;
+  bool drillOn;
+  DrillSettings settings;  // rpm and irrigation (the calibrated model and heat read them)
 };
 
 struct StepOutput {

@@ -21,6 +21,11 @@ struct ForceLogRow {
   std::uint64_t removedVoxels = 0;  // samples removed so far (at the level they were cut)
   int level = 0;                    // finest level in contact
   glm::dvec3 commandMm{0.0};        // the commanded tip (proxy coupling; tipMm is the proxy's)
+  // Under the calibrated model (cutting.h) only; the seed's log has no columns for them.
+  double rpm = 0.0;
+  bool irrigation = false;
+  double removedMm3 = 0.0;     // bone removed so far
+  double temperatureC = 37.0;  // at the tip (the heat model's)
 };
 
 // The log row of one step: the pose it took, its force, the samples removed so far.
