@@ -35,8 +35,7 @@ double ThrustModel::thrustN(double rhoGcm3, double diameterMm, double feedMmPerS
          std::pow(perRevMm / refFeedPerRevMm, alpha);
 }
 
-double ThrustModel::feedMmPerS(double thrust, double rhoGcm3, double diameterMm,
-                               double rpm) const {
+double ThrustModel::feedMmPerS(double thrust, double rhoGcm3, double diameterMm, double rpm) const {
   const double above = rhoGcm3 - rho0Gcm3;
   if (!(above > 0.0)) return std::numeric_limits<double>::infinity();
   if (!(thrust > 0.0) || !(rpm > 0.0) || !(diameterMm > 0.0)) return 0.0;

@@ -160,7 +160,7 @@ DeviceRunResult runDevice(Session& session, devices::Device& device,
     const HapticStep h = session.hapticStep(in);  // through the session's coupling
     stepNs.add(std::chrono::nanoseconds(Clock::now() - start).count());
     result.run.summary.tally(h);
-    const ForceLogRow row = logRowOf(in.tS, h, session.totals().samplesRemoved);
+    const ForceLogRow row = logRowOf(in, h, session.simulation());
     metrics.add(row.tS, row.magnitudeN);
     if (options.onRow) options.onRow(row);
     input.apply(in.tS, h.forceN);  // the safety layer, after the coupling

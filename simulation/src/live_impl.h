@@ -239,7 +239,7 @@ struct LiveRuntime::Impl {
           forces.write(sent);
           tallies.tally(h);
           const DrillingTotals& totals = sim->totals();
-          if (!logRows.push(logRowOf(m.tS, h, totals.samplesRemoved))) {
+          if (!logRows.push(logRowOf({m.tS, m.pose, m.drillOn, m.settings}, h, *sim))) {
             logDropped.fetch_add(1, std::memory_order_relaxed);
           }
           displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent,

@@ -301,7 +301,7 @@ RunResult Session::run(const DrillPath& path, const DeterministicOptions& option
         options.remeshEverySteps > 0 && i % std::size_t(options.remeshEverySteps) == 0;
     const HapticStep h = advance(input, proxy, follow, &stepNs, &surfaceNs);
     tallies.tally(h);
-    recorder.add(logRowOf(input.tS, h, totals().samplesRemoved));
+    recorder.add(logRowOf(input, h, simulation()));
     if (options.afterStep)
       options.afterStep(i, {input.tS, h.proxy, input.drillOn, input.settings}, h.step);
     if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted

@@ -53,6 +53,17 @@ inline ForceLogRow logRowOf(double tS, const HapticStep& h, std::uint64_t sample
           h.commanded.tipMm};
 }
 
+// The same row with what the step ran under and the bone removed so far (every run fills it;
+// the calibrated model's log writes them).
+inline ForceLogRow logRowOf(const StepInput& in, const HapticStep& h,
+                            const DrillingSimulation& sim) {
+  ForceLogRow row = logRowOf(in.tS, h, sim.totals().samplesRemoved);
+  row.rpm = in.settings.rpm;
+  row.irrigation = in.settings.irrigation;
+  row.removedMm3 = sim.removedVolumeMm3();
+  return row;
+}
+
 // CSV with a header row: t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level
 // (with commandColumns, as proxy coupling writes it: t,px,py,pz,cx,cy,cz,fx,...: the proxy's
 // tip, then the commanded one).
