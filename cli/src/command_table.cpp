@@ -119,6 +119,15 @@ void addRunOptions(CLI::App& cmd, int& levels, std::string& tool, std::string& o
       ->default_val(".");
 }
 
+// The cutting resistance and the drill's settings (docs/feel.md).
+void addFeel(CLI::App& cmd, FeelCommandOptions& o) {
+  cmd.add_option("--force-model", o.forceModel,
+                 "seed (the paper's eq. 2, default) or calibrated (thrust fitted to published "
+                 "drilling data: rpm, feed, density)");
+  cmd.add_option("--rpm", o.rpm, "The drill's speed, revolutions per minute (default 1000)");
+  cmd.add_flag("--irrigation", o.irrigation, "Saline irrigation on (cools the bone)");
+}
+
 // A live run served over OpenIGTLink (docs/slicer.md).
 void addIgtl(CLI::App& cmd, IgtlCommandOptions& o) {
   cmd.add_option("--igtl", o.port,
@@ -218,6 +227,7 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
                  "Record the device's stream at 1 kHz to this CSV "
                  "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
   addIgtl(cmd, o.igtl);
+  addFeel(cmd, o.feel);
 }
 
 void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
@@ -234,6 +244,7 @@ void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
       "--coupling", o.coupling,
       "proxy (default): bone stops the tool, a spring joins it to the recording; direct");
   addIgtl(cmd, o.igtl);  // replays in real time (threaded), served while it runs
+  addFeel(cmd, o.feel);
 }
 
 void addDevices(CLI::App& cmd, DevicesCommandOptions& o) {

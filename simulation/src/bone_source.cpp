@@ -164,6 +164,8 @@ const char* commandLineFlag(const std::string& field) {
       {"volume.cropMarginMm", "--crop-margin"},
       {"volume.allowOutsideData", "--allow-outside-data"},
       {"levels", "--levels"},
+      {"forceModel", "--force-model"},
+      {"drill.rpm", "--rpm"},
       {"tool", "--tool"},
       {"xi", "--xi"},
       {"raysPerAxis", "--rays"},

@@ -43,8 +43,9 @@ void forEachShellSample(geometry::RefinedVoxels& voxels, const ToolPart& part, c
 
 }  // namespace
 
-ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm)
-    : tool_(tool), finestVoxelMm_(finestVoxelMm) {
+ForceModel::ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm,
+                       bool cuttingPartsPush)
+    : tool_(tool), finestVoxelMm_(finestVoxelMm), cuttingPartsPush_(cuttingPartsPush) {
   const double ratio = baseVoxelMm / finestVoxelMm;
   weightPerFill_ = ratio * ratio * ratio / double(geometry::kFillFull);
   const double cube = finestVoxelMm * finestVoxelMm * finestVoxelMm;
@@ -84,6 +85,7 @@ ContactForce ForceModel::compute(geometry::RefinedVoxels& voxels, const ToolPose
     out.contactVoxels += n;
     const double len = glm::length(direction);
     if (n <= 0.0 || !(len > 1e-12 * n)) continue;  // no bone, or pushed equally from all sides
+    if (!cuttingPartsPush_ && tool_.parts[std::size_t(p)].cuts) continue;
     const double magnitude = tool_.maxForceN * std::min(n / maxCount_[std::size_t(p)], 1.0);
     total += (magnitude / len) * direction;
   }

@@ -85,6 +85,7 @@ ProxyCoupling::ProxyCoupling(DrillingSimulation& sim, const CouplingOptions& opt
     // The cut's lead: a cushion, but no more than half the inner radius (a static coarse grid's
     // cushion of two 1.2 mm voxels would cut a sphere barely touching the proxy's).
     if (part.cuts) {
+      cutterRadiusMm_ = std::max(cutterRadiusMm_, part.innerRadiusMm);
       cushionMm_ = std::max(
           cushionMm_, std::min(part.outerRadiusMm - part.innerRadiusMm, 0.5 * part.innerRadiusMm));
     }
@@ -98,6 +99,7 @@ void ProxyCoupling::reset(const ToolPose& pose) {
   proxy_ = pose;
   started_ = true;
   cutAdvanceMm_ = 0.0;
+  lastForceN_ = glm::dvec3(0.0);
   anchorMm_ = pose.tipMm;
   contactForceN_ = glm::dvec3(0.0);
   lastGapMm_ = gapRate_ = glm::dvec3(0.0);
@@ -133,6 +135,10 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
     admitRadiusMm_[std::size_t(p)] =
         std::sqrt(part.innerRadiusMm * part.innerRadiusMm - ahead * ahead);
   }
+  feedLimitMmPerS_ = options_.maxFeedMmPerS;
+  feedBoneAhead_ = false;
+  if (options_.forceModel == ForceModelKind::Calibrated && commanded.drillOn)
+    calibratedFeed(commanded, h);
   // The proxy: as far toward the command as the bone lets it, then along the contact plane.
   moveProxy(commanded, dtS);
   h.proxy = proxy_;
@@ -196,11 +202,47 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   }
   h.forceN = force;
   h.magnitudeN = magnitude;
+  lastForceN_ = force;
 
   ++totals_.steps;
   totals_.clampSteps += h.clamped ? 1 : 0;
   totals_.maxGapMm = std::max(totals_.maxGapMm, h.gapMm);
   return h;
+}
+
+// The bone ahead of the tip (the cutting sphere's front, on the tool's axis), trilinear over the
+// material grid's voxels weighted by their fill: its apparent density, 0 where there is none.
+static double densityAheadGcm3(const geometry::VoxelGrid& grid, const glm::dvec3& pMm) {
+  const glm::dvec3 g = grid.gridFromWorld(pMm) - 0.5;
+  const glm::dvec3 base(std::floor(g.x), std::floor(g.y), std::floor(g.z));
+  const glm::dvec3 f = g - base;
+  const glm::ivec3 i0(base);
+  double weight = 0.0, rho = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const glm::ivec3 o((c & 1) != 0, (c & 2) != 0, (c & 4) != 0);
+    const double w = (o.x ? f.x : 1.0 - f.x) * (o.y ? f.y : 1.0 - f.y) * (o.z ? f.z : 1.0 - f.z) *
+                     double(grid.fill(i0 + o)) / double(geometry::kFillFull);
+    if (!(w > 0.0)) continue;
+    weight += w;
+    rho += w * apparentDensityGcm3(double(grid.density(i0 + o)));
+  }
+  return weight > 1e-6 ? rho / weight : 0.0;
+}
+
+void ProxyCoupling::calibratedFeed(const StepInput& commanded, HapticStep& h) {
+  if (!options_.materialGrid) return;
+  const glm::dvec3 front = proxy_.tipMm + cutterRadiusMm_ * proxy_.forward();
+  h.densityGcm3 = densityAheadGcm3(*options_.materialGrid, front);
+  // The hand's push along the tool: the force sent points back against it.
+  const double pushN = std::max(0.0, -glm::dot(lastForceN_, proxy_.forward()));
+  h.thrustRealN = pushN / kDeviceNPerRealN;
+  feedBoneAhead_ = h.densityGcm3 > 0.0;
+  if (feedBoneAhead_) {
+    const double lawMmPerS = options_.thrust.feedMmPerS(
+        h.thrustRealN, h.densityGcm3, 2.0 * cutterRadiusMm_, commanded.settings.rpm);
+    feedLimitMmPerS_ = std::min(feedLimitMmPerS_, lawMmPerS);
+  }
+  h.feedLimitMmPerS = feedLimitMmPerS_;
 }
 
 HapticStep stepHaptic(DrillingSimulation& sim, ProxyCoupling* coupling,

@@ -258,17 +258,20 @@ void ProxyCoupling::moveProxy(const StepInput& commanded, double dtS) {
                              commanded.pose.orientation};
       if (displacementBoundMm(proxy_, slideTo) > 1e-6) constrainedMove(slideTo);
     }
-    // Cutting, toward the command no faster than the feed limit: the rest of the step's
-    // progress is taken back, toward where the proxy was (a slide along a plane a little off
-    // the hole's wall would otherwise carry it down the freshly cut hole).
-    const glm::dvec3 toward = cmdTip - wasMm;
-    const double towardMm = glm::length(toward);
-    if (commanded.drillOn && towardMm > 0.0) {
-      const glm::dvec3 u = toward / towardMm;
-      const double progressMm = glm::dot(proxy_.tipMm - wasMm, u);
-      const double feedMm = options_.maxFeedMmPerS * dtS;
-      if (progressMm > feedMm) proxy_.tipMm -= (progressMm - feedMm) * u;
-    }
+  }
+  // Cutting, toward the command no faster than the feed limit: the rest of the step's
+  // progress is taken back, toward where the proxy was (a slide along a plane a little off
+  // the hole's wall would otherwise carry it down the freshly cut hole). The calibrated model
+  // limits every move with bone ahead of the cutter, blocked or not: the cut ahead clears the
+  // way, the thrust law sets the pace.
+  if (!move.blocked && !(feedBoneAhead_ && commanded.drillOn)) return;
+  const glm::dvec3 toward = cmdTip - wasMm;
+  const double towardMm = glm::length(toward);
+  if (commanded.drillOn && towardMm > 0.0) {
+    const glm::dvec3 u = toward / towardMm;
+    const double progressMm = glm::dot(proxy_.tipMm - wasMm, u);
+    const double feedMm = feedLimitMmPerS_ * dtS;
+    if (progressMm > feedMm) proxy_.tipMm -= (progressMm - feedMm) * u;
   }
 }
 

@@ -152,6 +152,8 @@ DeviceRunResult runDevice(Session& session, devices::Device& device,
     StepInput in;
     in.tS = caps.startS + double(i) * options.stepS;
     input.sample(in.tS, in.pose, in.drillOn);
+    in.settings = session.options().settings;
+    input.settings(in.settings);
     if (!input.hasPose()) {
       ++result.stepsBeforePose;
       continue;

@@ -15,8 +15,8 @@
 namespace osteon::simulation {
 
 void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
-                   bool commandColumns) {
-  ForceLogWriter writer(path, commandColumns);
+                   bool commandColumns, bool feelColumns) {
+  ForceLogWriter writer(path, commandColumns, feelColumns);
   for (const ForceLogRow& r : log) writer.write(r);
   writer.commit();
 }
@@ -27,20 +27,26 @@ constexpr char kForceLogHeader[] =
     "t,px,py,pz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
 constexpr char kForceLogHeaderWithCommand[] =
     "t,px,py,pz,cx,cy,cz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level\n";
+// The calibrated model's columns, after the others (cutting.h).
+constexpr char kFeelColumns[] = ",rpm,irrigation,removed_mm3,temperature_c";
 // The longest row the format can give (every %f at 1e308): formatted only with this much room,
 // a row is never cut.
 constexpr std::size_t kMaxRowBytes = 4096;
 
 }  // namespace
 
-ForceLogWriter::ForceLogWriter(const std::string& path, bool commandColumns)
-    : file_(path), buffer_(std::size_t(1) << 16), commandColumns_(commandColumns) {
+ForceLogWriter::ForceLogWriter(const std::string& path, bool commandColumns, bool feelColumns)
+    : file_(path),
+      buffer_(std::size_t(1) << 16),
+      commandColumns_(commandColumns),
+      feelColumns_(feelColumns) {
   fd_ = ::open(file_.tempPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd_ < 0)
     throw InputError(path + ": cannot write the force log (" + std::strerror(errno) + ")");
-  const char* header = commandColumns ? kForceLogHeaderWithCommand : kForceLogHeader;
-  used_ = std::strlen(header);
-  std::memcpy(buffer_.data(), header, used_);
+  std::string header = commandColumns ? kForceLogHeaderWithCommand : kForceLogHeader;
+  if (feelColumns) header.insert(header.size() - 1, kFeelColumns);
+  used_ = header.size();
+  std::memcpy(buffer_.data(), header.data(), used_);
   linesInBuffer_ = 1;
 }
 
@@ -79,6 +85,17 @@ void ForceLogWriter::write(const ForceLogRow& r) noexcept {
                           r.level);
   OSTEON_ASSERT(n > 0 && std::size_t(n) < kMaxRowBytes,
                 "a row fits the room kept for the longest one");
+  if (feelColumns_ && n > 0) {
+    // The row's newline gives way to the feel columns and a newline of their own.
+    const std::size_t at = used_ + std::size_t(n) - 1;
+    const int more = std::snprintf(buffer_.data() + at, buffer_.size() - at, ",%.0f,%d,%.6g,%.3f\n",
+                                   r.rpm, r.irrigation ? 1 : 0, r.removedMm3, r.temperatureC);
+    if (more > 0 && std::size_t(more) < buffer_.size() - at) {
+      used_ = at + std::size_t(more);
+      ++linesInBuffer_;
+    }
+    return;
+  }
   if (n > 0 && std::size_t(n) < buffer_.size() - used_) {
     used_ += std::size_t(n);
     ++linesInBuffer_;

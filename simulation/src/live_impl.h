@@ -217,6 +217,8 @@ struct LiveRuntime::Impl {
     PoseMessage m;
     m.tS = tS;
     source->sample(tS, m.pose, m.drillOn);
+    m.settings = session->options().settings;
+    source->settings(m.settings);
     poses.write(m);
     if (sink) sink->apply(tS, forces.read().forceN);
   }

@@ -15,6 +15,7 @@
 #include "osteon/core/error.h"
 #include "osteon/core/interrupt.h"
 #include "osteon/core/memory.h"
+#include "osteon/core/option_error.h"
 #include "osteon/core/timing.h"
 #include "osteon/geometry/hierarchy/dph.h"
 #include "osteon/geometry/hierarchy/fine_fill.h"
@@ -191,7 +192,13 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   if (!bone) throw std::logic_error("Session: constructed without a bone");
   DrillingOptions drilling = options.drilling;
   drilling.levels = options.levels;
+  drilling.forceModel = options.forceModel;
   validateDrillingOptions(drilling);
+  validateRpm(options.settings.rpm);
+  if (options.forceModel == ForceModelKind::Calibrated && options.coupling != CouplingMode::Proxy) {
+    throw OptionError("forceModel", "calibrated",
+                      "the calibrated model needs proxy coupling (its proxy's feed renders it)");
+  }
   if (options.keepSurface) geometry::validateSurfaceOptions(options.surface);
   State& s = *state_;
   s.bone = std::move(bone);
@@ -204,8 +211,12 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   s.setup.hierarchyMs = msSince(hierarchyStart);
   s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr,
                        options.tool, options.toolOptions, drilling);
-  if (options.coupling == CouplingMode::Proxy)
-    s.coupling.emplace(*s.simulation, options.couplingOptions);
+  if (options.coupling == CouplingMode::Proxy) {
+    CouplingOptions co = options.couplingOptions;
+    co.forceModel = options.forceModel;
+    co.materialGrid = &s.bone->grid();
+    s.coupling.emplace(*s.simulation, co);
+  }
   if (options.keepSurface) {
     const Clock::time_point surfaceStart = Clock::now();
     s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
@@ -295,6 +306,7 @@ RunResult Session::run(const DrillPath& path, const DeterministicOptions& option
   for (std::size_t i = 0; i < steps; ++i) {
     StepInput input;
     input.tS = double(i) * options.stepS;
+    input.settings = state_->options.settings;
     path.sample(input.tS, input.pose,
                 input.drillOn);  // haptic: the device (here the path) gives the pose
     const bool follow =

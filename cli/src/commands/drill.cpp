@@ -50,7 +50,8 @@ DrillPlan planDrill(const DrillCommandOptions& options) {
   DrillPlan plan;
   plan.kind = sim::parseToolKind(options.tool);
   plan.csvPath = sim::isPathCsv(options.path);
-  plan.coupling = couplingFor(options.coupling, !plan.csvPath);
+  plan.coupling =
+      checkFeel(options.feel, options.coupling, couplingFor(options.coupling, !plan.csvPath));
   options.bone.check();
   if (plan.csvPath) {
     plan.path = sim::loadPathCsv(options.path);
@@ -165,6 +166,7 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   so.tool = plan.kind;
   so.keepSurface = !options.threaded;  // the threaded runtime's visual thread keeps its own
   so.coupling = plan.coupling;
+  applyFeel(options.feel, so);
   if (extension.sessionOptions) extension.sessionOptions(so);
   sim::Session session(std::move(opened.bone), so);
   if (extension.opened) extension.opened(session);
@@ -177,7 +179,8 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   const std::size_t setupVoxels =
       session.hierarchy().voxelCount();  // every voxel with bone, before drilling
 
-  sim::ForceLogWriter forces(files.forcesPath, plan.coupling == sim::CouplingMode::Proxy);
+  sim::ForceLogWriter forces(files.forcesPath, plan.coupling == sim::CouplingMode::Proxy,
+                             calibrated(options.feel));
   json runtime;
   r.run =
       drive(session, plan.path, options.threaded, forces, runtime, extension, options.igtl).summary;

@@ -9,6 +9,7 @@
 
 #include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/runner.h"
+#include "support/feel_options.h"
 #include "support/igtl_serve.h"
 
 namespace osteon::cli {
@@ -27,6 +28,7 @@ struct DrillCommandOptions {
   bool allowEmpty = false;  // a path that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;     // proxy or direct; empty: direct for portal paths, else proxy
   IgtlCommandOptions igtl;  // serve the live run over OpenIGTLink (support/igtl_serve.h)
+  FeelCommandOptions feel;  // --force-model, --rpm, --irrigation (support/feel_options.h)
 };
 
 // What a command that drills as `drill` does adds to its run (score): the session's options, a

@@ -134,12 +134,14 @@ DeviceOutcome drive(const DrillCommandOptions& options, sim::Session& session, d
 int runDrillWithDevice(const DrillCommandOptions& options) {
   checkDeviceRunOptions(options.bone, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
-  const sim::CouplingMode coupling = couplingFor(options.coupling, false);
+  const sim::CouplingMode coupling =
+      checkFeel(options.feel, options.coupling, couplingFor(options.coupling, false));
   checkDeviceOptions(options);
   RunFolder files(options.outDir);
   refuseOverwriting(options, files);
 
-  sim::Session session = openDeviceRunSession(options.bone, options.levels, kind, coupling);
+  sim::Session session =
+      openDeviceRunSession(options.bone, options.levels, kind, coupling, options.feel);
   std::unique_ptr<dev::Device> device = sim::openSessionDevice(options.device, session);
   const dev::Capabilities caps = device->capabilities();
   const bool deterministic = deterministicFor(options, caps);
@@ -157,7 +159,8 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
     recorder.emplace(recordFile->tempPath(), recorderOptions);
   }
 
-  sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy);
+  sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy,
+                             calibrated(options.feel));
   sim::DeviceInputOptions io;
   io.frame = sim::defaultDeviceFrame(session);
   io.recorder = recorder ? &*recorder : nullptr;

@@ -17,7 +17,8 @@ int runReplay(const ReplayCommandOptions& options) {
   // Everything that can be refused is refused before the work.
   checkDeviceRunOptions(options.bone, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
-  const sim::CouplingMode coupling = couplingFor(options.coupling, false);
+  const sim::CouplingMode coupling =
+      checkFeel(options.feel, options.coupling, couplingFor(options.coupling, false));
   dev::Recording recording = dev::loadRecording(options.log);
   RunFolder files(options.outDir);
   std::vector<std::string> inputs = options.bone.inputFiles();
@@ -27,10 +28,12 @@ int runReplay(const ReplayCommandOptions& options) {
   const bool live = options.igtl.port.has_value();
   checkIgtlOptions(options.igtl, live);
 
-  sim::Session session = openDeviceRunSession(options.bone, options.levels, kind, coupling);
+  sim::Session session =
+      openDeviceRunSession(options.bone, options.levels, kind, coupling, options.feel);
   const std::size_t rows = recording.rows.size();
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
-  sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy);
+  sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy,
+                             calibrated(options.feel));
   sim::DeviceRunOptions ro;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunSummary run;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "osteon/simulation/bone_source.h"
+#include "support/feel_options.h"
 #include "support/igtl_serve.h"
 
 namespace osteon::cli {
@@ -21,6 +22,7 @@ struct ReplayCommandOptions {
       false;             // a recording that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;  // proxy (the default) or direct
   IgtlCommandOptions igtl;
+  FeelCommandOptions feel;
 };
 
 int runReplay(const ReplayCommandOptions& options);

@@ -23,7 +23,7 @@ void checkDeviceRunOptions(const sim::BoneSource& bone, int levels) {
 }
 
 sim::Session openDeviceRunSession(const sim::BoneSource& bone, int levels, sim::ToolKind kind,
-                                  sim::CouplingMode coupling) {
+                                  sim::CouplingMode coupling, const FeelCommandOptions& feel) {
   sim::BoneSource source = bone;
   source.sampleFineFills = levels > 0;
   sim::SessionOptions so;
@@ -31,6 +31,7 @@ sim::Session openDeviceRunSession(const sim::BoneSource& bone, int levels, sim::
   so.levels = levels;
   so.tool = kind;
   so.keepSurface = false;  // batch runs: the surface is extracted once at the end
+  applyFeel(feel, so);
   return sim::Session(sim::BoneModel::open(source).bone, so);
 }
 

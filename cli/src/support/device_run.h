@@ -16,6 +16,7 @@
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/session.h"
 #include "osteon/simulation/tool.h"
+#include "support/feel_options.h"
 #include "support/files.h"
 #include "support/igtl_serve.h"
 
@@ -37,7 +38,8 @@ void checkDeviceRunOptions(const simulation::BoneSource& bone, int levels);
 // The session a device run drills: the bone opened from its source, no kept surface (batch).
 simulation::Session openDeviceRunSession(const simulation::BoneSource& bone, int levels,
                                          simulation::ToolKind kind,
-                                         simulation::CouplingMode coupling);
+                                         simulation::CouplingMode coupling,
+                                         const FeelCommandOptions& feel);
 
 // The files a device name reads (recordings, path CSVs), which no output may overwrite.
 std::vector<std::string> deviceInputs(const std::string& name);

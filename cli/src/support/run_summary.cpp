@@ -24,7 +24,12 @@ sim::CouplingMode couplingFor(const std::string& option, bool portalPath) {
 json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const std::string& mesh,
                     const std::string& mode, const std::string& tool, double voxelSizeMm,
                     int levels) {
+  const sim::SessionOptions& so = session.options();
   json summary = {{"jitter_n", s.jitterN},
+                  {"feel",
+                   {{"force_model", sim::forceModelKindName(so.forceModel)},
+                    {"rpm", so.settings.rpm},
+                    {"irrigation", so.settings.irrigation}}},
                   {"coupling", sim::couplingModeName(s.coupling)},
                   {"max_gap_mm", s.maxGapMm},
                   {"max_step_change_n", s.maxStepChangeN},

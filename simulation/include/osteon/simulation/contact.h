@@ -46,8 +46,11 @@ struct ContactCaches {
 
 class ForceModel {
  public:
-  // finestVoxelMm: v_min; baseVoxelMm: the grid's voxel size.
-  ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm);
+  // finestVoxelMm: v_min; baseVoxelMm: the grid's voxel size. cuttingPartsPush false: the
+  // cutting parts' bone is counted (contactVoxels) but gives no force (the calibrated model,
+  // whose proxy renders their resistance: cutting.h).
+  ForceModel(const Tool& tool, double finestVoxelMm, double baseVoxelMm,
+             bool cuttingPartsPush = true);
 
   // c of eq. (2) for a part.
   double maxCount(int part) const { return maxCount_[std::size_t(part)]; }
@@ -72,6 +75,7 @@ class ForceModel {
   Tool tool_;
   double finestVoxelMm_;
   double weightPerFill_;  // (VS / v_min)^3 / kFillFull
+  bool cuttingPartsPush_ = true;
   std::array<double, kMaxToolParts> maxCount_{};
 };
 

@@ -92,6 +92,16 @@ struct CouplingOptions {
   // Bone samples gathered per part for one sub-move's tests; more are tested by walking the
   // hierarchy at each test (counted in CouplingTotals::slowTests).
   std::size_t candidateCapacity = 16384;
+  // The cutting resistance (cutting.h). Seed: the seed's eq. (2) and the feed limit above.
+  // Calibrated: while the drill cuts, the proxy feeds into bone no faster than the thrust law
+  // gives for the force the device pushes along the tool (the last step's, back to real
+  // newtons by kDeviceNPerRealN) in the bone ahead of the tip, at the step's rpm; the feed
+  // limit above stays the ceiling, and the cutting parts' shells give no eq. (2) force.
+  ForceModelKind forceModel = ForceModelKind::Seed;
+  ThrustModel thrust;
+  // The bone before drilling, whose density ahead of the tip is the material being cut (the
+  // drilled grid's density is worn down as it is cut). Required for Calibrated.
+  const geometry::VoxelGrid* materialGrid = nullptr;
 };
 
 // Throws InputError naming the option for non-positive or non-finite values.
@@ -108,6 +118,11 @@ struct HapticStep {
   glm::dvec3 torqueNmm{0.0};  // the rotational coupling's torque (not rendered)
   double gapMm = 0.0;         // |proxy tip - commanded tip|
   bool clamped = false;       // the force was at N_max
+  // The calibrated model's (zero under the seed's): the bone ahead of the tip (g/cm3, 0: none),
+  // the thrust the device pushed with in real newtons, and the feed that allowed (mm/s).
+  double densityGcm3 = 0.0;
+  double thrustRealN = 0.0;
+  double feedLimitMmPerS = 0.0;
 };
 
 struct CouplingTotals {
@@ -188,6 +203,12 @@ class ProxyCoupling {
   double subMoveMm_;  // half the thinnest part's inner radius
   double reachMm_;    // farthest point of any part from the tip (for rotations)
   double cushionMm_;  // the cut's lead: the cutting part's cushion, at most half its inner radius
+  double cutterRadiusMm_ = 0.0;   // the cutting part's inner radius (the drill's, for the law)
+  double feedLimitMmPerS_ = 0.0;  // this step's
+  bool feedBoneAhead_ = false;    // calibrated: bone ahead of the cutter (the feed law applies)
+  glm::dvec3 lastForceN_{0.0};    // the force sent last step
+  // Calibrated: the feed limit of this step, from the thrust and the material ahead.
+  void calibratedFeed(const StepInput& commanded, HapticStep& h);
   std::array<PartCandidates, kMaxToolParts> candidates_;
   std::array<double, kMaxToolParts> admitRadiusMm_{};
   ToolPose proxy_;

@@ -45,6 +45,9 @@ struct DrillingOptions {
   // part has moved that far (or half the refinement timeout has passed, or voxels were left
   // for later): the voxels a shell can reach meanwhile are already refined. 0: every step.
   double shellRefineSkinVoxels = 0.25;
+  // Seed: every part's shell pushes by eq. (2). Calibrated (cutting.h): the cutting parts push
+  // through the proxy's feed law instead; the others (the shaft) still by eq. (2).
+  ForceModelKind forceModel = ForceModelKind::Seed;
 };
 
 // Throws InputError naming the value for levels outside 0..2 or a decrement below 1.

@@ -68,8 +68,10 @@ inline ForceLogRow logRowOf(const StepInput& in, const HapticStep& h,
 // (with commandColumns, as proxy coupling writes it: t,px,py,pz,cx,cy,cz,fx,...: the proxy's
 // tip, then the commanded one).
 // Throws InputError naming the file when it cannot be written.
+// feelColumns (the calibrated model's runs): rpm,irrigation,removed_mm3,temperature_c after
+// the others.
 void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
-                   bool commandColumns = false);
+                   bool commandColumns = false, bool feelColumns = false);
 
 // The same CSV row by row as a run goes: written to a temporary file beside `path` and put in
 // place by commit(), so path() only ever holds a complete log. write() neither allocates, locks
@@ -81,7 +83,8 @@ void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
 class ForceLogWriter {
  public:
   // throws InputError naming path; commandColumns: cx,cy,cz after px,py,pz (proxy coupling)
-  explicit ForceLogWriter(const std::string& path, bool commandColumns = false);
+  explicit ForceLogWriter(const std::string& path, bool commandColumns = false,
+                          bool feelColumns = false);
   virtual ~ForceLogWriter();
   ForceLogWriter(const ForceLogWriter&) = delete;
   ForceLogWriter& operator=(const ForceLogWriter&) = delete;
@@ -121,6 +124,7 @@ class ForceLogWriter {
   bool torn_ = false;  // a failed write's tail could not be cut off: the file is not kept
   bool done_ = false;  // committed or kept
   bool commandColumns_ = false;
+  bool feelColumns_ = false;
 };
 
 }  // namespace osteon::simulation

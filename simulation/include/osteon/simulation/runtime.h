@@ -41,6 +41,9 @@ class PoseSource {
  public:
   virtual ~PoseSource() = default;
   virtual void sample(double tS, ToolPose& pose, bool& drillOn) noexcept = 0;
+  // After sample(): the rpm and irrigation the source sets (a board's knob, a recording's
+  // columns); `settings` holds the session's own, which a source without controls leaves.
+  virtual void settings(DrillSettings& settings) noexcept { (void)settings; }
 };
 
 class ForceSink {

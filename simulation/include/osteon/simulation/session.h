@@ -57,6 +57,13 @@ struct SessionOptions {
   // library's default) or through a proxy that bone stops (hands: devices, recordings).
   CouplingMode coupling = CouplingMode::Direct;
   CouplingOptions couplingOptions;
+  // The cutting resistance (cutting.h): the seed's eq. (2), or calibrated to published drilling
+  // thrust (proxy coupling only: the proxy's feed renders it). Sets the drilling's and the
+  // coupling's forceModel.
+  ForceModelKind forceModel = ForceModelKind::Seed;
+  // The drill's rpm and irrigation where the pose source gives none (paths, devices without a
+  // knob): run() and the runtimes start every step with these.
+  DrillSettings settings;
 };
 
 // How long set-up took, stage by stage, in wall-clock milliseconds (osteon/core/timing.h), so
