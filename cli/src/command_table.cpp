@@ -311,14 +311,16 @@ void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
 }
 
 void addExperiment(CLI::App& cmd, ExperimentCommandOptions& o) {
-  cmd.add_option("NAME", o.name, "Experiment: seed")->required();
+  cmd.add_option("NAME", o.name,
+                 "Experiment: seed (the paper's section 4) or thrust (drilling thrust against "
+                 "published data)")
+      ->required();
   cmd.add_option("--mesh", o.bone.input,
                  "Humerus mesh, 'default', or a volume (its surface at its own voxels)")
       ->default_val("default");
   addUnits(cmd, o.bone);
   addVolumeMeaning(cmd, o.bone.volume);
-  cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs")
-      ->default_val("experiment-seed");
+  cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs (experiment-NAME)");
   addUp(cmd, o.bone.up);
   addJson(cmd, o.json, "Print the table as JSON on stdout");
 }

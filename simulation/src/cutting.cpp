@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 
+#include "osteon/core/number_text.h"
 #include "osteon/core/option_error.h"
 
 namespace osteon::simulation {
@@ -22,7 +23,7 @@ const char* forceModelKindName(ForceModelKind kind) {
 
 void validateRpm(double rpm) {
   if (!(rpm >= kMinRpm && rpm <= kMaxRpm)) {
-    throw OptionError("drill.rpm", std::to_string(rpm), "revolutions per minute, 100 to 100000");
+    throw OptionError("drill.rpm", numberText(rpm), "revolutions per minute, 100 to 100000");
   }
 }
 

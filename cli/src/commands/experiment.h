@@ -9,12 +9,14 @@
 namespace osteon::cli {
 
 struct ExperimentCommandOptions {
-  std::string name;             // "seed"
+  std::string name;             // "seed" or "thrust"
   simulation::BoneSource bone;  // the humerus, `default` by default
-  std::string outDir = "experiment-seed";
+  std::string outDir;           // empty: experiment-NAME
   bool json = false;
 };
 
 int runExperiment(const ExperimentCommandOptions& options);
+// `experiment thrust` (experiment_thrust.cpp): the calibrated thrust against published data.
+int runThrustExperiment(const ExperimentCommandOptions& options, const std::string& outDir);
 
 }  // namespace osteon::cli

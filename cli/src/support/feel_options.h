@@ -18,7 +18,8 @@ struct FeelCommandOptions {
 // Checked before any work: the model's name, the rpm's range, and the coupling: calibrated runs
 // through the proxy (chosen when --coupling is not given; --coupling direct is refused).
 // Returns the coupling the run takes.
-simulation::CouplingMode checkFeel(const FeelCommandOptions& feel, const std::string& couplingOption,
+simulation::CouplingMode checkFeel(const FeelCommandOptions& feel,
+                                   const std::string& couplingOption,
                                    simulation::CouplingMode coupling);
 // The session's model and settings.
 void applyFeel(const FeelCommandOptions& feel, simulation::SessionOptions& options);

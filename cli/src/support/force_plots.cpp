@@ -87,24 +87,24 @@ void runGnuplot(const std::string& script, const std::string& logTemp, const std
 
 }  // namespace
 
-void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& scriptPath) {
+void drawGnuplotFigures(const std::string& scriptPath, const std::vector<std::string>& pngs,
+                        const GnuplotScript& script) {
   // The saved script draws the final files; the one run draws temporary files, put in place
   // only once every figure is drawn.
-  std::vector<std::string> finals, temps;
+  std::vector<std::string> temps;
   std::vector<geometry::OutputFile> images;
-  for (const ForceFigure& f : figures) {
-    images.emplace_back(f.png);
-    finals.push_back(f.png);
+  for (const std::string& png : pngs) {
+    images.emplace_back(png);
     temps.push_back(images.back().tempPath());
   }
-  // The saved script reads the logs where they will be; this run reads them where they are
-  // (held back until its run folder is complete, output_dir.h).
-  geometry::writeFileAtomically(
-      scriptPath, plotScript(figures, finals, [](const std::string& csv) { return csv; }));
+  // The saved script reads the data where it will be; this run reads it where it is (held
+  // back until its run folder is complete, output_dir.h).
+  geometry::writeFileAtomically(scriptPath,
+                                script(pngs, [](const std::string& csv) { return csv; }));
   geometry::OutputFile runScript(scriptPath);
   {
     std::ofstream out(runScript.tempPath(), std::ios::binary | std::ios::trunc);
-    out << plotScript(figures, temps, geometry::OutputDir::currentPath) << "unset output\n";
+    out << script(temps, geometry::OutputDir::currentPath) << "unset output\n";
     out.close();
     if (!out) throw InputError(scriptPath + ": writing failed (disk full or not writable?)");
   }
@@ -118,6 +118,15 @@ void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& 
   }
   log.commit();
   for (geometry::OutputFile& image : images) image.commit();
+}
+
+void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& scriptPath) {
+  std::vector<std::string> pngs;
+  for (const ForceFigure& f : figures) pngs.push_back(f.png);
+  drawGnuplotFigures(scriptPath, pngs,
+                     [&figures](const std::vector<std::string>& outputs, const DataPath& data) {
+                       return plotScript(figures, outputs, data);
+                     });
 }
 
 }  // namespace osteon::cli
