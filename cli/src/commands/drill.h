@@ -27,6 +27,7 @@ struct DrillCommandOptions {
   bool allowEmpty = false;  // a path that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;     // proxy or direct; empty: direct for portal paths, else proxy
   IgtlCommandOptions igtl;  // serve the live run over OpenIGTLink (support/igtl_serve.h)
+  std::string audioOut;     // render the drill's sound to this WAV (support/audio_out.h)
 };
 
 // What a command that drills as `drill` does adds to its run (score): the session's options, a

@@ -3,6 +3,7 @@
 #include "osteon/core/interrupt.h"
 #include "osteon/devices/recording.h"
 #include "osteon/simulation/device_input.h"
+#include "support/audio_out.h"
 #include "support/device_run.h"
 #include "support/run_summary.h"
 
@@ -23,6 +24,7 @@ int runReplay(const ReplayCommandOptions& options) {
   std::vector<std::string> inputs = options.bone.inputFiles();
   inputs.push_back(options.log);
   geo::refuseOverwritingInputs({files.forcesPath, files.summaryPath, files.surfacePath}, inputs);
+  AudioOut audio(options.audioOut, inputs);
 
   const bool live = options.igtl.port.has_value();
   checkIgtlOptions(options.igtl, live);
@@ -31,6 +33,7 @@ int runReplay(const ReplayCommandOptions& options) {
   const std::size_t rows = recording.rows.size();
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
   sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy);
+  audio.follow(forces);
   sim::DeviceRunOptions ro;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunSummary run;
@@ -62,6 +65,7 @@ int runReplay(const ReplayCommandOptions& options) {
   }
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
+  audio.commit();
 
   const DeviceRunSetup setup{options.bone.input,
                              sim::toolKindName(kind),

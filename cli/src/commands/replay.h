@@ -21,6 +21,7 @@ struct ReplayCommandOptions {
       false;             // a recording that never meets bone exits 0 (still "empty": true), not 1
   std::string coupling;  // proxy (the default) or direct
   IgtlCommandOptions igtl;
+  std::string audioOut;  // render the drill's sound to this WAV (support/audio_out.h)
 };
 
 int runReplay(const ReplayCommandOptions& options);
