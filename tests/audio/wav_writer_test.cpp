@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "osteon/core/error.h"
+#include "support/allocation_counter.h"
 #include "support/files.h"
 #include "support/wav_spectrum.h"
 
@@ -37,6 +38,17 @@ TEST(WavRecording, SamplesInTheRunsTimeSameBytesEveryRun) {
   EXPECT_EQ(w.samples.size(), static_cast<std::size_t>(std::llround(1.5 * 44100)));
   EXPECT_EQ(slurp(dir + "/a.wav"), slurp(dir + "/b.wav"));
   EXPECT_EQ(slurp(dir + "/a.wav").size(), 44 + 2 * w.samples.size());
+  std::filesystem::remove_all(dir);
+}
+
+// The rows reach the sound inside the force log's write(), which allocates nothing.
+TEST(WavRecording, AddingRowsAllocatesNothing) {
+  const std::string dir = test::makeTempDir("wav");
+  WavRecording wav(dir + "/rows.wav");
+  const std::uint64_t before = test::threadAllocations();
+  for (int i = 1; i <= 3000; ++i) wav.add({i * 1e-3, 1500.0, 20.0, 2.0, true});
+  EXPECT_EQ(test::threadAllocations(), before);
+  wav.finish();
   std::filesystem::remove_all(dir);
 }
 
