@@ -16,7 +16,12 @@ ViewerSound::ViewerSound(bool muted) {
 }
 
 void ViewerSound::feed(const simulation::DisplayState& d) noexcept {
-  if (d.tS < 0.0 || d.tS <= lastTS_) return;
+  if (d.tS < 0.0) return;
+  if (d.tS < lastTS_) {  // a bone loaded again or another opened: its own clock and removal
+    lastTS_ = -1.0;
+    lastRemovedMm3_ = 0.0;
+  }
+  if (d.tS == lastTS_) return;
   const double dtS = lastTS_ < 0.0 ? d.tS : d.tS - lastTS_;
   const double removal = dtS > 0.0 ? (d.removedVolumeMm3 - lastRemovedMm3_) / dtS : 0.0;
   lastTS_ = d.tS;
