@@ -129,6 +129,11 @@ void addFeel(CLI::App& cmd, FeelCommandOptions& o) {
 }
 
 // A live run served over OpenIGTLink (docs/slicer.md).
+void addAudioOut(CLI::App& cmd, std::string& audioOut) {
+  cmd.add_option("--audio-out", audioOut,
+                 "Render the drill's sound to this 16-bit PCM .wav (docs/feel.md, Sound)");
+}
+
 void addIgtl(CLI::App& cmd, IgtlCommandOptions& o) {
   cmd.add_option("--igtl", o.port,
                  "Serve the live run over OpenIGTLink on this TCP port (3D Slicer: 18944)");
@@ -228,6 +233,7 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
                  "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
   addIgtl(cmd, o.igtl);
   addFeel(cmd, o.feel);
+  addAudioOut(cmd, o.audioOut);
 }
 
 void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
@@ -245,6 +251,7 @@ void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
       "proxy (default): bone stops the tool, a spring joins it to the recording; direct");
   addIgtl(cmd, o.igtl);  // replays in real time (threaded), served while it runs
   addFeel(cmd, o.feel);
+  addAudioOut(cmd, o.audioOut);
 }
 
 void addDevices(CLI::App& cmd, DevicesCommandOptions& o) {

@@ -65,6 +65,7 @@ long ForceLogWriter::writeSome(int fd, const char* data, std::size_t bytes) noex
 }
 
 void ForceLogWriter::write(const ForceLogRow& r) noexcept {
+  if (tap_) tap_->row(r);
   if (error_ != 0 || fd_ < 0) return;
   if (buffer_.size() - used_ < kMaxRowBytes) {
     flush();

@@ -84,6 +84,7 @@ App::App(const ViewerOptions& options, std::unique_ptr<Scene> scene)
                  igtl_->port());
   }
   installScene(std::move(scene), !options_.record.empty());
+  sound_ = std::make_unique<ViewerSound>(options_.mute);
 }
 
 void App::serveIgtl(bool last) {
@@ -177,6 +178,7 @@ void App::frame(bool last) {
   simulation::LiveRuntime& live = scene_->live();
   updateSurfaces();
   const simulation::DisplayState& d = live.display();
+  sound_->feed(d);
   if (panel_.view == View::Levels)
     renderer_->textures().updateLevels(d.refined.data(), d.refinedCount, d.refinedDepth);
   force_.add(glfwGetTime(), float(d.contact.magnitudeN));
@@ -325,6 +327,7 @@ void App::finishReport() {
     report_.scoreJson = simulation::scoreJsonText(*panel_.score);
   }
   ViewerReport& r = report_;
+  sound_->report(r);
   if (igtl_) {
     serveIgtl(true);
     igtlStats = igtl_->stop();

@@ -20,6 +20,7 @@
 #include "report.h"
 #include "scene.h"
 #include "scope.h"
+#include "sound.h"
 #include "tool_view.h"
 #include "window.h"
 
@@ -141,6 +142,7 @@ class App {
   ToolViewTally toolView_;  // the ghost and how deep the proxy and the hand reached, per frame
   ViewerReport report_;
   std::unique_ptr<igtl::Server> igtl_;  // --igtl
+  std::unique_ptr<ViewerSound> sound_;
 };
 
 }  // namespace osteon::viewer

@@ -133,6 +133,9 @@ void App::onCommandKey(int key) {
     case GLFW_KEY_G:
       panel_.showTool = !panel_.showTool;
       break;
+    case GLFW_KEY_A:
+      sound_->toggleMute();
+      break;
     case GLFW_KEY_M:
       panel_.method =
           panel_.method == SurfaceChoice::Naive ? SurfaceChoice::CrackFree : SurfaceChoice::Naive;

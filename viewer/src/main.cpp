@@ -180,6 +180,7 @@ void addDisplayOptions(CLI::App& app, CommandLine& c, viewer::ViewerOptions& opt
   app.add_option("--igtl-bind", options.igtlBind, "The address --igtl listens on (127.0.0.1)");
   app.add_option("--igtl-content", options.igtlContent, "The IMAGE Bone: fill (uint8) or density");
   app.add_flag("--no-ui", c.noUi, "Hide the panels (Tab toggles them)");
+  app.add_flag("--mute", options.mute, "Start with the drill's sound muted (A toggles it)");
   app.add_flag("--no-tool", c.noTool,
                "Do not draw the tool (G toggles it), to see the hole it drilled");
 }

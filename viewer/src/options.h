@@ -80,6 +80,7 @@ struct ViewerOptions {
   std::string record;      // the tool's path, recorded from the start to exit
   bool json = false;       // one JSON object on stdout at exit
   bool ui = true;          // the ImGui panels (Tab toggles)
+  bool mute = false;       // start with the drill's sound muted (A toggles it; sound.h)
   bool tool = true;        // draw the tool (G toggles)
   // --igtl PORT: the session served over OpenIGTLink (osteon/igtl/server.h, docs/slicer.md).
   std::optional<int> igtlPort;

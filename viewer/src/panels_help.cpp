@@ -36,6 +36,7 @@ const std::pair<const char*, const char*> kKeys[] = {
     {"Backspace", "reset the bone (reload it undrilled)"},
     {"G", "show / hide the tool"},
     {"R", "start / stop recording"},
+    {"A", "drill sound on / off (mute)"},
     {"F / Shift + F", "frame the bone / focus on the tool"},
     {"1 .. 6", "axis views (the zoom stays)"},
     {"V", "camera: orbit, arthroscope, follow the tool"},

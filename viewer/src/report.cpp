@@ -79,6 +79,10 @@ std::string reportJson(const ViewerReport& r) {
                            {"messages_sent", r.igtlMessages}, {"bytes_sent", r.igtlBytes},
                            {"dropped", r.igtlDropped},        {"volumes_sent", r.igtlVolumes},
                            {"strings", r.igtlStrings},        {"rejected", r.igtlRejected}};
+  j["sound"] = {{"device", r.soundDevice},
+                {"muted", r.soundMuted},
+                {"frames", r.soundFrames},
+                {"dropped", r.soundDropped}};
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -59,6 +59,9 @@ struct ViewerReport {
   std::string igtlAddress;
   std::uint64_t igtlClients = 0, igtlMessages = 0, igtlBytes = 0, igtlDropped = 0;
   std::uint64_t igtlVolumes = 0, igtlStrings = 0, igtlRejected = 0;
+  // The drill's sound (sound.h): an audio device opened, muted at exit, frames fed and dropped.
+  bool soundDevice = false, soundMuted = false;
+  std::uint64_t soundFrames = 0, soundDropped = 0;
 };
 
 std::string reportJson(const ViewerReport& report);

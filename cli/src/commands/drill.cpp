@@ -12,6 +12,7 @@
 #include "osteon/simulation/runner.h"
 #include "osteon/simulation/runtime.h"
 #include "osteon/simulation/session.h"
+#include "support/audio_out.h"
 #include "support/files.h"
 #include "support/output.h"
 #include "support/run_summary.h"
@@ -146,6 +147,7 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   std::vector<std::string> inputs = options.bone.inputFiles();
   if (plan.csvPath) inputs.push_back(options.path);
   geo::refuseOverwritingInputs({files.forcesPath, files.summaryPath, files.surfacePath}, inputs);
+  AudioOut audio(options.audioOut, inputs);
 
   // Set-up, from the file to the first step: the session's stages plus the path (head fit and
   // portal plan), timed as one wall-clock total.
@@ -181,11 +183,13 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
 
   sim::ForceLogWriter forces(files.forcesPath, plan.coupling == sim::CouplingMode::Proxy,
                              calibrated(options.feel));
+  audio.follow(forces);
   json runtime;
   r.run =
       drive(session, plan.path, options.threaded, forces, runtime, extension, options.igtl).summary;
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
+  audio.commit();
   if (extension.done) extension.done(session);
   // The drilled bone with its refined regions, crack-free and smoothed, made once the run's
   // own surface is gone (its memory is what this extraction uses).

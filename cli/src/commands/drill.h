@@ -29,6 +29,7 @@ struct DrillCommandOptions {
   std::string coupling;     // proxy or direct; empty: direct for portal paths, else proxy
   IgtlCommandOptions igtl;  // serve the live run over OpenIGTLink (support/igtl_serve.h)
   FeelCommandOptions feel;  // --force-model, --rpm, --irrigation (support/feel_options.h)
+  std::string audioOut;     // render the drill's sound to this WAV (support/audio_out.h)
 };
 
 // What a command that drills as `drill` does adds to its run (score): the session's options, a

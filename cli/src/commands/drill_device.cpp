@@ -12,6 +12,7 @@
 #include "osteon/devices/recording.h"
 #include "osteon/simulation/device_input.h"
 #include "osteon/simulation/path.h"
+#include "support/audio_out.h"
 #include "support/device_run.h"
 #include "support/run_summary.h"
 
@@ -139,6 +140,9 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   checkDeviceOptions(options);
   RunFolder files(options.outDir);
   refuseOverwriting(options, files);
+  std::vector<std::string> inputs = deviceInputs(options.device);
+  for (const std::string& file : options.bone.inputFiles()) inputs.push_back(file);
+  AudioOut audio(options.audioOut, inputs);
 
   sim::Session session =
       openDeviceRunSession(options.bone, options.levels, kind, coupling, options.feel);
@@ -161,6 +165,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
 
   sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy,
                              calibrated(options.feel));
+  audio.follow(forces);
   sim::DeviceInputOptions io;
   io.frame = sim::defaultDeviceFrame(session);
   io.recorder = recorder ? &*recorder : nullptr;
@@ -170,6 +175,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place (its recording
                          // neither)
   forces.commit();
+  audio.commit();
   if (recorder) {
     recorder->close();
     outcome.extra["recording_out"] = options.record;

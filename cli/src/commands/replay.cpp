@@ -3,6 +3,7 @@
 #include "osteon/core/interrupt.h"
 #include "osteon/devices/recording.h"
 #include "osteon/simulation/device_input.h"
+#include "support/audio_out.h"
 #include "support/device_run.h"
 #include "support/run_summary.h"
 
@@ -24,6 +25,7 @@ int runReplay(const ReplayCommandOptions& options) {
   std::vector<std::string> inputs = options.bone.inputFiles();
   inputs.push_back(options.log);
   geo::refuseOverwritingInputs({files.forcesPath, files.summaryPath, files.surfacePath}, inputs);
+  AudioOut audio(options.audioOut, inputs);
 
   const bool live = options.igtl.port.has_value();
   checkIgtlOptions(options.igtl, live);
@@ -34,6 +36,7 @@ int runReplay(const ReplayCommandOptions& options) {
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
   sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy,
                              calibrated(options.feel));
+  audio.follow(forces);
   sim::DeviceRunOptions ro;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunSummary run;
@@ -65,6 +68,7 @@ int runReplay(const ReplayCommandOptions& options) {
   }
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
+  audio.commit();
 
   const DeviceRunSetup setup{options.bone.input,
                              sim::toolKindName(kind),

@@ -23,6 +23,7 @@ struct ReplayCommandOptions {
   std::string coupling;  // proxy (the default) or direct
   IgtlCommandOptions igtl;
   FeelCommandOptions feel;
+  std::string audioOut;  // render the drill's sound to this WAV (support/audio_out.h)
 };
 
 int runReplay(const ReplayCommandOptions& options);

@@ -73,6 +73,14 @@ inline ForceLogRow logRowOf(const StepInput& in, const HapticStep& h,
 void writeForceLog(const std::vector<ForceLogRow>& log, const std::string& path,
                    bool commandColumns = false, bool feelColumns = false);
 
+// What else follows a run's rows as they are logged (the drill's sound of --audio-out): given
+// every row by ForceLogWriter::write, on its thread, so it must not allocate, lock or throw.
+class RowTap {
+ public:
+  virtual ~RowTap() = default;
+  virtual void row(const ForceLogRow& row) noexcept = 0;
+};
+
 // The same CSV row by row as a run goes: written to a temporary file beside `path` and put in
 // place by commit(), so path() only ever holds a complete log. write() neither allocates, locks
 // nor throws: rows are formatted into a buffer that goes to the file whole. When the disk fails
@@ -92,6 +100,8 @@ class ForceLogWriter {
   const std::string& path() const { return file_.path(); }
   std::string partialPath() const { return file_.path() + ".partial"; }
   void write(const ForceLogRow& row) noexcept;
+  // Every row written from now on is given to tap too (nullptr: none); it outlives the run.
+  void tapRows(RowTap* tap) { tap_ = tap; }
   // True once a write to the file has failed (the rows after it are dropped).
   bool failed() const { return error_ != 0; }
   // Puts the log in place, and removes a partialPath() left by an earlier failed run. After a
@@ -125,6 +135,7 @@ class ForceLogWriter {
   bool done_ = false;  // committed or kept
   bool commandColumns_ = false;
   bool feelColumns_ = false;
+  RowTap* tap_ = nullptr;
 };
 
 }  // namespace osteon::simulation
