@@ -230,14 +230,15 @@ void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
   addUp(cmd, o.bone.up);
   cmd.add_option("--record", o.record,
                  "Record the device's stream at 1 kHz to this CSV "
-                 "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on)");
+                 "(t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on,rpm,irrigation)");
   addIgtl(cmd, o.igtl);
   addFeel(cmd, o.feel);
   addAudioOut(cmd, o.audioOut);
 }
 
 void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
-  cmd.add_option("LOG", o.log, "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on")
+  cmd.add_option("LOG", o.log,
+                 "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on[,rpm,irrigation]")
       ->required();
   addMesh(cmd, o.bone);
   addUnits(cmd, o.bone);

@@ -50,6 +50,10 @@ std::size_t formatRecordingRow(double tS, const DeviceSample& s, char* out,
   if (!(p = putDouble(p, end, s.pedal)) || end - p < 3) return 0;
   *p++ = ',';
   *p++ = s.drillOn ? '1' : '0';
+  *p++ = ',';
+  if (!(p = putDouble(p, end, s.rpm)) || end - p < 3) return 0;
+  *p++ = ',';
+  *p++ = s.irrigation ? '1' : '0';
   *p++ = '\n';
   return std::size_t(p - out);
 }
@@ -237,10 +241,14 @@ Recording loadRecording(const std::string& path) {
   for (char c : line) {
     if (c != ' ' && c != '\t') header.push_back(c);
   }
-  if (tooLong || header != kRecordingHeader) throw InputError(path + ":1" + notRecording);
+  const bool withSettings = header == kRecordingHeader;
+  if (tooLong || (!withSettings && header != kRecordingHeaderWithoutSettings))
+    throw InputError(path + ":1" + notRecording);
+  const std::size_t columns = withSettings ? 13 : 11;
 
-  static const char* const kNames[11] = {"t",  "x",  "y",       "z",     "qw",      "qx",
-                                         "qy", "qz", "buttons", "pedal", "drill_on"};
+  static const char* const kNames[13] = {"t",        "x",   "y",         "z",       "qw",
+                                         "qx",       "qy",  "qz",        "buttons", "pedal",
+                                         "drill_on", "rpm", "irrigation"};
   std::size_t lineNo = 1;
   std::vector<std::string> fields;
   while (reader.next(line, tooLong)) {
@@ -259,12 +267,12 @@ Recording loadRecording(const std::string& path) {
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
-    if (fields.size() != 11) {
-      throw InputError(where + ": expected 11 fields (" + kRecordingHeader + "), found " +
-                       std::to_string(fields.size()));
+    if (fields.size() != columns) {
+      throw InputError(where + ": expected " + std::to_string(columns) + " fields (" + header +
+                       "), found " + std::to_string(fields.size()));
     }
-    double v[11];
-    for (int i = 0; i < 11; ++i) {
+    double v[13] = {};
+    for (int i = 0; i < int(columns); ++i) {
       if (!parseDouble(fields[std::size_t(i)], v[i])) {
         throw InputError(where + ": " + kNames[i] + " '" + fields[std::size_t(i)].substr(0, 40) +
                          "' is not a number");
@@ -299,6 +307,13 @@ Recording loadRecording(const std::string& path) {
     row.pedal = v[9];
     if (!(v[10] == 0.0 || v[10] == 1.0)) throw InputError(where + ": drill_on must be 0 or 1");
     row.drillOn = v[10] == 1.0;
+    if (withSettings) {
+      if (!(v[11] == 0.0 || (v[11] >= 100.0 && v[11] <= 100000.0)))
+        throw InputError(where + ": rpm must be 0 (not recorded) or 100..100000");
+      if (!(v[12] == 0.0 || v[12] == 1.0)) throw InputError(where + ": irrigation must be 0 or 1");
+      row.rpm = v[11];
+      row.irrigation = v[12] == 1.0;
+    }
     recording.rows.push_back(row);
   }
   if (recording.rows.empty()) throw InputError(path + ": no rows after the header");
@@ -343,6 +358,8 @@ void ReplayDevice::poll(double nowS, DeviceSample& sample) noexcept {
   sample.buttons = r.buttons;
   sample.pedal = r.pedal;
   sample.drillOn = r.drillOn;
+  sample.rpm = r.rpm;
+  sample.irrigation = r.irrigation;
   sample.connected = true;
 }
 

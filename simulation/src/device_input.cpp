@@ -70,7 +70,7 @@ DeviceFrame defaultDeviceFrame(const Session& session) {
 // ---- the adapter ----
 
 DeviceInput::DeviceInput(devices::Device& device, const DeviceInputOptions& options)
-    : device_(&device), caps_(device.capabilities()), options_(options) {
+    : device_(&device), caps_(device.capabilities()), options_(options), base_(options.settings) {
   devices::SafetyOptions safety = options.safety;
   if (caps_.force && caps_.maxForceN > 0.0)
     safety.forceLimitN = std::min(safety.forceLimitN, caps_.maxForceN);
@@ -89,6 +89,7 @@ void DeviceInput::sample(double tS, ToolPose& pose, bool& drillOn) noexcept {
     loopS_ = sample_.tS;
     safety_.loopTick(sample_.tS);  // a new row: one period of the loop that recorded it
   }
+  applyControls();
   if (options_.recorder && sample_.tS >= 0.0 && sample_.tS != recordedS_) {
     recordedS_ = sample_.tS;
     options_.recorder->record(sample_.tS, sample_);
@@ -103,6 +104,29 @@ void DeviceInput::sample(double tS, ToolPose& pose, bool& drillOn) noexcept {
     pose.tipMm = options_.frame.originMm;  // parked above the bone until the device speaks
     drillOn = false;
   }
+}
+
+void DeviceInput::applyControls() noexcept {
+  if (sample_.rpm > 0.0) {  // a recording's own settings, as its run used them
+    controlled_ = {sample_.rpm, sample_.irrigation};
+    return;
+  }
+  DrillSettings s = base_;
+  if (caps_.knob) s.rpm += kRpmPerKnobCount * double(sample_.knob);
+  if (caps_.pedal && sample_.pedal > 0.5) s.rpm *= sample_.pedal;  // 0.5 at half .. 1 at floor
+  s.rpm = std::clamp(s.rpm, kMinRpm, kMaxRpm);
+  const bool down = (sample_.buttons & kIrrigationButtonMask) != 0;
+  if (down && !buttonWasDown_) irrigationToggled_ = !irrigationToggled_;
+  buttonWasDown_ = down;
+  s.irrigation = base_.irrigation != irrigationToggled_;
+  controlled_ = s;
+  sample_.rpm = s.rpm;
+  sample_.irrigation = s.irrigation;
+}
+
+void DeviceInput::settings(DrillSettings& settings) noexcept {
+  base_ = settings;
+  settings = controlled_;
 }
 
 void DeviceInput::apply(double tS, const glm::dvec3& forceN) noexcept {

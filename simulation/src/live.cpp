@@ -157,6 +157,7 @@ const DisplayState& LiveRuntime::display() {
   d.removedFill = core.removedFill;
   d.removedVolumeMm3 = core.removedVolumeMm3;
   d.steps = core.steps;
+  d.settings = core.settings;
   bool fresh = false;
   const RefinedList& refined = m.refinedList.read(&fresh);
   if (fresh) {
@@ -166,6 +167,16 @@ const DisplayState& LiveRuntime::display() {
               d.refined.begin());
   }
   return d;
+}
+
+void LiveRuntime::setSettings(const DrillSettings& settings) {
+  impl_->rpm.store(settings.rpm, std::memory_order_relaxed);
+  impl_->irrigation.store(settings.irrigation, std::memory_order_relaxed);
+}
+
+DrillSettings LiveRuntime::settings() const {
+  return {impl_->rpm.load(std::memory_order_relaxed),
+          impl_->irrigation.load(std::memory_order_relaxed)};
 }
 
 LiveStats LiveRuntime::stats() const {

@@ -71,6 +71,9 @@ struct LiveRuntime::Impl {
   std::int64_t periodNs;
 
   core::TripleBuffer<PoseMessage> poses;
+  // The drill's settings (setSettings(), from any thread): the haptic loop's base each period.
+  std::atomic<double> rpm{1000.0};
+  std::atomic<bool> irrigation{false};
   core::TripleBuffer<ContactForce> forces;
   core::TripleBuffer<DisplayCore> displayCore;
   core::TripleBuffer<RefinedList> refinedList;
@@ -116,6 +119,8 @@ struct LiveRuntime::Impl {
         options(o),
         periodNs(std::int64_t(std::llround(o.periodS * 1e9))),
         recorder(o.onRow, o.keepLog, o.periodS) {
+    rpm.store(se.options().settings.rpm);
+    irrigation.store(se.options().settings.irrigation);
     hapticOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     collisionOverrunNs.assign(RuntimeStats::kOverrunInstantsKept, 0);
     changed.reserve(1024);
@@ -217,7 +222,7 @@ struct LiveRuntime::Impl {
     PoseMessage m;
     m.tS = tS;
     source->sample(tS, m.pose, m.drillOn);
-    m.settings = session->options().settings;
+    m.settings = {rpm.load(std::memory_order_relaxed), irrigation.load(std::memory_order_relaxed)};
     source->settings(m.settings);
     poses.write(m);
     if (sink) sink->apply(tS, forces.read().forceN);
@@ -245,7 +250,8 @@ struct LiveRuntime::Impl {
             logDropped.fetch_add(1, std::memory_order_relaxed);
           }
           displayCore.write({m.tS, h.proxy, h.commanded, h.gapMm, m.drillOn, sent,
-                             totals.removedFill, sim->removedVolumeMm3(), totals.steps});
+                             totals.removedFill, sim->removedVolumeMm3(), totals.steps,
+                             m.settings});
           if (totals.steps % kRefinedEverySteps == 0) {
             const geometry::RefinedVoxels& voxels = sim->voxels();
             refined.depth = voxels.depth();

@@ -56,6 +56,7 @@ struct DisplayCore {
   std::uint64_t removedFill = 0;
   double removedVolumeMm3 = 0.0;
   std::uint64_t steps = 0;
+  DrillSettings settings;
 };
 
 struct RefinedList {

@@ -70,8 +70,7 @@ ThrustResult runThrustCase(const ThrustCase& c, ForceModelKind model) {
   ThrustResult r;
   r.c = c;
   r.model = model;
-  r.lawN = ThrustModel{}.thrustN(apparentDensityGcm3(c.density), c.diameterMm, c.feedMmPerS,
-                                 c.rpm);
+  r.lawN = ThrustModel{}.thrustN(apparentDensityGcm3(c.density), c.diameterMm, c.feedMmPerS, c.rpm);
   DeterministicOptions ro;
   ro.keepLog = true;
   r.log = session.run(path, ro).log;

@@ -36,7 +36,10 @@ std::vector<std::string> splitLines(const std::string& text) {
   return out;
 }
 
+// Recordings without the drill's settings (as osteon wrote them before), and with them.
 const char* kRecordingHeader = "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n";
+const char* kRecordingHeaderWithSettings =
+    "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on,rpm,irrigation\n";
 
 // A recording of `rows` 1 ms rows from startS, the tool held at z (world mm) with the drill on.
 std::string recordingAt(double startS, int rows, double zMm) {
@@ -74,7 +77,7 @@ TEST_F(CliTest, AThreadedReplayOfARecordingStampedAtUnixTimeRunsForItsLength) {
       "drill default --voxel-size 1.2 --levels 0 --tool burr --device scripted:" + path("p.csv") +
       " --record " + quoted(path("rec.csv")) + " --out-dir " + quoted(path("a")));
   ASSERT_EQ(rec.exitCode, 0) << rec.err;
-  std::string shifted = kRecordingHeader;
+  std::string shifted = kRecordingHeaderWithSettings;
   int rows = 0;
   for (const std::string& line : splitLines(test::readBytes(path("rec.csv")))) {
     if (rows++ == 0) continue;

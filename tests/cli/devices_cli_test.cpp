@@ -154,7 +154,7 @@ TEST_F(CliTest, ARecordedPortal5ReplaysToDrillsForcesByteForByte) {
   EXPECT_TRUE(forces == test::readBytes(path("replay/forces.csv")));
   const std::vector<std::string> recording = lines(test::readBytes(path("portal5.csv")));
   ASSERT_EQ(recording.size(), 7002u);  // a row per ms from 0 to 7 s, and the header
-  EXPECT_EQ(recording[0], "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on");
+  EXPECT_EQ(recording[0], "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on,rpm,irrigation");
 
   const json d = json::parse(drill.out), r = json::parse(replay.out), s = json::parse(scripted.out);
   for (const char* key :

@@ -36,8 +36,7 @@ TEST_F(CliTest, ExperimentThrustMatchesThePublishedThrustAndItsRatios) {
   EXPECT_GT(simulated("cortical_3.2mm_1000rpm_2mmps"), simulated("cortical_3.2mm_1250rpm_2mmps"));
   EXPECT_GT(simulated("cortical_3.2mm_1250rpm_2mmps"), simulated("cortical_3.2mm_1500rpm_2mmps"));
   EXPECT_GT(simulated("cortical_3.2mm_1000rpm_2mmps"), simulated("cortical_3.2mm_1000rpm_1mmps"));
-  EXPECT_GT(simulated("cortical_3.2mm_1000rpm_1mmps"),
-            simulated("cortical_3.2mm_1000rpm_0.5mmps"));
+  EXPECT_GT(simulated("cortical_3.2mm_1000rpm_1mmps"), simulated("cortical_3.2mm_1000rpm_0.5mmps"));
   // The seed's model: the same push at every rpm, and cancellous as hard as cortex.
   EXPECT_NEAR(byName["cortical_3.2mm_1000rpm_2mmps"]["seed_device_n"].get<double>(),
               byName["cortical_3.2mm_1500rpm_2mmps"]["seed_device_n"].get<double>(), 0.05);
@@ -45,8 +44,8 @@ TEST_F(CliTest, ExperimentThrustMatchesThePublishedThrustAndItsRatios) {
                            "thrust_time.png", "runs/cortical_3.2mm_1000rpm_2mmps/forces.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(path("thrust/") + file)) << file;
   }
-  const std::string header = test::readBytes(path("thrust/runs/cortical_3.2mm_1000rpm_2mmps/forces.csv"))
-                                 .substr(0, 120);
+  const std::string header =
+      test::readBytes(path("thrust/runs/cortical_3.2mm_1000rpm_2mmps/forces.csv")).substr(0, 120);
   EXPECT_EQ(header.rfind("t,px,py,pz,cx,cy,cz,fx,fy,fz,f_mag,contact_voxels,removed_voxels,level,"
                          "rpm,irrigation,removed_mm3,temperature_c\n",
                          0),
@@ -70,6 +69,34 @@ TEST_F(CliTest, ForceModelOptionsAreCheckedBeforeTheRun) {
   const CliRun mesh = osteon("experiment thrust --mesh x.stl --out-dir " + dir_);
   EXPECT_EQ(mesh.exitCode, 2);
   EXPECT_NE(mesh.err.find("--mesh: experiment thrust drills blocks of its own"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace osteon
+
+namespace osteon {
+namespace {
+
+// A recording carries the rpm and irrigation the run used; its replay takes them from the
+// recording (not from its own --rpm) and, under the calibrated model, reproduces the forces.
+TEST_F(CliTest, RecordingsCarryTheDrillSettingsAndReplaysReproduceThem) {
+  const std::string common = " --voxel-size 1.2 --levels 0 --force-model calibrated --out-dir ";
+  const CliRun rec = osteon(
+      "drill default --device scripted:portal-5 --rpm 1500 --irrigation "
+      "--record " +
+      path("rec.csv") + common + path("a"));
+  ASSERT_EQ(rec.exitCode, 0) << rec.err;
+  const std::string recording = test::readBytes(path("rec.csv"));
+  const std::size_t second = recording.find('\n') + 1;
+  const std::string row = recording.substr(second, recording.find('\n', second) - second);
+  EXPECT_EQ(row.substr(row.size() - 7), ",1500,1") << row;
+  const CliRun replay =
+      osteon("replay " + path("rec.csv") + " default --rpm 400" + common + path("b"));
+  ASSERT_EQ(replay.exitCode, 0) << replay.err;
+  const std::string a = test::readBytes(path("a/forces.csv")),
+                    b = test::readBytes(path("b/forces.csv"));
+  EXPECT_TRUE(a == b);
+  EXPECT_NE(a.find(",1500,1,"), std::string::npos);
 }
 
 }  // namespace

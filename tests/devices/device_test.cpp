@@ -113,7 +113,7 @@ TEST_F(FactoryTest, NamesThatCannotBeOpenedAreOneLineErrors) {
 }
 
 TEST_F(FactoryTest, OpensRecordingsAndJoinsAPoseDeviceWithAButtonBoard) {
-  test::writeBytes(dir_ + "/r.csv", std::string(kRecordingHeader) +
+  test::writeBytes(dir_ + "/r.csv", std::string(kRecordingHeaderWithoutSettings) +
                                         "\n0,1,2,3,1,0,0,0,0,0,0\n0.001,1,2,3,1,0,0,0,0,0,0\n");
   std::unique_ptr<Device> replay = openDevice("replay:" + dir_ + "/r.csv");
   EXPECT_TRUE(replay->capabilities().recorded);

@@ -128,7 +128,9 @@ TEST_F(RecordingTest, ALiveLoopDropsRowsRatherThanWaitWhenTheBufferIsFull) {
 }
 
 TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
-  const std::string header = std::string(kRecordingHeader) + "\n";
+  // Recordings without the drill's settings (as osteon wrote them before) keep their checks.
+  const std::string header = std::string(kRecordingHeaderWithoutSettings) + "\n";
+  const std::string withSettings = std::string(kRecordingHeader) + "\n";
   const std::string row = "0,1,2,3,1,0,0,0,0,0,1\n";
   const struct {
     const char* name;
@@ -157,6 +159,11 @@ TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
       {"drill.csv", header + "0,1,2,3,1,0,0,0,0,0,2\n", "drill.csv:2", "drill_on must be 0 or 1"},
       {"long.csv", header + std::string(5000, '1') + "\n", "long.csv:2",
        "line longer than 1024 bytes"},
+      {"old_row.csv", withSettings + row, "old_row.csv:2", "expected 13 fields"},
+      {"rpm.csv", withSettings + "0,1,2,3,1,0,0,0,0,0,1,50,0\n", "rpm.csv:2",
+       "rpm must be 0 (not recorded) or 100..100000"},
+      {"irrigation.csv", withSettings + "0,1,2,3,1,0,0,0,0,0,1,1000,2\n", "irrigation.csv:2",
+       "irrigation must be 0 or 1"},
   };
   for (const auto& c : cases) {
     test::writeBytes(path(c.name), c.bytes);
@@ -172,7 +179,7 @@ TEST_F(RecordingTest, FilesThatAreNotRecordingsAreRefusedWithTheirLine) {
   }
   EXPECT_THROW(loadRecording(path("missing.csv")), InputError);
   // A byte order mark, CRLF, spaces and blank lines are fine; nan in a pose is a device fault.
-  test::writeBytes(path("ok.csv"), "\xEF\xBB\xBF" + std::string(kRecordingHeader) +
+  test::writeBytes(path("ok.csv"), "\xEF\xBB\xBF" + std::string(kRecordingHeaderWithoutSettings) +
                                        "\r\n0, 1,2,3 ,1,0,0,0,0,0,1\r\n\r\n"
                                        "0.001,nan,2,3,1,0,0,0,0,0.5,0\n");
   const Recording ok = loadRecording(path("ok.csv"));

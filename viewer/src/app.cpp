@@ -122,6 +122,10 @@ void App::installScene(std::unique_ptr<Scene> scene, bool recordFromStart) {
   drillOn_ = false;
   toolView_ = {};
   panel_.proxyCoupling = scene_->session().options().coupling == simulation::CouplingMode::Proxy;
+  panel_.calibrated =
+      scene_->session().options().forceModel == simulation::ForceModelKind::Calibrated;
+  panel_.rpm = float(scene_->live().settings().rpm);
+  panel_.irrigation = scene_->live().settings().irrigation;
   panel_.score.reset();
   panel_.sceneName = (scene_->exercise() ? "exercise " + scene_->exercise()->name + " | " : "") +
                      scene_->request().bone.input +
@@ -178,6 +182,7 @@ void App::frame(bool last) {
   simulation::LiveRuntime& live = scene_->live();
   updateSurfaces();
   const simulation::DisplayState& d = live.display();
+  live.setSettings({double(panel_.rpm), panel_.irrigation});  // the panel's, next period on
   sound_->feed(d);
   if (panel_.view == View::Levels)
     renderer_->textures().updateLevels(d.refined.data(), d.refinedCount, d.refinedDepth);

@@ -102,6 +102,9 @@ struct CommandLine {
   std::optional<double> voxelSize;
   VolumeFlags volume;
   int levels = 2;
+  std::string forceModel;
+  std::optional<double> rpm;
+  bool irrigation = false;
   std::string tool = "drill", path, device, coupling, view = "shaded", method = "crackfree",
               size = "1280x800", camera = "anterior", focus = "bone";
   std::string scopeDevice, exercise, up;
@@ -143,6 +146,11 @@ void addToolOptions(CLI::App& app, CommandLine& c) {
   app.add_option("--coupling", c.coupling,
                  "proxy: bone stops the tool, a spring joins it to the hand (default, but for "
                  "portal paths); direct");
+  app.add_option("--force-model", c.forceModel,
+                 "seed (the paper's eq. 2) or calibrated (thrust fitted to published drilling "
+                 "data; the default when the mouse or a device drives)");
+  app.add_option("--rpm", c.rpm, "The drill's speed at start, revolutions per minute (1000)");
+  app.add_flag("--irrigation", c.irrigation, "Start with saline irrigation on");
   app.add_option(
       "--device", c.device,
       "Drive the tool from a device (spacemouse, serial:PORT, touch, replay:LOG.csv, ...)");
@@ -200,6 +208,13 @@ void settle(const CommandLine& c, viewer::ViewerOptions& options) {
   options.load.device = c.device;
   if (!c.coupling.empty())
     options.load.coupling = osteon::simulation::parseCouplingMode(c.coupling);
+  if (!c.forceModel.empty())
+    options.load.forceModel = osteon::simulation::parseForceModelKind(c.forceModel);
+  if (c.rpm) {
+    osteon::simulation::validateRpm(*c.rpm);
+    options.load.settings.rpm = *c.rpm;
+  }
+  options.load.settings.irrigation = c.irrigation;
   options.view = viewer::parseView(c.view);
   options.method = viewer::parseSurfaceChoice(c.method);
   viewer::parseCamera(c.camera, options.camera, options.cameraMode);

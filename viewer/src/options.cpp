@@ -115,6 +115,8 @@ LoadRequest requestForFile(const LoadRequest& current, const std::string& input,
   request.levels = current.levels;
   request.tool = current.tool;
   request.coupling = current.coupling;
+  request.forceModel = current.forceModel;
+  request.settings = current.settings;
   request.device = current.device;
   request.scopeDevice = current.scopeDevice;
   if (isExercise(input)) {

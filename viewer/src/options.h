@@ -57,6 +57,10 @@ struct LoadRequest {
   std::string scopeDevice;
   // --coupling; unset: direct for portal paths, proxy for the mouse, devices and CSV paths.
   std::optional<simulation::CouplingMode> coupling;
+  // --force-model; unset: calibrated when a hand drives (the mouse, a device), the seed's for
+  // paths (their runs are the paper's). --rpm and --irrigation: the drill's start settings.
+  std::optional<simulation::ForceModelKind> forceModel;
+  simulation::DrillSettings settings;
 
   static simulation::BoneSource defaultBone() {
     simulation::BoneSource bone;

@@ -139,6 +139,17 @@ void cameraSection(PanelModel& m) {
   }
 }
 
+// The drill's speed and irrigation (docs/feel.md): the calibrated model cuts slower at low rpm.
+void drillSettings(PanelModel& m) {
+  ImGui::SliderFloat("rpm", &m.rpm, 200.0f, 3000.0f, "%.0f");
+  tip("The drill's speed: a slow drill needs a harder push (calibrated model)");
+  ImGui::SameLine();
+  ImGui::Checkbox("irrigation", &m.irrigation);
+  tip("Saline irrigation: cools the bone");
+  ImGui::TextDisabled(m.calibrated ? "force: calibrated to published drilling thrust"
+                                   : "force: the seed's model (rpm and feed do not change it)");
+}
+
 void toolSection(PanelModel& m) {
   if (!ImGui::CollapsingHeader("Tool and force", ImGuiTreeNodeFlags_DefaultOpen)) return;
   if (m.followsPath) {
@@ -161,6 +172,7 @@ void toolSection(PanelModel& m) {
   } else {
     ImGui::TextDisabled("coupling: proxy (bone stops the tool)");
   }
+  drillSettings(m);
   if (m.force) forcePlot(*m.force, m.maxForceN, m.forceLimitN);
 }
 

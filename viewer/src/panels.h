@@ -44,6 +44,10 @@ struct PanelModel {
   bool followsPath = false;
   double pathDurationS = 0.0;
   bool proxyCoupling = false;
+  bool calibrated = false;  // the calibrated force model (docs/feel.md) runs
+  // The drill's settings: the panel edits them, the app hands them to the runtime.
+  float rpm = 1000.0f;
+  bool irrigation = false;
   bool ghost = false;  // the commanded pose is drawn beside the proxy
   bool drillOn = false;
   StatusNumbers status;

@@ -71,7 +71,14 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
     options.coupling =
         request.coupling.value_or(portal ? sim::CouplingMode::Direct : sim::CouplingMode::Proxy);
   }
-  options.keepSurface = false;  // the live runtime's visual side keeps its own surface
+  options.keepSurface = false;             // the live runtime's visual side keeps its own surface
+  const bool hand = request.path.empty();  // the mouse or a device
+  options.forceModel = request.forceModel.value_or(
+      hand && options.coupling == sim::CouplingMode::Proxy ? sim::ForceModelKind::Calibrated
+                                                           : sim::ForceModelKind::Seed);
+  if (options.forceModel == sim::ForceModelKind::Calibrated && !request.coupling)
+    options.coupling = sim::CouplingMode::Proxy;
+  options.settings = request.settings;
   scene->session_ = openSession(bone, options);
   sim::Session& session = *scene->session_;
   if (scene->exercise_) {
@@ -111,6 +118,7 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
     scene->device_ = sim::openSessionDevice(request.device, session);
     sim::DeviceInputOptions io;
     io.frame = sim::defaultDeviceFrame(session);
+    io.settings = session.options().settings;
     scene->deviceInput_ = std::make_unique<sim::DeviceInput>(*scene->device_, io);
     scene->live_ = std::make_unique<sim::LiveRuntime>(session, *scene->deviceInput_,
                                                       scene->deviceInput_.get(), scene->options_);

@@ -27,8 +27,7 @@ void ViewerSound::feed(const simulation::DisplayState& d) noexcept {
   lastTS_ = d.tS;
   lastRemovedMm3_ = d.removedVolumeMm3;
   // The default drill speed until the viewer sets one (simulation/cutting.h).
-  player_.push({d.tS, simulation::DrillSettings{}.rpm, std::max(0.0, removal), d.contact.magnitudeN,
-                d.drillOn});
+  player_.push({d.tS, d.settings.rpm, std::max(0.0, removal), d.contact.magnitudeN, d.drillOn});
 }
 
 void ViewerSound::report(ViewerReport& r) const {

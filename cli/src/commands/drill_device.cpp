@@ -168,6 +168,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   audio.follow(forces);
   sim::DeviceInputOptions io;
   io.frame = sim::defaultDeviceFrame(session);
+  io.settings = session.options().settings;
   io.recorder = recorder ? &*recorder : nullptr;
   double limitN = io.safety.forceLimitN;
   if (caps.force && caps.maxForceN > 0.0) limitN = std::min(limitN, caps.maxForceN);

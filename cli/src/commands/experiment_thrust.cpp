@@ -49,10 +49,9 @@ std::string table(const std::vector<ThrustRow>& rows) {
     const sim::ThrustResult& c = r.calibrated;
     md << "| " << c.c.material << " | " << c.c.diameterMm << " mm | " << c.c.rpm << " | "
        << c.c.feedMmPerS << " | "
-       << (c.c.publishedN > 0 ? number(c.c.publishedN, 2) + " (" + c.c.source + ")" : "-")
-       << " | " << number(c.lawN, 2) << " | " << number(c.realN, 2) << " | "
-       << number(c.deviceN, 3) << " | " << number(c.feedMmPerS, 2) << " | "
-       << number(r.seed.deviceN, 3) << " |\n";
+       << (c.c.publishedN > 0 ? number(c.c.publishedN, 2) + " (" + c.c.source + ")" : "-") << " | "
+       << number(c.lawN, 2) << " | " << number(c.realN, 2) << " | " << number(c.deviceN, 3) << " | "
+       << number(c.feedMmPerS, 2) << " | " << number(r.seed.deviceN, 3) << " |\n";
   }
   return md.str();
 }
@@ -101,7 +100,8 @@ std::string script(const std::vector<ThrustRow>& rows, const std::string& dir,
      << "unset logscale y\nunset xtics\nset xtics\nset xrange [0:*]\nset yrange [0:3.5]\n"
      << "set output '" << outputs[1] << "'\n"
      << "set title 'The hand pushing the drill into bone: calibrated model (device N)'\n"
-     << "set key bottom right\nset xlabel 'time (s)'\nset ylabel 'push along the tool (N, device)'\nplot ";
+     << "set key bottom right\nset xlabel 'time (s)'\nset ylabel 'push along the tool (N, "
+        "device)'\nplot ";
   bool first = true;
   for (const ThrustRow& r : rows) {
     if (!(r.calibrated.c.publishedN > 0)) continue;
@@ -119,7 +119,7 @@ std::string script(const std::vector<ThrustRow>& rows, const std::string& dir,
 int runThrustExperiment(const ExperimentCommandOptions& options, const std::string& outDirPath) {
   if (options.bone.input != "default")
     throw InputError("--mesh: experiment thrust drills blocks of its own, not a mesh");
-  const std::vector<std::string> owned = {"runs",     "thrust.md",     "thrust.json", "thrust.csv",
+  const std::vector<std::string> owned = {"runs",      "thrust.md",  "thrust.json",    "thrust.csv",
                                           "thrust.gp", "thrust.png", "thrust_time.png"};
   geometry::OutputDir outDir(outDirPath, owned);
   std::vector<ThrustRow> rows;
@@ -142,9 +142,9 @@ int runThrustExperiment(const ExperimentCommandOptions& options, const std::stri
   csv << "case,published_n,published_or_nan,law_n,simulated_n\n";
   for (const ThrustRow& r : rows) {
     const sim::ThrustResult& c = r.calibrated;
-    csv << c.c.material << " " << c.c.rpm << " rpm " << c.c.feedMmPerS << " mm/s,"
-        << c.c.publishedN << "," << (c.c.publishedN > 0 ? number(c.c.publishedN, 3) : "NaN")
-        << "," << c.lawN << "," << c.realN << "\n";
+    csv << c.c.material << " " << c.c.rpm << " rpm " << c.c.feedMmPerS << " mm/s," << c.c.publishedN
+        << "," << (c.c.publishedN > 0 ? number(c.c.publishedN, 3) : "NaN") << "," << c.lawN << ","
+        << c.realN << "\n";
   }
   geometry::writeFileAtomically(outDirPath + "/thrust.csv", csv.str());
   geometry::writeFileAtomically(outDirPath + "/thrust.json", toJson(rows).dump(2) + "\n");

@@ -38,6 +38,7 @@ int runReplay(const ReplayCommandOptions& options) {
                              calibrated(options.feel));
   audio.follow(forces);
   sim::DeviceRunOptions ro;
+  ro.input.settings = session.options().settings;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunSummary run;
   json extra;

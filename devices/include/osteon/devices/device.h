@@ -54,6 +54,10 @@ struct DeviceSample {
   std::int64_t knob = 0;                       // encoder counts summed since the device opened
   bool drillOn = false;                        // the device's drill trigger (button, pedal)
   bool connected = true;                       // false while the device is silent or gone
+  // The drill's speed and irrigation the run used with this sample (recordings carry them;
+  // DeviceInput sets them from the controls): rpm 0 when not known.
+  double rpm = 0.0;
+  bool irrigation = false;
 };
 
 class Device {

@@ -1,11 +1,13 @@
 // Recording and replay of any device's stream. A recording is CSV with a header row
-//   t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on
+//   t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on,rpm,irrigation
 // (seconds, millimetres, the orientation quaternion, the button mask, the pedal 0..1, the
-// drill trigger 0/1), one row per new sample (1 kHz from a haptic loop), numbers in their
-// shortest form that reads back to the same double, so a replay reproduces its run bit for
-// bit. Non-finite pose values are written as nan/inf: a replay meets them as the device fault
-// they were. The writer puts rows in a lock-free buffer from the haptic loop and a thread of
-// its own writes them to the file every 100 ms, so a crash loses at most that.
+// drill trigger 0/1, the drill's rpm and irrigation 0/1 as the run used them; recordings
+// without the last two, as osteon wrote them before, still load), one row per new sample (1 kHz
+// from a haptic loop), numbers in their shortest form that reads back to the same double, so a
+// replay reproduces its run bit for bit. Non-finite pose values are written as nan/inf: a replay
+// meets them as the device fault they were. The writer puts rows in a lock-free buffer from the
+// haptic loop and a thread of its own writes them to the file every 100 ms, so a crash loses at
+// most that.
 #pragma once
 
 #include <atomic>
@@ -20,7 +22,11 @@
 
 namespace osteon::devices {
 
-inline constexpr const char* kRecordingHeader = "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on";
+inline constexpr const char* kRecordingHeader =
+    "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on,rpm,irrigation";
+// The header of recordings without the drill's settings (read as unknown: rpm 0).
+inline constexpr const char* kRecordingHeaderWithoutSettings =
+    "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on";
 // The longest recording a replay accepts (an hour, as drill paths), and its rows.
 inline constexpr double kMaxRecordingS = 3600.0;
 inline constexpr std::size_t kMaxRecordingRows = 4'000'000;
@@ -92,6 +98,8 @@ struct RecordingRow {
   std::uint32_t buttons = 0;
   double pedal = 0.0;
   bool drillOn = false;
+  double rpm = 0.0;  // 0: not recorded
+  bool irrigation = false;
 };
 
 // A recording read whole. Rows with non-finite pose values are kept (device faults for the

@@ -68,7 +68,17 @@ struct DeviceInputOptions {
   // device (a recording stamped 30-32 s, or at Unix time) is polled at its own start plus that
   // time, and its samples come back on the run's clock. runDevice passes the device's own time.
   bool clockFromRunStart = true;
+  // The drill's settings before the controls act (the session's: --rpm, --irrigation); the
+  // runtime's later ones (the viewer's panel) arrive through settings().
+  DrillSettings settings;
 };
+
+// How a device's controls set the drill (docs/devices.md): the knob turns the rpm by this much
+// per count from the base; a pedal pressed past half (it drills) runs the motor from half speed
+// there to full speed at the floor, as a surgical drill's variable-speed pedal; button 2 (mask
+// 4) toggles irrigation.
+inline constexpr double kRpmPerKnobCount = 50.0;
+inline constexpr std::uint32_t kIrrigationButtonMask = 4u;
 
 // What a render loop shows of the device (published every haptic period).
 struct DeviceStatus {
@@ -87,6 +97,8 @@ class DeviceInput final : public PoseSource, public ForceSink {
   DeviceInput(devices::Device& device, const DeviceInputOptions& options = {});
   void sample(double tS, ToolPose& pose, bool& drillOn) noexcept override;
   void apply(double tS, const glm::dvec3& forceN) noexcept override;
+  // The drill's settings of the last sample: a recording's own, or the controls' on the base.
+  void settings(DrillSettings& settings) noexcept override;
 
   // True once the device has given an accepted pose (before it, sample() gives the parked
   // pose at the frame's origin with the drill off).
@@ -103,8 +115,12 @@ class DeviceInput final : public PoseSource, public ForceSink {
   DeviceInputOptions options_;
   devices::SafetyLayer safety_;
   devices::DeviceSample sample_;
-  double recordedS_ = -1.0;  // the newest sample recorded
-  double loopS_ = -1.0;      // the newest recorded loop period (recordedLoop)
+  double recordedS_ = -1.0;   // the newest sample recorded
+  double loopS_ = -1.0;       // the newest recorded loop period (recordedLoop)
+  DrillSettings base_;        // the runtime's, as of the last settings()
+  DrillSettings controlled_;  // this sample's
+  bool irrigationToggled_ = false, buttonWasDown_ = false;
+  void applyControls() noexcept;
   DeviceStatus status_;
   core::TripleBuffer<DeviceStatus> published_;
 };

@@ -34,6 +34,7 @@ struct DisplayState {
   std::uint64_t removedFill = 0;  // grid fill units removed so far
   double removedVolumeMm3 = 0.0;
   std::uint64_t steps = 0;
+  DrillSettings settings;  // the step's rpm and irrigation (a device's controls included)
   // The voxels refined now and to which depth (refreshed every few steps).
   int refinedDepth = 0;
   std::size_t refinedCount = 0;
@@ -92,6 +93,10 @@ class LiveRuntime {
 
   // ---- any thread ----
   LiveStats stats() const;
+  // The drill's rpm and irrigation from the next haptic period on (a device's controls act on
+  // them); starts with the session's. Lock-free.
+  void setSettings(const DrillSettings& settings);
+  DrillSettings settings() const;
   // True once the loops have run for the duration start() was given (never before stop()
   // without one).
   bool loopsDone() const;

@@ -29,10 +29,10 @@ std::vector<ThrustCase> thrustExperimentCases();
 struct ThrustResult {
   ThrustCase c;
   ForceModelKind model = ForceModelKind::Calibrated;
-  double deviceN = 0.0;  // the mean push along the tool over the steady window (N, device)
-  double realN = 0.0;    // deviceN / kDeviceNPerRealN
-  double lawN = 0.0;     // the thrust law at the settings (real N)
-  double feedMmPerS = 0.0;   // the tip's mean feed over the window
+  double deviceN = 0.0;     // the mean push along the tool over the steady window (N, device)
+  double realN = 0.0;       // deviceN / kDeviceNPerRealN
+  double lawN = 0.0;        // the thrust law at the settings (real N)
+  double feedMmPerS = 0.0;  // the tip's mean feed over the window
   double windowStartS = 0.0, windowEndS = 0.0;
   std::vector<ForceLogRow> log;  // every step (1 kHz)
 };
