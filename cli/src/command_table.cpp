@@ -300,14 +300,14 @@ void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
 }
 
 void addExperiment(CLI::App& cmd, ExperimentCommandOptions& o) {
-  cmd.add_option("NAME", o.name, "Experiment: seed")->required();
+  cmd.add_option("NAME", o.name, "Experiment: seed or heat")->required();
   cmd.add_option("--mesh", o.bone.input,
                  "Humerus mesh, 'default', or a volume (its surface at its own voxels)")
       ->default_val("default");
   addUnits(cmd, o.bone);
   addVolumeMeaning(cmd, o.bone.volume);
   cmd.add_option("--out-dir", o.outDir, "Folder for plots, table and logs")
-      ->default_val("experiment-seed");
+      ->default_str("experiment-NAME");
   addUp(cmd, o.bone.up);
   addJson(cmd, o.json, "Print the table as JSON on stdout");
 }
@@ -387,7 +387,8 @@ const std::vector<Subcommand>& subcommands() {
           "The nightly run: every guarantee on models x voxel sizes x methods x modes; report",
           addValidate, runValidate),
       row("experiment",
-          "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)",
+          "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots), 'heat' "
+          "Augustin 2008's drilling temperatures",
           addExperiment, runExperiment),
       row("exercise", "The exercises: list them, show one, write one's planned path", addExercise,
           runExercise),

@@ -337,6 +337,21 @@ double ThermalModel::doseAtMin(const glm::dvec3& pointMm) const {
   return double(doseMin_[index(c.x, c.y, c.z)]);
 }
 
+double ThermalModel::damagedBoneVolumeMm3(const geometry::VoxelGrid& bone) const {
+  if (damagedCells_ == 0) return 0.0;
+  const auto threshold = float(options_.damageDoseMin * (1.0 - 1e-4));
+  double fill = 0.0;
+  for (int k = activeLo_.z; k <= activeHi_.z; ++k)
+    for (int j = activeLo_.y; j <= activeHi_.y; ++j)
+      for (int i = activeLo_.x; i <= activeHi_.x; ++i) {
+        if (doseMin_[index(i, j, k)] < threshold) continue;
+        const glm::dvec3 centreMm = originMm_ + (glm::dvec3(i, j, k) + 0.5) * cellMm_;
+        const glm::ivec3 v = glm::ivec3(glm::floor(bone.gridFromWorld(centreMm)));
+        fill += double(bone.fill(v)) / double(geometry::kFillFull);
+      }
+  return fill * cellMm_ * cellMm_ * cellMm_;
+}
+
 double ThermalModel::heatContentJ() const {
   double sum = 0.0;
   for (const double t : tC_) sum += t - options_.initialC;

@@ -136,9 +136,12 @@ sim::BoneMesh experimentMesh(const sim::BoneSource& source) {
 
 }  // namespace
 
-int runExperiment(const ExperimentCommandOptions& options) {
+int runExperiment(const ExperimentCommandOptions& given) {
+  ExperimentCommandOptions options = given;
+  if (options.outDir.empty()) options.outDir = "experiment-" + options.name;
+  if (options.name == "heat") return runHeatExperiment(options);
   if (options.name != "seed")
-    throw InputError("experiment " + options.name + ": unknown (expected seed)");
+    throw InputError("experiment " + options.name + ": unknown (expected seed or heat)");
   const std::vector<sim::ExperimentCase> cases = sim::seedExperimentCases();
   // Every file the run will write, checked against the mesh before any work.
   std::vector<sim::ExperimentRun> planned;

@@ -40,6 +40,8 @@ std::string plotScript(const std::vector<ForceFigure>& figures,
   return gp.str();
 }
 
+}  // namespace
+
 // gnuplot on `script`, its stderr into `log`, started directly: through a shell, the shell's
 // own failures (its redirection fails under a low `ulimit -n`) looked like a missing gnuplot.
 // Its log goes to logTemp, named `log` in messages. Throws InputError with the real reason: not
@@ -84,8 +86,6 @@ void runGnuplot(const std::string& script, const std::string& logTemp, const std
   s << (first.empty() ? std::string() : ": " + first.substr(0, 200)) << "; see " << log << ")";
   throw InputError(s.str());
 }
-
-}  // namespace
 
 void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& scriptPath) {
   // The saved script draws the final files; the one run draws temporary files, put in place

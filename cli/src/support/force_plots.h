@@ -23,4 +23,9 @@ struct ForceFigure {
 // InputError naming the log when gnuplot is missing or fails; the logs stay on disk.
 void drawForcePlots(const std::vector<ForceFigure>& figures, const std::string& scriptPath);
 
+// gnuplot on the script file `script`, its stderr into logTemp (named `log` in messages). Throws
+// InputError with the reason: not installed, could not start, or its exit status and log's
+// first line.
+void runGnuplot(const std::string& script, const std::string& logTemp, const std::string& log);
+
 }  // namespace osteon::cli

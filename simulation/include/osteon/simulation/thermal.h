@@ -48,9 +48,9 @@ struct BoneThermalConstants {
 
 // The cutting power model above; its constants fitted to Augustin et al. 2008 (docs/feel.md).
 struct CuttingHeatModel {
-  double specificEnergyJPerMm3 = 0.5;  // u, at cortical density
-  double frictionCoefficient = 0.3;    // mu
-  double heatFraction = 0.30;          // eta: the share of P that enters the bone
+  double specificEnergyJPerMm3 = 0.18;  // u, at cortical density
+  double frictionCoefficient = 0.3;     // mu
+  double heatFraction = 0.26;           // eta: the share of P that enters the bone
   // The power (W) generated at the tip, before eta.
   double powerW(double removedMm3PerS, double rhoGcm3, double rpm, double diameterMm,
                 double thrustN) const noexcept;
@@ -62,7 +62,7 @@ struct ThermalOptions {
   double marginMm = 2.0;                        // around the box given, so heat can leave the bone
   double initialC = 37.0;                       // body temperature: initial and on the grid's faces
   double irrigationC = 26.0;                    // the irrigation water (room temperature)
-  double irrigationWPerM2K = 6000.0;            // h, fitted (docs/feel.md)
+  double irrigationWPerM2K = 500.0;             // h, fitted (docs/feel.md)
   double irrigationReachMm = 1.0;               // the cooled sphere: drill radius + this
   double damageDoseMin = 16.0;                  // CEM43-min past which a cell counts as damaged
   BoneThermalConstants bone;
@@ -109,6 +109,9 @@ class ThermalModel {
   // Consumer thread: the peak temperature and the dose a point's cell has seen.
   double peakAtC(const glm::dvec3& pointMm) const;
   double doseAtMin(const glm::dvec3& pointMm) const;
+  // Consumer thread: the bone still in `bone` (fill at each cell's centre) past the damage
+  // dose, mm3. damagedVolumeMm3() counts every cell, the bone the drill took away included.
+  double damagedBoneVolumeMm3(const geometry::VoxelGrid& bone) const;
 
   // Any thread: as the last diffuse() left them.
   double tipTemperatureC() const noexcept { return tipC_.load(std::memory_order_relaxed); }
