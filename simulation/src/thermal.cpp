@@ -149,6 +149,8 @@ void ThermalModel::deposit(const HeatInput& in) noexcept {
 void ThermalModel::growActive(const glm::ivec3& lo, const glm::ivec3& hi) {
   const glm::ivec3 l = glm::max(lo, glm::ivec3(0));
   const glm::ivec3 h = glm::min(hi, dims_ - 1);
+  touchedLo_ = glm::min(touchedLo_, l);
+  touchedHi_ = glm::max(touchedHi_, h);
   if (activeHi_.x < activeLo_.x) {
     activeLo_ = l;
     activeHi_ = h;
@@ -205,23 +207,31 @@ void ThermalModel::drain() {
 }
 
 // One explicit step of dT/dt = alpha lap T over the active box grown by a cell; the cells
-// outside the grid are held at initialC (Dirichlet faces).
+// outside the grid are held at initialC (Dirichlet faces). The box then shrinks to the cells
+// more than kActiveK from initialC: the heat of one drill site costs its neighbourhood only.
 void ThermalModel::conduct(double dtS) {
   if (activeHi_.x < activeLo_.x) return;
+  constexpr double kActiveK = 1e-6;
   growActive(activeLo_ - 1, activeHi_ + 1);
   const double f = options_.bone.diffusivityMm2PerS() * dtS / (cellMm_ * cellMm_);
   const double outside = options_.initialC;
-  const std::size_t sx = 1, sy = std::size_t(dims_.x), sz = sy * std::size_t(dims_.y);
+  const std::size_t sy = std::size_t(dims_.x), sz = sy * std::size_t(dims_.y);
+  glm::ivec3 lo = dims_, hi(-1);
   for (int k = activeLo_.z; k <= activeHi_.z; ++k)
     for (int j = activeLo_.y; j <= activeHi_.y; ++j)
       for (int i = activeLo_.x; i <= activeHi_.x; ++i) {
         const std::size_t c = index(i, j, k);
         const double t = tC_[c];
         const double sum =
-            (i > 0 ? tC_[c - sx] : outside) + (i + 1 < dims_.x ? tC_[c + sx] : outside) +
+            (i > 0 ? tC_[c - 1] : outside) + (i + 1 < dims_.x ? tC_[c + 1] : outside) +
             (j > 0 ? tC_[c - sy] : outside) + (j + 1 < dims_.y ? tC_[c + sy] : outside) +
             (k > 0 ? tC_[c - sz] : outside) + (k + 1 < dims_.z ? tC_[c + sz] : outside);
-        scratch_[c] = t + f * (sum - 6.0 * t);
+        const double next = t + f * (sum - 6.0 * t);
+        scratch_[c] = next;
+        if (std::abs(next - outside) > kActiveK) {
+          lo = glm::min(lo, glm::ivec3(i, j, k));
+          hi = glm::max(hi, glm::ivec3(i, j, k));
+        }
       }
   for (int k = activeLo_.z; k <= activeHi_.z; ++k)
     for (int j = activeLo_.y; j <= activeHi_.y; ++j) {
@@ -230,6 +240,8 @@ void ThermalModel::conduct(double dtS) {
                 scratch_.begin() + std::ptrdiff_t(row) + (activeHi_.x - activeLo_.x + 1),
                 tC_.begin() + std::ptrdiff_t(row));
     }
+  activeLo_ = lo;
+  activeHi_ = hi;
 }
 
 // Irrigation: h (T - T_water) through one cell face per cell, exact for the step (exponential
@@ -257,13 +269,17 @@ void ThermalModel::cool(double dtS) {
 
 // CEM43 and the peak per cell over the active box; the damaged count grows as cells cross.
 void ThermalModel::dose(double dtS) {
-  if (activeHi_.x < activeLo_.x) return;
+  // Cells at initialC dose nothing below 39 °C; a grid held warmer doses everywhere.
+  const bool everywhere = options_.initialC >= 39.0;
+  const glm::ivec3 lo = everywhere ? glm::ivec3(0) : activeLo_;
+  const glm::ivec3 hi = everywhere ? dims_ - 1 : activeHi_;
+  if (hi.x < lo.x) return;
   double peak = peakC_.load(std::memory_order_relaxed);
   // At the dose, to float's accumulated rounding: 47 °C held 1 min is damage.
   const auto threshold = float(options_.damageDoseMin * (1.0 - 1e-4));
-  for (int k = activeLo_.z; k <= activeHi_.z; ++k)
-    for (int j = activeLo_.y; j <= activeHi_.y; ++j)
-      for (int i = activeLo_.x; i <= activeHi_.x; ++i) {
+  for (int k = lo.z; k <= hi.z; ++k)
+    for (int j = lo.y; j <= hi.y; ++j)
+      for (int i = lo.x; i <= hi.x; ++i) {
         const std::size_t c = index(i, j, k);
         const double t = tC_[c];
         if (t > double(peakC_cells_[c])) peakC_cells_[c] = float(t);
@@ -340,10 +356,13 @@ double ThermalModel::doseAtMin(const glm::dvec3& pointMm) const {
 double ThermalModel::damagedBoneVolumeMm3(const geometry::VoxelGrid& bone) const {
   if (damagedCells_ == 0) return 0.0;
   const auto threshold = float(options_.damageDoseMin * (1.0 - 1e-4));
+  const bool everywhere = options_.initialC >= 39.0;  // as dose() does
+  const glm::ivec3 lo = everywhere ? glm::ivec3(0) : touchedLo_;
+  const glm::ivec3 hi = everywhere ? dims_ - 1 : touchedHi_;
   double fill = 0.0;
-  for (int k = activeLo_.z; k <= activeHi_.z; ++k)
-    for (int j = activeLo_.y; j <= activeHi_.y; ++j)
-      for (int i = activeLo_.x; i <= activeHi_.x; ++i) {
+  for (int k = lo.z; k <= hi.z; ++k)
+    for (int j = lo.y; j <= hi.y; ++j)
+      for (int i = lo.x; i <= hi.x; ++i) {
         if (doseMin_[index(i, j, k)] < threshold) continue;
         const glm::dvec3 centreMm = originMm_ + (glm::dvec3(i, j, k) + 0.5) * cellMm_;
         const glm::ivec3 v = glm::ivec3(glm::floor(bone.gridFromWorld(centreMm)));

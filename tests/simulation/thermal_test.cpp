@@ -48,6 +48,26 @@ TEST(Thermal, Cem43OfFortySevenForAMinuteIsSixteen) {
   EXPECT_NEAR(m.peakC(), 47.0, 1e-9);
 }
 
+TEST(Thermal, DamagedBoneCountsOnlyTheBoneLeft) {
+  // A 4 mm cube of bone, one half drilled away; the box around it held at 47 °C for 61 s.
+  geometry::VoxelGrid bone(glm::ivec3(8), glm::dvec3(0.0), 0.5);
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) bone.set({i, j, k}, i < 4 ? geometry::kFillFull : 0, 40);
+  ThermalOptions o = smallGrid();
+  o.initialC = 47.0;
+  ThermalModel m(bone, o);
+  for (int i = 0; i < 61; ++i) m.diffuse(1.0);
+  EXPECT_NEAR(m.damagedVolumeMm3(), 64.0, 1e-9);
+  EXPECT_NEAR(m.damagedBoneVolumeMm3(bone), 32.0, 1e-9);
+  // The viewer's samples at surface vertices read the same temperature.
+  const glm::vec3 points[2] = {glm::vec3(1.0f), glm::vec3(3.0f, 2.0f, 2.0f)};
+  float sampled[2] = {0.0f, 0.0f};
+  m.sampleC(points, 2, sampled);
+  EXPECT_FLOAT_EQ(sampled[0], 47.0f);
+  EXPECT_FLOAT_EQ(sampled[1], 47.0f);
+}
+
 TEST(Thermal, DamageNeedsTheDose) {
   ThermalOptions o = smallGrid();
   o.initialC = 46.0;  // 46 °C for a minute: 8 CEM43-min, short of 16
@@ -68,8 +88,13 @@ TEST(Thermal, ConductionConservesHeatAwayFromTheFaces) {
   ASSERT_GT(deposited, 1.0);
   EXPECT_NEAR(m.heatContentJ(), deposited, 1e-9 * deposited);
   const double hot = m.temperatureAtC(glm::dvec3(10.0));
+  const glm::vec3 tip(10.0f);
+  float sampled = 0.0f;
+  m.sampleC(&tip, 1, &sampled);
+  EXPECT_FLOAT_EQ(sampled, float(hot));
   for (int i = 0; i < 100; ++i) m.diffuse(0.02);  // 2 s: the heat spreads ~1 mm, far from faces
-  EXPECT_NEAR(m.heatContentJ(), deposited, 1e-9 * deposited);
+  // (to the trace the active box leaves behind: cells within 1e-6 K of 37 °C rest)
+  EXPECT_NEAR(m.heatContentJ(), deposited, 1e-6 * deposited);
   EXPECT_LT(m.temperatureAtC(glm::dvec3(10.0)), hot);
   EXPECT_GT(m.temperatureAtC(glm::dvec3(11.5, 10.0, 10.0)), 37.0);
   // Long enough, the held faces take the heat out.

@@ -26,6 +26,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -152,6 +153,7 @@ class ThermalModel {
   std::vector<float> peakC_cells_, doseMin_;
   std::uint64_t damagedCells_ = 0;
   glm::ivec3 activeLo_{0}, activeHi_{-1};  // cells that may differ from initialC (inclusive)
+  glm::ivec3 touchedLo_{std::numeric_limits<int>::max()}, touchedHi_{-1};  // every active box
   std::unique_ptr<Ring> ring_;
   // Consumer state: the latest tip and irrigation the deposits reported.
   glm::dvec3 lastTipMm_{0.0};
