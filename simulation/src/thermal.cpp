@@ -11,6 +11,10 @@
 
 namespace osteon::simulation {
 
+// The 1 kHz side reads these without a lock.
+static_assert(std::atomic<double>::is_always_lock_free, "atomic<double> must be lock-free");
+static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "atomic<uint64_t> lock-free");
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

@@ -20,7 +20,9 @@
 // step's heat over through a lock-free ring (core/handoff.h), merging steps into one while the
 // ring is full, so no heat is lost; it allocates, locks and throws nothing. tipTemperatureC(),
 // peakC(), damagedVolumeMm3() and depositedJ() read atomics diffuse() publishes: any thread.
-// Memory: every array is allocated by the constructor (at most maxCells cells, 20 bytes each).
+// The deterministic driver (runHeatExperiment) deposits every step and diffuses every 10 steps.
+// Memory: every array is allocated by the constructor (at most maxCells cells, 24 bytes each:
+// 50 MB at the default cap).
 #pragma once
 
 #include <atomic>
