@@ -2,7 +2,9 @@
 // deposit's hand-over and the options' checks.
 #include "osteon/simulation/thermal.h"
 
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -149,6 +151,33 @@ TEST(Thermal, AFullRingMergesStepsWithoutLosingHeat) {
                          m.options().cutting.powerW(in.removedMm3 / in.dtS, in.rhoGcm3, in.rpm,
                                                     in.diameterMm, in.thrustN);
   EXPECT_NEAR(m.depositedJ(), 3001.0 * perStep, 1e-9 * 3001.0 * perStep);
+}
+
+TEST(Thermal, ProducerAndConsumerThreadsLoseNoHeat) {
+  // The 1 kHz side deposits on its thread while the visual side diffuses on another, reading
+  // the tip temperature as a log would: every step's heat arrives.
+  ThermalModel m(glm::dvec3(0.0), glm::dvec3(20.0), smallGrid());
+  const HeatInput in = cutAt(glm::dvec3(10.0), false);
+  constexpr int kSteps = 20000;
+  std::atomic<bool> done{false};
+  double tipSeen = 0.0;
+  std::thread producer([&] {
+    for (int i = 0; i < kSteps; ++i) {
+      m.deposit(in);
+      tipSeen = std::max(tipSeen, m.tipTemperatureC());
+    }
+    done.store(true);
+  });
+  while (!done.load()) m.diffuse(0.001);
+  producer.join();
+  m.diffuse(0.0);                  // drains the ring
+  m.deposit(HeatInput{in.tipMm});  // a step of no heat carries a merged remainder out
+  m.diffuse(0.0);
+  const double perStep = in.dtS * m.options().cutting.heatFraction *
+                         m.options().cutting.powerW(in.removedMm3 / in.dtS, in.rhoGcm3, in.rpm,
+                                                    in.diameterMm, in.thrustN);
+  EXPECT_NEAR(m.depositedJ(), kSteps * perStep, 1e-9 * kSteps * perStep);
+  EXPECT_GE(tipSeen, 37.0);
 }
 
 TEST(Thermal, CuttingPowerGrowsWithRpmThrustAndRemoval) {
