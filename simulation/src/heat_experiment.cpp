@@ -22,7 +22,7 @@ std::vector<HeatSetting> augustinSettings() {
   std::vector<HeatSetting> settings;
   for (const double d : {2.5, 3.2, 4.5})
     for (const double rpm : {188.0, 462.0, 1140.0, 1820.0}) settings.push_back({d, rpm, 84.0});
-  for (const double feed : {24.0, 56.0, 84.0, 196.0}) settings.push_back({4.5, 1820.0, feed});
+  for (const double feed : {24.0, 56.0, 84.0, 196.0}) settings.push_back({4.5, 1820.0, feed, true});
   return settings;
 }
 
@@ -49,10 +49,8 @@ struct Thermocouple {
   double peakC[2];
 };
 
-}  // namespace
-
-static HeatRun runSetting(const HeatSetting& s, const geometry::VoxelGrid& block,
-                          const HeatExperimentOptions& o) {
+HeatRun runSetting(const HeatSetting& s, const geometry::VoxelGrid& block,
+                   const HeatExperimentOptions& o) {
   SessionOptions so;
   so.levels = 0;
   so.keepSurface = false;
@@ -117,6 +115,8 @@ static HeatRun runSetting(const HeatSetting& s, const geometry::VoxelGrid& block
   run.depositedJ = model0.depositedJ();
   return run;
 }
+
+}  // namespace
 
 std::vector<HeatRun> runHeatExperiment(const std::vector<HeatSetting>& settings,
                                        const HeatExperimentOptions& options,

@@ -24,13 +24,13 @@ using nlohmann::json;
 
 namespace {
 
-// The speed x diameter grid the paper's range covers (84 mm/min), apart from the feed series.
-bool inGrid(const sim::HeatRun& r, std::size_t i) {
-  return i < 12 && r.setting.feedMmPerMin == 84.0;
+// The speed x diameter grid the paper's range covers, apart from the feed series.
+bool inGrid(const sim::HeatRun& r) {
+  return !r.setting.feedSeries;
 }
 
-const char* publishedWithout(const sim::HeatRun& r, std::size_t i) {
-  if (!inGrid(r, i)) return "falls as feed rises";
+const char* publishedWithout(const sim::HeatRun& r) {
+  if (!inGrid(r)) return "falls as feed rises";
   return sim::HeatPublished::aboveCritical(r.setting) ? "> 47 (of 31.4-55.5)"
                                                       : "< 47 (of 31.4-55.5)";
 }
@@ -59,7 +59,7 @@ std::vector<Check> checksOf(HeatReport& r) {
   for (std::size_t i = 0; i < r.runs.size(); ++i) {
     const sim::HeatRun& run = r.runs[i];
     irrigated = irrigated && run.peakC[1] < p.criticalC;
-    if (inGrid(run, i)) {
+    if (inGrid(run)) {
       r.minC = std::min(r.minC, run.peakC[0]);
       r.maxC = std::max(r.maxC, run.peakC[0]);
       critical = critical && (run.peakC[0] > p.criticalC) == p.aboveCritical(run.setting);
@@ -88,13 +88,14 @@ json toJson(const HeatReport& r) {
     rows.push_back({{"diameter_mm", h.setting.diameterMm},
                     {"rpm", h.setting.rpm},
                     {"feed_mm_per_min", h.setting.feedMmPerMin},
+                    {"feed_series", h.setting.feedSeries},
                     {"thrust_n", h.thrustN},
                     {"drill_s", h.drillS},
                     {"removed_mm3", h.removedMm3},
                     {"heat_into_bone_j", h.depositedJ},
                     {"peak_c", h.peakC[0]},
                     {"peak_irrigated_c", h.peakC[1]},
-                    {"published", publishedWithout(h, i)},
+                    {"published", publishedWithout(h)},
                     {"published_irrigated", "< 47"},
                     {"grid_peak_c", h.gridPeakC[0]},
                     {"grid_peak_irrigated_c", h.gridPeakC[1]},
@@ -131,7 +132,7 @@ std::string table(const HeatReport& r) {
     std::snprintf(line, sizeof line,
                   "| %.1f mm | %.0f | %.0f | %.0f | %.1f | %s | %.1f | < 47 | %.1f | %.1f |\n",
                   h.setting.diameterMm, h.setting.rpm, h.setting.feedMmPerMin, h.thrustN,
-                  h.peakC[0], publishedWithout(h, i), h.peakC[1], h.damagedBoneMm3[0],
+                  h.peakC[0], publishedWithout(h), h.peakC[1], h.damagedBoneMm3[0],
                   h.damagedBoneMm3[1]);
     md << line;
   }
@@ -150,10 +151,10 @@ std::string plotData(const HeatReport& r) {
   double last = -1.0;
   for (std::size_t i = 0; i < r.runs.size(); ++i) {
     const sim::HeatRun& h = r.runs[i];
-    const double key = inGrid(h, i) ? h.setting.diameterMm : 0.0;
+    const double key = inGrid(h) ? h.setting.diameterMm : 0.0;
     if (last >= 0.0 && key != last) d << "\n\n";
     last = key;
-    d << (inGrid(h, i) ? h.setting.rpm : h.setting.feedMmPerMin) << " " << h.peakC[0] << " "
+    d << (inGrid(h) ? h.setting.rpm : h.setting.feedMmPerMin) << " " << h.peakC[0] << " "
       << h.peakC[1] << "\n";
   }
   return d.str();

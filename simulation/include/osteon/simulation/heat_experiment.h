@@ -19,6 +19,7 @@ struct HeatSetting {
   double diameterMm = 0.0;
   double rpm = 0.0;
   double feedMmPerMin = 0.0;
+  bool feedSeries = false;  // of the feed series, not of the speed x diameter grid
 };
 
 // What the paper reports for a setting: the range every setting without irrigation falls in,
