@@ -320,8 +320,8 @@ void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
 
 void addExperiment(CLI::App& cmd, ExperimentCommandOptions& o) {
   cmd.add_option("NAME", o.name,
-                 "Experiment: seed (the paper's section 4) or thrust (drilling thrust against "
-                 "published data)")
+                 "Experiment: seed (the paper's section 4), thrust (drilling thrust against "
+                 "published data) or heat (bone temperature against Augustin et al. 2008)")
       ->required();
   cmd.add_option("--mesh", o.bone.input,
                  "Humerus mesh, 'default', or a volume (its surface at its own voxels)")
@@ -408,7 +408,8 @@ const std::vector<Subcommand>& subcommands() {
           "The nightly run: every guarantee on models x voxel sizes x methods x modes; report",
           addValidate, runValidate),
       row("experiment",
-          "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots)",
+          "Rerun a paper experiment: 'seed' is section 4 (static vs dynamic force plots), 'heat' "
+          "Augustin 2008's drilling temperatures",
           addExperiment, runExperiment),
       row("exercise", "The exercises: list them, show one, write one's planned path", addExercise,
           runExercise),

@@ -137,11 +137,12 @@ sim::BoneMesh experimentMesh(const sim::BoneSource& source) {
 }  // namespace
 
 int runExperiment(const ExperimentCommandOptions& given) {
-  if (given.name != "seed" && given.name != "thrust")
-    throw InputError("experiment " + given.name + ": unknown (expected seed or thrust)");
   ExperimentCommandOptions options = given;
   if (options.outDir.empty()) options.outDir = "experiment-" + options.name;
   if (options.name == "thrust") return runThrustExperiment(options, options.outDir);
+  if (options.name == "heat") return runHeatExperiment(options);
+  if (options.name != "seed")
+    throw InputError("experiment " + options.name + ": unknown (expected seed, thrust or heat)");
   const std::vector<sim::ExperimentCase> cases = sim::seedExperimentCases();
   // Every file the run will write, checked against the mesh before any work.
   std::vector<sim::ExperimentRun> planned;
