@@ -203,6 +203,7 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   h.forceN = force;
   h.magnitudeN = magnitude;
   lastForceN_ = force;
+  if (options_.thermal) depositHeat(commanded, h, dtS);
 
   ++totals_.steps;
   totals_.clampSteps += h.clamped ? 1 : 0;
@@ -243,6 +244,22 @@ void ProxyCoupling::calibratedFeed(const StepInput& commanded, HapticStep& h) {
     feedLimitMmPerS_ = std::min(feedLimitMmPerS_, lawMmPerS);
   }
   h.feedLimitMmPerS = feedLimitMmPerS_;
+}
+
+void ProxyCoupling::depositHeat(const StepInput& commanded, HapticStep& h, double dtS) {
+  const double vs = sim_->grid().voxelSizeMm();
+  HeatInput in;
+  in.tipMm = h.stepPose.tipMm;
+  in.removedMm3 = h.step.removal.removedVolumeMm3(vs * vs * vs);
+  in.rhoGcm3 = h.densityGcm3;
+  in.rpm = commanded.settings.rpm;
+  in.diameterMm = 2.0 * cutterRadiusMm_;
+  in.thrustN = h.thrustRealN;
+  in.irrigation = commanded.settings.irrigation;
+  in.cutting = commanded.drillOn && h.densityGcm3 > 0.0;
+  in.dtS = dtS;
+  options_.thermal->deposit(in);
+  h.temperatureC = options_.thermal->tipTemperatureC();
 }
 
 HapticStep stepHaptic(DrillingSimulation& sim, ProxyCoupling* coupling,

@@ -118,6 +118,14 @@ bool LiveRuntime::loopsDone() const {
 
 double LiveRuntime::updateSurface() {
   Impl& m = *impl_;
+  // The heat conducts on the visual side, to the latest step's time (thermal.h's consumer).
+  if (ThermalModel* thermal = m.session->thermal()) {
+    const double tS = m.displayCore.read().tS;
+    if (tS > m.diffusedS) {
+      thermal->diffuse(tS - m.diffusedS);
+      m.diffusedS = tS;
+    }
+  }
   const bool failedBefore = !m.visualFault.empty();
   const double ms = m.drainVisual();
   if (!failedBefore && !m.visualFault.empty()) throw RuntimeFault(m.visualFault);

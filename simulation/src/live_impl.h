@@ -74,6 +74,7 @@ struct LiveRuntime::Impl {
   // The drill's settings (setSettings(), from any thread): the haptic loop's base each period.
   std::atomic<double> rpm{1000.0};
   std::atomic<bool> irrigation{false};
+  double diffusedS = 0.0;  // the visual thread's: the time the heat has been conducted to
   core::TripleBuffer<ContactForce> forces;
   core::TripleBuffer<DisplayCore> displayCore;
   core::TripleBuffer<RefinedList> refinedList;

@@ -179,6 +179,8 @@ struct Session::State {
   geometry::DynamicProximityHierarchy hierarchy;
   std::optional<DrillingSimulation> simulation;
   std::optional<ProxyCoupling> coupling;  // under proxy coupling
+  std::unique_ptr<ThermalModel> thermal;  // under the calibrated model
+  double diffusedS = 0.0;                 // the sim time the heat has been conducted to
   std::unique_ptr<geometry::SurfaceUpdater> updater;
   geometry::SurfaceMesh surface;
   bool surfaceStale = true;
@@ -215,6 +217,10 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
     CouplingOptions co = options.couplingOptions;
     co.forceModel = options.forceModel;
     co.materialGrid = &s.bone->grid();
+    if (options.forceModel == ForceModelKind::Calibrated) {
+      s.thermal = std::make_unique<ThermalModel>(s.bone->grid(), ThermalOptions{});
+      co.thermal = s.thermal.get();
+    }
     s.coupling.emplace(*s.simulation, co);
   }
   if (options.keepSurface) {
@@ -278,6 +284,11 @@ HapticStep Session::advance(const StepInput& input, ProxyCoupling* coupling, boo
   const Clock::time_point start = Clock::now();
   const HapticStep h = stepHaptic(*s.simulation, coupling, input);
   if (stepNs) stepNs->add(std::chrono::nanoseconds(Clock::now() - start).count());
+  // The heat conducts every 10 ms of the run's time (the threaded runtime: its visual thread).
+  if (s.thermal && input.tS - s.diffusedS >= 0.01) {
+    s.thermal->diffuse(input.tS - s.diffusedS);
+    s.diffusedS = input.tS;
+  }
   lastPose_ = h.proxy;
   lastContact_ = h.step.contact;
   lastContact_.forceN = h.forceN;
@@ -436,6 +447,14 @@ const geometry::DynamicProximityHierarchy& Session::hierarchy() const {
 DrillingSimulation& Session::simulation() {
   return *state_->simulation;
 }
+ThermalModel* Session::thermal() {
+  return state_->thermal.get();
+}
+
+const ThermalModel* Session::thermal() const {
+  return state_->thermal.get();
+}
+
 ProxyCoupling* Session::coupling() {
   return state_->coupling ? &*state_->coupling : nullptr;
 }

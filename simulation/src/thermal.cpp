@@ -315,6 +315,12 @@ void ThermalModel::diffuse(double dtS) {
   if (sawDeposit_) tipC_.store(temperatureAtC(lastTipMm_), std::memory_order_relaxed);
 }
 
+void ThermalModel::copyC(const glm::ivec3& lo, const glm::ivec3& hi, float* out) const {
+  for (int k = lo.z; k <= hi.z; ++k)
+    for (int j = lo.y; j <= hi.y; ++j)
+      for (int i = lo.x; i <= hi.x; ++i) *out++ = float(tC_[index(i, j, k)]);
+}
+
 double ThermalModel::temperatureAtC(const glm::dvec3& pointMm) const {
   // Trilinear over cell centres; cells beyond the grid read initialC (the held faces).
   const glm::dvec3 g = (pointMm - originMm_) / cellMm_ - 0.5;

@@ -183,6 +183,13 @@ void App::frame(bool last) {
   updateSurfaces();
   const simulation::DisplayState& d = live.display();
   live.setSettings({double(panel_.rpm), panel_.irrigation});  // the panel's, next period on
+  if (const simulation::ThermalModel* heat = scene_->session().thermal()) {
+    // This thread diffuses it (LiveRuntime::updateSurface): the consumer side may be read.
+    panel_.peakC = heat->peakC();
+    // The bone left past the dose: a scan of the heated cells, twice a second.
+    if (frame_ % 30 == 0 || last) panel_.damagedMm3 = heat->damagedBoneVolumeMm3(live.visualGrid());
+    if (panel_.view == View::Heat) renderer_->heat().update(*heat);
+  }
   sound_->feed(d);
   if (panel_.view == View::Levels)
     renderer_->textures().updateLevels(d.refined.data(), d.refinedCount, d.refinedDepth);

@@ -58,7 +58,7 @@ void App::onKey(int key, int action, int mods) {
       break;
   }
   if (!press) return;
-  if (key >= GLFW_KEY_F2 && key <= GLFW_KEY_F6) {
+  if (key >= GLFW_KEY_F2 && key <= GLFW_KEY_F7) {
     panel_.view = View(key - GLFW_KEY_F1);
     return;
   }
@@ -154,6 +154,12 @@ void App::onCommandKey(int key) {
       break;
     case GLFW_KEY_H:
       panel_.view = View::Hierarchy;
+      break;
+    case GLFW_KEY_B:  // the bone's heat ("burn")
+      panel_.view = View::Heat;
+      break;
+    case GLFW_KEY_I:
+      panel_.irrigation = !panel_.irrigation;
       break;
     case GLFW_KEY_LEFT_BRACKET:
       panel_.hierarchyLevel = std::max(panel_.hierarchyLevel - 1, 0);

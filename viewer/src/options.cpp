@@ -15,8 +15,8 @@ namespace osteon::viewer {
 
 namespace {
 
-constexpr const char* kViewNames[] = {"shaded",  "cracks",    "levels",
-                                      "density", "hierarchy", "wireframe"};
+constexpr const char* kViewNames[] = {"shaded",    "cracks",    "levels", "density",
+                                      "hierarchy", "wireframe", "heat"};
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

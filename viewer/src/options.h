@@ -14,13 +14,13 @@
 namespace osteon::viewer {
 
 // What the bone is coloured by (keys F1..F6, the Views panel, --view).
-enum class View { Shaded, Cracks, Levels, Density, Hierarchy, Wireframe };
+enum class View { Shaded, Cracks, Levels, Density, Hierarchy, Wireframe, Heat };
 // Which surface the crack view (and every view) draws: the live incremental one, or the seed's
 // naive marching cubes extracted whole again whenever bricks changed (a comparison view).
 enum class SurfaceChoice { CrackFree, Naive };
 
 const char* viewName(View view);
-// "shaded", "cracks", "levels", "density", "hierarchy", "wireframe"; throws InputError
+// "shaded", "cracks", "levels", "density", "hierarchy", "wireframe", "heat"; throws InputError
 // naming the value otherwise.
 View parseView(const std::string& text);
 const char* surfaceChoiceName(SurfaceChoice method);

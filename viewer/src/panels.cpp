@@ -71,10 +71,10 @@ void statusLine(const PanelModel& m) {
 
 void viewSection(PanelModel& m) {
   if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  static const char* names[] = {"shaded (S)",   "cracks (F2)",    "levels (F3)",
-                                "density (F4)", "hierarchy (F5)", "wireframe (F6)"};
+  static const char* names[] = {"shaded (S)",     "cracks (F2)",    "levels (F3)", "density (F4)",
+                                "hierarchy (F5)", "wireframe (F6)", "heat (B)"};
   int view = int(m.view);
-  for (int i = 0; i < 6; ++i) {
+  for (int i = 0; i < 7; ++i) {
     if (ImGui::RadioButton(names[i], &view, i)) m.view = View(i);
     if (i % 2 == 0) ImGui::SameLine(160.0f);
   }
@@ -105,6 +105,7 @@ void viewSection(PanelModel& m) {
   }
   if (m.view == View::Density && m.texturesMessage.empty())
     densityLegend(m.densityLow, m.densityHigh);
+  if (m.view == View::Heat) heatLegend(m);
   if (m.view == View::Hierarchy) {
     ImGui::SliderInt("level ([ ])", &m.hierarchyLevel, 0, std::max(m.hierarchyLevels - 1, 0));
     ImGui::SliderFloat("radius mm", &m.hierarchyRadiusMm, 2.0f, 60.0f, "%.0f");

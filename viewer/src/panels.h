@@ -45,6 +45,8 @@ struct PanelModel {
   double pathDurationS = 0.0;
   bool proxyCoupling = false;
   bool calibrated = false;  // the calibrated force model (docs/feel.md) runs
+  // Its heat model's: the peak temperature (°C) and the bone past the damage dose (mm3).
+  double peakC = 37.0, damagedMm3 = 0.0;
   // The drill's settings: the panel edits them, the app hands them to the runtime.
   float rpm = 1000.0f;
   bool irrigation = false;
@@ -108,6 +110,8 @@ void drawPanels(PanelModel& model, bool ui);
 void drawFloatingWindows(PanelModel& model);
 void forcePlot(const TimeSeries& force, double maxForceN, double limitN);
 void densityLegend(int lowD, int highD);
+// The heat view's colour bar in °C, the peak and the bone past the damage dose.
+void heatLegend(const PanelModel& m);
 // panels_exercise.cpp: the exercise's instructions, plan and live readouts; the score.
 void exerciseWindow(PanelModel& model);
 

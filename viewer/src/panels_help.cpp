@@ -37,13 +37,14 @@ const std::pair<const char*, const char*> kKeys[] = {
     {"G", "show / hide the tool"},
     {"R", "start / stop recording"},
     {"A", "drill sound on / off (mute)"},
+    {"I", "irrigation on / off (the rpm: the panel's slider)"},
     {"F / Shift + F", "frame the bone / focus on the tool"},
     {"1 .. 6", "axis views (the zoom stays)"},
     {"V", "camera: orbit, arthroscope, follow the tool"},
     {"P", "picture-in-picture"},
     {", and .", "turn the arthroscope's 30 degree lens (15 degrees a step)"},
     {"- and =", "dim / brighten the arthroscope's light"},
-    {"S C L D H, F2..F6", "views: shaded, cracks, levels, density, hierarchy, wireframe"},
+    {"S C L D H B, F2..F7", "views: shaded, cracks, levels, density, hierarchy, wireframe, heat"},
     {"W / M / [ ]", "edges / naive surface / hierarchy level"},
     {"O", "the humeral head, the entry and an exercise's plan on / off"},
     {"E", "end an exercise's trial and score it"},
@@ -167,6 +168,36 @@ void densityLegend(int lowD, int highD) {
   ImGui::Text("%d", highD);
   ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
   ImGui::TextWrapped("density d: drilling steps per voxel, cancellous (brown) to cortical");
+  ImGui::PopStyleColor();
+}
+
+void heatLegend(const PanelModel& m) {
+  if (!m.calibrated) {
+    ImGui::TextDisabled("heat: only under the calibrated force model (--force-model)");
+    return;
+  }
+  // The shader's ramp (shaders.h, mode 5): 37, 43, 47 and 60 °C.
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  const float w = std::max(ImGui::GetContentRegionAvail().x - 8.0f, 60.0f), h = 14.0f;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const ImU32 stops[4] = {IM_COL32(227, 217, 196, 255), IM_COL32(250, 217, 64, 255),
+                          IM_COL32(247, 128, 31, 255), IM_COL32(204, 20, 15, 255)};
+  const float x[4] = {0.0f, 6.0f / 23.0f, 10.0f / 23.0f, 1.0f};  // 37, 43, 47, 60 °C
+  for (int i = 0; i < 3; ++i) {
+    draw->AddRectFilledMultiColor(ImVec2(at.x + x[i] * w, at.y),
+                                  ImVec2(at.x + x[i + 1] * w, at.y + h), stops[i], stops[i + 1],
+                                  stops[i + 1], stops[i]);
+  }
+  ImGui::Dummy(ImVec2(w, h));
+  const char* labels[4] = {"37", "43", "47", "60+ C"};
+  for (int i = 0; i < 4; ++i) {
+    if (i > 0) ImGui::SameLine(x[i] * w - (i == 3 ? 34.0f : 8.0f));
+    ImGui::TextUnformatted(labels[i]);
+  }
+  ImGui::Text("peak %.1f C, bone past 47 C for 1 min: %.2f mm3", m.peakC, m.damagedMm3);
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+  ImGui::TextWrapped(
+      "bone temperature near the surface; 47 C held 1 min damages bone (16 CEM43-min)");
   ImGui::PopStyleColor();
 }
 

@@ -88,6 +88,7 @@ std::string BoneRenderer::resetScene(const geometry::VoxelGrid& grid) {
   uploader_.reset();
   uploader_.setNormalField(&grid);  // the live surface shades with the fill's gradient
   wholeIndexCount_ = 0;
+  heat_.reset();
   return textures_.reset(grid);
 }
 
@@ -132,6 +133,10 @@ void BoneRenderer::draw(const FrameCamera& camera, View view, SurfaceChoice surf
   if (view == View::Cracks) mode = 1;
   if (view == View::Levels && textures_.available()) mode = 2;
   if (view == View::Density && textures_.available()) mode = 3;
+  if (view == View::Heat && heat_.available()) {
+    heat_.bind(p);
+    mode = 5;
+  }
   setUniform(p, "uMode", mode);
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);  // back faces are drawn: the crack view is about them

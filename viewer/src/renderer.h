@@ -5,6 +5,7 @@
 #include <cstddef>
 
 #include "gl_util.h"
+#include "heat_texture.h"
 #include "options.h"
 #include "osteon/geometry/surface/surface.h"
 #include "surface_upload.h"
@@ -66,6 +67,7 @@ class BoneRenderer {
     return surface == SurfaceChoice::Naive ? wholeIndexCount_ / 3 : uploader_.triangleCount();
   }
   VoxelTextures& textures() { return textures_; }
+  HeatTexture& heat() { return heat_; }
 
  private:
   void drawElements(SurfaceChoice surface);
@@ -77,6 +79,7 @@ class BoneRenderer {
   GlBuffer wholeVbo_, wholeIbo_;
   std::size_t wholeIndexCount_ = 0;
   VoxelTextures textures_;
+  HeatTexture heat_;
 };
 
 }  // namespace osteon::viewer

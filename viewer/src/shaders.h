@@ -43,7 +43,7 @@ inline std::string withLighting(const char* body) {
 }
 
 // The bone. uMode: 0 shaded, 1 cracks (unlit: front white, back red), 2 levels, 3 density,
-// 4 flat colour (uFlat; wireframe lines).
+// 4 flat colour (uFlat; wireframe lines), 5 heat (uHeat, °C: heatColour's ramp).
 inline constexpr const char* kBoneVertex = R"(#version 330 core
 layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec3 aNormal;
@@ -55,6 +55,9 @@ uniform vec3 uGridOrigin;
 uniform float uVoxelMm;
 uniform ivec3 uDims;
 uniform vec3 uDensityRange;
+uniform sampler3D uHeat;
+uniform vec3 uHeatOrigin;
+uniform vec3 uHeatSpan;
 out vec3 vPos;
 out vec3 vNormal;
 out vec3 vColour;
@@ -62,6 +65,16 @@ void main() {
   vPos = aPos;
   vNormal = aNormal;
   vColour = vec3(0.89, 0.85, 0.77);
+  if (uMode == 5) {
+    // Body temperature bone-white, 43 °C yellow (dose starts to count fast), 47 °C orange (the
+    // damage threshold), 60 °C and above red: the legend's stops (panels.cpp heatLegend).
+    float c = texture(uHeat, (aPos - uHeatOrigin) / uHeatSpan).r;
+    vec3 bone = vec3(0.89, 0.85, 0.77), yellow = vec3(0.98, 0.85, 0.25);
+    vec3 orange = vec3(0.97, 0.50, 0.12), red = vec3(0.80, 0.08, 0.06);
+    vColour = c < 43.0 ? mix(bone, yellow, clamp((c - 37.0) / 6.0, 0.0, 1.0))
+            : c < 47.0 ? mix(yellow, orange, (c - 43.0) / 4.0)
+                       : mix(orange, red, clamp((c - 47.0) / 13.0, 0.0, 1.0));
+  }
   if (uMode == 2 || uMode == 3) {
     vec3 n = dot(aNormal, aNormal) > 0.0 ? normalize(aNormal) : vec3(0.0);
     ivec3 v = clamp(ivec3(floor((aPos - 0.5 * uVoxelMm * n - uGridOrigin) / uVoxelMm)), ivec3(0), uDims - 1);

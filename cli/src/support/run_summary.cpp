@@ -25,11 +25,16 @@ json runSummaryJson(const sim::RunSummary& s, const sim::Session& session, const
                     const std::string& mode, const std::string& tool, double voxelSizeMm,
                     int levels) {
   const sim::SessionOptions& so = session.options();
+  json feel = {{"force_model", sim::forceModelKindName(so.forceModel)},
+               {"rpm", so.settings.rpm},
+               {"irrigation", so.settings.irrigation}};
+  if (const sim::ThermalModel* heat = session.thermal()) {
+    // The heat model's (the loops have stopped: its consumer side may be read here).
+    feel["peak_temperature_c"] = heat->peakC();
+    feel["damaged_bone_mm3"] = heat->damagedBoneVolumeMm3(session.grid());
+  }
   json summary = {{"jitter_n", s.jitterN},
-                  {"feel",
-                   {{"force_model", sim::forceModelKindName(so.forceModel)},
-                    {"rpm", so.settings.rpm},
-                    {"irrigation", so.settings.irrigation}}},
+                  {"feel", feel},
                   {"coupling", sim::couplingModeName(s.coupling)},
                   {"max_gap_mm", s.maxGapMm},
                   {"max_step_change_n", s.maxStepChangeN},

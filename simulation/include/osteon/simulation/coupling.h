@@ -42,6 +42,7 @@
 #include <glm/vec3.hpp>
 
 #include "osteon/simulation/drilling.h"
+#include "osteon/simulation/thermal.h"
 
 namespace osteon::simulation {
 
@@ -102,6 +103,9 @@ struct CouplingOptions {
   // The bone before drilling, whose density ahead of the tip is the material being cut (the
   // drilled grid's density is worn down as it is cut). Required for Calibrated.
   const geometry::VoxelGrid* materialGrid = nullptr;
+  // Calibrated: the heat of each cutting step goes into this model (thermal.h; its deposit is
+  // lock-free), and its tip temperature into the step's temperatureC. Null: no heat.
+  ThermalModel* thermal = nullptr;
 };
 
 // Throws InputError naming the option for non-positive or non-finite values.
@@ -123,6 +127,7 @@ struct HapticStep {
   double densityGcm3 = 0.0;
   double thrustRealN = 0.0;
   double feedLimitMmPerS = 0.0;
+  double temperatureC = 37.0;  // at the tip, as the heat model last published it
 };
 
 struct CouplingTotals {
@@ -209,6 +214,8 @@ class ProxyCoupling {
   glm::dvec3 lastForceN_{0.0};    // the force sent last step
   // Calibrated: the feed limit of this step, from the thrust and the material ahead.
   void calibratedFeed(const StepInput& commanded, HapticStep& h);
+  // The step's heat into options_.thermal (lock-free), and the tip temperature into h.
+  void depositHeat(const StepInput& commanded, HapticStep& h, double dtS);
   std::array<PartCandidates, kMaxToolParts> candidates_;
   std::array<double, kMaxToolParts> admitRadiusMm_{};
   ToolPose proxy_;

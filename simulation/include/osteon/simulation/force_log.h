@@ -61,6 +61,7 @@ inline ForceLogRow logRowOf(const StepInput& in, const HapticStep& h,
   row.rpm = in.settings.rpm;
   row.irrigation = in.settings.irrigation;
   row.removedMm3 = sim.removedVolumeMm3();
+  row.temperatureC = h.temperatureC;
   return row;
 }
 

@@ -230,6 +230,9 @@ class Session {
   const geometry::DynamicProximityHierarchy& hierarchy() const;
   DrillingSimulation& simulation();
   const DrillingSimulation& simulation() const;
+  // The heat model under the calibrated force model (thermal.h), null otherwise.
+  ThermalModel* thermal();
+  const ThermalModel* thermal() const;
   // The proxy coupling every run of this session steps through; null under direct coupling.
   ProxyCoupling* coupling();
   const SessionOptions& options() const;

@@ -121,6 +121,13 @@ class ThermalModel {
   double peakC() const noexcept { return peakC_.load(std::memory_order_relaxed); }
   double damagedVolumeMm3() const noexcept { return damagedMm3_.load(std::memory_order_relaxed); }
   double depositedJ() const noexcept { return depositedJ_.load(std::memory_order_relaxed); }
+  // Consumer thread: the cells that ever left initialC (inclusive; lo > hi: none yet), and the
+  // temperatures of a box of cells (x fastest) into out: what a viewer uploads.
+  void touchedCells(glm::ivec3& lo, glm::ivec3& hi) const {
+    lo = touchedLo_;
+    hi = touchedHi_;
+  }
+  void copyC(const glm::ivec3& lo, const glm::ivec3& hi, float* out) const;
   // Consumer thread: heat above initialC held by the grid (J); conserved by conduction alone.
   double heatContentJ() const;
 
