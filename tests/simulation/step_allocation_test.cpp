@@ -82,3 +82,39 @@ TEST(StepAllocation, LateralSweepsAndAFastPush) {
 
 }  // namespace
 }  // namespace osteon::simulation
+
+namespace osteon::simulation {
+namespace {
+
+// The calibrated model's haptic step (coupling, feed law, heat deposit) allocates nothing
+// either, at every rpm and with irrigation toggling; its heat is conducted outside the steps.
+TEST(StepAllocation, TheCalibratedModelsHapticStep) {
+  SessionOptions o = options(ToolKind::Drill, DrillingOptions{}.refineBudgetVoxels);
+  o.coupling = CouplingMode::Proxy;
+  o.forceModel = ForceModelKind::Calibrated;
+  Session session(bone(), o);
+  ASSERT_NE(session.thermal(), nullptr);
+  const DrillPath path = session.portalPath(Portal::FiveOClock).path;
+  ProxyCoupling& coupling = *session.coupling();
+  std::uint64_t inSteps = 0;
+  double maxThrustN = 0.0;
+  const auto steps = std::size_t(path.durationS() * 1000.0);
+  for (std::size_t i = 0; i <= steps; ++i) {
+    StepInput in;
+    in.tS = double(i) * 0.001;
+    path.sample(in.tS, in.pose, in.drillOn);
+    in.settings = {i < steps / 2 ? 800.0 : 2000.0, (i / 500) % 2 == 1};
+    const std::uint64_t before = test::allocations();
+    const HapticStep h = coupling.step(in);
+    inSteps += test::allocations() - before;
+    maxThrustN = std::max(maxThrustN, h.thrustRealN);
+    if (i % 10 == 0) session.thermal()->diffuse(0.01);
+  }
+  EXPECT_EQ(inSteps, 0u);
+  EXPECT_GT(session.totals().removedFill, 0u);
+  EXPECT_GT(maxThrustN, 10.0);
+  EXPECT_GT(session.thermal()->peakC(), 37.5);
+}
+
+}  // namespace
+}  // namespace osteon::simulation

@@ -340,6 +340,14 @@ void App::finishReport() {
   }
   ViewerReport& r = report_;
   sound_->report(r);
+  const simulation::SessionOptions& so = scene_->session().options();
+  r.forceModel = simulation::forceModelKindName(so.forceModel);
+  r.rpm = double(panel_.rpm);
+  r.irrigation = panel_.irrigation;
+  if (simulation::ThermalModel* heat = scene_->session().thermal()) {
+    r.peakTemperatureC = heat->peakC();
+    r.damagedBoneMm3 = heat->damagedBoneVolumeMm3(scene_->live().visualGrid());
+  }
   if (igtl_) {
     serveIgtl(true);
     igtlStats = igtl_->stop();

@@ -55,6 +55,8 @@ using GlProgram = GlName<deleteProgram>;
 GLuint newBuffer();
 GLuint newVertexArray();
 GLuint newTexture();
+// Binds a 3D texture and sets it up: one level, edges clamped, `filter` both ways.
+void configureTexture3D(GLuint texture, GLint filter);
 
 // Uniform setters by name (a missing uniform, optimised away, is ignored).
 void setUniform(GLuint program, const char* name, const glm::mat4& m);

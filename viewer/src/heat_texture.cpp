@@ -9,15 +9,7 @@ void HeatTexture::update(const simulation::ThermalModel& heat) {
     originMm_ = heat.originMm();
     cellMm_ = heat.cellMm();
     texture_ = GlTexture(newTexture());
-    glBindTexture(GL_TEXTURE_3D, texture_.get());
-    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_BASE_LEVEL, 0);
-    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
-    for (const GLenum wrap :
-         {GLenum(GL_TEXTURE_WRAP_S), GLenum(GL_TEXTURE_WRAP_T), GLenum(GL_TEXTURE_WRAP_R)}) {
-      glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
-    }
+    configureTexture3D(texture_.get(), GL_LINEAR);  // °C between cell centres
     const std::size_t cells = std::size_t(dims_.x) * std::size_t(dims_.y) * std::size_t(dims_.z);
     staging_.assign(cells, float(heat.options().initialC));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);

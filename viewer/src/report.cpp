@@ -71,6 +71,11 @@ std::string reportJson(const ViewerReport& r) {
       {"exercise", r.exercise.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.exercise)},
       {"score", r.scoreJson.empty() ? nlohmann::json(nullptr) : nlohmann::json::parse(r.scoreJson)},
   };
+  j["feel"] = {{"force_model", r.forceModel},
+               {"rpm", r.rpm},
+               {"irrigation", r.irrigation},
+               {"peak_temperature_c", r.peakTemperatureC},
+               {"damaged_bone_mm3", r.damagedBoneMm3}};
   // The same fields as the CLI's run JSON "igtl" (cli/src/support/igtl_serve.cpp).
   j["igtl"] =
       !r.igtlServed

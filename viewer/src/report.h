@@ -54,6 +54,11 @@ struct ViewerReport {
   double lensRotationDeg = 0.0;   // the arthroscope's lens at exit
   std::string exercise;           // its name ("" without one)
   std::string scoreJson;          // the trial's score (scoreJsonText; "" when not scored)
+  // The force model and the drill at exit (docs/feel.md); the heat model's peak and damage.
+  std::string forceModel = "seed";
+  double rpm = 0.0;
+  bool irrigation = false;
+  double peakTemperatureC = 37.0, damagedBoneMm3 = 0.0;
   // --igtl: the server's counters at exit (igtl::ServerStats); served false without it.
   bool igtlServed = false;
   std::string igtlAddress;

@@ -8,18 +8,6 @@ namespace osteon::viewer {
 
 namespace {
 
-void configure(GLuint texture) {
-  glBindTexture(GL_TEXTURE_3D, texture);
-  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_BASE_LEVEL, 0);
-  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
-  for (const GLenum wrap :
-       {GLenum(GL_TEXTURE_WRAP_S), GLenum(GL_TEXTURE_WRAP_T), GLenum(GL_TEXTURE_WRAP_R)}) {
-    glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
-  }
-}
-
 std::size_t boxVoxels(const glm::ivec3& lo, const glm::ivec3& hi) {
   const glm::ivec3 n = hi - lo + 1;
   return std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
@@ -46,14 +34,14 @@ std::string VoxelTextures::reset(const geometry::VoxelGrid& grid) {
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   levels_ = GlTexture(newTexture());
-  configure(levels_.get());
+  configureTexture3D(levels_.get(), GL_NEAREST);
   levelStaging_.assign(grid.voxelCount(), 0);
   glTexImage3D(GL_TEXTURE_3D, 0, GL_R8I, dims_.x, dims_.y, dims_.z, 0, GL_RED_INTEGER, GL_BYTE,
                levelStaging_.data());
   levelStaging_.clear();
 
   density_ = GlTexture(newTexture());
-  configure(density_.get());
+  configureTexture3D(density_.get(), GL_NEAREST);
   glTexImage3D(GL_TEXTURE_3D, 0, GL_R16I, dims_.x, dims_.y, dims_.z, 0, GL_RED_INTEGER, GL_SHORT,
                nullptr);
   updateDensityBox(grid, glm::ivec3(0), dims_ - 1);
