@@ -231,7 +231,16 @@ void ProxyCoupling::slide(const ToolPose& to, const glm::dvec3& firstNormal) {
 void ProxyCoupling::moveProxy(const StepInput& commanded, double dtS) {
   const glm::dvec3& cmdTip = commanded.pose.tipMm;
   const glm::dvec3 wasMm = proxy_.tipMm;
-  const MoveResult move = constrainedMove(commanded.pose);
+  // Cutting under the calibrated model, the proxy can go no further than the feed allows this
+  // step: it tries that far, not the whole way to a command millimetres ahead (whose sub-moves
+  // and gathered samples would be thrown away by the feed limit below).
+  ToolPose target = commanded.pose;
+  if (feedBoneAhead_ && commanded.drillOn) {
+    const glm::dvec3 toCommand = cmdTip - wasMm;
+    const double distanceMm = glm::length(toCommand), feedMm = feedLimitMmPerS_ * dtS;
+    if (distanceMm > feedMm) target.tipMm = wasMm + (feedMm / distanceMm) * toCommand;
+  }
+  const MoveResult move = constrainedMove(target);
   if (move.blocked) {
     ++totals_.blockedSteps;
     const glm::dvec3 rest = cmdTip - proxy_.tipMm;
