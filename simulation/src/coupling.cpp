@@ -106,6 +106,18 @@ void ProxyCoupling::reset(const ToolPose& pose) {
   lastTwistRad_ = twistRate_ = glm::dvec3(0.0);
 }
 
+// The layers the proxy is held out of: a cutting part's narrowed while its cut runs ahead.
+void ProxyCoupling::admitLayers(bool drillOn) {
+  const Tool& tool = sim_->tool();
+  for (int p = 0; p < tool.partCount; ++p) {
+    const ToolPart& part = tool.parts[std::size_t(p)];
+    const double ahead =
+        part.cuts && drillOn ? std::min(cutAdvanceMm_, 0.5 * part.innerRadiusMm) : 0.0;
+    admitRadiusMm_[std::size_t(p)] =
+        std::sqrt(part.innerRadiusMm * part.innerRadiusMm - ahead * ahead);
+  }
+}
+
 HapticStep ProxyCoupling::step(const StepInput& commanded) {
   HapticStep h;
   h.commanded = commanded.pose;
@@ -126,15 +138,7 @@ HapticStep ProxyCoupling::step(const StepInput& commanded) {
   }
   lastS_ = commanded.tS;
 
-  // The layers the proxy is held out of: a cutting part's narrowed while its cut runs ahead.
-  const Tool& tool = sim_->tool();
-  for (int p = 0; p < tool.partCount; ++p) {
-    const ToolPart& part = tool.parts[std::size_t(p)];
-    const double ahead =
-        part.cuts && commanded.drillOn ? std::min(cutAdvanceMm_, 0.5 * part.innerRadiusMm) : 0.0;
-    admitRadiusMm_[std::size_t(p)] =
-        std::sqrt(part.innerRadiusMm * part.innerRadiusMm - ahead * ahead);
-  }
+  admitLayers(commanded.drillOn);
   feedLimitMmPerS_ = options_.maxFeedMmPerS;
   feedBoneAhead_ = false;
   if (options_.forceModel == ForceModelKind::Calibrated && commanded.drillOn)

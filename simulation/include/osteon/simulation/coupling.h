@@ -214,6 +214,7 @@ class ProxyCoupling {
   glm::dvec3 lastForceN_{0.0};    // the force sent last step
   // Calibrated: the feed limit of this step, from the thrust and the material ahead.
   void calibratedFeed(const StepInput& commanded, HapticStep& h);
+  void admitLayers(bool drillOn);
   // The step's heat into options_.thermal (lock-free), and the tip temperature into h.
   void depositHeat(const StepInput& commanded, HapticStep& h, double dtS);
   std::array<PartCandidates, kMaxToolParts> candidates_;
