@@ -196,7 +196,9 @@ TEST(IgtlServer, AClientThatStopsReadingDoesNotSlowTheHapticLoop) {
       static_cast<unsigned long long>(run.stats.hapticOverruns),
       static_cast<unsigned long long>(floor.stats.hapticOverruns),
       static_cast<unsigned long long>(stats.dropped));
-  EXPECT_LE(run.stats.hapticOverruns, floor.stats.hapticOverruns + 5);
+  // A loop that waited on the client would overrun for most of the 3000 periods; a shared
+  // machine's noise moves either run by tens, so the floor gets that much room.
+  EXPECT_LE(double(run.stats.hapticOverruns), 1.5 * double(floor.stats.hapticOverruns) + 30.0);
 }
 
 }  // namespace
