@@ -41,6 +41,8 @@ int runReplay(const ReplayCommandOptions& options) {
   ro.input.settings = session.options().settings;
   ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
   sim::RunSummary run;
+  dev::SafetyStats safety;
+  json recordingJson = {{"file", options.log}, {"rows", rows}};
   json extra;
   if (live) {
     // At the recording's pace, so that Slicer watches it as it was drilled; its forces come from
@@ -49,24 +51,21 @@ int runReplay(const ReplayCommandOptions& options) {
     ThreadedDeviceRun r =
         runDeviceThreaded(session, device, ro.input, caps.endS - caps.startS, forces, options.igtl);
     run = r.run;
-    extra = {
-        {"faults", faultsJson(r.safety.faults)},
-        {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
-        {"runtime", std::move(r.runtime)},
-        {"recording",
-         {{"file", options.log}, {"rows", rows}, {"start_s", caps.startS}, {"end_s", caps.endS}}}};
+    safety = r.safety;
+    extra["runtime"] = std::move(r.runtime);
+    recordingJson["start_s"] = caps.startS;
+    recordingJson["end_s"] = caps.endS;
   } else {
     const sim::DeviceRunResult r = sim::runDevice(session, device, ro);
     run = r.run.summary;
-    extra = {{"faults", faultsJson(r.safety.faults)},
-             {"safety", safetyJson(r.safety, ro.input.safety.forceLimitN)},
-             {"recording",
-              {{"file", options.log},
-               {"rows", rows},
-               {"start_s", r.startS},
-               {"end_s", r.endS},
-               {"steps_before_pose", r.stepsBeforePose}}}};
+    safety = r.safety;
+    recordingJson["start_s"] = r.startS;
+    recordingJson["end_s"] = r.endS;
+    recordingJson["steps_before_pose"] = r.stepsBeforePose;
   }
+  extra["faults"] = faultsJson(safety.faults);
+  extra["safety"] = safetyJson(safety, ro.input.safety.forceLimitN);
+  extra["recording"] = std::move(recordingJson);
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
   audio.commit();
