@@ -36,19 +36,19 @@ SurfaceUpdater::UpdateStats SurfaceUpdater::update(
   // Cells read voxels of their own grid brick and of the next one up on each axis, so a
   // changed brick G concerns cell bricks G - d, d in {0, 1}^3.
   std::vector<glm::ivec3> cells;
-  std::vector<std::uint8_t> seen(m.bricks.size(), 0);
   for (const std::size_t g : changedGridBricks) {
     const glm::ivec3 gb = m.grid->brickCoord(g);
     for (int d = 0; d < 8; ++d) {
       const glm::ivec3 cb = gb - glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
-      if (!m.validBrick(cb) || seen[m.brickIndex(cb)]) continue;
-      seen[m.brickIndex(cb)] = 1;
-      cells.push_back(cb);
+      if (m.validBrick(cb)) cells.push_back(cb);
     }
   }
-  std::sort(cells.begin(), cells.end(), [&](const glm::ivec3& a, const glm::ivec3& b) {
+  // In brick order, once each (no table the size of the grid's bricks for a few of them).
+  const auto before = [&](const glm::ivec3& a, const glm::ivec3& b) {
     return m.brickIndex(a) < m.brickIndex(b);
-  });
+  };
+  std::sort(cells.begin(), cells.end(), before);
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   std::vector<std::uint32_t> touched;
   // Edges first (triangles refer to vertices of neighbouring bricks), then triangles.
   for (const glm::ivec3& cb : cells) m.rebuildEdges(cb, touched);
@@ -56,9 +56,7 @@ SurfaceUpdater::UpdateStats SurfaceUpdater::update(
   // A cell brick with no surface left gives its memory back.
   for (const glm::ivec3& cb : cells) {
     std::unique_ptr<Impl::CellBrick>& b = m.bricks[m.brickIndex(cb)];
-    if (b && b->triangles.empty() &&
-        std::all_of(b->owned.begin(), b->owned.end(),
-                    [](std::uint32_t s) { return s == kNoVertex; })) {
+    if (b && b->triangles.empty() && b->owned.count() == 0) {
       m.noteBrick(m.brickIndex(cb));
       b.reset();
     }
@@ -146,8 +144,8 @@ std::string SurfaceUpdater::validate() const {
         }
       }
     }
-    for (std::uint32_t v : b->owned) {
-      if (v != kNoVertex && !m.alive[v])
+    for (std::uint32_t v : b->owned.slots()) {
+      if (v >= m.alive.size() || !m.alive[v])
         return "cell brick " + std::to_string(bi) + " owns a freed slot";
     }
   }
@@ -155,13 +153,41 @@ std::string SurfaceUpdater::validate() const {
 }
 
 std::size_t SurfaceUpdater::vertexCount() const {
-  return std::size_t(std::count(impl_->alive.begin(), impl_->alive.end(), 1));
+  std::size_t n = 0;
+  for (std::size_t s = 0; s < impl_->alive.size(); ++s) n += impl_->alive[s];
+  return n;
 }
 
 std::size_t SurfaceUpdater::triangleCount() const {
   std::size_t n = 0;
   for (const auto& b : impl_->bricks) n += b ? b->triangles.size() : 0;
   return n;
+}
+
+SurfaceUpdater::Memory SurfaceUpdater::memory() const {
+  return impl_->memory();
+}
+
+SurfaceUpdater::Memory SurfaceUpdater::Impl::memory() const {
+  Memory out;
+  for (const auto& b : bricks) {
+    if (!b) continue;
+    out.cellBricks += b->memoryBytes() - b->triangles.capacity() * sizeof(glm::u32vec3);
+    out.triangles += b->triangles.capacity() * sizeof(glm::u32vec3);
+  }
+  out.vertices = info.memoryBytes() + position.memoryBytes() + normal.memoryBytes() +
+                 alive.memoryBytes() + mark.memoryBytes() + local.memoryBytes() +
+                 slotChanged.memoryBytes();
+  out.loops = loops.memoryBytes();
+  out.tables = bricks.capacity() * sizeof(bricks[0]) +
+               (freeSlots.capacity() + pendingFree.capacity() + freeLoops.capacity() +
+                changedSlots.capacity() + changedBricks.capacity() + region.capacity() +
+                rowStart.capacity() + rows.capacity() + nb.capacity()) *
+                   sizeof(std::uint32_t) +
+               brickChanged.capacity() + oldTriangles.capacity() * sizeof(glm::u32vec3) +
+               depthOf.capacity() * sizeof(int) + cur.capacity() * sizeof(glm::dvec3) +
+               (curT.capacity() + nextT.capacity()) * sizeof(double);
+  return out;
 }
 
 }  // namespace osteon::geometry

@@ -12,6 +12,7 @@
 #include "osteon/core/constants.h"
 #include "osteon/geometry/surface/surface_updater.h"
 #include "surface_cells.h"
+#include "surface_updater_store.h"
 
 namespace osteon::geometry {
 
@@ -58,12 +59,19 @@ inline int appendLoopTriangles(std::vector<glm::u32vec3>& out, const std::uint32
 
 struct SurfaceUpdater::Impl {
   struct CellBrick {
-    FillBlock fills;                                  // the voxels read at the last extraction
-    std::array<std::uint8_t, kCells> changed;         // cells reading a voxel that changed
-    bool fillsValid = false;                          // owned and triangles follow `fills`
-    std::array<std::uint32_t, 3 * kCells> owned;      // owned edge -> vertex slot
-    std::vector<glm::u32vec3> triangles;              // grouped by cell, cells in order
-    std::array<std::uint32_t, kCells + 1> cellBegin;  // triangles of cell i: [begin[i], begin[i+1])
+    FillBlock fills;                                   // the voxels read at the last extraction
+    std::array<std::uint64_t, kCells / 64> changed{};  // bit per cell: it reads a changed voxel
+    bool fillsValid = false;                           // owned and triangles follow `fills`
+    OwnedEdges owned;                                  // owned edge -> vertex slot
+    std::vector<glm::u32vec3> triangles;               // grouped by cell, cells in order
+    // Triangles of cell i: [begin[i], begin[i+1]); a cell has at most 12, a brick 6,144.
+    std::array<std::uint16_t, kCells + 1> cellBegin{};
+    bool isChanged(int ci) const { return (changed[std::size_t(ci >> 6)] >> (ci & 63)) & 1; }
+    void setChanged(int ci) { changed[std::size_t(ci >> 6)] |= std::uint64_t(1) << (ci & 63); }
+    std::size_t memoryBytes() const {
+      return sizeof(*this) - sizeof(owned) + owned.memoryBytes() +
+             triangles.capacity() * sizeof(glm::u32vec3);
+    }
   };
 
   const VoxelGrid* grid;
@@ -73,17 +81,21 @@ struct SurfaceUpdater::Impl {
   std::vector<std::unique_ptr<CellBrick>> bricks;  // dense over cell bricks (from -1)
 
   // Vertex slots: stable while the vertex lives; freed slots are reused.
-  std::vector<VertexInfo> info;
-  std::vector<std::vector<std::uint32_t>> centreLoop;  // loop vertices of centre slots
-  std::vector<glm::dvec3> position;                    // smoothed
-  std::vector<glm::dvec3> normal;
-  std::vector<std::uint8_t> alive;
+  PagedArray<SlotInfo> info;
+  PagedArray<glm::dvec3> position;  // smoothed
+  PagedArray<glm::dvec3> normal;
+  PagedArray<std::uint8_t> alive;
   std::vector<std::uint32_t> freeSlots;
   std::vector<std::uint32_t> pendingFree;
+  // Loop centres' loops, kLoopMax vertices per block; freed blocks are reused.
+  static constexpr int kLoopMax = 12;
+  PagedArray<std::array<std::uint32_t, kLoopMax>> loops;
+  std::vector<std::uint32_t> freeLoops;
 
   // Changes since the last takeChanges(): per slot and per cell brick a flag, and their lists.
   bool everything = true;
-  std::vector<std::uint8_t> slotChanged, brickChanged;
+  PagedArray<std::uint8_t> slotChanged;
+  std::vector<std::uint8_t> brickChanged;
   std::vector<std::uint32_t> changedSlots;
   std::vector<std::uint32_t> changedBricks;
   void noteSlot(std::uint32_t s) {
@@ -98,7 +110,7 @@ struct SurfaceUpdater::Impl {
   }
 
   // Scratch for updates (kept to avoid reallocating).
-  std::vector<std::uint32_t> mark;  // per slot: epoch of the last visit
+  PagedArray<std::uint32_t> mark;  // per slot: epoch of the last visit
   std::uint32_t epoch = 0;
 
   std::size_t brickIndex(const glm::ivec3& cb) const {
@@ -118,7 +130,25 @@ struct SurfaceUpdater::Impl {
     return validBrick(cb) ? bricks[brickIndex(cb)].get() : nullptr;
   }
 
-  std::uint32_t allocate(const VertexInfo& v) {
+  // An edge vertex's position before smoothing: what the full extractor computes (positionOf
+  // of edgeVertexInfo), from the grid.
+  glm::dvec3 edgePosition(const SlotInfo& v) const {
+    glm::dvec3 p = grid->voxelCentreMm(v.voxel);
+    p[v.axis] += v.t * vs;
+    return p;
+  }
+  const std::uint32_t* loopOf(const SlotInfo& v) const { return loops[v.loop].data(); }
+  // A slot's position before smoothing: an edge's, or its loop's mean.
+  glm::dvec3 rawPosition(std::uint32_t slot) const {
+    const SlotInfo& v = info[slot];
+    if (v.axis != 3) return edgePosition(v);
+    glm::dvec3 sum(0.0);
+    const std::uint32_t* l = loopOf(v);
+    for (int i = 0; i < v.loopSize; ++i) sum += edgePosition(info[l[i]]);
+    return sum / double(v.loopSize);
+  }
+
+  std::uint32_t allocate(const SlotInfo& v) {
     std::uint32_t slot;
     if (!freeSlots.empty()) {
       slot = freeSlots.back();
@@ -128,21 +158,38 @@ struct SurfaceUpdater::Impl {
     } else {
       slot = std::uint32_t(info.size());
       info.push_back(v);
-      centreLoop.emplace_back();
-      position.emplace_back(0.0);
-      normal.emplace_back(0.0);
+      position.push_back(glm::dvec3(0.0));
+      normal.push_back(glm::dvec3(0.0));
       alive.push_back(1);
       mark.push_back(0);
       local.push_back(0);
     }
     return slot;
   }
+  // A loop centre of cell `cell` over these vertices.
+  std::uint32_t allocateCentre(const glm::ivec3& cell, const std::uint32_t* ids, int count) {
+    std::uint32_t block;
+    if (!freeLoops.empty()) {
+      block = freeLoops.back();
+      freeLoops.pop_back();
+    } else {
+      block = std::uint32_t(loops.size());
+      loops.push_back({});
+    }
+    std::copy(ids, ids + count, loops[block].begin());
+    SlotInfo v;
+    v.voxel = cell;
+    v.axis = 3;
+    v.loopSize = std::uint8_t(count);
+    v.loop = block;
+    return allocate(v);
+  }
   // A freed slot is reused only after the update that freed it: until then, old triangle
   // lists still name it and must not be mistaken for whatever would take its place.
   void release(std::uint32_t slot) {
     noteSlot(slot);
     alive[slot] = 0;
-    centreLoop[slot].clear();
+    if (info[slot].axis == 3) freeLoops.push_back(info[slot].loop);
     pendingFree.push_back(slot);
   }
 
@@ -151,25 +198,19 @@ struct SurfaceUpdater::Impl {
     std::unique_ptr<CellBrick>& slot = bricks[brickIndex(cb)];
     const bool active = cellBrickActive(*grid, cb);
     if (!active && !slot) return;
-    if (!slot) {
-      slot = std::make_unique<CellBrick>();
-      slot->owned.fill(kNoVertex);
-      slot->cellBegin.fill(0);
-    }
+    if (!slot) slot = std::make_unique<CellBrick>();
     CellBrick& b = *slot;
     const bool fresh = !b.fillsValid;
     if (!active) {
-      for (std::uint32_t& s : b.owned) {
-        if (s != kNoVertex) release(s);
-        s = kNoVertex;
-      }
+      for (std::uint32_t s : b.owned.slots()) release(s);
+      b.owned.assign(noEdges());
       b.fillsValid = false;
       return;
     }
     loadBlock(*grid, cb, nextBlock);
     const FillBlock& block = nextBlock;
     // Which cells read a changed voxel (every cell when there is nothing to compare with).
-    b.changed.fill(fresh ? 1 : 0);
+    b.changed.fill(fresh ? ~std::uint64_t(0) : 0);
     bool any = fresh;
     if (!fresh) {
       for (int z = 0; z < kBlock; ++z)
@@ -181,7 +222,7 @@ struct SurfaceUpdater::Impl {
               const glm::ivec3 c(x - (d & 1), y - ((d >> 1) & 1), z - ((d >> 2) & 1));
               if (c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < kBrickEdge && c.y < kBrickEdge &&
                   c.z < kBrickEdge) {
-                b.changed[std::size_t(cellIndex(c))] = 1;
+                b.setChanged(cellIndex(c));
               }
             }
           }
@@ -189,14 +230,16 @@ struct SurfaceUpdater::Impl {
     if (!any) return;
     glm::ivec3 lo, hi;
     cellRange(*grid, cb, lo, hi);
+    std::array<std::uint32_t, OwnedEdges::kEdges>& owned = ownedScratch;
+    b.owned.expand(owned);
     for (int ci = 0; ci < kCells; ++ci) {
-      if (!b.changed[std::size_t(ci)]) continue;
+      if (!b.isChanged(ci)) continue;
       const glm::ivec3 l = cellInBrick(ci);
       const glm::ivec3 g = cb * kBrickEdge + l;
       const bool inRange = cellInRange(g, lo, hi);
       const Fill f0 = blockFill(block, l.x, l.y, l.z);
       for (int axis = 0; axis < 3; ++axis) {
-        std::uint32_t& s = b.owned[std::size_t(3 * ci + axis)];
+        std::uint32_t& s = owned[std::size_t(3 * ci + axis)];
         glm::ivec3 n = l;
         ++n[axis];
         const Fill f1 = blockFill(block, n.x, n.y, n.z);
@@ -210,7 +253,10 @@ struct SurfaceUpdater::Impl {
           s = kNoVertex;
           continue;
         }
-        const VertexInfo v = edgeVertexInfo(*grid, g, axis, f0, f1);
+        SlotInfo v;
+        v.voxel = g;
+        v.axis = std::uint8_t(axis);
+        v.t = edgeParameter(f0, f1);
         if (s == kNoVertex) {
           s = allocate(v);
           touched.push_back(s);
@@ -220,13 +266,21 @@ struct SurfaceUpdater::Impl {
         }
       }
     }
+    b.owned.assign(owned);
+  }
+  static const std::array<std::uint32_t, OwnedEdges::kEdges>& noEdges() {
+    static const std::array<std::uint32_t, OwnedEdges::kEdges> none = [] {
+      std::array<std::uint32_t, OwnedEdges::kEdges> a;
+      a.fill(kNoVertex);
+      return a;
+    }();
+    return none;
   }
 
   std::uint32_t sharedVertex(const glm::ivec3& cell, int e) const {
     const glm::ivec3 owner = edgeStart(cell, e);
     const glm::ivec3 cb = brickOfCell(owner);
-    return bricks[brickIndex(cb)]
-        ->owned[std::size_t(3 * cellIndex(owner - cb * kBrickEdge) + e / 4)];
+    return bricks[brickIndex(cb)]->owned.get(3 * cellIndex(owner - cb * kBrickEdge) + e / 4);
   }
 
   // Triangles of a cell brick's cells: a cell whose eight voxels kept their fill keeps its
@@ -243,24 +297,24 @@ struct SurfaceUpdater::Impl {
     noteBrick(brickIndex(cb));
     oldTriangles.swap(b->triangles);  // keeps both buffers' capacity between updates
     b->triangles.clear();
-    const std::array<std::uint32_t, kCells + 1> oldBegin = b->cellBegin;
+    const std::array<std::uint16_t, kCells + 1> oldBegin = b->cellBegin;
     const std::vector<glm::u32vec3>& old = oldTriangles;
     b->cellBegin.fill(0);
     const auto& table = mcTable();
     glm::ivec3 lo, hi;
     cellRange(*grid, cb, lo, hi);
     for (int ci = 0; ci < kCells; ++ci) {
-      b->cellBegin[std::size_t(ci)] = std::uint32_t(b->triangles.size());
+      b->cellBegin[std::size_t(ci)] = std::uint16_t(b->triangles.size());
       const std::uint32_t oldFirst = hadOld ? oldBegin[std::size_t(ci)] : 0;
       const std::uint32_t oldEnd = hadOld ? oldBegin[std::size_t(ci) + 1] : 0;
-      if (hadOld && active && !b->changed[std::size_t(ci)]) {
+      if (hadOld && active && !b->isChanged(ci)) {
         // Unchanged cells keep their triangles: copy the whole run of them at once.
         int last = ci;
-        while (last + 1 < kCells && !b->changed[std::size_t(last + 1)]) ++last;
+        while (last + 1 < kCells && !b->isChanged(last + 1)) ++last;
         const std::uint32_t runEnd = oldBegin[std::size_t(last) + 1];
         const std::uint32_t shift = std::uint32_t(b->triangles.size()) - oldFirst;
         for (int k = ci + 1; k <= last; ++k)
-          b->cellBegin[std::size_t(k)] = oldBegin[std::size_t(k)] + shift;
+          b->cellBegin[std::size_t(k)] = std::uint16_t(oldBegin[std::size_t(k)] + shift);
         b->triangles.insert(b->triangles.end(), old.begin() + oldFirst, old.begin() + runEnd);
         ci = last;
         continue;
@@ -297,10 +351,7 @@ struct SurfaceUpdater::Impl {
             ids[count++] = sharedVertex({x, y, z}, mc.edges[std::size_t(k)]);
           }
           std::uint32_t centre = kNoVertex;
-          if (count > 4) {
-            centre = allocate({glm::dvec3(0.0), 3, 0.0, 0.0, 0, 0, glm::ivec3(x, y, z)});
-            centreLoop[centre].assign(ids, ids + count);
-          }
+          if (count > 4) centre = allocateCentre({x, y, z}, ids, count);
           appendLoopTriangles(b->triangles, ids, count, centre);
         }
         for (auto k = firstNew; k < b->triangles.size(); ++k) {
@@ -308,7 +359,7 @@ struct SurfaceUpdater::Impl {
         }
       }
     }
-    b->cellBegin[kCells] = std::uint32_t(b->triangles.size());
+    b->cellBegin[kCells] = std::uint16_t(b->triangles.size());
     if (active) b->fills = block;
     b->fillsValid = active;
   }
@@ -316,7 +367,7 @@ struct SurfaceUpdater::Impl {
   // Triangles around a vertex: in the four cells around its edge, or its own cell.
   template <typename Fn>
   void forEachIncident(std::uint32_t v, Fn&& fn) const {
-    const VertexInfo& vi = info[v];
+    const SlotInfo& vi = info[v];
     const auto scanCell = [&](const glm::ivec3& cell) {
       const CellBrick* b = brickOf(cell);
       if (!b) return;
@@ -390,16 +441,12 @@ struct SurfaceUpdater::Impl {
         };
         visit(n);
         if (info[n].axis == 3) {
-          for (std::uint32_t l : centreLoop[n]) visit(l);
+          const std::uint32_t* l = loopOf(info[n]);
+          for (int k = 0; k < info[n].loopSize; ++k) visit(l[k]);
         }
       }
     }
-    const auto raw = [&](std::uint32_t slot) {
-      if (info[slot].axis != 3) return positionOf(info[slot]);
-      glm::dvec3 sum(0.0);
-      for (std::uint32_t l : centreLoop[slot]) sum += positionOf(info[l]);
-      return sum / double(centreLoop[slot].size());
-    };
+    const auto raw = [&](std::uint32_t slot) { return rawPosition(slot); };
     const std::size_t n = region.size();
     cur.resize(n);
     curT.resize(n);
@@ -408,33 +455,35 @@ struct SurfaceUpdater::Impl {
       return mark[slot] == epoch ? cur[local[slot]] : raw(slot);
     };
     for (std::size_t i = 0; i < n; ++i) {
-      curT[i] = info[region[i]].t;
+      curT[i] = info[region[i]].axis == 3 ? 0.0 : info[region[i]].t;
       cur[i] = raw(region[i]);
     }
     for (int pass = 0; pass < passes; ++pass) {
       const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
       for (std::size_t i = 0; i < n; ++i) {
-        const VertexInfo& v = info[region[i]];
+        const SlotInfo& v = info[region[i]];
         if (v.axis == 3) continue;
         double mean = 0.0;
         for (std::uint32_t k = rowStart[i]; k < rowStart[i + 1]; ++k) mean += now(rows[k])[v.axis];
         mean /= double(rowStart[i + 1] - rowStart[i]);
-        nextT[i] = std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / v.lengthMm, kEdgeMargin,
+        nextT[i] = std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / vs, kEdgeMargin,
                               1.0 - kEdgeMargin);
       }
       for (std::size_t i = 0; i < n; ++i) {
-        VertexInfo v = info[region[i]];
+        SlotInfo v = info[region[i]];
         if (v.axis == 3) continue;
         curT[i] = nextT[i];
         v.t = curT[i];
-        cur[i] = positionOf(v);
+        cur[i] = edgePosition(v);
       }
       for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t slot = region[i];
-        if (info[slot].axis != 3) continue;
+        const SlotInfo& c = info[slot];
+        if (c.axis != 3) continue;
         glm::dvec3 sum(0.0);
-        for (std::uint32_t l : centreLoop[slot]) sum += now(l);
-        cur[i] = sum / double(centreLoop[slot].size());
+        const std::uint32_t* l = loopOf(c);
+        for (int k = 0; k < c.loopSize; ++k) sum += now(l[k]);
+        cur[i] = sum / double(c.loopSize);
       }
     }
     std::size_t kept = 0;
@@ -465,8 +514,19 @@ struct SurfaceUpdater::Impl {
   void buildAll();
   void buildBricksAndEdges();  // buildAll's parts
   void buildTriangles();
-  // Room for this many vertex slots in every per-slot array, sized once.
-  void reserveSlots(std::size_t slots);
+  // The first extraction's numbering: edge vertices first, then centres (brick order each).
+  std::size_t edgeSlots = 0;
+  std::vector<std::uint32_t> centreFirst_;  // per cell brick: its first loop centre
+  void initSlot(std::uint32_t slot, const SlotInfo& v) {
+    info[slot] = v;
+    alive[slot] = 1;
+    mark[slot] = 0;
+    local[slot] = 0;
+  }
+  // Every per-slot array at `slots` slots (zeroed; alive set), and `centres` loop blocks.
+  void sizeSlots(std::size_t slots, std::size_t centres);
+  // Bytes held by the surface, structure by structure.
+  SurfaceUpdater::Memory memory() const;
   void smoothAll();
   glm::ivec3 cellBrickOf(std::size_t index) const {
     return {int(index % std::size_t(cellBricks.x)) - 1,
@@ -475,8 +535,10 @@ struct SurfaceUpdater::Impl {
   }
 
   FillBlock nextBlock;  // the voxels a cell brick reads now (rebuildEdges, rebuildTriangles)
+  std::array<std::uint32_t, OwnedEdges::kEdges> ownedScratch;  // rebuildEdges' dense table
   // Scratch of resmooth, kept between updates.
-  std::vector<std::uint32_t> region, rowStart, rows, nb, local;
+  std::vector<std::uint32_t> region, rowStart, rows, nb;
+  PagedArray<std::uint32_t> local;  // per slot: its index in `region`
   std::vector<glm::u32vec3> oldTriangles;
   std::vector<int> depthOf;
   std::vector<glm::dvec3> cur;

@@ -62,6 +62,17 @@ class SurfaceUpdater {
   std::string validate() const;
   std::size_t triangleCount() const;
 
+  // Bytes the updater holds, by structure (capacity, not just use).
+  struct Memory {
+    std::size_t cellBricks = 0;  // per cell brick with surface: fills read, owned edges, cells
+    std::size_t triangles = 0;   // every cell brick's triangle lists
+    std::size_t vertices = 0;    // per vertex slot: edge and parameter, position, normal, flags
+    std::size_t loops = 0;       // loop centres' vertex lists
+    std::size_t tables = 0;      // the dense table of cell bricks, free lists, scratch
+    std::size_t total() const { return cellBricks + triangles + vertices + loops + tables; }
+  };
+  Memory memory() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

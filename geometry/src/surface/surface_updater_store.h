@@ -1,0 +1,148 @@
+// How the incremental updater stores its surface compactly and without stalls: per-slot arrays
+// in fixed pages (growing one never copies what is there, so no update waits on a copy of the
+// whole surface), a vertex slot in 24 bytes (its position is derived from the grid), and a cell
+// brick's owned edge vertices as a bit mask with ranks instead of a dense table (most of its
+// 1,536 edges cross no surface).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bitset>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace osteon::geometry::updater_detail {
+
+// An array of T in pages of 2^kPageLog2 elements: indexing is one more load than a vector's,
+// and growing allocates one page, never moving the elements already stored.
+template <typename T>
+class PagedArray {
+ public:
+  static constexpr int kPageLog2 = 14;
+  static constexpr std::size_t kPageSize = std::size_t(1) << kPageLog2;
+
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  T& operator[](std::size_t i) { return pages_[i >> kPageLog2][i & (kPageSize - 1)]; }
+  const T& operator[](std::size_t i) const { return pages_[i >> kPageLog2][i & (kPageSize - 1)]; }
+  // Pages for `count` elements allocated now (the first extraction sizes every array once).
+  void reserve(std::size_t count) {
+    while (pages_.size() * kPageSize < count) pages_.push_back(std::unique_ptr<T[]>(new T[kPageSize]));
+  }
+  // Grows to `count`, the new elements left for the caller to write (in parallel: distinct
+  // elements of a sized array may be written from distinct threads).
+  void growTo(std::size_t count) {
+    reserve(count);
+    size_ = std::max(size_, count);
+  }
+  // Grows or shrinks to `count`; new elements are `value`.
+  void resize(std::size_t count, const T& value = T()) {
+    reserve(count);
+    for (std::size_t i = size_; i < count; ++i) (*this)[i] = value;
+    size_ = count;
+  }
+  void push_back(const T& value) {
+    reserve(size_ + 1);
+    (*this)[size_++] = value;
+  }
+  void assign(std::size_t count, const T& value) {
+    size_ = 0;
+    resize(count, value);
+  }
+  std::size_t memoryBytes() const {
+    return pages_.size() * kPageSize * sizeof(T) + pages_.capacity() * sizeof(pages_[0]);
+  }
+
+ private:
+  std::vector<std::unique_ptr<T[]>> pages_;
+  std::size_t size_ = 0;
+};
+
+// A vertex slot: an edge vertex (axis 0-2) on the edge from the centre of `voxel` to the next
+// voxel along `axis`, at parameter t; or a loop centre (axis 3) in cell `voxel`, its loop's
+// vertices in the centre loops at `loop`. 24 bytes: the position is the grid's to compute.
+struct SlotInfo {
+  glm::ivec3 voxel{0};
+  std::uint8_t axis = 0;
+  std::uint8_t loopSize = 0;  // centres: vertices in the loop
+  union {
+    double t = 0.0;      // edge vertices
+    std::uint32_t loop;  // centres: first of loopSize entries in the centre loops
+  };
+};
+static_assert(sizeof(SlotInfo) == 24, "a vertex slot stays 24 bytes");
+
+// The vertex slots of a cell brick's owned edges (edge 3 * cell + axis), kept as a mask of the
+// edges that have one and their slots in edge order: rank(e) = owned edges before e.
+class OwnedEdges {
+ public:
+  static constexpr int kEdges = 3 * 512;
+  static constexpr int kWords = kEdges / 64;
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  std::uint32_t get(int e) const {
+    const int w = e >> 6;
+    const std::uint64_t bit = std::uint64_t(1) << (e & 63);
+    if (!(mask_[std::size_t(w)] & bit)) return kNone;
+    return slots_[std::size_t(before_[std::size_t(w)]) +
+                  std::size_t(__builtin_popcountll(mask_[std::size_t(w)] & (bit - 1)))];
+  }
+  std::size_t count() const { return slots_.size(); }
+  const std::vector<std::uint32_t>& slots() const { return slots_; }
+  std::vector<std::uint32_t>& slots() { return slots_; }
+  // Every owned edge with its slot, in edge order.
+  template <typename Fn>
+  void forEach(Fn&& fn) const {
+    std::size_t k = 0;
+    for (int w = 0; w < kWords; ++w)
+      for (std::uint64_t m = mask_[std::size_t(w)]; m; m &= m - 1)
+        fn(64 * w + __builtin_ctzll(m), slots_[k++]);
+  }
+  // From a dense table (kNone: no vertex), slots in edge order.
+  void assign(const std::array<std::uint32_t, kEdges>& dense) {
+    slots_.clear();
+    for (int w = 0; w < kWords; ++w) {
+      before_[std::size_t(w)] = std::uint16_t(slots_.size());
+      std::uint64_t m = 0;
+      for (int b = 0; b < 64; ++b) {
+        const std::uint32_t s = dense[std::size_t(64 * w + b)];
+        if (s == kNone) continue;
+        m |= std::uint64_t(1) << b;
+        slots_.push_back(s);
+      }
+      mask_[std::size_t(w)] = m;
+    }
+  }
+  // Into a dense table.
+  void expand(std::array<std::uint32_t, kEdges>& dense) const {
+    dense.fill(kNone);
+    forEach([&](int e, std::uint32_t s) { dense[std::size_t(e)] = s; });
+  }
+  // The mask of edges with a vertex, its slots still to be written (in edge order) by the caller:
+  // the first extraction sets which edges cross before any slot is numbered.
+  void setMask(const std::bitset<kEdges>& crossed) {
+    std::size_t n = 0;
+    for (int w = 0; w < kWords; ++w) {
+      before_[std::size_t(w)] = std::uint16_t(n);
+      std::uint64_t m = 0;
+      for (int b = 0; b < 64; ++b)
+        if (crossed[std::size_t(64 * w + b)]) m |= std::uint64_t(1) << b;
+      mask_[std::size_t(w)] = m;
+      n += std::size_t(__builtin_popcountll(m));
+    }
+    slots_.assign(n, kNone);
+  }
+  std::size_t memoryBytes() const {
+    return sizeof(*this) + slots_.capacity() * sizeof(std::uint32_t);
+  }
+
+ private:
+  std::array<std::uint64_t, kWords> mask_{};
+  std::array<std::uint16_t, kWords> before_{};
+  std::vector<std::uint32_t> slots_;
+};
+
+}  // namespace osteon::geometry::updater_detail
