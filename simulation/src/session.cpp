@@ -409,6 +409,7 @@ void Session::releaseSurface() {
   s.updater.reset();
   s.surface = geometry::SurfaceMesh{};
   s.surfaceStale = true;
+  giveBackFreedMemory();
 }
 
 SurfaceChanges Session::takeSurfaceChanges() {

@@ -7,6 +7,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -33,6 +37,15 @@ inline double peakRssMb() {
   rusage usage{};
   if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
   return double(usage.ru_maxrss) / 1024.0;
+}
+
+// Returns the heap's free pages to the system (glibc keeps what large structures freed, in
+// every thread's arena): after a big structure is dropped, so the next one's pages are not
+// counted on top of it in the peak.
+inline void giveBackFreedMemory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 // "12.3 GB", "850 MB".
