@@ -55,6 +55,7 @@ RuntimeResult LiveRuntime::stop() {
   // (the loops are done: nothing writes the grid now).
   try {
     m.changed.clear();
+    m.surfaceReady(true);
     while (m.bricks.pop(m.drainMsg)) {
       apply(m.visualGrid, m.drainMsg);
       m.changed.push_back(m.drainMsg.brick);
@@ -93,6 +94,9 @@ RuntimeResult LiveRuntime::stop() {
   stats.hapticStepUs = m.hapticNs.percentiles(1e3);
   stats.collisionStepUs = m.collisionNs.percentiles(1e3);
   stats.remeshMs = m.remeshNs.percentiles(1e6);
+  stats.firstStepNs = m.firstStepNs.load();
+  stats.surfaceReadyNs = m.surfaceReadyNs;
+  stats.surfaceBuildMs = m.surfaceBuildMs;
   result.visualFault = m.visualFault;
   result.run = m.recorder.finish(*m.sim, m.coupling != nullptr);
   RunSummary& s = result.run.summary;
@@ -137,10 +141,12 @@ const std::string& LiveRuntime::visualFault() const {
 }
 
 SurfaceChanges LiveRuntime::takeSurfaceChanges() {
-  return impl_->updater->takeChanges();
+  // Nothing yet while the first extraction runs; then everything at once.
+  return impl_->updater ? impl_->updater->takeChanges() : SurfaceChanges{};
 }
 
 const geometry::SurfaceUpdater& LiveRuntime::visualSurface() const {
+  impl_->surfaceReady(true);
   return *impl_->updater;
 }
 

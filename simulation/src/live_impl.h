@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <future>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -84,7 +85,19 @@ struct LiveRuntime::Impl {
   Durations hapticNs, collisionNs, remeshNs;
 
   VoxelGrid visualGrid;
-  std::unique_ptr<geometry::SurfaceUpdater> updater;
+  std::unique_ptr<geometry::SurfaceUpdater> updater;  // null until its first extraction is taken
+  // The first extraction, of visualGrid on a thread of its own while the loops run; until it is
+  // taken, handed-over bricks wait in `pending` (visualGrid must not change under it).
+  struct BuiltSurface {
+    std::unique_ptr<geometry::SurfaceUpdater> updater;
+    double ms = 0.0;
+    std::int64_t doneNs = 0;
+  };
+  std::future<BuiltSurface> updaterBuild;
+  std::vector<BrickMessage> pending;
+  double surfaceBuildMs = 0.0;
+  std::int64_t surfaceReadyNs = 0;
+  std::atomic<std::int64_t> firstStepNs{0};
   std::vector<std::size_t> changed;
   std::vector<std::size_t> lastChanged;  // the last drain's bricks (LiveRuntime::changedBricks)
   BrickMessage drainMsg;
@@ -134,7 +147,33 @@ struct LiveRuntime::Impl {
     // never reads a brick mid-write.
     grid->clearDirty();
     visualGrid = *grid;
-    updater = std::make_unique<geometry::SurfaceUpdater>(visualGrid, se.options().surface);
+    updaterBuild = std::async(std::launch::async, [this, surface = se.options().surface] {
+      BuiltSurface built;
+      const std::int64_t begin = nowNs();
+      built.updater = std::make_unique<geometry::SurfaceUpdater>(visualGrid, surface);
+      built.doneNs = nowNs();
+      built.ms = double(built.doneNs - begin) * 1e-6;
+      return built;
+    });
+  }
+
+  // The visual surface, once its first extraction is there (wait: until it is); then the
+  // bricks handed over meanwhile go into visualGrid and `changed`. Rethrows what the build threw.
+  bool surfaceReady(bool wait) {
+    if (updater) return true;
+    if (!updaterBuild.valid()) return false;
+    if (!wait && updaterBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      return false;
+    BuiltSurface built = updaterBuild.get();
+    updater = std::move(built.updater);
+    surfaceBuildMs = built.ms;
+    surfaceReadyNs = built.doneNs;
+    for (const BrickMessage& message : pending) {
+      apply(visualGrid, message);
+      changed.push_back(message.brick);
+    }
+    std::vector<BrickMessage>().swap(pending);
+    return true;
   }
 
   // Everything the loops touch is sized here, before they start (periods known).
@@ -238,6 +277,8 @@ struct LiveRuntime::Impl {
           const std::int64_t begin = nowNs();
           const PoseMessage& m = poses.read();
           if (m.tS < 0.0) return;
+          if (firstStepNs.load(std::memory_order_relaxed) == 0)
+            firstStepNs.store(begin, std::memory_order_relaxed);
           const HapticStep h = stepHaptic(*sim, coupling, {m.tS, m.pose, m.drillOn, m.settings});
           const StepOutput& out = h.step;
           // The haptic thread sends the coupling's force (direct: the contact force).
@@ -321,11 +362,16 @@ struct LiveRuntime::Impl {
     try {
       changed.clear();
       lastChanged.clear();
+      const bool ready = surfaceReady(false);
       while (bricks.pop(drainMsg)) {
+        if (!ready) {
+          pending.push_back(drainMsg);
+          continue;
+        }
         apply(visualGrid, drainMsg);
         changed.push_back(drainMsg.brick);
       }
-      return updateVisual();
+      return ready ? updateVisual() : 0.0;
     } catch (...) {
       noteVisualFault();
       return 0.0;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -185,7 +186,43 @@ struct Session::State {
   geometry::SurfaceMesh surface;
   bool surfaceStale = true;
   std::uint64_t steps = 0;
-  SetupTimings setup;  // the bone's stages, then this session's
+  SetupTimings setup;          // the bone's stages, then this session's
+  SessionMemory visualMemory;  // the last threaded run's visual grid and surface
+  Clock::time_point start;     // this session's construction began (the bone's set-up before it)
+  // The first surface, extracted on a thread of its own from the bone as voxelized (this grid
+  // was a copy of it) while the first steps change the grid; taken by takeBuiltSurface. Last,
+  // so that it is waited for before the grids it reads go.
+  struct BuiltSurface {
+    std::unique_ptr<geometry::SurfaceUpdater> updater;
+    double ms = 0.0;
+    Clock::time_point done;
+  };
+  std::future<BuiltSurface> updaterBuild;
+
+  double sinceStartMs(Clock::time_point t) const {
+    return setup.totalMs - std::chrono::duration<double, std::milli>(readyAt - start).count() +
+           std::chrono::duration<double, std::milli>(t - start).count();
+  }
+  Clock::time_point readyAt;  // construction ended: the session could step
+  // The built surface, once it is there (wait: until it is). Rethrows what the build threw.
+  // catchUpMs: the update that caught up with those steps, when it was taken now.
+  bool takeBuiltSurface(bool wait, double* catchUpMs = nullptr) {
+    if (!updaterBuild.valid()) return updater != nullptr;
+    if (!wait && updaterBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      return false;
+    BuiltSurface built = updaterBuild.get();
+    updater = std::move(built.updater);
+    setup.surfaceMs = built.ms;
+    setup.surfaceReadyMs = sinceStartMs(built.done);
+    const std::vector<std::size_t> dirty = grid.dirtyBricks();
+    if (!dirty.empty()) {  // the steps taken while it was built
+      const double ms = updater->update(dirty).ms;
+      if (catchUpMs) *catchUpMs = ms;
+    }
+    grid.clearDirty();
+    surfaceStale = true;
+    return true;
+  }
 };
 
 Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& options)
@@ -208,6 +245,7 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   s.options.voxelSizeMm = s.bone->grid().voxelSizeMm();
   s.grid = s.bone->grid();  // every session drills fresh bone
   s.setup = s.bone->setupTimings();
+  s.start = start;
   const Clock::time_point hierarchyStart = Clock::now();
   s.hierarchy = geometry::DynamicProximityHierarchy::build(s.grid, geometry::DphBuildOptions{});
   s.setup.hierarchyMs = msSince(hierarchyStart);
@@ -223,13 +261,28 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
     }
     s.coupling.emplace(*s.simulation, co);
   }
-  if (options.keepSurface) {
-    const Clock::time_point surfaceStart = Clock::now();
-    s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, options.surface);
-    s.setup.surfaceMs = msSince(surfaceStart);
-  }
   s.grid.clearDirty();
+  s.readyAt = Clock::now();
   s.setup.totalMs = s.bone->setupTimings().totalMs + msSince(start);
+  // From the bone, not this grid: it runs beside the first steps, which change the grid.
+  if (options.keepSurface) startSurfaceBuild();
+}
+
+void Session::startSurfaceBuild() {
+  State& s = *state_;
+  s.updater.reset();
+  s.grid.clearDirty();
+  // The bricks the steps change meanwhile stay dirty: the first update after it is taken
+  // catches up with them. Reads only the immutable bone; the grid's address is the state's.
+  s.updaterBuild =
+      std::async(std::launch::async, [bone = s.bone, grid = &s.grid, options = s.options.surface] {
+        const Clock::time_point begin = Clock::now();
+        State::BuiltSurface built;
+        built.updater = std::make_unique<geometry::SurfaceUpdater>(*grid, options, bone->grid());
+        built.ms = msSince(begin);
+        built.done = Clock::now();
+        return built;
+      });
 }
 
 Session::Session(Session&&) noexcept = default;
@@ -282,6 +335,7 @@ HapticStep Session::advance(const StepInput& input, ProxyCoupling* coupling, boo
                             Durations* stepNs, Durations* surfaceNs) {
   State& s = *state_;
   const Clock::time_point start = Clock::now();
+  if (s.steps == 0) s.setup.firstStepMs = s.sinceStartMs(start);
   const HapticStep h = stepHaptic(*s.simulation, coupling, input);
   if (stepNs) stepNs->add(std::chrono::nanoseconds(Clock::now() - start).count());
   // The heat conducts every 10 ms of the run's time (the threaded runtime: its visual thread).
@@ -295,7 +349,10 @@ HapticStep Session::advance(const StepInput& input, ProxyCoupling* coupling, boo
   lastContact_.magnitudeN = h.magnitudeN;
   ++s.steps;
   s.surfaceStale = true;
-  if (followSurface && s.updater) {  // the visual work: the surface follows the changed bricks
+  // The visual work: once the first surface is there, it follows the changed bricks.
+  double catchUpMs = -1.0;
+  if (followSurface && s.takeBuiltSurface(false, &catchUpMs)) {
+    if (surfaceNs && catchUpMs >= 0.0) surfaceNs->addMs(catchUpMs);
     const std::vector<std::size_t> dirty = s.grid.dirtyBricks();
     if (!dirty.empty()) {
       const double ms = s.updater->update(dirty).ms;
@@ -367,7 +424,22 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink,
   visual.join();
   // Drilled up to here; stop() starts the session's own surface again from the grid.
   RuntimeResult result = live.stop();
+  // The first step and the visual surface's first extraction, against this session's set-up.
+  const auto at = [](std::int64_t ns) {
+    return Clock::time_point(
+        std::chrono::duration_cast<Clock::duration>(std::chrono::nanoseconds(ns)));
+  };
+  if (result.stats.firstStepNs > 0 && s.setup.firstStepMs == 0.0)
+    s.setup.firstStepMs = s.sinceStartMs(at(result.stats.firstStepNs));
+  if (result.stats.surfaceReadyNs > 0 && s.setup.surfaceReadyMs == 0.0) {
+    s.setup.surfaceMs = result.stats.surfaceBuildMs;
+    s.setup.surfaceReadyMs = s.sinceStartMs(at(result.stats.surfaceReadyNs));
+  }
   if (options.onVisual && result.visualFault.empty()) options.onVisual(live, true);
+  if (result.visualFault.empty()) {
+    s.visualMemory.visualGrid = live.visualGrid().memoryBytes();
+    s.visualMemory.surface = live.visualSurface().memory();
+  }
   s.surfaceStale = true;
   if (!result.visualFault.empty()) {
     std::ostringstream m;
@@ -387,6 +459,7 @@ RuntimeResult Session::runThreaded(PoseSource& source, ForceSink* sink,
 
 const geometry::SurfaceMesh& Session::surface() {
   State& s = *state_;
+  s.takeBuiltSurface(true);
   if (s.surfaceStale) {
     s.surface = s.updater ? s.updater->mesh() : geometry::extractSurface(s.grid, s.options.surface);
     s.surfaceStale = false;
@@ -399,6 +472,7 @@ void Session::resetSurface() {
   if (!s.options.keepSurface) {
     throw std::logic_error(s.bone->name() + ": the session keeps no surface (keepSurface is off)");
   }
+  s.takeBuiltSurface(true);
   s.grid.clearDirty();
   s.updater = std::make_unique<geometry::SurfaceUpdater>(s.grid, s.options.surface);
   s.surfaceStale = true;
@@ -406,6 +480,7 @@ void Session::resetSurface() {
 
 void Session::releaseSurface() {
   State& s = *state_;
+  s.takeBuiltSurface(true);  // its timings are kept
   s.updater.reset();
   s.surface = geometry::SurfaceMesh{};
   s.surfaceStale = true;
@@ -414,6 +489,7 @@ void Session::releaseSurface() {
 
 SurfaceChanges Session::takeSurfaceChanges() {
   State& s = *state_;
+  s.takeBuiltSurface(true);
   if (!s.updater) {
     throw std::logic_error(s.bone->name() +
                            ": the session keeps no surface (keepSurface off, or released)");
@@ -467,6 +543,21 @@ const SessionOptions& Session::options() const {
 }
 const SetupTimings& Session::setupTimings() const {
   return state_->setup;
+}
+
+SessionMemory Session::memory() {
+  State& s = *state_;
+  s.takeBuiltSurface(true);
+  SessionMemory m = s.visualMemory;  // the threaded runtime's visual side, if it ran
+  m.voxels = s.hierarchy.voxelCount();
+  m.boneGrid = s.bone->grid().memoryBytes();
+  m.fineFills = s.bone->fineFills() ? s.bone->fineFills()->memoryBytes() : 0;
+  m.grid = s.grid.memoryBytes();
+  m.hierarchy = s.hierarchy.memoryBytes();
+  m.refinement = s.simulation->voxels().memoryBytes();
+  m.thermal = s.thermal ? s.thermal->memoryBytes() : 0;
+  if (s.updater) m.surface = s.updater->memory();
+  return m;
 }
 
 const HumeralHead& Session::humeralHead() const {

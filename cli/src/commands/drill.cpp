@@ -201,6 +201,10 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
       r.run, session, options.bone.input, options.threaded ? "threaded" : "deterministic",
       sim::toolKindName(plan.kind), *options.bone.voxelSizeMm, options.levels);
   r.summary["path"] = pathJson;
+  // The first surface was extracted beside the first steps: its figures are known now.
+  r.setup.surfaceMs = session.setupTimings().surfaceMs;
+  r.setup.firstStepMs = session.setupTimings().firstStepMs;
+  r.setup.surfaceReadyMs = session.setupTimings().surfaceReadyMs;
   r.summary["setup_ms"] = setupJson(r.setup);
   r.summary["setup_ms"]["path"] = r.pathMs;
   r.summary["setup_peak_rss_mb"] = setupPeakRssMb;

@@ -27,10 +27,15 @@ void printJson(const json& j) {
 }
 
 json setupJson(const simulation::SetupTimings& t) {
-  return {{"load", t.loadMs},           {"voxelize", t.voxelizeMs},
-          {"density", t.densityMs},     {"fine_fills", t.fineFillsMs},
-          {"hierarchy", t.hierarchyMs}, {"surface", t.surfaceMs},
-          {"total", t.totalMs}};
+  return {{"load", t.loadMs},
+          {"voxelize", t.voxelizeMs},
+          {"density", t.densityMs},
+          {"fine_fills", t.fineFillsMs},
+          {"hierarchy", t.hierarchyMs},
+          {"surface", t.surfaceMs},
+          {"total", t.totalMs},
+          {"first_step", t.firstStepMs},
+          {"surface_ready", t.surfaceReadyMs}};
 }
 
 std::string setupLine(const simulation::SetupTimings& t, double pathMs) {

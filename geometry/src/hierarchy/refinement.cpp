@@ -488,4 +488,12 @@ double RefinedVoxels::shellSamplesOf(const Cell& cell, const glm::dvec3& cornerM
   return slack();
 }
 
+std::size_t RefinedVoxels::memoryBytes() const {
+  return cells_.capacity() * sizeof(Cell) +
+         (freeCells_.capacity() + activeList_.capacity() + activeSlot_.capacity() +
+          tableCells_.capacity()) *
+             sizeof(std::uint32_t) +
+         tableKeys_.capacity() * sizeof(std::uint64_t) + masks_.capacity() * sizeof(Mask);
+}
+
 }  // namespace osteon::geometry

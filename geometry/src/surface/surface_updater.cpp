@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "osteon/core/error.h"
 #include "osteon/core/timing.h"
@@ -12,18 +13,27 @@
 namespace osteon::geometry {
 
 SurfaceUpdater::SurfaceUpdater(const VoxelGrid& grid, const SurfaceOptions& options)
+    : SurfaceUpdater(grid, options, grid) {}
+
+SurfaceUpdater::SurfaceUpdater(const VoxelGrid& grid, const SurfaceOptions& options,
+                               const VoxelGrid& asItWas)
     : impl_(std::make_unique<Impl>()) {
   validateSurfaceOptions(options);
+  if (asItWas.dims() != grid.dims() || asItWas.originMm() != grid.originMm() ||
+      asItWas.voxelSizeMm() != grid.voxelSizeMm()) {
+    throw std::logic_error("SurfaceUpdater: the grid as it was has another shape than the grid");
+  }
   SurfaceOptions check = options;
   check.method = SurfaceMethod::CrackFree;
   Impl& m = *impl_;
-  m.grid = &grid;
+  m.grid = &asItWas;
   m.options = check;
   m.cellBricks = grid.brickDims() + 1;
   m.vs = grid.voxelSizeMm();
   m.bricks.resize(std::size_t(m.cellBricks.x) * std::size_t(m.cellBricks.y) *
                   std::size_t(m.cellBricks.z));
   m.buildAll();
+  m.grid = &grid;
 }
 
 SurfaceUpdater::~SurfaceUpdater() = default;

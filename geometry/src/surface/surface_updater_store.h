@@ -30,7 +30,8 @@ class PagedArray {
   const T& operator[](std::size_t i) const { return pages_[i >> kPageLog2][i & (kPageSize - 1)]; }
   // Pages for `count` elements allocated now (the first extraction sizes every array once).
   void reserve(std::size_t count) {
-    while (pages_.size() * kPageSize < count) pages_.push_back(std::unique_ptr<T[]>(new T[kPageSize]));
+    while (pages_.size() * kPageSize < count)
+      pages_.push_back(std::unique_ptr<T[]>(new T[kPageSize]));
   }
   // Grows to `count`, the new elements left for the caller to write (in parallel: distinct
   // elements of a sized array may be written from distinct threads).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <map>
 #include <random>
+#include <stdexcept>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -215,6 +217,60 @@ TEST(SurfaceUpdater, NothingChangedNothingDone) {
   SurfaceOptions bad;
   bad.smoothIterations = -2;
   EXPECT_THROW(SurfaceUpdater(grid, bad), InputError);
+}
+
+// The first extraction from the grid as it was, on a thread of its own while the grid is
+// drilled; the update with the bricks changed meanwhile then equals a full extraction. And a
+// surface that keeps growing past its first extraction's slots (every growth a new page, none
+// a copy) stays equal to it.
+TEST(SurfaceUpdater, BuiltFromTheGridAsItWasWhileItChangesThenCaughtUp) {
+  const HumerusModel model = buildHumerusModel();
+  VoxelizeOptions options;
+  options.voxelSizeMm = 0.9;
+  const VoxelGrid asItWas = voxelize(model.mesh, options);
+  VoxelGrid grid = asItWas;
+  grid.clearDirty();
+  std::unique_ptr<SurfaceUpdater> updater;
+  std::thread build(
+      [&] { updater = std::make_unique<SurfaceUpdater>(grid, SurfaceOptions{}, asItWas); });
+  // Meanwhile: 60 tunnels of removed voxels, each a few mm long, anywhere in the bone.
+  std::mt19937 rng(37);
+  std::uniform_int_distribution<int> at(0, 1 << 30);
+  const glm::ivec3 d = grid.dims();
+  for (int k = 0; k < 60; ++k) {
+    const glm::ivec3 c(at(rng) % d.x, at(rng) % d.y, at(rng) % d.z);
+    for (int i = -3; i <= 3; ++i)
+      for (int j = -1; j <= 1; ++j)
+        for (int l = -1; l <= 1; ++l)
+          if (grid.inBounds(c + glm::ivec3(i, j, l))) grid.set(c + glm::ivec3(i, j, l), 0, 0);
+  }
+  build.join();
+  EXPECT_EQ(compareSurfaces(extractSurface(asItWas), updater->mesh()), "");
+  updater->update(grid.dirtyBricks());
+  grid.clearDirty();
+  EXPECT_EQ(compareSurfaces(extractSurface(grid), updater->mesh()), "");
+  EXPECT_EQ(updater->validate(), "");
+  // Growth: a hollow inside the bone is new surface, far past a page of slots in all.
+  const std::size_t firstSlots = updater->takeChanges().slotCount;
+  std::size_t slots = firstSlots;
+  for (int k = 0; k < 20000 && slots < firstSlots + 20000; ++k) {
+    const glm::ivec3 c(at(rng) % d.x, at(rng) % d.y, at(rng) % d.z);
+    if (grid.fill(c) != kFillFull) continue;
+    grid.set(c, 0, 0);
+    updater->update(grid.dirtyBricks());
+    grid.clearDirty();
+    slots = updater->takeChanges().slotCount;
+  }
+  EXPECT_GT(slots, firstSlots + 16384);
+  EXPECT_EQ(compareSurfaces(extractSurface(grid), updater->mesh()), "");
+  EXPECT_EQ(updater->validate(), "");
+  const SurfaceUpdater::Memory memory = updater->memory();
+  EXPECT_GT(memory.vertices, updater->vertexCount() * 24);
+  EXPECT_GT(memory.cellBricks, 0u);
+  EXPECT_EQ(memory.total(),
+            memory.cellBricks + memory.triangles + memory.vertices + memory.loops + memory.tables);
+  VoxelGrid other({4, 4, 4}, glm::dvec3(0.0), 0.9);
+  EXPECT_THROW(SurfaceUpdater(grid, SurfaceOptions{}, other), std::logic_error);
 }
 
 }  // namespace

@@ -103,6 +103,10 @@ struct RuntimeStats {
   // kOverrunInstantsKept each): to line them up with what else the machine did then.
   static constexpr std::size_t kOverrunInstantsKept = 4096;
   std::vector<std::int64_t> hapticOverrunNs, collisionOverrunNs;
+  // CLOCK_MONOTONIC ns of the first collision step and of the visual surface's first
+  // extraction being there (it runs beside the first steps), and how long that took; 0: never.
+  std::int64_t firstStepNs = 0, surfaceReadyNs = 0;
+  double surfaceBuildMs = 0.0;
 };
 
 struct RuntimeResult {

@@ -75,10 +75,37 @@ struct SetupTimings {
   double densityMs = 0.0;    // cortical / cancellous density (the voxelizer's last pass)
   double fineFillsMs = 0.0;  // level -2 fills sampled from the mesh (sessions with levels 1 or 2)
   double hierarchyMs = 0.0;  // the Dynamic Proximity Hierarchy built over the session's grid
-  double surfaceMs = 0.0;    // the first full surface extraction (keepSurface sessions)
-  // Wall time of the whole set-up: the stages above and what lies between them (the grid
-  // copy, the drilling simulation's pools), so it is never less than any one stage.
+  // The first full surface extraction (keepSurface sessions, and the threaded runtime's visual
+  // side): it runs on its own thread beside the first steps, so it is not part of totalMs.
+  double surfaceMs = 0.0;
+  // Wall time of the set-up before the first step can be taken: the stages above but the
+  // surface, and what lies between them (the grid copy, the drilling simulation's pools), so it
+  // is never less than any one of them.
   double totalMs = 0.0;
+  // From the start of set-up (the bone's load) to the first haptic step taken, and to the full
+  // surface being there; 0 until each has happened.
+  double firstStepMs = 0.0;
+  double surfaceReadyMs = 0.0;
+};
+
+// The bytes a session holds, structure by structure (capacity, not just use), and the voxels
+// with bone they are counted against (bytesPerVoxel). The bone's grid and fine fills are shared
+// by every session drilling that bone; the visual side is the threaded runtime's, when the last
+// run was threaded (its own grid copy and surface), else the session's kept surface.
+struct SessionMemory {
+  std::uint64_t voxels = 0;                  // voxels with bone at set-up (the hierarchy's)
+  std::size_t boneGrid = 0;                  // the bone as voxelized (BoneModel)
+  std::size_t fineFills = 0;                 // level -2 fills sampled from the mesh (BoneModel)
+  std::size_t grid = 0;                      // this session's drilled copy
+  std::size_t hierarchy = 0;                 // the Dynamic Proximity Hierarchy
+  std::size_t refinement = 0;                // the refined voxels' pool, tables and removal masks
+  std::size_t thermal = 0;                   // the heat model (calibrated force model)
+  std::size_t visualGrid = 0;                // the threaded runtime's copy of the grid
+  geometry::SurfaceUpdater::Memory surface;  // the incremental surface
+  std::size_t total() const {
+    return boneGrid + fineFills + grid + hierarchy + refinement + thermal + visualGrid +
+           surface.total();
+  }
 };
 
 // The peak memory of a drilling session on this mesh at this voxel size, in bytes: set-up
@@ -237,8 +264,12 @@ class Session {
   ProxyCoupling* coupling();
   const SessionOptions& options() const;
   // Set-up, stage by stage: the bone's stages (shared by every session drilling it) and this
-  // session's hierarchy and surface; totalMs is the bone's total plus this session's construction.
+  // session's hierarchy and surface; totalMs is the bone's total plus this session's construction
+  // (the first surface is extracted beside the first steps: surfaceMs and surfaceReadyMs are
+  // set once it is there).
   const SetupTimings& setupTimings() const;
+  // What it holds, by structure (waits for the first surface when it is still being made).
+  SessionMemory memory();
   const DrillingTotals& totals() const { return simulation().totals(); }
   double removedVolumeMm3() const { return simulation().removedVolumeMm3(); }
   // The bone's humeral head (fitted once, to the mesh or the grid's surface). Throws InputError
@@ -254,6 +285,8 @@ class Session {
   // the bricks the step changed, timed into surfaceNs. Either may be null.
   HapticStep advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface,
                      Durations* stepNs, Durations* surfaceNs);
+  // The first surface, extracted on a thread of its own beside the first steps.
+  void startSurfaceBuild();
   struct State;
   explicit Session(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;

@@ -138,6 +138,11 @@ class ThermalModel {
   // Steps merged into one because the ring was full (the consumer fell behind); their heat goes
   // out with the next deposit() that finds room.
   std::uint64_t mergedDeposits() const noexcept { return merged_.load(std::memory_order_relaxed); }
+  // Bytes held by the cells' temperatures, peaks and doses (the deposit ring aside).
+  std::size_t memoryBytes() const {
+    return (tC_.capacity() + scratch_.capacity()) * sizeof(double) +
+           (peakC_cells_.capacity() + doseMin_.capacity()) * sizeof(float);
+  }
 
  private:
   struct Deposit;

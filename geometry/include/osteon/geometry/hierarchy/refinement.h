@@ -62,6 +62,8 @@ class RefinedVoxels {
   // null (sub-voxels then inherit their parent's fill). Throws InputError for bad options.
   RefinedVoxels(VoxelGrid& grid, DynamicProximityHierarchy& hierarchy, const FineFillSource* source,
                 const RefinementOptions& options);
+  // Bytes held: the pool of refined cells (sized up front), its tables and the removal masks.
+  std::size_t memoryBytes() const;
 
   // Refines (or keeps alive) every voxel within the margin of the tool's outer sphere.
   // Returns the number of voxels newly refined.

@@ -45,6 +45,10 @@ class SurfaceUpdater {
   // Extracts the whole surface of `grid` (always the crack-free method; options.method is
   // ignored). The grid must outlive the updater. Throws InputError for bad options.
   SurfaceUpdater(const VoxelGrid& grid, const SurfaceOptions& options = {});
+  // The same, extracting `asItWas` (the grid as it was, e.g. the bone before drilling: the same
+  // shape, origin and voxel size, else std::logic_error) so that `grid` may change while this
+  // runs on another thread; update() then with the bricks changed since reads `grid`.
+  SurfaceUpdater(const VoxelGrid& grid, const SurfaceOptions& options, const VoxelGrid& asItWas);
   ~SurfaceUpdater();
   SurfaceUpdater(const SurfaceUpdater&) = delete;
   SurfaceUpdater& operator=(const SurfaceUpdater&) = delete;
