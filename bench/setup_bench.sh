@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set-up, from the file to the first step: for each bone and voxel size, the stages
 # `osteon drill --levels 0 --json` reports in `setup_ms` (load, voxelize, density, hierarchy,
-# surface, path, total), the peak RSS when ready to step and at exit, the voxels with bone, and
+# surface, path, total; first_step and surface_ready: from the start to the first haptic step
+# and to the full surface, extracted beside the first steps), the peak RSS when ready to step and at exit, the voxels with bone, and
 # how the stages grow with the voxel count from one size to the next:
 # exponent = log(time ratio) / log(voxel ratio), so 1 is linear in voxels.
 #   bench/setup_bench.sh [BUILD_DIR] [SIZES] [RUNS]   e.g. bench/setup_bench.sh build "1.2 0.54 0.3 0.25" 3
@@ -55,7 +56,7 @@ import json, sys
 runs = sorted((json.load(open(f)) for f in sys.argv[3:]), key=lambda j: j["setup_ms"]["total"])
 j = runs[(len(runs) - 1) // 2]; s = j["setup_ms"]  # the run with the median total
 print("|".join([sys.argv[1], sys.argv[2], str(j["voxels"])] +
-               [f"{s[k]:.1f}" for k in ("load", "voxelize", "density", "hierarchy", "surface", "path", "total")] +
+               [f"{s[k]:.1f}" for k in ("load", "voxelize", "density", "hierarchy", "surface", "path", "total", "first_step", "surface_ready")] +
                [f"{j['setup_peak_rss_mb']:.0f}", f"{j['peak_rss_mb']:.0f}"]))
 PY
   done
@@ -64,7 +65,7 @@ done
 python3 - "$scratch/rows" <<'PY'
 import math, sys
 rows = [line.rstrip("\n").split("|") for line in open(sys.argv[1]) if line.strip()]
-stages = ["load", "voxelize", "density", "hierarchy", "surface", "path", "total"]
+stages = ["load", "voxelize", "density", "hierarchy", "surface", "path", "total", "first_step", "surface_ready"]
 grown = ["voxelize", "density", "hierarchy", "surface", "total"]
 print("| bone | voxel mm | voxels | " + " | ".join(f"{s} ms" for s in stages) +
       " | RSS ready MB | peak RSS MB | " + " | ".join(f"exp {s}" for s in grown) + " |")
@@ -72,7 +73,7 @@ print("|---|---:|---:|" + "---:|" * (len(stages) + 2 + len(grown)))
 previous = {}
 for r in rows:
     name, vs, voxels = r[0], r[1], int(r[2])
-    ms = dict(zip(stages, map(float, r[3:10])))
+    ms = dict(zip(stages, map(float, r[3:12])))
     exps = []
     p = previous.get(name)
     for s in grown:
@@ -83,5 +84,5 @@ for r in rows:
             exps.append("")
     previous[name] = (voxels, ms)
     print(f"| {name} | {vs} | {voxels:,} | " + " | ".join(f"{ms[s]:.0f}" for s in stages) +
-          f" | {r[10]} | {r[11]} | " + " | ".join(exps) + " |")
+          f" | {r[12]} | {r[13]} | " + " | ".join(exps) + " |")
 PY

@@ -56,6 +56,7 @@ RuntimeResult LiveRuntime::stop() {
   try {
     m.changed.clear();
     m.surfaceReady(true);
+    m.takeBacklog(true);
     while (m.bricks.pop(m.drainMsg)) {
       apply(m.visualGrid, m.drainMsg);
       m.changed.push_back(m.drainMsg.brick);
@@ -65,7 +66,7 @@ RuntimeResult LiveRuntime::stop() {
       apply(m.visualGrid, m.drainMsg);
       m.changed.push_back(brick);
     }
-    m.updateVisual();
+    m.updateVisual(false);
   } catch (...) {
     m.noteVisualFault();
   }
@@ -206,6 +207,7 @@ LiveStats LiveRuntime::stats() const {
   s.standbySteps = m.standbySteps.load(std::memory_order_relaxed);
   s.hapticCpu = m.hapticCpu;
   s.standbyCpu = m.standbyCpu;
+  s.surfaceBuildMs = m.surfaceBuildMs;
   return s;
 }
 

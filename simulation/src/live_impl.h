@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <future>
 #include <limits>
@@ -87,14 +88,19 @@ struct LiveRuntime::Impl {
   VoxelGrid visualGrid;
   std::unique_ptr<geometry::SurfaceUpdater> updater;  // null until its first extraction is taken
   // The first extraction, of visualGrid on a thread of its own while the loops run; until it is
-  // taken, handed-over bricks wait in `pending` (visualGrid must not change under it).
+  // taken, handed-over bricks wait in `backlog` (visualGrid must not change under it).
   struct BuiltSurface {
     std::unique_ptr<geometry::SurfaceUpdater> updater;
     double ms = 0.0;
     std::int64_t doneNs = 0;
   };
   std::future<BuiltSurface> updaterBuild;
-  std::vector<BrickMessage> pending;
+  // Handed-over bricks not yet in visualGrid, oldest first. Each update takes as many distinct
+  // bricks as fit its time budget (the surface lags a frame or two, but whole: no update waits
+  // on a burst such as a jump of the tool or the first extraction's backlog).
+  std::deque<BrickMessage> backlog;
+  static constexpr double kRemeshBudgetMs = 8.0;
+  double msPerBrick = 0.05;  // what an update has cost per brick, learnt as they run
   double surfaceBuildMs = 0.0;
   std::int64_t surfaceReadyNs = 0;
   std::atomic<std::int64_t> firstStepNs{0};
@@ -168,12 +174,21 @@ struct LiveRuntime::Impl {
     updater = std::move(built.updater);
     surfaceBuildMs = built.ms;
     surfaceReadyNs = built.doneNs;
-    for (const BrickMessage& message : pending) {
-      apply(visualGrid, message);
-      changed.push_back(message.brick);
-    }
-    std::vector<BrickMessage>().swap(pending);
     return true;
+  }
+
+  // Applies the oldest handed-over bricks to visualGrid: all of them, or as many distinct
+  // bricks as the budget allows (a brick already taken this time costs nothing more).
+  void takeBacklog(bool all) {
+    const auto budget = std::size_t(std::clamp(kRemeshBudgetMs / msPerBrick, 4.0, 1024.0));
+    while (!backlog.empty()) {
+      const std::size_t brick = backlog.front().brick;
+      const bool seen = std::find(changed.begin(), changed.end(), brick) != changed.end();
+      if (!all && !seen && changed.size() >= budget) break;
+      apply(visualGrid, backlog.front());
+      if (!seen) changed.push_back(brick);
+      backlog.pop_front();
+    }
   }
 
   // Everything the loops touch is sized here, before they start (periods known).
@@ -362,23 +377,18 @@ struct LiveRuntime::Impl {
     try {
       changed.clear();
       lastChanged.clear();
-      const bool ready = surfaceReady(false);
-      while (bricks.pop(drainMsg)) {
-        if (!ready) {
-          pending.push_back(drainMsg);
-          continue;
-        }
-        apply(visualGrid, drainMsg);
-        changed.push_back(drainMsg.brick);
-      }
-      return ready ? updateVisual() : 0.0;
+      while (bricks.pop(drainMsg)) backlog.push_back(drainMsg);
+      if (!surfaceReady(false)) return 0.0;
+      takeBacklog(false);
+      return updateVisual();
     } catch (...) {
       noteVisualFault();
       return 0.0;
     }
   }
 
-  double updateVisual() {
+  // timed: a remesh while drilling (stop()'s last flush, after the loops, is not one).
+  double updateVisual(bool timed = true) {
     if (changed.empty()) return 0.0;
     if (!visualFault.empty()) {  // a surface that failed once is not trusted with more changes
       visualGrid.clearDirty();
@@ -389,7 +399,9 @@ struct LiveRuntime::Impl {
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
     if (options.beforeSurfaceUpdate) options.beforeSurfaceUpdate();
     const double ms = updater->update(changed).ms;
-    remeshNs.addMs(ms);
+    if (timed) remeshNs.addMs(ms);
+    if (changed.size() >= 4)
+      msPerBrick = 0.8 * msPerBrick + 0.2 * std::max(ms, 1e-3) / double(changed.size());
     visualGrid.clearDirty();
     ++visualUpdates;
     lastChanged.swap(changed);

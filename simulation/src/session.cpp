@@ -188,6 +188,7 @@ struct Session::State {
   std::uint64_t steps = 0;
   SetupTimings setup;          // the bone's stages, then this session's
   SessionMemory visualMemory;  // the last threaded run's visual grid and surface
+  std::uint64_t setupVoxels = 0;  // voxels with bone before drilling
   Clock::time_point start;     // this session's construction began (the bone's set-up before it)
   // The first surface, extracted on a thread of its own from the bone as voxelized (this grid
   // was a copy of it) while the first steps change the grid; taken by takeBuiltSurface. Last,
@@ -249,6 +250,7 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
   const Clock::time_point hierarchyStart = Clock::now();
   s.hierarchy = geometry::DynamicProximityHierarchy::build(s.grid, geometry::DphBuildOptions{});
   s.setup.hierarchyMs = msSince(hierarchyStart);
+  s.setupVoxels = s.hierarchy.voxelCount();
   s.simulation.emplace(s.grid, s.hierarchy, options.levels > 0 ? s.bone->fineFills() : nullptr,
                        options.tool, options.toolOptions, drilling);
   if (options.coupling == CouplingMode::Proxy) {
@@ -549,7 +551,7 @@ SessionMemory Session::memory() {
   State& s = *state_;
   s.takeBuiltSurface(true);
   SessionMemory m = s.visualMemory;  // the threaded runtime's visual side, if it ran
-  m.voxels = s.hierarchy.voxelCount();
+  m.voxels = s.setupVoxels;
   m.boneGrid = s.bone->grid().memoryBytes();
   m.fineFills = s.bone->fineFills() ? s.bone->fineFills()->memoryBytes() : 0;
   m.grid = s.grid.memoryBytes();

@@ -413,6 +413,7 @@ void App::finishReport() {
   r.waitedForPath = waitedForPath_;
   r.loadMs = scene_->loadMs();
   r.setup = scene_->session().setupTimings();
+  r.setup.surfaceMs = scene_->live().stats().surfaceBuildMs;  // the visual side's, beside the steps
   r.setup.totalMs =
       scene_->loadMs();  // the scene's whole set-up: session, path and runtime started
   r.peakRssMb = peakRssMb();

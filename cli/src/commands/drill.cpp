@@ -193,6 +193,7 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   if (extension.done) extension.done(session);
   // The drilled bone with its refined regions, crack-free and smoothed, made once the run's
   // own surface is gone (its memory is what this extraction uses).
+  const sim::SessionMemory memory = session.memory();  // with the run's surface, before it goes
   session.releaseSurface();
   const geo::SurfaceMesh surface = session.multiResolutionSurface();
   geo::writeMesh(surface.toTriangleMesh(), files.surfacePath);
@@ -208,6 +209,7 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   r.summary["setup_ms"] = setupJson(r.setup);
   r.summary["setup_ms"]["path"] = r.pathMs;
   r.summary["setup_peak_rss_mb"] = setupPeakRssMb;
+  r.summary["memory"] = memoryJson(memory);
   r.summary["voxels"] = setupVoxels;
   r.summary["surface_triangles"] = surface.triangleCount();
   r.summary["files"] = {

@@ -123,6 +123,7 @@ int runMesh(const MeshCommandOptions& options) {
   r.loaded.setup.surfaceMs = msSince(surfaceStart);
   // Set-up ends with the surface; topology and writing are not part of it.
   r.loaded.setup.totalMs = msSince(r.loaded.start);
+  r.loaded.setup.surfaceReadyMs = r.loaded.setup.totalMs;  // extracted before anything else
   r.mesh = r.surface.toTriangleMesh();
   r.topology = geo::analyzeTopology(r.mesh);
   if (!options.out.empty()) geo::writeMesh(r.mesh, options.out);

@@ -128,6 +128,7 @@ int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, sim::Session&
                                    setup.voxelSizeMm, setup.levels),
                     run, what};
   json& summary = r.summary;
+  summary["memory"] = memoryJson(session.memory());
   for (auto& item : extra.items()) summary[item.key()] = item.value();
   summary["surface_triangles"] = surface.triangleCount();
   json written = {

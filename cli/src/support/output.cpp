@@ -38,6 +38,31 @@ json setupJson(const simulation::SetupTimings& t) {
           {"surface_ready", t.surfaceReadyMs}};
 }
 
+json memoryJson(const simulation::SessionMemory& m) {
+  const std::pair<const char*, std::size_t> parts[] = {
+      {"bone_grid", m.boneGrid},
+      {"fine_fills", m.fineFills},
+      {"grid", m.grid},
+      {"hierarchy", m.hierarchy},
+      {"refinement", m.refinement},
+      {"thermal", m.thermal},
+      {"visual_grid", m.visualGrid},
+      {"surface_cell_bricks", m.surface.cellBricks},
+      {"surface_triangles", m.surface.triangles},
+      {"surface_vertices", m.surface.vertices},
+      {"surface_loops", m.surface.loops},
+      {"surface_tables", m.surface.tables},
+      {"surface", m.surface.total()},
+      {"total", m.total()}};
+  json bytes = json::object(), perVoxel = json::object();
+  const double voxels = double(std::max<std::uint64_t>(m.voxels, 1));
+  for (const auto& [key, value] : parts) {
+    bytes[key] = value;
+    perVoxel[key] = double(value) / voxels;
+  }
+  return {{"voxels", m.voxels}, {"bytes", bytes}, {"bytes_per_voxel", perVoxel}};
+}
+
 std::string setupLine(const simulation::SetupTimings& t, double pathMs) {
   char line[256];
   std::snprintf(line, sizeof line,

@@ -11,6 +11,7 @@
 namespace osteon::simulation {
 struct Percentiles;
 struct SetupTimings;
+struct SessionMemory;
 }  // namespace osteon::simulation
 
 namespace osteon::cli {
@@ -25,6 +26,9 @@ void printJson(const nlohmann::json& j);
 // `setup_ms` {load, voxelize, density, fine_fills, hierarchy, surface, total} (stages a command
 // does not run are 0), as drill, hierarchy, voxelize and mesh report their set-up.
 nlohmann::json setupJson(const simulation::SetupTimings& setup);
+// What a session holds, by structure: {"voxels", "bytes": {...}, "bytes_per_voxel": {...}},
+// the same keys in both (docs/performance.md, "Memory").
+nlohmann::json memoryJson(const simulation::SessionMemory& memory);
 // One line for the text output: "  set-up      812 ms: load 3, voxelize 410, ...; peak RSS 95 MB".
 std::string setupLine(const simulation::SetupTimings& setup, double pathMs = -1.0);
 

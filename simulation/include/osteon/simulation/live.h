@@ -49,6 +49,9 @@ struct LiveStats {
   double collisionStepUsLast = 0.0;  // the latest step's duration
   std::uint64_t standbySteps = 0;    // haptic periods run by its standby thread (runtime.h)
   int hapticCpu = -1, standbyCpu = -1;
+  // The visual surface's first extraction, beside the first steps: how long it took (0 while
+  // it runs). Read on the visual side (the thread that calls updateSurface).
+  double surfaceBuildMs = 0.0;
 };
 
 // The one threaded runtime: Session::runThreaded is this with a visual thread of its own.
