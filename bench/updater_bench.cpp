@@ -37,8 +37,8 @@ std::size_t meshBytes(const geometry::SurfaceMesh& m) {
 }
 
 void runCase(const Bone& bone, double voxelSizeMm, int runs) {
-  const auto model = simulation::BoneModel::open(bone.argument, bone.scaleToMm, voxelSizeMm, {},
-                                                 false);
+  const auto model =
+      simulation::BoneModel::open(bone.argument, bone.scaleToMm, voxelSizeMm, {}, false);
   const geometry::VoxelGrid& grid = model->grid();
   const geometry::SurfaceOptions options;
   std::vector<double> extractMs, updaterMs, ratio;
@@ -92,7 +92,8 @@ int main(int argc, char** argv) {
   for (const auto& [name, file] :
        {std::pair<const char*, const char*>{"humerus (OpenSim)", "humerus_R_opensim_myosuite.stl"},
         {"femur (OpenSim)", "femur_R_opensim_myosuite.stl"}}) {
-    if (std::filesystem::exists(data + "/" + file)) bones.push_back({name, data + "/" + file, 1000.0});
+    if (std::filesystem::exists(data + "/" + file))
+      bones.push_back({name, data + "/" + file, 1000.0});
   }
   std::printf(
       "| bone | voxel mm | voxels with bone | triangles | extractSurface ms | updater first "

@@ -186,10 +186,10 @@ struct Session::State {
   geometry::SurfaceMesh surface;
   bool surfaceStale = true;
   std::uint64_t steps = 0;
-  SetupTimings setup;          // the bone's stages, then this session's
-  SessionMemory visualMemory;  // the last threaded run's visual grid and surface
+  SetupTimings setup;             // the bone's stages, then this session's
+  SessionMemory visualMemory;     // the last threaded run's visual grid and surface
   std::uint64_t setupVoxels = 0;  // voxels with bone before drilling
-  Clock::time_point start;     // this session's construction began (the bone's set-up before it)
+  Clock::time_point start;        // this session's construction began (the bone's set-up before it)
   // The first surface, extracted on a thread of its own from the bone as voxelized (this grid
   // was a copy of it) while the first steps change the grid; taken by takeBuiltSurface. Last,
   // so that it is waited for before the grids it reads go.

@@ -59,7 +59,6 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
     const glm::ivec3 cb = cellBrickOf(bi);
     if (!cellBrickActive(*grid, cb)) return;
     auto b = std::make_unique<CellBrick>();
-    b->changed.fill(~std::uint64_t(0));
     loadBlock(*grid, cb, b->fills);
     const FillBlock& block = b->fills;
     glm::ivec3 lo, hi;
@@ -71,7 +70,9 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
       const glm::ivec3 l = cellInBrick(ci);
       if (!cellInRange(cb * kBrickEdge + l, lo, hi)) continue;
       Fill corner[8];
-      const McCase& mc = table[std::size_t(cellConfig(block, l, corner))];
+      const int config = cellConfig(block, l, corner);
+      if (config != 0 && config != 255) b->setChanged(ci);  // buildTriangles' cells, for now
+      const McCase& mc = table[std::size_t(config)];
       for (int loop = 0; loop < mc.loopCount; ++loop) {
         const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
         centres += n > 4;
@@ -134,12 +135,11 @@ void SurfaceUpdater::Impl::buildTriangles() {
     std::uint32_t centre = centreFirst_[bi];
     for (int ci = 0; ci < kCells; ++ci) {
       b->cellBegin[std::size_t(ci)] = std::uint16_t(b->triangles.size());
+      if (!b->isChanged(ci)) continue;  // no surface in it (or out of range)
       const glm::ivec3 l = cellInBrick(ci);
       const glm::ivec3 g = cb * kBrickEdge + l;
-      if (!cellInRange(g, lo, hi)) continue;
       Fill corner[8];
       const int config = cellConfig(b->fills, l, corner);
-      if (config == 0 || config == 255) continue;
       const McCase& mc = table[std::size_t(config)];
       std::uint32_t ids[13];
       for (int loop = 0; loop < mc.loopCount; ++loop) {
@@ -161,6 +161,7 @@ void SurfaceUpdater::Impl::buildTriangles() {
       }
     }
     b->cellBegin[kCells] = std::uint16_t(b->triangles.size());
+    b->changed.fill(~std::uint64_t(0));
     b->fillsValid = true;
     // A cell brick with no surface gives its memory back.
     if (b->triangles.empty() && b->owned.count() == 0) bricks[bi].reset();

@@ -16,6 +16,14 @@
 
 namespace osteon::geometry::updater_detail {
 
+// Bits set in x, inline on every x86-64 (the builtin is a library call without -mpopcnt).
+inline int popcount64(std::uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return int((x * 0x0101010101010101ull) >> 56);
+}
+
 // An array of T in pages of 2^kPageLog2 elements: indexing is one more load than a vector's,
 // and growing allocates one page, never moving the elements already stored.
 template <typename T>
@@ -89,7 +97,7 @@ class OwnedEdges {
     const std::uint64_t bit = std::uint64_t(1) << (e & 63);
     if (!(mask_[std::size_t(w)] & bit)) return kNone;
     return slots_[std::size_t(before_[std::size_t(w)]) +
-                  std::size_t(__builtin_popcountll(mask_[std::size_t(w)] & (bit - 1)))];
+                  std::size_t(popcount64(mask_[std::size_t(w)] & (bit - 1)))];
   }
   std::size_t count() const { return slots_.size(); }
   const std::vector<std::uint32_t>& slots() const { return slots_; }
@@ -132,7 +140,7 @@ class OwnedEdges {
       for (int b = 0; b < 64; ++b)
         if (crossed[std::size_t(64 * w + b)]) m |= std::uint64_t(1) << b;
       mask_[std::size_t(w)] = m;
-      n += std::size_t(__builtin_popcountll(m));
+      n += std::size_t(popcount64(m));
     }
     slots_.assign(n, kNone);
   }
