@@ -66,26 +66,45 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
     std::bitset<OwnedEdges::kEdges> crossed;
     std::uint32_t centres = 0;
     std::size_t triangles = 0;
-    for (int ci = 0; ci < kCells; ++ci) {
-      const glm::ivec3 l = cellInBrick(ci);
-      if (!cellInRange(cb * kBrickEdge + l, lo, hi)) continue;
-      Fill corner[8];
-      const int config = cellConfig(block, l, corner);
-      if (config != 0 && config != 255) b->setChanged(ci);  // buildTriangles' cells, for now
-      const McCase& mc = table[std::size_t(config)];
-      for (int loop = 0; loop < mc.loopCount; ++loop) {
-        const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
-        centres += n > 4;
-        triangles += std::size_t(loopTriangles(n));
-      }
-      const bool in0 = double(blockFill(block, l.x, l.y, l.z)) > kIso;
-      for (int axis = 0; axis < 3; ++axis) {
-        glm::ivec3 n = l;
-        ++n[axis];
-        if ((double(blockFill(block, n.x, n.y, n.z)) > kIso) != in0)
-          crossed.set(std::size_t(3 * ci + axis));
-      }
+    // Inside bits of the block's rows (bit x of row y + 9 z): a cell has surface when its eight
+    // corners' bits are not all alike, an edge crosses when its two ends' bits differ, eight
+    // cells at a time; only those cells are looked up in the case table.
+    std::array<std::uint16_t, kBlock * kBlock> insideRows;
+    for (int r = 0; r < kBlock * kBlock; ++r) {
+      std::uint32_t m = 0;
+      for (int x = 0; x < kBlock; ++x)
+        m |= std::uint32_t(block[std::size_t(r * kBlock + x)] > kInsideAbove) << x;
+      insideRows[std::size_t(r)] = std::uint16_t(m);
     }
+    const glm::ivec3 first = glm::max(lo - cb * kBrickEdge, glm::ivec3(0));
+    const glm::ivec3 last = glm::min(hi - cb * kBrickEdge, glm::ivec3(kBrickEdge));
+    const std::uint32_t inRangeX = ((1u << last.x) - 1u) & ~((1u << first.x) - 1u);
+    for (int z = first.z; z < last.z; ++z)
+      for (int y = first.y; y < last.y; ++y) {
+        const std::uint32_t r0 = insideRows[std::size_t(y + kBlock * z)];
+        const std::uint32_t r1 = insideRows[std::size_t(y + 1 + kBlock * z)];
+        const std::uint32_t r2 = insideRows[std::size_t(y + kBlock * (z + 1))];
+        const std::uint32_t r3 = insideRows[std::size_t(y + 1 + kBlock * (z + 1))];
+        const std::uint32_t all = r0 & r1 & r2 & r3, any = r0 | r1 | r2 | r3;
+        const std::uint32_t mixed = ~((all & (all >> 1)) | (~any & ~(any >> 1))) & inRangeX;
+        const std::uint32_t edges[3] = {(r0 ^ (r0 >> 1)) & inRangeX, (r0 ^ r1) & inRangeX,
+                                        (r0 ^ r2) & inRangeX};
+        const int row = kBrickEdge * (y + kBrickEdge * z);
+        for (int axis = 0; axis < 3; ++axis)
+          for (std::uint32_t m = edges[axis]; m; m &= m - 1)
+            crossed.set(std::size_t(3 * (row + __builtin_ctz(m)) + axis));
+        for (std::uint32_t m = mixed; m; m &= m - 1) {
+          const int ci = row + __builtin_ctz(m);
+          b->setChanged(ci);  // buildTriangles' cells, for now
+          Fill corner[8];
+          const McCase& mc = table[std::size_t(cellConfig(block, cellInBrick(ci), corner))];
+          for (int loop = 0; loop < mc.loopCount; ++loop) {
+            const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
+            centres += n > 4;
+            triangles += std::size_t(loopTriangles(n));
+          }
+        }
+      }
     b->owned.setMask(crossed);
     b->triangles.reserve(triangles);
     edgeFirst[bi + 1] = std::uint32_t(b->owned.count());
