@@ -321,6 +321,7 @@ void App::fillStatus(double frameMs) {
   s.stepP99Us = stepUs_.recentP99();
   s.overruns = st.hapticOverruns + st.collisionOverruns;
   s.triangles = renderer_->triangles(panel_.method);
+  s.surfaceReady = scene_->live().stats().surfaceBuildMs > 0.0;
   const simulation::DisplayState& d = scene_->live().display();
   s.removedVolumeMm3 = d.removedVolumeMm3;
   s.forceN = d.contact.magnitudeN;

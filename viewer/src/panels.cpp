@@ -26,7 +26,10 @@ void statusLine(const PanelModel& m) {
   std::snprintf(fields[n++], 64, "overruns %llu", static_cast<unsigned long long>(s.overruns));
   std::snprintf(fields[n++], 64, "remesh %.2f ms", s.remeshMs);
   std::snprintf(fields[n++], 64, "upload %.3f ms", s.uploadMs);
-  std::snprintf(fields[n++], 64, "%zu triangles", s.triangles);
+  if (s.surfaceReady)
+    std::snprintf(fields[n++], 64, "%zu triangles", s.triangles);
+  else
+    std::snprintf(fields[n++], 64, "extracting the surface...");
   std::snprintf(fields[n++], 64, "removed %.1f mm3", s.removedVolumeMm3);
   std::snprintf(fields[n++], 64, "|F| %.2f N (level %d)", s.forceN, s.level);
   std::snprintf(fields[n++], 64, "gap %.1f mm", s.gapMm);

@@ -24,6 +24,7 @@ struct StatusNumbers {
   double frameMs = 0.0;
   double frameP99Ms = 0.0;
   std::size_t triangles = 0;
+  bool surfaceReady = true;  // false while the first surface is extracted (drilling already runs)
   double removedVolumeMm3 = 0.0;
   double forceN = 0.0;
   double simTimeS = 0.0;
