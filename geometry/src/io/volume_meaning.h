@@ -88,54 +88,23 @@ inline void refuseWholeBox(const std::string& path, std::uint64_t inside, std::u
                    "; not a plausible bone, which needs voxels outside it");
 }
 
-inline glm::ivec3 positionOf(glm::ivec3 n, std::size_t i) {
-  const std::size_t nx = std::size_t(n.x), ny = std::size_t(n.y);
-  return {int(i % nx), int(i / nx % ny), int(i / (nx * ny))};
-}
-
 // Density by distance (label maps, scalar volumes): cortical within `shell` voxels of the
-// outside or at the surface (fill below half), cancellous deeper.
-inline Density distanceDensity(Fill fill, std::uint16_t distance, int shell) {
+// outside (the volume's edge counts as outside) or at the surface (fill below half), cancellous
+// deeper (deepInside).
+inline Density distanceDensity(Fill fill, bool deep) {
   if (fill == 0) return 0;
-  return distance == 0 || distance <= shell ? kCtCorticalDensity : kCtCancellousDensity;
+  return deep ? kCtCancellousDensity : kCtCorticalDensity;
 }
 
 inline int shellVoxels(const VolumeOptions& options, const OutputGrid& g) {
   return int(std::clamp(std::ceil(options.corticalThicknessMm / g.voxelSizeMm), 1.0, 1e6));
 }
 
-// The grid of a fill per voxel (fillAt(position, index)), its density by the distance rule:
-// cortical within the shell of voxels nearest the outside, cancellous deeper. Returns the voxels
-// inside.
-template <typename FillAt>
-std::uint64_t buildByDistance(const OutputGrid& g, const FillAt& fillAt,
-                              const VolumeOptions& options, VoxelGrid& grid) {
-  // Whole (uncropped, exact) grids index the values by i alone: no position to work out.
-  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
-    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
-  });
-  const int shell = shellVoxels(options, g);
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
-    fill = fillAt(p, i);
-    density = distanceDensity(fill, dist[i], shell);
-  });
-}
-
-// A label map's grid: each voxel 0 or full where placed exactly, its share inside where
-// resampled; `inside` says which stored values are bone. Returns the voxels inside.
-template <typename T, typename Inside>
-std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Inside& inside,
-                          const VolumeOptions& options, VoxelGrid& grid) {
-  std::vector<Fill> fills;
-  if (!g.exact) {
-    fills.resize(g.count());
-    for (std::size_t i = 0; i < fills.size(); ++i)
-      fills[i] = labelFill(g, values, positionOf(g.sizes, i), i, inside);
-  }
-  const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
-    return g.exact ? labelFill(g, values, p, i, inside) : fills[i];
+// The fill rows of fills held whole (a resampled grid's).
+inline auto heldFills(const std::vector<Fill>& fills) {
+  return [&fills](glm::ivec3, std::size_t i, int length, Fill* out) {
+    std::copy_n(fills.begin() + std::ptrdiff_t(i), length, out);
   };
-  return buildByDistance(g, fillAt, options, grid);
 }
 
 // The fill of a value: 0 at iso - halfWidth, full at iso + halfWidth (a step when 0).
@@ -145,14 +114,59 @@ inline Fill rampFill(double value, double iso, double halfWidth) {
   return Fill(std::lround(std::clamp(t, 0.0, 1.0) * kFillFull));
 }
 
+// The grid of a fill per voxel (fillRow(start, index, length, fills): a row at once), its
+// density by the distance rule: cortical within the shell of voxels nearest the outside,
+// cancellous deeper. Returns the voxels inside.
+template <typename FillRow>
+std::uint64_t buildByDistance(const OutputGrid& g, const FillRow& fillRow,
+                              const VolumeOptions& options, VoxelGrid& grid) {
+  const std::vector<std::uint8_t> deep = deepInside(g.sizes, shellVoxels(options, g), fillRow);
+  const std::uint8_t* const deepAt = deep.data();
+  return buildGrid(grid,
+                   [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+                     fillRow(p, i, length, fill);
+                     const std::uint8_t* d = deepAt + i;
+                     for (int x = 0; x < length; ++x)
+                       density[x] = distanceDensity(fill[x], d[x] != 0);
+                   });
+}
+
+// Where a row of an exactly placed grid starts in the stored values (a row of them).
+inline std::size_t storedRow(const OutputGrid& g, glm::ivec3 p, std::size_t i) {
+  return g.whole ? i : g.storedOffset(p + g.offset);
+}
+
+// A label map's grid: each voxel 0 or full where placed exactly, its share inside where
+// resampled; `inside` says which stored values are bone. Returns the voxels inside.
+template <typename T, typename Inside>
+std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Inside& inside,
+                          const VolumeOptions& options, VoxelGrid& grid) {
+  if (g.exact) {
+    const auto fillRow = [&g, values, inside](glm::ivec3 p, std::size_t i, int length, Fill* out) {
+      const std::size_t s = storedRow(g, p, i);
+      for (int x = 0; x < length; ++x)
+        out[x] = inside(values[s + std::size_t(x)]) ? kFillFull : Fill(0);
+    };
+    return buildByDistance(g, fillRow, options, grid);
+  }
+  std::vector<Fill> fills(g.count());
+  forEachVoxel(g.sizes,
+               [&](glm::ivec3 p, std::size_t i) { fills[i] = labelFill(g, values, p, i, inside); });
+  return buildByDistance(g, heldFills(fills), options, grid);
+}
+
 // A CT's grid: fill ramped around the iso level, density from HU. Returns the voxels inside.
 template <typename T, typename Real>
 std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& real, double airHu,
                       double iso, VoxelGrid& grid) {
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
-    const double hu = sampleValue(g, values, p, i, real, airHu);
-    fill = rampFill(hu, iso, kCtRampHalfWidthHu);
-    density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
+  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, int length, Fill* fill,
+                             Density* density) {
+    for (int x = 0; x < length; ++x) {
+      const double hu =
+          sampleValue(g, values, p + glm::ivec3(x, 0, 0), i + std::size_t(x), real, airHu);
+      fill[x] = rampFill(hu, iso, kCtRampHalfWidthHu);
+      density[x] = fill[x] == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
+    }
   });
 }
 
@@ -163,19 +177,19 @@ template <typename T, typename Real>
 std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Real& real,
                           double lowest, double iso, double halfWidth, const VolumeOptions& options,
                           VoxelGrid& grid) {
-  std::vector<Fill> fills;
-  if (!g.exact) {
-    fills.resize(g.count());
-    for (std::size_t i = 0; i < fills.size(); ++i) {
-      fills[i] =
-          rampFill(trilinearValue(g, values, positionOf(g.sizes, i), real, lowest), iso, halfWidth);
-    }
+  if (g.exact) {
+    const auto fillRow = [&](glm::ivec3 p, std::size_t i, int length, Fill* out) {
+      const std::size_t s = storedRow(g, p, i);
+      for (int x = 0; x < length; ++x)
+        out[x] = rampFill(real(values[s + std::size_t(x)]), iso, halfWidth);
+    };
+    return buildByDistance(g, fillRow, options, grid);
   }
-  const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
-    return g.exact ? rampFill(sampleValue(g, values, p, i, real, lowest), iso, halfWidth)
-                   : fills[i];
-  };
-  return buildByDistance(g, fillAt, options, grid);
+  std::vector<Fill> fills(g.count());
+  forEachVoxel(g.sizes, [&](glm::ivec3 p, std::size_t i) {
+    fills[i] = rampFill(trilinearValue(g, values, p, real, lowest), iso, halfWidth);
+  });
+  return buildByDistance(g, heldFills(fills), options, grid);
 }
 
 }  // namespace osteon::geometry

@@ -1,0 +1,191 @@
+// The density rule of label maps and scalar volumes against its definition, checked voxel by
+// voxel on random small volumes (fixed seeds): a voxel with bone is cancellous when the
+// (2 shell + 1)^3 cube around it lies within the volume and is all inside (fill at or above
+// half), cortical otherwise. deepInside computes that in three erosions; the reference here
+// looks at every voxel of every cube.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/volume_grid_build.h"
+#include "osteon/geometry/io/volume_io.h"
+#include "support/volume_files.h"
+#include "support/volume_fixture.h"
+
+namespace osteon::geometry {
+namespace {
+
+using test::TestVolume;
+
+std::size_t indexOf(glm::ivec3 n, glm::ivec3 p) {
+  return (std::size_t(p.z) * std::size_t(n.y) + std::size_t(p.y)) * std::size_t(n.x) +
+         std::size_t(p.x);
+}
+
+// The definition, cube by cube.
+bool deepByCube(glm::ivec3 n, const std::vector<bool>& inside, glm::ivec3 p, int shell) {
+  for (int dz = -shell; dz <= shell; ++dz) {
+    for (int dy = -shell; dy <= shell; ++dy) {
+      for (int dx = -shell; dx <= shell; ++dx) {
+        const glm::ivec3 q = p + glm::ivec3(dx, dy, dz);
+        if (glm::any(glm::lessThan(q, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(q, n)))
+          return false;
+        if (!inside[indexOf(n, q)]) return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Inside voxels as noise of a given share, or as a few random boxes (long runs, deep cores).
+std::vector<bool> randomInside(glm::ivec3 n, std::mt19937& rng, int pattern) {
+  const std::size_t count = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
+  std::vector<bool> inside(count, false);
+  if (pattern < 4) {
+    const double share[] = {0.5, 0.9, 0.99, 1.0};
+    std::bernoulli_distribution in(share[pattern]);
+    for (std::size_t i = 0; i < count; ++i) inside[i] = in(rng);
+    return inside;
+  }
+  for (int box = 0; box < 3; ++box) {
+    glm::ivec3 lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      std::uniform_int_distribution<int> at(0, n[a] - 1);
+      lo[a] = at(rng);
+      hi[a] = at(rng);
+      if (lo[a] > hi[a]) std::swap(lo[a], hi[a]);
+    }
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) inside[indexOf(n, {x, y, z})] = true;
+  }
+  std::bernoulli_distribution hole(0.02);  // a few outside voxels within the boxes
+  for (std::size_t i = 0; i < count; ++i) inside[i] = inside[i] && !hole(rng);
+  return inside;
+}
+
+TEST(VolumeDensity, DeepInsideMatchesTheCubeOfEveryVoxelOnRandomVolumes) {
+  std::mt19937 rng(37);
+  std::uniform_int_distribution<int> edge(1, 23);
+  for (int trial = 0; trial < 120; ++trial) {
+    const glm::ivec3 n(edge(rng), edge(rng), edge(rng));
+    const std::vector<bool> inside = randomInside(n, rng, trial % 6);
+    std::vector<Fill> fills(inside.size());
+    for (std::size_t i = 0; i < fills.size(); ++i) {
+      // Partial fills on both sides of half: inside is fill at or above half, not fill above 0.
+      fills[i] = inside[i] ? Fill(kFillHalf + (i % 3)) : Fill(i % 2 ? kFillHalf - 1 : 0);
+    }
+    const auto fillRow = [&](glm::ivec3, std::size_t i, int length, Fill* out) {
+      std::copy_n(fills.begin() + std::ptrdiff_t(i), length, out);
+    };
+    for (const int shell : {1, 2, 3, 5, 12}) {
+      const std::vector<std::uint8_t> deep = deepInside(n, shell, fillRow);
+      ASSERT_EQ(deep.size(), inside.size());
+      for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+          for (int x = 0; x < n.x; ++x) {
+            const std::size_t i = indexOf(n, {x, y, z});
+            ASSERT_EQ(deep[i] != 0, deepByCube(n, inside, {x, y, z}, shell))
+                << "trial " << trial << ", sizes " << n.x << "x" << n.y << "x" << n.z << ", shell "
+                << shell << ", voxel " << x << "," << y << "," << z;
+          }
+    }
+  }
+}
+
+class VolumeDensityFiles : public test::VolumeFolderTest {
+ protected:
+  VolumeDensityFiles() : VolumeFolderTest("volume_density") {}
+
+  // Every voxel of a load: the fill given, and the density by the rule on those fills.
+  static void expectDensityByRule(const VolumeLoad& load, int shell, const std::string& what) {
+    const VoxelGrid& grid = load.grid;
+    const glm::ivec3 n = grid.dims();
+    std::vector<bool> inside(std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z));
+    for (int z = 0; z < n.z; ++z)
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x)
+          inside[indexOf(n, {x, y, z})] = grid.fill({x, y, z}) >= kFillHalf;
+    for (int z = 0; z < n.z; ++z)
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x) {
+          const Fill fill = grid.fill({x, y, z});
+          const Density expected = fill == 0                                 ? Density(0)
+                                   : deepByCube(n, inside, {x, y, z}, shell) ? kCtCancellousDensity
+                                                                             : kCtCorticalDensity;
+          ASSERT_EQ(grid.density({x, y, z}), expected)
+              << what << ", voxel " << x << "," << y << "," << z << ", fill " << fill;
+        }
+  }
+};
+
+TEST_F(VolumeDensityFiles, ALabelMapsDensityFollowsTheShellRuleWholeAndCropped) {
+  std::mt19937 rng(4);
+  std::uniform_int_distribution<int> edge(3, 26);
+  int croppedCompared = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    TestVolume v;
+    v.sizes = {edge(rng), edge(rng), edge(rng)};
+    v.spacingMm = trial % 3 == 0 ? 0.5 : trial % 3 == 1 ? 1.0 : 2.5;  // shells of 4, 2 and 1
+    std::vector<bool> inside = randomInside(v.sizes, rng, 1 + trial % 5);
+    inside[0] = false;  // never bone everywhere (refused)
+    v.values.resize(inside.size());
+    for (std::size_t i = 0; i < inside.size(); ++i) v.values[i] = inside[i] ? 255.0 : 0.0;
+    const std::string name = "labels" + std::to_string(trial) + ".nrrd";
+    test::writeTestNrrd(file(name), v, "uint8", test::encodeAs<std::uint8_t>(v.values), false);
+    const int shell = int(std::ceil(2.0 / v.spacingMm));
+    const VolumeLoad whole = loadVolume(file(name));
+    ASSERT_EQ(whole.kind, "label map");
+    for (std::size_t i = 0; i < inside.size(); ++i) {
+      const glm::ivec3 n = v.sizes;
+      const glm::ivec3 p(int(i % std::size_t(n.x)), int(i / std::size_t(n.x) % std::size_t(n.y)),
+                         int(i / (std::size_t(n.x) * std::size_t(n.y))));
+      ASSERT_EQ(whole.grid.fill(p), inside[i] ? kFillFull : Fill(0)) << name;
+    }
+    expectDensityByRule(whole, shell, name);
+    // Cropped: a grid that is not the stored one row for row (the crop's edge is outside).
+    VolumeOptions cropped;
+    const glm::dvec3 lo = v.firstCentreMm + glm::dvec3(1.0) * v.spacingMm;
+    const glm::dvec3 hi = v.firstCentreMm + glm::dvec3(v.sizes - 2) * v.spacingMm;
+    if (glm::any(glm::greaterThanEqual(lo, hi))) continue;
+    cropped.cropMm = BoxMm{lo, hi};
+    try {
+      expectDensityByRule(loadVolume(file(name), cropped), shell, name + " cropped");
+      ++croppedCompared;
+    } catch (const InputError&) {
+      // A crop that holds no outside voxel is refused as bone everywhere: nothing to compare.
+    }
+  }
+  EXPECT_GE(croppedCompared, 12);
+}
+
+TEST_F(VolumeDensityFiles, AScalarVolumesDensityFollowsTheShellRuleOnItsRampedFills) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> edge(4, 22);
+  std::uniform_real_distribution<double> noise(-30.0, 30.0);
+  for (int trial = 0; trial < 12; ++trial) {
+    TestVolume v;
+    v.sizes = {edge(rng), edge(rng), edge(rng)};
+    v.spacingMm = trial % 2 == 0 ? 0.5 : 1.0;
+    const std::vector<bool> inside = randomInside(v.sizes, rng, 4 + trial % 2);
+    v.values.resize(inside.size());
+    for (std::size_t i = 0; i < inside.size(); ++i)
+      v.values[i] = (inside[i] ? 180.0 : 60.0) + noise(rng);  // ramps give partial fills
+    v.values[0] = 0.0;
+    const std::string name = "scalar" + std::to_string(trial) + ".nrrd";
+    test::writeTestNrrd(file(name), v, "float", test::encodeAs<float>(v.values), false);
+    VolumeOptions o;
+    o.isoValue = 120.0;
+    const VolumeLoad load = loadVolume(file(name), o);
+    ASSERT_EQ(load.kind, "scalar");
+    expectDensityByRule(load, int(std::ceil(2.0 / v.spacingMm)), name);
+  }
+}
+
+}  // namespace
+}  // namespace osteon::geometry
