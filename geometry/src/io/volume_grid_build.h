@@ -125,18 +125,18 @@ inline std::uint64_t storeBrick(VoxelGrid& grid, std::size_t brick, const BrickR
   const Fill f0 = row.fill[row.at(x0, 0, 0)];
   const Density d0 = row.density[row.at(x0, 0, 0)];
   std::uint64_t inside = 0;
-  bool uniform = true;
+  int differs = 0;  // any bit set: a voxel differs from the first
   for (int z = 0; z < kBrickEdge; ++z) {
     for (int y = 0; y < kBrickEdge; ++y) {
       const Fill* f = &row.fill[row.at(x0, y, z)];
       const Density* d = &row.density[row.at(x0, y, z)];
-      for (int x = 0; x < kBrickEdge; ++x) {
+      for (int x = 0; x < kBrickEdge; ++x) {  // branch-free: a vector a row
         inside += f[x] >= kFillHalf;
-        uniform = uniform && f[x] == f0 && d[x] == d0;
+        differs |= (f[x] ^ f0) | (d[x] ^ d0);
       }
     }
   }
-  if (uniform) {
+  if (differs == 0) {
     grid.setBrickUniform(brick, f0, d0);  // on a new grid: no brick to release
     return inside;
   }

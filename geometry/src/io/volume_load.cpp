@@ -147,10 +147,11 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
   if (labelMap) {
     const std::uint64_t background = load.background;
     const std::optional<std::uint64_t> label = options.label;
-    // By value, branch-free: the rows of the grid test it voxel by voxel.
+    // Compared in the stored type, by value and branch-free (the grid's rows test it voxel by
+    // voxel, a vector at a time): the label or background is a stored value (or 0), so exact.
     const bool byLabel = label.has_value();
-    const std::uint64_t named = label.value_or(background);
-    const auto inside = [byLabel, named](T x) { return (std::uint64_t(x) == named) == byLabel; };
+    const T named = T(label.value_or(background));
+    const auto inside = [byLabel, named](T x) { return (x == named) == byLabel; };
     const std::uint64_t in = buildLabels(g, values, inside, options, load.grid);
     refuseWholeBox(path, in, voxels,
                    "read as a label map (" + raw.type + ", labels " + found + "), bone = " +

@@ -135,11 +135,19 @@ TEST_F(VolumeDensityFiles, ALabelMapsDensityFollowsTheShellRuleWholeAndCropped) 
     std::vector<bool> inside = randomInside(v.sizes, rng, 1 + trial % 5);
     inside[0] = false;  // never bone everywhere (refused)
     v.values.resize(inside.size());
-    for (std::size_t i = 0; i < inside.size(); ++i) v.values[i] = inside[i] ? 255.0 : 0.0;
+    // Odd trials: 16-bit labels, bone the one named (the other non-zero label is not bone).
+    const bool named = trial % 2 == 1;
+    for (std::size_t i = 0; i < inside.size(); ++i)
+      v.values[i] = inside[i] ? (named ? 700.0 : 255.0) : named && i % 7 == 0 ? 3.0 : 0.0;
     const std::string name = "labels" + std::to_string(trial) + ".nrrd";
-    test::writeTestNrrd(file(name), v, "uint8", test::encodeAs<std::uint8_t>(v.values), false);
+    test::writeTestNrrd(
+        file(name), v, named ? "ushort" : "uint8",
+        named ? test::encodeAs<std::uint16_t>(v.values) : test::encodeAs<std::uint8_t>(v.values),
+        false);
     const int shell = int(std::ceil(2.0 / v.spacingMm));
-    const VolumeLoad whole = loadVolume(file(name));
+    VolumeOptions options;
+    if (named) options.label = 700;
+    const VolumeLoad whole = loadVolume(file(name), options);
     ASSERT_EQ(whole.kind, "label map");
     for (std::size_t i = 0; i < inside.size(); ++i) {
       const glm::ivec3 n = v.sizes;
@@ -149,7 +157,7 @@ TEST_F(VolumeDensityFiles, ALabelMapsDensityFollowsTheShellRuleWholeAndCropped) 
     }
     expectDensityByRule(whole, shell, name);
     // Cropped: a grid that is not the stored one row for row (the crop's edge is outside).
-    VolumeOptions cropped;
+    VolumeOptions cropped = options;
     const glm::dvec3 lo = v.firstCentreMm + glm::dvec3(1.0) * v.spacingMm;
     const glm::dvec3 hi = v.firstCentreMm + glm::dvec3(v.sizes - 2) * v.spacingMm;
     if (glm::any(glm::greaterThanEqual(lo, hi))) continue;
