@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -73,14 +74,15 @@ inline void erodeAcross(std::uint8_t* base, std::size_t stride, int length, std:
 // z a slab of kBrickEdge rows at a time, each in parallel. One byte per voxel: a deeper voxel's
 // distance is never needed.
 template <typename FillRow>
-std::vector<std::uint8_t> deepInside(glm::ivec3 n, int shell, const FillRow& fillRow) {
+std::unique_ptr<std::uint8_t[]> deepInside(glm::ivec3 n, int shell, const FillRow& fillRow) {
   const std::size_t nx = std::size_t(n.x), slice = nx * std::size_t(n.y);
-  std::vector<std::uint8_t> deep(slice * std::size_t(n.z));
+  // Not zeroed first: every byte is written by its slice's task (its pages touched there too).
+  std::unique_ptr<std::uint8_t[]> deep(new std::uint8_t[slice * std::size_t(n.z)]);
   tbb::parallel_for(tbb::blocked_range<int>(0, n.z), [&](const tbb::blocked_range<int>& zs) {
     std::vector<std::int32_t> run;
     std::vector<Fill> fills(nx);
     for (int z = zs.begin(); z < zs.end(); ++z) {
-      std::uint8_t* s = deep.data() + std::size_t(z) * slice;
+      std::uint8_t* s = deep.get() + std::size_t(z) * slice;
       for (int y = 0; y < n.y; ++y) {
         std::uint8_t* row = s + std::size_t(y) * nx;
         fillRow(glm::ivec3(0, y, z), std::size_t(z) * slice + std::size_t(y) * nx, n.x,
@@ -96,7 +98,7 @@ std::vector<std::uint8_t> deepInside(glm::ivec3 n, int shell, const FillRow& fil
     std::vector<std::int32_t> run;
     for (int slab = ys.begin(); slab < ys.end(); ++slab) {
       const int y0 = slab * kBrickEdge, rows = std::min(kBrickEdge, n.y - y0);
-      erodeAcross(deep.data() + std::size_t(y0) * nx, slice, n.z, nx * std::size_t(rows), shell,
+      erodeAcross(deep.get() + std::size_t(y0) * nx, slice, n.z, nx * std::size_t(rows), shell,
                   run);
     }
   });

@@ -6,11 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "io/volume_grid_build.h"
 #include "io/volume_sampling.h"
@@ -20,8 +23,7 @@
 
 namespace osteon::geometry {
 
-// The range and, up to kMaxLabels + 1 of them, the distinct values and their counts (runs of
-// equal values counted at once: volumes are mostly runs).
+// The range and, up to kMaxLabels + 1 of them, the distinct values and their counts.
 template <typename T>
 struct ValueSummary {
   T lo{}, hi{};
@@ -29,34 +31,76 @@ struct ValueSummary {
   bool many = false;  // more than kMaxLabels distinct values
 };
 
+// The summary of values [begin, end): a piece of summarise's.
 template <typename T>
-ValueSummary<T> summarise(StoredValues<T> values, std::size_t count) {
+ValueSummary<T> summarisePiece(StoredValues<T> values, std::size_t begin, std::size_t end) {
   ValueSummary<T> s;
   // The range in a pass of its own, which the compiler vectorises.
-  T lo = values[0], hi = lo;
-  for (std::size_t i = 0; i < count; ++i) {
+  T lo = values[begin], hi = lo;
+  for (std::size_t i = begin; i < end; ++i) {
     const T x = values[i];
     lo = x < lo ? x : lo;
     hi = x > hi ? x : hi;
   }
   s.lo = lo;
   s.hi = hi;
-  // The distinct values, until there are too many to be labels (a scan: within a few voxels).
-  T run = values[0];
+  // The distinct values, until there are too many to be labels; a block equal to the current
+  // run throughout is counted at once (one vector compare: volumes are mostly long runs).
+  constexpr std::size_t kBlock = 64;
+  T run = values[begin];
   std::uint64_t runLength = 0;
-  for (std::size_t i = 0; i < count && !s.many; ++i) {
-    const T x = values[i];
-    if (x == run) {
-      ++runLength;
-      continue;
+  for (std::size_t i = begin; i < end && !s.many;) {
+    if (end - i >= kBlock) {
+      T block[kBlock];
+      std::memcpy(block, values.bytes + i * sizeof(T), sizeof(block));
+      int differs = 0;
+      for (std::size_t k = 0; k < kBlock; ++k) differs |= int(block[k] != run);
+      if (differs == 0) {
+        runLength += kBlock;
+        i += kBlock;
+        continue;
+      }
     }
-    s.counts[run] += runLength;
-    s.many = s.counts.size() > std::size_t(kMaxLabels);
-    run = x;
-    runLength = 1;
+    const std::size_t blockEnd = std::min(end, i + kBlock);
+    for (; i < blockEnd && !s.many; ++i) {
+      const T x = values[i];
+      if (x == run) {
+        ++runLength;
+        continue;
+      }
+      s.counts[run] += runLength;
+      s.many = s.counts.size() > std::size_t(kMaxLabels);
+      run = x;
+      runLength = 1;
+    }
   }
   if (!s.many) s.counts[run] += runLength;
   s.many = s.many || s.counts.size() > std::size_t(kMaxLabels);
+  return s;
+}
+
+// The range and, up to kMaxLabels + 1 of them, the distinct values and their counts: pieces in
+// parallel, joined in order (the result does not depend on the threads).
+template <typename T>
+ValueSummary<T> summarise(StoredValues<T> values, std::size_t count) {
+  constexpr std::size_t kPieceValues = std::size_t(1) << 20;
+  const std::size_t pieces = std::max<std::size_t>(1, (count + kPieceValues - 1) / kPieceValues);
+  std::vector<ValueSummary<T>> piece(pieces);
+  tbb::parallel_for(std::size_t(0), pieces, [&](std::size_t k) {
+    piece[k] = summarisePiece(values, k * kPieceValues, std::min(count, (k + 1) * kPieceValues));
+  });
+  ValueSummary<T> s = std::move(piece[0]);
+  for (std::size_t k = 1; k < pieces; ++k) {
+    const ValueSummary<T>& p = piece[k];
+    s.lo = p.lo < s.lo ? p.lo : s.lo;  // as the pass over all values would (NaN kept only first)
+    s.hi = p.hi > s.hi ? p.hi : s.hi;
+    s.many = s.many || p.many;
+    for (const auto& [value, n] : p.counts) {
+      if (s.many) break;
+      s.counts[value] += n;
+      s.many = s.counts.size() > std::size_t(kMaxLabels);
+    }
+  }
   return s;
 }
 
@@ -120,8 +164,9 @@ inline Fill rampFill(double value, double iso, double halfWidth) {
 template <typename FillRow>
 std::uint64_t buildByDistance(const OutputGrid& g, const FillRow& fillRow,
                               const VolumeOptions& options, VoxelGrid& grid) {
-  const std::vector<std::uint8_t> deep = deepInside(g.sizes, shellVoxels(options, g), fillRow);
-  const std::uint8_t* const deepAt = deep.data();
+  const std::unique_ptr<std::uint8_t[]> deep =
+      deepInside(g.sizes, shellVoxels(options, g), fillRow);
+  const std::uint8_t* const deepAt = deep.get();
   return buildGrid(grid,
                    [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
                      fillRow(p, i, length, fill);
