@@ -120,27 +120,39 @@ struct BrickRow {
   }
 };
 
+// Whether the kBrickEdge values at `at` all equal `first`: compared 8 bytes at a time.
+template <typename T>
+inline bool rowEquals(const T* at, T first) {
+  static_assert(kBrickEdge * sizeof(T) % 8 == 0, "whole 64-bit words a brick row");
+  constexpr int kWords = int(kBrickEdge * sizeof(T) / 8);
+  std::array<T, 8 / sizeof(T)> pattern;
+  pattern.fill(first);
+  std::uint64_t word = 0, differs = 0;
+  std::memcpy(&word, pattern.data(), 8);
+  for (int k = 0; k < kWords; ++k) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, reinterpret_cast<const unsigned char*>(at) + 8 * k, 8);
+    differs |= w ^ word;
+  }
+  return differs == 0;
+}
+
 // Stores brick bx of a row: one whose voxels all agree stays unallocated (a volume's air and
-// deep bone cost no voxel arrays). Returns its voxels inside (fill at or above half).
-inline std::uint64_t storeBrick(VoxelGrid& grid, std::size_t brick, const BrickRow& row, int bx) {
+// deep bone cost no voxel arrays).
+inline void storeBrick(VoxelGrid& grid, std::size_t brick, const BrickRow& row, int bx) {
   const int x0 = bx * kBrickEdge;
   const Fill f0 = row.fill[row.at(x0, 0, 0)];
   const Density d0 = row.density[row.at(x0, 0, 0)];
-  std::uint64_t inside = 0;
-  int differs = 0;  // any bit set: a voxel differs from the first
-  for (int z = 0; z < kBrickEdge; ++z) {
-    for (int y = 0; y < kBrickEdge; ++y) {
-      const Fill* f = &row.fill[row.at(x0, y, z)];
-      const Density* d = &row.density[row.at(x0, y, z)];
-      for (int x = 0; x < kBrickEdge; ++x) {  // branch-free: a vector a row
-        inside += f[x] >= kFillHalf;
-        differs |= (f[x] ^ f0) | (d[x] ^ d0);
-      }
+  bool uniform = true;
+  for (int z = 0; z < kBrickEdge && uniform; ++z) {
+    for (int y = 0; y < kBrickEdge && uniform; ++y) {
+      uniform = rowEquals(&row.fill[row.at(x0, y, z)], f0) &&
+                rowEquals(&row.density[row.at(x0, y, z)], d0);
     }
   }
-  if (differs == 0) {
+  if (uniform) {
     grid.setBrickUniform(brick, f0, d0);  // on a new grid: no brick to release
-    return inside;
+    return;
   }
   VoxelGrid::Brick& b = grid.materialiseBrick(brick);
   for (int z = 0; z < kBrickEdge; ++z) {
@@ -151,7 +163,6 @@ inline std::uint64_t storeBrick(VoxelGrid& grid, std::size_t brick, const BrickR
       std::copy_n(row.density.begin() + std::ptrdiff_t(from), kBrickEdge, b.density.begin() + to);
     }
   }
-  return inside;
 }
 
 // Sets every voxel of a new grid from voxelRow(start, index, length, fills, densities), which
@@ -181,10 +192,12 @@ std::uint64_t buildGrid(VoxelGrid& grid, const VoxelRow& voxelRow) {
                   (std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x);
               const std::size_t at = row.at(0, y - y0, z - z0);
               voxelRow(glm::ivec3(0, y, z), i, n.x, &row.fill[at], &row.density[at]);
+              const Fill* f = &row.fill[at];
+              for (int x = 0; x < n.x; ++x) rowsInside += f[x] >= kFillHalf;
             }
           }
           for (int bx = 0; bx < nb.x; ++bx)
-            rowsInside += storeBrick(grid, grid.brickIndex({bx, by, bz}), row, bx);
+            storeBrick(grid, grid.brickIndex({bx, by, bz}), row, bx);
         }
         inside += rowsInside;
       });

@@ -44,35 +44,36 @@ ValueSummary<T> summarisePiece(StoredValues<T> values, std::size_t begin, std::s
   }
   s.lo = lo;
   s.hi = hi;
-  // The distinct values, until there are too many to be labels; a block equal to the current
-  // run throughout is counted at once (one vector compare: volumes are mostly long runs).
-  constexpr std::size_t kBlock = 64;
+  // The distinct values, until there are too many to be labels: blocks equal to the current
+  // run throughout are counted at once (a vector compare: volumes are mostly long runs), then
+  // value by value up to the next change.
+  constexpr std::size_t kBlock = 16;
+  T pattern[kBlock];  // the run's value, a block of it
+  // Bytes equal are values equal (the values are finite: placeVolume refused the rest); values
+  // equal in other bytes (-0 and 0) go value by value.
+  const auto sameBlock = [&values, &pattern](std::size_t i) {
+    return std::memcmp(values.bytes + i * sizeof(T), pattern, sizeof(pattern)) == 0;
+  };
   T run = values[begin];
+  std::fill_n(pattern, kBlock, run);
   std::uint64_t runLength = 0;
   for (std::size_t i = begin; i < end && !s.many;) {
-    if (end - i >= kBlock) {
-      T block[kBlock];
-      std::memcpy(block, values.bytes + i * sizeof(T), sizeof(block));
-      int differs = 0;
-      for (std::size_t k = 0; k < kBlock; ++k) differs |= int(block[k] != run);
-      if (differs == 0) {
-        runLength += kBlock;
-        i += kBlock;
-        continue;
-      }
+    while (end - i >= kBlock && sameBlock(i)) {
+      runLength += kBlock;
+      i += kBlock;
     }
-    const std::size_t blockEnd = std::min(end, i + kBlock);
-    for (; i < blockEnd && !s.many; ++i) {
-      const T x = values[i];
-      if (x == run) {
-        ++runLength;
-        continue;
-      }
-      s.counts[run] += runLength;
-      s.many = s.counts.size() > std::size_t(kMaxLabels);
-      run = x;
-      runLength = 1;
+    const std::size_t stop = std::min(end, i + kBlock);
+    while (i < stop && values[i] == run) {
+      ++runLength;
+      ++i;
     }
+    if (i == stop) continue;
+    s.counts[run] += runLength;
+    s.many = s.counts.size() > std::size_t(kMaxLabels);
+    run = values[i];
+    std::fill_n(pattern, kBlock, run);
+    runLength = 1;
+    ++i;
   }
   if (!s.many) s.counts[run] += runLength;
   s.many = s.many || s.counts.size() > std::size_t(kMaxLabels);
