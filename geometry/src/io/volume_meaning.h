@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -201,19 +202,42 @@ std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Ins
   return buildByDistance(g, heldFills(fills), options, grid);
 }
 
+// A CT voxel of `hu`: its fill ramped around the iso level, its density from HU.
+inline void ctVoxel(double hu, double iso, Fill& fill, Density& density) {
+  fill = rampFill(hu, iso, kCtRampHalfWidthHu);
+  density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
+}
+
 // A CT's grid: fill ramped around the iso level, density from HU. Returns the voxels inside.
 template <typename T, typename Real>
 std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& real, double airHu,
                       double iso, VoxelGrid& grid) {
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, int length, Fill* fill,
-                             Density* density) {
-    for (int x = 0; x < length; ++x) {
-      const double hu =
-          sampleValue(g, values, p + glm::ivec3(x, 0, 0), i + std::size_t(x), real, airHu);
-      fill[x] = rampFill(hu, iso, kCtRampHalfWidthHu);
-      density[x] = fill[x] == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
+  if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+    if (g.exact) {
+      // Every stored value's voxel worked out once (at most 65,536 of them): rows look them up.
+      using Bits = std::make_unsigned_t<T>;
+      std::vector<std::pair<Fill, Density>> table(std::size_t(1) << (8 * sizeof(T)));
+      for (std::size_t k = 0; k < table.size(); ++k)
+        ctVoxel(real(T(Bits(k))), iso, table[k].first, table[k].second);
+      return buildGrid(grid,
+                       [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+                         const std::size_t s = storedRow(g, p, i);
+                         for (int x = 0; x < length; ++x) {
+                           const auto& voxel = table[Bits(values[s + std::size_t(x)])];
+                           fill[x] = voxel.first;
+                           density[x] = voxel.second;
+                         }
+                       });
     }
-  });
+  }
+  return buildGrid(
+      grid, [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+        for (int x = 0; x < length; ++x) {
+          const double hu =
+              sampleValue(g, values, p + glm::ivec3(x, 0, 0), i + std::size_t(x), real, airHu);
+          ctVoxel(hu, iso, fill[x], density[x]);
+        }
+      });
 }
 
 // A scalar volume's grid: fill ramped around the iso value, density by distance. Placed

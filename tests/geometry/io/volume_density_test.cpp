@@ -195,5 +195,56 @@ TEST_F(VolumeDensityFiles, AScalarVolumesDensityFollowsTheShellRuleOnItsRampedFi
   }
 }
 
+// A CT voxel by the rule: fill ramped from iso - 100 HU to iso + 100 HU, cortical from 800 HU.
+void expectCtVoxels(const VolumeLoad& load, const TestVolume& v, glm::ivec3 offset, double iso,
+                    const std::string& what) {
+  const glm::ivec3 n = load.grid.dims();
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        const glm::ivec3 q = glm::ivec3(x, y, z) + offset;
+        const double hu = v.values[indexOf(v.sizes, q)];
+        const double t = (hu - (iso - kCtRampHalfWidthHu)) / (2.0 * kCtRampHalfWidthHu);
+        const auto fill = Fill(std::lround(std::clamp(t, 0.0, 1.0) * kFillFull));
+        const Density density = fill == 0           ? Density(0)
+                                : hu >= kCorticalHu ? kCtCorticalDensity
+                                                    : kCtCancellousDensity;
+        ASSERT_EQ(load.grid.fill({x, y, z}), fill) << what << ", HU " << hu;
+        ASSERT_EQ(load.grid.density({x, y, z}), density) << what << ", HU " << hu;
+      }
+}
+
+TEST_F(VolumeDensityFiles, ACtsFillAndDensityFollowTheHuRuleForEveryStoredType) {
+  std::mt19937 rng(300);
+  std::uniform_int_distribution<int> edge(4, 20);
+  std::uniform_int_distribution<int> hu(-1024, 3000);
+  for (int trial = 0; trial < 6; ++trial) {
+    TestVolume v;
+    v.sizes = {edge(rng), edge(rng), edge(rng)};
+    v.values.resize(std::size_t(v.sizes.x) * std::size_t(v.sizes.y) * std::size_t(v.sizes.z));
+    for (double& value : v.values) value = hu(rng);
+    v.values[0] = -1024.0;
+    v.values[1] = 3000.0;  // a CT's range
+    const std::string name = "ct" + std::to_string(trial);
+    // int16 (every stored value's voxel looked up), float (worked out voxel by voxel).
+    test::writeTestNrrd(file(name + "s.nrrd"), v, "short", test::encodeAs<std::int16_t>(v.values),
+                        false);
+    test::writeTestNrrd(file(name + "f.nrrd"), v, "float", test::encodeAs<float>(v.values), false);
+    VolumeOptions o;
+    o.isoValue = 250.0 + 40.0 * trial;
+    for (const char* type : {"s", "f"}) {
+      const VolumeLoad load = loadVolume(file(name + type + ".nrrd"), o);
+      ASSERT_EQ(load.kind, "ct");
+      expectCtVoxels(load, v, glm::ivec3(0), *o.isoValue, name + type);
+    }
+    // Cropped: rows start inside the stored ones.
+    VolumeOptions cropped = o;
+    cropped.cropMm = BoxMm{glm::dvec3(1.0), glm::dvec3(v.sizes - 2)};
+    const VolumeLoad load = loadVolume(file(name + "s.nrrd"), cropped);
+    ASSERT_EQ(load.grid.dims(), v.sizes - 2);
+    expectCtVoxels(load, v, glm::ivec3(1), *o.isoValue, name + " cropped");
+  }
+}
+
 }  // namespace
 }  // namespace osteon::geometry
