@@ -13,6 +13,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "io/huge_pages.h"
 #include "osteon/geometry/voxels/voxel_grid.h"
 
 namespace osteon::geometry {
@@ -78,6 +79,7 @@ std::unique_ptr<std::uint8_t[]> deepInside(glm::ivec3 n, int shell, const FillRo
   const std::size_t nx = std::size_t(n.x), slice = nx * std::size_t(n.y);
   // Not zeroed first: every byte is written by its slice's task (its pages touched there too).
   std::unique_ptr<std::uint8_t[]> deep(new std::uint8_t[slice * std::size_t(n.z)]);
+  adviseHugePages(deep.get(), slice * std::size_t(n.z));
   tbb::parallel_for(tbb::blocked_range<int>(0, n.z), [&](const tbb::blocked_range<int>& zs) {
     std::vector<std::int32_t> run;
     std::vector<Fill> fills(nx);
