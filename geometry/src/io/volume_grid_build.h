@@ -57,12 +57,13 @@ inline void erodeAcross(std::uint8_t* base, std::size_t stride, int length, std:
                         int r, std::vector<std::int32_t>& run) {
   const std::int32_t window = 2 * r + 1;
   run.assign(width, 0);
+  std::int32_t* const counts = run.data();  // a local: byte stores may alias the vector's
   for (int k = 0; k < length; ++k) {
     const std::uint8_t* row = base + std::size_t(k) * stride;
-    for (std::size_t x = 0; x < width; ++x) run[x] = row[x] != 0 ? run[x] + 1 : 0;
+    for (std::size_t x = 0; x < width; ++x) counts[x] = row[x] != 0 ? counts[x] + 1 : 0;
     if (k < r) continue;
     std::uint8_t* out = base + std::size_t(k - r) * stride;
-    for (std::size_t x = 0; x < width; ++x) out[x] = std::uint8_t(run[x] >= window);
+    for (std::size_t x = 0; x < width; ++x) out[x] = std::uint8_t(counts[x] >= window);
   }
   for (int k = std::max(0, length - r); k < length; ++k)
     std::fill_n(base + std::size_t(k) * stride, width, std::uint8_t(0));
@@ -83,16 +84,18 @@ std::unique_ptr<std::uint8_t[]> deepInside(glm::ivec3 n, int shell, const FillRo
   tbb::parallel_for(tbb::blocked_range<int>(0, n.z), [&](const tbb::blocked_range<int>& zs) {
     std::vector<std::int32_t> run;
     std::vector<Fill> fills(nx);
+    const Fill* const fill = fills.data();
+    const std::size_t width = nx;  // locals: byte stores may alias what a reference reaches
     for (int z = zs.begin(); z < zs.end(); ++z) {
       std::uint8_t* s = deep.get() + std::size_t(z) * slice;
       for (int y = 0; y < n.y; ++y) {
         std::uint8_t* row = s + std::size_t(y) * nx;
-        fillRow(glm::ivec3(0, y, z), std::size_t(z) * slice + std::size_t(y) * nx, n.x,
+        fillRow(glm::ivec3(0, y, z), std::size_t(z) * slice + std::size_t(y) * width, n.x,
                 fills.data());
-        for (std::size_t x = 0; x < nx; ++x) row[x] = std::uint8_t(fills[x] >= kFillHalf);
-        erodeRow(row, nx, shell);
+        for (std::size_t x = 0; x < width; ++x) row[x] = std::uint8_t(fill[x] >= kFillHalf);
+        erodeRow(row, width, shell);
       }
-      erodeAcross(s, nx, n.y, nx, shell, run);
+      erodeAcross(s, width, n.y, width, shell, run);
     }
   });
   const int slabs = (n.y + kBrickEdge - 1) / kBrickEdge;
