@@ -241,12 +241,28 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
 }
 
 // A scalar volume's grid: fill ramped around the iso value, density by distance. Placed
-// exactly, each fill is computed twice rather than held (the load's memory stays that of a label
-// map); resampled, the trilinear fills are held once.
+// exactly, each fill is looked up (8 and 16-bit values) or computed twice rather than held (the
+// load's memory stays that of a label map); resampled, the trilinear fills are held once.
 template <typename T, typename Real>
 std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Real& real,
                           double lowest, double iso, double halfWidth, const VolumeOptions& options,
                           VoxelGrid& grid) {
+  if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+    if (g.exact) {
+      // Every stored value's fill worked out once (at most 65,536): the rows look them up.
+      using Bits = std::make_unsigned_t<T>;
+      std::vector<Fill> table(std::size_t(1) << (8 * sizeof(T)));
+      for (std::size_t k = 0; k < table.size(); ++k)
+        table[k] = rampFill(real(T(Bits(k))), iso, halfWidth);
+      const Fill* const fillOf = table.data();
+      const auto fillRow = [&g, values, fillOf](glm::ivec3 p, std::size_t i, int length,
+                                                Fill* out) {
+        const std::size_t s = storedRow(g, p, i);
+        for (int x = 0; x < length; ++x) out[x] = fillOf[Bits(values[s + std::size_t(x)])];
+      };
+      return buildByDistance(g, fillRow, options, grid);
+    }
+  }
   if (g.exact) {
     const auto fillRow = [&](glm::ivec3 p, std::size_t i, int length, Fill* out) {
       const std::size_t s = storedRow(g, p, i);

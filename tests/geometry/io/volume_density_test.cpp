@@ -185,12 +185,28 @@ TEST_F(VolumeDensityFiles, AScalarVolumesDensityFollowsTheShellRuleOnItsRampedFi
     for (std::size_t i = 0; i < inside.size(); ++i)
       v.values[i] = (inside[i] ? 180.0 : 60.0) + noise(rng);  // ramps give partial fills
     v.values[0] = 0.0;
+    // Odd trials 16-bit (each stored value's fill looked up), even ones float (worked out).
+    const bool uint16 = trial % 2 == 1;
+    if (uint16)
+      for (double& value : v.values) value = double(std::uint16_t(value));
     const std::string name = "scalar" + std::to_string(trial) + ".nrrd";
-    test::writeTestNrrd(file(name), v, "float", test::encodeAs<float>(v.values), false);
+    test::writeTestNrrd(
+        file(name), v, uint16 ? "ushort" : "float",
+        uint16 ? test::encodeAs<std::uint16_t>(v.values) : test::encodeAs<float>(v.values), false);
     VolumeOptions o;
     o.isoValue = 120.0;
     const VolumeLoad load = loadVolume(file(name), o);
     ASSERT_EQ(load.kind, "scalar");
+    const double halfWidth = load.rampHalfWidth;
+    ASSERT_GT(halfWidth, 0.0);
+    for (std::size_t i = 0; i < v.values.size(); ++i) {
+      const double t = (double(float(v.values[i])) - (120.0 - halfWidth)) / (2.0 * halfWidth);
+      const glm::ivec3 n = v.sizes;
+      const glm::ivec3 p(int(i % std::size_t(n.x)), int(i / std::size_t(n.x) % std::size_t(n.y)),
+                         int(i / (std::size_t(n.x) * std::size_t(n.y))));
+      ASSERT_EQ(load.grid.fill(p), Fill(std::lround(std::clamp(t, 0.0, 1.0) * kFillFull)))
+          << name << ", value " << v.values[i];
+    }
     expectDensityByRule(load, int(std::ceil(2.0 / v.spacingMm)), name);
   }
 }
