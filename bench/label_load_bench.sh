@@ -4,7 +4,9 @@
 # and the extraction alone (`time_ms.extract`). Three uint8 0/255 label maps at 0.3 mm (a shell
 # of 7 voxels): a sphere filling the box, the same sphere with three drilled tunnels, and the
 # shared humerus voxelized (its longest side 254 voxels) in the middle of the box; and beside
-# them a 256^3 int16 CT (air, a body, two long bones: cortical by HU, not by distance). Each build
+# them a uint8 scalar volume (the sphere, more than 64 values: read with --iso 120, its density
+# by distance as a label map's) and a 256^3 int16 CT (air, a body, two long bones: cortical by
+# HU, not by distance). Each build
 # given runs each volume RUNS times (default 5), the builds interleaved run by run; the table
 # shows each build's median load, median extraction and their ratio (load / extract).
 #   bench/label_load_bench.sh [RUNS] BUILD_DIR [BUILD_DIR...]   e.g. bench/label_load_bench.sh 5 before build
@@ -55,6 +57,13 @@ if kind == "humerus":  # an osteon grid (fill 0..255) into the middle of the box
                 o = (zz * sizes[1] + yy) * sizes[0]
                 row = bytes(shift[0]) + voxels[o:o + sizes[0]] + bytes(n - shift[0] - sizes[0])
             rows.append(row)
+elif kind == "scalar":  # uint8, more values than labels: the sphere 150-249, outside 0-49
+    c, r = n / 2 - 0.5, 0.5 * (n - 3)
+    for z in range(n):
+        for y in range(n):
+            row = bytearray([z % 50]) * n
+            span(row, c, r * r - (y - c) ** 2 - (z - c) ** 2, bytes([150 + y % 100]))
+            rows.append(bytes(row))
 elif kind == "ct":  # int16 HU: air, a body of soft tissue, two long bones (shell, marrow)
     from array import array
     c = n / 2 - 0.5
@@ -99,14 +108,18 @@ if [[ -f "$data/humerus_R_opensim_myosuite.stl" ]]; then
   write_labels humerus "$scratch/humerus.nrrd" "$scratch/humerus_grid.nrrd"
   volumes+=(humerus)
 fi
+write_labels scalar "$scratch/scalar.nrrd"
 write_labels ct "$scratch/ct.nrrd"
-volumes+=(ct)
+volumes+=(scalar ct)
 
 echo "volume load bench, $(date -u '+%Y-%m-%d %H:%M UTC'), $(lscpu | sed -n 's/^Model name: *//p' | head -1), nproc $(nproc), median of $runs runs, builds interleaved"
 for v in "${volumes[@]}"; do
   for ((k = 1; k <= runs; ++k)); do
     for ((b = 0; b < ${#builds[@]}; ++b)); do
-      "${builds[b]}/cli/osteon" mesh "$scratch/$v.nrrd" --smooth 0 --json >"$scratch/$v.$b.$k.json"
+      iso=()
+      [[ $v == scalar ]] && iso=(--iso 120)  # a scalar volume is read only with an iso value
+      "${builds[b]}/cli/osteon" mesh "$scratch/$v.nrrd" "${iso[@]}" --smooth 0 --json \
+        >"$scratch/$v.$b.$k.json"
     done
   done
 done
