@@ -8,7 +8,8 @@
 # by distance as a label map's) and a 256^3 int16 CT (air, a body, two long bones: cortical by
 # HU, not by distance). Each build
 # given runs each volume RUNS times (default 5), the builds interleaved run by run; the table
-# shows each build's median load, median extraction and their ratio (load / extract).
+# shows each build's median load and extraction, and the median of the ratio (load / extract)
+# taken run by run, each from one process.
 #   bench/label_load_bench.sh [RUNS] BUILD_DIR [BUILD_DIR...]   e.g. bench/label_load_bench.sh 5 before build
 # The humerus comes from OSTEON_SHARED_DATA_DIR (default ../shared/data beside the repository);
 # without it that row is skipped. Run it with `nice` on a shared machine.
@@ -129,7 +130,7 @@ import json, statistics, sys
 args = sys.argv[3:]
 builds, volumes = args[:args.index("--")], args[args.index("--") + 1:]
 scratch, runs = sys.argv[1], int(sys.argv[2])
-print("| volume | triangles | build | load ms | extract ms | load / extract |")
+print("| volume | triangles | build | load ms | extract ms | load / extract, run by run |")
 print("|---|---:|---|---:|---:|---:|")
 for v in volumes:
     for b, name in enumerate(builds):
@@ -138,6 +139,9 @@ for v in volumes:
         extract = statistics.median(j["time_ms"]["extract"] for j in js)
         lo = min(j["setup_ms"]["load"] for j in js)
         hi = max(j["setup_ms"]["load"] for j in js)
+        # The ratio run by run (load and extraction of one process, one moment), its median.
+        ratios = sorted(j["setup_ms"]["load"] / j["time_ms"]["extract"] for j in js)
+        ratio = statistics.median(ratios)
         print(f"| {v} | {js[0]['triangles']:,} | {name} | {load:.0f} ({lo:.0f}-{hi:.0f}) | "
-              f"{extract:.1f} | {load / extract:.1f} |")
+              f"{extract:.1f} | {ratio:.1f} ({ratios[0]:.1f}-{ratios[-1]:.1f}) |")
 PY
