@@ -143,8 +143,10 @@ inline bool rowEquals(const T* at, T first) {
 }
 
 // Stores brick bx of a row: one whose voxels all agree stays unallocated (a volume's air and
-// deep bone cost no voxel arrays).
-inline void storeBrick(VoxelGrid& grid, std::size_t brick, const BrickRow& row, int bx) {
+// deep bone cost no voxel arrays). Returns its voxels inside (fill at or above half), counted
+// only where they differ: padding past the volume's edge is empty, so a uniform brick that is
+// inside lies wholly within the volume.
+inline std::uint64_t storeBrick(VoxelGrid& grid, std::size_t brick, const BrickRow& row, int bx) {
   const int x0 = bx * kBrickEdge;
   const Fill f0 = row.fill[row.at(x0, 0, 0)];
   const Density d0 = row.density[row.at(x0, 0, 0)];
@@ -157,9 +159,10 @@ inline void storeBrick(VoxelGrid& grid, std::size_t brick, const BrickRow& row, 
   }
   if (uniform) {
     grid.setBrickUniform(brick, f0, d0);  // on a new grid: no brick to release
-    return;
+    return f0 >= kFillHalf ? kBrickVoxels : 0;
   }
   VoxelGrid::Brick& b = grid.materialiseBrick(brick);
+  std::uint32_t inside = 0;
   for (int z = 0; z < kBrickEdge; ++z) {
     for (int y = 0; y < kBrickEdge; ++y) {
       const std::size_t from = row.at(x0, y, z);
@@ -168,6 +171,8 @@ inline void storeBrick(VoxelGrid& grid, std::size_t brick, const BrickRow& row, 
       std::copy_n(row.density.begin() + std::ptrdiff_t(from), kBrickEdge, b.density.begin() + to);
     }
   }
+  for (const Fill f : b.fill) inside += f >= kFillHalf;
+  return inside;
 }
 
 // Sets every voxel of a new grid from voxelRow(start, index, length, fills, densities), which
@@ -197,12 +202,10 @@ std::uint64_t buildGrid(VoxelGrid& grid, const VoxelRow& voxelRow) {
                   (std::size_t(z) * std::size_t(n.y) + std::size_t(y)) * std::size_t(n.x);
               const std::size_t at = row.at(0, y - y0, z - z0);
               voxelRow(glm::ivec3(0, y, z), i, n.x, &row.fill[at], &row.density[at]);
-              const Fill* f = &row.fill[at];
-              for (int x = 0; x < n.x; ++x) rowsInside += f[x] >= kFillHalf;
             }
           }
           for (int bx = 0; bx < nb.x; ++bx)
-            storeBrick(grid, grid.brickIndex({bx, by, bz}), row, bx);
+            rowsInside += storeBrick(grid, grid.brickIndex({bx, by, bz}), row, bx);
         }
         inside += rowsInside;
       });
