@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -52,21 +53,42 @@ inline void erodeRow(std::uint8_t* line, std::size_t length, int r) {
 }
 
 // The same across `length` rows of `width` bytes `stride` apart, all columns at once (the inner
-// loops run along memory and vectorise); `run` is the caller's scratch.
-inline void erodeAcross(std::uint8_t* base, std::size_t stride, int length, std::size_t width,
-                        int r, std::vector<std::int32_t>& run) {
-  const std::int32_t window = 2 * r + 1;
+// loops run along memory and vectorise); `run` is the caller's scratch. Runs count in bytes,
+// saturating, while the window fits one (a run at 255 is still at least the window): 16 columns
+// a vector instead of 4.
+template <typename Count>
+void erodeAcrossCounting(std::uint8_t* base, std::size_t stride, int length, std::size_t width,
+                         int r, std::vector<Count>& run) {
+  const auto window = Count(2 * r + 1);
+  constexpr Count kMost = std::numeric_limits<Count>::max();
   run.assign(width, 0);
-  std::int32_t* const counts = run.data();  // a local: byte stores may alias the vector's
+  Count* const counts = run.data();  // a local: byte stores may alias the vector's
   for (int k = 0; k < length; ++k) {
     const std::uint8_t* row = base + std::size_t(k) * stride;
-    for (std::size_t x = 0; x < width; ++x) counts[x] = row[x] != 0 ? counts[x] + 1 : 0;
+    for (std::size_t x = 0; x < width; ++x) {
+      const Count next = counts[x] == kMost ? kMost : Count(counts[x] + 1);
+      counts[x] = row[x] != 0 ? next : Count(0);
+    }
     if (k < r) continue;
     std::uint8_t* out = base + std::size_t(k - r) * stride;
     for (std::size_t x = 0; x < width; ++x) out[x] = std::uint8_t(counts[x] >= window);
   }
   for (int k = std::max(0, length - r); k < length; ++k)
     std::fill_n(base + std::size_t(k) * stride, width, std::uint8_t(0));
+}
+
+struct RunScratch {
+  std::vector<std::uint8_t> bytes;
+  std::vector<std::int32_t> wide;
+};
+
+inline void erodeAcross(std::uint8_t* base, std::size_t stride, int length, std::size_t width,
+                        int r, RunScratch& run) {
+  if (2 * r + 1 <= 255) {
+    erodeAcrossCounting(base, stride, length, width, r, run.bytes);
+  } else {
+    erodeAcrossCounting(base, stride, length, width, r, run.wide);
+  }
 }
 
 // 1 where a voxel lies deeper than `shell` voxels inside: every voxel within chessboard distance
@@ -82,7 +104,7 @@ std::unique_ptr<std::uint8_t[]> deepInside(glm::ivec3 n, int shell, const FillRo
   std::unique_ptr<std::uint8_t[]> deep(new std::uint8_t[slice * std::size_t(n.z)]);
   adviseHugePages(deep.get(), slice * std::size_t(n.z));
   tbb::parallel_for(tbb::blocked_range<int>(0, n.z), [&](const tbb::blocked_range<int>& zs) {
-    std::vector<std::int32_t> run;
+    RunScratch run;
     std::vector<Fill> fills(nx);
     const Fill* const fill = fills.data();
     const std::size_t width = nx;  // locals: byte stores may alias what a reference reaches
@@ -100,7 +122,7 @@ std::unique_ptr<std::uint8_t[]> deepInside(glm::ivec3 n, int shell, const FillRo
   });
   const int slabs = (n.y + kBrickEdge - 1) / kBrickEdge;
   tbb::parallel_for(tbb::blocked_range<int>(0, slabs), [&](const tbb::blocked_range<int>& ys) {
-    std::vector<std::int32_t> run;
+    RunScratch run;
     for (int slab = ys.begin(); slab < ys.end(); ++slab) {
       const int y0 = slab * kBrickEdge, rows = std::min(kBrickEdge, n.y - y0);
       erodeAcross(deep.get() + std::size_t(y0) * nx, slice, n.z, nx * std::size_t(rows), shell,

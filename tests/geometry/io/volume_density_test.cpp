@@ -84,7 +84,7 @@ TEST(VolumeDensity, DeepInsideMatchesTheCubeOfEveryVoxelOnRandomVolumes) {
     const auto fillRow = [&](glm::ivec3, std::size_t i, int length, Fill* out) {
       std::copy_n(fills.begin() + std::ptrdiff_t(i), length, out);
     };
-    for (const int shell : {1, 2, 3, 5, 12}) {
+    for (const int shell : {1, 2, 3, 5, 12, 128}) {
       const std::unique_ptr<std::uint8_t[]> deep = deepInside(n, shell, fillRow);
       for (int z = 0; z < n.z; ++z)
         for (int y = 0; y < n.y; ++y)
@@ -95,6 +95,36 @@ TEST(VolumeDensity, DeepInsideMatchesTheCubeOfEveryVoxelOnRandomVolumes) {
                 << shell << ", voxel " << x << "," << y << "," << z;
           }
     }
+  }
+}
+
+// Runs along a column counted in bytes (saturating) or in 32 bits (windows past 255 voxels)
+// erode alike, as the definition does: every voxel of the window within the column and set.
+TEST(VolumeDensity, ColumnErosionsCountInBytesOrWordsAlike) {
+  std::mt19937 rng(128);
+  std::uniform_int_distribution<int> length(1, 300), width(1, 9), radius(1, 140);
+  std::bernoulli_distribution set(0.995);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = length(rng), r = trial < 30 ? radius(rng) % 7 + 1 : radius(rng);
+    const auto w = std::size_t(width(rng));
+    std::vector<std::uint8_t> in(std::size_t(n) * w);
+    for (auto& b : in) b = set(rng) ? 1 : 0;
+    std::vector<std::uint8_t> expected(in.size());
+    for (int k = 0; k < n; ++k)
+      for (std::size_t x = 0; x < w; ++x) {
+        bool all = k - r >= 0 && k + r < n;
+        for (int j = std::max(0, k - r); all && j <= k + r; ++j) all = in[std::size_t(j) * w + x];
+        expected[std::size_t(k) * w + x] = all ? 1 : 0;
+      }
+    std::vector<std::uint8_t> bytes = in, words = in;
+    std::vector<std::uint8_t> byteRuns;
+    std::vector<std::int32_t> wordRuns;
+    if (2 * r + 1 <= 255) {
+      erodeAcrossCounting(bytes.data(), w, n, w, r, byteRuns);
+      ASSERT_EQ(bytes, expected) << "trial " << trial << ", r " << r;
+    }
+    erodeAcrossCounting(words.data(), w, n, w, r, wordRuns);
+    ASSERT_EQ(words, expected) << "trial " << trial << ", r " << r;
   }
 }
 
