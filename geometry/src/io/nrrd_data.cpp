@@ -9,6 +9,7 @@
 #include <system_error>
 #include <zlib.h>
 
+#include "io/huge_pages.h"
 #include "io/nrrd_header.h"
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
@@ -208,7 +209,10 @@ std::vector<unsigned char> inflateData(const DataLocation& at, std::uint64_t exp
   } s;
   z_stream& z = s.z;
   if (inflateInit2(&z, 15 + 32) != Z_OK) failAt(at.shown, "zlib failed to start");
-  std::vector<unsigned char> out(expected);
+  std::vector<unsigned char> out;
+  out.reserve(expected);
+  adviseHugePages(out.data(), expected);
+  out.resize(expected);
   std::vector<unsigned char> chunk(1 << 16);
   std::vector<unsigned char> skipped(
       std::size_t(std::min<std::uint64_t>(at.inflatedSkip, 1 << 16)));

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <fstream>
 
+#include "io/huge_pages.h"
 #include "io/nrrd_header.h"
 #include "io/volume_place.h"
 #include "io/volume_readers.h"
@@ -114,6 +115,8 @@ RawVolume readNrrdVolume(const std::string& path, bool allowOutsideData) {
   if (layout.gzip) {
     raw = nrrd::inflateData(at, expected);
   } else {
+    raw.reserve(expected);
+    adviseHugePages(raw.data(), expected);
     raw.resize(expected);
     std::ifstream data = nrrd::openData(at);
     if (!data.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size()))) {

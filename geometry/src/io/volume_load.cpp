@@ -147,9 +147,11 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
   if (labelMap) {
     const std::uint64_t background = load.background;
     const std::optional<std::uint64_t> label = options.label;
-    const auto inside = [&](T x) {
-      return label ? std::uint64_t(x) == *label : std::uint64_t(x) != background;
-    };
+    // Compared in the stored type, by value and branch-free (the grid's rows test it voxel by
+    // voxel, a vector at a time): the label or background is a stored value (or 0), so exact.
+    const bool byLabel = label.has_value();
+    const T named = T(label.value_or(background));
+    const auto inside = [byLabel, named](T x) { return (x == named) == byLabel; };
     const std::uint64_t in = buildLabels(g, values, inside, options, load.grid);
     refuseWholeBox(path, in, voxels,
                    "read as a label map (" + raw.type + ", labels " + found + "), bone = " +
@@ -191,9 +193,9 @@ double volumeLoadMemoryBytes(glm::ivec3 sizes, std::size_t scalarBytes) {
   // data is inflated from 64 KiB pieces straight into the values; the 0.001 would still cover
   // the compressed data held whole (deflate grows data by at most 5 bytes in 16 KiB).
   const double reading = 2.001 * stored;
-  // Meaning: the values, a label map's 16-bit distance per voxel, and the grid (every brick
+  // Meaning: the values, a label map's deep-inside byte per voxel, and the grid (every brick
   // allocated at worst).
-  const double building = stored + 2.0 * voxels + bricks * kBrickBytes;
+  const double building = stored + 1.0 * voxels + bricks * kBrickBytes;
   // 4 MB beside: zlib's state, file buffers, the code the load runs first.
   return std::max(reading, building) + 4e6 + kVolumeLoadHeapSlackBytes + kVolumeLoadProcessBytes;
 }

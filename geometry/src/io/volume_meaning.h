@@ -6,11 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "io/volume_grid_build.h"
 #include "io/volume_sampling.h"
@@ -20,8 +24,7 @@
 
 namespace osteon::geometry {
 
-// The range and, up to kMaxLabels + 1 of them, the distinct values and their counts (runs of
-// equal values counted at once: volumes are mostly runs).
+// The range and, up to kMaxLabels + 1 of them, the distinct values and their counts.
 template <typename T>
 struct ValueSummary {
   T lo{}, hi{};
@@ -29,34 +32,77 @@ struct ValueSummary {
   bool many = false;  // more than kMaxLabels distinct values
 };
 
+// The summary of values [begin, end): a piece of summarise's.
 template <typename T>
-ValueSummary<T> summarise(StoredValues<T> values, std::size_t count) {
+ValueSummary<T> summarisePiece(StoredValues<T> values, std::size_t begin, std::size_t end) {
   ValueSummary<T> s;
   // The range in a pass of its own, which the compiler vectorises.
-  T lo = values[0], hi = lo;
-  for (std::size_t i = 0; i < count; ++i) {
+  T lo = values[begin], hi = lo;
+  for (std::size_t i = begin; i < end; ++i) {
     const T x = values[i];
     lo = x < lo ? x : lo;
     hi = x > hi ? x : hi;
   }
   s.lo = lo;
   s.hi = hi;
-  // The distinct values, until there are too many to be labels (a scan: within a few voxels).
-  T run = values[0];
+  // The distinct values, until there are too many to be labels: blocks equal to the current
+  // run throughout are counted at once (a vector compare: volumes are mostly long runs), then
+  // value by value up to the next change.
+  constexpr std::size_t kBlock = 16;
+  T pattern[kBlock];  // the run's value, a block of it
+  // Bytes equal are values equal (the values are finite: placeVolume refused the rest); values
+  // equal in other bytes (-0 and 0) go value by value.
+  const auto sameBlock = [&values, &pattern](std::size_t i) {
+    return std::memcmp(values.bytes + i * sizeof(T), pattern, sizeof(pattern)) == 0;
+  };
+  T run = values[begin];
+  std::fill_n(pattern, kBlock, run);
   std::uint64_t runLength = 0;
-  for (std::size_t i = 0; i < count && !s.many; ++i) {
-    const T x = values[i];
-    if (x == run) {
-      ++runLength;
-      continue;
+  for (std::size_t i = begin; i < end && !s.many;) {
+    while (end - i >= kBlock && sameBlock(i)) {
+      runLength += kBlock;
+      i += kBlock;
     }
+    const std::size_t stop = std::min(end, i + kBlock);
+    while (i < stop && values[i] == run) {
+      ++runLength;
+      ++i;
+    }
+    if (i == stop) continue;
     s.counts[run] += runLength;
     s.many = s.counts.size() > std::size_t(kMaxLabels);
-    run = x;
+    run = values[i];
+    std::fill_n(pattern, kBlock, run);
     runLength = 1;
+    ++i;
   }
   if (!s.many) s.counts[run] += runLength;
   s.many = s.many || s.counts.size() > std::size_t(kMaxLabels);
+  return s;
+}
+
+// The range and, up to kMaxLabels + 1 of them, the distinct values and their counts: pieces in
+// parallel, joined in order (the result does not depend on the threads).
+template <typename T>
+ValueSummary<T> summarise(StoredValues<T> values, std::size_t count) {
+  constexpr std::size_t kPieceValues = std::size_t(1) << 20;
+  const std::size_t pieces = std::max<std::size_t>(1, (count + kPieceValues - 1) / kPieceValues);
+  std::vector<ValueSummary<T>> piece(pieces);
+  tbb::parallel_for(std::size_t(0), pieces, [&](std::size_t k) {
+    piece[k] = summarisePiece(values, k * kPieceValues, std::min(count, (k + 1) * kPieceValues));
+  });
+  ValueSummary<T> s = std::move(piece[0]);
+  for (std::size_t k = 1; k < pieces; ++k) {
+    const ValueSummary<T>& p = piece[k];
+    s.lo = p.lo < s.lo ? p.lo : s.lo;  // as the pass over all values would (NaN kept only first)
+    s.hi = p.hi > s.hi ? p.hi : s.hi;
+    s.many = s.many || p.many;
+    for (const auto& [value, n] : p.counts) {
+      if (s.many) break;
+      s.counts[value] += n;
+      s.many = s.counts.size() > std::size_t(kMaxLabels);
+    }
+  }
   return s;
 }
 
@@ -88,54 +134,23 @@ inline void refuseWholeBox(const std::string& path, std::uint64_t inside, std::u
                    "; not a plausible bone, which needs voxels outside it");
 }
 
-inline glm::ivec3 positionOf(glm::ivec3 n, std::size_t i) {
-  const std::size_t nx = std::size_t(n.x), ny = std::size_t(n.y);
-  return {int(i % nx), int(i / nx % ny), int(i / (nx * ny))};
-}
-
 // Density by distance (label maps, scalar volumes): cortical within `shell` voxels of the
-// outside or at the surface (fill below half), cancellous deeper.
-inline Density distanceDensity(Fill fill, std::uint16_t distance, int shell) {
+// outside (the volume's edge counts as outside) or at the surface (fill below half), cancellous
+// deeper (deepInside).
+inline Density distanceDensity(Fill fill, bool deep) {
   if (fill == 0) return 0;
-  return distance == 0 || distance <= shell ? kCtCorticalDensity : kCtCancellousDensity;
+  return deep ? kCtCancellousDensity : kCtCorticalDensity;
 }
 
 inline int shellVoxels(const VolumeOptions& options, const OutputGrid& g) {
   return int(std::clamp(std::ceil(options.corticalThicknessMm / g.voxelSizeMm), 1.0, 1e6));
 }
 
-// The grid of a fill per voxel (fillAt(position, index)), its density by the distance rule:
-// cortical within the shell of voxels nearest the outside, cancellous deeper. Returns the voxels
-// inside.
-template <typename FillAt>
-std::uint64_t buildByDistance(const OutputGrid& g, const FillAt& fillAt,
-                              const VolumeOptions& options, VoxelGrid& grid) {
-  // Whole (uncropped, exact) grids index the values by i alone: no position to work out.
-  const std::vector<std::uint16_t> dist = insideDistance(g.sizes, [&](std::size_t i) {
-    return fillAt(g.whole ? glm::ivec3(0) : positionOf(g.sizes, i), i) >= kFillHalf;
-  });
-  const int shell = shellVoxels(options, g);
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
-    fill = fillAt(p, i);
-    density = distanceDensity(fill, dist[i], shell);
-  });
-}
-
-// A label map's grid: each voxel 0 or full where placed exactly, its share inside where
-// resampled; `inside` says which stored values are bone. Returns the voxels inside.
-template <typename T, typename Inside>
-std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Inside& inside,
-                          const VolumeOptions& options, VoxelGrid& grid) {
-  std::vector<Fill> fills;
-  if (!g.exact) {
-    fills.resize(g.count());
-    for (std::size_t i = 0; i < fills.size(); ++i)
-      fills[i] = labelFill(g, values, positionOf(g.sizes, i), i, inside);
-  }
-  const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
-    return g.exact ? labelFill(g, values, p, i, inside) : fills[i];
+// The fill rows of fills held whole (a resampled grid's).
+inline auto heldFills(const std::vector<Fill>& fills) {
+  return [&fills](glm::ivec3, std::size_t i, int length, Fill* out) {
+    std::copy_n(fills.begin() + std::ptrdiff_t(i), length, out);
   };
-  return buildByDistance(g, fillAt, options, grid);
 }
 
 // The fill of a value: 0 at iso - halfWidth, full at iso + halfWidth (a step when 0).
@@ -145,37 +160,122 @@ inline Fill rampFill(double value, double iso, double halfWidth) {
   return Fill(std::lround(std::clamp(t, 0.0, 1.0) * kFillFull));
 }
 
+// The grid of a fill per voxel (fillRow(start, index, length, fills): a row at once), its
+// density by the distance rule: cortical within the shell of voxels nearest the outside,
+// cancellous deeper. Returns the voxels inside.
+template <typename FillRow>
+std::uint64_t buildByDistance(const OutputGrid& g, const FillRow& fillRow,
+                              const VolumeOptions& options, VoxelGrid& grid) {
+  const std::unique_ptr<std::uint8_t[]> deep =
+      deepInside(g.sizes, shellVoxels(options, g), fillRow);
+  const std::uint8_t* const deepAt = deep.get();
+  return buildGrid(grid,
+                   [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+                     fillRow(p, i, length, fill);
+                     const std::uint8_t* d = deepAt + i;
+                     for (int x = 0; x < length; ++x)
+                       density[x] = distanceDensity(fill[x], d[x] != 0);
+                   });
+}
+
+// Where a row of an exactly placed grid starts in the stored values (a row of them).
+inline std::size_t storedRow(const OutputGrid& g, glm::ivec3 p, std::size_t i) {
+  return g.whole ? i : g.storedOffset(p + g.offset);
+}
+
+// A label map's grid: each voxel 0 or full where placed exactly, its share inside where
+// resampled; `inside` says which stored values are bone. Returns the voxels inside.
+template <typename T, typename Inside>
+std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Inside& inside,
+                          const VolumeOptions& options, VoxelGrid& grid) {
+  if (g.exact) {
+    const auto fillRow = [&g, values, inside](glm::ivec3 p, std::size_t i, int length, Fill* out) {
+      const std::size_t s = storedRow(g, p, i);
+      for (int x = 0; x < length; ++x)
+        out[x] = inside(values[s + std::size_t(x)]) ? kFillFull : Fill(0);
+    };
+    return buildByDistance(g, fillRow, options, grid);
+  }
+  std::vector<Fill> fills(g.count());
+  forEachVoxel(g.sizes,
+               [&](glm::ivec3 p, std::size_t i) { fills[i] = labelFill(g, values, p, i, inside); });
+  return buildByDistance(g, heldFills(fills), options, grid);
+}
+
+// A CT voxel of `hu`: its fill ramped around the iso level, its density from HU.
+inline void ctVoxel(double hu, double iso, Fill& fill, Density& density) {
+  fill = rampFill(hu, iso, kCtRampHalfWidthHu);
+  density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
+}
+
 // A CT's grid: fill ramped around the iso level, density from HU. Returns the voxels inside.
 template <typename T, typename Real>
 std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& real, double airHu,
                       double iso, VoxelGrid& grid) {
-  return buildGrid(grid, [&](glm::ivec3 p, std::size_t i, Fill& fill, Density& density) {
-    const double hu = sampleValue(g, values, p, i, real, airHu);
-    fill = rampFill(hu, iso, kCtRampHalfWidthHu);
-    density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
-  });
+  if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+    if (g.exact) {
+      // Every stored value's voxel worked out once (at most 65,536 of them): rows look them up.
+      using Bits = std::make_unsigned_t<T>;
+      std::vector<std::pair<Fill, Density>> table(std::size_t(1) << (8 * sizeof(T)));
+      for (std::size_t k = 0; k < table.size(); ++k)
+        ctVoxel(real(T(Bits(k))), iso, table[k].first, table[k].second);
+      return buildGrid(grid,
+                       [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+                         const std::size_t s = storedRow(g, p, i);
+                         for (int x = 0; x < length; ++x) {
+                           const auto& voxel = table[Bits(values[s + std::size_t(x)])];
+                           fill[x] = voxel.first;
+                           density[x] = voxel.second;
+                         }
+                       });
+    }
+  }
+  return buildGrid(
+      grid, [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+        for (int x = 0; x < length; ++x) {
+          const double hu =
+              sampleValue(g, values, p + glm::ivec3(x, 0, 0), i + std::size_t(x), real, airHu);
+          ctVoxel(hu, iso, fill[x], density[x]);
+        }
+      });
 }
 
 // A scalar volume's grid: fill ramped around the iso value, density by distance. Placed
-// exactly, each fill is computed twice rather than held (the load's memory stays that of a label
-// map); resampled, the trilinear fills are held once.
+// exactly, each fill is looked up (8 and 16-bit values) or computed twice rather than held (the
+// load's memory stays that of a label map); resampled, the trilinear fills are held once.
 template <typename T, typename Real>
 std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Real& real,
                           double lowest, double iso, double halfWidth, const VolumeOptions& options,
                           VoxelGrid& grid) {
-  std::vector<Fill> fills;
-  if (!g.exact) {
-    fills.resize(g.count());
-    for (std::size_t i = 0; i < fills.size(); ++i) {
-      fills[i] =
-          rampFill(trilinearValue(g, values, positionOf(g.sizes, i), real, lowest), iso, halfWidth);
+  if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+    if (g.exact) {
+      // Every stored value's fill worked out once (at most 65,536): the rows look them up.
+      using Bits = std::make_unsigned_t<T>;
+      std::vector<Fill> table(std::size_t(1) << (8 * sizeof(T)));
+      for (std::size_t k = 0; k < table.size(); ++k)
+        table[k] = rampFill(real(T(Bits(k))), iso, halfWidth);
+      const Fill* const fillOf = table.data();
+      const auto fillRow = [&g, values, fillOf](glm::ivec3 p, std::size_t i, int length,
+                                                Fill* out) {
+        const std::size_t s = storedRow(g, p, i);
+        for (int x = 0; x < length; ++x) out[x] = fillOf[Bits(values[s + std::size_t(x)])];
+      };
+      return buildByDistance(g, fillRow, options, grid);
     }
   }
-  const auto fillAt = [&](glm::ivec3 p, std::size_t i) {
-    return g.exact ? rampFill(sampleValue(g, values, p, i, real, lowest), iso, halfWidth)
-                   : fills[i];
-  };
-  return buildByDistance(g, fillAt, options, grid);
+  if (g.exact) {
+    const auto fillRow = [&](glm::ivec3 p, std::size_t i, int length, Fill* out) {
+      const std::size_t s = storedRow(g, p, i);
+      for (int x = 0; x < length; ++x)
+        out[x] = rampFill(real(values[s + std::size_t(x)]), iso, halfWidth);
+    };
+    return buildByDistance(g, fillRow, options, grid);
+  }
+  std::vector<Fill> fills(g.count());
+  forEachVoxel(g.sizes, [&](glm::ivec3 p, std::size_t i) {
+    fills[i] = rampFill(trilinearValue(g, values, p, real, lowest), iso, halfWidth);
+  });
+  return buildByDistance(g, heldFills(fills), options, grid);
 }
 
 }  // namespace osteon::geometry

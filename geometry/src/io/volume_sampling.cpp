@@ -104,7 +104,8 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
                      numberText(voxels) + " voxels from " + numberText(stored) +
                          " stored (its spacings differ more than a thousandfold)");
   }
-  // The stored values, a fill and a distance per voxel, the grid's bricks at worst.
+  // The stored values, a held fill and a deep-inside byte per voxel, the grid's bricks at worst
+  // (about 4 bytes a voxel): 8 bytes a voxel covers them.
   refuseOverMemory(path + ": resampled at " + numberText(g.voxelSizeMm) + " mm",
                    double(raw.data.size()) + voxels * 8.0 + kVolumeLoadProcessBytes,
                    "give a larger voxel size or a crop");
