@@ -43,15 +43,17 @@ TEST_F(ViewerTest, TheFrontViewShowsTheBoneInTheMiddle) {
   EXPECT_EQ(png.substr(1, 3), "PNG");
   EXPECT_GT(shaded["triangles"].get<std::size_t>(), 10000u);
   // The session's set-up, stage by stage (no timed assertions): none negative, the total (the
-  // scene's whole load) at least each stage, no surface of the session's own (the live runtime's).
+  // scene's whole load) at least each stage but the surface: the live runtime's visual side
+  // extracts it beside the first steps, and it is there (the frames show its triangles).
   for (const char* key :
        {"load", "voxelize", "density", "fine_fills", "hierarchy", "surface", "total"}) {
     ASSERT_TRUE(shaded["setup_ms"].contains(key)) << key;
     EXPECT_GE(shaded["setup_ms"][key].get<double>(), 0.0) << key;
+    if (std::string(key) == "surface") continue;
     EXPECT_GE(shaded["setup_ms"]["total"].get<double>(), shaded["setup_ms"][key].get<double>())
         << key;
   }
-  EXPECT_EQ(shaded["setup_ms"]["surface"].get<double>(), 0.0);
+  EXPECT_GT(shaded["setup_ms"]["surface"].get<double>(), 0.0);
   EXPECT_EQ(shaded["setup_ms"]["total"].get<double>(), shaded["load_ms"].get<double>());
   EXPECT_GT(shaded["peak_rss_mb"].get<double>(), 0.0);
   // On black, unlit: every bone pixel counts.

@@ -168,13 +168,8 @@ void SurfaceUpdater::Impl::buildTriangles() {
         std::uint32_t slot = kNoVertex;
         if (n > 4) {
           std::copy(ids, ids + n, loops[centre].begin());
-          SlotInfo v;
-          v.voxel = g;
-          v.axis = 3;
-          v.loopSize = std::uint8_t(n);
-          v.loop = centre;
-          slot = std::uint32_t(edgeSlots) + centre++;
-          initSlot(slot, v);
+          slot = std::uint32_t(edgeSlots) + centre;
+          initSlot(slot, centreSlot(g, n, centre++));
         }
         appendLoopTriangles(b->triangles, ids, n, slot);
       }

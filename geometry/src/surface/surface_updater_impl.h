@@ -177,12 +177,7 @@ struct SurfaceUpdater::Impl {
       loops.push_back({});
     }
     std::copy(ids, ids + count, loops[block].begin());
-    SlotInfo v;
-    v.voxel = cell;
-    v.axis = 3;
-    v.loopSize = std::uint8_t(count);
-    v.loop = block;
-    return allocate(v);
+    return allocate(centreSlot(cell, count, block));
   }
   // A freed slot is reused only after the update that freed it: until then, old triangle
   // lists still name it and must not be mistaken for whatever would take its place.

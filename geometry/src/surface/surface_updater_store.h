@@ -84,6 +84,16 @@ struct SlotInfo {
 };
 static_assert(sizeof(SlotInfo) == 24, "a vertex slot stays 24 bytes");
 
+// A loop centre in `cell` over `count` vertices kept at `loop` in the centre loops.
+inline SlotInfo centreSlot(const glm::ivec3& cell, int count, std::uint32_t loop) {
+  SlotInfo v;
+  v.voxel = cell;
+  v.axis = 3;
+  v.loopSize = std::uint8_t(count);
+  v.loop = loop;
+  return v;
+}
+
 // The vertex slots of a cell brick's owned edges (edge 3 * cell + axis), kept as a mask of the
 // edges that have one and their slots in edge order: rank(e) = owned edges before e.
 class OwnedEdges {
