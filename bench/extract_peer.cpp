@@ -1,7 +1,8 @@
 // The per-process side of the extraction comparison (extract_interleaved.sh): writes the
 // benchmark's volumes as osteon grids, so `osteon mesh` reads the same voxels, and runs VTK's
 // vtkFlyingEdges3D once on such a grid, on one thread, as `osteon mesh` runs its extraction
-// once in a fresh process: fresh output pages, caches holding what loading left there.
+// once in a fresh process: fresh output pages, caches holding what loading left there. And,
+// to see what a fresh process costs, osteon's extraction repeated in one process.
 #include <cstdio>
 #include <exception>
 #include <string>
