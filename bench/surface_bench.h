@@ -4,13 +4,11 @@
 
 #include <chrono>
 
-#include "osteon/geometry/io/humerus_model.h"
+#include "bench_volumes.h"
 
 namespace osteon::bench {
 
 using Clock = std::chrono::steady_clock;
-// The built-in humerus, built once.
-const geometry::HumerusModel& humerusModel();
 // Registers the seed's tables' benchmarks (they need the shared data's path at run time).
 void registerTables();
 

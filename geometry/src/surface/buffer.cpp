@@ -15,7 +15,12 @@ namespace osteon::geometry {
 namespace {
 
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
-constexpr std::size_t kHugeAdviceBytes = std::size_t(8) << 20;
+// Every large block: a fresh 4 KiB page costs 2.2 us to fault in on a virtual machine (its
+// allocation and zeroing, the host's backing; faulted, pre-populated or MADV_POPULATE_WRITE
+// alike) against 0.2 ms for a 2 MiB one, and a fresh process's first extraction writes
+// only fresh pages: `osteon mesh` on a 128^3 sphere (two 2.8 MiB arrays) took 7.7 ms with
+// 4 KiB pages against 4.3 ms advised (docs/performance.md, "Surface extraction").
+constexpr std::size_t kHugeAdviceBytes = detail::kLargeBufferBytes;
 
 std::size_t roundedBytes(std::size_t bytes) {
   return (bytes + kHugePage - 1) / kHugePage * kHugePage;
@@ -36,9 +41,9 @@ void* mapBlock(std::size_t bytes, bool hugePages) {
     munmap(reinterpret_cast<void*>(aligned + bytes), start + span - (aligned + bytes));
   void* p = reinterpret_cast<void*>(aligned);
 #if defined(MADV_HUGEPAGE)
-  // Advice only: where transparent huge pages are off, this fails and nothing changes. Not
-  // below 8 MiB: for smaller arrays the kernel's occasional long wait to find huge pages
-  // outweighs what they save.
+  // Advice only: where transparent huge pages are off, this fails and nothing changes. Where
+  // memory is fragmented the kernel may wait to compact a huge page (20 ms once in ten runs
+  // on one day), a cost every extraction of 8 MiB and up already risked.
   if (hugePages) (void)madvise(p, bytes, MADV_HUGEPAGE);
 #endif
   return p;
@@ -124,7 +129,7 @@ void* allocateLarge(std::size_t bytes) {
       return p;
     }
   }
-  // Huge pages by the size asked for, not the rounded size: arrays under 8 MiB are not advised.
+  // Huge pages by the size asked for, not the rounded size.
   const bool hugePages = bytes >= kHugeAdviceBytes;
   void* p = mapBlock(rounded, hugePages);
   if (p == nullptr) {  // out of memory: give back what the cache holds, then try once more

@@ -6,7 +6,7 @@
 // kept for reuse by the next array of its size in 2 MiB steps (at most kCachedBufferBlocks
 // arrays, kCachedBufferBytes in all, the oldest given back first), so repeated extractions
 // do not take fresh pages whenever the C library would give freed arrays back to the kernel.
-// From 8 MiB, huge pages are advised, so a large fresh mesh takes few page faults.
+// Huge pages are advised for them, so a large fresh mesh takes few page faults.
 // Everything else behaves as std::vector<T>. Measurements: docs/performance.md.
 #pragma once
 
@@ -29,8 +29,8 @@ void releaseCachedBuffers();
 
 namespace detail {
 inline constexpr std::size_t kLargeBufferBytes = std::size_t(1) << 20;
-void* allocateLarge(
-    std::size_t bytes);  // aligned to 2 MiB (huge pages advised from 8 MiB); throws bad_alloc
+// Aligned to 2 MiB, huge pages advised; throws bad_alloc.
+void* allocateLarge(std::size_t bytes);
 void freeLarge(void* p, std::size_t bytes) noexcept;  // bytes as allocated
 }  // namespace detail
 
