@@ -50,6 +50,26 @@ void expectSetupReported(const nlohmann::json& j, std::initializer_list<const ch
   EXPECT_GT(j["peak_rss_mb"].get<double>(), 0.0);
 }
 
+// What a drilling session held, by structure (drill's `memory`): every part counted in the
+// total, per voxel with bone alike; the visual side's grid only after a threaded run.
+void expectMemoryReported(const nlohmann::json& j, bool threaded) {
+  const nlohmann::json& memory = j["memory"];
+  EXPECT_EQ(memory["voxels"], j["voxels"]);
+  double parts = 0.0;
+  for (const char* key : {"bone_grid", "fine_fills", "grid", "hierarchy", "refinement", "thermal",
+                          "visual_grid", "surface"}) {
+    ASSERT_TRUE(memory["bytes"].contains(key)) << key;
+    parts += memory["bytes"][key].get<double>();
+    EXPECT_NEAR(memory["bytes_per_voxel"][key].get<double>() * j["voxels"].get<double>(),
+                memory["bytes"][key].get<double>(), 1.0)
+        << key;
+  }
+  EXPECT_EQ(parts, memory["bytes"]["total"].get<double>());
+  for (const char* key : {"bone_grid", "grid", "hierarchy", "surface", "surface_vertices"})
+    EXPECT_GT(memory["bytes"][key].get<double>(), 0.0) << key;
+  EXPECT_EQ(memory["bytes"]["visual_grid"].get<double>() > 0.0, threaded);
+}
+
 TEST_F(CliTest, EveryBadMeshGivesItsErrorAndExitCode2) {
   const std::string tri(50, '\0');
   test::writeBytes(path("truncated.stl"), binaryStlHeader(4) + tri);
@@ -229,22 +249,7 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   expectSetupReported(j, {});
   EXPECT_GT(j["setup_ms"]["first_step"].get<double>(), 0.0);
   EXPECT_GE(j["setup_ms"]["path"].get<double>(), 0.0);
-  // What the session held, by structure: every part counted in the total, per voxel alike.
-  const nlohmann::json& memory = j["memory"];
-  EXPECT_EQ(memory["voxels"], j["voxels"]);
-  double parts = 0.0;
-  for (const char* key : {"bone_grid", "fine_fills", "grid", "hierarchy", "refinement", "thermal",
-                          "visual_grid", "surface"}) {
-    ASSERT_TRUE(memory["bytes"].contains(key)) << key;
-    parts += memory["bytes"][key].get<double>();
-    EXPECT_NEAR(memory["bytes_per_voxel"][key].get<double>() * j["voxels"].get<double>(),
-                memory["bytes"][key].get<double>(), 1.0)
-        << key;
-  }
-  EXPECT_EQ(parts, memory["bytes"]["total"].get<double>());
-  for (const char* key : {"bone_grid", "grid", "hierarchy", "surface", "surface_vertices"})
-    EXPECT_GT(memory["bytes"][key].get<double>(), 0.0) << key;
-  EXPECT_EQ(memory["bytes"]["visual_grid"].get<double>(), 0.0);  // no threaded run
+  expectMemoryReported(j, false);
   EXPECT_GE(j["setup_ms"]["total"].get<double>(), j["setup_ms"]["path"].get<double>());
   EXPECT_GT(j["setup_peak_rss_mb"].get<double>(), 0.0);
   EXPECT_GE(j["peak_rss_mb"].get<double>(), j["setup_peak_rss_mb"].get<double>());
@@ -272,8 +277,7 @@ TEST_F(CliTest, DrillWritesTheLogSummaryAndSurfaceAndIsDeterministic) {
   expectSetupReported(t, {"fine_fills"});
   EXPECT_GT(t["setup_ms"]["first_step"].get<double>(), 0.0);
   EXPECT_GT(t["setup_ms"]["surface_ready"].get<double>(), 0.0);
-  EXPECT_GT(t["memory"]["bytes"]["visual_grid"].get<double>(), 0.0);  // the visual side's
-  EXPECT_GT(t["memory"]["bytes"]["surface"].get<double>(), 0.0);
+  expectMemoryReported(t, true);
   EXPECT_GT(t["runtime"]["collision_steps"].get<int>(),
             3500);  // most periods, even on a busy machine
   EXPECT_GT(t["runtime"]["visual_updates"].get<int>(), 0);

@@ -200,4 +200,103 @@ SurfaceUpdater::Memory SurfaceUpdater::Impl::memory() const {
   return out;
 }
 
+std::size_t SurfaceUpdater::Impl::resmooth(const std::vector<std::uint32_t>& touched) {
+  const int passes = options.smoothIterations;
+  const int keep = passes;
+  const int reach = std::max(2 * passes - 1, passes);
+  ++epoch;
+  region.clear();
+  depthOf.clear();
+  for (std::uint32_t v : touched) {
+    if (!alive[v] || mark[v] == epoch) continue;
+    mark[v] = epoch;
+    local[v] = std::uint32_t(region.size());
+    region.push_back(v);
+    depthOf.push_back(0);
+  }
+  rowStart.assign(1, 0);
+  rows.clear();
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    neighbours(region[i], nb);
+    rows.insert(rows.end(), nb.begin(), nb.end());
+    rowStart.push_back(std::uint32_t(rows.size()));
+    if (depthOf[i] >= reach) continue;
+    for (std::uint32_t n : nb) {
+      const auto visit = [&](std::uint32_t w) {
+        if (mark[w] == epoch) return;
+        mark[w] = epoch;
+        local[w] = std::uint32_t(region.size());
+        region.push_back(w);
+        depthOf.push_back(depthOf[i] + 1);
+      };
+      visit(n);
+      if (info[n].axis == 3) {
+        const std::uint32_t* l = loopOf(info[n]);
+        for (int k = 0; k < info[n].loopSize; ++k) visit(l[k]);
+      }
+    }
+  }
+  const auto raw = [&](std::uint32_t slot) { return rawPosition(slot); };
+  const std::size_t n = region.size();
+  cur.resize(n);
+  curT.resize(n);
+  nextT.resize(n);
+  const auto now = [&](std::uint32_t slot) {
+    return mark[slot] == epoch ? cur[local[slot]] : raw(slot);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    curT[i] = info[region[i]].axis == 3 ? 0.0 : info[region[i]].t;
+    cur[i] = raw(region[i]);
+  }
+  for (int pass = 0; pass < passes; ++pass) {
+    const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
+    for (std::size_t i = 0; i < n; ++i) {
+      const SlotInfo& v = info[region[i]];
+      if (v.axis == 3) continue;
+      double mean = 0.0;
+      for (std::uint32_t k = rowStart[i]; k < rowStart[i + 1]; ++k) mean += now(rows[k])[v.axis];
+      mean /= double(rowStart[i + 1] - rowStart[i]);
+      nextT[i] =
+          std::clamp(curT[i] + step * (mean - cur[i][v.axis]) / vs, kEdgeMargin, 1.0 - kEdgeMargin);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      SlotInfo v = info[region[i]];
+      if (v.axis == 3) continue;
+      curT[i] = nextT[i];
+      v.t = curT[i];
+      cur[i] = edgePosition(v);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t slot = region[i];
+      const SlotInfo& c = info[slot];
+      if (c.axis != 3) continue;
+      glm::dvec3 sum(0.0);
+      const std::uint32_t* l = loopOf(c);
+      for (int k = 0; k < c.loopSize; ++k) sum += now(l[k]);
+      cur[i] = sum / double(c.loopSize);
+    }
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (depthOf[i] <= keep) {
+      position[region[i]] = cur[i];
+      noteSlot(region[i]);
+      ++kept;
+    }
+  }
+  // Normals of every kept vertex and its neighbours, from the triangles around them.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (depthOf[i] > keep + 1) continue;
+    const std::uint32_t v = region[i];
+    glm::dvec3 sum(0.0);
+    forEachIncident(v, [&](const glm::u32vec3& t) {
+      sum += glm::cross(position[t.y] - position[t.x], position[t.z] - position[t.x]);
+    });
+    const double len = glm::length(sum);
+    normal[v] = len > 0.0 ? sum / len : glm::dvec3(0.0);
+    noteSlot(v);
+  }
+  return kept;
+}
+
 }  // namespace osteon::geometry
