@@ -8,7 +8,6 @@
 #include <cmath>
 #include <deque>
 #include <exception>
-#include <future>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -21,6 +20,7 @@
 #include "osteon/simulation/live.h"
 #include "realtime_thread.h"
 #include "run_recorder.h"
+#include "surface_build.h"
 
 namespace osteon::simulation {
 
@@ -89,12 +89,7 @@ struct LiveRuntime::Impl {
   std::unique_ptr<geometry::SurfaceUpdater> updater;  // null until its first extraction is taken
   // The first extraction, of visualGrid on a thread of its own while the loops run; until it is
   // taken, handed-over bricks wait in `backlog` (visualGrid must not change under it).
-  struct BuiltSurface {
-    std::unique_ptr<geometry::SurfaceUpdater> updater;
-    double ms = 0.0;
-    std::int64_t doneNs = 0;
-  };
-  std::future<BuiltSurface> updaterBuild;
+  SurfaceBuild surfaceBuild;
   // Handed-over bricks not yet in visualGrid, oldest first. Each update takes as many distinct
   // bricks as fit its time budget (the surface lags a frame or two, but whole: no update waits
   // on a burst such as a jump of the tool or the first extraction's backlog).
@@ -153,27 +148,19 @@ struct LiveRuntime::Impl {
     // never reads a brick mid-write.
     grid->clearDirty();
     visualGrid = *grid;
-    updaterBuild = std::async(std::launch::async, [this, surface = se.options().surface] {
-      BuiltSurface built;
-      const std::int64_t begin = nowNs();
-      built.updater = std::make_unique<geometry::SurfaceUpdater>(visualGrid, surface);
-      built.doneNs = nowNs();
-      built.ms = double(built.doneNs - begin) * 1e-6;
-      return built;
-    });
+    surfaceBuild.start(visualGrid, se.options().surface, visualGrid);
   }
 
   // The visual surface, once its first extraction is there (wait: until it is); then the
   // bricks handed over meanwhile go into visualGrid and `changed`. Rethrows what the build threw.
   bool surfaceReady(bool wait) {
     if (updater) return true;
-    if (!updaterBuild.valid()) return false;
-    if (!wait && updaterBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-      return false;
-    BuiltSurface built = updaterBuild.get();
-    updater = std::move(built.updater);
-    surfaceBuildMs = built.ms;
-    surfaceReadyNs = built.doneNs;
+    updater = surfaceBuild.take(wait);
+    if (!updater) return false;
+    surfaceBuildMs = surfaceBuild.ms();
+    surfaceReadyNs =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(surfaceBuild.done().time_since_epoch())
+            .count();
     return true;
   }
 

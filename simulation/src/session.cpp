@@ -4,7 +4,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -27,6 +26,7 @@
 #include "osteon/simulation/bone_source.h"
 #include "osteon/simulation/live.h"
 #include "run_recorder.h"
+#include "surface_build.h"
 
 namespace osteon::simulation {
 
@@ -49,31 +49,22 @@ struct Session::State {
   SessionMemory visualMemory;     // the last threaded run's visual grid and surface
   std::uint64_t setupVoxels = 0;  // voxels with bone before drilling
   Clock::time_point start;        // this session's construction began (the bone's set-up before it)
-  // The first surface, extracted on a thread of its own from the bone as voxelized (this grid
-  // was a copy of it) while the first steps change the grid; taken by takeBuiltSurface. Last,
-  // so that it is waited for before the grids it reads go.
-  struct BuiltSurface {
-    std::unique_ptr<geometry::SurfaceUpdater> updater;
-    double ms = 0.0;
-    Clock::time_point done;
-  };
-  std::future<BuiltSurface> updaterBuild;
-
+  // From the start of set-up (the bone's, before this session's construction) to t.
   double sinceStartMs(Clock::time_point t) const {
-    return setup.totalMs - std::chrono::duration<double, std::milli>(readyAt - start).count() +
+    return bone->setupTimings().totalMs +
            std::chrono::duration<double, std::milli>(t - start).count();
   }
-  Clock::time_point readyAt;  // construction ended: the session could step
+  // The first surface, from the bone as voxelized (this grid was a copy of it) while the first
+  // steps change the grid. Last, so that it is waited for before the grids it reads go.
+  SurfaceBuild surfaceBuild;
   // The built surface, once it is there (wait: until it is). Rethrows what the build threw.
   // catchUpMs: the update that caught up with those steps, when it was taken now.
   bool takeBuiltSurface(bool wait, double* catchUpMs = nullptr) {
-    if (!updaterBuild.valid()) return updater != nullptr;
-    if (!wait && updaterBuild.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-      return false;
-    BuiltSurface built = updaterBuild.get();
-    updater = std::move(built.updater);
-    setup.surfaceMs = built.ms;
-    setup.surfaceReadyMs = sinceStartMs(built.done);
+    if (updater) return true;
+    updater = surfaceBuild.take(wait);
+    if (!updater) return false;
+    setup.surfaceMs = surfaceBuild.ms();
+    setup.surfaceReadyMs = sinceStartMs(surfaceBuild.done());
     const std::vector<std::size_t> dirty = grid.dirtyBricks();
     if (!dirty.empty()) {  // the steps taken while it was built
       const double ms = updater->update(dirty).ms;
@@ -123,27 +114,10 @@ Session::Session(std::shared_ptr<const BoneModel> bone, const SessionOptions& op
     s.coupling.emplace(*s.simulation, co);
   }
   s.grid.clearDirty();
-  s.readyAt = Clock::now();
   s.setup.totalMs = s.bone->setupTimings().totalMs + msSince(start);
-  // From the bone, not this grid: it runs beside the first steps, which change the grid.
-  if (options.keepSurface) startSurfaceBuild();
-}
-
-void Session::startSurfaceBuild() {
-  State& s = *state_;
-  s.updater.reset();
-  s.grid.clearDirty();
-  // The bricks the steps change meanwhile stay dirty: the first update after it is taken
-  // catches up with them. Reads only the immutable bone; the grid's address is the state's.
-  s.updaterBuild =
-      std::async(std::launch::async, [bone = s.bone, grid = &s.grid, options = s.options.surface] {
-        const Clock::time_point begin = Clock::now();
-        State::BuiltSurface built;
-        built.updater = std::make_unique<geometry::SurfaceUpdater>(*grid, options, bone->grid());
-        built.ms = msSince(begin);
-        built.done = Clock::now();
-        return built;
-      });
+  // From the bone, not this grid: it runs beside the first steps, whose bricks stay dirty until
+  // the first update after it is taken catches up with them.
+  if (options.keepSurface) s.surfaceBuild.start(s.grid, options.surface, s.bone->grid());
 }
 
 Session::Session(Session&&) noexcept = default;

@@ -285,8 +285,6 @@ class Session {
   // the bricks the step changed, timed into surfaceNs. Either may be null.
   HapticStep advance(const StepInput& input, ProxyCoupling* coupling, bool followSurface,
                      Durations* stepNs, Durations* surfaceNs);
-  // The first surface, extracted on a thread of its own beside the first steps.
-  void startSurfaceBuild();
   struct State;
   explicit Session(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
