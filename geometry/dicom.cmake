@@ -19,7 +19,8 @@ target_link_libraries(osteon_gdcm INTERFACE ${_osteon_gdcm_libraries})
 
 add_library(osteon_dicom MODULE plugin/dicom_plugin.cpp plugin/dicom_series.cpp
                                 plugin/dicom_stack.cpp plugin/dicom_walk.cpp)
-target_include_directories(osteon_dicom PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src/io)
+target_include_directories(osteon_dicom PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src/io
+                                                ${PROJECT_SOURCE_DIR}/core/include)
 target_link_libraries(osteon_dicom PRIVATE osteon_gdcm)
 set_target_properties(osteon_dicom PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
 if(NOT (OSTEON_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang"))

@@ -12,6 +12,8 @@
 #include <map>
 #include <sstream>
 
+#include "osteon/core/error.h"
+
 namespace osteon::dicom {
 
 namespace fs = std::filesystem;
@@ -210,7 +212,8 @@ const Series& pickSeries(const std::vector<Series>& all, const std::string& uid)
     for (const Series& s : all) {
       if (s.uid == uid) return s;
     }
-    fail("--series " + uid + " is not among its series: " + describeSeries(all));
+    fail(optionRef("volume.series") + " " + uid +
+         " is not among its series: " + describeSeries(all));
   }
   const Series* best = &all.front();
   bool tie = false;
@@ -225,7 +228,8 @@ const Series& pickSeries(const std::vector<Series>& all, const std::string& uid)
   }
   if (tie) {
     fail("several series of " + std::to_string(best->slices.size()) +
-         " slices each (mixed series): give --series UID, one of " + describeSeries(all));
+         " slices each (mixed series): give " + optionRef("volume.series") + " UID, one of " +
+         describeSeries(all));
   }
   return *best;
 }

@@ -178,7 +178,8 @@ const char* commandLineFlag(const std::string& field) {
       {"volume.series", "--series"},
       {"igtl.port", "--igtl"},
       {"igtl.bind", "--igtl-bind"},
-      {"igtl.content", "--igtl-content"}};
+      {"igtl.content", "--igtl-content"},
+      {"outDir", "--out-dir"}};
   for (const auto& [name, flag] : kFlags) {
     if (field == name) return flag;
   }

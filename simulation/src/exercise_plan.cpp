@@ -48,21 +48,18 @@ glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm
 void projectOntoSurface(const geometry::TriangleMesh& mesh, const geometry::VoxelGrid& grid,
                         const glm::dvec3& p, glm::dvec3& onMm, glm::dvec3& normal) {
   double best = std::numeric_limits<double>::infinity();
-  const std::size_t nv = mesh.positionsMm.size();
-  for (const glm::u32vec3& t : mesh.triangles) {
-    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
-                     c = mesh.positionsMm[t.z];
-    const glm::dvec3 n = glm::cross(b - a, c - a);
-    if (!(glm::length(n) > 0.0)) continue;
-    const glm::dvec3 q = closestOnTriangle(p, a, b, c);
-    const double d = glm::length(q - p);
-    if (d < best) {
-      best = d;
-      onMm = q;
-      normal = glm::normalize(n);
-    }
-  }
+  geometry::forEachTriangle(mesh,
+                            [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+                              const glm::dvec3 n = glm::cross(b - a, c - a);
+                              if (!(glm::length(n) > 0.0)) return;
+                              const glm::dvec3 q = closestOnTriangle(p, a, b, c);
+                              const double d = glm::length(q - p);
+                              if (d < best) {
+                                best = d;
+                                onMm = q;
+                                normal = glm::normalize(n);
+                              }
+                            });
   if (!std::isfinite(best)) throw InputError("entry_mm: the bone has no surface to enter");
   const double stepMm = 1.5 * grid.voxelSizeMm();
   if (fillFractionAt(grid, onMm + stepMm * normal) > fillFractionAt(grid, onMm - stepMm * normal))
@@ -75,15 +72,12 @@ void projectOntoSurface(const geometry::TriangleMesh& mesh, const geometry::Voxe
 glm::dvec3 surfaceNormalAround(const geometry::TriangleMesh& mesh, const glm::dvec3& entryMm,
                                const glm::dvec3& facet, double radiusMm) {
   glm::dvec3 sum(0.0);
-  const std::size_t nv = mesh.positionsMm.size();
-  for (const glm::u32vec3& t : mesh.triangles) {
-    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
-                     c = mesh.positionsMm[t.z];
-    if (glm::length((a + b + c) / 3.0 - entryMm) > radiusMm) continue;
-    const glm::dvec3 n = glm::cross(b - a, c - a);  // twice the area, along the normal
-    sum += glm::dot(n, facet) >= 0.0 ? n : -n;
-  }
+  geometry::forEachTriangle(
+      mesh, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        if (glm::length((a + b + c) / 3.0 - entryMm) > radiusMm) return;
+        const glm::dvec3 n = glm::cross(b - a, c - a);  // twice the area, along the normal
+        sum += glm::dot(n, facet) >= 0.0 ? n : -n;
+      });
   return glm::length(sum) > 0.0 ? glm::normalize(sum) : facet;
 }
 

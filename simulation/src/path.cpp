@@ -146,22 +146,19 @@ HumeralHead fitHumeralHead(const geometry::TriangleMesh& mesh, bool rightSide, H
   // low-poly head (a few dozen facets) still gives enough points.
   std::vector<glm::dvec3> points, normals;
   std::vector<double> areas;  // of the quarter triangle each point stands for
-  const std::size_t nv = mesh.positionsMm.size();
-  for (const glm::u32vec3& t : mesh.triangles) {
-    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
-                     c = mesh.positionsMm[t.z];
-    const glm::dvec3 n = glm::cross(b - a, c - a);
-    const double len = glm::length(n);
-    if (!(len > 0.0)) continue;
-    const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-    for (const glm::dvec3 centroid :
-         {(a + ab + ca) / 3.0, (ab + b + bc) / 3.0, (ca + bc + c) / 3.0, (ab + bc + ca) / 3.0}) {
-      points.push_back(centroid);
-      normals.push_back(n / len);
-      areas.push_back(0.125 * len);
-    }
-  }
+  geometry::forEachTriangle(
+      mesh, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        const double len = glm::length(n);
+        if (!(len > 0.0)) return;
+        const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+        for (const glm::dvec3 centroid : {(a + ab + ca) / 3.0, (ab + b + bc) / 3.0,
+                                          (ca + bc + c) / 3.0, (ab + bc + ca) / 3.0}) {
+          points.push_back(centroid);
+          normals.push_back(n / len);
+          areas.push_back(0.125 * len);
+        }
+      });
   if (points.size() < 50) throw InputError("humeral head fit: the mesh has too few points");
   glm::dvec3 mean(0.0);
   for (const glm::dvec3& p : points) mean += p;
@@ -237,28 +234,25 @@ namespace {
 bool lastCrossing(const geometry::TriangleMesh& mesh, const glm::dvec3& origin,
                   const glm::dvec3& dir, glm::dvec3& pointMm, glm::dvec3& normal) {
   double best = -1.0;
-  const std::size_t nv = mesh.positionsMm.size();
-  for (const glm::u32vec3& t : mesh.triangles) {
-    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
-    const glm::dvec3 a = mesh.positionsMm[t.x], b = mesh.positionsMm[t.y],
-                     c = mesh.positionsMm[t.z];
-    const glm::dvec3 e1 = b - a, e2 = c - a;
-    const glm::dvec3 p = glm::cross(dir, e2);
-    const double det = glm::dot(e1, p);
-    if (std::abs(det) < 1e-14) continue;
-    const glm::dvec3 s = origin - a;
-    const double u = glm::dot(s, p) / det;
-    if (u < 0.0 || u > 1.0) continue;
-    const glm::dvec3 q = glm::cross(s, e1);
-    const double v = glm::dot(dir, q) / det;
-    if (v < 0.0 || u + v > 1.0) continue;
-    const double dist = glm::dot(e2, q) / det;
-    if (dist > best) {
-      best = dist;
-      pointMm = origin + dist * dir;
-      normal = glm::normalize(glm::cross(e1, e2));
-    }
-  }
+  geometry::forEachTriangle(mesh,
+                            [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+                              const glm::dvec3 e1 = b - a, e2 = c - a;
+                              const glm::dvec3 p = glm::cross(dir, e2);
+                              const double det = glm::dot(e1, p);
+                              if (std::abs(det) < 1e-14) return;
+                              const glm::dvec3 s = origin - a;
+                              const double u = glm::dot(s, p) / det;
+                              if (u < 0.0 || u > 1.0) return;
+                              const glm::dvec3 q = glm::cross(s, e1);
+                              const double v = glm::dot(dir, q) / det;
+                              if (v < 0.0 || u + v > 1.0) return;
+                              const double dist = glm::dot(e2, q) / det;
+                              if (dist > best) {
+                                best = dist;
+                                pointMm = origin + dist * dir;
+                                normal = glm::normalize(glm::cross(e1, e2));
+                              }
+                            });
   return best > 0.0;
 }
 

@@ -156,7 +156,7 @@ TEST_F(DicomVolume, TheLargestSeriesUnlessOneIsNamed) {
   named.series = "1.2.3.4.5";
   EXPECT_EQ(readRawVolume(folder, named).sizes.z, 3);
   const std::string wrong = refusal(folder, "9.9");
-  EXPECT_NE(wrong.find(folder + ": --series 9.9 is not among its series: "), std::string::npos)
+  EXPECT_NE(wrong.find(folder + ": volume.series 9.9 is not among its series: "), std::string::npos)
       << wrong;
   EXPECT_NE(wrong.find("1.2.3.4.5 (3 slices)"), std::string::npos) << wrong;
   const std::vector<DicomSeries> listed = listDicomSeries(folder);
@@ -173,7 +173,7 @@ TEST_F(DicomVolume, TiedSeriesAreRefusedWithTheirUids) {
   for (std::size_t k = 0; k < b.size(); ++k)
     test::writeDicomSlice(folder + "/B" + std::to_string(k) + ".dcm", b[k]);
   const std::string message = refusal(folder);
-  EXPECT_NE(message.find("mixed series): give --series UID"), std::string::npos) << message;
+  EXPECT_NE(message.find("mixed series): give volume.series UID"), std::string::npos) << message;
   EXPECT_NE(message.find("1.2.3.4.6 (3 slices)"), std::string::npos) << message;
 }
 

@@ -19,6 +19,17 @@ struct TriangleMesh {
   std::size_t triangleCount() const { return triangles.size(); }
 };
 
+// Calls f(a, b, c) with the corners (mm) of every triangle whose indices lie in range: a soup
+// from a file may reference vertices it lacks, and every walk skips those the same way.
+template <typename F>
+void forEachTriangle(const TriangleMesh& mesh, F&& f) {
+  const std::size_t nv = mesh.positionsMm.size();
+  for (const glm::u32vec3& t : mesh.triangles) {
+    if (t.x >= nv || t.y >= nv || t.z >= nv) continue;
+    f(mesh.positionsMm[t.x], mesh.positionsMm[t.y], mesh.positionsMm[t.z]);
+  }
+}
+
 struct Aabb {
   glm::dvec3 minMm{0.0};
   glm::dvec3 maxMm{0.0};

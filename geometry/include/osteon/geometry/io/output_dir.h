@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "osteon/core/error.h"
+
 namespace osteon {
 class InterruptScope;
 }
@@ -33,7 +35,7 @@ class OutputDir {
   // files only. Throws InputError naming the folder (after `option`, the command's name for it)
   // when it cannot be made or another run holds it. One OutputDir is open at a time in a process.
   explicit OutputDir(const std::string& folder, std::vector<std::string> owned = {},
-                     const std::string& option = "--out-dir");
+                     const std::string& option = optionRef("outDir"));
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;
   OutputDir& operator=(const OutputDir&) = delete;
