@@ -43,11 +43,19 @@ void addMesh(CLI::App& cmd, BoneSource& source) {
       ->required();
 }
 
+// Commands that drill take a mesh or a volume.
+void describeBoneInput(CLI::App& cmd) {
+  cmd.get_option("MESH")->description(std::string("Mesh file (.stl .obj .ply .off), 'default', or "
+                                                  "a volume (") +
+                                      simulation::kVolumeFormsText + ")");
+}
+
 // Commands that work on a grid take a mesh (voxelized at --voxel-size) or a saved grid.
 void addGridInput(CLI::App& cmd, BoneSource& source) {
   cmd.add_option("MESH", source.input,
-                 "Mesh file, 'default', a GRID.nrrd written by osteon voxelize, or a volume "
-                 "(.nrrd .nhdr .nii .nii.gz .mha .mhd, a DICOM folder or .dcm: label map or CT)")
+                 std::string("Mesh file, 'default', a GRID.nrrd written by osteon voxelize, or a "
+                             "volume (") +
+                     simulation::kVolumeFormsText + ": label map, CT or scalar volume)")
       ->required();
   addUnits(cmd, source);
   cmd.add_option("--voxel-size", source.voxelSizeMm,
@@ -157,6 +165,7 @@ void addInfo(CLI::App& cmd, InfoOptions& o) {
 
 void addVoxelize(CLI::App& cmd, VoxelizeCommandOptions& o) {
   addMesh(cmd, o.bone);
+  describeBoneInput(cmd);
   addUnits(cmd, o.bone);
   cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Voxel edge length in mm")->required();
   cmd.add_flag("--robust", o.robust,
@@ -200,11 +209,11 @@ void addMeshCommand(CLI::App& cmd, MeshCommandOptions& o) {
 
 void addDrill(CLI::App& cmd, DrillCommandOptions& o) {
   addMesh(cmd, o.bone);
-  cmd.get_option("MESH")->description(
-      "Mesh file (.stl .obj .ply .off), 'default', or a volume (.nrrd .nhdr .nii .nii.gz .mha "
-      ".mhd, a DICOM folder or .dcm)");
+  describeBoneInput(cmd);
   addUnits(cmd, o.bone);
-  cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
+  cmd.add_option("--voxel-size", o.bone.voxelSizeMm,
+                 "Base voxel edge in mm (required for a mesh; a volume's default: its finest "
+                 "spacing)");
   cmd.add_option("--levels", o.levels,
                  "0: forces at the base voxel size; 1 or 2: refine near the tool (VS/2, VS/4)")
       ->default_val(2);
@@ -241,8 +250,11 @@ void addReplay(CLI::App& cmd, ReplayCommandOptions& o) {
                  "Recording CSV: t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on[,rpm,irrigation]")
       ->required();
   addMesh(cmd, o.bone);
+  describeBoneInput(cmd);
   addUnits(cmd, o.bone);
-  cmd.add_option("--voxel-size", o.bone.voxelSizeMm, "Base voxel edge in mm")->required();
+  cmd.add_option("--voxel-size", o.bone.voxelSizeMm,
+                 "Base voxel edge in mm (required for a mesh; a volume's default: its finest "
+                 "spacing)");
   addRunOptions(cmd, o.levels, o.tool, o.outDir);
   addJson(cmd, o.json, "Print the summary as JSON on stdout");
   addVolumeMeaning(cmd, o.bone.volume);
@@ -285,9 +297,9 @@ void addCheck(CLI::App& cmd, CheckCommandOptions& o) {
 
 void addValidate(CLI::App& cmd, ValidateCommandOptions& o) {
   cmd.add_option("--models", o.models,
-                 "Comma-separated meshes ('default' for the built-in) or volumes (.nrrd .nhdr .nii "
-                 ".nii.gz: "
-                 "at their own voxel size, every non-background label or 300 HU)")
+                 std::string("Comma-separated meshes ('default' for the built-in) or volumes (") +
+                     simulation::kVolumeFormsText +
+                     ": at their own voxel size, every non-background label or 300 HU)")
       ->default_val("default");
   addUnits(cmd, o.source);
   cmd.add_option("--voxel-sizes", o.voxelSizes, "Comma-separated voxel sizes in mm")

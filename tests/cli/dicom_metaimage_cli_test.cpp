@@ -143,6 +143,39 @@ TEST_F(DicomMetaImageCliTest, AnObliqueAnisotropicSeriesMeshesWhereTheScannerPut
   expectDrills(path("ct.mha"), "drill_mha");
 }
 
+// Without --voxel-size a volume is drilled at its finest spacing: a device run on it is
+// recorded, and the recording replays on the same volume to the same force log.
+TEST_F(DicomMetaImageCliTest, DeviceRunsAndReplaysTakeAVolumeAtItsFinestSpacing) {
+  const std::string folder = writeSeries("ct", "1.2.826.0.1.3680043.2.1125.7", kSlices);
+  const std::string mha = writeMha("ct.mha");
+  const glm::dvec3 c = boxCentreMm();
+  const auto at = [](const glm::dvec3& p) {
+    return std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z);
+  };
+  test::writeBytes(path("push.csv"), "t,x,y,z,drill_on\n0," + at(c + glm::dvec3(0, 0, 15)) +
+                                         ",1\n2," + at(c) + ",1\n");
+  for (const auto& [volume, name] : {std::pair<std::string, std::string>{folder, "dicom"},
+                                     std::pair<std::string, std::string>{mha, "mha"}}) {
+    const CliRun drill = osteon("drill '" + volume + "' --device scripted:'" + path("push.csv") +
+                                "' --record '" + path(name + ".csv") +
+                                "' --levels 0 --json --out-dir '" + path(name + "_drill") + "'");
+    ASSERT_EQ(drill.exitCode, 0) << name << ": " << drill.err;
+    const nlohmann::json d = nlohmann::json::parse(drill.out);
+    EXPECT_DOUBLE_EQ(d["voxel_size_mm"].get<double>(), kPixelMm) << name;
+    EXPECT_GT(d["removed_volume_mm3"].get<double>(), 1.0) << name;
+    const CliRun replay = osteon("replay '" + path(name + ".csv") + "' '" + volume +
+                                 "' --levels 0 --json --out-dir '" + path(name + "_replay") + "'");
+    ASSERT_EQ(replay.exitCode, 0) << name << ": " << replay.err;
+    EXPECT_EQ(nlohmann::json::parse(replay.out)["mode"], "replay") << name;
+    EXPECT_TRUE(test::readBytes(path(name + "_drill/forces.csv")) ==
+                test::readBytes(path(name + "_replay/forces.csv")))
+        << name;
+  }
+  // A mesh still needs one.
+  expectBadInput("drill default --path '" + path("push.csv") + "' --out-dir '" + path("m") + "'",
+                 "--voxel-size", "required");
+}
+
 TEST_F(DicomMetaImageCliTest, ValidateTakesBothAtTheirOwnVoxelSize) {
   ball_ = true;
   const std::string folder = writeSeries("ct", "1.2.826.0.1.3680043.2.1125.7", kSlices);

@@ -107,8 +107,13 @@ TEST_F(VolumesCliTest, ASlicerLabelMapMeshesAndSaysWhichLabelsItFound) {
   EXPECT_EQ(two["volume"]["labels"], nlohmann::json({0, 1, 2}));
   expectBadInput("mesh " + quoted(path("three.nrrd")) + " --label 5", path("three.nrrd"),
                  "labels found: 0, 1, 2");
-  expectBadInput("mesh " + quoted(path("three.nrrd")) + " --iso 300", path("three.nrrd"),
-                 "--iso is for CTs");
+  // An iso value reads the labels as levels: bone above 1.5 is label 2's ten voxels.
+  const nlohmann::json levels = runJson("mesh " + quoted(path("three.nrrd")) + " --iso 1.5 --json");
+  EXPECT_EQ(levels["volume"]["kind"], "scalar");
+  const CliRun above = osteon("mesh " + quoted(path("three.nrrd")) + " --iso 300 --out " +
+                              quoted(path("above.ply")));
+  EXPECT_EQ(above.exitCode, 1) << above.err;
+  EXPECT_NE(above.err.find("empty result"), std::string::npos) << above.err;
   expectBadInput("mesh default --voxel-size 2 --label 1", "--label", "only for a volume");
 }
 

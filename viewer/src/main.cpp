@@ -114,9 +114,9 @@ struct CommandLine {
 // The bone: the input, its units, voxel size and meaning.
 void addBoneOptions(CLI::App& app, CommandLine& c) {
   app.add_option("MESH", c.input,
-                 "Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a volume: an "
-                 "osteon grid, a "
-                 "label map or a CT (.nrrd .nhdr .nii .nii.gz)")
+                 std::string("Mesh file (.stl .obj .ply .off), 'default' (built-in humerus), or a "
+                             "volume: an osteon grid, a label map, a CT or a scalar volume (") +
+                     osteon::simulation::kVolumeFormsText + ")")
       ->default_val("default");
   addVolumeFlags(app, c.volume);
   CLI::Option* u =

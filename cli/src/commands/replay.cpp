@@ -72,7 +72,7 @@ int runReplay(const ReplayCommandOptions& options) {
 
   const DeviceRunSetup setup{options.bone.input,
                              sim::toolKindName(kind),
-                             *options.bone.voxelSizeMm,
+                             session.grid().voxelSizeMm(),
                              options.levels,
                              options.json,
                              live ? "replay-threaded" : "replay",

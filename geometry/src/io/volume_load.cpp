@@ -28,16 +28,11 @@ namespace {
 // (pointer, uniform fill and density, dirty flag).
 constexpr double kBrickBytes = double(sizeof(VoxelGrid::Brick)) + 16.0 + 13.0;
 
-// A label map's labels and background; refuses an iso level and a label it does not hold.
+// A label map's labels and background; refuses a label it does not hold.
 // Returns the labels found, as text.
 template <typename T>
-std::string describeLabels(const std::string& path, const RawVolume& raw, const ValueSummary<T>& s,
+std::string describeLabels(const std::string& path, const ValueSummary<T>& s,
                            const VolumeOptions& options, VolumeLoad& load) {
-  if (options.isoValue) {
-    throw InputError(path + ": a label map (" + raw.type + ", " + std::to_string(s.counts.size()) +
-                     " distinct values): " + optionRef("volume.isoValue") +
-                     " is for CTs and scalar volumes; use " + optionRef("volume.label"));
-  }
   load.kind = "label map";
   std::uint64_t mostCommon = 0, mostCount = 0;
   for (const auto& [value, c] : s.counts) {
@@ -108,7 +103,9 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
   }
   load.minValue = loReal;
   load.maxValue = hiReal;
-  const bool labelMap = isLabelMap(s, raw);
+  // An iso value given is the user's word that the values are levels: a quantised micro-CT or
+  // a 0/1 mask saved as floats is then bone above it, not a label map.
+  const bool labelMap = !options.isoValue && isLabelMap(s, raw);
   const bool ct = !labelMap && raw.isSigned && hiReal - loReal >= kMinCtRangeHu;
   const bool scalar = !labelMap && !ct && options.isoValue;
   const std::string valuesText =
@@ -124,7 +121,7 @@ void giveMeaning(const std::string& path, const RawVolume& raw, StoredValues<T> 
     throw InputError(m.str());
   }
   std::string found;
-  if (labelMap) found = describeLabels(path, raw, s, options, load);
+  if (labelMap) found = describeLabels(path, s, options, load);
   if (!labelMap && options.label) {
     throw InputError(path + ": a " + (ct ? "CT" : "scalar volume") + " (" + valuesText +
                      "): " + optionRef("volume.label") + " is for label maps; use " +

@@ -71,12 +71,20 @@ TEST_F(VolumeScalar, AFloatProbabilityMapIsBoneAboveHalf) {
   const VolumeLoad load = loadVolume(file("p.nrrd"), o);
   EXPECT_EQ(load.kind, "scalar");
   EXPECT_EQ(load.grid.countVoxels(kFillHalf), 12u * 12u * 12u);
-  // A label map keeps refusing an iso value: its labels are not levels.
+  // Values that would make a label map (a 0/1 mask) are levels once an iso value is given.
   const TestVolume labels = cube(1.0, 0.0);
   test::writeTestNrrd(file("l.nrrd"), labels, "uint8", test::encodeAs<std::uint8_t>(labels.values),
                       false);
-  EXPECT_NE(refusal("l.nrrd", o).find("volume.isoValue is for CTs and scalar volumes"),
-            std::string::npos);
+  EXPECT_EQ(loadVolume(file("l.nrrd")).kind, "label map");
+  const VolumeLoad mask = loadVolume(file("l.nrrd"), o);
+  EXPECT_EQ(mask.kind, "scalar");
+  EXPECT_EQ(mask.grid.countVoxels(kFillHalf), 12u * 12u * 12u);
+  // An all-zero map with an iso value holds no bone: an empty grid, not a refusal.
+  const TestVolume zero = cube(0.0, 0.0);
+  test::writeTestNrrd(file("z.nrrd"), zero, "double", test::encodeAs<double>(zero.values), true);
+  const VolumeLoad none = loadVolume(file("z.nrrd"), o);
+  EXPECT_EQ(none.kind, "scalar");
+  EXPECT_EQ(none.grid.countVoxels(1), 0u);
 }
 
 TEST_F(VolumeScalar, AnAllZeroFloatVolumeIsALabelMapWithNoBone) {

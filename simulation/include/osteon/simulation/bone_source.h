@@ -88,6 +88,10 @@ struct BoneMesh {
 };
 BoneMesh loadBoneMesh(const BoneSource& source);
 
+// The volume files BoneModel::open reads, as front ends list them in their help.
+inline constexpr const char* kVolumeFormsText =
+    ".nrrd .nhdr .nii .nii.gz .mha .mhd, a DICOM folder or .dcm file";
+
 // A crop box as front ends take it, "X0:X1,Y0:Y1,Z0:Z1" in LPS mm (each range low below high).
 // Throws OptionError "volume.cropMm <text>: <reason>".
 geometry::BoxMm parseCropMm(const std::string& text);
