@@ -1,6 +1,8 @@
 #include "support/dicom_series.h"
 
+#include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <gdcmAttribute.h>
 #include <gdcmImageChangeTransferSyntax.h>
 #include <gdcmImageWriter.h>
@@ -142,6 +144,27 @@ std::vector<DicomSlice> dicomStack(int count, double z0, double spacingMm, int c
     for (int i = 0; i < s.columns * s.rows; ++i) s.stored[std::size_t(i)] = 100 * k + i - 1024;
   }
   return out;
+}
+
+}  // namespace osteon::test
+
+namespace osteon::test {
+
+void writeDicomVolume(const std::string& folder, const TestVolume& v,
+                      const std::vector<double>& hu) {
+  std::filesystem::create_directories(folder);
+  for (int k = 0; k < v.sizes.z; ++k) {
+    DicomSlice s;
+    s.columns = v.sizes.x;
+    s.rows = v.sizes.y;
+    s.pixelSpacing[0] = s.pixelSpacing[1] = v.spacingMm;
+    const glm::dvec3 p = v.firstCentreMm + glm::dvec3(0.0, 0.0, k * v.spacingMm);
+    for (int a = 0; a < 3; ++a) s.position[a] = p[a];
+    const std::size_t plane = std::size_t(v.sizes.x) * std::size_t(v.sizes.y);
+    for (std::size_t i = 0; i < plane; ++i)
+      s.stored.push_back(std::int32_t(std::lround(hu.at(std::size_t(k) * plane + i))));
+    writeDicomSlice(folder + "/S" + std::to_string(k) + ".dcm", s);
+  }
 }
 
 }  // namespace osteon::test

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "support/volume_files.h"
+
 namespace osteon::test {
 
 struct DicomSlice {
@@ -35,5 +37,9 @@ void writeDicomMultiFrame(const std::string& path, const DicomSlice& slice, int 
 // 100 * k + (x + columns * y) - 1024 (stored).
 std::vector<DicomSlice> dicomStack(int count, double z0, double spacingMm, int columns = 4,
                                    int rows = 3);
+
+// `hu` on `v`'s geometry as a CT series in `folder` (created): a plain int16 slice per z, S<k>.dcm.
+void writeDicomVolume(const std::string& folder, const TestVolume& v,
+                      const std::vector<double>& hu);
 
 }  // namespace osteon::test

@@ -77,6 +77,21 @@ inline void writeTestNrrd(const std::string& path, const TestVolume& v, const st
   }
 }
 
+// MetaImage with its data attached (.mha), axis-aligned LPS; elementType "MET_SHORT", ...
+inline void writeTestMetaImage(const std::string& path, const TestVolume& v,
+                               const std::string& elementType, const std::string& bytes) {
+  const std::string s = std::to_string(v.spacingMm);
+  const std::string h =
+      "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+      "TransformMatrix = 1 0 0 0 1 0 0 0 1\nOffset = " +
+      std::to_string(v.firstCentreMm.x) + " " + std::to_string(v.firstCentreMm.y) + " " +
+      std::to_string(v.firstCentreMm.z) + "\nAnatomicalOrientation = RAI\nElementSpacing = " + s +
+      " " + s + " " + s + "\nDimSize = " + std::to_string(v.sizes.x) + " " +
+      std::to_string(v.sizes.y) + " " + std::to_string(v.sizes.z) +
+      "\nElementType = " + elementType + "\nElementDataFile = LOCAL\n";
+  writeBytes(path, h + bytes);
+}
+
 // NIfTI-1 single file; datatype 2 uint8, 4 int16, 16 float, ... `.nii.gz` when gz. The sform
 // is RAS, as NIfTI defines: LPS x and y are negated.
 inline void writeTestNifti(const std::string& path, const TestVolume& v, std::int16_t datatype,

@@ -11,6 +11,7 @@
 
 #include "osteon/geometry/io/nrrd_io.h"
 #include "support/bone_volumes.h"
+#include "support/dicom_series.h"
 #include "support/files.h"
 #include "support/process.h"
 #include "support/shapes.h"
@@ -139,7 +140,8 @@ TEST_F(ViewerTest, ADeviceDrivesTheTool) {
   EXPECT_NE(bad.err.find("nonsense:x"), std::string::npos) << bad.err;
 }
 
-// The built-in bone as a label map and as a CT (seeded noise) opens like its mesh: the same bone
+// The built-in bone as a label map and as a CT (seeded noise; NIfTI, MetaImage and a DICOM
+// series) opens like its mesh: the same bone
 // in view, crack-free, and portal-5 drills it with the head fitted to the volume's own surface.
 TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
   ASSERT_EQ(runProgram(OSTEON_CLI,
@@ -153,12 +155,15 @@ TEST_F(ViewerTest, ALabelMapAndACtOpenAndDrillLikeTheMesh) {
   const std::vector<double>& hu = made.hu;
   test::writeTestNrrd(path("labels.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(labels), true);
   test::writeTestNifti(path("ct.nii.gz"), v, 4, 16, test::encodeAs<std::int16_t>(hu), true);
+  test::writeTestMetaImage(path("ct.mha"), v, "MET_SHORT", test::encodeAs<std::int16_t>(hu));
+  test::writeDicomVolume(path("ct_dicom"), v, hu);
 
   const std::string drill = " --levels 0 --path portal-5 --frames 5 --view cracks";
   const nlohmann::json mesh = viewer("default --voxel-size 1.5" + drill);
   const double meshPixels = double(mesh["bone_pixels"].get<std::uint64_t>());
   for (const std::string& volume :
-       {"'" + path("labels.nrrd") + "' --label 3", "'" + path("ct.nii.gz") + "' --iso 300"}) {
+       {"'" + path("labels.nrrd") + "' --label 3", "'" + path("ct.nii.gz") + "' --iso 300",
+        "'" + path("ct.mha") + "' --iso 300", "'" + path("ct_dicom") + "' --iso 300"}) {
     SCOPED_TRACE(volume);
     const nlohmann::json j = viewer(volume + drill);
     if (j.empty()) continue;
