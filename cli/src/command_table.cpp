@@ -159,7 +159,11 @@ void addUp(CLI::App& cmd, std::string& up) {
 
 void addInfo(CLI::App& cmd, InfoOptions& o) {
   addMesh(cmd, o.bone);
+  cmd.get_option("MESH")->description(
+      std::string("Mesh file (.stl .obj .ply .off), 'default', or a volume (") +
+      simulation::kVolumeFormsText + "; a DICOM folder lists its series)");
   addUnits(cmd, o.bone);
+  addVolumeMeaning(cmd, o.bone.volume);
   addJson(cmd, o.json);
 }
 

@@ -176,6 +176,27 @@ TEST_F(DicomMetaImageCliTest, DeviceRunsAndReplaysTakeAVolumeAtItsFinestSpacing)
                  "--voxel-size", "required");
 }
 
+// info describes a volume as the commands that open it read it: a DICOM folder lists its series
+// unless one is named.
+TEST_F(DicomMetaImageCliTest, InfoDescribesAVolumeAsItIsRead) {
+  const std::string folder = writeSeries("ct", "1.2.826.0.1.3680043.2.1125.7", kSlices);
+  const std::string mha = writeMha("ct.mha");
+  for (const auto& [args, format] :
+       {std::pair<std::string, std::string>{"'" + mha + "'", "metaimage"},
+        {"'" + folder + "' --series 1.2.826.0.1.3680043.2.1125.7", "dicom"}}) {
+    const CliRun run = osteon("info " + args + " --json");
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json j = nlohmann::json::parse(run.out);
+    EXPECT_EQ(j["volume"]["format"], format);
+    EXPECT_EQ(j["volume"]["kind"], "ct");
+    EXPECT_DOUBLE_EQ(j["grid"]["voxel_size_mm"].get<double>(), kPixelMm);
+    EXPECT_GT(j["voxels_inside"].get<std::uint64_t>(), 100u);
+  }
+  const nlohmann::json listed = nlohmann::json::parse(osteon("info '" + folder + "' --json").out);
+  EXPECT_EQ(listed["series"].size(), 1u);
+  expectBadInput("info '" + mha + "' --label 2", mha, "--label is for label maps");
+}
+
 TEST_F(DicomMetaImageCliTest, ValidateTakesBothAtTheirOwnVoxelSize) {
   ball_ = true;
   const std::string folder = writeSeries("ct", "1.2.826.0.1.3680043.2.1125.7", kSlices);

@@ -6,8 +6,10 @@
 #include "osteon/geometry/io/dicom_series.h"
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/geometry/io/volume_io.h"
+#include "osteon/simulation/session.h"
 #include "support/mesh_json.h"
 #include "support/output.h"
+#include "support/volume_report.h"
 
 namespace osteon::cli {
 
@@ -95,11 +97,39 @@ int runDicomInfo(const InfoOptions& options) {
   return kExitOk;
 }
 
+// A volume file: what it is read as, where it lies, and the bone it holds, as the commands that
+// open it would read it (the same options).
+int runVolumeInfo(const InfoOptions& options) {
+  const sim::OpenedBone opened = sim::BoneModel::open(options.bone);
+  const geo::VoxelGrid& grid = opened.bone->grid();
+  const glm::ivec3 dims = grid.dims();
+  const std::uint64_t inside = grid.countVoxels(geo::kFillHalf);
+  const geo::VolumeLoad& volume = *opened.read.volume;
+  if (options.json) {
+    printJson(json{{"input", options.bone.input},
+                   {"volume", volumeJson(volume, options.bone.volume)},
+                   {"grid",
+                    {{"dims", {dims.x, dims.y, dims.z}},
+                     {"voxel_size_mm", grid.voxelSizeMm()},
+                     {"origin_mm", vec3Json(grid.originMm())}}},
+                   {"voxels_inside", inside},
+                   {"load_ms", opened.read.loadMs}});
+    return kExitOk;
+  }
+  const std::string line = volumeLine(volume, options.bone.volume);
+  std::printf("%s: %d x %d x %d voxels of %g mm, %llu inside the bone\n%s%s",
+              options.bone.input.c_str(), dims.x, dims.y, dims.z, grid.voxelSizeMm(),
+              static_cast<unsigned long long>(inside), line.c_str(), line.empty() ? "" : "\n");
+  return kExitOk;
+}
+
 }  // namespace
 
 int runInfo(const InfoOptions& options) {
-  if (options.bone.isVolume() && geo::volumeFormat(options.bone.input) == "dicom")
+  if (options.bone.isVolume() && geo::volumeFormat(options.bone.input) == "dicom" &&
+      options.bone.volume.series.empty())
     return runDicomInfo(options);
+  if (options.bone.isVolume()) return runVolumeInfo(options);
   InfoReport r;
   r.input = options.bone.input;
   r.builtIn = options.bone.isBuiltIn();

@@ -6,7 +6,7 @@
 namespace osteon::cli {
 
 struct InfoOptions {
-  simulation::BoneSource bone;  // a mesh or `default`, and its units
+  simulation::BoneSource bone;  // a mesh, `default` or a volume; units, volume meaning
   bool json = false;
 };
 
