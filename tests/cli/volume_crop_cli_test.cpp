@@ -91,6 +91,11 @@ TEST_F(VolumeCropCliTest, CropsTakePartOfAVolumeAndBadOnesAreOneLine) {
                  "range X '5:1' is not LOW:HIGH");
   expectBadInput("mesh " + quoted(path("l.nrrd")) + " --crop 50:60,0:20,0:20", path("l.nrrd"),
                  "the crop 50:60,0:20,0:20 mm holds no voxel of the volume");
+  // An iso value reads the values as levels: no label is left to pick or crop to.
+  expectBadInput("mesh " + quoted(path("l.nrrd")) + " --iso 0.5 --label 1", "--label 1",
+                 "give one of them");
+  expectBadInput("mesh " + quoted(path("l.nrrd")) + " --iso 0.5 --crop-to-label 1",
+                 "--crop-to-label 1", "crop with --crop");
   expectBadInput("mesh " + quoted(path("l.nrrd")) + " --crop-to-label 9", path("l.nrrd"),
                  "--crop-to-label 9 is not in the label map (labels found: 0, 1, 3)");
   expectBadInput("mesh default --voxel-size 2 --crop 0:1,0:1,0:1", "--crop", "only for a volume");

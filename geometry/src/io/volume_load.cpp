@@ -205,6 +205,17 @@ void checkOptions(const VolumeOptions& options) {
     throw OptionError("volume.isoValue", numberText(*options.isoValue),
                       "must be a finite number (HU for a CT, else the volume's own units)");
   }
+  // An iso value reads the values as levels, so nothing is left to pick labels from.
+  if (options.isoValue && options.label) {
+    throw OptionError("volume.label", std::to_string(*options.label),
+                      "picks a label map's bone; " + optionRef("volume.isoValue") +
+                          " reads the values as levels instead: give one of them");
+  }
+  if (options.isoValue && options.cropToLabel) {
+    throw OptionError("volume.cropToLabel", std::to_string(*options.cropToLabel),
+                      "needs labels; " + optionRef("volume.isoValue") +
+                          " reads the values as levels: crop with " + optionRef("volume.cropMm"));
+  }
   if (options.voxelSizeMm && !(std::isfinite(*options.voxelSizeMm) && *options.voxelSizeMm > 0)) {
     throw OptionError("volume.voxelSizeMm", numberText(*options.voxelSizeMm),
                       "must be a positive number of mm");
