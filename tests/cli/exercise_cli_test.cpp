@@ -2,13 +2,12 @@
 // a bad exercise file is one line naming the file and the field.
 #include <fstream>
 
-#include <glm/geometric.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/simulation/exercise.h"
 #include "support/cli_fixture.h"
+#include "support/exercise_attempts.h"
 
 namespace osteon {
 namespace {
@@ -54,20 +53,6 @@ TEST_F(CliTest, ABadExerciseFileIsOneLineNamingTheFileAndField) {
                  "must be x, y, z");
 }
 
-// The plan of anchor-7, and a path CSV of an attempt changed from it (entry, axis, depth).
-template <typename Change>
-std::string attemptCsv(Change change) {
-  using namespace simulation;
-  const Exercise ex = loadExercise("anchor-7");
-  Session session(BoneModel::open(ex.bone).bone, exerciseSessionOptions(ex));
-  const ExercisePlan plan = planExercise(ex, session);
-  glm::dvec3 entry = plan.entryMm, axis = plan.axis;
-  double depthMm = plan.depthMm;
-  change(plan, entry, axis, depthMm);
-  return drillPathCsv(holePath(entry, axis, plan.normal, depthMm,
-                               session.simulation().tool().parts[0].outerRadiusMm));
-}
-
 // Exit 1 (a verdict), and the criteria that failed.
 std::vector<std::string> failedCriteria(const CliTest& t, const CliRun& run) {
   EXPECT_EQ(run.exitCode, 1) << run.err;
@@ -80,18 +65,9 @@ std::vector<std::string> failedCriteria(const CliTest& t, const CliRun& run) {
 }
 
 TEST_F(CliTest, ScoreFailsTheThreeBadAttemptsForTheirReasons) {
-  using simulation::ExercisePlan;
-  test::writeBytes(path("deep.csv"), attemptCsv([](const ExercisePlan&, glm::dvec3&, glm::dvec3&,
-                                                   double& depthMm) { depthMm += 10.0; }));
-  test::writeBytes(path("tilt.csv"),
-                   attemptCsv([](const ExercisePlan& p, glm::dvec3&, glm::dvec3& axis, double&) {
-                     const glm::dvec3 about = glm::normalize(glm::cross(p.axis, -p.normal));
-                     axis = glm::angleAxis(30.0 * M_PI / 180.0, about) * p.axis;
-                   }));
-  test::writeBytes(path("off.csv"),
-                   attemptCsv([](const ExercisePlan& p, glm::dvec3& entry, glm::dvec3&, double&) {
-                     entry += 5.0 * glm::normalize(glm::cross(p.normal, p.axis));
-                   }));
+  test::writeBytes(path("deep.csv"), test::attemptCsv("anchor-7", test::tenMillimetresTooDeep));
+  test::writeBytes(path("tilt.csv"), test::attemptCsv("anchor-7", test::thirtyDegreesOffAxis));
+  test::writeBytes(path("off.csv"), test::attemptCsv("anchor-7", test::entryFiveMillimetresOff));
   const std::string args = " --exercise anchor-7 --json --out-dir " + path("s");
   EXPECT_EQ(failedCriteria(*this, osteon("score " + path("tilt.csv") + args)),
             (std::vector<std::string>{"angle", "overcut"}));
