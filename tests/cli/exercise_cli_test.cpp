@@ -8,6 +8,7 @@
 #include "osteon/simulation/exercise.h"
 #include "support/cli_fixture.h"
 #include "support/exercise_attempts.h"
+#include "support/volume_files.h"
 
 namespace osteon {
 namespace {
@@ -120,6 +121,44 @@ TEST_F(CliTest, AnExerciseFileFindsItsBoneBesideItAndTakesAnExplicitEntryAndAxis
   const CliRun score = osteon("score " + path("b.csv") + " --exercise " + path("task/block.json") +
                               " --json --out-dir " + path("s"));
   EXPECT_EQ(score.exitCode, 0) << score.err << score.out;
+}
+
+TEST_F(CliTest, AnExerciseOnALabelMapVolumeUsesTheVolumesOwnVoxelSize) {
+  // 32^3 voxels of 1 mm around the origin, a 24 mm cube of label 1 in the middle.
+  test::TestVolume v;
+  v.sizes = {32, 32, 32};
+  v.firstCentreMm = glm::dvec3(-15.5);
+  for (int i = 0; i < 32 * 32 * 32; ++i) {
+    const glm::ivec3 c(i % 32, (i / 32) % 32, i / (32 * 32));
+    v.values.push_back(glm::all(glm::greaterThanEqual(c, glm::ivec3(4))) &&
+                               glm::all(glm::lessThan(c, glm::ivec3(28)))
+                           ? 1.0
+                           : 0.0);
+  }
+  std::filesystem::create_directories(path("task"));
+  test::writeTestNrrd(path("task/seg.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values),
+                      true);
+  const std::string rest = R"("entry_mm": [0, 0, 13], "axis": {"direction": [0, 0, -1]},
+    "depth_mm": 8, "no_go": {"articular_cap": {"enabled": false}}})";
+  test::writeBytes(path("task/seg.json"), R"({"bone": {"input": "seg.nrrd", "label": 1}, )" + rest);
+  const CliRun plan =
+      osteon("exercise plan " + path("task/seg.json") + " --out " + path("s.csv") + " --json");
+  ASSERT_EQ(plan.exitCode, 0) << plan.err;
+  EXPECT_NEAR(nlohmann::json::parse(plan.out)["plan"]["entry_mm"][2].get<double>(), 12.0, 0.01);
+  const CliRun score = osteon("score " + path("s.csv") + " --exercise " + path("task/seg.json") +
+                              " --json --out-dir " + path("out"));
+  ASSERT_EQ(score.exitCode, 0) << score.err << score.out;
+  const nlohmann::json j = nlohmann::json::parse(score.out);
+  EXPECT_DOUBLE_EQ(j["score"].get<double>(), 100.0);
+  EXPECT_NEAR(j["depth_mm"].get<double>(), 8.0, 1.0);
+  std::ifstream summary(path("out/summary.json"));
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(summary)["voxel_size_mm"].get<double>(), 1.0);
+  // A voxel size the volume does not have is refused naming the exercise's field.
+  test::writeBytes(path("task/seg2.json"),
+                   R"({"bone": {"input": "seg.nrrd", "label": 1, "voxel_size_mm": 2}, )" + rest);
+  expectBadInput("score " + path("s.csv") + " --exercise " + path("task/seg2.json") +
+                     " --out-dir " + path("out2"),
+                 path("task/seg2.json") + ": bone.voxel_size_mm 2: ", "has voxels of 1 mm");
 }
 
 }  // namespace

@@ -81,9 +81,9 @@ void printText(const DrillReport& r) {
   const DrillCommandOptions& o = *r.options;
   const sim::RunSummary& s = r.run;
   std::cout << "drilled " << o.path << " with the " << r.summary["tool"].get<std::string>()
-            << " at " << *o.bone.voxelSizeMm << " mm, " << o.levels << " level(s): " << s.steps
-            << " steps, max force " << s.maxForceN << " N, jitter " << s.jitterN << " N, removed "
-            << s.removedVolumeMm3 << " mm3\n"
+            << " at " << r.summary["voxel_size_mm"].get<double>() << " mm, " << o.levels
+            << " level(s): " << s.steps << " steps, max force " << s.maxForceN << " N, jitter "
+            << s.jitterN << " N, removed " << s.removedVolumeMm3 << " mm3\n"
             << setupLine(r.setup, r.pathMs) << "\n"
             << "wrote " << r.files->forcesPath << ", " << r.files->summaryPath << ", "
             << r.files->surfacePath << "\n";
@@ -157,7 +157,8 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   r.files = &files;
   sim::BoneSource source = options.bone;
   source.sampleFineFills = options.levels > 0;
-  sim::OpenedBone opened = sim::BoneModel::open(source);
+  sim::OpenedBone opened =
+      extension.openBone ? extension.openBone(source) : sim::BoneModel::open(source);
   json volume;
   if (opened.read.volume) {
     volume = volumeJson(*opened.read.volume, source.volume);
@@ -200,7 +201,7 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
 
   r.summary = runSummaryJson(
       r.run, session, options.bone.input, options.threaded ? "threaded" : "deterministic",
-      sim::toolKindName(plan.kind), *options.bone.voxelSizeMm, options.levels);
+      sim::toolKindName(plan.kind), session.bone().grid().voxelSizeMm(), options.levels);
   r.summary["path"] = pathJson;
   // The first surface was extracted beside the first steps: its figures are known now.
   r.setup.surfaceMs = session.setupTimings().surfaceMs;

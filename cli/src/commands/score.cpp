@@ -90,6 +90,9 @@ int runScore(const ScoreCommandOptions& options) {
   r.path = options.path;
   DrillExtension extension;
   extension.printReport = false;
+  extension.openBone = [&exercise](const sim::BoneSource& source) {
+    return sim::openExerciseBone(exercise, source);
+  };
   extension.sessionOptions = [&exercise](sim::SessionOptions& so) {
     so.toolOptions = sim::exerciseSessionOptions(exercise).toolOptions;
   };
