@@ -81,6 +81,33 @@ TEST_F(CliTest, ScoreFailsTheThreeBadAttemptsForTheirReasons) {
   EXPECT_EQ(j["no_go"][1]["zone"], "far_cortex");
 }
 
+// A device recording (what `drill --device ... --record` writes) is scored as `replay` runs it:
+// the recorded plan path scores as the plan path itself, and its forces are the same.
+TEST_F(CliTest, ScoreTakesADeviceRecording) {
+  ASSERT_EQ(osteon("exercise plan anchor-5 --out " + path("a5.csv")).exitCode, 0);
+  const CliRun drill = osteon("drill default --voxel-size 1.2 --device scripted:" + path("a5.csv") +
+                              " --record " + path("rec.csv") + " --out-dir " + path("d"));
+  ASSERT_EQ(drill.exitCode, 0) << drill.err;
+  const std::string args = " --exercise anchor-5 --json --out-dir ";
+  const CliRun fromPath = osteon("score " + path("a5.csv") + args + path("p"));
+  const CliRun fromRecording = osteon("score " + path("rec.csv") + args + path("r"));
+  ASSERT_EQ(fromPath.exitCode, 0) << fromPath.err;
+  ASSERT_EQ(fromRecording.exitCode, 0) << fromRecording.err;
+  nlohmann::json p = nlohmann::json::parse(fromPath.out),
+                 r = nlohmann::json::parse(fromRecording.out);
+  EXPECT_DOUBLE_EQ(r["score"].get<double>(), 100.0);
+  for (const char* key : {"path", "files"}) p.erase(key), r.erase(key);
+  EXPECT_EQ(r, p);
+  std::ifstream summary(path("r/summary.json"));
+  EXPECT_EQ(nlohmann::json::parse(summary)["mode"], "replay");
+  EXPECT_EQ(test::readBytes(path("r/forces.csv")), test::readBytes(path("p/forces.csv")));
+  test::writeBytes(path("short.csv"), "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n0,1,2\n");
+  expectBadInput("score " + path("short.csv") + args + path("s"), path("short.csv"), "");
+  test::writeBytes(path("junk.csv"), "a,b\n1,2\n");
+  expectBadInput("score " + path("junk.csv") + args + path("s"),
+                 path("junk.csv") + ":1: ", "header must be a path CSV's t,x,y,z,drill_on");
+}
+
 TEST_F(CliTest, UpFindsTheBuiltInsHeadAndANonHumerusIsRefused) {
   // Given up = z the long axis is z itself, not its principal-component estimate: the same head
   // within a fraction of a millimetre.

@@ -187,7 +187,7 @@ int runDrillWithDevice(const DrillCommandOptions& options) {
   outcome.extra["safety"] = safetyJson(outcome.safety, limitN);
   const DeviceRunSetup setup{options.bone.input,
                              sim::toolKindName(kind),
-                             *options.bone.voxelSizeMm,
+                             session.bone().grid().voxelSizeMm(),
                              options.levels,
                              options.json,
                              deterministic ? "device" : "device-threaded",
