@@ -53,6 +53,8 @@ void printText(const ScoreReport& r) {
   }
   std::printf("  time %.2f s, path %.1f mm, peak force %.2f N, at the clamp %.3f s\n",
               r.score.timeS, r.score.pathLengthMm, r.score.peakForceN, r.score.atClampS);
+  std::printf("  removed %.1f mm3, cut outside the plan %.1f mm3, left uncut inside it %.1f mm3\n",
+              r.score.removedMm3, r.score.overcutMm3, r.score.uncutMm3);
   std::string files;
   for (const std::string& f : r.files) files += (files.empty() ? "" : ", ") + f;
   std::printf("wrote %s\n", files.c_str());
