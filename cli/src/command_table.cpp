@@ -371,7 +371,10 @@ void addExercise(CLI::App& cmd, ExerciseCommandOptions& o) {
 }
 
 void addScore(CLI::App& cmd, ScoreCommandOptions& o) {
-  cmd.add_option("PATH", o.path, "A path CSV: a viewer recording or exercise plan's")->required();
+  cmd.add_option("TRIAL", o.path,
+                 "A path CSV (the viewer's or exercise plan's) or a device recording (drill "
+                 "--device ... --record)")
+      ->required();
   cmd.add_option("--exercise", o.exercise, "anchor-5, anchor-7 or an exercise file (.json)")
       ->required();
   addUp(cmd, o.up);
@@ -429,8 +432,10 @@ const std::vector<Subcommand>& subcommands() {
           addExperiment, runExperiment),
       row("exercise", "The exercises: list them, show one, write one's planned path", addExercise,
           runExercise),
-      row("score", "Drill a path into an exercise's bone and score it against the plan", addScore,
-          runScore),
+      row("score",
+          "Drill a path or replay a device recording into an exercise's bone and score it "
+          "against the plan",
+          addScore, runScore),
       row("model",
           "Build the built-in proximal humerus (what 'default' means) and optionally write it",
           addModel, runModel),

@@ -189,6 +189,7 @@ DeviceRunResult runDevice(Session& session, devices::Device& device,
     const ForceLogRow row = logRowOf(in, h, session.simulation());
     metrics.add(row.tS, row.magnitudeN);
     if (options.onRow) options.onRow(row);
+    if (options.afterStep) options.afterStep(i, {in.tS, h.proxy, in.drillOn, in.settings}, h.step);
     input.apply(in.tS, h.forceN);  // the safety layer, after the coupling
     ++ran;
     if (interrupted()) break;  // SIGINT/SIGTERM: the caller throws Interrupted

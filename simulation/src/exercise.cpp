@@ -11,6 +11,7 @@
 
 #include "osteon/core/error.h"
 #include "osteon/core/input_file.h"
+#include "osteon/core/option_error.h"
 
 namespace osteon::simulation {
 
@@ -143,7 +144,7 @@ void readBone(Fields f, Exercise& ex, const std::string& file) {
   if (!b.isBuiltIn() && !file.empty() && std::filesystem::path(b.input).is_relative()) {
     b.input = (std::filesystem::path(file).parent_path() / b.input).lexically_normal().string();
   }
-  if (!b.voxelSizeMm) b.voxelSizeMm = 1.2;
+  b.defaultVoxelSizeMm = 1.2;  // a mesh's; a volume has its own
   try {
     b.check();
   } catch (const InputError& e) {
@@ -297,6 +298,34 @@ std::string exerciseJsonText(const Exercise& ex) {
         {"above_force_limit_s", ex.pass.aboveForceLimitS}}}};
   if (ex.entryMm) out["entry_mm"] = vec(*ex.entryMm);
   return out.dump(2);
+}
+
+OpenedBone openExerciseBone(const Exercise& exercise, const BoneSource& source) {
+  static const std::pair<const char*, const char*> kFields[] = {
+      {"voxelSizeMm", "bone.voxel_size_mm"},
+      {"volume.voxelSizeMm", "bone.voxel_size_mm"},
+      {"scale", "bone.scale"},
+      {"units", "bone.units"},
+      {"volume.label", "bone.label"},
+      {"volume.isoValue", "bone.iso"}};
+  try {
+    return BoneModel::open(source);
+  } catch (const InputError& e) {
+    bool named = false;
+    std::string kept;  // other fields stay marked, for the front end to name
+    const std::string message = renderOptions(e.marked(), [&](const std::string& field) {
+      for (const auto& [option, key] : kFields) {
+        if (field == option) {
+          named = true;
+          return key;
+        }
+      }
+      kept = optionRef(field);
+      return kept.c_str();
+    });
+    if (!named) throw;
+    throw InputError((exercise.file.empty() ? exercise.name : exercise.file) + ": " + message);
+  }
 }
 
 SessionOptions exerciseSessionOptions(const Exercise& exercise) {

@@ -88,9 +88,12 @@ void scoreSamples(const Exercise& ex, const ExercisePlan& plan,
   }
   s.entryMm = inside;
   s.bottomMm = s.entryMm;
+  // The hole is where the tool cut: its tip in the bone as it was (the proxy enters bone only by
+  // cutting it), not where the tip went once withdrawn from the hole.
   for (std::size_t i = entry; i < samples.size(); ++i) {
-    if (glm::length(samples[i].tipMm - s.entryMm) > s.depthMm) {
-      s.depthMm = glm::length(samples[i].tipMm - s.entryMm);
+    const double depthMm = glm::length(samples[i].tipMm - s.entryMm);
+    if (depthMm > s.depthMm && fillFractionAt(before, samples[i].tipMm) >= 0.5) {
+      s.depthMm = depthMm;
       s.bottomMm = samples[i].tipMm;
     }
   }

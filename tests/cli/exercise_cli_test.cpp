@@ -2,13 +2,13 @@
 // a bad exercise file is one line naming the file and the field.
 #include <fstream>
 
-#include <glm/geometric.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
 #include "osteon/geometry/io/mesh_io.h"
 #include "osteon/simulation/exercise.h"
 #include "support/cli_fixture.h"
+#include "support/exercise_attempts.h"
+#include "support/volume_files.h"
 
 namespace osteon {
 namespace {
@@ -54,20 +54,6 @@ TEST_F(CliTest, ABadExerciseFileIsOneLineNamingTheFileAndField) {
                  "must be x, y, z");
 }
 
-// The plan of anchor-7, and a path CSV of an attempt changed from it (entry, axis, depth).
-template <typename Change>
-std::string attemptCsv(Change change) {
-  using namespace simulation;
-  const Exercise ex = loadExercise("anchor-7");
-  Session session(BoneModel::open(ex.bone).bone, exerciseSessionOptions(ex));
-  const ExercisePlan plan = planExercise(ex, session);
-  glm::dvec3 entry = plan.entryMm, axis = plan.axis;
-  double depthMm = plan.depthMm;
-  change(plan, entry, axis, depthMm);
-  return drillPathCsv(holePath(entry, axis, plan.normal, depthMm,
-                               session.simulation().tool().parts[0].outerRadiusMm));
-}
-
 // Exit 1 (a verdict), and the criteria that failed.
 std::vector<std::string> failedCriteria(const CliTest& t, const CliRun& run) {
   EXPECT_EQ(run.exitCode, 1) << run.err;
@@ -80,18 +66,9 @@ std::vector<std::string> failedCriteria(const CliTest& t, const CliRun& run) {
 }
 
 TEST_F(CliTest, ScoreFailsTheThreeBadAttemptsForTheirReasons) {
-  using simulation::ExercisePlan;
-  test::writeBytes(path("deep.csv"), attemptCsv([](const ExercisePlan&, glm::dvec3&, glm::dvec3&,
-                                                   double& depthMm) { depthMm += 10.0; }));
-  test::writeBytes(path("tilt.csv"),
-                   attemptCsv([](const ExercisePlan& p, glm::dvec3&, glm::dvec3& axis, double&) {
-                     const glm::dvec3 about = glm::normalize(glm::cross(p.axis, -p.normal));
-                     axis = glm::angleAxis(30.0 * M_PI / 180.0, about) * p.axis;
-                   }));
-  test::writeBytes(path("off.csv"),
-                   attemptCsv([](const ExercisePlan& p, glm::dvec3& entry, glm::dvec3&, double&) {
-                     entry += 5.0 * glm::normalize(glm::cross(p.normal, p.axis));
-                   }));
+  test::writeBytes(path("deep.csv"), test::attemptCsv("anchor-7", test::tenMillimetresTooDeep));
+  test::writeBytes(path("tilt.csv"), test::attemptCsv("anchor-7", test::thirtyDegreesOffAxis));
+  test::writeBytes(path("off.csv"), test::attemptCsv("anchor-7", test::entryFiveMillimetresOff));
   const std::string args = " --exercise anchor-7 --json --out-dir " + path("s");
   EXPECT_EQ(failedCriteria(*this, osteon("score " + path("tilt.csv") + args)),
             (std::vector<std::string>{"angle", "overcut"}));
@@ -102,6 +79,33 @@ TEST_F(CliTest, ScoreFailsTheThreeBadAttemptsForTheirReasons) {
   const nlohmann::json j = nlohmann::json::parse(deep.out);
   EXPECT_GT(j["no_go"][1]["volume_mm3"].get<double>(), 0.5);
   EXPECT_EQ(j["no_go"][1]["zone"], "far_cortex");
+}
+
+// A device recording (what `drill --device ... --record` writes) is scored as `replay` runs it:
+// the recorded plan path scores as the plan path itself, and its forces are the same.
+TEST_F(CliTest, ScoreTakesADeviceRecording) {
+  ASSERT_EQ(osteon("exercise plan anchor-5 --out " + path("a5.csv")).exitCode, 0);
+  const CliRun drill = osteon("drill default --voxel-size 1.2 --device scripted:" + path("a5.csv") +
+                              " --record " + path("rec.csv") + " --out-dir " + path("d"));
+  ASSERT_EQ(drill.exitCode, 0) << drill.err;
+  const std::string args = " --exercise anchor-5 --json --out-dir ";
+  const CliRun fromPath = osteon("score " + path("a5.csv") + args + path("p"));
+  const CliRun fromRecording = osteon("score " + path("rec.csv") + args + path("r"));
+  ASSERT_EQ(fromPath.exitCode, 0) << fromPath.err;
+  ASSERT_EQ(fromRecording.exitCode, 0) << fromRecording.err;
+  nlohmann::json p = nlohmann::json::parse(fromPath.out),
+                 r = nlohmann::json::parse(fromRecording.out);
+  EXPECT_DOUBLE_EQ(r["score"].get<double>(), 100.0);
+  for (const char* key : {"path", "files"}) p.erase(key), r.erase(key);
+  EXPECT_EQ(r, p);
+  std::ifstream summary(path("r/summary.json"));
+  EXPECT_EQ(nlohmann::json::parse(summary)["mode"], "replay");
+  EXPECT_EQ(test::readBytes(path("r/forces.csv")), test::readBytes(path("p/forces.csv")));
+  test::writeBytes(path("short.csv"), "t,x,y,z,qw,qx,qy,qz,buttons,pedal,drill_on\n0,1,2\n");
+  expectBadInput("score " + path("short.csv") + args + path("s"), path("short.csv"), "");
+  test::writeBytes(path("junk.csv"), "a,b\n1,2\n");
+  expectBadInput("score " + path("junk.csv") + args + path("s"),
+                 path("junk.csv") + ":1: ", "header must be a path CSV's t,x,y,z,drill_on");
 }
 
 TEST_F(CliTest, UpFindsTheBuiltInsHeadAndANonHumerusIsRefused) {
@@ -144,6 +148,44 @@ TEST_F(CliTest, AnExerciseFileFindsItsBoneBesideItAndTakesAnExplicitEntryAndAxis
   const CliRun score = osteon("score " + path("b.csv") + " --exercise " + path("task/block.json") +
                               " --json --out-dir " + path("s"));
   EXPECT_EQ(score.exitCode, 0) << score.err << score.out;
+}
+
+TEST_F(CliTest, AnExerciseOnALabelMapVolumeUsesTheVolumesOwnVoxelSize) {
+  // 32^3 voxels of 1 mm around the origin, a 24 mm cube of label 1 in the middle.
+  test::TestVolume v;
+  v.sizes = {32, 32, 32};
+  v.firstCentreMm = glm::dvec3(-15.5);
+  for (int i = 0; i < 32 * 32 * 32; ++i) {
+    const glm::ivec3 c(i % 32, (i / 32) % 32, i / (32 * 32));
+    v.values.push_back(glm::all(glm::greaterThanEqual(c, glm::ivec3(4))) &&
+                               glm::all(glm::lessThan(c, glm::ivec3(28)))
+                           ? 1.0
+                           : 0.0);
+  }
+  std::filesystem::create_directories(path("task"));
+  test::writeTestNrrd(path("task/seg.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values),
+                      true);
+  const std::string rest = R"("entry_mm": [0, 0, 13], "axis": {"direction": [0, 0, -1]},
+    "depth_mm": 8, "no_go": {"articular_cap": {"enabled": false}}})";
+  test::writeBytes(path("task/seg.json"), R"({"bone": {"input": "seg.nrrd", "label": 1}, )" + rest);
+  const CliRun plan =
+      osteon("exercise plan " + path("task/seg.json") + " --out " + path("s.csv") + " --json");
+  ASSERT_EQ(plan.exitCode, 0) << plan.err;
+  EXPECT_NEAR(nlohmann::json::parse(plan.out)["plan"]["entry_mm"][2].get<double>(), 12.0, 0.01);
+  const CliRun score = osteon("score " + path("s.csv") + " --exercise " + path("task/seg.json") +
+                              " --json --out-dir " + path("out"));
+  ASSERT_EQ(score.exitCode, 0) << score.err << score.out;
+  const nlohmann::json j = nlohmann::json::parse(score.out);
+  EXPECT_DOUBLE_EQ(j["score"].get<double>(), 100.0);
+  EXPECT_NEAR(j["depth_mm"].get<double>(), 8.0, 1.0);
+  std::ifstream summary(path("out/summary.json"));
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(summary)["voxel_size_mm"].get<double>(), 1.0);
+  // A voxel size the volume does not have is refused naming the exercise's field.
+  test::writeBytes(path("task/seg2.json"),
+                   R"({"bone": {"input": "seg.nrrd", "label": 1, "voxel_size_mm": 2}, )" + rest);
+  expectBadInput("score " + path("s.csv") + " --exercise " + path("task/seg2.json") +
+                     " --out-dir " + path("out2"),
+                 path("task/seg2.json") + ": bone.voxel_size_mm 2: ", "has voxels of 1 mm");
 }
 
 }  // namespace

@@ -20,8 +20,9 @@ struct Trial {
 
 // One attempt on a fresh session of the exercise's bone: `change` turns the plan's hole into
 // the attempt's (entry, axis, depth).
+// `withdrawMm`: the path then goes on that far back out along the axis, the drill off.
 template <typename Change>
-Trial attempt(const std::string& name, Change change) {
+Trial attempt(const std::string& name, Change change, double withdrawMm = 0.0) {
   const Exercise ex = loadExercise(name);
   Session session(BoneModel::open(ex.bone).bone, exerciseSessionOptions(ex));
   Trial t;
@@ -29,8 +30,16 @@ Trial attempt(const std::string& name, Change change) {
   glm::dvec3 entry = t.plan.entryMm, axis = t.plan.axis;
   double depthMm = t.plan.depthMm;
   change(t.plan, entry, axis, depthMm);
-  const DrillPath path = holePath(entry, axis, t.plan.normal, depthMm,
-                                  session.simulation().tool().parts[0].outerRadiusMm);
+  DrillPath path = holePath(entry, axis, t.plan.normal, depthMm,
+                            session.simulation().tool().parts[0].outerRadiusMm);
+  if (withdrawMm > 0.0) {
+    std::vector<Waypoint> points = path.points();
+    Waypoint out = points.back();
+    out.tS += withdrawMm / 10.0;
+    out.tipMm -= withdrawMm * axis;
+    points.push_back(out);
+    path = DrillPath(points);
+  }
   TrialRecorder recorder;
   session.run(
       path, recordingOptions(recorder, session.simulation().tool().maxForceN, session.coupling()));
@@ -69,6 +78,17 @@ TEST_P(AnchorExercise, ThePlanPathScoresFullMarks) {
   // A hole of the plan's size was cut: pi r^2 depth, within the voxels' rounding.
   const double holeMm3 = M_PI * t.plan.radiusMm * t.plan.radiusMm * t.plan.depthMm;
   EXPECT_GT(t.score.removedMm3, 0.6 * holeMm3);
+}
+
+TEST_P(AnchorExercise, ThePlanPathWithdrawnFurtherStillScoresFullMarks) {
+  // The tip's travel once out of the hole is not the hole: its axis and depth stay the plan's.
+  const Trial t = attempt(GetParam(), noChange, 30.0);
+  EXPECT_TRUE(t.score.passed);
+  EXPECT_DOUBLE_EQ(t.score.score, 100.0);
+  expectPassedExcept(t.score, {});
+  EXPECT_LT(t.score.axisAngleErrorDeg, 3.0);
+  EXPECT_LT(std::abs(t.score.depthVsPlanMm), 1.0);
+  EXPECT_GT(t.score.pathLengthMm, 2.0 * t.plan.depthMm + 30.0);
 }
 
 TEST_P(AnchorExercise, ThirtyDegreesOffAxisFailsOnAngle) {

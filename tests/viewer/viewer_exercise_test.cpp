@@ -1,7 +1,8 @@
 // Exercises in the viewer under Xvfb: a built-in one played along its ideal path scores full
-// marks through the same API as `osteon score`; one read from a JSON file opens with its plan
-// drawn over the bone (green axis and entry pixels in the frame); bad ones are refused with
-// one line before any window. Skipped, with the reason, when no X server can start.
+// marks through the same API as `osteon score`, and its three bad attempts fail for their
+// reasons; one read from a JSON file opens with its plan drawn over the bone (green axis and
+// entry pixels in the frame); bad ones are refused with one line before any window. Skipped,
+// with the reason, when no X server can start.
 #include <cstdlib>
 #include <filesystem>
 #include <future>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "igtl/igtl_client.h"
+#include "support/exercise_attempts.h"
 #include "support/files.h"
 #include "support/process.h"
 #include "viewer_fixture.h"
@@ -59,7 +61,7 @@ TEST_F(ViewerExerciseTest, ThePlanPathScoresFullMarksInTheViewer) {
   const json& s = j["score"];
   ASSERT_TRUE(s.is_object()) << j.dump();
   EXPECT_TRUE(s["passed"].get<bool>()) << s.dump(2);
-  EXPECT_GE(s["score"].get<double>(), 95.0);
+  EXPECT_DOUBLE_EQ(s["score"].get<double>(), 100.0);
   std::vector<std::string> names;
   for (const json& c : s["criteria"]) {
     names.push_back(c["name"].get<std::string>());
@@ -68,6 +70,40 @@ TEST_F(ViewerExerciseTest, ThePlanPathScoresFullMarksInTheViewer) {
   EXPECT_EQ(names, (std::vector<std::string>{"entry", "angle", "depth", "overcut", "no_go", "force",
                                              "time"}));
   EXPECT_GT(j["removed_volume_mm3"].get<double>(), 50.0);
+}
+
+// The three bad attempts played from path CSVs, as `osteon score` plays them: each fails on its
+// own criterion (and overcut, since the hole is elsewhere), and the deep one cuts the far cortex.
+TEST_F(ViewerExerciseTest, TheThreeBadAttemptsFailForTheirReasons) {
+  struct Bad {
+    const char* name;
+    test::AttemptChange change;
+    std::vector<std::string> failing;
+  };
+  const Bad attempts[] = {{"tilt", test::thirtyDegreesOffAxis, {"angle", "overcut"}},
+                          {"off", test::entryFiveMillimetresOff, {"entry", "overcut"}},
+                          {"deep", test::tenMillimetresTooDeep, {"depth", "overcut", "no_go"}}};
+  for (const Bad& bad : attempts) {
+    const std::string csv = path(std::string(bad.name) + ".csv");
+    test::writeBytes(csv, test::attemptCsv("anchor-5", bad.change));
+    const json j = viewer("--exercise anchor-5 --path '" + csv + "' --frames 5 --no-ui",
+                          std::string("viewer_exercise_") + bad.name + ".png");
+    ASSERT_TRUE(j.contains("score") && j["score"].is_object()) << bad.name << ": " << j.dump();
+    const json& s = j["score"];
+    EXPECT_FALSE(s["passed"].get<bool>()) << bad.name;
+    std::vector<std::string> failed;
+    for (const json& c : s["criteria"])
+      if (!c["passed"].get<bool>()) failed.push_back(c["name"].get<std::string>());
+    EXPECT_EQ(failed, bad.failing) << bad.name << ": " << s.dump(2);
+    double farMm3 = 0.0;
+    for (const json& b : s["no_go"])
+      if (b["zone"] == "far_cortex") farMm3 = b["volume_mm3"].get<double>();
+    if (std::string(bad.name) == "deep") {
+      EXPECT_GT(farMm3, 0.5);
+    } else {
+      EXPECT_EQ(farMm3, 0.0) << bad.name;
+    }
+  }
 }
 
 // With --igtl the score reaches the OpenIGTLink clients as STRING Score (one line) and

@@ -77,10 +77,14 @@ void viewSection(PanelModel& m) {
   static const char* names[] = {"shaded (S)",     "cracks (F2)",    "levels (F3)", "density (F4)",
                                 "hierarchy (F5)", "wireframe (F6)", "heat (B)"};
   int view = int(m.view);
+  // Two columns; the seventh's neighbour is the edges box, and the surface choice has a row of
+  // its own (beside a radio button it ran past the panel's edge at 1280 px).
   for (int i = 0; i < 7; ++i) {
     if (ImGui::RadioButton(names[i], &view, i)) m.view = View(i);
     if (i % 2 == 0) ImGui::SameLine(160.0f);
   }
+  ImGui::Checkbox("edges (W)", &m.wire);
+  tip("The triangles' edges over the view");
   int method = int(m.method);
   ImGui::Text("surface (M):");
   ImGui::SameLine();
@@ -89,11 +93,8 @@ void viewSection(PanelModel& m) {
   if (ImGui::RadioButton("naive", &method, 1)) m.method = SurfaceChoice::Naive;
   if (m.method == SurfaceChoice::Naive)
     ImGui::TextDisabled("naive: extracted whole, %.1f ms", m.status.naiveExtractMs);
-  ImGui::Checkbox("edges (W)", &m.wire);
-  ImGui::SameLine();
   ImGui::Checkbox("head and entry (O)", &m.showPlan);
   tip("The fitted humeral head (blue) and the portal's entry (green); with an exercise, its plan");
-  tip("The triangles' edges over the view");
   if (!m.texturesMessage.empty() && (m.view == View::Levels || m.view == View::Density)) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.7f, 0.3f, 1.0f));
     ImGui::TextWrapped("%s", m.texturesMessage.c_str());
@@ -150,8 +151,11 @@ void drillSettings(PanelModel& m) {
   ImGui::SameLine();
   ImGui::Checkbox("irrigation", &m.irrigation);
   tip("Saline irrigation: cools the bone");
-  ImGui::TextDisabled(m.calibrated ? "force: calibrated to published drilling thrust"
-                                   : "force: the seed's model (rpm and feed do not change it)");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+  ImGui::TextWrapped("%s", m.calibrated
+                               ? "force: calibrated to published drilling thrust"
+                               : "force: the seed's model (rpm and feed do not change it)");
+  ImGui::PopStyleColor();
 }
 
 void toolSection(PanelModel& m) {

@@ -1,6 +1,7 @@
 // The exercise's window: its title and instructions, the plan in numbers, the live readouts
 // against it (green within the pass thresholds), and once the trial is scored the score: each
-// criterion's value against its limit, passed or failed, and the overall score.
+// criterion's value against its limit, passed or failed, the overall score and the metrics
+// `osteon score` prints beside them.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -48,13 +49,18 @@ void scoreSection(const simulation::TrialScore& s) {
     }
     ImGui::EndTable();
   }
-  ImGui::Text("time %.1f s, path %.0f mm, removed %.1f mm3", s.timeS, s.pathLengthMm, s.removedMm3);
+  // The same metrics as `osteon score` prints.
+  ImGui::Text("time %.1f s, path %.0f mm", s.timeS, s.pathLengthMm);
+  ImGui::Text("removed %.1f mm3, left uncut in the plan %.1f mm3", s.removedMm3, s.uncutMm3);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(
+        "Bone left inside the planned hole: a hole too short, narrow or off the plan");
   if (s.entered) {
-    ImGui::Text("depth %.1f mm (%+.1f against the plan), peak %.2f N", s.depthMm, s.depthVsPlanMm,
-                s.peakForceN);
+    ImGui::Text("depth %.1f mm (%+.1f against the plan)", s.depthMm, s.depthVsPlanMm);
   } else {
-    ImGui::TextColored(kFail, "the drill never entered the bone (peak %.2f N)", s.peakForceN);
+    ImGui::TextColored(kFail, "the drill never entered the bone");
   }
+  ImGui::Text("peak force %.2f N, at the clamp %.2f s", s.peakForceN, s.atClampS);
   for (const simulation::NoGoBreach& b : s.noGo) {
     if (b.volumeMm3 > 0.0)
       ImGui::TextColored(kFail, "no-go %s: %.1f mm3 cut at (%.0f, %.0f, %.0f)", b.zone.c_str(),

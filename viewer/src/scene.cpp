@@ -9,11 +9,15 @@ namespace sim = osteon::simulation;
 
 namespace {
 
+// An exercise's bone is refused naming the exercise's fields.
 std::unique_ptr<sim::Session> openSession(const sim::BoneSource& bone,
-                                          const sim::SessionOptions& options) {
+                                          const sim::SessionOptions& options,
+                                          const sim::Exercise* exercise) {
   sim::BoneSource source = bone;
   source.sampleFineFills = options.levels > 0;
-  return std::make_unique<sim::Session>(sim::BoneModel::open(source).bone, options);
+  return std::make_unique<sim::Session>(
+      exercise ? sim::openExerciseBone(*exercise, source).bone : sim::BoneModel::open(source).bone,
+      options);
 }
 
 // Without a path: aimed at the humeral head as the 5 o'clock portal starts (clear of the bone),
@@ -79,7 +83,7 @@ std::unique_ptr<Scene> Scene::load(const LoadRequest& request) {
   if (options.forceModel == sim::ForceModelKind::Calibrated && !request.coupling)
     options.coupling = sim::CouplingMode::Proxy;
   options.settings = request.settings;
-  scene->session_ = openSession(bone, options);
+  scene->session_ = openSession(bone, options, scene->exercise_ ? &*scene->exercise_ : nullptr);
   sim::Session& session = *scene->session_;
   if (scene->exercise_) {
     scene->plan_ = sim::planExercise(*scene->exercise_, session);

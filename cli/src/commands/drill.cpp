@@ -157,7 +157,8 @@ int runDrill(const DrillCommandOptions& options, const DrillExtension& extension
   r.files = &files;
   sim::BoneSource source = options.bone;
   source.sampleFineFills = options.levels > 0;
-  sim::OpenedBone opened = sim::BoneModel::open(source);
+  sim::OpenedBone opened =
+      extension.openBone ? extension.openBone(source) : sim::BoneModel::open(source);
   json volume;
   if (opened.read.volume) {
     volume = volumeJson(*opened.read.volume, source.volume);

@@ -36,6 +36,7 @@ struct DrillCommandOptions {
 // look at the session once it is open, every step, and the session once the run is done; and
 // whether drill's own report is printed.
 struct DrillExtension {
+  std::function<simulation::OpenedBone(const simulation::BoneSource&)> openBone;  // else open()
   std::function<void(simulation::SessionOptions&)> sessionOptions;
   std::function<void(simulation::Session&)> opened;
   std::function<void(const simulation::ForceLogRow&)> onRow;

@@ -92,7 +92,7 @@ int runExercise(const ExerciseCommandOptions& options) {
     if (!sim::isPathCsv(options.out))
       throw InputError("--out " + options.out + ": must be a .csv file");
     geometry::refuseOverwritingInputs({options.out}, exercise.bone.inputFiles());
-    sim::Session session(sim::BoneModel::open(exercise.bone).bone,
+    sim::Session session(sim::openExerciseBone(exercise, exercise.bone).bone,
                          sim::exerciseSessionOptions(exercise));
     r.plan = sim::planExercise(exercise, session);
     geometry::writeFileAtomically(options.out, sim::drillPathCsv(r.plan->path));

@@ -15,12 +15,17 @@ namespace sim = osteon::simulation;
 using nlohmann::json;
 
 int runReplay(const ReplayCommandOptions& options) {
+  return runReplay(options, DrillExtension{});
+}
+
+int runReplay(const ReplayCommandOptions& options, const DrillExtension& extension,
+              devices::Recording* read) {
   // Everything that can be refused is refused before the work.
   checkDeviceRunOptions(options.bone, options.levels);
   const sim::ToolKind kind = sim::parseToolKind(options.tool);
   const sim::CouplingMode coupling =
       checkFeel(options.feel, options.coupling, couplingFor(options.coupling, false));
-  dev::Recording recording = dev::loadRecording(options.log);
+  dev::Recording recording = read ? std::move(*read) : dev::loadRecording(options.log);
   RunFolder files(options.outDir);
   std::vector<std::string> inputs = options.bone.inputFiles();
   inputs.push_back(options.log);
@@ -31,7 +36,9 @@ int runReplay(const ReplayCommandOptions& options) {
   checkIgtlOptions(options.igtl, live);
 
   sim::Session session =
-      openDeviceRunSession(options.bone, options.levels, kind, coupling, options.feel);
+      openDeviceRunSession(options.bone, options.levels, kind, coupling, options.feel,
+                           {extension.sessionOptions, extension.openBone});
+  if (extension.opened) extension.opened(session);
   const std::size_t rows = recording.rows.size();
   dev::ReplayDevice device("replay:" + options.log, std::move(recording));
   sim::ForceLogWriter forces(files.forcesPath, coupling == sim::CouplingMode::Proxy,
@@ -39,7 +46,11 @@ int runReplay(const ReplayCommandOptions& options) {
   audio.follow(forces);
   sim::DeviceRunOptions ro;
   ro.input.settings = session.options().settings;
-  ro.onRow = [&forces](const sim::ForceLogRow& row) { forces.write(row); };
+  ro.onRow = [&forces, &extension](const sim::ForceLogRow& row) {
+    forces.write(row);
+    if (extension.onRow) extension.onRow(row);
+  };
+  ro.afterStep = extension.afterStep;
   sim::RunSummary run;
   dev::SafetyStats safety;
   json recordingJson = {{"file", options.log}, {"rows", rows}};
@@ -69,6 +80,7 @@ int runReplay(const ReplayCommandOptions& options) {
   throwIfInterrupted();  // the run was cut short: nothing of it is put in place
   forces.commit();
   audio.commit();
+  if (extension.done) extension.done(session);
 
   const DeviceRunSetup setup{options.bone.input,
                              sim::toolKindName(kind),
@@ -76,7 +88,8 @@ int runReplay(const ReplayCommandOptions& options) {
                              options.levels,
                              options.json,
                              live ? "replay-threaded" : "replay",
-                             options.allowEmpty};
+                             options.allowEmpty,
+                             extension.printReport};
   return finishDeviceRun(setup, files, session, run, extra, "replayed " + options.log);
 }
 

@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "commands/drill.h"
+#include "osteon/devices/recording.h"
 #include "osteon/simulation/bone_source.h"
 #include "support/feel_options.h"
 #include "support/igtl_serve.h"
@@ -27,5 +29,9 @@ struct ReplayCommandOptions {
 };
 
 int runReplay(const ReplayCommandOptions& options);
+// The same run with `extension`'s additions (deterministic replays only: the threaded one, for
+// --igtl, takes none), of `recording` when it was read already (else options.log is read).
+int runReplay(const ReplayCommandOptions& options, const DrillExtension& extension,
+              devices::Recording* recording = nullptr);
 
 }  // namespace osteon::cli

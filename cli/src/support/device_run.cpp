@@ -23,7 +23,8 @@ void checkDeviceRunOptions(const sim::BoneSource& bone, int levels) {
 }
 
 sim::Session openDeviceRunSession(const sim::BoneSource& bone, int levels, sim::ToolKind kind,
-                                  sim::CouplingMode coupling, const FeelCommandOptions& feel) {
+                                  sim::CouplingMode coupling, const FeelCommandOptions& feel,
+                                  const DeviceSessionHooks& hooks) {
   sim::BoneSource source = bone;
   source.sampleFineFills = levels > 0;
   sim::SessionOptions so;
@@ -32,7 +33,9 @@ sim::Session openDeviceRunSession(const sim::BoneSource& bone, int levels, sim::
   so.tool = kind;
   so.keepSurface = false;  // batch runs: the surface is extracted once at the end
   applyFeel(feel, so);
-  return sim::Session(sim::BoneModel::open(source).bone, so);
+  if (hooks.sessionOptions) hooks.sessionOptions(so);
+  return sim::Session((hooks.openBone ? hooks.openBone(source) : sim::BoneModel::open(source)).bone,
+                      so);
 }
 
 ThreadedDeviceRun runDeviceThreaded(sim::Session& session, dev::Device& device,
@@ -140,7 +143,7 @@ int finishDeviceRun(const DeviceRunSetup& setup, RunFolder& files, sim::Session&
   geo::writeFileAtomically(files.summaryPath, summary.dump(2) + "\n");
   files.dir.commit();
   if (recording) recording->commit();  // the run is complete: the new recording replaces the old
-  printReport(r, setup.json);
+  if (setup.printReport) printReport(r, setup.json);
   if (!empty.empty())
     return emptyExit(setup.mode == "replay" ? "replay" : "drill", setup.mesh, empty,
                      setup.allowEmpty);

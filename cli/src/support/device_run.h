@@ -3,6 +3,7 @@
 // safety layer's work, the surface, the printed summary), written as `drill` writes its runs.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,16 +31,25 @@ struct DeviceRunSetup {
   bool json = false;
   std::string mode;  // replay, replay-threaded, device, device-threaded
   bool allowEmpty = false;
+  bool printReport = true;  // false: the command prints its own (score)
 };
 
 // Levels and the bone's options, before any work.
 void checkDeviceRunOptions(const simulation::BoneSource& bone, int levels);
 
+// What a command that runs a device as replay does may change in its session (score): its
+// options, and how its bone is opened (else BoneModel::open).
+struct DeviceSessionHooks {
+  std::function<void(simulation::SessionOptions&)> sessionOptions;
+  std::function<simulation::OpenedBone(const simulation::BoneSource&)> openBone;
+};
+
 // The session a device run drills: the bone opened from its source, no kept surface (batch).
 simulation::Session openDeviceRunSession(const simulation::BoneSource& bone, int levels,
                                          simulation::ToolKind kind,
                                          simulation::CouplingMode coupling,
-                                         const FeelCommandOptions& feel);
+                                         const FeelCommandOptions& feel,
+                                         const DeviceSessionHooks& hooks = {});
 
 // The files a device name reads (recordings, path CSVs), which no output may overwrite.
 std::vector<std::string> deviceInputs(const std::string& name);

@@ -130,6 +130,9 @@ struct DeviceRunOptions {
   DeviceInputOptions input;
   // Rows as they come (e.g. ForceLogWriter::write); must not throw.
   std::function<void(const ForceLogRow& row)> onRow;
+  // After each step, as DeterministicOptions::afterStep: the input with the simulated tool's
+  // pose (the proxy's under proxy coupling) and the device's trigger, and the step's output.
+  std::function<void(std::size_t step, const StepInput& input, const StepOutput& output)> afterStep;
 };
 
 struct DeviceRunResult {

@@ -52,8 +52,8 @@ struct Exercise {
   std::string file;          // the JSON it was read from ("" for a built-in), for messages
   std::string title;         // one line
   std::string instructions;  // a paragraph for the trainee
-  // The bone: a mesh, `default` or a volume, with its units, label or iso and voxel size
-  // (BoneSource::voxelSizeMm is always set: the file's, or 1.2 mm).
+  // The bone: a mesh, `default` or a volume, with its units, label or iso and voxel size (the
+  // file's; else a mesh is voxelized at 1.2 mm, defaultVoxelSizeMm, and a volume keeps its own).
   BoneSource bone;
   int levels = 2;
   ToolKind tool = ToolKind::Drill;
@@ -89,6 +89,11 @@ Exercise loadExercise(const std::string& nameOrFile);
 Exercise parseExercise(const std::string& jsonText, const std::string& file);
 // The exercise as JSON text (the schema parseExercise reads; every field written).
 std::string exerciseJsonText(const Exercise& exercise);
+
+// The exercise's bone opened from `source` (its bone, as a front end adjusted it): a refusal
+// that names a bone option names it as the exercise's field ("ex.json: bone.voxel_size_mm 2:
+// seg.nrrd has voxels of 1 mm ..."), not as a command-line flag the user never gave.
+OpenedBone openExerciseBone(const Exercise& exercise, const BoneSource& source);
 
 // The session an exercise is drilled in: its levels, its tool with the hole's diameter, and
 // proxy coupling (bone stops the tool, as under a hand).

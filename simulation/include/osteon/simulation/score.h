@@ -92,7 +92,7 @@ struct TrialScore {
   double pathLengthMm = 0.0;       // the tip's travel
   bool entered = false;            // the tip's centre went into the bone with the drill on
   glm::dvec3 entryMm{0.0};         // where it first did
-  glm::dvec3 bottomMm{0.0};        // the deepest point it reached from there
+  glm::dvec3 bottomMm{0.0};        // the deepest point it reached from there in the bone
   double entryErrorMm = 0.0;       // entry to the planned entry
   double axisAngleErrorDeg = 0.0;  // entry -> bottom against the planned axis
   double depthMm = 0.0;            // entry to bottom
