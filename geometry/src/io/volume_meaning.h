@@ -17,6 +17,7 @@
 #include <tbb/parallel_for.h>
 
 #include "io/volume_grid_build.h"
+#include "io/volume_resample.h"
 #include "io/volume_sampling.h"
 #include "osteon/core/error.h"
 #include "osteon/core/number_text.h"
@@ -230,14 +231,35 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
                        });
     }
   }
-  return buildGrid(
-      grid, [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
-        for (int x = 0; x < length; ++x) {
-          const double hu =
-              sampleValue(g, values, p + glm::ivec3(x, 0, 0), i + std::size_t(x), real, airHu);
-          ctVoxel(hu, iso, fill[x], density[x]);
-        }
-      });
+  if (g.exact) {
+    return buildGrid(grid,
+                     [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+                       const std::size_t s = storedRow(g, p, i);
+                       for (int x = 0; x < length; ++x)
+                         ctVoxel(real(values[s + std::size_t(x)]), iso, fill[x], density[x]);
+                     });
+  }
+  // Resampled: bricks whose footprint's HU give one fill and density are set whole.
+  using Sample = SampleOf<T>;
+  const IndexMap m = indexMap(g);
+  const auto value = [&real](T x) { return Sample(real(x)); };
+  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, Sample(airHu));
+  const auto uniform = [&](glm::ivec3 b, Fill& fill, Density& density) {
+    const auto [lo, hi] = ranges.of(b);
+    const Sample margin = sampleMargin(lo, hi);
+    Fill highFill = 0;
+    Density highDensity = 0;
+    ctVoxel(double(lo - margin), iso, fill, density);
+    ctVoxel(double(hi + margin), iso, highFill, highDensity);
+    return fill == highFill && density == highDensity;
+  };
+  return buildGridByBrick(grid, uniform,
+                          [&](glm::ivec3 p, std::size_t, int length, Fill* fill, Density* density) {
+                            Sample hu[kBrickEdge];
+                            trilinearRow(g, m, values, value, Sample(airHu), p, length, hu);
+                            for (int x = 0; x < length; ++x)
+                              ctVoxel(double(hu[x]), iso, fill[x], density[x]);
+                          });
 }
 
 // A scalar volume's grid: fill ramped around the iso value, density by distance. Placed
@@ -271,10 +293,10 @@ std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Rea
     };
     return buildByDistance(g, fillRow, options, grid);
   }
-  std::vector<Fill> fills(g.count());
-  forEachVoxel(g.sizes, [&](glm::ivec3 p, std::size_t i) {
-    fills[i] = rampFill(trilinearValue(g, values, p, real, lowest), iso, halfWidth);
-  });
+  using Sample = SampleOf<T>;
+  const std::vector<Fill> fills = resampledFills(
+      g, values, [&real](T x) { return Sample(real(x)); }, Sample(lowest),
+      [iso, halfWidth](Sample v) { return rampFill(double(v), iso, halfWidth); });
   return buildByDistance(g, heldFills(fills), options, grid);
 }
 
