@@ -197,9 +197,17 @@ std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Ins
     };
     return buildByDistance(g, fillRow, options, grid);
   }
-  std::vector<Fill> fills(g.count());
-  forEachVoxel(g.sizes,
-               [&](glm::ivec3 p, std::size_t i) { fills[i] = labelFill(g, values, p, i, inside); });
+  // Resampled: each voxel's share of the bone, the mean of the label's indicator (1 inside, 0
+  // out) at kLabelSubsamples^3 points over it, the indicator trilinear between stored voxels: a
+  // nearest stored voxel's would rebuild their staircase, whose corners stand out up to half a
+  // slice from the surface the stored voxels sample.
+  using Sample = SampleOf<T>;
+  const std::vector<Fill> fills = resampledFills(
+      g, values, [&inside](T x) { return inside(x) ? Sample(1) : Sample(0); }, Sample(0),
+      [](Sample share) {
+        return Fill(std::lround(std::clamp(double(share), 0.0, 1.0) * kFillFull));
+      },
+      kLabelSubsamples);
   return buildByDistance(g, heldFills(fills), options, grid);
 }
 
@@ -243,7 +251,7 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
   using Sample = SampleOf<T>;
   const IndexMap m = indexMap(g);
   const auto value = [&real](T x) { return Sample(real(x)); };
-  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, Sample(airHu));
+  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, Sample(airHu), 0.0);
   const auto uniform = [&](glm::ivec3 b, Fill& fill, Density& density) {
     const auto [lo, hi] = ranges.of(b);
     const Sample margin = sampleMargin(lo, hi);

@@ -30,8 +30,14 @@ using SampleOf = std::conditional_t<sizeof(T) == 8, double, float>;
 struct IndexMap {
   glm::dvec3 start{0.0};
   glm::dvec3 step[3];
-  glm::dvec3 at(glm::ivec3 p) const {
-    return start + double(p.x) * step[0] + double(p.y) * step[1] + double(p.z) * step[2];
+  glm::dvec3 at(glm::dvec3 p) const {
+    return start + p.x * step[0] + p.y * step[1] + p.z * step[2];
+  }
+  // The same map for points `offset` (in output voxels) from each voxel's centre.
+  IndexMap shifted(glm::dvec3 offset) const {
+    IndexMap m = *this;
+    m.start = at(offset);
+    return m;
   }
 };
 
@@ -48,7 +54,7 @@ template <typename T, typename Value, typename Sample>
 void trilinearRow(const OutputGrid& g, const IndexMap& m, StoredValues<T> values,
                   const Value& value, Sample outside, glm::ivec3 start, int length, Sample* out) {
   using V = glm::vec<3, Sample>;
-  const V q0(m.at(start)), dq(m.step[0]);
+  const V q0(m.at(glm::dvec3(start))), dq(m.step[0]);
   const V last(g.stored - 1), lowest(Sample(-0.5)), highest = last + Sample(0.5);
   const glm::ivec3 top = glm::max(g.stored - 2, 0);
   const std::size_t sy = std::size_t(g.stored.x), sz = sy * std::size_t(g.stored.y);
@@ -90,6 +96,8 @@ struct BrickRanges {
 };
 
 inline constexpr int kRangeEdge = 8;
+// A label map's resampled voxel: its share of the bone from kLabelSubsamples^3 samples.
+inline constexpr int kLabelSubsamples = 3;
 
 template <typename T, typename Value, typename Sample>
 std::vector<std::pair<Sample, Sample>> storedBlockRanges(glm::ivec3 n, StoredValues<T> values,
@@ -133,7 +141,7 @@ std::vector<std::pair<Sample, Sample>> storedBlockRanges(glm::ivec3 n, StoredVal
 
 template <typename T, typename Value, typename Sample>
 BrickRanges<Sample> brickRanges(const OutputGrid& g, const IndexMap& m, StoredValues<T> values,
-                                const Value& value, Sample outside) {
+                                const Value& value, Sample outside, double reachVoxels) {
   const glm::ivec3 blocks = (g.stored + kRangeEdge - 1) / kRangeEdge;
   const auto stored = storedBlockRanges<T, Value, Sample>(g.stored, values, value, blocks);
   BrickRanges<Sample> r;
@@ -141,10 +149,12 @@ BrickRanges<Sample> brickRanges(const OutputGrid& g, const IndexMap& m, StoredVa
   r.range.resize(std::size_t(r.bricks.x) * std::size_t(r.bricks.y) * std::size_t(r.bricks.z));
   forEachVoxel(r.bricks, [&](glm::ivec3 b, std::size_t i) {
     const glm::ivec3 p0 = b * kBrickEdge, p1 = glm::min(p0 + kBrickEdge, g.sizes) - 1;
+    // The brick's sample points span its voxel centres, `reachVoxels` wider on every side.
+    const glm::dvec3 c0 = glm::dvec3(p0) - reachVoxels, c1 = glm::dvec3(p1) + reachVoxels;
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
     for (int c = 0; c < 8; ++c) {
       const glm::dvec3 q =
-          m.at({(c & 1) ? p1.x : p0.x, (c & 2) ? p1.y : p0.y, (c & 4) ? p1.z : p0.z});
+          m.at({(c & 1) ? c1.x : c0.x, (c & 2) ? c1.y : c0.y, (c & 4) ? c1.z : c0.z});
       lo = glm::min(lo, q);
       hi = glm::max(hi, q);
     }
@@ -230,19 +240,27 @@ std::uint64_t buildGridByBrick(VoxelGrid& grid, const Uniform& uniform, const Vo
 }
 
 // The fills of a resampled grid, held whole (x fastest): fillOf(sample), non-decreasing, of each
-// voxel's trilinear sample of value(stored), bricks by their ranges where they are uniform.
+// voxel's trilinear sample of value(stored) at its centre, or with `subsamples` the mean of
+// subsamples^3 of them spread evenly over the voxel; bricks by their ranges where uniform.
 template <typename T, typename Value, typename Sample, typename FillOf>
 std::vector<Fill> resampledFills(const OutputGrid& g, StoredValues<T> values, const Value& value,
-                                 Sample outside, const FillOf& fillOf) {
-  const IndexMap m = indexMap(g);
-  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, outside);
+                                 Sample outside, const FillOf& fillOf, int subsamples = 1) {
+  const IndexMap centres = indexMap(g);
+  std::vector<IndexMap> maps;
+  for (int k = 0; k < subsamples * subsamples * subsamples; ++k) {
+    const glm::ivec3 s(k % subsamples, k / subsamples % subsamples, k / subsamples / subsamples);
+    maps.push_back(centres.shifted((glm::dvec3(s) + 0.5) / double(subsamples) - 0.5));
+  }
+  const double reach = 0.5 - 0.5 / double(subsamples);
+  const BrickRanges<Sample> ranges = brickRanges(g, centres, values, value, outside, reach);
+  const Sample share = Sample(1) / Sample(maps.size());
   std::vector<Fill> fills(g.count());
   forEachVoxel(ranges.bricks, [&](glm::ivec3 b, std::size_t) {
     const auto [lo, hi] = ranges.of(b);
     const Sample margin = sampleMargin(lo, hi);
     const Fill low = fillOf(lo - margin), high = fillOf(hi + margin);
     const glm::ivec3 p0 = b * kBrickEdge, size = glm::min(g.sizes - p0, kBrickEdge);
-    Sample row[kBrickEdge];
+    Sample row[kBrickEdge], sum[kBrickEdge];
     for (int z = p0.z; z < p0.z + size.z; ++z) {
       for (int y = p0.y; y < p0.y + size.y; ++y) {
         Fill* out =
@@ -253,8 +271,12 @@ std::vector<Fill> resampledFills(const OutputGrid& g, StoredValues<T> values, co
           std::fill_n(out, size.x, low);
           continue;
         }
-        trilinearRow(g, m, values, value, outside, {p0.x, y, z}, size.x, row);
-        for (int x = 0; x < size.x; ++x) out[x] = fillOf(row[x]);
+        std::fill_n(sum, kBrickEdge, Sample(0));
+        for (const IndexMap& m : maps) {
+          trilinearRow(g, m, values, value, outside, {p0.x, y, z}, size.x, row);
+          for (int x = 0; x < size.x; ++x) sum[x] += row[x];
+        }
+        for (int x = 0; x < size.x; ++x) out[x] = fillOf(sum[x] * share);
       }
     }
   });

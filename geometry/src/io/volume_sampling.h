@@ -49,36 +49,6 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
 // LPS box of stored voxels [lo, hi] (inclusive indices), their full extent.
 BoxMm storedBoxMm(const RawVolume& raw, glm::ivec3 lo, glm::ivec3 hi);
 
-// Partial volume: the share of p's voxel inside the bone, sampled at kSubsamples^3 points
-// (nearest stored voxel each); exactly 0 or full when exact.
-inline constexpr int kSubsamples = 3;
-template <typename Values, typename Inside>
-Fill labelFill(const OutputGrid& g, const Values& values, glm::ivec3 p, std::size_t i,
-               const Inside& inside) {
-  if (g.exact) {
-    const std::size_t s = g.whole ? i : g.storedOffset(p + g.offset);
-    return inside(values[s]) ? kFillFull : Fill(0);
-  }
-  int hits = 0;
-  const glm::dvec3 corner = g.originMm + glm::dvec3(p) * g.voxelSizeMm;
-  const double step = g.voxelSizeMm / kSubsamples;
-  for (int z = 0; z < kSubsamples; ++z) {
-    for (int y = 0; y < kSubsamples; ++y) {
-      for (int x = 0; x < kSubsamples; ++x) {
-        const glm::dvec3 q =
-            g.storedIndex(corner + (glm::dvec3(x, y, z) + 0.5) * step) + glm::dvec3(0.5);
-        const glm::ivec3 s(int(std::floor(q.x)), int(std::floor(q.y)), int(std::floor(q.z)));
-        if (s.x < 0 || s.y < 0 || s.z < 0 || s.x >= g.stored.x || s.y >= g.stored.y ||
-            s.z >= g.stored.z)
-          continue;
-        hits += inside(values[g.storedOffset(s)]);
-      }
-    }
-  }
-  constexpr int kAll = kSubsamples * kSubsamples * kSubsamples;
-  return Fill((hits * int(kFillFull) + kAll / 2) / kAll);
-}
-
 // Stored index bounds (inclusive) of the voxels where inside(value): none when lo > hi.
 template <typename Values, typename Inside>
 std::pair<glm::ivec3, glm::ivec3> insideBounds(glm::ivec3 n, const Values& values,
