@@ -250,8 +250,8 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
   // Resampled: bricks whose footprint's HU give one fill and density are set whole.
   using Sample = SampleOf<T>;
   const IndexMap m = indexMap(g);
-  const auto value = [&real](T x) { return Sample(real(x)); };
-  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, Sample(airHu), 0.0);
+  const auto value = [&real](T x) { return asSample<Sample>(real(x)); };
+  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, asSample<Sample>(airHu), 0.0);
   const auto uniform = [&](glm::ivec3 b, Fill& fill, Density& density) {
     const auto [lo, hi] = ranges.of(b);
     const Sample margin = sampleMargin(lo, hi);
@@ -261,13 +261,12 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
     ctVoxel(double(hi + margin), iso, highFill, highDensity);
     return fill == highFill && density == highDensity;
   };
-  return buildGridByBrick(grid, uniform,
-                          [&](glm::ivec3 p, std::size_t, int length, Fill* fill, Density* density) {
-                            Sample hu[kBrickEdge];
-                            trilinearRow(g, m, values, value, Sample(airHu), p, length, hu);
-                            for (int x = 0; x < length; ++x)
-                              ctVoxel(double(hu[x]), iso, fill[x], density[x]);
-                          });
+  return buildGridByBrick(
+      grid, uniform, [&](glm::ivec3 p, std::size_t, int length, Fill* fill, Density* density) {
+        Sample hu[kBrickEdge];
+        trilinearRow(g, m, values, value, asSample<Sample>(airHu), p, length, hu);
+        for (int x = 0; x < length; ++x) ctVoxel(double(hu[x]), iso, fill[x], density[x]);
+      });
 }
 
 // A scalar volume's grid: fill ramped around the iso value, density by distance. Placed
@@ -303,7 +302,7 @@ std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Rea
   }
   using Sample = SampleOf<T>;
   const std::vector<Fill> fills = resampledFills(
-      g, values, [&real](T x) { return Sample(real(x)); }, Sample(lowest),
+      g, values, [&real](T x) { return asSample<Sample>(real(x)); }, asSample<Sample>(lowest),
       [iso, halfWidth](Sample v) { return rampFill(double(v), iso, halfWidth); });
   return buildByDistance(g, heldFills(fills), options, grid);
 }

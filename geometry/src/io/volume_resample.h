@@ -48,8 +48,16 @@ inline IndexMap indexMap(const OutputGrid& g) {
   return m;
 }
 
-// The trilinear values of `length` voxels of a row from `start` (as trilinearValue, of
-// value(stored) instead of real): `outside` past the stored grid's edge by more than half a voxel.
+// A value as a sample: values past +-1e30 (no scanner's) are clamped there in float rather than
+// made infinite, whose differences are not numbers.
+template <typename Sample>
+Sample asSample(double v) {
+  if constexpr (std::is_same_v<Sample, float>) return float(std::clamp(v, -1e30, 1e30));
+  return Sample(v);
+}
+
+// The trilinear values of value(stored) at `length` voxels of a row from `start`, each from the
+// 8 stored voxels round it (the edge's within half a voxel of the stored grid, `outside` past it).
 template <typename T, typename Value, typename Sample>
 void trilinearRow(const OutputGrid& g, const IndexMap& m, StoredValues<T> values,
                   const Value& value, Sample outside, glm::ivec3 start, int length, Sample* out) {
@@ -99,6 +107,8 @@ inline constexpr int kRangeEdge = 8;
 // A label map's resampled voxel: its share of the bone from kLabelSubsamples^3 samples.
 inline constexpr int kLabelSubsamples = 3;
 
+// The range of value(stored) over each stored block of kRangeEdge^3 (x fastest), slabs of
+// blocks in parallel.
 template <typename T, typename Value, typename Sample>
 std::vector<std::pair<Sample, Sample>> storedBlockRanges(glm::ivec3 n, StoredValues<T> values,
                                                          const Value& value, glm::ivec3 blocks) {
