@@ -3,6 +3,11 @@
 // `osteon mesh CT.nrrd` does (BoneModel::open, extractSurface), timed, with the process's peak
 // resident memory over that span (VmHWM, reset through /proc/self/clear_refs) set against the
 // volume's raw size. A plain program; figures go into docs/performance.md.
+//   osteon_bench_volume                     the isotropic int16 and float CTs, a table
+//   osteon_bench_volume write KIND FILE     a bone phantom CT (ct_phantom.h): KIND aniso, thick,
+//                                           oblique or iso
+//   osteon_bench_volume measure FILE JSON   load and mesh FILE once, the figures to JSON
+// (bench/volume_resample_bench.sh runs builds interleaved on the phantoms.)
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +20,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "ct_phantom.h"
 #include "osteon/geometry/surface/surface.h"
 #include "osteon/simulation/bone_source.h"
 
@@ -90,10 +96,13 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-template <typename T>
-void run(const std::string& dir, const char* nrrdType) {
-  const std::string path = writeCt<T>(dir, nrrdType);
-  const double rawMb = double(kNx) * kNy * kNz * sizeof(T) / (1024.0 * 1024.0);
+struct Measured {
+  double loadMs, meshMs, cpuMs, peakMb;
+  std::size_t triangles;
+};
+
+// FILE opened and meshed once, as `osteon mesh FILE` does.
+Measured measure(const std::string& path) {
   osteon::simulation::BoneSource source;
   source.input = path;
   source.forSession = false;
@@ -106,17 +115,48 @@ void run(const std::string& dir, const char* nrrdType) {
   const osteon::geometry::SurfaceMesh surface =
       osteon::geometry::extractSurface(opened.bone->grid(), {});
   const double totalMs = msSince(start);
-  const double cpu = cpuMs() - cpuStart;
-  const double peakMb = peakResidentMb();
+  return {loadMs, totalMs - loadMs, cpuMs() - cpuStart, peakResidentMb(), surface.triangleCount()};
+}
+
+template <typename T>
+void run(const std::string& dir, const char* nrrdType) {
+  const std::string path = writeCt<T>(dir, nrrdType);
+  const double rawMb = double(kNx) * kNy * kNz * sizeof(T) / (1024.0 * 1024.0);
+  const Measured m = measure(path);
   std::printf("| %s | %.0f MB | %.0f ms | %.0f ms | %.0f ms | %.0f ms | %.0f MB | %.2f | %zu |\n",
-              nrrdType, rawMb, loadMs, totalMs - loadMs, totalMs, cpu, peakMb, peakMb / rawMb,
-              surface.triangleCount());
+              nrrdType, rawMb, m.loadMs, m.meshMs, m.loadMs + m.meshMs, m.cpuMs, m.peakMb,
+              m.peakMb / rawMb, m.triangles);
   fs::remove(path);
+}
+
+// One file measured, its figures as one JSON object (the raw size is the file's values).
+int measureToJson(const std::string& path, const std::string& json) {
+  const double rawMb = double(fs::file_size(path)) / (1024.0 * 1024.0);
+  const Measured m = measure(path);
+  std::ofstream out(json);
+  out << "{\"load_ms\": " << m.loadMs << ", \"mesh_ms\": " << m.meshMs
+      << ", \"total_ms\": " << m.loadMs + m.meshMs << ", \"cpu_ms\": " << m.cpuMs
+      << ", \"peak_mb\": " << m.peakMb << ", \"raw_mb\": " << rawMb
+      << ", \"triangles\": " << m.triangles << "}\n";
+  return out ? 0 : 3;
 }
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.size() == 3 && args[0] == "write") {
+    if (osteon::bench::writeCtPhantom(args[1], args[2])) return 0;
+    std::fprintf(stderr, "osteon_bench_volume: unknown phantom %s\n", args[1].c_str());
+    return 2;
+  }
+  if (args.size() == 3 && args[0] == "measure") return measureToJson(args[1], args[2]);
+  if (!args.empty()) {
+    std::fprintf(stderr,
+                 "usage: osteon_bench_volume [write iso|aniso|thick|oblique FILE | measure FILE "
+                 "JSON]\n");
+    return 2;
+  }
   const std::string dir =
       (fs::temp_directory_path() / ("osteon_volume_bench_" + std::to_string(::getpid()))).string();
   fs::create_directories(dir);

@@ -17,6 +17,7 @@
 #include <tbb/parallel_for.h>
 
 #include "io/volume_grid_build.h"
+#include "io/volume_resample.h"
 #include "io/volume_sampling.h"
 #include "osteon/core/error.h"
 #include "osteon/core/number_text.h"
@@ -196,9 +197,17 @@ std::uint64_t buildLabels(const OutputGrid& g, StoredValues<T> values, const Ins
     };
     return buildByDistance(g, fillRow, options, grid);
   }
-  std::vector<Fill> fills(g.count());
-  forEachVoxel(g.sizes,
-               [&](glm::ivec3 p, std::size_t i) { fills[i] = labelFill(g, values, p, i, inside); });
+  // Resampled: each voxel's share of the bone, the mean of the label's indicator (1 inside, 0
+  // out) at kLabelSubsamples^3 points over it, the indicator trilinear between stored voxels: a
+  // nearest stored voxel's would rebuild their staircase, whose corners stand out up to half a
+  // slice from the surface the stored voxels sample.
+  using Sample = SampleOf<T>;
+  const std::vector<Fill> fills = resampledFills(
+      g, values, [&inside](T x) { return inside(x) ? Sample(1) : Sample(0); }, Sample(0),
+      [](Sample share) {
+        return Fill(std::lround(std::clamp(double(share), 0.0, 1.0) * kFillFull));
+      },
+      kLabelSubsamples);
   return buildByDistance(g, heldFills(fills), options, grid);
 }
 
@@ -230,13 +239,33 @@ std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& r
                        });
     }
   }
-  return buildGrid(
-      grid, [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
-        for (int x = 0; x < length; ++x) {
-          const double hu =
-              sampleValue(g, values, p + glm::ivec3(x, 0, 0), i + std::size_t(x), real, airHu);
-          ctVoxel(hu, iso, fill[x], density[x]);
-        }
+  if (g.exact) {
+    return buildGrid(grid,
+                     [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
+                       const std::size_t s = storedRow(g, p, i);
+                       for (int x = 0; x < length; ++x)
+                         ctVoxel(real(values[s + std::size_t(x)]), iso, fill[x], density[x]);
+                     });
+  }
+  // Resampled: bricks whose footprint's HU give one fill and density are set whole.
+  using Sample = SampleOf<T>;
+  const IndexMap m = indexMap(g);
+  const auto value = [&real](T x) { return asSample<Sample>(real(x)); };
+  const BrickRanges<Sample> ranges = brickRanges(g, m, values, value, asSample<Sample>(airHu), 0.0);
+  const auto uniform = [&](glm::ivec3 b, Fill& fill, Density& density) {
+    const auto [lo, hi] = ranges.of(b);
+    const Sample margin = sampleMargin(lo, hi);
+    Fill highFill = 0;
+    Density highDensity = 0;
+    ctVoxel(double(lo - margin), iso, fill, density);
+    ctVoxel(double(hi + margin), iso, highFill, highDensity);
+    return fill == highFill && density == highDensity;
+  };
+  return buildGridByBrick(
+      grid, uniform, [&](glm::ivec3 p, std::size_t, int length, Fill* fill, Density* density) {
+        Sample hu[kBrickEdge];
+        trilinearRow(g, m, values, value, asSample<Sample>(airHu), p, length, hu);
+        for (int x = 0; x < length; ++x) ctVoxel(double(hu[x]), iso, fill[x], density[x]);
       });
 }
 
@@ -271,10 +300,10 @@ std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Rea
     };
     return buildByDistance(g, fillRow, options, grid);
   }
-  std::vector<Fill> fills(g.count());
-  forEachVoxel(g.sizes, [&](glm::ivec3 p, std::size_t i) {
-    fills[i] = rampFill(trilinearValue(g, values, p, real, lowest), iso, halfWidth);
-  });
+  using Sample = SampleOf<T>;
+  const std::vector<Fill> fills = resampledFills(
+      g, values, [&real](T x) { return asSample<Sample>(real(x)); }, asSample<Sample>(lowest),
+      [iso, halfWidth](Sample v) { return rampFill(double(v), iso, halfWidth); });
   return buildByDistance(g, heldFills(fills), options, grid);
 }
 

@@ -1,7 +1,7 @@
 // Where loadVolume's grid lies and how each of its voxels samples the stored values
 // (volume_sampling.cpp): exactly (a placed volume, cropped or not: voxel p is stored voxel
-// p + offset) or resampled (anisotropic or oblique: the stored grid's affine inverted at each
-// voxel's centre, trilinear for values, partial-volume for labels).
+// p + offset) or resampled (anisotropic or oblique: the stored grid's affine inverted,
+// volume_resample.h samples it).
 #pragma once
 
 #include <algorithm>
@@ -48,71 +48,6 @@ OutputGrid planOutput(const std::string& path, const RawVolume& raw, const Volum
 
 // LPS box of stored voxels [lo, hi] (inclusive indices), their full extent.
 BoxMm storedBoxMm(const RawVolume& raw, glm::ivec3 lo, glm::ivec3 hi);
-
-// The trilinear value at p's centre of a resampled grid; `outside` past the stored grid's edge
-// (by more than half a voxel).
-template <typename Values, typename Real>
-double trilinearValue(const OutputGrid& g, const Values& values, glm::ivec3 p, const Real& real,
-                      double outside) {
-  glm::dvec3 q = g.storedIndex(g.centreMm(p));
-  glm::ivec3 i0;
-  glm::dvec3 t;
-  for (int a = 0; a < 3; ++a) {
-    if (!(q[a] >= -0.5 && q[a] <= g.stored[a] - 0.5)) return outside;
-    q[a] = std::clamp(q[a], 0.0, double(g.stored[a] - 1));
-    i0[a] = std::min(int(q[a]), std::max(g.stored[a] - 2, 0));
-    t[a] = q[a] - i0[a];
-  }
-  const glm::ivec3 step(g.stored.x > 1, g.stored.y > 1, g.stored.z > 1);
-  double sum = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::ivec3 c((corner & 1) ? step.x : 0, (corner & 2) ? step.y : 0,
-                       (corner & 4) ? step.z : 0);
-    const double w = ((corner & 1) ? t.x : 1.0 - t.x) * ((corner & 2) ? t.y : 1.0 - t.y) *
-                     ((corner & 4) ? t.z : 1.0 - t.z);
-    if (w != 0.0) sum += w * real(values[g.storedOffset(i0 + c)]);
-  }
-  return sum;
-}
-
-// The stored value's number at p (exact: voxel i of an uncropped grid is stored voxel i) or
-// trilinear at p's centre (resampled).
-template <typename Values, typename Real>
-inline double sampleValue(const OutputGrid& g, const Values& values, glm::ivec3 p, std::size_t i,
-                          const Real& real, double outside) {
-  if (g.exact) return real(values[g.whole ? i : g.storedOffset(p + g.offset)]);
-  return trilinearValue(g, values, p, real, outside);
-}
-
-// Partial volume: the share of p's voxel inside the bone, sampled at kSubsamples^3 points
-// (nearest stored voxel each); exactly 0 or full when exact.
-inline constexpr int kSubsamples = 3;
-template <typename Values, typename Inside>
-Fill labelFill(const OutputGrid& g, const Values& values, glm::ivec3 p, std::size_t i,
-               const Inside& inside) {
-  if (g.exact) {
-    const std::size_t s = g.whole ? i : g.storedOffset(p + g.offset);
-    return inside(values[s]) ? kFillFull : Fill(0);
-  }
-  int hits = 0;
-  const glm::dvec3 corner = g.originMm + glm::dvec3(p) * g.voxelSizeMm;
-  const double step = g.voxelSizeMm / kSubsamples;
-  for (int z = 0; z < kSubsamples; ++z) {
-    for (int y = 0; y < kSubsamples; ++y) {
-      for (int x = 0; x < kSubsamples; ++x) {
-        const glm::dvec3 q =
-            g.storedIndex(corner + (glm::dvec3(x, y, z) + 0.5) * step) + glm::dvec3(0.5);
-        const glm::ivec3 s(int(std::floor(q.x)), int(std::floor(q.y)), int(std::floor(q.z)));
-        if (s.x < 0 || s.y < 0 || s.z < 0 || s.x >= g.stored.x || s.y >= g.stored.y ||
-            s.z >= g.stored.z)
-          continue;
-        hits += inside(values[g.storedOffset(s)]);
-      }
-    }
-  }
-  constexpr int kAll = kSubsamples * kSubsamples * kSubsamples;
-  return Fill((hits * int(kFillFull) + kAll / 2) / kAll);
-}
 
 // Stored index bounds (inclusive) of the voxels where inside(value): none when lo > hi.
 template <typename Values, typename Inside>
