@@ -1,7 +1,7 @@
 // A CT phantom as a DICOM series, written with GDCM: an ellipsoidal bone (a cortical shell of
-// about 1200 HU around cancellous bone of about 350 HU, clear of the default 300 HU iso) in air
-// (-1000 HU), int16 slices with a little fixed-seed noise, plain or compressed. For timing `osteon
-// mesh FOLDER` on a series of clinical size (docs/performance.md, Volumes).
+// about 1200 HU around cancellous bone of about 350 HU, clear of the default 300 HU iso) in
+// air (-1000 HU), int16 slices with a little fixed-seed noise, plain or compressed. For timing
+// `osteon mesh FOLDER` on a series of clinical size (docs/performance.md, Volumes).
 //   osteon_bench_dicom_phantom FOLDER [plain|jpegls|jpeg2000|rle] [columns rows slices]
 #include <cmath>
 #include <cstdint>

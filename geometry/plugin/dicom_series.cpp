@@ -146,11 +146,14 @@ void refuseUnparsed(const std::string& file) {
 
 }  // namespace
 
-std::vector<Series> scanSeries(const std::string& path) {
+std::vector<Series> scanSeries(const std::string& path, const std::function<void()>& tick) {
   std::error_code ec;
   const bool folder = fs::is_directory(path, ec);
   const std::vector<std::string> files = folder ? folderFiles(path) : std::vector{path};
-  for (const std::string& file : files) refuseLyingLengths(file, refuseMalformedMeta(file));
+  for (const std::string& file : files) {
+    refuseLyingLengths(file, refuseMalformedMeta(file));
+    tick();
+  }
   gdcm::Scanner scanner;
   for (const gdcm::Tag& t : {kSopClass, kDescription, kSeriesUid, kPosition, kOrientation, kFrames,
                              kPixelSpacing, kIntercept, kSlope})
@@ -168,7 +171,8 @@ std::vector<Series> scanSeries(const std::string& path) {
       // One slice of a series: the series is read from the files beside it.
       std::vector<Series> beside =
           scanSeries(fs::path(path).parent_path().empty() ? std::string(".")
-                                                          : fs::path(path).parent_path().string());
+                                                          : fs::path(path).parent_path().string(),
+                     tick);
       for (Series& series : beside) {
         if (series.uid == onlyUid) return {std::move(series)};
       }
