@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <gdcmCommand.h>
+#include <gdcmProgressEvent.h>
 #include <gdcmScanner.h>
 #include <gdcmTag.h>
 #include <gdcmTransferSyntax.h>
@@ -144,6 +146,21 @@ void refuseUnparsed(const std::string& file) {
   fail(name + ": a DICOM file GDCM cannot parse (a corrupt header?)");
 }
 
+// The scanner's progress, an event a file, as the caller's heartbeat: a folder of thousands of
+// slices on a slow disk is one long Scan call.
+class Beat : public gdcm::Command {
+ public:
+  explicit Beat(const std::function<void()>& tick) : tick_(tick) {}
+  void Execute(gdcm::Subject*, const gdcm::Event& event) override { beat(event); }
+  void Execute(const gdcm::Subject*, const gdcm::Event& event) override { beat(event); }
+
+ private:
+  void beat(const gdcm::Event& event) {
+    if (gdcm::ProgressEvent().CheckEvent(&event)) tick_();
+  }
+  const std::function<void()>& tick_;
+};
+
 }  // namespace
 
 std::vector<Series> scanSeries(const std::string& path, const std::function<void()>& tick) {
@@ -154,7 +171,9 @@ std::vector<Series> scanSeries(const std::string& path, const std::function<void
     refuseLyingLengths(file, refuseMalformedMeta(file));
     tick();
   }
+  const gdcm::SmartPointer<Beat> beat = new Beat(tick);
   gdcm::Scanner scanner;
+  scanner.AddObserver(gdcm::ProgressEvent(), beat);
   for (const gdcm::Tag& t : {kSopClass, kDescription, kSeriesUid, kPosition, kOrientation, kFrames,
                              kPixelSpacing, kIntercept, kSlope})
     scanner.AddTag(t);
