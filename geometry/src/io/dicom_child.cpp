@@ -17,6 +17,7 @@
 #include <thread>
 #include <unistd.h>
 
+#include "io/huge_pages.h"
 #include "io/volume_place.h"
 #include "osteon/core/error.h"
 
@@ -78,9 +79,10 @@ void* childAllocate(void* context, std::size_t bytes) {
     copyField(c.shared->refusal, refusal);
     return nullptr;
   }
+  // Populated in one call: a page fault a 4 KiB page costs more (45,000 for a clinical CT).
   const std::size_t mapped = std::max<std::size_t>(bytes, 1);
   void* p = ftruncate(c.fd, off_t(mapped)) == 0
-                ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_SHARED, c.fd, 0)
+                ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, c.fd, 0)
                 : MAP_FAILED;
   if (p == MAP_FAILED) {
     copyField(c.shared->refusal, outOfMemory(*c.path, bytes));
@@ -163,6 +165,8 @@ int awaitChild(pid_t child, const Shared& shared, const std::string& path, doubl
 void takeBytes(int fd, std::uint64_t bytes, std::vector<unsigned char>& data,
                const std::string& path) {
   try {
+    data.reserve(std::size_t(bytes));
+    adviseHugePages(data.data(), std::size_t(bytes));
     data.resize(std::size_t(bytes));
   } catch (const std::bad_alloc&) {
     throw InputError(outOfMemory(path, std::size_t(bytes)));
