@@ -17,11 +17,11 @@ add_library(osteon_gdcm INTERFACE)
 target_include_directories(osteon_gdcm SYSTEM INTERFACE ${GDCM_INCLUDE_DIR})
 target_link_libraries(osteon_gdcm INTERFACE ${_osteon_gdcm_libraries})
 
-add_library(osteon_dicom MODULE plugin/dicom_plugin.cpp plugin/dicom_series.cpp
+add_library(osteon_dicom MODULE plugin/dicom_plugin.cpp plugin/dicom_decode.cpp plugin/dicom_series.cpp
                                 plugin/dicom_stack.cpp plugin/dicom_walk.cpp)
 target_include_directories(osteon_dicom PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src/io
                                                 ${PROJECT_SOURCE_DIR}/core/include)
-target_link_libraries(osteon_dicom PRIVATE osteon_gdcm)
+target_link_libraries(osteon_dicom PRIVATE osteon_gdcm Threads::Threads)
 set_target_properties(osteon_dicom PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
 if(NOT (OSTEON_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang"))
   target_link_options(osteon_dicom PRIVATE -Wl,--no-undefined)
@@ -30,7 +30,7 @@ osteon_target_warnings(osteon_dicom)
 install(TARGETS osteon_dicom LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 
 target_sources(osteon_geometry PRIVATE src/io/volume_readers.cpp src/io/metaimage_io.cpp
-                                       src/io/dicom_volume.cpp)
+                                       src/io/dicom_volume.cpp src/io/dicom_child.cpp)
 target_link_libraries(osteon_geometry PRIVATE ${CMAKE_DL_LIBS})
 file(RELATIVE_PATH _osteon_bin_to_lib "${CMAKE_INSTALL_FULL_BINDIR}" "${CMAKE_INSTALL_FULL_LIBDIR}")
 if(_osteon_bin_to_lib STREQUAL "")

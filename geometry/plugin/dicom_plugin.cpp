@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "dicom_image.h"
 #include "dicom_plugin_abi.h"
 #include "dicom_series.h"
 
@@ -38,63 +39,6 @@ bool isCt(const std::string& sopClass) {
 
 std::string name(const std::string& file) {
   return std::filesystem::path(file).filename().string();
-}
-
-struct Pixels {
-  const char* type = nullptr;
-  std::size_t bytes = 0;
-  bool isSigned = false;
-  int bitsStored = 0, bitsAllocated = 0;
-};
-
-Pixels pixelsOf(const gdcm::Image& image, const std::string& file) {
-  const gdcm::PixelFormat pf = image.GetPixelFormat();
-  if (pf.GetSamplesPerPixel() != 1)
-    fail(name(file) + ": " + std::to_string(pf.GetSamplesPerPixel()) +
-         " samples per pixel (colour), not a grey CT slice");
-  Pixels p;
-  switch (pf.GetScalarType()) {
-    case gdcm::PixelFormat::UINT8:
-      p = {"uint8", 1, false};
-      break;
-    case gdcm::PixelFormat::INT8:
-      p = {"int8", 1, true};
-      break;
-    case gdcm::PixelFormat::UINT12:
-    case gdcm::PixelFormat::UINT16:
-      p = {"uint16", 2, false};
-      break;
-    case gdcm::PixelFormat::INT12:
-    case gdcm::PixelFormat::INT16:
-      p = {"int16", 2, true};
-      break;
-    case gdcm::PixelFormat::UINT32:
-      p = {"uint32", 4, false};
-      break;
-    case gdcm::PixelFormat::INT32:
-      p = {"int32", 4, true};
-      break;
-    default:
-      fail(name(file) + ": pixels of " + pf.GetScalarTypeAsString() + " are not supported");
-  }
-  p.bitsStored = pf.GetBitsStored();
-  p.bitsAllocated = pf.GetBitsAllocated();
-  return p;
-}
-
-// Bits above BitsStored may hold overlays or garbage: masked, or the sign carried into them.
-template <typename T>
-void keepStoredBits(char* data, std::size_t count, const Pixels& p) {
-  if (p.bitsStored <= 0 || p.bitsStored >= int(8 * sizeof(T))) return;
-  using U = std::make_unsigned_t<T>;
-  const U mask = U((U(1) << p.bitsStored) - 1), sign = U(U(1) << (p.bitsStored - 1));
-  for (std::size_t i = 0; i < count; ++i) {
-    U u;
-    std::memcpy(&u, data + i * sizeof(T), sizeof(T));
-    u = U(u & mask);
-    if (p.isSigned && (u & sign)) u = U(u | U(~mask));
-    std::memcpy(data + i * sizeof(T), &u, sizeof(T));
-  }
 }
 
 // GDCM reads a pixel block cut short as if zeros followed ("incomplete pixel data"): the file
@@ -202,6 +146,98 @@ void refuseEnhancedWithoutOrientation(const std::string& file) {
        "frame or in the data set");
 }
 
+// One file holding every slice (Enhanced CT): GDCM gives its geometry from the frames.
+void readMultiFrame(const Slice& slice, const Output& out) {
+  gdcm::ImageReader reader;
+  readImage(reader, slice.file);
+  const gdcm::Image& image = reader.GetImage();
+  const Pixels p = pixelsOf(image, slice.file);
+  osteon_dicom_volume& v = *out.volume;
+  for (int a = 0; a < 3; ++a) v.sizes[a] = int(image.GetDimension(unsigned(a)));
+  const double* d = image.GetDirectionCosines();
+  const double row[3] = {d[0], d[1], d[2]}, col[3] = {d[3], d[4], d[5]};
+  const double normal[3] = {row[1] * col[2] - row[2] * col[1], row[2] * col[0] - row[0] * col[2],
+                            row[0] * col[1] - row[1] * col[0]};
+  for (int r = 0; r < 3; ++r) {
+    v.m[r][0] = row[r] * image.GetSpacing(0);
+    v.m[r][1] = col[r] * image.GetSpacing(1);
+    v.m[r][2] = normal[r] * image.GetSpacing(2);
+    v.centre0[r] = image.GetOrigin(unsigned(r));
+  }
+  std::strcpy(v.type, p.type);
+  v.slope = image.GetSlope();
+  v.intercept = image.GetIntercept();
+  v.slices_rescaled = 0;
+  const std::size_t bytes =
+      std::size_t(v.sizes[0]) * std::size_t(v.sizes[1]) * std::size_t(v.sizes[2]) * p.bytes;
+  refuseImplausible(reader.GetFile(), slice.file, bytes);
+  char* to = out.allocate(bytes);
+  // Every frame decodes in one call: the caller is told how long a step to allow.
+  out.tick(std::uint64_t(v.sizes[0]) * std::uint64_t(v.sizes[1]) * std::uint64_t(v.sizes[2]));
+  decode(image, slice.file, to, bytes);
+}
+
+// GDCM's warnings and errors go to stderr; osteon says what went wrong in one line itself.
+void quiet() {
+  gdcm::Trace::SetWarning(false);
+  gdcm::Trace::SetError(false);
+  gdcm::Trace::SetDebug(false);
+}
+
+// `text` into a fixed field of `size` bytes, cut short if need be, always terminated.
+template <std::size_t N>
+void copyField(char (&to)[N], const std::string& text) {
+  const std::size_t n = std::min(text.size(), N - 1);
+  std::memcpy(to, text.data(), n);
+  to[n] = '\0';
+}
+
+int failed(const Failure& f, char* errbuf, std::size_t errlen) {
+  if (errlen > 0) {
+    const std::size_t n = std::min(f.reason.size(), errlen - 1);
+    std::memcpy(errbuf, f.reason.data(), n);
+    errbuf[n] = '\0';
+  }
+  return f.code;
+}
+
+}  // namespace
+
+Pixels pixelsOf(const gdcm::Image& image, const std::string& file) {
+  const gdcm::PixelFormat pf = image.GetPixelFormat();
+  if (pf.GetSamplesPerPixel() != 1)
+    fail(name(file) + ": " + std::to_string(pf.GetSamplesPerPixel()) +
+         " samples per pixel (colour), not a grey CT slice");
+  Pixels p;
+  switch (pf.GetScalarType()) {
+    case gdcm::PixelFormat::UINT8:
+      p = {"uint8", 1, false};
+      break;
+    case gdcm::PixelFormat::INT8:
+      p = {"int8", 1, true};
+      break;
+    case gdcm::PixelFormat::UINT12:
+    case gdcm::PixelFormat::UINT16:
+      p = {"uint16", 2, false};
+      break;
+    case gdcm::PixelFormat::INT12:
+    case gdcm::PixelFormat::INT16:
+      p = {"int16", 2, true};
+      break;
+    case gdcm::PixelFormat::UINT32:
+      p = {"uint32", 4, false};
+      break;
+    case gdcm::PixelFormat::INT32:
+      p = {"int32", 4, true};
+      break;
+    default:
+      fail(name(file) + ": pixels of " + pf.GetScalarTypeAsString() + " are not supported");
+  }
+  p.bitsStored = pf.GetBitsStored();
+  p.bitsAllocated = pf.GetBitsAllocated();
+  return p;
+}
+
 void readImage(gdcm::ImageReader& reader, const std::string& file) {
   refuseEnhancedWithoutOrientation(file);
   reader.SetFileName(file.c_str());
@@ -242,122 +278,6 @@ void decode(const gdcm::Image& image, const std::string& file, char* to, std::si
   }
 }
 
-struct Output {
-  osteon_dicom_volume* volume;
-  osteon_dicom_alloc_fn alloc;
-  void* context;
-  char* allocate(std::size_t bytes) const {
-    void* p = alloc(context, bytes);
-    if (!p) throw Failure{3, "no memory for the volume"};
-    return static_cast<char*>(p);
-  }
-};
-
-void readSeries(const Stack& stack, const Output& out) {
-  gdcm::ImageReader first;
-  readImage(first, stack.slices.front().file);
-  const gdcm::Image& image0 = first.GetImage();
-  const Pixels p = pixelsOf(image0, stack.slices.front().file);
-  const unsigned cols = image0.GetDimension(0), rows = image0.GetDimension(1);
-  const std::size_t perSlice = std::size_t(cols) * rows, n = stack.slices.size();
-  bool ownRescale = false;
-  for (const Slice& s : stack.slices) {
-    ownRescale = ownRescale || s.slope != stack.slices.front().slope ||
-                 s.intercept != stack.slices.front().intercept;
-  }
-  osteon_dicom_volume& v = *out.volume;
-  v.sizes[0] = int(cols);
-  v.sizes[1] = int(rows);
-  v.sizes[2] = int(n);
-  std::strcpy(v.type, ownRescale ? "float" : p.type);
-  v.slope = ownRescale ? 1.0 : stack.slices.front().slope;
-  v.intercept = ownRescale ? 0.0 : stack.slices.front().intercept;
-  v.slices_rescaled = ownRescale ? 1 : 0;
-  refuseImplausible(first.GetFile(), stack.slices.front().file, perSlice * p.bytes);
-  char* data = out.allocate(perSlice * n * (ownRescale ? sizeof(float) : p.bytes));
-  std::vector<char> slice(ownRescale ? perSlice * p.bytes : 0);
-  for (std::size_t k = 0; k < n; ++k) {
-    const Slice& s = stack.slices[k];
-    gdcm::ImageReader reader;
-    if (k > 0) readImage(reader, s.file);
-    const gdcm::Image& image = k > 0 ? reader.GetImage() : image0;
-    if (image.GetDimension(0) != cols || image.GetDimension(1) != rows) {
-      fail(name(s.file) + ": " + std::to_string(image.GetDimension(0)) + " x " +
-           std::to_string(image.GetDimension(1)) + " pixels, the first slice " +
-           std::to_string(cols) + " x " + std::to_string(rows));
-    }
-    const Pixels q = pixelsOf(image, s.file);
-    if (std::strcmp(q.type, p.type) != 0)
-      fail(name(s.file) + ": pixels of " + q.type + ", the first slice's " + p.type);
-    char* to = ownRescale ? slice.data() : data + k * perSlice * p.bytes;
-    decode(image, s.file, to, perSlice * p.bytes);
-    const auto visit = [&](auto zero) {
-      using T = decltype(zero);
-      keepStoredBits<T>(to, perSlice, q);
-      if (!ownRescale) return;
-      for (std::size_t i = 0; i < perSlice; ++i) {
-        T stored;
-        std::memcpy(&stored, to + i * sizeof(T), sizeof(T));
-        const float hu = float(double(stored) * s.slope + s.intercept);
-        std::memcpy(data + (k * perSlice + i) * sizeof(float), &hu, sizeof(float));
-      }
-    };
-    const std::string t = p.type;
-    if (t == "uint8") visit(std::uint8_t());
-    if (t == "int8") visit(std::int8_t());
-    if (t == "uint16") visit(std::uint16_t());
-    if (t == "int16") visit(std::int16_t());
-    if (t == "uint32") visit(std::uint32_t());
-    if (t == "int32") visit(std::int32_t());
-  }
-}
-
-// One file holding every slice (Enhanced CT): GDCM gives its geometry from the frames.
-void readMultiFrame(const Slice& slice, const Output& out) {
-  gdcm::ImageReader reader;
-  readImage(reader, slice.file);
-  const gdcm::Image& image = reader.GetImage();
-  const Pixels p = pixelsOf(image, slice.file);
-  osteon_dicom_volume& v = *out.volume;
-  for (int a = 0; a < 3; ++a) v.sizes[a] = int(image.GetDimension(unsigned(a)));
-  const double* d = image.GetDirectionCosines();
-  const double row[3] = {d[0], d[1], d[2]}, col[3] = {d[3], d[4], d[5]};
-  const double normal[3] = {row[1] * col[2] - row[2] * col[1], row[2] * col[0] - row[0] * col[2],
-                            row[0] * col[1] - row[1] * col[0]};
-  for (int r = 0; r < 3; ++r) {
-    v.m[r][0] = row[r] * image.GetSpacing(0);
-    v.m[r][1] = col[r] * image.GetSpacing(1);
-    v.m[r][2] = normal[r] * image.GetSpacing(2);
-    v.centre0[r] = image.GetOrigin(unsigned(r));
-  }
-  std::strcpy(v.type, p.type);
-  v.slope = image.GetSlope();
-  v.intercept = image.GetIntercept();
-  v.slices_rescaled = 0;
-  const std::size_t bytes =
-      std::size_t(v.sizes[0]) * std::size_t(v.sizes[1]) * std::size_t(v.sizes[2]) * p.bytes;
-  refuseImplausible(reader.GetFile(), slice.file, bytes);
-  decode(image, slice.file, out.allocate(bytes), bytes);
-}
-
-// GDCM's warnings and errors go to stderr; osteon says what went wrong in one line itself.
-void quiet() {
-  gdcm::Trace::SetWarning(false);
-  gdcm::Trace::SetError(false);
-  gdcm::Trace::SetDebug(false);
-}
-
-int failed(const Failure& f, char* errbuf, std::size_t errlen) {
-  if (errlen > 0) {
-    const std::size_t n = std::min(f.reason.size(), errlen - 1);
-    std::memcpy(errbuf, f.reason.data(), n);
-    errbuf[n] = '\0';
-  }
-  return f.code;
-}
-
-}  // namespace
-
 }  // namespace osteon::dicom
 
 using namespace osteon::dicom;
@@ -372,20 +292,20 @@ __attribute__((visibility("default"))) const char* osteon_dicom_library_version(
   return gdcm::Version::GetVersion();
 }
 
-__attribute__((visibility("default"))) int osteon_dicom_read(const char* path, const char* series,
-                                                             osteon_dicom_volume* out,
-                                                             osteon_dicom_alloc_fn alloc,
-                                                             void* context, char* errbuf,
-                                                             size_t errlen) {
+__attribute__((visibility("default"))) int osteon_dicom_read(
+    const char* path, const char* series, osteon_dicom_volume* out, osteon_dicom_alloc_fn alloc,
+    osteon_dicom_progress_fn progress, void* context, char* errbuf, size_t errlen) {
   quiet();
   try {
-    const std::vector<Series> all = scanSeries(path);
+    const Output output{out, alloc, progress, context};
+    const std::vector<Series> all = scanSeries(path, [&] { output.tick(); });
     const Series& chosen = pickSeries(all, series ? series : "");
     if (!isCt(chosen.sopClass)) {
       fail("series " + chosen.uid + " is of SOP class " + chosen.sopClass +
            ", not CT image storage (1.2.840.10008.5.1.4.1.1.2)");
     }
-    const Output output{out, alloc, context};
+    copyField(out->series_uid, chosen.uid);
+    copyField(out->series_description, chosen.description);
     if (chosen.slices.size() == 1 && chosen.slices.front().frames > 1) {
       readMultiFrame(chosen.slices.front(), output);
       return 0;
@@ -406,12 +326,14 @@ __attribute__((visibility("default"))) int osteon_dicom_read(const char* path, c
 
 __attribute__((visibility("default"))) int osteon_dicom_list(const char* path,
                                                              osteon_dicom_alloc_fn alloc,
+                                                             osteon_dicom_progress_fn progress,
                                                              void* context, char* errbuf,
                                                              size_t errlen) {
   quiet();
   try {
     std::string text;
-    for (const Series& s : scanSeries(path)) {
+    const Output output{nullptr, alloc, progress, context};
+    for (const Series& s : scanSeries(path, [&] { output.tick(); })) {
       text += s.uid + "\t" + std::to_string(s.slices.size()) + "\t" + s.description + "\n";
     }
     char* to = static_cast<char*>(alloc(context, text.size() + 1));

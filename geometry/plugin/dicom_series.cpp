@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <gdcmCommand.h>
+#include <gdcmProgressEvent.h>
 #include <gdcmScanner.h>
 #include <gdcmTag.h>
 #include <gdcmTransferSyntax.h>
@@ -144,14 +146,34 @@ void refuseUnparsed(const std::string& file) {
   fail(name + ": a DICOM file GDCM cannot parse (a corrupt header?)");
 }
 
+// The scanner's progress, an event a file, as the caller's heartbeat: a folder of thousands of
+// slices on a slow disk is one long Scan call.
+class Beat : public gdcm::Command {
+ public:
+  explicit Beat(const std::function<void()>& tick) : tick_(tick) {}
+  void Execute(gdcm::Subject*, const gdcm::Event& event) override { beat(event); }
+  void Execute(const gdcm::Subject*, const gdcm::Event& event) override { beat(event); }
+
+ private:
+  void beat(const gdcm::Event& event) {
+    if (gdcm::ProgressEvent().CheckEvent(&event)) tick_();
+  }
+  const std::function<void()>& tick_;
+};
+
 }  // namespace
 
-std::vector<Series> scanSeries(const std::string& path) {
+std::vector<Series> scanSeries(const std::string& path, const std::function<void()>& tick) {
   std::error_code ec;
   const bool folder = fs::is_directory(path, ec);
   const std::vector<std::string> files = folder ? folderFiles(path) : std::vector{path};
-  for (const std::string& file : files) refuseLyingLengths(file, refuseMalformedMeta(file));
+  for (const std::string& file : files) {
+    refuseLyingLengths(file, refuseMalformedMeta(file));
+    tick();
+  }
+  const gdcm::SmartPointer<Beat> beat = new Beat(tick);
   gdcm::Scanner scanner;
+  scanner.AddObserver(gdcm::ProgressEvent(), beat);
   for (const gdcm::Tag& t : {kSopClass, kDescription, kSeriesUid, kPosition, kOrientation, kFrames,
                              kPixelSpacing, kIntercept, kSlope})
     scanner.AddTag(t);
@@ -168,7 +190,8 @@ std::vector<Series> scanSeries(const std::string& path) {
       // One slice of a series: the series is read from the files beside it.
       std::vector<Series> beside =
           scanSeries(fs::path(path).parent_path().empty() ? std::string(".")
-                                                          : fs::path(path).parent_path().string());
+                                                          : fs::path(path).parent_path().string(),
+                     tick);
       for (Series& series : beside) {
         if (series.uid == onlyUid) return {std::move(series)};
       }

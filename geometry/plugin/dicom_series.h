@@ -3,6 +3,7 @@
 // headers, up to the tags below, so a folder of a thousand slices is sorted without decoding one.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,8 @@ bool isVr(const std::string& vr);
 // The series of a folder (its regular files, not its sub-folders), or of one file: a multi-frame
 // file alone, a one-frame file with the slices of its series beside it. Files that are not DICOM
 // are passed over; a folder with no DICOM slice is refused.
-std::vector<Series> scanSeries(const std::string& path);
+// `tick` is called after each file's header is checked (a heartbeat for the caller).
+std::vector<Series> scanSeries(const std::string& path, const std::function<void()>& tick);
 
 // `uid`, or ("" given) the series with most slices; a tie, or a UID not there, is refused with
 // the list of the series.

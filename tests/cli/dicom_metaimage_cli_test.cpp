@@ -228,6 +228,14 @@ TEST_F(DicomMetaImageCliTest, SeriesAreListedAndPicked) {
   const CliRun three = osteon("mesh '" + folder + "' --series 1.2.826.0.1.3680043.2.1125.8 --json");
   ASSERT_EQ(three.exitCode, 0) << three.err;
   EXPECT_GT(nlohmann::json::parse(three.out)["triangles"].get<long long>(), 0);
+  // The series read is named, in the JSON and in the text.
+  EXPECT_EQ(nlohmann::json::parse(three.out)["volume"]["series_uid"],
+            "1.2.826.0.1.3680043.2.1125.8");
+  const CliRun text = osteon("mesh '" + folder + "' --out '" + path("t.ply") + "'");
+  EXPECT_NE(
+      text.out.find("volume      dicom uint16 series 1.2.826.0.1.3680043.2.1125.7, read as ct"),
+      std::string::npos)
+      << text.out;
   expectBadInput("mesh '" + folder + "' --series 9.9 --out '" + path("s.ply") + "'", folder,
                  "--series 9.9 is not among its series: 1.2.826.0.1.3680043.2.1125.7 (16 slices)");
   expectBadInput("mesh '" + path("ct.mha") + "' --series 9.9 --out '" + path("s.ply") + "'",

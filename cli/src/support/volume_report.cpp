@@ -55,6 +55,10 @@ std::string transformLine(const geo::VolumeLoad& v) {
 
 json volumeJson(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning) {
   json j = {{"kind", v.kind}, {"format", v.format}, {"type", v.type}};
+  if (!v.seriesUid.empty()) {
+    j["series_uid"] = v.seriesUid;
+    j["series_description"] = v.seriesDescription;
+  }
   if (v.kind == "osteon grid") {
     j["density_loaded"] = v.densityLoaded;
     return j;
@@ -86,7 +90,12 @@ json volumeJson(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning) {
 std::string volumeLine(const geo::VolumeLoad& v, const geo::VolumeOptions& meaning) {
   if (v.kind == "osteon grid") return "";  // osteon's own grids: the output as it always was
   std::ostringstream s;
-  s << "  volume      " << v.format << " " << v.type << ", read as " << v.kind;
+  s << "  volume      " << v.format << " " << v.type;
+  if (!v.seriesUid.empty()) {
+    s << " series " << v.seriesUid
+      << (v.seriesDescription.empty() ? "" : " (" + v.seriesDescription + ")");
+  }
+  s << ", read as " << v.kind;
   if (v.kind == "label map") {
     s << " (labels";
     for (std::uint64_t l : v.labels) s << " " << l;

@@ -6,7 +6,7 @@
 
 #include <stddef.h>
 
-#define OSTEON_DICOM_ABI 1
+#define OSTEON_DICOM_ABI 2
 
 #ifdef __cplusplus
 extern "C" {
@@ -22,31 +22,42 @@ typedef struct osteon_dicom_volume {
   double slope;       // HU = stored * slope + intercept (1, 0 when the values are HU)
   double intercept;
   int slices_rescaled;  // 1: slices had their own slope or intercept: values are float HU
+  char series_uid[65];  // the Series Instance UID read, and its description (truncated)
+  char series_description[129];
 } osteon_dicom_volume;
 
 // Where the values go: a buffer of `bytes` from the caller, or NULL when it refuses (too large
 // for this machine's memory: the read stops, returning 3).
 typedef void* (*osteon_dicom_alloc_fn)(void* context, size_t bytes);
 
+// Called as the work advances, from any of the plugin's threads: after each file's header is
+// checked and each slice decoded. `next_pixels`: how many pixels the next step decodes in one
+// call (a multi-frame file's), 0 when it is one slice or less: the caller allows it the time.
+typedef void (*osteon_dicom_progress_fn)(void* context, unsigned long long next_pixels);
+
 typedef int (*osteon_dicom_abi_fn)(void);
 typedef const char* (*osteon_dicom_library_version_fn)(void);
 // Reads the CT series at `path` (a folder, or one file: a multi-frame image or a slice standing
 // for its series in its folder); `series` picks a Series Instance UID ("": the one with most
-// slices). 0 on success; otherwise 2 (bad input) or 3 (the buffer refused), with a one-line
-// reason in errbuf (truncated to errlen - 1 characters).
+// slices). Slices decode in parallel; `out` is filled before `alloc` is called. 0 on success;
+// otherwise 2 (bad input) or 3 (the buffer refused), with a one-line reason in errbuf
+// (truncated to errlen - 1 characters). alloc and progress (may be NULL) get `context`.
 typedef int (*osteon_dicom_read_fn)(const char* path, const char* series, osteon_dicom_volume* out,
-                                    osteon_dicom_alloc_fn alloc, void* context, char* errbuf,
-                                    size_t errlen);
+                                    osteon_dicom_alloc_fn alloc, osteon_dicom_progress_fn progress,
+                                    void* context, char* errbuf, size_t errlen);
 // The series at `path`, one line each: "UID<TAB>slices<TAB>description\n", in a buffer from
 // alloc (NUL-terminated). 0 on success, else 2 with the reason in errbuf.
-typedef int (*osteon_dicom_list_fn)(const char* path, osteon_dicom_alloc_fn alloc, void* context,
-                                    char* errbuf, size_t errlen);
+typedef int (*osteon_dicom_list_fn)(const char* path, osteon_dicom_alloc_fn alloc,
+                                    osteon_dicom_progress_fn progress, void* context, char* errbuf,
+                                    size_t errlen);
 
 int osteon_dicom_abi(void);
 const char* osteon_dicom_library_version(void);
 int osteon_dicom_read(const char* path, const char* series, osteon_dicom_volume* out,
-                      osteon_dicom_alloc_fn alloc, void* context, char* errbuf, size_t errlen);
-int osteon_dicom_list(const char* path, osteon_dicom_alloc_fn alloc, void* context, char* errbuf,
+                      osteon_dicom_alloc_fn alloc, osteon_dicom_progress_fn progress, void* context,
+                      char* errbuf, size_t errlen);
+int osteon_dicom_list(const char* path, osteon_dicom_alloc_fn alloc,
+                      osteon_dicom_progress_fn progress, void* context, char* errbuf,
                       size_t errlen);
 
 #ifdef __cplusplus

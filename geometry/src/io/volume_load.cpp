@@ -260,6 +260,8 @@ VolumeLoad loadVolume(const std::string& path, const VolumeOptions& options) {
       return load;
     }
     load.type = raw.type;
+    load.seriesUid = raw.seriesUid;
+    load.seriesDescription = raw.seriesDescription;
     raw.visit([&](auto values) { giveMeaning(path, raw, values, options, load); });
   } catch (const std::bad_alloc&) {
     // The estimate (volumeLoadMemoryBytes) passed, yet memory ran out: other processes hold it.

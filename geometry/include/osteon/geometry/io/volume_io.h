@@ -105,6 +105,7 @@ struct VolumeLoad {
   double isoValue = kDefaultIsoHu;     // CTs and scalar volumes: the threshold used
   double rampHalfWidth = kCtRampHalfWidthHu;  // CTs and scalar volumes: fill ramp either side
   bool densityLoaded = false;                 // osteon grids: a density file was read
+  std::string seriesUid, seriesDescription;   // DICOM: the series read (its description may be "")
   VolumeTransform transform;                  // volumes (not osteon grids)
 };
 
@@ -157,6 +158,7 @@ struct RawVolume {
          intercept = 0.0;  // NIfTI scl_slope, scl_inter: value = stored * slope + intercept
   std::vector<unsigned char> data;  // sizes.x * sizes.y * sizes.z stored values
   bool osteonGrid = false;          // osteon's own NRRD grid: loadVolume hands it to readNrrd
+  std::string seriesUid, seriesDescription;  // DICOM: the series read
   // The affine as read: stored voxel (i, j, k)'s centre lies at firstCentreMm + indexToLpsMm *
   // (i, j, k) (columns: one step along each stored axis, LPS mm).
   glm::dmat3 indexToLpsMm{1.0};
