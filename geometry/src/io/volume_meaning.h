@@ -46,6 +46,19 @@ ValueSummary<T> summarisePiece(StoredValues<T> values, std::size_t begin, std::s
   }
   s.lo = lo;
   s.hi = hi;
+  if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+    // 8 and 16-bit values counted in a table of every value: a noisy CT's air changes value at
+    // every voxel, a look-up in the map each.
+    using Bits = std::make_unsigned_t<T>;
+    std::vector<std::uint32_t> count(std::size_t(1) << (8 * sizeof(T)));
+    for (std::size_t i = begin; i < end; ++i) ++count[Bits(values[i])];
+    for (std::size_t k = 0; k < count.size() && !s.many; ++k) {
+      if (count[k] == 0) continue;
+      s.counts[T(Bits(k))] = count[k];
+      s.many = s.counts.size() > std::size_t(kMaxLabels);
+    }
+    return s;
+  }
   // The distinct values, until there are too many to be labels: blocks equal to the current
   // run throughout are counted at once (a vector compare: volumes are mostly long runs), then
   // value by value up to the next change.
