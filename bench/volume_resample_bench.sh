@@ -21,7 +21,7 @@ for b in "${builds[@]}"; do
     exit 2
   }
 done
-kinds=(${KINDS:-aniso thick oblique iso})
+kinds=(${KINDS:-aniso thick oblique iso labels})
 
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
