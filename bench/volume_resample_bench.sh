@@ -4,9 +4,9 @@
 # CPU time, peak RSS over that span, to JSON): at 0.7 x 0.7 x 1 mm (aniso), 0.98 x 0.98 x 2 mm
 # (thick), 0.7 x 0.7 x 1 mm tilted 15 degrees (oblique), all resampled onto cubes at the finest
 # spacing, 0.7 mm cubes (iso, placed exactly) beside them, and aniso's bone as a uint8 label
-# map (labels, resampled partial-volume; KINDS="aniso iso" runs a few only). Each build given runs each CT RUNS
-# times (default 5), the builds interleaved run by run; the table shows each build's median
-# (range in brackets).
+# map (labels, resampled partial-volume; KINDS="aniso iso" runs some only). Each build given
+# runs each volume RUNS times (default 5), the builds interleaved run by run; the table shows
+# each build's median (range in brackets).
 #   bench/volume_resample_bench.sh [RUNS] BUILD_DIR [BUILD_DIR...]
 # The phantoms take 1.2 GB in a scratch folder under TMPDIR. Run it with `nice` on a shared
 # machine.
