@@ -48,20 +48,22 @@ glm::dmat3 indexToLps(const Layout& l) {
 
 bool writeCtPhantom(const std::string& kind, const std::string& path) {
   Layout layout{{0.7, 0.7, 1.0}, 0.0};
+  const bool labels = kind == "labels";
   if (kind == "iso") {
     layout.spacingMm = glm::dvec3(0.7);
   } else if (kind == "thick") {
     layout.spacingMm = {0.98, 0.98, 2.0};
   } else if (kind == "oblique") {
     layout.tiltDeg = 15.0;
-  } else if (kind != "aniso") {
+  } else if (kind != "aniso" && !labels) {
     return false;
   }
   const glm::dmat3 m = indexToLps(layout);
   const glm::dvec3 centre0 = -(m * (glm::dvec3(kNx, kNy, kNz) - 1.0) * 0.5);
   std::ofstream out(path, std::ios::binary);
-  out << "NRRD0004\ntype: int16\ndimension: 3\nspace: left-posterior-superior\nsizes: " << kNx
-      << " " << kNy << " " << kNz << "\nspace directions:";
+  out << "NRRD0004\ntype: " << (labels ? "uint8" : "int16")
+      << "\ndimension: 3\nspace: left-posterior-superior\nsizes: " << kNx << " " << kNy << " "
+      << kNz << "\nspace directions:";
   out.precision(12);
   for (int a = 0; a < 3; ++a) out << " (" << m[a].x << "," << m[a].y << "," << m[a].z << ")";
   out << "\nkinds: domain domain domain\nendian: little\nencoding: raw\nspace origin: ("
@@ -76,6 +78,12 @@ bool writeCtPhantom(const std::string& kind, const std::string& path) {
         const glm::dvec3 p = centre0 + m * glm::dvec3(x, y, z);
         slice[std::size_t(y) * kNx + std::size_t(x)] = std::int16_t(std::lround(boneHu(p) + noise));
       }
+    }
+    if (labels) {  // the bone's label map: 1 at or above 300 HU, else 0
+      std::vector<std::uint8_t> bone(slice.size());
+      for (std::size_t i = 0; i < slice.size(); ++i) bone[i] = slice[i] >= 300 ? 1 : 0;
+      out.write(reinterpret_cast<const char*>(bone.data()), std::streamsize(bone.size()));
+      continue;
     }
     out.write(reinterpret_cast<const char*>(slice.data()),
               std::streamsize(slice.size() * sizeof(std::int16_t)));

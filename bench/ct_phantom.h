@@ -10,7 +10,8 @@
 namespace osteon::bench {
 
 // KIND: "iso" (0.7 mm cubes), "aniso" (0.7 x 0.7 x 1 mm, the common clinical case), "thick"
-// (0.98 x 0.98 x 2 mm) or "oblique" (0.7 x 0.7 x 1 mm rotated 15 degrees, a gantry tilt).
+// (0.98 x 0.98 x 2 mm), "oblique" (0.7 x 0.7 x 1 mm rotated 15 degrees, a gantry tilt) or
+// "labels" (aniso's bone as a uint8 label map: 1 at or above 300 HU).
 // Returns false for an unknown kind; throws std::runtime_error when the file cannot be written.
 bool writeCtPhantom(const std::string& kind, const std::string& path);
 

@@ -5,7 +5,7 @@
 // volume's raw size. A plain program; figures go into docs/performance.md.
 //   osteon_bench_volume                     the isotropic int16 and float CTs, a table
 //   osteon_bench_volume write KIND FILE     a bone phantom CT (ct_phantom.h): KIND aniso, thick,
-//                                           oblique or iso
+//                                           oblique, iso or labels
 //   osteon_bench_volume measure FILE JSON   load and mesh FILE once, the figures to JSON
 // (bench/volume_resample_bench.sh runs builds interleaved on the phantoms.)
 #include <chrono>
@@ -152,9 +152,10 @@ int main(int argc, char** argv) {
   }
   if (args.size() == 3 && args[0] == "measure") return measureToJson(args[1], args[2]);
   if (!args.empty()) {
-    std::fprintf(stderr,
-                 "usage: osteon_bench_volume [write iso|aniso|thick|oblique FILE | measure FILE "
-                 "JSON]\n");
+    std::fprintf(
+        stderr,
+        "usage: osteon_bench_volume [write iso|aniso|thick|oblique|labels FILE | measure FILE "
+        "JSON]\n");
     return 2;
   }
   const std::string dir =

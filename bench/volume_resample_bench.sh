@@ -3,11 +3,12 @@
 # `osteon mesh CT.nrrd` does, one process per run (`osteon_bench_volume measure`: load, mesh,
 # CPU time, peak RSS over that span, to JSON): at 0.7 x 0.7 x 1 mm (aniso), 0.98 x 0.98 x 2 mm
 # (thick), 0.7 x 0.7 x 1 mm tilted 15 degrees (oblique), all resampled onto cubes at the finest
-# spacing, and 0.7 mm cubes (iso, placed exactly) beside them. Each build given runs each CT RUNS
-# times (default 5), the builds interleaved run by run; the table shows each build's median
-# (range in brackets).
+# spacing, 0.7 mm cubes (iso, placed exactly) beside them, and aniso's bone as a uint8 label
+# map (labels, resampled partial-volume; KINDS="aniso iso" runs some only). Each build given
+# runs each volume RUNS times (default 5), the builds interleaved run by run; the table shows
+# each build's median (range in brackets).
 #   bench/volume_resample_bench.sh [RUNS] BUILD_DIR [BUILD_DIR...]
-# The phantoms take 1.1 GB in a scratch folder under TMPDIR. Run it with `nice` on a shared
+# The phantoms take 1.2 GB in a scratch folder under TMPDIR. Run it with `nice` on a shared
 # machine.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -21,7 +22,7 @@ for b in "${builds[@]}"; do
     exit 2
   }
 done
-kinds=(${KINDS:-aniso thick oblique iso})
+kinds=(${KINDS:-aniso thick oblique iso labels})
 
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT

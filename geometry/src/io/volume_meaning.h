@@ -46,6 +46,31 @@ ValueSummary<T> summarisePiece(StoredValues<T> values, std::size_t begin, std::s
   }
   s.lo = lo;
   s.hi = hi;
+  if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
+    // 8 and 16-bit values counted in a table of every value (a noisy CT's air changes value at
+    // every voxel, a look-up in a map each), blocks of one value at once (a label map's runs).
+    using Bits = std::make_unsigned_t<T>;
+    std::vector<std::uint32_t> count(std::size_t(1) << (8 * sizeof(T)));
+    constexpr std::size_t kBlock = 16;
+    T pattern[kBlock];
+    std::fill_n(pattern, kBlock, values[begin]);
+    for (std::size_t i = begin; i < end;) {
+      while (end - i >= kBlock &&
+             std::memcmp(values.bytes + i * sizeof(T), pattern, sizeof(pattern)) == 0) {
+        count[Bits(pattern[0])] += std::uint32_t(kBlock);
+        i += kBlock;
+      }
+      const std::size_t stop = std::min(end, i + kBlock);
+      for (; i < stop; ++i) ++count[Bits(values[i])];
+      if (values[i - 1] != pattern[0]) std::fill_n(pattern, kBlock, values[i - 1]);
+    }
+    for (std::size_t k = 0; k < count.size() && !s.many; ++k) {
+      if (count[k] == 0) continue;
+      s.counts[T(Bits(k))] = count[k];
+      s.many = s.counts.size() > std::size_t(kMaxLabels);
+    }
+    return s;
+  }
   // The distinct values, until there are too many to be labels: blocks equal to the current
   // run throughout are counted at once (a vector compare: volumes are mostly long runs), then
   // value by value up to the next change.

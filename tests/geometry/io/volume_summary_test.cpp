@@ -71,5 +71,23 @@ TEST_F(VolumeSummary, TheMostCommonValueIsCountedOverEveryPiece) {
   EXPECT_DOUBLE_EQ(load.maxValue, 9.0);
 }
 
+TEST_F(VolumeSummary, SixteenBitValuesAreCountedInRunsAndOneByOne) {
+  // uint16 labels at the top of the range: long runs of 65535 (counted a block at once), 40000
+  // in every third voxel of the last pieces (one by one), and a single 1; no 0, so the
+  // background is the most common value over the whole volume.
+  TestVolume v = spanningPieces();
+  for (std::size_t i = 0; i < v.values.size(); ++i) v.values[i] = 65535.0;
+  for (std::size_t i = kPiece; i < v.values.size(); i += 3) v.values[i] = 40000.0;
+  v.values[123] = 1.0;
+  test::writeTestNrrd(file("wide.nrrd"), v, "uint16", test::encodeAs<std::uint16_t>(v.values),
+                      false);
+  const VolumeLoad load = loadVolume(file("wide.nrrd"));
+  EXPECT_EQ(load.kind, "label map");
+  EXPECT_EQ(load.labels, (std::vector<std::uint64_t>{1, 40000, 65535}));
+  EXPECT_EQ(load.background, 65535u);
+  EXPECT_DOUBLE_EQ(load.minValue, 1.0);
+  EXPECT_DOUBLE_EQ(load.maxValue, 65535.0);
+}
+
 }  // namespace
 }  // namespace osteon::geometry
