@@ -1,6 +1,5 @@
 // The loader of libosteon_dicom.so (dicom_plugin_abi.h): the plugin is opened the first time a
 // DICOM volume is read, so programs that read none never load GDCM.
-#include <array>
 #include <dlfcn.h>
 #include <filesystem>
 #include <mutex>
@@ -65,9 +64,9 @@ std::string pluginReason(const std::string& path, std::string reason) {
   return reason;
 }
 
-// A failed call's one line: the memory check's refusal, or the plugin's reason.
+// A failed call's one line: the memory check's refusal when it refused, else the plugin's reason.
 void refuseFailed(const std::string& path, const DicomCallResult& r) {
-  if (r.code == 3 && !r.refusal.empty()) throw InputError(r.refusal);
+  if (r.code != 0 && !r.refusal.empty()) throw InputError(r.refusal);
   if (r.code != 0) throw InputError(path + ": " + pluginReason(path, r.error));
 }
 

@@ -242,17 +242,28 @@ inline void ctVoxel(double hu, double iso, Fill& fill, Density& density) {
   density = fill == 0 ? 0 : hu >= kCorticalHu ? kCtCorticalDensity : kCtCancellousDensity;
 }
 
+// f of every value an 8 or 16-bit type holds (at most 65,536), indexed by its bits: placed
+// exactly, rows look their voxels up instead of working each out.
+template <typename T, typename F>
+auto everyValueTable(F&& f) {
+  using Bits = std::make_unsigned_t<T>;
+  std::vector<decltype(f(T{}))> table(std::size_t(1) << (8 * sizeof(T)));
+  for (std::size_t k = 0; k < table.size(); ++k) table[k] = f(T(Bits(k)));
+  return table;
+}
+
 // A CT's grid: fill ramped around the iso level, density from HU. Returns the voxels inside.
 template <typename T, typename Real>
 std::uint64_t buildCt(const OutputGrid& g, StoredValues<T> values, const Real& real, double airHu,
                       double iso, VoxelGrid& grid) {
   if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
     if (g.exact) {
-      // Every stored value's voxel worked out once (at most 65,536 of them): rows look them up.
       using Bits = std::make_unsigned_t<T>;
-      std::vector<std::pair<Fill, Density>> table(std::size_t(1) << (8 * sizeof(T)));
-      for (std::size_t k = 0; k < table.size(); ++k)
-        ctVoxel(real(T(Bits(k))), iso, table[k].first, table[k].second);
+      const std::vector<std::pair<Fill, Density>> table = everyValueTable<T>([&](T v) {
+        std::pair<Fill, Density> voxel;
+        ctVoxel(real(v), iso, voxel.first, voxel.second);
+        return voxel;
+      });
       return buildGrid(grid,
                        [&](glm::ivec3 p, std::size_t i, int length, Fill* fill, Density* density) {
                          const std::size_t s = storedRow(g, p, i);
@@ -303,11 +314,9 @@ std::uint64_t buildScalar(const OutputGrid& g, StoredValues<T> values, const Rea
                           VoxelGrid& grid) {
   if constexpr (std::is_integral_v<T> && sizeof(T) <= 2) {
     if (g.exact) {
-      // Every stored value's fill worked out once (at most 65,536): the rows look them up.
       using Bits = std::make_unsigned_t<T>;
-      std::vector<Fill> table(std::size_t(1) << (8 * sizeof(T)));
-      for (std::size_t k = 0; k < table.size(); ++k)
-        table[k] = rampFill(real(T(Bits(k))), iso, halfWidth);
+      const std::vector<Fill> table =
+          everyValueTable<T>([&](T v) { return rampFill(real(v), iso, halfWidth); });
       const Fill* const fillOf = table.data();
       const auto fillRow = [&g, values, fillOf](glm::ivec3 p, std::size_t i, int length,
                                                 Fill* out) {
