@@ -116,6 +116,7 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
     centreFirst[bi + 1] += centreFirst[bi];
   }
   edgeSlots = edgeFirst[count];
+  edgeFirst_ = edgeFirst;
   sizeSlots(std::size_t(edgeFirst[count]) + centreFirst[count], centreFirst[count]);
   eachBrick(count, [&](std::size_t bi) {
     CellBrick* b = bricks[bi].get();
@@ -183,76 +184,165 @@ void SurfaceUpdater::Impl::buildTriangles() {
   std::vector<std::uint32_t>().swap(centreFirst_);
 }
 
-// resmooth() over every vertex: every slot is touched, in slot order, at depth 0, so the
-// region is all slots and no vertex is read raw. The positions are smoothed in place.
+template <typename Fn>
+void SurfaceUpdater::Impl::forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) const {
+  // An edge's four cells lie in its owner's brick and in the ones below along the two other
+  // axes: those bricks in ascending index, in each only the cells next to cb.
+  static constexpr int kBelow[7][3] = {{0, -1, -1}, {-1, 0, -1}, {0, 0, -1}, {-1, -1, 0},
+                                       {0, -1, 0},  {-1, 0, 0},  {0, 0, 0}};
+  for (const auto& d : kBelow) {
+    const glm::ivec3 below = cb + glm::ivec3(d[0], d[1], d[2]);
+    if (!validBrick(below)) continue;
+    const CellBrick* b = bricks[brickIndex(below)].get();
+    if (!b) continue;
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0) {
+      for (const glm::u32vec3& t : b->triangles) fn(t);
+      continue;
+    }
+    const int x0 = d[0] ? kBrickEdge - 1 : 0, y0 = d[1] ? kBrickEdge - 1 : 0,
+              z0 = d[2] ? kBrickEdge - 1 : 0;
+    for (int z = z0; z < kBrickEdge; ++z)
+      for (int y = y0; y < kBrickEdge; ++y) {
+        const int row = kBrickEdge * (y + kBrickEdge * z);
+        const std::uint32_t first = b->cellBegin[std::size_t(row + x0)];
+        const std::uint32_t last = b->cellBegin[std::size_t(row + kBrickEdge)];
+        for (std::uint32_t k = first; k < last; ++k) fn(b->triangles[k]);
+      }
+  }
+}
+
+// resmooth() over every vertex, with what it gathers per vertex made brick by brick instead:
+// each cell brick's edge vertices are numbered in one run (edgeFirst_), so the triangles near
+// the brick (forEachTriangleNear) give every one of them its neighbours, and later its normal
+// summed in forEachIncident's order, with no search per vertex. Loop centres take no smoothing
+// step of their own (they follow their loop's mean).
 void SurfaceUpdater::Impl::smoothAll() {
   const std::size_t n = info.size();
   ++epoch;
   constexpr std::size_t kGrain = 4096;
-  const std::size_t chunks = (n + kGrain - 1) / kGrain;
-  // Each chunk's neighbour lists, kept per chunk: no second copy of them all at once.
-  std::vector<std::vector<std::uint32_t>> chunkRows(chunks), chunkStarts(chunks);
-  const auto eachChunk = [&](auto&& fn) {
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-      for (std::size_t v = c * kGrain; v < std::min(n, (c + 1) * kGrain); ++v) fn(c, v);
+  const auto eachSlot = [&](std::size_t first, std::size_t last, auto&& fn) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, kGrain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t v = r.begin(); v < r.end(); ++v) fn(v);
+                      });
+  };
+  // Cell bricks owning edge vertices, in order, a run of them per chunk; their slots are the
+  // chunk's run [first, end).
+  std::vector<std::uint32_t> owners;
+  for (std::size_t bi = 0; bi < bricks.size(); ++bi)
+    if (bricks[bi] && bricks[bi]->owned.count() > 0) owners.push_back(std::uint32_t(bi));
+  constexpr std::size_t kBricksPerChunk = 16;
+  struct Chunk {
+    std::size_t firstBrick, endBrick;
+    std::vector<std::uint32_t> start, rows;  // neighbours of slot first + i: rows[start[i]..)
+  };
+  std::vector<Chunk> chunks;
+  for (std::size_t b = 0; b < owners.size(); b += kBricksPerChunk)
+    chunks.push_back({b, std::min(owners.size(), b + kBricksPerChunk), {}, {}});
+  const auto eachOwner = [&](auto&& fn) {
+    tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t c) {
+      for (std::size_t k = chunks[c].firstBrick; k < chunks[c].endBrick; ++k) {
+        const std::size_t bi = owners[k];
+        fn(chunks[c], cellBrickOf(bi), edgeFirst_[bi], bricks[bi]->owned.count());
+      }
     });
   };
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    std::vector<std::uint32_t> out;
-    std::vector<std::uint32_t>& chunk = chunkRows[c];
-    std::vector<std::uint32_t>& starts = chunkStarts[c];
-    starts.push_back(0);
-    for (std::size_t v = c * kGrain; v < std::min(n, (c + 1) * kGrain); ++v) {
-      mark[v] = epoch;
-      local[v] = std::uint32_t(v);
-      neighbours(std::uint32_t(v), out);
-      chunk.insert(chunk.end(), out.begin(), out.end());
-      starts.push_back(std::uint32_t(chunk.size()));
-    }
-  });
-  std::vector<double> t(n), nextT2(n);
-  eachChunk([&](std::size_t, std::size_t i) {
+  const auto slotOfChunk = [&](const Chunk& c) { return edgeFirst_[owners[c.firstBrick]]; };
+
+  // An edge vertex lies in at most two triangles of each of its four cells.
+  constexpr std::size_t kMaxAround = 16;
+  if (options.smoothIterations > 0) {
+    eachOwner([&](Chunk& chunk, const glm::ivec3& cb, std::uint32_t first, std::size_t count) {
+      std::array<std::uint32_t, OwnedEdges::kEdges * kMaxAround> found;
+      std::array<std::uint8_t, OwnedEdges::kEdges> size{};
+      forEachTriangleNear(cb, [&](const glm::u32vec3& t) {
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t i = t[c] - first;
+          if (i >= count) continue;
+          std::uint32_t* out = found.data() + i * kMaxAround + size[i];
+          out[0] = t[(c + 1) % 3];
+          out[1] = t[(c + 2) % 3];
+          size[i] = std::uint8_t(size[i] + 2);
+        }
+      });
+      if (chunk.start.empty()) chunk.start.push_back(0);
+      for (std::size_t i = 0; i < count; ++i) {
+        std::uint32_t* b = found.data() + i * kMaxAround;
+        std::uint32_t* e = b + size[i];
+        std::sort(b, e);
+        e = std::unique(b, e);
+        chunk.rows.insert(chunk.rows.end(), b, e);
+        chunk.start.push_back(std::uint32_t(chunk.rows.size()));
+      }
+    });
+  }
+  std::vector<double> t(n), stepT(n);
+  eachSlot(0, n, [&](std::size_t i) {
+    mark[i] = epoch;
+    local[i] = std::uint32_t(i);
     t[i] = info[i].axis == 3 ? 0.0 : info[i].t;
     position[i] = rawPosition(std::uint32_t(i));
   });
   for (int pass = 0; pass < options.smoothIterations; ++pass) {
     const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
-    eachChunk([&](std::size_t c, std::size_t i) {
-      const SlotInfo& v = info[i];
-      if (v.axis == 3) return;
-      const std::vector<std::uint32_t>& chunk = chunkRows[c];
-      const std::size_t row = i - c * kGrain;
-      const std::uint32_t first = chunkStarts[c][row], last = chunkStarts[c][row + 1];
-      double mean = 0.0;
-      for (std::uint32_t k = first; k < last; ++k) mean += position[chunk[k]][v.axis];
-      mean /= double(last - first);
-      nextT2[i] = std::clamp(t[i] + step * (mean - position[i][v.axis]) / vs, kEdgeMargin,
-                             1.0 - kEdgeMargin);
+    tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t c) {
+      const Chunk& chunk = chunks[c];
+      const std::size_t first = slotOfChunk(chunk);
+      for (std::size_t row = 0; row + 1 < chunk.start.size(); ++row) {
+        const std::size_t i = first + row;
+        const int axis = info[i].axis;
+        double mean = 0.0;
+        for (std::uint32_t k = chunk.start[row]; k < chunk.start[row + 1]; ++k)
+          mean += position[chunk.rows[k]][axis];
+        mean /= double(chunk.start[row + 1] - chunk.start[row]);
+        stepT[i] = std::clamp(t[i] + step * (mean - position[i][axis]) / vs, kEdgeMargin,
+                              1.0 - kEdgeMargin);
+      }
     });
-    eachChunk([&](std::size_t, std::size_t i) {
+    eachSlot(0, edgeSlots, [&](std::size_t i) {
       SlotInfo v = info[i];
-      if (v.axis == 3) return;
-      t[i] = nextT2[i];
+      t[i] = stepT[i];
       v.t = t[i];
       position[i] = edgePosition(v);
     });
-    eachChunk([&](std::size_t, std::size_t i) {
+    eachSlot(edgeSlots, n, [&](std::size_t i) {
       const SlotInfo& c = info[i];
-      if (c.axis != 3) return;
       glm::dvec3 sum(0.0);
       const std::uint32_t* l = loopOf(c);
       for (int k = 0; k < c.loopSize; ++k) sum += position[l[k]];
       position[i] = sum / double(c.loopSize);
     });
   }
-  eachChunk([&](std::size_t, std::size_t v) {
-    glm::dvec3 sum(0.0);
-    forEachIncident(std::uint32_t(v), [&](const glm::u32vec3& tri) {
-      sum += glm::cross(position[tri.y] - position[tri.x], position[tri.z] - position[tri.x]);
-    });
+  for (Chunk& chunk : chunks) {  // the neighbour lists are done with
+    std::vector<std::uint32_t>().swap(chunk.start);
+    std::vector<std::uint32_t>().swap(chunk.rows);
+  }
+  const auto unit = [](const glm::dvec3& sum) {
     const double len = glm::length(sum);
-    normal[v] = len > 0.0 ? sum / len : glm::dvec3(0.0);
+    return len > 0.0 ? sum / len : glm::dvec3(0.0);
+  };
+  const auto areaNormal = [&](const glm::u32vec3& tri) {
+    return glm::cross(position[tri.y] - position[tri.x], position[tri.z] - position[tri.x]);
+  };
+  eachOwner([&](Chunk&, const glm::ivec3& cb, std::uint32_t first, std::size_t count) {
+    std::array<glm::dvec3, OwnedEdges::kEdges> sum;
+    std::fill_n(sum.begin(), count, glm::dvec3(0.0));
+    forEachTriangleNear(cb, [&](const glm::u32vec3& tri) {
+      const std::size_t a = tri.x - first, b = tri.y - first, c = tri.z - first;
+      if (a >= count && b >= count && c >= count) return;
+      const glm::dvec3 w = areaNormal(tri);
+      if (a < count) sum[a] += w;
+      if (b < count) sum[b] += w;
+      if (c < count) sum[c] += w;
+    });
+    for (std::size_t i = 0; i < count; ++i) normal[first + i] = unit(sum[i]);
   });
+  eachSlot(edgeSlots, n, [&](std::size_t v) {
+    glm::dvec3 sum(0.0);
+    forEachIncident(std::uint32_t(v), [&](const glm::u32vec3& tri) { sum += areaNormal(tri); });
+    normal[v] = unit(sum);
+  });
+  std::vector<std::uint32_t>().swap(edgeFirst_);
 }
 
 }  // namespace osteon::geometry

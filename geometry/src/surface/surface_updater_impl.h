@@ -359,33 +359,52 @@ struct SurfaceUpdater::Impl {
     b->fillsValid = active;
   }
 
-  // Triangles around a vertex: in the four cells around its edge, or its own cell.
+  // Triangles around a vertex: in the four cells around its edge, or its own cell; in the order
+  // they are stored (cell bricks by index, then cells, then each cell's list), which is the
+  // order the first extraction sums normals in (smoothAll) and extractSurface's order too.
   template <typename Fn>
   void forEachIncident(std::uint32_t v, Fn&& fn) const {
     const SlotInfo& vi = info[v];
-    const auto scanCell = [&](const glm::ivec3& cell) {
-      const CellBrick* b = brickOf(cell);
-      if (!b) return;
-      const int i = cellIndex(cell - brickOfCell(cell) * kBrickEdge);
-      for (std::uint32_t k = b->cellBegin[std::size_t(i)]; k < b->cellBegin[std::size_t(i) + 1];
+    const auto scanCell = [&](const CellBrick& b, int i) {
+      for (std::uint32_t k = b.cellBegin[std::size_t(i)]; k < b.cellBegin[std::size_t(i) + 1];
            ++k) {
-        const glm::u32vec3& t = b->triangles[k];
+        const glm::u32vec3& t = b.triangles[k];
         if (t.x == v || t.y == v || t.z == v) fn(t);
       }
     };
-    if (vi.axis == 3) {
-      scanCell(vi.voxel);
-      return;
-    }
-    const int u = (vi.axis + 1) % 3;
-    const int w = (vi.axis + 2) % 3;
-    for (int du = 0; du < 2; ++du)
-      for (int dw = 0; dw < 2; ++dw) {
-        glm::ivec3 cell = vi.voxel;
-        cell[u] -= du;
-        cell[w] -= dw;
-        scanCell(cell);
+    struct Cell {
+      std::uint64_t key;
+      const CellBrick* brick;
+      int index;
+    };
+    Cell cells[4];
+    int count = 0;
+    const auto add = [&](const glm::ivec3& cell) {
+      const glm::ivec3 cb = brickOfCell(cell);
+      if (!validBrick(cb)) return;
+      const std::size_t bi = brickIndex(cb);
+      if (const CellBrick* b = bricks[bi].get()) {
+        const int i = cellIndex(cell - cb * kBrickEdge);
+        cells[count++] = {std::uint64_t(bi) * kCells + std::uint64_t(i), b, i};
       }
+    };
+    if (vi.axis == 3) {
+      add(vi.voxel);
+    } else {
+      const int u = (vi.axis + 1) % 3;
+      const int w = (vi.axis + 2) % 3;
+      for (int du = 0; du < 2; ++du)
+        for (int dw = 0; dw < 2; ++dw) {
+          glm::ivec3 cell = vi.voxel;
+          cell[u] -= du;
+          cell[w] -= dw;
+          add(cell);
+        }
+    }
+    for (int i = 1; i < count; ++i)  // at most four: insertion
+      for (int j = i; j > 0 && cells[j - 1].key > cells[j].key; --j)
+        std::swap(cells[j - 1], cells[j]);
+    for (int i = 0; i < count; ++i) scanCell(*cells[i].brick, cells[i].index);
   }
 
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
@@ -414,7 +433,11 @@ struct SurfaceUpdater::Impl {
   void buildTriangles();
   // The first extraction's numbering: edge vertices first, then centres (brick order each).
   std::size_t edgeSlots = 0;
+  std::vector<std::uint32_t> edgeFirst_;    // per cell brick: its first edge vertex (smoothAll's)
   std::vector<std::uint32_t> centreFirst_;  // per cell brick: its first loop centre
+  // Every triangle that can hold an edge vertex cell brick cb owns, in forEachIncident's order.
+  template <typename Fn>
+  void forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) const;
   void initSlot(std::uint32_t slot, const SlotInfo& v) {
     info[slot] = v;
     alive[slot] = 1;
