@@ -4,7 +4,9 @@
 // the first one was made: cell bricks are extracted in parallel into their own lists, and
 // vertex slots are then numbered in the order the serial update allocates them (every brick's
 // edge vertices in brick order, then loop centres in brick order).
-#include <bitset>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -21,6 +23,13 @@ int loopTriangles(int n) {
 }
 
 constexpr std::size_t kBrickGrain = 16;
+
+// The case of cell x of a row of cells from the inside bits of its four rows of voxels
+// (rows[0]: y, z; rows[1]: y + 1; rows[2]: z + 1; rows[3]: both), as cellConfig gives it.
+int rowConfig(const std::uint32_t* rows, int x) {
+  return int(((rows[0] >> x) & 3u) | (((rows[1] >> x) & 3u) << 2) | (((rows[2] >> x) & 3u) << 4) |
+             (((rows[3] >> x) & 3u) << 6));
+}
 
 template <typename Fn>
 void eachBrick(std::size_t count, Fn&& fn) {
@@ -42,10 +51,51 @@ void SurfaceUpdater::Impl::sizeSlots(std::size_t slots, std::size_t centres) {
   loops.growTo(centres);
 }
 
+// Inside bits of a cell brick's block rows, bit x of row y + 9 z: a cell has surface when its
+// eight corners' bits are not all alike, an edge crosses when its two ends' bits differ, eight
+// cells at a time; only those cells are looked up in the case table. fn(row, mixed, edges,
+// rows) for every row of cells in range (row: its first cell's index) with surface or crossings:
+// mixed cells and crossed owned edges per axis as bits by x, and the row's four voxel rows.
+template <typename Fn>
+void SurfaceUpdater::Impl::forEachSurfaceRow(const glm::ivec3& cb, const FillBlock& block,
+                                             Fn&& fn) const {
+  std::array<std::uint16_t, kBlock * kBlock> insideRows;
+  for (int r = 0; r < kBlock * kBlock; ++r) {
+    const Fill* f = block.data() + r * kBlock;
+    insideRows[std::size_t(r)] =
+        std::uint16_t(insideOf8(f) | (std::uint32_t(f[kCellBrick] > kInsideAbove) << kCellBrick));
+  }
+  glm::ivec3 lo, hi;
+  cellRange(*grid, cb, lo, hi);
+  const glm::ivec3 first = glm::max(lo - cb * kBrickEdge, glm::ivec3(0));
+  const glm::ivec3 last = glm::min(hi - cb * kBrickEdge, glm::ivec3(kBrickEdge));
+  const std::uint32_t inRangeX = ((1u << last.x) - 1u) & ~((1u << first.x) - 1u);
+  for (int z = first.z; z < last.z; ++z)
+    for (int y = first.y; y < last.y; ++y) {
+      const std::uint32_t voxelRows[4] = {insideRows[std::size_t(y + kBlock * z)],
+                                     insideRows[std::size_t(y + 1 + kBlock * z)],
+                                     insideRows[std::size_t(y + kBlock * (z + 1))],
+                                     insideRows[std::size_t(y + 1 + kBlock * (z + 1))]};
+      const std::uint32_t all = voxelRows[0] & voxelRows[1] & voxelRows[2] & voxelRows[3];
+      const std::uint32_t any = voxelRows[0] | voxelRows[1] | voxelRows[2] | voxelRows[3];
+      const std::uint32_t mixed = ~((all & (all >> 1)) | (~any & ~(any >> 1))) & inRangeX;
+      const std::uint32_t edges[3] = {(voxelRows[0] ^ (voxelRows[0] >> 1)) & inRangeX,
+                                      (voxelRows[0] ^ voxelRows[1]) & inRangeX,
+                                      (voxelRows[0] ^ voxelRows[2]) & inRangeX};
+      if ((mixed | edges[0] | edges[1] | edges[2]) == 0) continue;
+      fn(kBrickEdge * (y + kBrickEdge * z), mixed, edges, voxelRows);
+    }
+}
+
 void SurfaceUpdater::Impl::buildAll() {
+  auto t0 = std::chrono::steady_clock::now();
+  auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "%s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   buildBricksAndEdges();
+  lap("bricks");
   buildTriangles();
+  lap("triangles");
   smoothAll();
+  lap("smooth");
 }
 
 // Every active cell brick's fills and which of its owned edges cross; then every crossed edge's
@@ -61,56 +111,33 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
     auto b = std::make_unique<CellBrick>();
     loadBlock(*grid, cb, b->fills);
     const FillBlock& block = b->fills;
-    glm::ivec3 lo, hi;
-    cellRange(*grid, cb, lo, hi);
-    std::bitset<OwnedEdges::kEdges> crossed;
+    std::array<std::uint64_t, OwnedEdges::kWords> crossed{};
     std::uint32_t centres = 0;
     std::size_t triangles = 0;
-    // Inside bits of the block's rows (bit x of row y + 9 z): a cell has surface when its eight
-    // corners' bits are not all alike, an edge crosses when its two ends' bits differ, eight
-    // cells at a time; only those cells are looked up in the case table.
-    std::array<std::uint16_t, kBlock * kBlock> insideRows;
-    for (int r = 0; r < kBlock * kBlock; ++r) {
-      std::uint32_t m = 0;
-      for (int x = 0; x < kBlock; ++x)
-        m |= std::uint32_t(block[std::size_t(r * kBlock + x)] > kInsideAbove) << x;
-      insideRows[std::size_t(r)] = std::uint16_t(m);
-    }
-    const glm::ivec3 first = glm::max(lo - cb * kBrickEdge, glm::ivec3(0));
-    const glm::ivec3 last = glm::min(hi - cb * kBrickEdge, glm::ivec3(kBrickEdge));
-    const std::uint32_t inRangeX = ((1u << last.x) - 1u) & ~((1u << first.x) - 1u);
-    for (int z = first.z; z < last.z; ++z)
-      for (int y = first.y; y < last.y; ++y) {
-        const std::uint32_t r0 = insideRows[std::size_t(y + kBlock * z)];
-        const std::uint32_t r1 = insideRows[std::size_t(y + 1 + kBlock * z)];
-        const std::uint32_t r2 = insideRows[std::size_t(y + kBlock * (z + 1))];
-        const std::uint32_t r3 = insideRows[std::size_t(y + 1 + kBlock * (z + 1))];
-        const std::uint32_t all = r0 & r1 & r2 & r3, any = r0 | r1 | r2 | r3;
-        const std::uint32_t mixed = ~((all & (all >> 1)) | (~any & ~(any >> 1))) & inRangeX;
-        const std::uint32_t edges[3] = {(r0 ^ (r0 >> 1)) & inRangeX, (r0 ^ r1) & inRangeX,
-                                        (r0 ^ r2) & inRangeX};
-        const int row = kBrickEdge * (y + kBrickEdge * z);
-        for (int axis = 0; axis < 3; ++axis)
-          for (std::uint32_t m = edges[axis]; m; m &= m - 1)
-            crossed.set(std::size_t(3 * (row + __builtin_ctz(m)) + axis));
-        for (std::uint32_t m = mixed; m; m &= m - 1) {
-          const int ci = row + __builtin_ctz(m);
-          b->setChanged(ci);  // buildTriangles' cells, for now
-          Fill corner[8];
-          const McCase& mc = table[std::size_t(cellConfig(block, cellInBrick(ci), corner))];
-          for (int loop = 0; loop < mc.loopCount; ++loop) {
-            const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
-            centres += n > 4;
-            triangles += std::size_t(loopTriangles(n));
-          }
+    forEachSurfaceRow(cb, block, [&](int row, std::uint32_t mixed, const std::uint32_t* edges,
+                                     const std::uint32_t* voxelRows) {
+      for (int axis = 0; axis < 3; ++axis)
+        for (std::uint32_t m = edges[axis]; m; m &= m - 1) {
+          const int e = 3 * (row + __builtin_ctz(m)) + axis;
+          crossed[std::size_t(e >> 6)] |= std::uint64_t(1) << (e & 63);
+        }
+      for (std::uint32_t m = mixed; m; m &= m - 1) {
+        const McCase& mc = table[std::size_t(rowConfig(voxelRows, __builtin_ctz(m)))];
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
+          centres += n > 4;
+          triangles += std::size_t(loopTriangles(n));
         }
       }
+    });
     b->owned.setMask(crossed);
     b->triangles.reserve(triangles);
     edgeFirst[bi + 1] = std::uint32_t(b->owned.count());
     centreFirst[bi + 1] = centres;
     bricks[bi] = std::move(b);
   });
+  auto t0 = std::chrono::steady_clock::now();
+  auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "  %s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   for (std::size_t bi = 0; bi < count; ++bi) {
     edgeFirst[bi + 1] += edgeFirst[bi];
     centreFirst[bi + 1] += centreFirst[bi];
@@ -118,6 +145,7 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
   edgeSlots = edgeFirst[count];
   edgeFirst_ = edgeFirst;
   sizeSlots(std::size_t(edgeFirst[count]) + centreFirst[count], centreFirst[count]);
+  lap("sizeSlots");
   eachBrick(count, [&](std::size_t bi) {
     CellBrick* b = bricks[bi].get();
     if (!b) return;
@@ -138,6 +166,7 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
       slots[k++] = slot++;
     });
   });
+  lap("number");
   centreFirst_.swap(centreFirst);
 }
 
@@ -150,38 +179,59 @@ void SurfaceUpdater::Impl::buildTriangles() {
     CellBrick* b = bricks[bi].get();
     if (!b) return;
     const glm::ivec3 cb = cellBrickOf(bi);
-    glm::ivec3 lo, hi;
-    cellRange(*grid, cb, lo, hi);
-    std::uint32_t centre = centreFirst_[bi];
-    for (int ci = 0; ci < kCells; ++ci) {
-      b->cellBegin[std::size_t(ci)] = std::uint16_t(b->triangles.size());
-      if (!b->isChanged(ci)) continue;  // no surface in it (or out of range)
-      const glm::ivec3 l = cellInBrick(ci);
-      const glm::ivec3 g = cb * kBrickEdge + l;
-      Fill corner[8];
-      const int config = cellConfig(b->fills, l, corner);
-      const McCase& mc = table[std::size_t(config)];
-      std::uint32_t ids[13];
-      for (int loop = 0; loop < mc.loopCount; ++loop) {
-        int n = 0;
-        for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1]; ++k)
-          ids[n++] = sharedVertex(g, mc.edges[std::size_t(k)]);
-        std::uint32_t slot = kNoVertex;
-        if (n > 4) {
-          std::copy(ids, ids + n, loops[centre].begin());
-          slot = std::uint32_t(edgeSlots) + centre;
-          initSlot(slot, centreSlot(g, n, centre++));
-        }
-        appendLoopTriangles(b->triangles, ids, n, slot);
+    // Vertex slots of the brick's own edges in a table, and of the bricks above once asked for
+    // (a cell's edges lie in its brick or in the next along each axis): sharedVertex without
+    // looking up the brick each time.
+    std::array<std::uint32_t, OwnedEdges::kEdges> own;
+    b->owned.expand(own);
+    const OwnedEdges* above[8] = {&b->owned};
+    const auto vertexOf = [&](const glm::ivec3& l, int e) {
+      const glm::ivec3 o = l + glm::ivec3(kEdgeStartOffset[std::size_t(e)][0],
+                                          kEdgeStartOffset[std::size_t(e)][1],
+                                          kEdgeStartOffset[std::size_t(e)][2]);
+      const int d = (o.x >> 3) | ((o.y >> 3) << 1) | ((o.z >> 3) << 2);
+      const int edge = 3 * cellIndex(o & (kBrickEdge - 1)) + e / 4;
+      if (d == 0) return own[std::size_t(edge)];
+      if (!above[d]) {
+        const glm::ivec3 up = cb + glm::ivec3(d & 1, (d >> 1) & 1, (d >> 2) & 1);
+        above[d] = &bricks[brickIndex(up)]->owned;  // it owns this crossed edge: it exists
       }
-    }
-    b->cellBegin[kCells] = std::uint16_t(b->triangles.size());
+      return above[d]->get(edge);
+    };
+    std::uint32_t centre = centreFirst_[bi];
+    int nextCell = 0;
+    forEachSurfaceRow(cb, b->fills, [&](int row, std::uint32_t mixed, const std::uint32_t*,
+                                         const std::uint32_t* voxelRows) {
+      for (std::uint32_t m = mixed; m; m &= m - 1) {
+        const int x = __builtin_ctz(m), ci = row + x;
+        while (nextCell <= ci)
+          b->cellBegin[std::size_t(nextCell++)] = std::uint16_t(b->triangles.size());
+        const glm::ivec3 l = cellInBrick(ci);
+        const glm::ivec3 g = cb * kBrickEdge + l;
+        const McCase& mc = table[std::size_t(rowConfig(voxelRows, x))];
+        std::uint32_t ids[13];
+        for (int loop = 0; loop < mc.loopCount; ++loop) {
+          int n = 0;
+          for (int k = mc.loopBegin[std::size_t(loop)]; k < mc.loopBegin[std::size_t(loop) + 1];
+               ++k)
+            ids[n++] = vertexOf(l, mc.edges[std::size_t(k)]);
+          std::uint32_t slot = kNoVertex;
+          if (n > 4) {
+            std::copy(ids, ids + n, loops[centre].begin());
+            slot = std::uint32_t(edgeSlots) + centre;
+            initSlot(slot, centreSlot(g, n, centre++));
+          }
+          appendLoopTriangles(b->triangles, ids, n, slot);
+        }
+      }
+    });
+    while (nextCell <= kCells)
+      b->cellBegin[std::size_t(nextCell++)] = std::uint16_t(b->triangles.size());
     b->changed.fill(~std::uint64_t(0));
     b->fillsValid = true;
     // A cell brick with no surface gives its memory back.
     if (b->triangles.empty() && b->owned.count() == 0) bricks[bi].reset();
   });
-  std::vector<std::uint32_t>().swap(centreFirst_);
 }
 
 template <typename Fn>
@@ -219,6 +269,8 @@ void SurfaceUpdater::Impl::forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) co
 void SurfaceUpdater::Impl::smoothAll() {
   const std::size_t n = info.size();
   ++epoch;
+  auto t0 = std::chrono::steady_clock::now();
+  auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "  %s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   constexpr std::size_t kGrain = 4096;
   const auto eachSlot = [&](std::size_t first, std::size_t last, auto&& fn) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, kGrain),
@@ -250,6 +302,7 @@ void SurfaceUpdater::Impl::smoothAll() {
   const auto slotOfChunk = [&](const Chunk& c) { return edgeFirst_[owners[c.firstBrick]]; };
 
   // An edge vertex lies in at most two triangles of each of its four cells.
+  lap("owners");
   constexpr std::size_t kMaxAround = 16;
   if (options.smoothIterations > 0) {
     eachOwner([&](Chunk& chunk, const glm::ivec3& cb, std::uint32_t first, std::size_t count) {
@@ -276,6 +329,7 @@ void SurfaceUpdater::Impl::smoothAll() {
       }
     });
   }
+  lap("neighbours");
   std::vector<double> t(n), stepT(n);
   eachSlot(0, n, [&](std::size_t i) {
     mark[i] = epoch;
@@ -283,6 +337,7 @@ void SurfaceUpdater::Impl::smoothAll() {
     t[i] = info[i].axis == 3 ? 0.0 : info[i].t;
     position[i] = rawPosition(std::uint32_t(i));
   });
+  lap("init");
   for (int pass = 0; pass < options.smoothIterations; ++pass) {
     const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
     tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t c) {
@@ -313,6 +368,7 @@ void SurfaceUpdater::Impl::smoothAll() {
       position[i] = sum / double(c.loopSize);
     });
   }
+  lap("passes");
   for (Chunk& chunk : chunks) {  // the neighbour lists are done with
     std::vector<std::uint32_t>().swap(chunk.start);
     std::vector<std::uint32_t>().swap(chunk.rows);
@@ -337,11 +393,13 @@ void SurfaceUpdater::Impl::smoothAll() {
     });
     for (std::size_t i = 0; i < count; ++i) normal[first + i] = unit(sum[i]);
   });
+  lap("normals");
   eachSlot(edgeSlots, n, [&](std::size_t v) {
     glm::dvec3 sum(0.0);
     forEachIncident(std::uint32_t(v), [&](const glm::u32vec3& tri) { sum += areaNormal(tri); });
     normal[v] = unit(sum);
   });
+  lap("centres");
   std::vector<std::uint32_t>().swap(edgeFirst_);
 }
 

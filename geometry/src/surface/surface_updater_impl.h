@@ -435,6 +435,8 @@ struct SurfaceUpdater::Impl {
   std::size_t edgeSlots = 0;
   std::vector<std::uint32_t> edgeFirst_;    // per cell brick: its first edge vertex (smoothAll's)
   std::vector<std::uint32_t> centreFirst_;  // per cell brick: its first loop centre
+  template <typename Fn>
+  void forEachSurfaceRow(const glm::ivec3& cb, const FillBlock& block, Fn&& fn) const;
   // Every triangle that can hold an edge vertex cell brick cb owns, in forEachIncident's order.
   template <typename Fn>
   void forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) const;

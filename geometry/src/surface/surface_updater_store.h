@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bitset>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -140,17 +139,15 @@ class OwnedEdges {
     dense.fill(kNone);
     forEach([&](int e, std::uint32_t s) { dense[std::size_t(e)] = s; });
   }
-  // The mask of edges with a vertex, its slots still to be written (in edge order) by the caller:
-  // the first extraction sets which edges cross before any slot is numbered.
-  void setMask(const std::bitset<kEdges>& crossed) {
+  // The mask of edges with a vertex (bit e % 64 of word e / 64), its slots still to be written
+  // (in edge order) by the caller: the first extraction sets which edges cross before any slot
+  // is numbered.
+  void setMask(const std::array<std::uint64_t, kWords>& crossed) {
     std::size_t n = 0;
     for (int w = 0; w < kWords; ++w) {
       before_[std::size_t(w)] = std::uint16_t(n);
-      std::uint64_t m = 0;
-      for (int b = 0; b < 64; ++b)
-        if (crossed[std::size_t(64 * w + b)]) m |= std::uint64_t(1) << b;
-      mask_[std::size_t(w)] = m;
-      n += std::size_t(popcount64(m));
+      mask_[std::size_t(w)] = crossed[std::size_t(w)];
+      n += std::size_t(popcount64(crossed[std::size_t(w)]));
     }
     slots_.assign(n, kNone);
   }
