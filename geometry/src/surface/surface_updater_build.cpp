@@ -163,6 +163,7 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
       v.axis = std::uint8_t(axis);
       v.t = edgeParameter(blockFill(b->fills, l.x, l.y, l.z), blockFill(b->fills, n.x, n.y, n.z));
       initSlot(slot, v);
+      position[slot] = edgePosition(v);  // as it is before smoothing
       slots[k++] = slot++;
     });
   });
@@ -220,6 +221,7 @@ void SurfaceUpdater::Impl::buildTriangles() {
             std::copy(ids, ids + n, loops[centre].begin());
             slot = std::uint32_t(edgeSlots) + centre;
             initSlot(slot, centreSlot(g, n, centre++));
+            position[slot] = rawPosition(slot);  // its loop's edge vertices are placed
           }
           appendLoopTriangles(b->triangles, ids, n, slot);
         }
@@ -268,7 +270,6 @@ void SurfaceUpdater::Impl::forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) co
 // step of their own (they follow their loop's mean).
 void SurfaceUpdater::Impl::smoothAll() {
   const std::size_t n = info.size();
-  ++epoch;
   auto t0 = std::chrono::steady_clock::now();
   auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "  %s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   constexpr std::size_t kGrain = 4096;
@@ -278,11 +279,11 @@ void SurfaceUpdater::Impl::smoothAll() {
                         for (std::size_t v = r.begin(); v < r.end(); ++v) fn(v);
                       });
   };
-  // Cell bricks owning edge vertices, in order, a run of them per chunk; their slots are the
-  // chunk's run [first, end).
+  // Cell bricks with surface, in order, a run of them per chunk; the edge vertices they own are
+  // the chunk's run of slots.
   std::vector<std::uint32_t> owners;
   for (std::size_t bi = 0; bi < bricks.size(); ++bi)
-    if (bricks[bi] && bricks[bi]->owned.count() > 0) owners.push_back(std::uint32_t(bi));
+    if (bricks[bi]) owners.push_back(std::uint32_t(bi));
   constexpr std::size_t kBricksPerChunk = 16;
   struct Chunk {
     std::size_t firstBrick, endBrick;
@@ -295,7 +296,7 @@ void SurfaceUpdater::Impl::smoothAll() {
     tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t c) {
       for (std::size_t k = chunks[c].firstBrick; k < chunks[c].endBrick; ++k) {
         const std::size_t bi = owners[k];
-        fn(chunks[c], cellBrickOf(bi), edgeFirst_[bi], bricks[bi]->owned.count());
+        fn(chunks[c], bi, edgeFirst_[bi], bricks[bi]->owned.count());
       }
     });
   };
@@ -305,10 +306,12 @@ void SurfaceUpdater::Impl::smoothAll() {
   lap("owners");
   constexpr std::size_t kMaxAround = 16;
   if (options.smoothIterations > 0) {
-    eachOwner([&](Chunk& chunk, const glm::ivec3& cb, std::uint32_t first, std::size_t count) {
+    eachOwner([&](Chunk& chunk, std::size_t bi, std::uint32_t first, std::size_t count) {
+      if (chunk.start.empty()) chunk.start.push_back(0);
+      if (count == 0) return;
       std::array<std::uint32_t, OwnedEdges::kEdges * kMaxAround> found;
       std::array<std::uint8_t, OwnedEdges::kEdges> size{};
-      forEachTriangleNear(cb, [&](const glm::u32vec3& t) {
+      forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& t) {
         for (int c = 0; c < 3; ++c) {
           const std::size_t i = t[c] - first;
           if (i >= count) continue;
@@ -318,25 +321,28 @@ void SurfaceUpdater::Impl::smoothAll() {
           size[i] = std::uint8_t(size[i] + 2);
         }
       });
-      if (chunk.start.empty()) chunk.start.push_back(0);
       for (std::size_t i = 0; i < count; ++i) {
-        std::uint32_t* b = found.data() + i * kMaxAround;
-        std::uint32_t* e = b + size[i];
-        std::sort(b, e);
-        e = std::unique(b, e);
-        chunk.rows.insert(chunk.rows.end(), b, e);
+        // Sorted, each once: an insertion into what is kept (at most 16, mostly twice each).
+        const std::uint32_t* in = found.data() + i * kMaxAround;
+        std::uint32_t kept[kMaxAround];
+        int kn = 0;
+        for (int k = 0; k < size[i]; ++k) {
+          const std::uint32_t v = in[k];
+          int j = kn;
+          while (j > 0 && kept[j - 1] > v) --j;
+          if (j > 0 && kept[j - 1] == v) continue;
+          for (int m = kn; m > j; --m) kept[m] = kept[m - 1];
+          kept[j] = v;
+          ++kn;
+        }
+        chunk.rows.insert(chunk.rows.end(), kept, kept + kn);
         chunk.start.push_back(std::uint32_t(chunk.rows.size()));
       }
     });
   }
   lap("neighbours");
-  std::vector<double> t(n), stepT(n);
-  eachSlot(0, n, [&](std::size_t i) {
-    mark[i] = epoch;
-    local[i] = std::uint32_t(i);
-    t[i] = info[i].axis == 3 ? 0.0 : info[i].t;
-    position[i] = rawPosition(std::uint32_t(i));
-  });
+  // Each edge vertex's parameter along its edge as smoothed so far (from info's on pass 0).
+  std::vector<double> t(options.smoothIterations > 0 ? edgeSlots : 0), stepT(t.size());
   lap("init");
   for (int pass = 0; pass < options.smoothIterations; ++pass) {
     const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
@@ -350,7 +356,8 @@ void SurfaceUpdater::Impl::smoothAll() {
         for (std::uint32_t k = chunk.start[row]; k < chunk.start[row + 1]; ++k)
           mean += position[chunk.rows[k]][axis];
         mean /= double(chunk.start[row + 1] - chunk.start[row]);
-        stepT[i] = std::clamp(t[i] + step * (mean - position[i][axis]) / vs, kEdgeMargin,
+        const double ti = pass == 0 ? info[i].t : t[i];
+        stepT[i] = std::clamp(ti + step * (mean - position[i][axis]) / vs, kEdgeMargin,
                               1.0 - kEdgeMargin);
       }
     });
@@ -380,27 +387,31 @@ void SurfaceUpdater::Impl::smoothAll() {
   const auto areaNormal = [&](const glm::u32vec3& tri) {
     return glm::cross(position[tri.y] - position[tri.x], position[tri.z] - position[tri.x]);
   };
-  eachOwner([&](Chunk&, const glm::ivec3& cb, std::uint32_t first, std::size_t count) {
+  // Loop centres are in their own brick's triangles only, always first (appendLoopTriangles).
+  eachOwner([&](Chunk&, std::size_t bi, std::uint32_t first, std::size_t count) {
+    const std::uint32_t centreBase = std::uint32_t(edgeSlots) + centreFirst_[bi];
+    const std::size_t centres = centreFirst_[bi + 1] - centreFirst_[bi];
+    if (count == 0 && centres == 0) return;
     std::array<glm::dvec3, OwnedEdges::kEdges> sum;
+    std::array<glm::dvec3, 2 * kCells> centreSum;  // at most two long loops per cell
     std::fill_n(sum.begin(), count, glm::dvec3(0.0));
-    forEachTriangleNear(cb, [&](const glm::u32vec3& tri) {
+    std::fill_n(centreSum.begin(), centres, glm::dvec3(0.0));
+    forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& tri) {
       const std::size_t a = tri.x - first, b = tri.y - first, c = tri.z - first;
-      if (a >= count && b >= count && c >= count) return;
+      const std::size_t centre = tri.x - centreBase;
+      if (a >= count && b >= count && c >= count && centre >= centres) return;
       const glm::dvec3 w = areaNormal(tri);
+      if (centre < centres) centreSum[centre] += w;
       if (a < count) sum[a] += w;
       if (b < count) sum[b] += w;
       if (c < count) sum[c] += w;
     });
     for (std::size_t i = 0; i < count; ++i) normal[first + i] = unit(sum[i]);
-  });
-  lap("normals");
-  eachSlot(edgeSlots, n, [&](std::size_t v) {
-    glm::dvec3 sum(0.0);
-    forEachIncident(std::uint32_t(v), [&](const glm::u32vec3& tri) { sum += areaNormal(tri); });
-    normal[v] = unit(sum);
+    for (std::size_t i = 0; i < centres; ++i) normal[centreBase + i] = unit(centreSum[i]);
   });
   lap("centres");
   std::vector<std::uint32_t>().swap(edgeFirst_);
+  std::vector<std::uint32_t>().swap(centreFirst_);
 }
 
 }  // namespace osteon::geometry
