@@ -108,7 +108,7 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
   eachBrick(count, [&](std::size_t bi) {
     const glm::ivec3 cb = cellBrickOf(bi);
     if (!cellBrickActive(*grid, cb)) return;
-    auto b = std::make_unique<CellBrick>();
+    std::unique_ptr<CellBrick> b(new CellBrick);  // its fills not zeroed: loadBlock writes them
     loadBlock(*grid, cb, b->fills);
     const FillBlock& block = b->fills;
     std::array<std::uint64_t, OwnedEdges::kWords> crossed{};
@@ -122,7 +122,11 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
           crossed[std::size_t(e >> 6)] |= std::uint64_t(1) << (e & 63);
         }
       for (std::uint32_t m = mixed; m; m &= m - 1) {
-        const McCase& mc = table[std::size_t(rowConfig(voxelRows, __builtin_ctz(m)))];
+        // The cell's case kept for buildTriangles where its triangle range will go.
+        const int ci = row + __builtin_ctz(m), config = rowConfig(voxelRows, __builtin_ctz(m));
+        b->setChanged(ci);
+        b->cellBegin[std::size_t(ci)] = std::uint16_t(config);
+        const McCase& mc = table[std::size_t(config)];
         for (int loop = 0; loop < mc.loopCount; ++loop) {
           const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
           centres += n > 4;
@@ -201,15 +205,16 @@ void SurfaceUpdater::Impl::buildTriangles() {
     };
     std::uint32_t centre = centreFirst_[bi];
     int nextCell = 0;
-    forEachSurfaceRow(cb, b->fills, [&](int row, std::uint32_t mixed, const std::uint32_t*,
-                                         const std::uint32_t* voxelRows) {
-      for (std::uint32_t m = mixed; m; m &= m - 1) {
-        const int x = __builtin_ctz(m), ci = row + x;
+    // Cells with surface (changed bits) and their cases (in cellBegin), as counted.
+    for (int w = 0; w < kCells / 64; ++w)
+      for (std::uint64_t m = b->changed[std::size_t(w)]; m; m &= m - 1) {
+        const int ci = 64 * w + __builtin_ctzll(m);
+        const int config = b->cellBegin[std::size_t(ci)];
         while (nextCell <= ci)
           b->cellBegin[std::size_t(nextCell++)] = std::uint16_t(b->triangles.size());
         const glm::ivec3 l = cellInBrick(ci);
         const glm::ivec3 g = cb * kBrickEdge + l;
-        const McCase& mc = table[std::size_t(rowConfig(voxelRows, x))];
+        const McCase& mc = table[std::size_t(config)];
         std::uint32_t ids[13];
         for (int loop = 0; loop < mc.loopCount; ++loop) {
           int n = 0;
@@ -221,12 +226,14 @@ void SurfaceUpdater::Impl::buildTriangles() {
             std::copy(ids, ids + n, loops[centre].begin());
             slot = std::uint32_t(edgeSlots) + centre;
             initSlot(slot, centreSlot(g, n, centre++));
-            position[slot] = rawPosition(slot);  // its loop's edge vertices are placed
+            // Its loop's mean (rawPosition) from their raw positions, set when numbered.
+            glm::dvec3 sum(0.0);
+            for (int i = 0; i < n; ++i) sum += position[ids[i]];
+            position[slot] = sum / double(n);
           }
           appendLoopTriangles(b->triangles, ids, n, slot);
         }
       }
-    });
     while (nextCell <= kCells)
       b->cellBegin[std::size_t(nextCell++)] = std::uint16_t(b->triangles.size());
     b->changed.fill(~std::uint64_t(0));
@@ -307,7 +314,13 @@ void SurfaceUpdater::Impl::smoothAll() {
   constexpr std::size_t kMaxAround = 16;
   if (options.smoothIterations > 0) {
     eachOwner([&](Chunk& chunk, std::size_t bi, std::uint32_t first, std::size_t count) {
-      if (chunk.start.empty()) chunk.start.push_back(0);
+      if (chunk.start.empty()) {  // the chunk's first brick: room for all of its rows
+        const std::size_t slots =
+            edgeFirst_[owners[chunk.endBrick - 1] + 1] - edgeFirst_[owners[chunk.firstBrick]];
+        chunk.start.reserve(slots + 1);
+        chunk.rows.reserve(7 * slots);  // about six neighbours each on a smooth surface
+        chunk.start.push_back(0);
+      }
       if (count == 0) return;
       std::array<std::uint32_t, OwnedEdges::kEdges * kMaxAround> found;
       std::array<std::uint8_t, OwnedEdges::kEdges> size{};
@@ -341,31 +354,35 @@ void SurfaceUpdater::Impl::smoothAll() {
     });
   }
   lap("neighbours");
-  // Each edge vertex's parameter along its edge as smoothed so far (from info's on pass 0).
-  std::vector<double> t(options.smoothIterations > 0 ? edgeSlots : 0), stepT(t.size());
+  // Each edge vertex's parameter along its edge, one buffer read and the other written by
+  // turns (the first pass reads info's). A pass moves a vertex along its own axis only, so only
+  // that coordinate is written again, as edgePosition computes it.
+  std::vector<double> tEven(options.smoothIterations > 0 ? edgeSlots : 0), tOdd(tEven.size());
+  const glm::dvec3 origin = grid->originMm();
   lap("init");
   for (int pass = 0; pass < options.smoothIterations; ++pass) {
     const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
+    const std::vector<double>& before = pass % 2 == 0 ? tOdd : tEven;
+    std::vector<double>& after = pass % 2 == 0 ? tEven : tOdd;
     tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t c) {
       const Chunk& chunk = chunks[c];
       const std::size_t first = slotOfChunk(chunk);
       for (std::size_t row = 0; row + 1 < chunk.start.size(); ++row) {
         const std::size_t i = first + row;
-        const int axis = info[i].axis;
+        const SlotInfo& v = info[i];
         double mean = 0.0;
         for (std::uint32_t k = chunk.start[row]; k < chunk.start[row + 1]; ++k)
-          mean += position[chunk.rows[k]][axis];
+          mean += position[chunk.rows[k]][v.axis];
         mean /= double(chunk.start[row + 1] - chunk.start[row]);
-        const double ti = pass == 0 ? info[i].t : t[i];
-        stepT[i] = std::clamp(ti + step * (mean - position[i][axis]) / vs, kEdgeMargin,
+        const double t = pass == 0 ? v.t : before[i];
+        after[i] = std::clamp(t + step * (mean - position[i][v.axis]) / vs, kEdgeMargin,
                               1.0 - kEdgeMargin);
       }
     });
     eachSlot(0, edgeSlots, [&](std::size_t i) {
-      SlotInfo v = info[i];
-      t[i] = stepT[i];
-      v.t = t[i];
-      position[i] = edgePosition(v);
+      const SlotInfo& v = info[i];
+      const int a = v.axis;
+      position[i][a] = (origin[a] + (double(v.voxel[a]) + 0.5) * vs) + after[i] * vs;
     });
     eachSlot(edgeSlots, n, [&](std::size_t i) {
       const SlotInfo& c = info[i];
