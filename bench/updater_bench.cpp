@@ -49,10 +49,8 @@ void runCase(const Bone& bone, double voxelSizeMm, int runs) {
     for (int k = 0; k < 2; ++k) {
       if ((k + r) % 2 == 0) {
         const Clock::time_point start = Clock::now();
-        geometry::SurfaceTimings tm;
-        const geometry::SurfaceMesh m = geometry::extractSurface(grid, options, &tm);
+        const geometry::SurfaceMesh m = geometry::extractSurface(grid, options);
         extractMs.push_back(msSince(start));
-        if (std::getenv("UPD_TIMES")) std::fprintf(stderr, "EXTRACT extract %.2f other %.2f smooth %.2f normals %.2f\n", tm.extractMs, tm.otherMs, tm.smoothMs, tm.normalsMs);
         triangles = m.triangleCount();
         surfaceBytes = meshBytes(m);
       } else {

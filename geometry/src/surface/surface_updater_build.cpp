@@ -3,11 +3,9 @@
 // positions and normals), so later updates and the surface handed out do not depend on how
 // the first one was made: cell bricks are extracted in parallel into their own lists, and
 // vertex slots are then numbered in the order the serial update allocates them (every brick's
-// edge vertices in brick order, then loop centres in brick order).
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
-
+// edge vertices in brick order, then loop centres in brick order). Numbered so, a brick's edge
+// vertices are one run of slots, which lets smoothing and normals work brick by brick from the
+// triangles near each brick, where update() gathers them vertex by vertex.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -73,9 +71,9 @@ void SurfaceUpdater::Impl::forEachSurfaceRow(const glm::ivec3& cb, const FillBlo
   for (int z = first.z; z < last.z; ++z)
     for (int y = first.y; y < last.y; ++y) {
       const std::uint32_t voxelRows[4] = {insideRows[std::size_t(y + kBlock * z)],
-                                     insideRows[std::size_t(y + 1 + kBlock * z)],
-                                     insideRows[std::size_t(y + kBlock * (z + 1))],
-                                     insideRows[std::size_t(y + 1 + kBlock * (z + 1))]};
+                                          insideRows[std::size_t(y + 1 + kBlock * z)],
+                                          insideRows[std::size_t(y + kBlock * (z + 1))],
+                                          insideRows[std::size_t(y + 1 + kBlock * (z + 1))]};
       const std::uint32_t all = voxelRows[0] & voxelRows[1] & voxelRows[2] & voxelRows[3];
       const std::uint32_t any = voxelRows[0] | voxelRows[1] | voxelRows[2] | voxelRows[3];
       const std::uint32_t mixed = ~((all & (all >> 1)) | (~any & ~(any >> 1))) & inRangeX;
@@ -88,14 +86,9 @@ void SurfaceUpdater::Impl::forEachSurfaceRow(const glm::ivec3& cb, const FillBlo
 }
 
 void SurfaceUpdater::Impl::buildAll() {
-  auto t0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "%s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   buildBricksAndEdges();
-  lap("bricks");
   buildTriangles();
-  lap("triangles");
   smoothAll();
-  lap("smooth");
 }
 
 // Every active cell brick's fills and which of its owned edges cross; then every crossed edge's
@@ -114,34 +107,34 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
     std::array<std::uint64_t, OwnedEdges::kWords> crossed{};
     std::uint32_t centres = 0;
     std::size_t triangles = 0;
-    forEachSurfaceRow(cb, block, [&](int row, std::uint32_t mixed, const std::uint32_t* edges,
-                                     const std::uint32_t* voxelRows) {
-      for (int axis = 0; axis < 3; ++axis)
-        for (std::uint32_t m = edges[axis]; m; m &= m - 1) {
-          const int e = 3 * (row + __builtin_ctz(m)) + axis;
-          crossed[std::size_t(e >> 6)] |= std::uint64_t(1) << (e & 63);
-        }
-      for (std::uint32_t m = mixed; m; m &= m - 1) {
-        // The cell's case kept for buildTriangles where its triangle range will go.
-        const int ci = row + __builtin_ctz(m), config = rowConfig(voxelRows, __builtin_ctz(m));
-        b->setChanged(ci);
-        b->cellBegin[std::size_t(ci)] = std::uint16_t(config);
-        const McCase& mc = table[std::size_t(config)];
-        for (int loop = 0; loop < mc.loopCount; ++loop) {
-          const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
-          centres += n > 4;
-          triangles += std::size_t(loopTriangles(n));
-        }
-      }
-    });
+    forEachSurfaceRow(
+        cb, block,
+        [&](int row, std::uint32_t mixed, const std::uint32_t* edges,
+            const std::uint32_t* voxelRows) {
+          for (int axis = 0; axis < 3; ++axis)
+            for (std::uint32_t m = edges[axis]; m; m &= m - 1) {
+              const int e = 3 * (row + __builtin_ctz(m)) + axis;
+              crossed[std::size_t(e >> 6)] |= std::uint64_t(1) << (e & 63);
+            }
+          for (std::uint32_t m = mixed; m; m &= m - 1) {
+            // The cell's case kept for buildTriangles where its triangle range will go.
+            const int ci = row + __builtin_ctz(m), config = rowConfig(voxelRows, __builtin_ctz(m));
+            b->setChanged(ci);
+            b->cellBegin[std::size_t(ci)] = std::uint16_t(config);
+            const McCase& mc = table[std::size_t(config)];
+            for (int loop = 0; loop < mc.loopCount; ++loop) {
+              const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
+              centres += n > 4;
+              triangles += std::size_t(loopTriangles(n));
+            }
+          }
+        });
     b->owned.setMask(crossed);
     b->triangles.reserve(triangles);
     edgeFirst[bi + 1] = std::uint32_t(b->owned.count());
     centreFirst[bi + 1] = centres;
     bricks[bi] = std::move(b);
   });
-  auto t0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "  %s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   for (std::size_t bi = 0; bi < count; ++bi) {
     edgeFirst[bi + 1] += edgeFirst[bi];
     centreFirst[bi + 1] += centreFirst[bi];
@@ -149,7 +142,6 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
   edgeSlots = edgeFirst[count];
   edgeFirst_ = edgeFirst;
   sizeSlots(std::size_t(edgeFirst[count]) + centreFirst[count], centreFirst[count]);
-  lap("sizeSlots");
   eachBrick(count, [&](std::size_t bi) {
     CellBrick* b = bricks[bi].get();
     if (!b) return;
@@ -171,7 +163,6 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
       slots[k++] = slot++;
     });
   });
-  lap("number");
   centreFirst_.swap(centreFirst);
 }
 
@@ -191,9 +182,9 @@ void SurfaceUpdater::Impl::buildTriangles() {
     b->owned.expand(own);
     const OwnedEdges* above[8] = {&b->owned};
     const auto vertexOf = [&](const glm::ivec3& l, int e) {
-      const glm::ivec3 o = l + glm::ivec3(kEdgeStartOffset[std::size_t(e)][0],
-                                          kEdgeStartOffset[std::size_t(e)][1],
-                                          kEdgeStartOffset[std::size_t(e)][2]);
+      const glm::ivec3 o =
+          l + glm::ivec3(kEdgeStartOffset[std::size_t(e)][0], kEdgeStartOffset[std::size_t(e)][1],
+                         kEdgeStartOffset[std::size_t(e)][2]);
       const int d = (o.x >> 3) | ((o.y >> 3) << 1) | ((o.z >> 3) << 2);
       const int edge = 3 * cellIndex(o & (kBrickEdge - 1)) + e / 4;
       if (d == 0) return own[std::size_t(edge)];
@@ -277,8 +268,6 @@ void SurfaceUpdater::Impl::forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) co
 // step of their own (they follow their loop's mean).
 void SurfaceUpdater::Impl::smoothAll() {
   const std::size_t n = info.size();
-  auto t0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* what) { auto t1 = std::chrono::steady_clock::now(); if (getenv("UPD_TIMES")) fprintf(stderr, "  %s %.2f\n", what, std::chrono::duration<double, std::milli>(t1 - t0).count()); t0 = t1; };
   constexpr std::size_t kGrain = 4096;
   const auto eachSlot = [&](std::size_t first, std::size_t last, auto&& fn) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, kGrain),
@@ -309,8 +298,8 @@ void SurfaceUpdater::Impl::smoothAll() {
   };
   const auto slotOfChunk = [&](const Chunk& c) { return edgeFirst_[owners[c.firstBrick]]; };
 
-  // An edge vertex lies in at most two triangles of each of its four cells.
-  lap("owners");
+  // An edge vertex lies in at most two triangles of each of its four cells (its edge is in one
+  // loop of a cell's case, and a loop's triangulation puts a vertex in one or two triangles).
   constexpr std::size_t kMaxAround = 16;
   if (options.smoothIterations > 0) {
     eachOwner([&](Chunk& chunk, std::size_t bi, std::uint32_t first, std::size_t count) {
@@ -322,44 +311,40 @@ void SurfaceUpdater::Impl::smoothAll() {
         chunk.start.push_back(0);
       }
       if (count == 0) return;
+      // Each owned vertex's triangles' other corners in order, then each once in the order they
+      // first come, as neighbours() lists them.
       std::array<std::uint32_t, OwnedEdges::kEdges * kMaxAround> found;
-      std::array<std::uint8_t, OwnedEdges::kEdges> size{};
+      std::array<std::uint32_t, OwnedEdges::kEdges> size;
+      std::fill_n(size.begin(), count, 0u);
       forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& t) {
         for (int c = 0; c < 3; ++c) {
           const std::size_t i = t[c] - first;
           if (i >= count) continue;
           std::uint32_t* out = found.data() + i * kMaxAround + size[i];
-          out[0] = t[(c + 1) % 3];
-          out[1] = t[(c + 2) % 3];
-          size[i] = std::uint8_t(size[i] + 2);
+          out[0] = t[c == 0 ? 1 : 0];
+          out[1] = t[c == 2 ? 1 : 2];
+          size[i] += 2;
         }
       });
       for (std::size_t i = 0; i < count; ++i) {
-        // Sorted, each once: an insertion into what is kept (at most 16, mostly twice each).
         const std::uint32_t* in = found.data() + i * kMaxAround;
         std::uint32_t kept[kMaxAround];
         int kn = 0;
-        for (int k = 0; k < size[i]; ++k) {
-          const std::uint32_t v = in[k];
-          int j = kn;
-          while (j > 0 && kept[j - 1] > v) --j;
-          if (j > 0 && kept[j - 1] == v) continue;
-          for (int m = kn; m > j; --m) kept[m] = kept[m - 1];
-          kept[j] = v;
-          ++kn;
+        for (std::uint32_t k = 0; k < size[i]; ++k) {
+          bool seen = false;
+          for (int j = 0; j < kn; ++j) seen |= kept[j] == in[k];
+          if (!seen) kept[kn++] = in[k];
         }
         chunk.rows.insert(chunk.rows.end(), kept, kept + kn);
         chunk.start.push_back(std::uint32_t(chunk.rows.size()));
       }
     });
   }
-  lap("neighbours");
   // Each edge vertex's parameter along its edge, one buffer read and the other written by
   // turns (the first pass reads info's). A pass moves a vertex along its own axis only, so only
   // that coordinate is written again, as edgePosition computes it.
   std::vector<double> tEven(options.smoothIterations > 0 ? edgeSlots : 0), tOdd(tEven.size());
   const glm::dvec3 origin = grid->originMm();
-  lap("init");
   for (int pass = 0; pass < options.smoothIterations; ++pass) {
     const double step = options.taubin && pass % 2 == 1 ? options.mu : options.lambda;
     const std::vector<double>& before = pass % 2 == 0 ? tOdd : tEven;
@@ -392,7 +377,6 @@ void SurfaceUpdater::Impl::smoothAll() {
       position[i] = sum / double(c.loopSize);
     });
   }
-  lap("passes");
   for (Chunk& chunk : chunks) {  // the neighbour lists are done with
     std::vector<std::uint32_t>().swap(chunk.start);
     std::vector<std::uint32_t>().swap(chunk.rows);
@@ -426,7 +410,6 @@ void SurfaceUpdater::Impl::smoothAll() {
     for (std::size_t i = 0; i < count; ++i) normal[first + i] = unit(sum[i]);
     for (std::size_t i = 0; i < centres; ++i) normal[centreBase + i] = unit(centreSum[i]);
   });
-  lap("centres");
   std::vector<std::uint32_t>().swap(edgeFirst_);
   std::vector<std::uint32_t>().swap(centreFirst_);
 }

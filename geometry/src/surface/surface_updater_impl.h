@@ -407,15 +407,16 @@ struct SurfaceUpdater::Impl {
     for (int i = 0; i < count; ++i) scanCell(*cells[i].brick, cells[i].index);
   }
 
+  // A vertex's neighbours, each once, in the order they first come in its triangles
+  // (forEachIncident's order, each triangle's corners in order): smoothing sums their positions
+  // in this order, here and in the first extraction (smoothAll).
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
     forEachIncident(v, [&](const glm::u32vec3& t) {
       for (int c = 0; c < 3; ++c) {
-        if (t[c] != v) out.push_back(t[c]);
+        if (t[c] != v && std::find(out.begin(), out.end(), t[c]) == out.end()) out.push_back(t[c]);
       }
     });
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
   }
 
   // Smoothing and normals for the vertices within reach of `touched`. One Jacobi pass moves a
