@@ -125,10 +125,6 @@ struct SurfaceUpdater::Impl {
   static glm::ivec3 brickOfCell(const glm::ivec3& c) {
     return {floorDiv(c.x, kBrickEdge), floorDiv(c.y, kBrickEdge), floorDiv(c.z, kBrickEdge)};
   }
-  const CellBrick* brickOf(const glm::ivec3& cell) const {
-    const glm::ivec3 cb = brickOfCell(cell);
-    return validBrick(cb) ? bricks[brickIndex(cb)].get() : nullptr;
-  }
 
   // An edge vertex's position before smoothing: what the full extractor computes (positionOf
   // of edgeVertexInfo), from the grid.
@@ -361,7 +357,7 @@ struct SurfaceUpdater::Impl {
 
   // Triangles around a vertex: in the four cells around its edge, or its own cell; in the order
   // they are stored (cell bricks by index, then cells, then each cell's list), which is the
-  // order the first extraction sums normals in (smoothAll) and extractSurface's order too.
+  // order the first extraction sums normals in (smoothAll).
   template <typename Fn>
   void forEachIncident(std::uint32_t v, Fn&& fn) const {
     const SlotInfo& vi = info[v];
@@ -436,6 +432,7 @@ struct SurfaceUpdater::Impl {
   std::size_t edgeSlots = 0;
   std::vector<std::uint32_t> edgeFirst_;    // per cell brick: its first edge vertex (smoothAll's)
   std::vector<std::uint32_t> centreFirst_;  // per cell brick: its first loop centre
+  // A cell brick's rows of cells with surface or crossed edges, from its block's inside bits.
   template <typename Fn>
   void forEachSurfaceRow(const glm::ivec3& cb, const FillBlock& block, Fn&& fn) const;
   // Every triangle that can hold an edge vertex cell brick cb owns, in forEachIncident's order.
