@@ -101,7 +101,8 @@ void SurfaceUpdater::Impl::buildBricksAndEdges() {
   eachBrick(count, [&](std::size_t bi) {
     const glm::ivec3 cb = cellBrickOf(bi);
     if (!cellBrickActive(*grid, cb)) return;
-    std::unique_ptr<CellBrick> b(new CellBrick);  // its fills not zeroed: loadBlock writes them
+    std::unique_ptr<CellBrick> b(new CellBrick);  // not zeroed: every field is written here
+    b->changed.fill(0);                           // or in buildTriangles
     loadBlock(*grid, cb, b->fills);
     const FillBlock& block = b->fills;
     std::array<std::uint64_t, OwnedEdges::kWords> crossed{};

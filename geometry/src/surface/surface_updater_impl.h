@@ -58,14 +58,17 @@ inline int appendLoopTriangles(std::vector<glm::u32vec3>& out, const std::uint32
 }
 
 struct SurfaceUpdater::Impl {
+  // Made by std::make_unique<CellBrick>() (value-initialised: all zero) where it must start
+  // empty; the first extraction makes it with `new CellBrick` and writes every field itself,
+  // which spares zeroing 1.3 KB per brick.
   struct CellBrick {
-    FillBlock fills;                                   // the voxels read at the last extraction
-    std::array<std::uint64_t, kCells / 64> changed{};  // bit per cell: it reads a changed voxel
-    bool fillsValid = false;                           // owned and triangles follow `fills`
-    OwnedEdges owned;                                  // owned edge -> vertex slot
-    std::vector<glm::u32vec3> triangles;               // grouped by cell, cells in order
+    FillBlock fills;                                 // the voxels read at the last extraction
+    std::array<std::uint64_t, kCells / 64> changed;  // bit per cell: it reads a changed voxel
+    bool fillsValid;                                 // owned and triangles follow `fills`
+    OwnedEdges owned;                                // owned edge -> vertex slot
+    std::vector<glm::u32vec3> triangles;             // grouped by cell, cells in order
     // Triangles of cell i: [begin[i], begin[i+1]); a cell has at most 12, a brick 6,144.
-    std::array<std::uint16_t, kCells + 1> cellBegin{};
+    std::array<std::uint16_t, kCells + 1> cellBegin;
     bool isChanged(int ci) const { return (changed[std::size_t(ci >> 6)] >> (ci & 63)) & 1; }
     void setChanged(int ci) { changed[std::size_t(ci >> 6)] |= std::uint64_t(1) << (ci & 63); }
     std::size_t memoryBytes() const {

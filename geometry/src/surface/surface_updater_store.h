@@ -9,6 +9,8 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -33,12 +35,14 @@ class PagedArray {
 
   std::size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
-  T& operator[](std::size_t i) { return pages_[i >> kPageLog2][i & (kPageSize - 1)]; }
-  const T& operator[](std::size_t i) const { return pages_[i >> kPageLog2][i & (kPageSize - 1)]; }
+  T& operator[](std::size_t i) { return pages_[i >> kPageLog2].get()[i & (kPageSize - 1)]; }
+  const T& operator[](std::size_t i) const {
+    return pages_[i >> kPageLog2].get()[i & (kPageSize - 1)];
+  }
   // Pages for `count` elements allocated now (the first extraction sizes every array once).
   void reserve(std::size_t count) {
     while (pages_.size() * kPageSize < count)
-      pages_.push_back(std::unique_ptr<T[]>(new T[kPageSize]));
+      pages_.push_back(Page(static_cast<T*>(::operator new(kPageSize * sizeof(T)))));
   }
   // Grows to `count`, the new elements left for the caller to write (in parallel: distinct
   // elements of a sized array may be written from distinct threads).
@@ -65,7 +69,15 @@ class PagedArray {
   }
 
  private:
-  std::vector<std::unique_ptr<T[]>> pages_;
+  // Pages are storage only, never constructed: every element is written before it is read
+  // (growTo's callers, resize, push_back), so a fresh page is not filled twice.
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>,
+                "a page holds plain values");
+  struct Free {
+    void operator()(T* p) const { ::operator delete(p); }
+  };
+  using Page = std::unique_ptr<T, Free>;
+  std::vector<Page> pages_;
   std::size_t size_ = 0;
 };
 
@@ -156,8 +168,9 @@ class OwnedEdges {
   }
 
  private:
-  std::array<std::uint64_t, kWords> mask_{};
-  std::array<std::uint16_t, kWords> before_{};
+  // Not zeroed by default: a cell brick's are (CellBrick), or setMask or assign writes them.
+  std::array<std::uint64_t, kWords> mask_;
+  std::array<std::uint16_t, kWords> before_;
   std::vector<std::uint32_t> slots_;
 };
 
