@@ -262,6 +262,74 @@ void SurfaceUpdater::Impl::forEachTriangleNear(const glm::ivec3& cb, Fn&& fn) co
   }
 }
 
+// The neighbours of the edge vertices cell brick bi owns (slots first .. first + count), as
+// neighbours() lists them, appended to `out` with a start per vertex.
+void SurfaceUpdater::Impl::brickNeighbours(std::size_t bi, std::uint32_t first, std::size_t count,
+                                           std::vector<std::uint32_t>& start,
+                                           std::vector<std::uint32_t>& out) const {
+  if (count == 0) return;
+  // An edge vertex lies in at most two triangles of each of its four cells (its edge is in one
+  // loop of a cell's case, and a loop's triangulation puts a vertex in one or two triangles).
+  constexpr std::size_t kMaxAround = 16;
+  // Each owned vertex's triangles' other corners in order, then each once in the order they
+  // first come.
+  std::array<std::uint32_t, OwnedEdges::kEdges * kMaxAround> found;
+  std::array<std::uint32_t, OwnedEdges::kEdges> size;
+  std::fill_n(size.begin(), count, 0u);
+  forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& t) {
+    for (int c = 0; c < 3; ++c) {
+      const std::size_t i = t[c] - first;
+      if (i >= count) continue;
+      std::uint32_t* other = found.data() + i * kMaxAround + size[i];
+      other[0] = t[c == 0 ? 1 : 0];
+      other[1] = t[c == 2 ? 1 : 2];
+      size[i] += 2;
+    }
+  });
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint32_t* in = found.data() + i * kMaxAround;
+    std::uint32_t kept[kMaxAround];
+    int kn = 0;
+    for (std::uint32_t k = 0; k < size[i]; ++k) {
+      bool seen = false;
+      for (int j = 0; j < kn; ++j) seen |= kept[j] == in[k];
+      if (!seen) kept[kn++] = in[k];
+    }
+    out.insert(out.end(), kept, kept + kn);
+    start.push_back(std::uint32_t(out.size()));
+  }
+}
+
+// The normals of the edge vertices cell brick bi owns and of its loop centres, each the sum
+// of its triangles' area-weighted normals in forEachIncident's order. Loop centres are in
+// their own brick's triangles only, always first (appendLoopTriangles).
+void SurfaceUpdater::Impl::brickNormals(std::size_t bi, std::uint32_t first, std::size_t count) {
+  const std::uint32_t centreBase = std::uint32_t(edgeSlots) + centreFirst_[bi];
+  const std::size_t centres = centreFirst_[bi + 1] - centreFirst_[bi];
+  if (count == 0 && centres == 0) return;
+  std::array<glm::dvec3, OwnedEdges::kEdges> sum;
+  std::array<glm::dvec3, 2 * kCells> centreSum;  // at most two long loops per cell
+  std::fill_n(sum.begin(), count, glm::dvec3(0.0));
+  std::fill_n(centreSum.begin(), centres, glm::dvec3(0.0));
+  forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& tri) {
+    const std::size_t a = tri.x - first, b = tri.y - first, c = tri.z - first;
+    const std::size_t centre = tri.x - centreBase;
+    if (a >= count && b >= count && c >= count && centre >= centres) return;
+    const glm::dvec3 w =
+        glm::cross(position[tri.y] - position[tri.x], position[tri.z] - position[tri.x]);
+    if (centre < centres) centreSum[centre] += w;
+    if (a < count) sum[a] += w;
+    if (b < count) sum[b] += w;
+    if (c < count) sum[c] += w;
+  });
+  const auto unit = [](const glm::dvec3& v) {
+    const double len = glm::length(v);
+    return len > 0.0 ? v / len : glm::dvec3(0.0);
+  };
+  for (std::size_t i = 0; i < count; ++i) normal[first + i] = unit(sum[i]);
+  for (std::size_t i = 0; i < centres; ++i) normal[centreBase + i] = unit(centreSum[i]);
+}
+
 // resmooth() over every vertex, with what it gathers per vertex made brick by brick instead:
 // each cell brick's edge vertices are numbered in one run (edgeFirst_), so the triangles near
 // the brick (forEachTriangleNear) give every one of them its neighbours, and later its normal
@@ -299,9 +367,6 @@ void SurfaceUpdater::Impl::smoothAll() {
   };
   const auto slotOfChunk = [&](const Chunk& c) { return edgeFirst_[owners[c.firstBrick]]; };
 
-  // An edge vertex lies in at most two triangles of each of its four cells (its edge is in one
-  // loop of a cell's case, and a loop's triangulation puts a vertex in one or two triangles).
-  constexpr std::size_t kMaxAround = 16;
   if (options.smoothIterations > 0) {
     eachOwner([&](Chunk& chunk, std::size_t bi, std::uint32_t first, std::size_t count) {
       if (chunk.start.empty()) {  // the chunk's first brick: room for all of its rows
@@ -311,34 +376,7 @@ void SurfaceUpdater::Impl::smoothAll() {
         chunk.rows.reserve(7 * slots);  // about six neighbours each on a smooth surface
         chunk.start.push_back(0);
       }
-      if (count == 0) return;
-      // Each owned vertex's triangles' other corners in order, then each once in the order they
-      // first come, as neighbours() lists them.
-      std::array<std::uint32_t, OwnedEdges::kEdges * kMaxAround> found;
-      std::array<std::uint32_t, OwnedEdges::kEdges> size;
-      std::fill_n(size.begin(), count, 0u);
-      forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& t) {
-        for (int c = 0; c < 3; ++c) {
-          const std::size_t i = t[c] - first;
-          if (i >= count) continue;
-          std::uint32_t* out = found.data() + i * kMaxAround + size[i];
-          out[0] = t[c == 0 ? 1 : 0];
-          out[1] = t[c == 2 ? 1 : 2];
-          size[i] += 2;
-        }
-      });
-      for (std::size_t i = 0; i < count; ++i) {
-        const std::uint32_t* in = found.data() + i * kMaxAround;
-        std::uint32_t kept[kMaxAround];
-        int kn = 0;
-        for (std::uint32_t k = 0; k < size[i]; ++k) {
-          bool seen = false;
-          for (int j = 0; j < kn; ++j) seen |= kept[j] == in[k];
-          if (!seen) kept[kn++] = in[k];
-        }
-        chunk.rows.insert(chunk.rows.end(), kept, kept + kn);
-        chunk.start.push_back(std::uint32_t(chunk.rows.size()));
-      }
+      brickNeighbours(bi, first, count, chunk.start, chunk.rows);
     });
   }
   // Each edge vertex's parameter along its edge, one buffer read and the other written by
@@ -382,34 +420,8 @@ void SurfaceUpdater::Impl::smoothAll() {
     std::vector<std::uint32_t>().swap(chunk.start);
     std::vector<std::uint32_t>().swap(chunk.rows);
   }
-  const auto unit = [](const glm::dvec3& sum) {
-    const double len = glm::length(sum);
-    return len > 0.0 ? sum / len : glm::dvec3(0.0);
-  };
-  const auto areaNormal = [&](const glm::u32vec3& tri) {
-    return glm::cross(position[tri.y] - position[tri.x], position[tri.z] - position[tri.x]);
-  };
-  // Loop centres are in their own brick's triangles only, always first (appendLoopTriangles).
   eachOwner([&](Chunk&, std::size_t bi, std::uint32_t first, std::size_t count) {
-    const std::uint32_t centreBase = std::uint32_t(edgeSlots) + centreFirst_[bi];
-    const std::size_t centres = centreFirst_[bi + 1] - centreFirst_[bi];
-    if (count == 0 && centres == 0) return;
-    std::array<glm::dvec3, OwnedEdges::kEdges> sum;
-    std::array<glm::dvec3, 2 * kCells> centreSum;  // at most two long loops per cell
-    std::fill_n(sum.begin(), count, glm::dvec3(0.0));
-    std::fill_n(centreSum.begin(), centres, glm::dvec3(0.0));
-    forEachTriangleNear(cellBrickOf(bi), [&](const glm::u32vec3& tri) {
-      const std::size_t a = tri.x - first, b = tri.y - first, c = tri.z - first;
-      const std::size_t centre = tri.x - centreBase;
-      if (a >= count && b >= count && c >= count && centre >= centres) return;
-      const glm::dvec3 w = areaNormal(tri);
-      if (centre < centres) centreSum[centre] += w;
-      if (a < count) sum[a] += w;
-      if (b < count) sum[b] += w;
-      if (c < count) sum[c] += w;
-    });
-    for (std::size_t i = 0; i < count; ++i) normal[first + i] = unit(sum[i]);
-    for (std::size_t i = 0; i < centres; ++i) normal[centreBase + i] = unit(centreSum[i]);
+    brickNormals(bi, first, count);
   });
   std::vector<std::uint32_t>().swap(edgeFirst_);
   std::vector<std::uint32_t>().swap(centreFirst_);

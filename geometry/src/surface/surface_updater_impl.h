@@ -452,6 +452,9 @@ struct SurfaceUpdater::Impl {
   // Bytes held by the surface, structure by structure.
   SurfaceUpdater::Memory memory() const;
   void smoothAll();
+  void brickNeighbours(std::size_t bi, std::uint32_t first, std::size_t count,
+                       std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& out) const;
+  void brickNormals(std::size_t bi, std::uint32_t first, std::size_t count);
   glm::ivec3 cellBrickOf(std::size_t index) const {
     return {int(index % std::size_t(cellBricks.x)) - 1,
             int(index / std::size_t(cellBricks.x) % std::size_t(cellBricks.y)) - 1,
