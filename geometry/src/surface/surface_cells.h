@@ -186,6 +186,22 @@ inline Fill blockFill(const FillBlock& block, int x, int y, int z) {
   return block[std::size_t(x + kBlock * (y + kBlock * z))];
 }
 
+// Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
+// rows of cells with no crossing are skipped with a few word operations.
+using RowMasks = std::array<std::uint16_t, kBlock * kBlock>;
+
+// The four corner rows of a row of cells (inside bits by x): its own, +y, +z, +y+z.
+inline void rowCorners(const RowMasks& rows, int ly, int lz, std::uint32_t (&r)[4]) {
+  r[0] = rows[std::size_t(ly + kBlock * lz)];
+  r[1] = rows[std::size_t(ly + 1 + kBlock * lz)];
+  r[2] = rows[std::size_t(ly + kBlock * (lz + 1))];
+  r[3] = rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
+}
+
+// Every cell's case in a row at once (byte x: cell x's, bit c set if corner c is inside), from
+// the row's corner rows (rowCorners).
+std::uint64_t rowConfigs(const std::uint32_t (&r)[4]);
+
 // The case (bit c: corner c inside) of the cell at block-local position l.
 inline int cellConfig(const FillBlock& block, const glm::ivec3& l, Fill corner[8]) {
   int config = 0;

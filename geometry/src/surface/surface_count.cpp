@@ -14,11 +14,18 @@
 
 namespace osteon::geometry::detail {
 
-namespace {
+// A row's inside bits spread by table into one bit pair per byte, four rows shifted in.
+std::uint64_t rowConfigs(const std::uint32_t (&r)[4]) {
+  static const std::array<std::uint64_t, 512> spread = [] {
+    std::array<std::uint64_t, 512> t{};
+    for (std::uint32_t bits = 0; bits < 512; ++bits)
+      for (int x = 0; x < kCellBrick; ++x) t[bits] |= std::uint64_t((bits >> x) & 3u) << (8 * x);
+    return t;
+  }();
+  return spread[r[0]] | (spread[r[1]] << 2) | (spread[r[2]] << 4) | (spread[r[3]] << 6);
+}
 
-// Inside bits of a block, one 9-bit word per (y, z) row (bit x: voxel x is inside), so whole
-// rows of cells with no crossing are skipped with a few word operations.
-using RowMasks = std::array<std::uint16_t, kBlock * kBlock>;
+namespace {
 
 // The cells of a row range whose x lies in [xLo, xHi) (block-local), as a bit mask.
 inline std::uint32_t xRange(int xLo, int xHi) {
@@ -42,26 +49,6 @@ void insideRows(const BlockSource& src, RowMasks& rows) {
       m |= (next > kInsideAbove ? 1u : 0u) << 8;
       rows[std::size_t(y + kBlock * z)] = std::uint16_t(m & xValid);
     }
-}
-
-// The four corner rows of a row of cells (inside bits by x): its own, +y, +z, +y+z.
-void rowCorners(const RowMasks& rows, int ly, int lz, std::uint32_t (&r)[4]) {
-  r[0] = rows[std::size_t(ly + kBlock * lz)];
-  r[1] = rows[std::size_t(ly + 1 + kBlock * lz)];
-  r[2] = rows[std::size_t(ly + kBlock * (lz + 1))];
-  r[3] = rows[std::size_t(ly + 1 + kBlock * (lz + 1))];
-}
-
-// Every cell's case in a row at once (byte x: cell x's, bit c set if corner c is inside).
-// A row's inside bits spread by table into one bit pair per byte, four rows shifted in.
-std::uint64_t rowConfigs(const std::uint32_t (&r)[4]) {
-  static const std::array<std::uint64_t, 512> spread = [] {
-    std::array<std::uint64_t, 512> t{};
-    for (std::uint32_t bits = 0; bits < 512; ++bits)
-      for (int x = 0; x < kCellBrick; ++x) t[bits] |= std::uint64_t((bits >> x) & 3u) << (8 * x);
-    return t;
-  }();
-  return spread[r[0]] | (spread[r[1]] << 2) | (spread[r[2]] << 4) | (spread[r[3]] << 6);
 }
 
 // A dense block's rows of inside bits from those the scan kept for its eight grid bricks

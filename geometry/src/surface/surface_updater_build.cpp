@@ -9,25 +9,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "surface_cases.h"
 #include "surface_updater_impl.h"
 
 namespace osteon::geometry {
 
 namespace {
 
-// Triangles a loop of n vertices gives (appendLoopTriangles): 1 for 3, 2 for 4, a fan of n.
-int loopTriangles(int n) {
-  return n == 3 ? 1 : n == 4 ? 2 : n;
-}
-
 constexpr std::size_t kBrickGrain = 16;
-
-// The case of cell x of a row of cells from the inside bits of its four rows of voxels
-// (rows[0]: y, z; rows[1]: y + 1; rows[2]: z + 1; rows[3]: both), as cellConfig gives it.
-int rowConfig(const std::uint32_t* rows, int x) {
-  return int(((rows[0] >> x) & 3u) | (((rows[1] >> x) & 3u) << 2) | (((rows[2] >> x) & 3u) << 4) |
-             (((rows[3] >> x) & 3u) << 6));
-}
 
 template <typename Fn>
 void eachBrick(std::size_t count, Fn&& fn) {
@@ -49,15 +38,15 @@ void SurfaceUpdater::Impl::sizeSlots(std::size_t slots, std::size_t centres) {
   loops.growTo(centres);
 }
 
-// Inside bits of a cell brick's block rows, bit x of row y + 9 z: a cell has surface when its
-// eight corners' bits are not all alike, an edge crosses when its two ends' bits differ, eight
-// cells at a time; only those cells are looked up in the case table. fn(row, mixed, edges,
-// rows) for every row of cells in range (row: its first cell's index) with surface or crossings:
-// mixed cells and crossed owned edges per axis as bits by x, and the row's four voxel rows.
+// Inside bits of a cell brick's block rows (RowMasks): a cell has surface when its eight
+// corners' bits are not all alike, an edge crosses when its two ends' bits differ, eight cells
+// at a time; only those cells are looked up in the case table. fn(row, mixed, edges, corners)
+// for every row of cells in range (row: its first cell's index) with surface or crossings:
+// mixed cells and crossed owned edges per axis as bits by x, and the row's corner rows.
 template <typename Fn>
 void SurfaceUpdater::Impl::forEachSurfaceRow(const glm::ivec3& cb, const FillBlock& block,
                                              Fn&& fn) const {
-  std::array<std::uint16_t, kBlock * kBlock> insideRows;
+  RowMasks insideRows;
   for (int r = 0; r < kBlock * kBlock; ++r) {
     const Fill* f = block.data() + r * kBlock;
     insideRows[std::size_t(r)] =
@@ -70,18 +59,14 @@ void SurfaceUpdater::Impl::forEachSurfaceRow(const glm::ivec3& cb, const FillBlo
   const std::uint32_t inRangeX = ((1u << last.x) - 1u) & ~((1u << first.x) - 1u);
   for (int z = first.z; z < last.z; ++z)
     for (int y = first.y; y < last.y; ++y) {
-      const std::uint32_t voxelRows[4] = {insideRows[std::size_t(y + kBlock * z)],
-                                          insideRows[std::size_t(y + 1 + kBlock * z)],
-                                          insideRows[std::size_t(y + kBlock * (z + 1))],
-                                          insideRows[std::size_t(y + 1 + kBlock * (z + 1))]};
-      const std::uint32_t all = voxelRows[0] & voxelRows[1] & voxelRows[2] & voxelRows[3];
-      const std::uint32_t any = voxelRows[0] | voxelRows[1] | voxelRows[2] | voxelRows[3];
+      std::uint32_t r[4];
+      rowCorners(insideRows, y, z, r);
+      const std::uint32_t all = r[0] & r[1] & r[2] & r[3], any = r[0] | r[1] | r[2] | r[3];
       const std::uint32_t mixed = ~((all & (all >> 1)) | (~any & ~(any >> 1))) & inRangeX;
-      const std::uint32_t edges[3] = {(voxelRows[0] ^ (voxelRows[0] >> 1)) & inRangeX,
-                                      (voxelRows[0] ^ voxelRows[1]) & inRangeX,
-                                      (voxelRows[0] ^ voxelRows[2]) & inRangeX};
+      const std::uint32_t edges[3] = {(r[0] ^ (r[0] >> 1)) & inRangeX, (r[0] ^ r[1]) & inRangeX,
+                                      (r[0] ^ r[2]) & inRangeX};
       if ((mixed | edges[0] | edges[1] | edges[2]) == 0) continue;
-      fn(kBrickEdge * (y + kBrickEdge * z), mixed, edges, voxelRows);
+      fn(kBrickEdge * (y + kBrickEdge * z), mixed, edges, r);
     }
 }
 
@@ -97,39 +82,35 @@ void SurfaceUpdater::Impl::buildAll() {
 void SurfaceUpdater::Impl::buildBricksAndEdges() {
   const std::size_t count = bricks.size();
   std::vector<std::uint32_t> edgeFirst(count + 1, 0), centreFirst(count + 1, 0);
-  const auto& table = mcTable();
+  const auto& packed = packedCaseCounts();
   eachBrick(count, [&](std::size_t bi) {
     const glm::ivec3 cb = cellBrickOf(bi);
     if (!cellBrickActive(*grid, cb)) return;
     std::unique_ptr<CellBrick> b(new CellBrick);  // not zeroed: every field is written here
     b->changed.fill(0);                           // or in buildTriangles
     loadBlock(*grid, cb, b->fills);
-    const FillBlock& block = b->fills;
     std::array<std::uint64_t, OwnedEdges::kWords> crossed{};
-    std::uint32_t centres = 0;
-    std::size_t triangles = 0;
-    forEachSurfaceRow(
-        cb, block,
-        [&](int row, std::uint32_t mixed, const std::uint32_t* edges,
-            const std::uint32_t* voxelRows) {
-          for (int axis = 0; axis < 3; ++axis)
-            for (std::uint32_t m = edges[axis]; m; m &= m - 1) {
-              const int e = 3 * (row + __builtin_ctz(m)) + axis;
-              crossed[std::size_t(e >> 6)] |= std::uint64_t(1) << (e & 63);
-            }
-          for (std::uint32_t m = mixed; m; m &= m - 1) {
-            // The cell's case kept for buildTriangles where its triangle range will go.
-            const int ci = row + __builtin_ctz(m), config = rowConfig(voxelRows, __builtin_ctz(m));
-            b->setChanged(ci);
-            b->cellBegin[std::size_t(ci)] = std::uint16_t(config);
-            const McCase& mc = table[std::size_t(config)];
-            for (int loop = 0; loop < mc.loopCount; ++loop) {
-              const int n = mc.loopBegin[std::size_t(loop) + 1] - mc.loopBegin[std::size_t(loop)];
-              centres += n > 4;
-              triangles += std::size_t(loopTriangles(n));
-            }
-          }
-        });
+    std::uint64_t sums = 0;  // the cases' counts in 16-bit lanes: triangles, then centres
+    forEachSurfaceRow(cb, b->fills,
+                      [&](int row, std::uint32_t mixed, const std::uint32_t* edges,
+                          const std::uint32_t(&corners)[4]) {
+                        for (int axis = 0; axis < 3; ++axis)
+                          for (std::uint32_t m = edges[axis]; m; m &= m - 1) {
+                            const int e = 3 * (row + __builtin_ctz(m)) + axis;
+                            crossed[std::size_t(e >> 6)] |= std::uint64_t(1) << (e & 63);
+                          }
+                        const std::uint64_t configs = rowConfigs(corners);
+                        for (std::uint32_t m = mixed; m; m &= m - 1) {
+                          // The cell's case kept for buildTriangles where its range will go.
+                          const int x = __builtin_ctz(m), ci = row + x;
+                          const auto config = std::uint16_t((configs >> (8 * x)) & 0xffu);
+                          b->setChanged(ci);
+                          b->cellBegin[std::size_t(ci)] = config;
+                          sums += packed[config];
+                        }
+                      });
+    const std::size_t triangles = sums & 0xffffu;
+    const auto centres = std::uint32_t((sums >> 16) & 0xffffu);
     b->owned.setMask(crossed);
     b->triangles.reserve(triangles);
     edgeFirst[bi + 1] = std::uint32_t(b->owned.count());
