@@ -55,6 +55,17 @@ TEST_F(VolumeSummary, DistinctValuesSplitAcrossPiecesAreCountedOnce) {
   EXPECT_NE(m.find("more than 64 distinct values"), std::string::npos) << m;
 }
 
+// A label map with these labels (ascending: its values run from the first to the last) and
+// this background.
+void expectLabelMap(const VolumeLoad& load, const std::vector<std::uint64_t>& labels,
+                    std::uint64_t background) {
+  EXPECT_EQ(load.kind, "label map");
+  EXPECT_EQ(load.labels, labels);
+  EXPECT_EQ(load.background, background);
+  EXPECT_DOUBLE_EQ(load.minValue, double(labels.front()));
+  EXPECT_DOUBLE_EQ(load.maxValue, double(labels.back()));
+}
+
 TEST_F(VolumeSummary, TheMostCommonValueIsCountedOverEveryPiece) {
   // No 0: the background is the most common value over the whole volume (5), though the first
   // piece holds mostly 9.
@@ -63,12 +74,7 @@ TEST_F(VolumeSummary, TheMostCommonValueIsCountedOverEveryPiece) {
   for (std::size_t i = 0; i < v.values.size(); i += 3) v.values[i] = 5.0;
   test::writeTestNrrd(file("background.nrrd"), v, "uint8", test::encodeAs<std::uint8_t>(v.values),
                       false);
-  const VolumeLoad load = loadVolume(file("background.nrrd"));
-  EXPECT_EQ(load.kind, "label map");
-  EXPECT_EQ(load.labels, (std::vector<std::uint64_t>{5, 6, 9}));
-  EXPECT_EQ(load.background, 5u);
-  EXPECT_DOUBLE_EQ(load.minValue, 5.0);
-  EXPECT_DOUBLE_EQ(load.maxValue, 9.0);
+  expectLabelMap(loadVolume(file("background.nrrd")), {5, 6, 9}, 5);
 }
 
 TEST_F(VolumeSummary, SixteenBitValuesAreCountedInRunsAndOneByOne) {
@@ -81,12 +87,7 @@ TEST_F(VolumeSummary, SixteenBitValuesAreCountedInRunsAndOneByOne) {
   v.values[123] = 1.0;
   test::writeTestNrrd(file("wide.nrrd"), v, "uint16", test::encodeAs<std::uint16_t>(v.values),
                       false);
-  const VolumeLoad load = loadVolume(file("wide.nrrd"));
-  EXPECT_EQ(load.kind, "label map");
-  EXPECT_EQ(load.labels, (std::vector<std::uint64_t>{1, 40000, 65535}));
-  EXPECT_EQ(load.background, 65535u);
-  EXPECT_DOUBLE_EQ(load.minValue, 1.0);
-  EXPECT_DOUBLE_EQ(load.maxValue, 65535.0);
+  expectLabelMap(loadVolume(file("wide.nrrd")), {1, 40000, 65535}, 65535);
 }
 
 }  // namespace
